@@ -1,0 +1,433 @@
+/*
+ * fcc_bus_msgs.h -- GENERATED from dbc/fcc_hil.dbc by `python -m hil.bus.cgen` (run dbc/generate).
+ * Do not edit: change the DBC and regenerate.  tests/python/test_bus_codegen.py
+ * fails when this file and the DBC disagree.
+ */
+
+#ifndef FCC_BUS_MSGS_H
+#define FCC_BUS_MSGS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_bus_desc.h"
+#include "fcc_hil.h"
+#include "fcc_types.h"
+
+/* Nodes: bit positions in fcc_bus_msg_desc_t.senders and .receivers. */
+#define FCC_BUS_NODE_SIM 0u
+#define FCC_BUS_NODE_CDRW_AOA_SENSOR 1u
+#define FCC_BUS_NODE_CDRW_GYRO 2u
+#define FCC_BUS_NODE_CDRW_ELEV_SENSOR 3u
+#define FCC_BUS_NODE_MSL_GYRO 4u
+#define FCC_BUS_NODE_MSL_ACCEL 5u
+#define FCC_BUS_NODE_FCC 6u
+#define FCC_BUS_N_NODES 7u
+
+/* Messages: index in fcc_bus_msg_table[] (sorted by CAN identifier). */
+typedef enum {
+    FCC_MSG_SIM_CONTROL = 0, /* 0x010 */
+    FCC_MSG_SIM_TICK = 1, /* 0x020 */
+    FCC_MSG_FCC_ACK = 2, /* 0x028 */
+    FCC_MSG_MSL_ELEV_CMD = 3, /* 0x030 */
+    FCC_MSG_MSL_RATE_GYRO = 4, /* 0x040 */
+    FCC_MSG_MSL_ACCELEROMETER = 5, /* 0x041 */
+    FCC_MSG_CDRW_AOA = 6, /* 0x050 */
+    FCC_MSG_CDRW_PITCH_RATE = 7, /* 0x051 */
+    FCC_MSG_CDRW_ELEVATOR = 8, /* 0x052 */
+    FCC_MSG_MSL_STATE_EST = 9, /* 0x100 */
+    FCC_MSG_SID_AZKF_STATE = 10, /* 0x110 */
+    FCC_MSG_SID_AZKF_BOUNDS = 11, /* 0x111 */
+    FCC_MSG_SID_AZKF_MODEL_A = 12, /* 0x112 */
+    FCC_MSG_SID_AZKF_MODEL_B = 13, /* 0x113 */
+    FCC_MSG_SID_ZKF_STATE = 14, /* 0x120 */
+    FCC_MSG_SID_ZKF_BOUNDS = 15, /* 0x121 */
+    FCC_MSG_SID_ZKF_MODEL_A = 16, /* 0x122 */
+    FCC_MSG_SID_ZKF_MODEL_B = 17, /* 0x123 */
+    FCC_MSG_SID_KF_STATE = 18, /* 0x130 */
+    FCC_MSG_SID_KF_BOUNDS = 19, /* 0x131 */
+    FCC_MSG_SID_KF_MODEL_A = 20, /* 0x132 */
+    FCC_MSG_SID_KF_MODEL_B = 21, /* 0x133 */
+    FCC_MSG_FCC_STATUS = 22, /* 0x700 */
+    FCC_MSG_FCC_E2E_COUNTS = 23, /* 0x701 */
+    FCC_MSG_FCC_E2E_FAULTS = 24, /* 0x702 */
+    FCC_MSG_FCC_REJECT_COUNTS = 25, /* 0x703 */
+    FCC_MSG_FCC_BUS_COUNTS = 26, /* 0x704 */
+    FCC_MSG_SIM_EVENT = 27, /* 0x710 */
+    FCC_MSG_RIG_PING = 28, /* 0x7F0 */
+    FCC_MSG_RIG_PONG = 29, /* 0x7F1 */
+    FCC_MSG_COUNT
+} fcc_msg_t;
+
+/* CAN identifiers. */
+#define FCC_MSG_SIM_CONTROL_ID 0x010u
+#define FCC_MSG_SIM_TICK_ID 0x020u
+#define FCC_MSG_FCC_ACK_ID 0x028u
+#define FCC_MSG_MSL_ELEV_CMD_ID 0x030u
+#define FCC_MSG_MSL_RATE_GYRO_ID 0x040u
+#define FCC_MSG_MSL_ACCELEROMETER_ID 0x041u
+#define FCC_MSG_CDRW_AOA_ID 0x050u
+#define FCC_MSG_CDRW_PITCH_RATE_ID 0x051u
+#define FCC_MSG_CDRW_ELEVATOR_ID 0x052u
+#define FCC_MSG_MSL_STATE_EST_ID 0x100u
+#define FCC_MSG_SID_AZKF_STATE_ID 0x110u
+#define FCC_MSG_SID_AZKF_BOUNDS_ID 0x111u
+#define FCC_MSG_SID_AZKF_MODEL_A_ID 0x112u
+#define FCC_MSG_SID_AZKF_MODEL_B_ID 0x113u
+#define FCC_MSG_SID_ZKF_STATE_ID 0x120u
+#define FCC_MSG_SID_ZKF_BOUNDS_ID 0x121u
+#define FCC_MSG_SID_ZKF_MODEL_A_ID 0x122u
+#define FCC_MSG_SID_ZKF_MODEL_B_ID 0x123u
+#define FCC_MSG_SID_KF_STATE_ID 0x130u
+#define FCC_MSG_SID_KF_BOUNDS_ID 0x131u
+#define FCC_MSG_SID_KF_MODEL_A_ID 0x132u
+#define FCC_MSG_SID_KF_MODEL_B_ID 0x133u
+#define FCC_MSG_FCC_STATUS_ID 0x700u
+#define FCC_MSG_FCC_E2E_COUNTS_ID 0x701u
+#define FCC_MSG_FCC_E2E_FAULTS_ID 0x702u
+#define FCC_MSG_FCC_REJECT_COUNTS_ID 0x703u
+#define FCC_MSG_FCC_BUS_COUNTS_ID 0x704u
+#define FCC_MSG_SIM_EVENT_ID 0x710u
+#define FCC_MSG_RIG_PING_ID 0x7F0u
+#define FCC_MSG_RIG_PONG_ID 0x7F1u
+
+/* Value tables (VAL_). */
+#define FCC_MSG_SIM_CONTROL_COMMAND_NONE 0u
+#define FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN 1u
+#define FCC_MSG_SIM_CONTROL_COMMAND_RESET 2u
+#define FCC_MSG_SIM_TICK_APP_CDRW_SID 0u
+#define FCC_MSG_SIM_TICK_APP_MISSILE_LQG 1u
+#define FCC_MSG_FCC_ACK_APP_CDRW_SID 0u
+#define FCC_MSG_FCC_ACK_APP_MISSILE_LQG 1u
+#define FCC_MSG_FCC_STATUS_MODE_LOCKSTEP 0u
+#define FCC_MSG_FCC_STATUS_MODE_REALTIME 1u
+#define FCC_MSG_SIM_EVENT_KIND_NONE 0u
+#define FCC_MSG_SIM_EVENT_KIND_SPIKE 1u
+#define FCC_MSG_SIM_EVENT_KIND_BIAS 2u
+#define FCC_MSG_SIM_EVENT_KIND_STUCK 3u
+#define FCC_MSG_SIM_EVENT_KIND_DROPOUT 4u
+#define FCC_MSG_SIM_EVENT_KIND_NOISE_BURST 5u
+#define FCC_MSG_SIM_EVENT_KIND_DRIFT 6u
+#define FCC_MSG_SIM_EVENT_KIND_SCALE 7u
+#define FCC_MSG_SIM_EVENT_KIND_FRAME_LOSS 8u
+#define FCC_MSG_SIM_EVENT_KIND_DELAY 9u
+#define FCC_MSG_SIM_EVENT_KIND_DUPLICATE 10u
+#define FCC_MSG_SIM_EVENT_KIND_REPLAY 11u
+#define FCC_MSG_SIM_EVENT_KIND_BAD_CRC 12u
+#define FCC_MSG_SIM_EVENT_KIND_COUNTER_FREEZE 13u
+#define FCC_MSG_SIM_EVENT_KIND_COUNTER_JUMP 14u
+#define FCC_MSG_SIM_EVENT_KIND_WRONG_DLC 15u
+#define FCC_MSG_SIM_EVENT_KIND_OUT_OF_RANGE 16u
+#define FCC_MSG_SIM_EVENT_KIND_FLOOD 17u
+#define FCC_MSG_SIM_EVENT_KIND_SILENCE 18u
+
+/* Physical values of each message (crc and counter are the frame layer's). */
+/* SIM_CONTROL (0x010, event, SIM -> FCC, E2E data ID 0x1010): Run-time configuration and commands from the simulator to the FCC. Sent on demand. A field at 0 keeps the current setting. */
+typedef struct {
+    uint8_t command; /* [0, 2]. 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state. */
+    fcc_real_t lqg_period; /* [0, 0.3] s, LSB 0.0001. New LQG sampling period T in seconds (valid 0.02 to 0.3); 0 keeps the current period. The FCC redesigns the LQG for the new T. */
+    uint8_t da_bits; /* [0, 16] bit. New D/A word length N in bits (valid 1 to 16); 0 keeps the current word length. */
+} fcc_msg_sim_control_t;
+
+/* SIM_TICK (0x020, 20 ms, SIM -> FCC, E2E data ID 0x1020): Lockstep tick: every sensor frame of this step has been sent; the FCC runs one step of the application and answers with FCC_ACK. 50 Hz for the CDRW, 1/T for the missile (default T = 0.05 s). */
+typedef struct {
+    uint8_t app; /* [0, 1]. Application to step: 0 CDRW system identification, 1 missile LQG autopilot. */
+    uint32_t step; /* [0, 4294967295]. Step index k of that application, from 0; the low 16 bits match the step field of the sensor frames. */
+} fcc_msg_sim_tick_t;
+
+/* FCC_ACK (0x028, 20 ms, FCC -> SIM, E2E data ID 0x1028): Lockstep acknowledge: the FCC has finished step k of an application and has sent every output frame of that step before this one (send through one ordered transmit queue). */
+typedef struct {
+    uint8_t app; /* [0, 1]. Application whose step is complete: 0 CDRW system identification, 1 missile LQG autopilot. */
+    bool degraded; /* [0, 1]. 1 when the step ran on degraded inputs (stale, rejected or E2E-failed sensor data). */
+    uint32_t step; /* [0, 4294967295]. Step index k just completed (copy of SIM_TICK.step). */
+    uint16_t exec_us; /* [0, 65535] us. Execution time of this step in microseconds, saturated at 65535. */
+} fcc_msg_fcc_ack_t;
+
+/* MSL_ELEV_CMD (0x030, 50 ms, FCC -> SIM, E2E data ID 0x1030): Missile elevator command: the code written to the N-bit D/A converter, held for one period (zero-order hold). delta_e = da_code * 0.8 / 2^da_bits rad. */
+typedef struct {
+    bool degraded; /* [0, 1]. 1 when the command was computed from degraded inputs. */
+    bool saturated; /* [0, 1]. 1 when the LQG command was clamped to the D/A range (|u| > 0.4 rad). */
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) this command belongs to. */
+    int16_t da_code; /* [-32768, 32767]. Signed D/A code, clamp(round(u / LSB), -2^(N-1), 2^(N-1)-1), LSB = 0.8 / 2^N rad. */
+    uint8_t da_bits; /* [1, 16] bit. D/A word length N in bits used to compute da_code. */
+} fcc_msg_msl_elev_cmd_t;
+
+/* MSL_RATE_GYRO (0x040, 50 ms, MSL_GYRO -> FCC, E2E data ID 0x1040): Missile rate gyro sample q_g = q + v_g, taken at the sampling instant of step k. */
+typedef struct {
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
+    fcc_real_t q_g; /* [-20, 20] rad/s, LSB 1e-05. Measured pitch rate. Range +-20 rad/s because the noise standard deviation is about 0.9 rad/s. */
+} fcc_msg_msl_rate_gyro_t;
+
+/* MSL_ACCELEROMETER (0x041, 50 ms, MSL_ACCEL -> FCC, E2E data ID 0x1041): Missile normal accelerometer sample n_a = -26.74 q - 568.4 alpha_T + v_a, taken at the sampling instant of step k. */
+typedef struct {
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
+    fcc_real_t n_a; /* [-4000, 4000] ft/s^2, LSB 0.002. Measured normal acceleration. */
+} fcc_msg_msl_accelerometer_t;
+
+/* CDRW_AOA (0x050, 20 ms, CDRW_AOA_SENSOR -> FCC, E2E data ID 0x1050): CDRW angle-of-attack sample at step k (50 Hz). */
+typedef struct {
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
+    fcc_real_t alpha; /* [-1.5708, 1.5708] rad, LSB 1e-06. Measured angle of attack, 1e-6 rad resolution because the identification differentiates the data. */
+} fcc_msg_cdrw_aoa_t;
+
+/* CDRW_PITCH_RATE (0x051, 20 ms, CDRW_GYRO -> FCC, E2E data ID 0x1051): CDRW pitch-rate sample at step k (50 Hz). */
+typedef struct {
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
+    fcc_real_t q; /* [-2, 2] rad/s, LSB 1e-06. Measured pitch rate, 1e-6 rad/s resolution; range +-2 rad/s (a +-125 deg/s MEMS gyro setting). */
+} fcc_msg_cdrw_pitch_rate_t;
+
+/* CDRW_ELEVATOR (0x052, 20 ms, CDRW_ELEV_SENSOR -> FCC, E2E data ID 0x1052): CDRW elevator deflection sample at step k (50 Hz). */
+typedef struct {
+    uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
+    fcc_real_t delta_e; /* [-0.5236, 0.5236] rad, LSB 1e-06. Measured elevator deflection, 1e-6 rad resolution. */
+} fcc_msg_cdrw_elevator_t;
+
+/* MSL_STATE_EST (0x100, 50 ms, FCC -> SIM): Missile LQG state estimate after the measurement update of step k. */
+typedef struct {
+    fcc_real_t q_hat; /* [-5.24288, 5.24287] rad/s, LSB 1e-05. Estimated pitch rate q. */
+    fcc_real_t alpha_t_hat; /* [-5.24288, 5.24287] rad, LSB 1e-05. Estimated angle of attack alpha_T. */
+    fcc_real_t w_g_hat; /* [-327.68, 327.67] ft/s, LSB 0.01. Estimated vertical gust velocity w_g. */
+    uint8_t step; /* [0, 255]. Step index k (low 8 bits). */
+} fcc_msg_msl_state_est_t;
+
+/* SID_AZKF_STATE (0x110, 20 ms, FCC -> SIM): MLS-AZKF (adaptive-order zonotopic Kalman filter) state estimate, order in use and flags at step k. */
+typedef struct {
+    fcc_real_t alpha_hat; /* [-5.24288, 5.24287] rad, LSB 1e-05. Estimated angle of attack (centre of the state zonotope). */
+    fcc_real_t q_hat; /* [-5.24288, 5.24287] rad/s, LSB 1e-05. Estimated pitch rate (centre of the state zonotope). */
+    uint16_t order; /* [0, 1023]. Zonotope reduction order q in use at this step. */
+    bool fault; /* [0, 1]. 1 when the sensor-fault detector flags a fault at this step. */
+    bool degraded; /* [0, 1]. 1 when the step ran on degraded inputs or the estimator kept its last good model. */
+    uint16_t step; /* [0, 4095]. Step index k (low 12 bits). */
+} fcc_msg_sid_azkf_state_t;
+
+/* SID_AZKF_BOUNDS (0x111, 20 ms, FCC -> SIM): MLS-AZKF interval hull of the state zonotope at step k. */
+typedef struct {
+    fcc_real_t alpha_lo; /* [-3.2768, 3.2767] rad, LSB 0.0001. Lower bound of alpha. */
+    fcc_real_t alpha_hi; /* [-3.2768, 3.2767] rad, LSB 0.0001. Upper bound of alpha. */
+    fcc_real_t q_lo; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Lower bound of q. */
+    fcc_real_t q_hi; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Upper bound of q. */
+} fcc_msg_sid_azkf_bounds_t;
+
+/* SID_AZKF_MODEL_A (0x112, 20 ms, FCC -> SIM): MLS-AZKF identified discrete state matrix A_k (dt = 0.02 s). */
+typedef struct {
+    fcc_real_t a11; /* [-3.2768, 3.2767], LSB 0.0001. A_k(1,1). */
+    fcc_real_t a12; /* [-3.2768, 3.2767] s, LSB 0.0001. A_k(1,2). */
+    fcc_real_t a21; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. A_k(2,1). */
+    fcc_real_t a22; /* [-3.2768, 3.2767], LSB 0.0001. A_k(2,2). */
+} fcc_msg_sid_azkf_model_a_t;
+
+/* SID_AZKF_MODEL_B (0x113, 20 ms, FCC -> SIM): MLS-AZKF identified input matrix B_k, spectral radius of A_k and gain norm at step k. */
+typedef struct {
+    fcc_real_t b1; /* [-3.2768, 3.2767], LSB 0.0001. B_k(1). */
+    fcc_real_t b2; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. B_k(2). */
+    fcc_real_t rho; /* [0, 6.5535], LSB 0.0001. Spectral radius max |lambda_i(A_k)|; above 1 the identified model is unstable. */
+    fcc_real_t gain_norm; /* [0, 6.5535], LSB 0.0001. Spectral norm of the filter gain G_k. */
+} fcc_msg_sid_azkf_model_b_t;
+
+/* SID_ZKF_STATE (0x120, 20 ms, FCC -> SIM): MLS-ZKF (fixed-order zonotopic Kalman filter) state estimate, order and flags at step k. */
+typedef struct {
+    fcc_real_t alpha_hat; /* [-5.24288, 5.24287] rad, LSB 1e-05. Estimated angle of attack (centre of the state zonotope). */
+    fcc_real_t q_hat; /* [-5.24288, 5.24287] rad/s, LSB 1e-05. Estimated pitch rate (centre of the state zonotope). */
+    uint16_t order; /* [0, 1023]. Zonotope reduction order q (fixed). */
+    bool fault; /* [0, 1]. 1 when the sensor-fault detector flags a fault at this step (information only). */
+    bool degraded; /* [0, 1]. 1 when the step ran on degraded inputs or the estimator kept its last good model. */
+    uint16_t step; /* [0, 4095]. Step index k (low 12 bits). */
+} fcc_msg_sid_zkf_state_t;
+
+/* SID_ZKF_BOUNDS (0x121, 20 ms, FCC -> SIM): MLS-ZKF interval hull of the state zonotope at step k. */
+typedef struct {
+    fcc_real_t alpha_lo; /* [-3.2768, 3.2767] rad, LSB 0.0001. Lower bound of alpha. */
+    fcc_real_t alpha_hi; /* [-3.2768, 3.2767] rad, LSB 0.0001. Upper bound of alpha. */
+    fcc_real_t q_lo; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Lower bound of q. */
+    fcc_real_t q_hi; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Upper bound of q. */
+} fcc_msg_sid_zkf_bounds_t;
+
+/* SID_ZKF_MODEL_A (0x122, 20 ms, FCC -> SIM): MLS-ZKF identified discrete state matrix A_k (dt = 0.02 s). */
+typedef struct {
+    fcc_real_t a11; /* [-3.2768, 3.2767], LSB 0.0001. A_k(1,1). */
+    fcc_real_t a12; /* [-3.2768, 3.2767] s, LSB 0.0001. A_k(1,2). */
+    fcc_real_t a21; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. A_k(2,1). */
+    fcc_real_t a22; /* [-3.2768, 3.2767], LSB 0.0001. A_k(2,2). */
+} fcc_msg_sid_zkf_model_a_t;
+
+/* SID_ZKF_MODEL_B (0x123, 20 ms, FCC -> SIM): MLS-ZKF identified input matrix B_k, spectral radius of A_k and gain norm at step k. */
+typedef struct {
+    fcc_real_t b1; /* [-3.2768, 3.2767], LSB 0.0001. B_k(1). */
+    fcc_real_t b2; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. B_k(2). */
+    fcc_real_t rho; /* [0, 6.5535], LSB 0.0001. Spectral radius max |lambda_i(A_k)|; above 1 the identified model is unstable. */
+    fcc_real_t gain_norm; /* [0, 6.5535], LSB 0.0001. Spectral norm of the filter gain G_k. */
+} fcc_msg_sid_zkf_model_b_t;
+
+/* SID_KF_STATE (0x130, 20 ms, FCC -> SIM): MLS-KF (Kalman filter) state estimate and flags at step k. */
+typedef struct {
+    fcc_real_t alpha_hat; /* [-5.24288, 5.24287] rad, LSB 1e-05. Estimated angle of attack. */
+    fcc_real_t q_hat; /* [-5.24288, 5.24287] rad/s, LSB 1e-05. Estimated pitch rate. */
+    uint16_t order; /* [0, 1023]. Always 0: a Kalman filter has no zonotope order. */
+    bool fault; /* [0, 1]. 1 when the sensor-fault detector flags a fault at this step (information only). */
+    bool degraded; /* [0, 1]. 1 when the step ran on degraded inputs or the estimator kept its last good model. */
+    uint16_t step; /* [0, 4095]. Step index k (low 12 bits). */
+} fcc_msg_sid_kf_state_t;
+
+/* SID_KF_BOUNDS (0x131, 20 ms, FCC -> SIM): MLS-KF state bounds at step k: estimate +- 3 standard deviations. */
+typedef struct {
+    fcc_real_t alpha_lo; /* [-3.2768, 3.2767] rad, LSB 0.0001. Lower bound of alpha. */
+    fcc_real_t alpha_hi; /* [-3.2768, 3.2767] rad, LSB 0.0001. Upper bound of alpha. */
+    fcc_real_t q_lo; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Lower bound of q. */
+    fcc_real_t q_hi; /* [-3.2768, 3.2767] rad/s, LSB 0.0001. Upper bound of q. */
+} fcc_msg_sid_kf_bounds_t;
+
+/* SID_KF_MODEL_A (0x132, 20 ms, FCC -> SIM): MLS-KF identified discrete state matrix A_k (dt = 0.02 s). */
+typedef struct {
+    fcc_real_t a11; /* [-3.2768, 3.2767], LSB 0.0001. A_k(1,1). */
+    fcc_real_t a12; /* [-3.2768, 3.2767] s, LSB 0.0001. A_k(1,2). */
+    fcc_real_t a21; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. A_k(2,1). */
+    fcc_real_t a22; /* [-3.2768, 3.2767], LSB 0.0001. A_k(2,2). */
+} fcc_msg_sid_kf_model_a_t;
+
+/* SID_KF_MODEL_B (0x133, 20 ms, FCC -> SIM): MLS-KF identified input matrix B_k, spectral radius of A_k and gain norm at step k. */
+typedef struct {
+    fcc_real_t b1; /* [-3.2768, 3.2767], LSB 0.0001. B_k(1). */
+    fcc_real_t b2; /* [-3.2768, 3.2767] 1/s, LSB 0.0001. B_k(2). */
+    fcc_real_t rho; /* [0, 6.5535], LSB 0.0001. Spectral radius max |lambda_i(A_k)|; above 1 the identified model is unstable. */
+    fcc_real_t gain_norm; /* [0, 6.5535], LSB 0.0001. Spectral norm of the Kalman gain K_k. */
+} fcc_msg_sid_kf_model_b_t;
+
+/* FCC_STATUS (0x700, 100 ms, FCC -> SIM): FCC heartbeat at 10 Hz: mode, step counters, overruns, worst step time and health flags. Counters wrap. */
+typedef struct {
+    uint8_t mode; /* [0, 1]. 0 lockstep (steps on SIM_TICK), 1 real time (steps on its own clock). */
+    bool cdrw_degraded; /* [0, 1]. 1 when the last CDRW step was degraded. */
+    bool msl_degraded; /* [0, 1]. 1 when the last missile step was degraded. */
+    bool sensor_stale; /* [0, 1]. 1 when at least one sensor frame had no new data in the last period. */
+    bool e2e_fault; /* [0, 1]. 1 when an E2E ERROR or WRONG_SEQUENCE was seen since the last heartbeat. */
+    bool overrun; /* [0, 1]. 1 when a step overran its period since the last heartbeat. */
+    bool config_rejected; /* [0, 1]. 1 when the last SIM_CONTROL request was refused (value out of range or redesign failed). */
+    uint8_t overruns; /* [0, 255]. Number of step overruns since start (wraps). */
+    uint16_t cdrw_steps; /* [0, 65535]. CDRW steps run since start (wraps). */
+    uint16_t msl_steps; /* [0, 65535]. Missile steps run since start (wraps). */
+    uint16_t worst_step_us; /* [0, 65535] us. Worst step execution time since start, microseconds, saturated at 65535. */
+} fcc_msg_fcc_status_t;
+
+/* FCC_E2E_COUNTS (0x701, 100 ms, FCC -> SIM): FCC receiver E2E classification counters, summed over every E2E-protected frame it receives (wrap). */
+typedef struct {
+    uint16_t ok; /* [0, 65535]. Frames classified OK (counter +1). */
+    uint16_t repeated; /* [0, 65535]. Frames classified REPEATED (same counter again); their data are not used. */
+    uint16_t ok_some_lost; /* [0, 65535]. Frames classified OK_SOME_LOST (counter jumped by 2 up to the maximum delta); data used. */
+    uint16_t wrong_sequence; /* [0, 65535]. Frames classified WRONG_SEQUENCE (counter jumped beyond the maximum delta or went back); data not used, receiver resynchronises. */
+} fcc_msg_fcc_e2_e_counts_t;
+
+/* FCC_E2E_FAULTS (0x702, 100 ms, FCC -> SIM): FCC receiver E2E error and staleness counters (wrap). */
+typedef struct {
+    uint16_t error; /* [0, 65535]. Frames classified ERROR (CRC mismatch); data not used. */
+    uint16_t no_new_data; /* [0, 65535]. Receive periods that ended without any frame of a monitored message (NO_NEW_DATA). */
+    uint16_t stale_now; /* [0, 65535]. Number of monitored messages whose last period ended without a frame. */
+} fcc_msg_fcc_e2_e_faults_t;
+
+/* FCC_REJECT_COUNTS (0x703, 100 ms, FCC -> SIM): FCC frame rejection counters, one per class (wrap). */
+typedef struct {
+    uint16_t unknown_id; /* [0, 65535]. Frames with an identifier the FCC does not consume. */
+    uint16_t wrong_dlc; /* [0, 65535]. Frames with a data length other than the DBC length. */
+    uint16_t out_of_range; /* [0, 65535]. Frames with a raw value outside the DBC minimum and maximum. */
+    uint16_t tx_refused; /* [0, 65535]. Frames the FCC refused to encode (NaN, infinite or out-of-range value). */
+} fcc_msg_fcc_reject_counts_t;
+
+/* FCC_BUS_COUNTS (0x704, 100 ms, FCC -> SIM): FCC SocketCAN port counters (wrap). */
+typedef struct {
+    uint16_t bus_errors; /* [0, 65535]. CAN error frames received. */
+    uint16_t rx_overflows; /* [0, 65535]. Frames dropped by the kernel receive queue (SO_RXQ_OVFL). */
+    uint16_t tx_dropped; /* [0, 65535]. Frames dropped after the bounded transmit retry (ENOBUFS or EAGAIN). */
+    uint16_t tx_retries; /* [0, 65535]. Transmit retries after ENOBUFS or EAGAIN. */
+} fcc_msg_fcc_bus_counts_t;
+
+/* SIM_EVENT (0x710, event, SIM -> FCC, E2E data ID 0x1710): Fault-injection event from the simulator, sent when a fault starts or ends. Diagnostic only, except oracle_fault which the FCC oracle fault detector reads. */
+typedef struct {
+    bool active; /* [0, 1]. 1 when the fault starts, 0 when it ends. */
+    bool oracle_fault; /* [0, 1]. 1 while at least one sensor-level fault on a CDRW sensor is active (ground truth for the oracle detector). */
+    uint8_t fault_id; /* [0, 255]. Index of the fault in the scenario. */
+    uint8_t kind; /* [0, 63]. Kind of fault (see value table). */
+    uint16_t target_id; /* [0, 2047]. CAN identifier of the affected frame or sensor, 0 for the whole bus. */
+    uint16_t step; /* [0, 65535]. Step index (low 16 bits) at which the event happens. */
+} fcc_msg_sim_event_t;
+
+/* RIG_PING (0x7F0, event, SIM -> FCC): Rig round-trip probe: the echo tool (can_echo) answers with RIG_PONG carrying the same payload. Used by the tests and the latency benchmark. */
+typedef struct {
+    uint32_t seq; /* [0, 4294967295]. Sequence number of the probe. */
+    uint32_t t_send_us; /* [0, 4294967295] us. Sender clock at transmission (microseconds, wraps). */
+} fcc_msg_rig_ping_t;
+
+/* RIG_PONG (0x7F1, event, FCC -> SIM): Rig round-trip answer: copy of the RIG_PING payload, sent on identifier RIG_PING + 1. */
+typedef struct {
+    uint32_t seq; /* [0, 4294967295]. Sequence number copied from RIG_PING. */
+    uint32_t t_send_us; /* [0, 4294967295] us. Sender clock copied from RIG_PING. */
+} fcc_msg_rig_pong_t;
+
+/* Any message, physical values. */
+typedef union {
+    fcc_msg_sim_control_t sim_control;
+    fcc_msg_sim_tick_t sim_tick;
+    fcc_msg_fcc_ack_t fcc_ack;
+    fcc_msg_msl_elev_cmd_t msl_elev_cmd;
+    fcc_msg_msl_rate_gyro_t msl_rate_gyro;
+    fcc_msg_msl_accelerometer_t msl_accelerometer;
+    fcc_msg_cdrw_aoa_t cdrw_aoa;
+    fcc_msg_cdrw_pitch_rate_t cdrw_pitch_rate;
+    fcc_msg_cdrw_elevator_t cdrw_elevator;
+    fcc_msg_msl_state_est_t msl_state_est;
+    fcc_msg_sid_azkf_state_t sid_azkf_state;
+    fcc_msg_sid_azkf_bounds_t sid_azkf_bounds;
+    fcc_msg_sid_azkf_model_a_t sid_azkf_model_a;
+    fcc_msg_sid_azkf_model_b_t sid_azkf_model_b;
+    fcc_msg_sid_zkf_state_t sid_zkf_state;
+    fcc_msg_sid_zkf_bounds_t sid_zkf_bounds;
+    fcc_msg_sid_zkf_model_a_t sid_zkf_model_a;
+    fcc_msg_sid_zkf_model_b_t sid_zkf_model_b;
+    fcc_msg_sid_kf_state_t sid_kf_state;
+    fcc_msg_sid_kf_bounds_t sid_kf_bounds;
+    fcc_msg_sid_kf_model_a_t sid_kf_model_a;
+    fcc_msg_sid_kf_model_b_t sid_kf_model_b;
+    fcc_msg_fcc_status_t fcc_status;
+    fcc_msg_fcc_e2_e_counts_t fcc_e2_e_counts;
+    fcc_msg_fcc_e2_e_faults_t fcc_e2_e_faults;
+    fcc_msg_fcc_reject_counts_t fcc_reject_counts;
+    fcc_msg_fcc_bus_counts_t fcc_bus_counts;
+    fcc_msg_sim_event_t sim_event;
+    fcc_msg_rig_ping_t rig_ping;
+    fcc_msg_rig_pong_t rig_pong;
+} fcc_msg_data_t;
+
+/* Any message, cantools raw struct (frame-layer scratch). */
+typedef union {
+    struct fcc_hil_sim_control_t sim_control;
+    struct fcc_hil_sim_tick_t sim_tick;
+    struct fcc_hil_fcc_ack_t fcc_ack;
+    struct fcc_hil_msl_elev_cmd_t msl_elev_cmd;
+    struct fcc_hil_msl_rate_gyro_t msl_rate_gyro;
+    struct fcc_hil_msl_accelerometer_t msl_accelerometer;
+    struct fcc_hil_cdrw_aoa_t cdrw_aoa;
+    struct fcc_hil_cdrw_pitch_rate_t cdrw_pitch_rate;
+    struct fcc_hil_cdrw_elevator_t cdrw_elevator;
+    struct fcc_hil_msl_state_est_t msl_state_est;
+    struct fcc_hil_sid_azkf_state_t sid_azkf_state;
+    struct fcc_hil_sid_azkf_bounds_t sid_azkf_bounds;
+    struct fcc_hil_sid_azkf_model_a_t sid_azkf_model_a;
+    struct fcc_hil_sid_azkf_model_b_t sid_azkf_model_b;
+    struct fcc_hil_sid_zkf_state_t sid_zkf_state;
+    struct fcc_hil_sid_zkf_bounds_t sid_zkf_bounds;
+    struct fcc_hil_sid_zkf_model_a_t sid_zkf_model_a;
+    struct fcc_hil_sid_zkf_model_b_t sid_zkf_model_b;
+    struct fcc_hil_sid_kf_state_t sid_kf_state;
+    struct fcc_hil_sid_kf_bounds_t sid_kf_bounds;
+    struct fcc_hil_sid_kf_model_a_t sid_kf_model_a;
+    struct fcc_hil_sid_kf_model_b_t sid_kf_model_b;
+    struct fcc_hil_fcc_status_t fcc_status;
+    struct fcc_hil_fcc_e2_e_counts_t fcc_e2_e_counts;
+    struct fcc_hil_fcc_e2_e_faults_t fcc_e2_e_faults;
+    struct fcc_hil_fcc_reject_counts_t fcc_reject_counts;
+    struct fcc_hil_fcc_bus_counts_t fcc_bus_counts;
+    struct fcc_hil_sim_event_t sim_event;
+    struct fcc_hil_rig_ping_t rig_ping;
+    struct fcc_hil_rig_pong_t rig_pong;
+} fcc_bus_raw_t;
+
+extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
+
+#endif /* FCC_BUS_MSGS_H */

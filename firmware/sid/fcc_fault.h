@@ -1,0 +1,78 @@
+/*
+ * fcc_fault.h -- sensor-fault detector that drives the AZKF's order
+ * (seed 1, Algorithm 1, which leaves the detection rule open; SPEC section 2).
+ *
+ * Modes:
+ *  - ZONOTOPE (default): set-membership consistency.  With bounded noise and
+ *    a correct model, the innovation y_k - C x_k must lie in the predicted
+ *    output zonotope <0, [C P_k, F]>; its interval hull has radius
+ *    hull(C P_k) + hull(F).  A component beyond `margin` times that radius
+ *    is an inconsistent measurement: no admissible state and noise explain
+ *    it.  The margin (>= 1 keeps the guarantee) absorbs what the model does
+ *    not: MLS error, Euler discretisation, unmodelled dynamics.
+ *  - ORACLE: the flag comes from outside (the simulator knows when it
+ *    injects a fault), to study the filter apart from the detector.  No
+ *    debouncing is applied: the flag is used as given.
+ *  - OFF: never a fault (the AZKF then runs at q_normal all the time).
+ *
+ * Debouncing of the ZONOTOPE mode (counts in steps):
+ *  - raise_count: consecutive inconsistent steps that raise the flag
+ *    (1 = at once: a spike must not reach the high-gain filter even once);
+ *  - hold_count: steps the flag stays up after it is raised, whatever the
+ *    measurements say (a fault that flickers is still a fault);
+ *  - clear_count: consecutive consistent steps, after the hold, that clear
+ *    it (the sensor must prove itself again before it is trusted).
+ */
+#ifndef FCC_FAULT_H
+#define FCC_FAULT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_types.h"
+
+typedef enum {
+    FCC_FDET_ZONOTOPE = 0,
+    FCC_FDET_ORACLE = 1,
+    FCC_FDET_OFF = 2
+} fcc_fdet_mode_t;
+
+#define FCC_FDET_DEFAULT_MARGIN FCC_R(1.0)
+#define FCC_FDET_DEFAULT_RAISE 1u
+#define FCC_FDET_DEFAULT_HOLD 0u
+#define FCC_FDET_DEFAULT_CLEAR 3u
+
+typedef struct {
+    fcc_fdet_mode_t mode;
+    fcc_real_t margin;    /* > 0: innovation bound = margin * hull radius */
+    uint16_t raise_count; /* >= 1 */
+    uint16_t hold_count;  /* >= 0 */
+    uint16_t clear_count; /* >= 1 */
+} fcc_fdet_config_t;
+
+typedef struct {
+    fcc_fdet_config_t cfg;
+    bool fault;           /* the debounced flag */
+    bool inconsistent;    /* the raw verdict of the last step */
+    uint16_t n_bad;       /* consecutive inconsistent steps */
+    uint16_t n_good;      /* consecutive consistent steps */
+    uint16_t hold_left;   /* steps of hold still to run */
+    uint32_t n_raised;    /* times the flag was raised since init */
+} fcc_fdet_t;
+
+void fcc_fdet_config_default(fcc_fdet_config_t *cfg);
+
+/* FCC_ERR_ARG on NULL or an unknown mode, FCC_ERR_RANGE on a margin or
+ * count outside its range. */
+fcc_status_t fcc_fdet_config_check(const fcc_fdet_config_t *cfg);
+
+fcc_status_t fcc_fdet_init(fcc_fdet_t *det, const fcc_fdet_config_t *cfg);
+
+/* One decision.  innov = y_k - C x_k, radius = hull radius of
+ * <0, [C P_k, F]> (ZONOTOPE mode; either may be NULL in the other modes),
+ * oracle = the external flag (ORACLE mode).  *fault receives the flag.
+ * A non-finite innovation counts as inconsistent.  FCC_ERR_ARG on NULL. */
+fcc_status_t fcc_fdet_step(fcc_fdet_t *det, const fcc_real_t innov[2], const fcc_real_t radius[2],
+                           bool oracle, bool *fault);
+
+#endif /* FCC_FAULT_H */

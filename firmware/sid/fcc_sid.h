@@ -1,0 +1,152 @@
+/*
+ * fcc_sid.h -- one real-time identification loop: one MLS closed with one
+ * state filter (MLS-KF, MLS-ZKF or MLS-AZKF; seed 1, Fig. 3; SPEC section 2).
+ *
+ * This is the API the fcc application uses: it owns three fcc_sid_t (one
+ * per filter, the paper's side-by-side comparison), feeds each the same
+ * sample every 20 ms and publishes fcc_sid_out_t.  No maths is needed on
+ * top of it.
+ *
+ *   fcc_sid_config_t cfg;
+ *   fcc_sid_config_default(&cfg, FCC_SID_AZKF);    // paper values
+ *   static fcc_sid_t sid;                          // ~30 kB: keep it static
+ *   if (fcc_sid_init(&sid, &cfg) != FCC_OK) ...
+ *   each step: fcc_sid_step(&sid, y_alpha, y_q, de, oracle_fault, valid, &out);
+ *
+ * The loop (per step k, sample y_k, elevator de_k):
+ *  - the filter runs with the model [A B] the MLS fitted on the filter's own
+ *    past estimates (the data of the MLS are the *filtered* states);
+ *  - then the transition that ends at the newest estimate is added to the
+ *    MLS window and the model refitted, for the next step.
+ * A transition is learnt only when both its ends were corrected by a
+ * measurement: a step without a usable sample (measurement_valid false,
+ * non-finite or out-of-range sample) or with a flagged fault (AZKF, when
+ * mls_hold_on_fault) only predicts, and a prediction teaches the MLS
+ * nothing but its own model.
+ *
+ * Output semantics (one row per step, comparable with another
+ * implementation):
+ *  - KF row k is the posterior after y_k (step 0 updates x0, P0 without a
+ *    prediction); its bounds are +/- 3 sigma; order 0; fault 0.
+ *  - ZKF and AZKF row k is x_k before y_k is used (their step is one
+ *    combined predict-correct), with the gain and order used in step k and
+ *    the interval hull of <x_k, P_k> as bounds.
+ *  - A_k, B_k, rho(A_k), standard errors: the model used in the step.
+ *
+ * Bad input: a non-finite or out-of-range elevator refuses the step
+ * (status returned, nothing changes, out = last good output with
+ * stepped = false); a non-finite or out-of-range sample is treated as
+ * unusable (prediction only) and reported in out.input_status.  No NaN can
+ * reach A_k, B_k or x.
+ */
+#ifndef FCC_SID_H
+#define FCC_SID_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_azkf.h"
+#include "fcc_kf.h"
+#include "fcc_mls.h"
+#include "fcc_sid_math.h"
+#include "fcc_types.h"
+#include "fcc_zkf.h"
+
+typedef enum {
+    FCC_SID_KF = 0,
+    FCC_SID_ZKF = 1,
+    FCC_SID_AZKF = 2
+} fcc_sid_filter_t;
+
+/* Paper values (section 2.3). */
+#define FCC_SID_DEFAULT_X0_ALPHA FCC_R(0.1571)
+#define FCC_SID_DEFAULT_X0_Q FCC_R(0.0204)
+#define FCC_SID_DEFAULT_P0 FCC_R(0.1)
+#define FCC_SID_DEFAULT_E FCC_R(0.004)
+#define FCC_SID_DEFAULT_F FCC_R(0.02)
+/* "MLS-ZKF" of the paper: the ZKF at one fixed large order. */
+#define FCC_SID_DEFAULT_ZKF_ORDER FCC_AZKF_DEFAULT_Q_FAULT
+/* Plausibility limits of the inputs (rad, rad/s, rad): a deep stall stays
+ * under 90 deg of alpha, a small UAV under 10 rad/s of pitch rate, an
+ * elevator under 1 rad.  Beyond, the value is a broken sensor or frame. */
+#define FCC_SID_DEFAULT_ALPHA_LIMIT FCC_R(1.5707963)
+#define FCC_SID_DEFAULT_Q_LIMIT FCC_R(10.0)
+#define FCC_SID_DEFAULT_DE_LIMIT FCC_R(1.0)
+
+typedef struct {
+    fcc_sid_filter_t filter;
+    fcc_real_t x0[2];        /* initial estimate (rad, rad/s) */
+    fcc_real_t p0[4];        /* initial KF covariance (SPD); the ZKF starts from its
+                                Cholesky factor, i.e. the same P0 as covariation */
+    fcc_real_t e[4];         /* process noise generators E (Q = E E^T), row-major */
+    fcc_real_t f[4];         /* measurement noise generators F (R = F F^T), row-major */
+    bool mls_enabled;        /* false: mls.prior is the model every step (filter alone) */
+    bool mls_hold_on_fault;  /* AZKF: do not learn transitions while a fault is flagged */
+    fcc_mls_config_t mls;    /* window, ridge, guards, prior model */
+    uint16_t zkf_order;      /* ZKF's fixed order, 2..FCC_ZONO_MAX_ORDER */
+    fcc_azkf_config_t azkf;  /* q_normal, q_fault, policy, detector */
+    fcc_real_t alpha_limit;  /* |alpha| above: sample unusable */
+    fcc_real_t q_limit;      /* |q| above: sample unusable */
+    fcc_real_t de_limit;     /* |de| above: step refused */
+} fcc_sid_config_t;
+
+typedef struct {
+    uint32_t k;                      /* step index of this output */
+    fcc_real_t x_hat[2];             /* see the row semantics above */
+    fcc_real_t lo[2];                /* lower interval bounds (alpha, q) */
+    fcc_real_t hi[2];                /* upper interval bounds */
+    fcc_real_t gain_norm;            /* ||K_k||_2 or ||G_k||_2, 0 without update */
+    uint16_t order;                  /* q used (0 for the KF) */
+    uint16_t n_generators;           /* columns of P_bar_k (0 for the KF) */
+    bool fault;                      /* fault flag acted upon (AZKF only) */
+    bool measurement_used;           /* y_k entered the step */
+    bool stepped;                    /* false: step refused, this is the last good output */
+    fcc_sid_model_t model;           /* A_k, B_k used in the step */
+    fcc_real_t rho;                  /* rho(A_k) */
+    fcc_real_t se[FCC_MLS_N_PARAMS]; /* standard errors (a11 a12 a21 a22 b1 b2), -1 = n/a */
+    uint16_t n_transitions;          /* MLS window fill when the model was fitted */
+    bool model_is_prior;             /* the model is the prior (or the fixed model) */
+    fcc_status_t status;             /* first error among the three below, else FCC_OK */
+    fcc_status_t input_status;       /* sample or elevator rejected */
+    fcc_status_t mls_status;         /* the fit that produced the model (guard refusal...) */
+    fcc_status_t filter_status;      /* the filter step */
+} fcc_sid_out_t;
+
+typedef struct {
+    fcc_sid_config_t cfg;
+    fcc_mls_t mls;
+    union {
+        fcc_kf_t kf;
+        fcc_zkf_t zkf;
+        fcc_azkf_t azkf;
+    } u;
+    fcc_real_t prev_x[2];     /* KF: x_k-1|k-1 (start of the next transition) */
+    fcc_real_t prev_de;       /* KF: de_k-1 */
+    bool have_prev;           /* KF: prev_x exists */
+    bool prev_informed;       /* KF: prev_x was corrected by a measurement */
+    bool cur_informed;        /* ZKF/AZKF: x_k was corrected by y_k-1 */
+    fcc_status_t mls_status;  /* status of the last fit */
+    uint32_t k;               /* steps done */
+    fcc_sid_out_t last;       /* last good output */
+} fcc_sid_t;
+
+/* Fills every field with the paper's values and the documented defaults
+ * (module headers), for the given filter. */
+void fcc_sid_config_default(fcc_sid_config_t *cfg, fcc_sid_filter_t filter);
+
+/* The representative prior model A0, B0 (Euler, dt = 0.02 s, of a small
+ * delta wing near trim: Z_alpha = -1.5 1/s, M_alpha = -20 1/s^2,
+ * M_q = -3 1/s, Z_de = -0.2 1/s, M_de = -30 1/s^2; not from the paper,
+ * which gives none).  The application should pass the best model it has. */
+void fcc_sid_default_prior(fcc_sid_model_t *prior);
+
+/* Checks every field; FCC_ERR_ARG / FCC_ERR_RANGE / FCC_ERR_NOT_POSDEF. */
+fcc_status_t fcc_sid_config_check(const fcc_sid_config_t *cfg);
+
+fcc_status_t fcc_sid_init(fcc_sid_t *sid, const fcc_sid_config_t *cfg);
+
+/* One step (see the file comment).  Returns out->status. */
+fcc_status_t fcc_sid_step(fcc_sid_t *sid, fcc_real_t y_alpha, fcc_real_t y_q, fcc_real_t de,
+                          bool oracle_fault, bool measurement_valid, fcc_sid_out_t *out);
+
+#endif /* FCC_SID_H */

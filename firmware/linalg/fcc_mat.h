@@ -42,6 +42,21 @@ typedef struct {
     fcc_real_t *data;
 } fcc_mat_t;
 
+/* Propagate a failure: FCC_TRY(fcc_mat_mul(&a, &b, &c)); returns the status
+ * from the enclosing function unless it is FCC_OK. */
+#ifndef FCC_TRY
+#define FCC_TRY(expr)                                                                             \
+    do {                                                                                          \
+        const fcc_status_t fcc_try_status_ = (expr);                                              \
+        if (fcc_try_status_ != FCC_OK) {                                                          \
+            return fcc_try_status_;                                                               \
+        }                                                                                         \
+    } while (0)
+#endif
+
+/* A descriptor by value, for wrapping fixed arrays: fcc_mat_t m = FCC_MAT(3, 3, buf). */
+#define FCC_MAT(r, c, d) ((fcc_mat_t){(uint16_t)(r), (uint16_t)(c), (d)})
+
 /* Element access without bounds checks (for code that has already checked sizes). */
 #define FCC_MAT_AT(m, i, j) ((m)->data[(size_t)(i) * (m)->cols + (size_t)(j)])
 
@@ -167,11 +182,12 @@ fcc_status_t fcc_mat_spectral_radius(const fcc_mat_t *a, fcc_real_t *rho, fcc_ma
  * small singular values are found to full relative accuracy of the data,
  * which a rank test needs (squaring into A^T A would halve the digits). */
 typedef struct {
-    fcc_real_t w[FCC_MAT_MAX_ELEMS];
+    fcc_real_t w[2 * FCC_MAT_MAX_ELEMS];
 } fcc_mat_svd_ws_t;
 
 /* The min(rows, cols) singular values of a, in decreasing order.  Needs
- * min(rows, cols) <= FCC_MAT_MAX_DIM and rows*cols <= FCC_MAT_MAX_ELEMS. */
+ * min(rows, cols) <= FCC_MAT_MAX_DIM and max(rows, cols) <= 2*FCC_MAT_MAX_DIM
+ * (tall stacks such as the PBH test matrix [A - lambda I; C] fit). */
 fcc_status_t fcc_mat_svd_values(const fcc_mat_t *a, fcc_real_t s[], fcc_mat_svd_ws_t *ws);
 /* Spectral norm ||a||_2 = largest singular value. */
 fcc_status_t fcc_mat_norm_2(const fcc_mat_t *a, fcc_real_t *out, fcc_mat_svd_ws_t *ws);

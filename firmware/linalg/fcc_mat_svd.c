@@ -64,7 +64,7 @@ fcc_status_t fcc_mat_svd_values(const fcc_mat_t *a, fcc_real_t s[], fcc_mat_svd_
     const bool tall = a->rows >= a->cols;
     const uint16_t rows = tall ? a->rows : a->cols;
     const uint16_t cols = tall ? a->cols : a->rows;
-    if (cols > FCC_MAT_MAX_DIM || fcc_mat_count(a) > FCC_MAT_MAX_ELEMS) {
+    if (cols > FCC_MAT_MAX_DIM || rows > 2U * FCC_MAT_MAX_DIM) {
         return FCC_ERR_SIZE;
     }
     fcc_status_t st = fcc_mat_check_finite(a);

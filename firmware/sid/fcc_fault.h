@@ -37,7 +37,7 @@ typedef enum {
     FCC_FDET_OFF = 2
 } fcc_fdet_mode_t;
 
-#define FCC_FDET_DEFAULT_MARGIN FCC_R(1.0)
+#define FCC_FDET_DEFAULT_MARGIN FCC_R(1.5)
 #define FCC_FDET_DEFAULT_RAISE 1u
 #define FCC_FDET_DEFAULT_HOLD 0u
 #define FCC_FDET_DEFAULT_CLEAR 3u

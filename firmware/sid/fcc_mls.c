@@ -131,13 +131,19 @@ fcc_status_t fcc_mls_push(fcc_mls_t *mls, const fcc_real_t x[2], fcc_real_t de,
     return FCC_OK;
 }
 
-/* Cholesky factor (lower, packed l00 l10 l11 l20 l21 l22) of a 3x3
- * symmetric matrix with unit diagonal; FCC_ERR_SINGULAR on a pivot that is
- * not clearly positive. */
-static fcc_status_t chol3(const fcc_real_t s[3][3], fcc_real_t l[3][3])
+/* A 3x3 matrix as a value (a struct avoids C99's const-array pitfalls). */
+typedef struct {
+    fcc_real_t m[3][3];
+} mat3_t;
+
+/* Lower Cholesky factor of a 3x3 symmetric matrix with unit diagonal;
+ * FCC_ERR_SINGULAR on a pivot that is not clearly positive. */
+static fcc_status_t chol3(const mat3_t *sm, mat3_t *lm)
 {
     const fcc_real_t tiny = FCC_R(16.0) * FCC_EPS;
-    memset(l, 0, 9u * sizeof(fcc_real_t));
+    const fcc_real_t(*s)[3] = sm->m;
+    fcc_real_t(*l)[3] = lm->m;
+    memset(lm, 0, sizeof *lm);
     if (!(s[0][0] > tiny)) {
         return FCC_ERR_SINGULAR;
     }
@@ -159,8 +165,10 @@ static fcc_status_t chol3(const fcc_real_t s[3][3], fcc_real_t l[3][3])
 }
 
 /* w = (l l^T)^-1 from the Cholesky factor. */
-static void chol3_inverse(const fcc_real_t l[3][3], fcc_real_t w[3][3])
+static void chol3_inverse(const mat3_t *lm, mat3_t *wm)
 {
+    const fcc_real_t(*l)[3] = lm->m;
+    fcc_real_t(*w)[3] = wm->m;
     fcc_real_t li[3][3]; /* inverse of l, lower triangular */
     li[0][0] = FCC_R(1.0) / l[0][0];
     li[1][1] = FCC_R(1.0) / l[1][1];
@@ -182,8 +190,9 @@ static void chol3_inverse(const fcc_real_t l[3][3], fcc_real_t w[3][3])
 }
 
 /* 1-norm (max column sum) of a symmetric 3x3 matrix. */
-static fcc_real_t norm1_3(const fcc_real_t m[3][3])
+static fcc_real_t norm1_3(const mat3_t *mm)
 {
+    const fcc_real_t(*m)[3] = mm->m;
     fcc_real_t best = FCC_R(0.0);
     for (size_t k = 0; k < 3u; ++k) {
         const fcc_real_t c = FCC_FABS(m[0][k]) + FCC_FABS(m[1][k]) + FCC_FABS(m[2][k]);
@@ -193,8 +202,9 @@ static fcc_real_t norm1_3(const fcc_real_t m[3][3])
 }
 
 /* Solves l l^T y = v in place. */
-static void chol3_solve(const fcc_real_t l[3][3], fcc_real_t v[3])
+static void chol3_solve(const mat3_t *lm, fcc_real_t v[3])
 {
+    const fcc_real_t(*l)[3] = lm->m;
     v[0] = v[0] / l[0][0];
     v[1] = (v[1] - l[1][0] * v[0]) / l[1][1];
     v[2] = (v[2] - l[2][0] * v[0] - l[2][1] * v[1]) / l[2][2];
@@ -244,7 +254,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
 
     /* Equilibrate N + ridge I to unit diagonal: d_j = 1 / sqrt(Nr_jj). */
     fcc_real_t d[3];
-    fcc_real_t s[3][3];
+    mat3_t s;
     for (size_t j = 0; j < 3u; ++j) {
         const fcc_real_t njj = mls->sums.n[sym_index(j, j)] + ridge;
         if (!(njj > FCC_R(0.0)) || !FCC_IS_FINITE(njj)) {
@@ -255,16 +265,16 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     for (size_t j = 0; j < 3u; ++j) {
         for (size_t k = 0; k < 3u; ++k) {
             const fcc_real_t nr = mls->sums.n[sym_index(j, k)] + (j == k ? ridge : FCC_R(0.0));
-            s[j][k] = d[j] * nr * d[k];
+            s.m[j][k] = d[j] * nr * d[k];
         }
     }
-    fcc_real_t l[3][3];
-    if (chol3(s, l) != FCC_OK) {
+    mat3_t l;
+    if (chol3(&s, &l) != FCC_OK) {
         return FCC_ERR_SINGULAR;
     }
-    fcc_real_t w[3][3];
-    chol3_inverse(l, w);
-    const fcc_real_t cond = norm1_3(s) * norm1_3(w);
+    mat3_t w;
+    chol3_inverse(&l, &w);
+    const fcc_real_t cond = norm1_3(&s) * norm1_3(&w);
     if (!(cond <= mls->cfg.max_cond)) {
         return FCC_ERR_SINGULAR;
     }
@@ -275,7 +285,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
         for (size_t j = 0; j < 3u; ++j) {
             v[j] = d[j] * (mls->sums.pz[2u * j + i] + ridge * theta0[j][i]);
         }
-        chol3_solve(l, v);
+        chol3_solve(&l, v);
         for (size_t j = 0; j < 3u; ++j) {
             th[i][j] = d[j] * v[j];
         }
@@ -304,7 +314,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
         for (size_t j = 0; j < 3u; ++j) {
             /* Parameter order a11 a12 a21 a22 b1 b2: row i, regressor j. */
             const size_t p = j < 2u ? 2u * i + j : 4u + i;
-            se[p] = var < FCC_R(0.0) ? FCC_R(-1.0) : FCC_SQRT(var * d[j] * d[j] * w[j][j]);
+            se[p] = var < FCC_R(0.0) ? FCC_R(-1.0) : FCC_SQRT(var * d[j] * d[j] * w.m[j][j]);
         }
     }
 

@@ -106,6 +106,7 @@ class E2EReceiver:
     last_counter: int = 0
     frames_this_period: int = 0
     last_status: E2EStatus = E2EStatus.NO_NEW_DATA
+    stale: bool = False
     lost_frames: int = 0
     counts: dict[E2EStatus, int] = field(default_factory=lambda: {s: 0 for s in E2EStatus})
 
@@ -141,12 +142,12 @@ class E2EReceiver:
 
     def end_period(self) -> bool:
         """Close one receive period; True (and a NO_NEW_DATA count) if it had no frame."""
-        stale = self.frames_this_period == 0
-        if stale:
+        self.stale = self.frames_this_period == 0
+        if self.stale:
             self.counts[E2EStatus.NO_NEW_DATA] += 1
             self.last_status = E2EStatus.NO_NEW_DATA
         self.frames_this_period = 0
-        return stale
+        return self.stale
 
     def reset(self) -> None:
         """Forget the counter history: the next valid frame is OK again."""

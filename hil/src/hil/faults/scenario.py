@@ -118,11 +118,11 @@ def fault_from_table(table: Mapping[str, Any], aircraft: str, where: str,
 
 
 def _scalar(text: str) -> Any:
-    """A command-line value: integer, number (inf allowed), true/false, else the string."""
+    """A command-line value: integer (0x.. too), number (inf allowed), true/false, else string."""
     low = text.strip().lower()
     if low in ("true", "false"):
         return low == "true"
-    for conv in (int, float):
+    for conv in (lambda s: int(s, 0), float):
         try:
             v = conv(text)
         except ValueError:

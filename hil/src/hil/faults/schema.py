@@ -59,12 +59,15 @@ def _coerce(value: Any, hint: Any, meta: Mapping[str, Any], where: str) -> Any:
     origin = typing.get_origin(hint)
     if origin in (typing.Union, types.UnionType):
         members = [h for h in typing.get_args(hint) if h is not type(None)]
-        errors = []
+        matching: ScenarioError | None = None
         for h in members:
             try:
                 return _coerce(value, h, meta, where)
             except ScenarioError as e:
-                errors.append(str(e))
+                if _same_family(value, h):
+                    matching = e  # the right type, a wrong value: report that
+        if matching is not None:
+            raise matching
         names = " or ".join(_hint_name(h) for h in members)
         raise ScenarioError(f"{where}: expected {names}, got {_show(value)}")
     if origin is tuple:
@@ -103,6 +106,14 @@ def _coerce(value: Any, hint: Any, meta: Mapping[str, Any], where: str) -> Any:
             raise ScenarioError(f"{where}: must be one of {', '.join(map(str, choices))}, got {value!r}")
         return value
     raise TypeError(f"schema: unsupported field type {hint!r}")  # programming error
+
+
+def _same_family(value: Any, hint: Any) -> bool:
+    if isinstance(value, bool):
+        return hint is bool
+    if isinstance(value, (int, float)):
+        return hint in (int, float)
+    return isinstance(hint, type) and isinstance(value, hint)
 
 
 def _hint_name(h: Any) -> str:

@@ -14,19 +14,33 @@ fine sub-step (default 2 ms, 10 per 50 Hz frame) with the elevator held (zero-or
 servo is refreshed at the 50 Hz frame rate).
 
 "True" linearisation for the identification (the paper's discrete model x = [alpha, q],
-x_{k+1} = A_k x_k + B_k de_k, Euler form A_k = I + dt*A_c, B_k = dt*B_c):
+x_{k+1} = A_k x_k + B_k de_k):
 
-* ``A_true`` (what the tests and plots call the true A) is the (alpha, q) block of the
-  Jacobian with the separation state X *held at its current value*.  Over one 20 ms step X
-  hardly moves (tau1 = 0.5 s = 25 steps), so this is the local one-step map a regression on
-  [alpha_k, q_k, de_k] is trying to find; the slow X-coupling is, for the MLS, an unmodelled
-  input whose effect is spread over its 2.2 s window.  Because X lags alpha, this A keeps
-  the "stalled" dynamics for a while after alpha has come back under 15 deg: the hysteresis
-  of the paper's Fig. 7.
-* ``A_static`` replaces X by its static value X0(alpha) before differentiating (so the slope
-  dX0/dalpha enters): the quasi-steady, wind-tunnel-like linearisation the paper compared its
-  MLS estimate with (Fig. 7, from [16]).  It has no memory, hence no hysteresis.
+* ``A``/``B`` (what the flight arrays call A_true/B_true) come from the continuous Jacobian
+  of the (alpha, q) rates with the separation state X *held at its current value*,
+  discretised exactly for dt with the elevator held (A = e^{A_c dt}, B = int_0^dt e^{A_c s}
+  ds B_c).  Over one 20 ms step X hardly moves (tau1 = 0.5 s = 25 steps), so this (with
+  the affine term c below) is the local one-step map of the aircraft; a least-squares fit
+  with an intercept over a window of steady flight recovers it (measured before the stall:
+  A_21 -0.966 vs -0.923).  The slow X-coupling is, for the MLS, an unmodelled input spread
+  over its 2.2 s window, so windows that span the stall mix dynamics.
+  Because X lags alpha, this A keeps the "stalled" dynamics for a while after alpha is back
+  under 15 deg: the hysteresis of the paper's Fig. 7.  (Measured on the default flight:
+  letting X respond within the step, i.e. the Jacobian of the full 3-state flow, changes the
+  (q, alpha) entry by up to ~0.07 near alpha*, because X0 is steep there, but rho by < 0.001.)
+* ``A_euler``/``B_euler`` = I + dt A_c, dt B_c: the same Jacobian through the paper's own
+  Euler formula (eq. 3).  It differs from the exact map by O(dt^2): ~0.1 (10 %) on the
+  (q, alpha) entry here because dt*|M_alpha| ~ 1, though rho differs by < 0.5 %.
+* ``A_static`` (exact discretisation) replaces X by its static value X0(alpha) before
+  differentiating, so the slope dX0/dalpha enters: the quasi-steady, wind-tunnel-like
+  linearisation the paper compared its MLS estimate with (Fig. 7, from [16]).  It has no
+  memory, hence no hysteresis, and it is statically unstable (rho > 1) in the pitch-up band.
 * ``J3`` is the full 3x3 continuous Jacobian of (alpha, q, X), for reference.
+* ``c`` is the affine term of the local model in absolute coordinates,
+  x_{k+1} ~ A x_k + B de_k + c.  The paper's model (eq. 3) has no such term, but a trimmed
+  aircraft at alpha = 9 deg needs one (gravity, C_m0 and the trim elevator do not cancel
+  A x* + B de*): c = (+0.016 rad, +0.071 rad/s) per step at trim.  A regression without an
+  intercept absorbs it into A and B (measured: A_21 ~ -0.5 instead of -0.92 before the stall).
 """
 from __future__ import annotations
 
@@ -60,10 +74,13 @@ class CdrwLinearisation:
 
     A_c: np.ndarray       # 2x2 continuous, X held
     B_c: np.ndarray       # 2,   continuous, X held
-    A: np.ndarray         # 2x2 discrete Euler, I + dt*A_c (the paper's form)
-    B: np.ndarray         # 2,   discrete Euler, dt*B_c
-    A_static: np.ndarray  # 2x2 discrete Euler with X = X0(alpha)
+    A: np.ndarray         # 2x2 discrete, exact (e^{A_c dt}): the true A_k
+    B: np.ndarray         # 2,   discrete, exact (elevator held): the true B_k
+    A_euler: np.ndarray   # 2x2 I + dt*A_c (the paper's eq. 3)
+    B_euler: np.ndarray   # 2,   dt*B_c
+    A_static: np.ndarray  # 2x2 discrete, exact, with X = X0(alpha) (quasi-steady)
     J3: np.ndarray        # 3x3 continuous Jacobian of (alpha, q, X)
+    c: np.ndarray         # 2, affine term: x_{k+1} ~ A x_k + B de_k + c (see below)
     dt: float
 
     @property
@@ -77,8 +94,62 @@ class CdrwLinearisation:
 
 
 def spectral_radius(a: np.ndarray) -> float:
-    """max |lambda_i| (seed 1, eq. 26)."""
+    """max |lambda_i| (seed 1, eq. 26); closed form for 2x2 (the hot path)."""
+    if a.shape == (2, 2):
+        half_tr = 0.5 * (a[0, 0] + a[1, 1])
+        det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+        disc = half_tr * half_tr - det
+        if disc >= 0.0:
+            r = math.sqrt(disc)
+            return float(max(abs(half_tr + r), abs(half_tr - r)))
+        return float(math.sqrt(det))  # complex pair: |lambda|^2 = det
     return float(np.max(np.abs(np.linalg.eigvals(a))))
+
+
+def expm_phi1(a_c: np.ndarray, dt: float, terms: int = 18) -> tuple[np.ndarray, np.ndarray]:
+    """(e^{A dt}, int_0^dt e^{A s} ds) of a small matrix by their Taylor series.
+
+    Reference implementation (and fallback): for the 2x2 Jacobians here ||A dt|| ~ 1, so 18
+    terms leave a truncation error < 1e-13 and no cancellation problem.
+    """
+    n = a_c.shape[0]
+    term = np.eye(n) * dt            # (A dt)^k dt / (k+1)!, k = 0
+    phi1 = term.copy()
+    ad = a_c * dt
+    for k in range(1, terms):
+        term = term @ ad / (k + 1)
+        phi1 += term
+    return np.eye(n) + a_c @ phi1, phi1
+
+
+def expm_phi1_2x2(a_c: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Closed form of expm_phi1 for 2x2 (the per-frame hot path).
+
+    With s = tr(A)/2 and N = A - s I, N^2 = delta I (delta = s^2 - det A), so
+    e^{A dt} = e^{s dt} (cosh(m) I + sinh(m)/sqrt(delta) N), m = sqrt(delta) dt (cos/sin
+    when delta < 0); then int_0^dt e^{A s} ds = A^{-1} (e^{A dt} - I) when A is well
+    invertible, else the series.
+    """
+    a, b, c, d = float(a_c[0, 0]), float(a_c[0, 1]), float(a_c[1, 0]), float(a_c[1, 1])
+    s = 0.5 * (a + d)
+    det = a * d - b * c
+    delta = s * s - det
+    m2 = delta * dt * dt
+    if abs(m2) < 1e-8:
+        ch, shd = 1.0 + 0.5 * m2, dt * (1.0 + m2 / 6.0)          # series of cosh, sinh/x
+    elif delta > 0.0:
+        r = math.sqrt(delta)
+        ch, shd = math.cosh(r * dt), math.sinh(r * dt) / r
+    else:
+        r = math.sqrt(-delta)
+        ch, shd = math.cos(r * dt), math.sin(r * dt) / r
+    e = math.exp(s * dt)
+    ed = np.array([[e * (ch + shd * (a - s)), e * shd * b],
+                   [e * shd * c, e * (ch + shd * (d - s))]])
+    if abs(det) * dt * dt < 1e-6:
+        return ed, expm_phi1(a_c, dt)[1]
+    inv = np.array([[d, -b], [-c, a]]) / det
+    return ed, inv @ (ed - np.eye(2))
 
 
 def separation_x0(p: CdrwParams, alpha_eff: float) -> float:
@@ -160,14 +231,21 @@ class CdrwPlant:
 
     # ---- integration --------------------------------------------------------------------
     def step(self, de: float, dt: float = DT_FRAME, d_alpha: float = 0.0,
-             d_q: float = 0.0) -> np.ndarray:
-        """Advance dt seconds with the elevator and the disturbance held; returns the state."""
+             d_q: float = 0.0, *, hold_separation: bool = False) -> np.ndarray:
+        """Advance dt seconds with the elevator and the disturbance held; returns the state.
+
+        hold_separation=True freezes X (analysis only: the flow whose Jacobian is A_true).
+        """
         if not dt > 0.0:
             raise ValueError(f"cdrw: dt must be > 0, got {dt}")
         n = max(1, math.ceil(dt / self.substep - 1e-9))
         h = dt / n
         a, q, x = self.alpha, self.q, self.X
         f = self.rates
+        if hold_separation:
+            def f(a_: float, q_: float, x_: float, de_: float, da: float, dq: float) -> tuple[float, float, float]:
+                r = self.rates(a_, q_, x_, de_, da, dq)
+                return r[0], r[1], 0.0
         for _ in range(n):
             k1 = f(a, q, x, de, d_alpha, d_q)
             k2 = f(a + 0.5 * h * k1[0], q + 0.5 * h * k1[1], x + 0.5 * h * k1[2], de, d_alpha, d_q)
@@ -218,5 +296,11 @@ class CdrwPlant:
             fm2 = self.static_rates(sm[0], sm[1], de)
             a_s[:, j] = [(fp2[i] - fm2[i]) / (2.0 * eps) for i in range(2)]
         eye = np.eye(2)
-        return CdrwLinearisation(A_c=a_c, B_c=b_c, A=eye + dt * a_c, B=dt * b_c,
-                                 A_static=eye + dt * a_s, J3=j3, dt=dt)
+        a_d, phi1 = expm_phi1_2x2(a_c, dt)
+        a_sd, _ = expm_phi1_2x2(a_s, dt)
+        f0 = self.rates(*s0, de)
+        x0 = np.array(s0[:2])
+        c_c = np.array(f0[:2]) - a_c @ x0 - b_c * de
+        return CdrwLinearisation(A_c=a_c, B_c=b_c, A=a_d, B=phi1 @ b_c,
+                                 A_euler=eye + dt * a_c, B_euler=dt * b_c,
+                                 A_static=a_sd, J3=j3, c=phi1 @ c_c, dt=dt)

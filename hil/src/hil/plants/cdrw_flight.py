@@ -109,6 +109,7 @@ class CdrwFlight:
     de_faultfree: np.ndarray
     A_true: np.ndarray                # (N, 2, 2) discrete Euler, X held (see plants.cdrw)
     B_true: np.ndarray                # (N, 2)
+    c_true: np.ndarray                # (N, 2) affine term the paper's model omits
     rho_true: np.ndarray              # rho(A_true)
     rho_static: np.ndarray            # rho of the quasi-steady (wind-tunnel-like) A
     C_L: np.ndarray
@@ -130,6 +131,7 @@ def simulate_cdrw(scenario: Scenario | None = None) -> CdrwFlight:
     flag = np.zeros(n, dtype=np.int8)
     a_true = np.empty((n, 2, 2))
     b_true = np.empty((n, 2))
+    c_true = np.empty((n, 2))
     for i in range(n):
         s = sim.step()
         c_l, c_m = sim.plant.coefficients_at(s.alpha, s.q, s.X, s.de)
@@ -141,7 +143,8 @@ def simulate_cdrw(scenario: Scenario | None = None) -> CdrwFlight:
         flag[i] = 1 if s.fault_active else 0
         a_true[i] = s.lin.A
         b_true[i] = s.lin.B
-    return CdrwFlight(**cols, fault_flag=flag, A_true=a_true, B_true=b_true, trim=sim.trim,
+        c_true[i] = s.lin.c
+    return CdrwFlight(**cols, fault_flag=flag, A_true=a_true, B_true=b_true, c_true=c_true, trim=sim.trim,
                       dt=sim.dt, events=tuple(sim.faults.log))
 
 

@@ -161,6 +161,8 @@ class MissilePlant:
     def __init__(self, seed: int, *, q0: float = Q0, alpha0: float = 0.0,
                  gust0: float | str = 0.0, gust_scale: float = 1.0,
                  batch: int | None = None) -> None:
+        if not gust_scale >= 0.0:
+            raise ValueError(f"missile: gust_scale must be >= 0, got {gust_scale}")
         self._rng = np.random.default_rng([int(seed), 0x6D73])  # own stream: "ms"
         shape = (3,) if batch is None else (int(batch), 3)
         x = np.zeros(shape)
@@ -172,8 +174,6 @@ class MissilePlant:
             x[..., 2] = SIGMA_W * gust_scale * self._rng.standard_normal(shape[:-1])
         else:
             x[..., 2] = float(gust0)
-        if not gust_scale >= 0.0:
-            raise ValueError(f"missile: gust_scale must be >= 0, got {gust_scale}")
         self.gust_scale = float(gust_scale)
         self.x = x
         self.t = 0.0

@@ -1,0 +1,201 @@
+/*
+ * fcc_lqg.h -- the missile pitch autopilot of seed 2 (SPEC section 3): its
+ * sampled-data LQG design for a period T, and the per-step runtime (D/A
+ * quantizer + steady-state Kalman filter + LQR command).
+ *
+ * Split on purpose:
+ *  - fcc_lqg_design() runs once at start-up (or when T changes): ZOH
+ *    discretisation (Van Loan), both Riccati equations by BOTH solvers
+ *    (symplectic eigenvectors, the paper's method, and doubling) with a
+ *    cross-check, gains and poles.  It is heavy (~10^6 flops) and off the
+ *    control path.  Any failure leaves the previous design untouched.
+ *  - fcc_lqg_ctrl_*() run every period: a handful of multiply-adds, no
+ *    allocation, no failure except non-finite input, which leaves the state
+ *    untouched.  An application (CAN I/O, scheduling) needs only this API.
+ *
+ * State x = [q (rad/s), alpha_T (rad), w_g (ft/s)], input u = elevator (rad),
+ * measurement y = [q_g (rad/s), n_a (ft/s^2)].
+ *
+ * Filter (the seed's form, steady-state gains):
+ *   update    x^_k   = xbar_k + L (y_k - H xbar_k)
+ *   command   u_k    = sat(-K x^_k, +-0.4 rad) -> D/A code -> u_applied
+ *   propagate xbar_k+1 = Phi x^_k + Gamma u_applied      (the command the
+ *             actuator really got: quantised and saturated)
+ * L = M H^T (H M H^T + R)^-1 with M the a-priori covariance
+ * (M = Phi P+ Phi^T + Q_d, P+ = (I - L H) M).
+ */
+#ifndef FCC_LQG_H
+#define FCC_LQG_H
+
+#include "fcc_c2d.h"
+#include "fcc_dare.h"
+
+#define FCC_LQG_NX 3
+#define FCC_LQG_NU 1
+#define FCC_LQG_NY 2
+
+/* Elevator authority, rad. */
+#define FCC_LQG_U_MAX FCC_R(0.4)
+
+/* Accepted sampling periods, s.  Below 5 ms the Riccati problems approach
+ * the unit circle faster than single precision resolves; above 1 s the
+ * discretisation block exp(-F T) grows past e^4 and a missile autopilot
+ * sampled that slowly is meaningless (the paper studies 0.02-0.3 s). */
+#define FCC_LQG_T_MIN FCC_R(0.005)
+#define FCC_LQG_T_MAX FCC_R(1.0)
+
+#define FCC_LQG_BITS_MIN 2U
+#define FCC_LQG_BITS_MAX 16U
+
+/* Largest relative difference allowed between the two Riccati solvers
+ * (max-entry-relative, on P, K, M and L).  Measured disagreement over
+ * T = 0.005-1 s: ~1e-13 in double, ~1e-5 in float. */
+#ifdef FCC_REAL_FLOAT
+#define FCC_LQG_AGREE_TOL FCC_R(1e-3)
+#else
+#define FCC_LQG_AGREE_TOL FCC_R(1e-10)
+#endif
+
+typedef enum {
+    FCC_LQG_SOLVER_HAMILTONIAN = 0, /* eigenvectors of the symplectic matrix (the paper) */
+    FCC_LQG_SOLVER_DOUBLING = 1     /* structure-preserving doubling */
+} fcc_lqg_solver_t;
+
+/* The continuous plant, weights and sensor noise (defaults: the paper). */
+typedef struct {
+    fcc_real_t f[FCC_LQG_NX * FCC_LQG_NX]; /* dx/dt = F x + G u + w eta_g */
+    fcc_real_t g[FCC_LQG_NX];
+    fcc_real_t w[FCC_LQG_NX];              /* gust input (unit-intensity white noise) */
+    fcc_real_t wx[FCC_LQG_NX * FCC_LQG_NX]; /* cost weight A on x (symmetric, >= 0) */
+    fcc_real_t wu;                          /* cost weight B on u (> 0) */
+    fcc_real_t h[FCC_LQG_NY * FCC_LQG_NX];  /* y = H x + v */
+    fcc_real_t gyro_var;                    /* E{v_g^2}, rad^2/s^2, > 0 */
+    fcc_real_t accel_var;                   /* E{v_a^2}, ft^2/s^4, > 0 */
+} fcc_lqg_plant_t;
+
+/* Riccati bookkeeping of one equation (LQR or Kalman). */
+typedef struct {
+    fcc_real_t residual;     /* relative residual of the reported solution */
+    fcc_real_t disagreement; /* max relative difference between the solvers */
+    fcc_real_t rcond_u1;     /* Hamiltonian method: conditioning of U1 */
+    uint16_t iterations;     /* doubling steps */
+} fcc_lqg_riccati_t;
+
+/* Everything the design produced (row-major arrays). */
+typedef struct {
+    fcc_real_t t;
+    fcc_lqg_solver_t solver; /* which solver's X is reported (both are checked) */
+    fcc_real_t phi[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t gamma[FCC_LQG_NX * FCC_LQG_NU];
+    fcc_real_t qd[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t q11[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t q12[FCC_LQG_NX * FCC_LQG_NU];
+    fcc_real_t q22[FCC_LQG_NU * FCC_LQG_NU];
+    fcc_real_t h[FCC_LQG_NY * FCC_LQG_NX];
+    fcc_real_t r[FCC_LQG_NY * FCC_LQG_NY];
+    fcc_real_t p[FCC_LQG_NX * FCC_LQG_NX];      /* LQR Riccati solution */
+    fcc_real_t k[FCC_LQG_NU * FCC_LQG_NX];      /* u = -K x^ */
+    fcc_real_t m[FCC_LQG_NX * FCC_LQG_NX];      /* a-priori estimation covariance */
+    fcc_real_t p_post[FCC_LQG_NX * FCC_LQG_NX]; /* a-posteriori covariance (I - L H) M */
+    fcc_real_t l[FCC_LQG_NX * FCC_LQG_NY];      /* filter gain, update form */
+    /* Poles, sorted by decreasing modulus (then decreasing imaginary part). */
+    fcc_real_t cl_re[FCC_LQG_NX]; /* eig(Phi - Gamma K) */
+    fcc_real_t cl_im[FCC_LQG_NX];
+    fcc_real_t est_re[FCC_LQG_NX]; /* eig(Phi - Phi L H) = eig((I - L H) Phi) */
+    fcc_real_t est_im[FCC_LQG_NX];
+    fcc_lqg_riccati_t lqr;
+    fcc_lqg_riccati_t kf;
+} fcc_lqg_design_t;
+
+/* Scratch of the design (the two phases share storage). */
+typedef struct {
+    union {
+        fcc_c2d_ws_t c2d;
+        fcc_dare_ws_t dare;
+    } u;
+    fcc_lqg_design_t d; /* the design under construction */
+    fcc_real_t x_alt[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t g_alt[FCC_LQG_NX * FCC_LQG_NY];
+    fcc_real_t a_t[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t b_t[FCC_LQG_NX * FCC_LQG_NY];
+    fcc_real_t tmp[FCC_LQG_NX * FCC_LQG_NX];
+} fcc_lqg_ws_t;
+
+/* The paper's missile (Mach 1.2, sea level), weights A = diag(0.12, 11, 0),
+ * B = 1, and noise variances 0.8 / 0.8. */
+fcc_status_t fcc_lqg_plant_default(fcc_lqg_plant_t *plant);
+
+/*
+ * Design for period t.  Statuses: FCC_ERR_ARG (NULL, unknown solver, NaN),
+ * FCC_ERR_RANGE (t outside [FCC_LQG_T_MIN, FCC_LQG_T_MAX], a variance or wu
+ * not > 0), FCC_ERR_NOT_STABILIZABLE / FCC_ERR_NOT_DETECTABLE (LQR: (Phi,
+ * Gamma) / cost; Kalman: (Phi, H) is reported as NOT_DETECTABLE, (Phi, Q_d)
+ * as NOT_STABILIZABLE), FCC_ERR_SINGULAR (the Hamiltonian method needs an
+ * invertible Phi - Gamma Q22^-1 Q12^T), FCC_ERR_NO_CONVERGENCE,
+ * FCC_ERR_DISAGREE (solvers differ by more than FCC_LQG_AGREE_TOL), and the
+ * linear-algebra codes.  *out is written only on FCC_OK.
+ */
+fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, fcc_real_t t, fcc_lqg_solver_t solver,
+                            fcc_lqg_design_t *out, fcc_lqg_ws_t *ws);
+
+/* ---- D/A converter ------------------------------------------------------------ */
+
+/* N bits over [-0.4, +0.4] rad: LSB = 0.8 / 2^N,
+ * code = clamp(round(u / LSB), -2^(N-1), 2^(N-1) - 1), u_applied = code LSB.
+ * round() is half away from zero (C99 round). */
+typedef struct {
+    uint8_t bits;
+    fcc_real_t lsb;
+    int32_t code_min;
+    int32_t code_max;
+} fcc_lqg_dac_t;
+
+/* FCC_ERR_RANGE for bits outside [FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX]. */
+fcc_status_t fcc_lqg_dac_init(fcc_lqg_dac_t *dac, uint8_t bits);
+/* NaN/Inf u: FCC_ERR_NOT_FINITE with the safe code 0 (u_applied = 0). */
+fcc_status_t fcc_lqg_dac_convert(const fcc_lqg_dac_t *dac, fcc_real_t u, int32_t *code,
+                                 fcc_real_t *u_applied);
+/* The elevator angle of a code (clamped to the converter's range). */
+fcc_status_t fcc_lqg_dac_value(const fcc_lqg_dac_t *dac, int32_t code, fcc_real_t *u_applied);
+
+/* ---- runtime controller ----------------------------------------------------- */
+
+typedef struct {
+    fcc_real_t x_hat[FCC_LQG_NX]; /* estimate the command was computed from */
+    fcc_real_t u_cmd;             /* -K x^, before the limit */
+    fcc_real_t u_sat;             /* after the +-0.4 rad limit */
+    int32_t code;                 /* D/A code for the actuator frame */
+    fcc_real_t u_applied;         /* code * LSB */
+    bool saturated;               /* |u_cmd| > 0.4 rad */
+    bool measured;                /* false for a prediction-only step */
+} fcc_lqg_output_t;
+
+typedef struct {
+    fcc_real_t phi[FCC_LQG_NX * FCC_LQG_NX];
+    fcc_real_t gamma[FCC_LQG_NX];
+    fcc_real_t k[FCC_LQG_NX];
+    fcc_real_t l[FCC_LQG_NX * FCC_LQG_NY];
+    fcc_real_t h[FCC_LQG_NY * FCC_LQG_NX];
+    fcc_lqg_dac_t dac;
+    fcc_real_t x_pred[FCC_LQG_NX]; /* xbar for the next sample */
+    uint32_t updates;              /* steps with a measurement */
+    uint32_t predictions;          /* prediction-only steps */
+} fcc_lqg_ctrl_t;
+
+/* Take the gains of a design, set up a D/A of `bits` bits, and start from the
+ * prediction x0 (NULL: zero).  FCC_ERR_RANGE for bad bits, FCC_ERR_NOT_FINITE
+ * for a design or x0 that is not finite. */
+fcc_status_t fcc_lqg_ctrl_init(fcc_lqg_ctrl_t *c, const fcc_lqg_design_t *d, uint8_t bits,
+                               const fcc_real_t x0[FCC_LQG_NX]);
+/* Restart the estimate from x0 (NULL: zero); gains and counters are kept. */
+fcc_status_t fcc_lqg_ctrl_reset(fcc_lqg_ctrl_t *c, const fcc_real_t x0[FCC_LQG_NX]);
+/* One period with the measurement y = [q_g, n_a].  A non-finite y returns
+ * FCC_ERR_NOT_FINITE and changes nothing (neither *c nor *out): call
+ * fcc_lqg_ctrl_predict() for this period instead. */
+fcc_status_t fcc_lqg_ctrl_step(fcc_lqg_ctrl_t *c, const fcc_real_t y[FCC_LQG_NY],
+                               fcc_lqg_output_t *out);
+/* One period without a usable measurement (stale frame, sensor fault):
+ * x^ = xbar, then command and propagation as in a normal step. */
+fcc_status_t fcc_lqg_ctrl_predict(fcc_lqg_ctrl_t *c, fcc_lqg_output_t *out);
+
+#endif /* FCC_LQG_H */

@@ -1,0 +1,270 @@
+/*
+ * fcc_socketcan.c -- SocketCAN raw-socket port.  See fcc_socketcan.h.
+ */
+#define _DEFAULT_SOURCE 1 /* recvmsg, CMSG_*, clock_gettime under -std=c99 */
+
+#include "fcc_socketcan.h"
+
+#include <errno.h>
+#include <net/if.h>
+#include <poll.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <linux/can.h>
+#include <linux/can/error.h>
+#include <linux/can/raw.h>
+
+#ifndef SO_RXQ_OVFL
+#define SO_RXQ_OVFL 40
+#endif
+
+static uint64_t monotonic_us(void)
+{
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+}
+
+static uint64_t timespec_us(const struct timespec *ts)
+{
+    return (uint64_t)ts->tv_sec * 1000000u + (uint64_t)ts->tv_nsec / 1000u;
+}
+
+static fcc_status_t set_opt(int fd, int level, int name, const void *val, socklen_t len)
+{
+    return (setsockopt(fd, level, name, val, len) == 0) ? FCC_OK : FCC_ERR_IO;
+}
+
+static fcc_status_t configure(int fd)
+{
+    const int one = 1;
+    const can_err_mask_t err_mask = CAN_ERR_MASK; /* every error class */
+    fcc_status_t st = set_opt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);
+    if (st == FCC_OK) {
+        st = set_opt(fd, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one);
+    }
+    if (st == FCC_OK) {
+        st = set_opt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask);
+    }
+    return st;
+}
+
+fcc_status_t fcc_socketcan_open(fcc_socketcan_t *s, const char *ifname)
+{
+    if (s == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(s, 0, sizeof *s);
+    s->fd = -1;
+    s->send_budget_us = FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US;
+    if (ifname == NULL || ifname[0] == '\0' || strlen(ifname) >= IFNAMSIZ) {
+        return FCC_ERR_ARG;
+    }
+    const int fd = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+    if (fd < 0) {
+        return FCC_ERR_IO;
+    }
+    struct ifreq ifr;
+    memset(&ifr, 0, sizeof ifr);
+    memcpy(ifr.ifr_name, ifname, strlen(ifname));
+    struct sockaddr_can addr;
+    memset(&addr, 0, sizeof addr);
+    addr.can_family = AF_CAN;
+    fcc_status_t st = (ioctl(fd, SIOCGIFINDEX, &ifr) == 0) ? FCC_OK : FCC_ERR_IO;
+    if (st == FCC_OK) {
+        addr.can_ifindex = ifr.ifr_ifindex;
+        st = configure(fd);
+    }
+    if (st == FCC_OK && bind(fd, (struct sockaddr *)&addr, sizeof addr) != 0) {
+        st = FCC_ERR_IO;
+    }
+    if (st != FCC_OK) {
+        (void)close(fd);
+        return st;
+    }
+    s->fd = fd;
+    return FCC_OK;
+}
+
+fcc_status_t fcc_socketcan_set_filters(fcc_socketcan_t *s, const uint32_t *ids, size_t n)
+{
+    if (s == NULL || s->fd < 0 || n > FCC_SOCKETCAN_MAX_FILTERS || (n > 0u && ids == NULL)) {
+        return FCC_ERR_ARG;
+    }
+    struct can_filter f[FCC_SOCKETCAN_MAX_FILTERS];
+    for (size_t i = 0u; i < n; ++i) {
+        if (ids[i] > CAN_SFF_MASK) {
+            return FCC_ERR_ARG;
+        }
+        f[i].can_id = ids[i];
+        /* exact identifier, standard frame, data frame */
+        f[i].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG;
+    }
+    if (n == 0u) { /* one filter that passes everything */
+        f[0].can_id = 0u;
+        f[0].can_mask = 0u;
+        n = 1u;
+    }
+    return set_opt(s->fd, SOL_CAN_RAW, CAN_RAW_FILTER, f, (socklen_t)(n * sizeof f[0]));
+}
+
+/* Read the control messages: kernel time stamp and receive-queue drop count. */
+static void read_cmsgs(fcc_socketcan_t *s, struct msghdr *mh, uint64_t *t_us)
+{
+    *t_us = 0u;
+    for (struct cmsghdr *c = CMSG_FIRSTHDR(mh); c != NULL; c = CMSG_NXTHDR(mh, c)) {
+        if (c->cmsg_level != SOL_SOCKET) {
+            continue;
+        }
+        if (c->cmsg_type == SO_TIMESTAMPNS) {
+            struct timespec ts;
+            memcpy(&ts, CMSG_DATA(c), sizeof ts);
+            *t_us = timespec_us(&ts);
+        } else if (c->cmsg_type == SO_RXQ_OVFL) {
+            uint32_t drops;
+            memcpy(&drops, CMSG_DATA(c), sizeof drops);
+            s->cnt.rx_overflows += drops - s->kernel_drops; /* wraps like the kernel's */
+            s->kernel_drops = drops;
+        }
+    }
+}
+
+/* 1: a frame for the application, 0: consumed (error/foreign frame), <0: status. */
+static int recv_one(fcc_socketcan_t *s, fcc_can_frame_t *frame)
+{
+    struct can_frame cf;
+    struct iovec iov = {&cf, sizeof cf};
+    union {
+        char buf[CMSG_SPACE(sizeof(struct timespec)) + CMSG_SPACE(sizeof(uint32_t))];
+        struct cmsghdr align;
+    } ctrl;
+    struct msghdr mh;
+    memset(&mh, 0, sizeof mh);
+    mh.msg_iov = &iov;
+    mh.msg_iovlen = 1;
+    mh.msg_control = ctrl.buf;
+    mh.msg_controllen = sizeof ctrl.buf;
+    const ssize_t n = recvmsg(s->fd, &mh, MSG_DONTWAIT);
+    if (n < 0) {
+        return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? FCC_ERR_AGAIN
+                                                                           : FCC_ERR_IO;
+    }
+    uint64_t t_us;
+    read_cmsgs(s, &mh, &t_us);
+    if ((cf.can_id & CAN_ERR_FLAG) != 0u) {
+        ++s->cnt.bus_errors;
+        return 0;
+    }
+    if ((size_t)n != sizeof cf || (cf.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0u ||
+        cf.len > CAN_MAX_DLEN) {
+        ++s->cnt.rx_ignored;
+        return 0;
+    }
+    frame->id = cf.can_id & CAN_SFF_MASK;
+    frame->dlc = cf.len;
+    memset(frame->data, 0, sizeof frame->data);
+    memcpy(frame->data, cf.data, cf.len);
+    frame->t_us = t_us;
+    ++s->cnt.rx_frames;
+    return 1;
+}
+
+fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame)
+{
+    if (s == NULL || s->fd < 0 || frame == NULL) {
+        return FCC_ERR_ARG;
+    }
+    for (;;) { /* skip error and foreign frames; the queue is finite */
+        const int r = recv_one(s, frame);
+        if (r != 0) {
+            return (r > 0) ? FCC_OK : (fcc_status_t)r;
+        }
+    }
+}
+
+fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms)
+{
+    if (s == NULL || s->fd < 0) {
+        return FCC_ERR_ARG;
+    }
+    struct pollfd p = {s->fd, POLLIN, 0};
+    const int r = poll(&p, 1, timeout_ms);
+    if (r < 0) {
+        return (errno == EINTR) ? FCC_ERR_AGAIN : FCC_ERR_IO;
+    }
+    return (r > 0) ? FCC_OK : FCC_ERR_AGAIN;
+}
+
+fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame)
+{
+    if (s == NULL || s->fd < 0 || frame == NULL || frame->id > CAN_SFF_MASK ||
+        frame->dlc > CAN_MAX_DLEN) {
+        return FCC_ERR_ARG;
+    }
+    struct can_frame cf;
+    memset(&cf, 0, sizeof cf);
+    cf.can_id = frame->id;
+    cf.len = frame->dlc;
+    memcpy(cf.data, frame->data, frame->dlc);
+    const uint64_t deadline = monotonic_us() + s->send_budget_us;
+    for (;;) {
+        const ssize_t n = write(s->fd, &cf, sizeof cf);
+        if (n == (ssize_t)sizeof cf) {
+            ++s->cnt.tx_frames;
+            return FCC_OK;
+        }
+        if (n >= 0 || (errno != ENOBUFS && errno != EAGAIN && errno != EINTR)) {
+            return FCC_ERR_IO;
+        }
+        if (monotonic_us() >= deadline) {
+            ++s->cnt.tx_dropped;
+            return FCC_ERR_AGAIN;
+        }
+        ++s->cnt.tx_retries;
+        /* ENOBUFS does not wake poll(): wait a short, bounded time either way. */
+        struct pollfd p = {s->fd, POLLOUT, 0};
+        (void)poll(&p, 1, 1);
+    }
+}
+
+fcc_status_t fcc_socketcan_counters(const fcc_socketcan_t *s, fcc_can_port_counters_t *out)
+{
+    if (s == NULL || out == NULL) {
+        return FCC_ERR_ARG;
+    }
+    *out = s->cnt;
+    return FCC_OK;
+}
+
+void fcc_socketcan_close(fcc_socketcan_t *s)
+{
+    if (s != NULL && s->fd >= 0) {
+        (void)close(s->fd);
+        s->fd = -1;
+    }
+}
+
+static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+{
+    return fcc_socketcan_send(ctx, frame);
+}
+
+static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
+{
+    return fcc_socketcan_recv(ctx, frame);
+}
+
+static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
+{
+    return fcc_socketcan_counters(ctx, out);
+}
+
+fcc_can_port_t fcc_socketcan_port(fcc_socketcan_t *s)
+{
+    fcc_can_port_t port = {s, port_send, port_recv, port_counters};
+    return port;
+}

@@ -1,0 +1,61 @@
+/*
+ * fcc_socketcan.h -- the Linux SocketCAN port (host only, never in fcc_core).
+ *
+ * Implements the port interface of firmware/bus/fcc_can.h on a raw CAN socket:
+ *  - open an interface by name, non-blocking;
+ *  - receive filters: exact match on the standard identifiers a node consumes;
+ *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS);
+ *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
+ *    the frame is dropped and counted -- the program never stops on it;
+ *  - error frames (CAN_RAW_ERR_FILTER) and kernel receive-queue overflows
+ *    (SO_RXQ_OVFL) are counted, not passed to the application.
+ * The state is a caller-owned struct; no heap.
+ */
+#ifndef FCC_SOCKETCAN_H
+#define FCC_SOCKETCAN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fcc_can.h"
+#include "fcc_types.h"
+
+#define FCC_SOCKETCAN_MAX_FILTERS 64u
+#define FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US 5000u
+
+typedef struct {
+    int fd;                       /* -1 when closed */
+    uint32_t send_budget_us;      /* bounded retry time of one send */
+    uint32_t kernel_drops;        /* last SO_RXQ_OVFL value seen (cumulative in the kernel) */
+    fcc_can_port_counters_t cnt;
+} fcc_socketcan_t;
+
+/* Open interface ifname (e.g. "vcan0"): FCC_ERR_IO when it does not exist or
+ * the kernel has no CAN; s->fd stays -1 then.  Receives every standard data
+ * frame until fcc_socketcan_set_filters() narrows it. */
+fcc_status_t fcc_socketcan_open(fcc_socketcan_t *s, const char *ifname);
+
+/* Receive only these standard identifiers (n <= FCC_SOCKETCAN_MAX_FILTERS;
+ * n == 0 receives every frame again). */
+fcc_status_t fcc_socketcan_set_filters(fcc_socketcan_t *s, const uint32_t *ids, size_t n);
+
+/* One frame if one is waiting (FCC_OK), FCC_ERR_AGAIN if none, FCC_ERR_IO on a
+ * socket error.  Error frames and frames the port cannot represent (extended,
+ * remote) are counted and skipped. */
+fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame);
+
+/* Wait up to timeout_ms for a frame to read: FCC_OK readable, FCC_ERR_AGAIN timeout. */
+fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms);
+
+/* Send one standard data frame (dlc <= 8).  FCC_ERR_AGAIN: dropped after the
+ * bounded retry (counted in tx_dropped). */
+fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame);
+
+fcc_status_t fcc_socketcan_counters(const fcc_socketcan_t *s, fcc_can_port_counters_t *out);
+
+void fcc_socketcan_close(fcc_socketcan_t *s);
+
+/* The port interface of fcc_can.h bound to s. */
+fcc_can_port_t fcc_socketcan_port(fcc_socketcan_t *s);
+
+#endif /* FCC_SOCKETCAN_H */

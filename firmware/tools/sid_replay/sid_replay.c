@@ -1,0 +1,164 @@
+/*
+ * sid_replay -- replays a flight CSV through the firmware's identification
+ * loops (MLS-KF, MLS-ZKF, MLS-AZKF side by side, each with its own MLS) and
+ * writes one CSV row per step per filter on stdout.  Row semantics: see
+ * fcc_sid.h.  Bad input: one line on stderr, exit status 1 (2 for a bad
+ * command line).
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "fcc_sid.h"
+#include "sid_replay_csv.h"
+#include "sid_replay_opts.h"
+
+static const char *const filter_names[3] = {"kf", "zkf", "azkf"};
+
+#ifdef FCC_REAL_FLOAT
+#define REAL_FMT "%.9g"
+#else
+#define REAL_FMT "%.17g"
+#endif
+
+static sid_flight_t flight;  /* static: up to SID_CSV_MAX_ROWS rows */
+static fcc_sid_t loops[3];
+static fcc_mls_t mls_alone;
+
+static void print_header(void)
+{
+    fputs("t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi,gain_norm,order,fault,"
+          "a11,a12,a21,a22,b1,b2,rho\n",
+          stdout);
+}
+
+static void print_reals(const fcc_real_t *v, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        printf("," REAL_FMT, (double)v[i]);
+    }
+}
+
+static void print_row(double t, const char *name, const fcc_real_t x[2], const fcc_real_t lo[2],
+                      const fcc_real_t hi[2], fcc_real_t gain, unsigned order, int fault,
+                      const fcc_sid_model_t *m, fcc_real_t rho)
+{
+    printf("%.17g,%s", t, name);
+    const fcc_real_t xb[6] = {x[0], x[1], lo[0], hi[0], lo[1], hi[1]};
+    print_reals(xb, 6);
+    printf("," REAL_FMT ",%u,%d", (double)gain, order, fault);
+    print_reals(m->a, 4);
+    print_reals(m->b, 2);
+    printf("," REAL_FMT "\n", (double)rho);
+}
+
+static int die(const char *msg)
+{
+    fprintf(stderr, "sid_replay: %s\n", msg);
+    return 1;
+}
+
+/* --mls-only: row k is the fit over the transitions that end at x_k. */
+static int run_mls_only(const sid_opts_t *o)
+{
+    const fcc_status_t st = fcc_mls_init(&mls_alone, &o->cfg.mls);
+    if (st != FCC_OK) {
+        fprintf(stderr, "sid_replay: invalid MLS configuration: %s\n", fcc_status_str(st));
+        return 1;
+    }
+    print_header();
+    for (size_t k = 0; k < flight.n; ++k) {
+        const fcc_real_t x[2] = {(fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k]};
+        if (k > 0u) {
+            const fcc_real_t xp[2] = {(fcc_real_t)flight.alpha[k - 1u],
+                                      (fcc_real_t)flight.q[k - 1u]};
+            (void)fcc_mls_update(&mls_alone, xp, (fcc_real_t)flight.de[k - 1u], x);
+        }
+        const fcc_mls_estimate_t *est = fcc_mls_estimate(&mls_alone);
+        print_row(flight.t[k], "mls", x, x, x, FCC_R(0.0), 0u, 0, &est->model, est->rho);
+    }
+    return 0;
+}
+
+static int run_filters(const sid_opts_t *o)
+{
+    for (int i = 0; i < 3; ++i) {
+        if (!o->run[i]) {
+            continue;
+        }
+        fcc_sid_config_t cfg = o->cfg;
+        cfg.filter = (fcc_sid_filter_t)i;
+        const fcc_status_t st = fcc_sid_init(&loops[i], &cfg);
+        if (st != FCC_OK) {
+            fprintf(stderr, "sid_replay: invalid configuration: %s\n", fcc_status_str(st));
+            return 1;
+        }
+    }
+    print_header();
+    for (size_t k = 0; k < flight.n; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            if (!o->run[i]) {
+                continue;
+            }
+            fcc_sid_out_t out;
+            (void)fcc_sid_step(&loops[i], (fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k],
+                               (fcc_real_t)flight.de[k], flight.fault[k] != 0u, true, &out);
+            print_row(flight.t[k], filter_names[i], out.x_hat, out.lo, out.hi, out.gain_norm,
+                      out.order, out.fault ? 1 : 0, &out.model, out.rho);
+        }
+    }
+    return 0;
+}
+
+static int check_against_data(const sid_opts_t *o)
+{
+    static char msg[SID_CSV_ERR_LEN];
+    const bool uses_mls = o->mls_only || !o->fixed_model;
+    if (uses_mls && (size_t)o->cfg.mls.window > flight.n - 1u) {
+        snprintf(msg, sizeof msg, "window of %u transitions is longer than the data (%zu rows, %zu "
+                 "transitions)", (unsigned)o->cfg.mls.window, flight.n, flight.n - 1u);
+        return die(msg);
+    }
+    if (!o->mls_only && o->run[2] && o->cfg.azkf.det.mode == FCC_FDET_ORACLE && !flight.has_fault) {
+        return die("--detector oracle needs a 'fault' column in the input");
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static sid_opts_t opts;
+    static char err[SID_CSV_ERR_LEN];
+    const int pr = sid_opts_parse(argc, argv, &opts, err, sizeof err);
+    if (pr != 0) {
+        if (pr < 0) {
+            fprintf(stderr, "sid_replay: %s\n", err);
+            return 2;
+        }
+        return 0;
+    }
+    FILE *in = stdin;
+    if (opts.input != NULL && strcmp(opts.input, "-") != 0) {
+        in = fopen(opts.input, "r");
+        if (in == NULL) {
+            fprintf(stderr, "sid_replay: cannot open '%s'\n", opts.input);
+            return 1;
+        }
+    }
+    const sid_csv_limits_t lim = {(double)opts.cfg.alpha_limit, (double)opts.cfg.q_limit,
+                                  (double)opts.cfg.de_limit};
+    const int rr = sid_csv_read(in, &lim, &flight, err, sizeof err);
+    if (in != stdin) {
+        fclose(in);
+    }
+    if (rr != 0) {
+        return die(err);
+    }
+    if (check_against_data(&opts) != 0) {
+        return 1;
+    }
+    const int rc = opts.mls_only ? run_mls_only(&opts) : run_filters(&opts);
+    if (rc == 0 && (fflush(stdout) != 0 || ferror(stdout))) {
+        return die("cannot write the output");
+    }
+    return rc;
+}

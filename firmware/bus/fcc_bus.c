@@ -8,7 +8,7 @@
 /* Message masks are 32-bit: the DBC may grow to 32 messages before this must change. */
 typedef char fcc_bus_assert_msg_count[(FCC_MSG_COUNT <= 32) ? 1 : -1];
 
-#define MSG_BIT(i) (1uL << (uint32_t)(i))
+#define MSG_BIT(i) ((uint32_t)1u << (uint32_t)(i))
 
 /* ---- field access (memcpy: no alignment or aliasing assumptions) ----------- */
 
@@ -217,7 +217,7 @@ fcc_status_t fcc_bus_signal_set(fcc_msg_t msg, uint32_t sig, fcc_msg_data_t *dat
 
 fcc_status_t fcc_bus_init_masks(fcc_bus_t *bus, uint32_t consumes, uint32_t produces)
 {
-    const uint32_t all = (FCC_MSG_COUNT >= 32) ? 0xFFFFFFFFuL : (MSG_BIT(FCC_MSG_COUNT) - 1uL);
+    const uint32_t all = (FCC_MSG_COUNT >= 32) ? 0xFFFFFFFFu : (MSG_BIT(FCC_MSG_COUNT) - 1u);
     if (bus == NULL || (consumes & ~all) != 0u || (produces & ~all) != 0u) {
         return FCC_ERR_ARG;
     }

@@ -1,23 +1,22 @@
 /* fcc_mat_basic.c -- descriptors, element-wise operations, products, norms. */
-#include "fcc_mat.h"
-#include "fcc_mat_internal.h"
+#include "fcc_mat_impl.h"
 
-bool fcc_mat_valid(const fcc_mat_t *m)
+bool MAT(valid)(const mat_t *m)
 {
     return m != NULL && m->data != NULL && m->rows > 0U && m->cols > 0U;
 }
 
-bool fcc_mat_same_size(const fcc_mat_t *a, const fcc_mat_t *b)
+bool MAT(same_size)(const mat_t *a, const mat_t *b)
 {
     return a->rows == b->rows && a->cols == b->cols;
 }
 
-size_t fcc_mat_count(const fcc_mat_t *m)
+size_t MAT(count)(const mat_t *m)
 {
     return (size_t)m->rows * (size_t)m->cols;
 }
 
-fcc_status_t fcc_mat_init(fcc_mat_t *m, uint16_t rows, uint16_t cols, fcc_real_t *data)
+fcc_status_t MAT(init)(mat_t *m, uint16_t rows, uint16_t cols, real_t *data)
 {
     if (m == NULL || data == NULL || rows == 0U || cols == 0U) {
         return FCC_ERR_ARG;
@@ -28,42 +27,42 @@ fcc_status_t fcc_mat_init(fcc_mat_t *m, uint16_t rows, uint16_t cols, fcc_real_t
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_zero(fcc_mat_t *m)
+fcc_status_t MAT(zero)(mat_t *m)
 {
-    if (!fcc_mat_valid(m)) {
+    if (!MAT(valid)(m)) {
         return FCC_ERR_ARG;
     }
-    for (size_t i = 0; i < fcc_mat_count(m); ++i) {
-        m->data[i] = FCC_R(0.0);
+    for (size_t i = 0; i < MAT(count)(m); ++i) {
+        m->data[i] = RL(0.0);
     }
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_identity(fcc_mat_t *m)
+fcc_status_t MAT(identity)(mat_t *m)
 {
-    if (!fcc_mat_valid(m)) {
+    if (!MAT(valid)(m)) {
         return FCC_ERR_ARG;
     }
     if (m->rows != m->cols) {
         return FCC_ERR_SIZE;
     }
-    (void)fcc_mat_zero(m);
+    (void)MAT(zero)(m);
     for (uint16_t i = 0; i < m->rows; ++i) {
-        FCC_MAT_AT(m, i, i) = FCC_R(1.0);
+        FCC_MAT_AT(m, i, i) = RL(1.0);
     }
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_copy(const fcc_mat_t *src, fcc_mat_t *dst)
+fcc_status_t MAT(copy)(const mat_t *src, mat_t *dst)
 {
-    if (!fcc_mat_valid(src) || !fcc_mat_valid(dst)) {
+    if (!MAT(valid)(src) || !MAT(valid)(dst)) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(src, dst)) {
+    if (!MAT(same_size)(src, dst)) {
         return FCC_ERR_SIZE;
     }
     if (src->data != dst->data) {
-        for (size_t i = 0; i < fcc_mat_count(src); ++i) {
+        for (size_t i = 0; i < MAT(count)(src); ++i) {
             dst->data[i] = src->data[i];
         }
     }
@@ -71,48 +70,48 @@ fcc_status_t fcc_mat_copy(const fcc_mat_t *src, fcc_mat_t *dst)
 }
 
 /* c = a + sign*b, element-wise; aliasing of c with a or b is fine. */
-static fcc_status_t add_signed(const fcc_mat_t *a, const fcc_mat_t *b, fcc_real_t sign,
-                               fcc_mat_t *c)
+static fcc_status_t add_signed(const mat_t *a, const mat_t *b, real_t sign,
+                               mat_t *c)
 {
-    if (!fcc_mat_valid(a) || !fcc_mat_valid(b) || !fcc_mat_valid(c)) {
+    if (!MAT(valid)(a) || !MAT(valid)(b) || !MAT(valid)(c)) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(a, b) || !fcc_mat_same_size(a, c)) {
+    if (!MAT(same_size)(a, b) || !MAT(same_size)(a, c)) {
         return FCC_ERR_SIZE;
     }
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
         c->data[i] = a->data[i] + sign * b->data[i];
     }
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_add(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *c)
+fcc_status_t MAT(add)(const mat_t *a, const mat_t *b, mat_t *c)
 {
-    return add_signed(a, b, FCC_R(1.0), c);
+    return add_signed(a, b, RL(1.0), c);
 }
 
-fcc_status_t fcc_mat_sub(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *c)
+fcc_status_t MAT(sub)(const mat_t *a, const mat_t *b, mat_t *c)
 {
-    return add_signed(a, b, FCC_R(-1.0), c);
+    return add_signed(a, b, RL(-1.0), c);
 }
 
-fcc_status_t fcc_mat_scale(const fcc_mat_t *a, fcc_real_t s, fcc_mat_t *c)
+fcc_status_t MAT(scale)(const mat_t *a, real_t s, mat_t *c)
 {
-    if (!fcc_mat_valid(a) || !fcc_mat_valid(c)) {
+    if (!MAT(valid)(a) || !MAT(valid)(c)) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(a, c)) {
+    if (!MAT(same_size)(a, c)) {
         return FCC_ERR_SIZE;
     }
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
         c->data[i] = s * a->data[i];
     }
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_trans(const fcc_mat_t *a, fcc_mat_t *c)
+fcc_status_t MAT(trans)(const mat_t *a, mat_t *c)
 {
-    if (!fcc_mat_valid(a) || !fcc_mat_valid(c) || a->data == c->data) {
+    if (!MAT(valid)(a) || !MAT(valid)(c) || a->data == c->data) {
         return FCC_ERR_ARG;
     }
     if (c->rows != a->cols || c->cols != a->rows) {
@@ -131,10 +130,10 @@ fcc_status_t fcc_mat_trans(const fcc_mat_t *a, fcc_mat_t *c)
  * op is the identity or the transpose, selected by the flags.  Strides make
  * the transposes free (no copy).
  */
-static fcc_status_t mul_kernel(const fcc_mat_t *a, bool ta, const fcc_mat_t *b, bool tb,
-                               fcc_mat_t *c)
+static fcc_status_t mul_kernel(const mat_t *a, bool ta, const mat_t *b, bool tb,
+                               mat_t *c)
 {
-    if (!fcc_mat_valid(a) || !fcc_mat_valid(b) || !fcc_mat_valid(c)) {
+    if (!MAT(valid)(a) || !MAT(valid)(b) || !MAT(valid)(c)) {
         return FCC_ERR_ARG;
     }
     if (c->data == a->data || c->data == b->data) {
@@ -154,7 +153,7 @@ static fcc_status_t mul_kernel(const fcc_mat_t *a, bool ta, const fcc_mat_t *b, 
     const size_t bcs = tb ? b->cols : 1U;
     for (uint16_t i = 0; i < m; ++i) {
         for (uint16_t j = 0; j < n; ++j) {
-            fcc_real_t sum = FCC_R(0.0);
+            real_t sum = RL(0.0);
             for (uint16_t p = 0; p < k; ++p) {
                 sum += a->data[i * ars + p * acs] * b->data[p * brs + j * bcs];
             }
@@ -164,24 +163,24 @@ static fcc_status_t mul_kernel(const fcc_mat_t *a, bool ta, const fcc_mat_t *b, 
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_mul(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *c)
+fcc_status_t MAT(mul)(const mat_t *a, const mat_t *b, mat_t *c)
 {
     return mul_kernel(a, false, b, false, c);
 }
 
-fcc_status_t fcc_mat_mul_tn(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *c)
+fcc_status_t MAT(mul_tn)(const mat_t *a, const mat_t *b, mat_t *c)
 {
     return mul_kernel(a, true, b, false, c);
 }
 
-fcc_status_t fcc_mat_mul_nt(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *c)
+fcc_status_t MAT(mul_nt)(const mat_t *a, const mat_t *b, mat_t *c)
 {
     return mul_kernel(a, false, b, true, c);
 }
 
-fcc_status_t fcc_mat_symmetrize(fcc_mat_t *a)
+fcc_status_t MAT(symmetrize)(mat_t *a)
 {
-    if (!fcc_mat_valid(a)) {
+    if (!MAT(valid)(a)) {
         return FCC_ERR_ARG;
     }
     if (a->rows != a->cols) {
@@ -189,7 +188,7 @@ fcc_status_t fcc_mat_symmetrize(fcc_mat_t *a)
     }
     for (uint16_t i = 0; i < a->rows; ++i) {
         for (uint16_t j = (uint16_t)(i + 1U); j < a->cols; ++j) {
-            const fcc_real_t mean = FCC_R(0.5) * (FCC_MAT_AT(a, i, j) + FCC_MAT_AT(a, j, i));
+            const real_t mean = RL(0.5) * (FCC_MAT_AT(a, i, j) + FCC_MAT_AT(a, j, i));
             FCC_MAT_AT(a, i, j) = mean;
             FCC_MAT_AT(a, j, i) = mean;
         }
@@ -197,12 +196,12 @@ fcc_status_t fcc_mat_symmetrize(fcc_mat_t *a)
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_check_finite(const fcc_mat_t *a)
+fcc_status_t MAT(check_finite)(const mat_t *a)
 {
-    if (!fcc_mat_valid(a)) {
+    if (!MAT(valid)(a)) {
         return FCC_ERR_ARG;
     }
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
         if (!FCC_IS_FINITE(a->data[i])) {
             return FCC_ERR_NOT_FINITE;
         }
@@ -210,9 +209,9 @@ fcc_status_t fcc_mat_check_finite(const fcc_mat_t *a)
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_get_block(const fcc_mat_t *src, uint16_t r0, uint16_t c0, fcc_mat_t *dst)
+fcc_status_t MAT(get_block)(const mat_t *src, uint16_t r0, uint16_t c0, mat_t *dst)
 {
-    if (!fcc_mat_valid(src) || !fcc_mat_valid(dst) || src->data == dst->data) {
+    if (!MAT(valid)(src) || !MAT(valid)(dst) || src->data == dst->data) {
         return FCC_ERR_ARG;
     }
     if ((uint32_t)r0 + dst->rows > src->rows || (uint32_t)c0 + dst->cols > src->cols) {
@@ -226,9 +225,9 @@ fcc_status_t fcc_mat_get_block(const fcc_mat_t *src, uint16_t r0, uint16_t c0, f
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_set_block(fcc_mat_t *dst, uint16_t r0, uint16_t c0, const fcc_mat_t *blk)
+fcc_status_t MAT(set_block)(mat_t *dst, uint16_t r0, uint16_t c0, const mat_t *blk)
 {
-    if (!fcc_mat_valid(dst) || !fcc_mat_valid(blk) || dst->data == blk->data) {
+    if (!MAT(valid)(dst) || !MAT(valid)(blk) || dst->data == blk->data) {
         return FCC_ERR_ARG;
     }
     if ((uint32_t)r0 + blk->rows > dst->rows || (uint32_t)c0 + blk->cols > dst->cols) {
@@ -242,16 +241,16 @@ fcc_status_t fcc_mat_set_block(fcc_mat_t *dst, uint16_t r0, uint16_t c0, const f
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_norm_1(const fcc_mat_t *a, fcc_real_t *out)
+fcc_status_t MAT(norm_1)(const mat_t *a, real_t *out)
 {
-    if (!fcc_mat_valid(a) || out == NULL) {
+    if (!MAT(valid)(a) || out == NULL) {
         return FCC_ERR_ARG;
     }
-    fcc_real_t best = FCC_R(0.0);
+    real_t best = RL(0.0);
     for (uint16_t j = 0; j < a->cols; ++j) {
-        fcc_real_t sum = FCC_R(0.0);
+        real_t sum = RL(0.0);
         for (uint16_t i = 0; i < a->rows; ++i) {
-            sum += FCC_FABS(FCC_MAT_AT(a, i, j));
+            sum += MFABS(FCC_MAT_AT(a, i, j));
         }
         best = (sum > best) ? sum : best;
     }
@@ -259,16 +258,16 @@ fcc_status_t fcc_mat_norm_1(const fcc_mat_t *a, fcc_real_t *out)
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_norm_inf(const fcc_mat_t *a, fcc_real_t *out)
+fcc_status_t MAT(norm_inf)(const mat_t *a, real_t *out)
 {
-    if (!fcc_mat_valid(a) || out == NULL) {
+    if (!MAT(valid)(a) || out == NULL) {
         return FCC_ERR_ARG;
     }
-    fcc_real_t best = FCC_R(0.0);
+    real_t best = RL(0.0);
     for (uint16_t i = 0; i < a->rows; ++i) {
-        fcc_real_t sum = FCC_R(0.0);
+        real_t sum = RL(0.0);
         for (uint16_t j = 0; j < a->cols; ++j) {
-            sum += FCC_FABS(FCC_MAT_AT(a, i, j));
+            sum += MFABS(FCC_MAT_AT(a, i, j));
         }
         best = (sum > best) ? sum : best;
     }
@@ -276,60 +275,60 @@ fcc_status_t fcc_mat_norm_inf(const fcc_mat_t *a, fcc_real_t *out)
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_norm_max(const fcc_mat_t *a, fcc_real_t *out)
+fcc_status_t MAT(norm_max)(const mat_t *a, real_t *out)
 {
-    if (!fcc_mat_valid(a) || out == NULL) {
+    if (!MAT(valid)(a) || out == NULL) {
         return FCC_ERR_ARG;
     }
-    fcc_real_t best = FCC_R(0.0);
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
-        const fcc_real_t v = FCC_FABS(a->data[i]);
+    real_t best = RL(0.0);
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
+        const real_t v = MFABS(a->data[i]);
         best = (v > best) ? v : best;
     }
     *out = best;
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_norm_fro(const fcc_mat_t *a, fcc_real_t *out)
+fcc_status_t MAT(norm_fro)(const mat_t *a, real_t *out)
 {
-    fcc_real_t scale = FCC_R(0.0);
-    fcc_status_t st = fcc_mat_norm_max(a, &scale);
+    real_t scale = RL(0.0);
+    fcc_status_t st = MAT(norm_max)(a, &scale);
     if (st != FCC_OK) {
         return st;
     }
-    if (scale == FCC_R(0.0) || !FCC_IS_FINITE(scale)) {
+    if (scale == RL(0.0) || !FCC_IS_FINITE(scale)) {
         *out = scale;
         return FCC_OK;
     }
     /* Scaled sum of squares: no overflow for entries near FCC_REAL_MAX. */
-    fcc_real_t sum = FCC_R(0.0);
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
-        const fcc_real_t v = a->data[i] / scale;
+    real_t sum = RL(0.0);
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
+        const real_t v = a->data[i] / scale;
         sum += v * v;
     }
-    *out = scale * FCC_SQRT(sum);
+    *out = scale * MSQRT(sum);
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_rel_diff(const fcc_mat_t *a, const fcc_mat_t *b, fcc_real_t *out)
+fcc_status_t MAT(rel_diff)(const mat_t *a, const mat_t *b, real_t *out)
 {
-    if (!fcc_mat_valid(a) || !fcc_mat_valid(b) || out == NULL) {
+    if (!MAT(valid)(a) || !MAT(valid)(b) || out == NULL) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(a, b)) {
+    if (!MAT(same_size)(a, b)) {
         return FCC_ERR_SIZE;
     }
-    fcc_real_t diff = FCC_R(0.0);
-    fcc_real_t ref = FCC_R(0.0);
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
-        const fcc_real_t d = FCC_FABS(a->data[i] - b->data[i]);
-        const fcc_real_t r = FCC_FABS(b->data[i]);
+    real_t diff = RL(0.0);
+    real_t ref = RL(0.0);
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
+        const real_t d = MFABS(a->data[i] - b->data[i]);
+        const real_t r = MFABS(b->data[i]);
         diff = (d > diff) ? d : diff;
         ref = (r > ref) ? r : ref;
     }
     if (!FCC_IS_FINITE(diff) || !FCC_IS_FINITE(ref)) {
         return FCC_ERR_NOT_FINITE;
     }
-    *out = (ref > FCC_R(0.0)) ? diff / ref : diff;
+    *out = (ref > RL(0.0)) ? diff / ref : diff;
     return FCC_OK;
 }

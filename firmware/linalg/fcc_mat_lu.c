@@ -1,32 +1,31 @@
 /* fcc_mat_lu.c -- LU with partial pivoting, Cholesky, solves, inverse, rcond. */
-#include "fcc_mat.h"
-#include "fcc_mat_internal.h"
+#include "fcc_mat_impl.h"
 
 /* perm[] is uint8_t: keep the maximum dimension within its range. */
 typedef char fcc_mat_max_dim_fits_perm[(FCC_MAT_MAX_DIM <= 255) ? 1 : -1];
 
 /* Common checks of a square input: a usable descriptor, a size the workspace
  * holds, finite data. */
-static fcc_status_t check_square_input(const fcc_mat_t *a)
+static fcc_status_t check_square_input(const mat_t *a)
 {
-    if (!fcc_mat_valid(a)) {
+    if (!MAT(valid)(a)) {
         return FCC_ERR_ARG;
     }
     if (a->rows != a->cols || a->rows > FCC_MAT_MAX_DIM) {
         return FCC_ERR_SIZE;
     }
-    return fcc_mat_check_finite(a);
+    return MAT(check_finite)(a);
 }
 
 #define LU_AT(lu, i, j) ((lu)->lu[(size_t)(i) * (lu)->n + (size_t)(j)])
 
 /* Row index (>= k) of the largest |entry| in column k: the partial pivot. */
-static uint16_t pivot_row(const fcc_mat_lu_t *lu, uint16_t k)
+static uint16_t pivot_row(const lu_t *lu, uint16_t k)
 {
     uint16_t best = k;
-    fcc_real_t best_abs = FCC_FABS(LU_AT(lu, k, k));
+    real_t best_abs = MFABS(LU_AT(lu, k, k));
     for (uint16_t i = (uint16_t)(k + 1U); i < lu->n; ++i) {
-        const fcc_real_t v = FCC_FABS(LU_AT(lu, i, k));
+        const real_t v = MFABS(LU_AT(lu, i, k));
         if (v > best_abs) {
             best_abs = v;
             best = i;
@@ -35,10 +34,10 @@ static uint16_t pivot_row(const fcc_mat_lu_t *lu, uint16_t k)
     return best;
 }
 
-static void swap_rows(fcc_mat_lu_t *lu, uint16_t r1, uint16_t r2)
+static void swap_rows(lu_t *lu, uint16_t r1, uint16_t r2)
 {
     for (uint16_t j = 0; j < lu->n; ++j) {
-        const fcc_real_t t = LU_AT(lu, r1, j);
+        const real_t t = LU_AT(lu, r1, j);
         LU_AT(lu, r1, j) = LU_AT(lu, r2, j);
         LU_AT(lu, r2, j) = t;
     }
@@ -47,7 +46,7 @@ static void swap_rows(fcc_mat_lu_t *lu, uint16_t r1, uint16_t r2)
     lu->perm[r2] = p;
 }
 
-fcc_status_t fcc_mat_lu_factor(fcc_mat_lu_t *lu, const fcc_mat_t *a)
+fcc_status_t MAT(lu_factor)(lu_t *lu, const mat_t *a)
 {
     if (lu == NULL) {
         return FCC_ERR_ARG;
@@ -58,28 +57,28 @@ fcc_status_t fcc_mat_lu_factor(fcc_mat_lu_t *lu, const fcc_mat_t *a)
     }
     const uint16_t n = a->rows;
     lu->n = n;
-    fcc_real_t amax = FCC_R(0.0);
-    for (size_t i = 0; i < fcc_mat_count(a); ++i) {
+    real_t amax = RL(0.0);
+    for (size_t i = 0; i < MAT(count)(a); ++i) {
         lu->lu[i] = a->data[i];
-        amax = (FCC_FABS(a->data[i]) > amax) ? FCC_FABS(a->data[i]) : amax;
+        amax = (MFABS(a->data[i]) > amax) ? MFABS(a->data[i]) : amax;
     }
     for (uint16_t i = 0; i < n; ++i) {
         lu->perm[i] = (uint8_t)i;
     }
-    (void)fcc_mat_norm_1(a, &lu->norm1);
+    (void)MAT(norm_1)(a, &lu->norm1);
     /* A pivot this small is indistinguishable from rounding noise in A. */
-    const fcc_real_t tiny = (fcc_real_t)n * FCC_EPS * amax;
+    const real_t tiny = (real_t)n * MEPS * amax;
     for (uint16_t k = 0; k < n; ++k) {
         const uint16_t p = pivot_row(lu, k);
-        if (!(FCC_FABS(LU_AT(lu, p, k)) > tiny)) {
+        if (!(MFABS(LU_AT(lu, p, k)) > tiny)) {
             return FCC_ERR_SINGULAR;
         }
         if (p != k) {
             swap_rows(lu, k, p);
         }
-        const fcc_real_t pivot = LU_AT(lu, k, k);
+        const real_t pivot = LU_AT(lu, k, k);
         for (uint16_t i = (uint16_t)(k + 1U); i < n; ++i) {
-            const fcc_real_t factor = LU_AT(lu, i, k) / pivot;
+            const real_t factor = LU_AT(lu, i, k) / pivot;
             LU_AT(lu, i, k) = factor;
             for (uint16_t j = (uint16_t)(k + 1U); j < n; ++j) {
                 LU_AT(lu, i, j) -= factor * LU_AT(lu, k, j);
@@ -89,22 +88,22 @@ fcc_status_t fcc_mat_lu_factor(fcc_mat_lu_t *lu, const fcc_mat_t *a)
     return FCC_OK;
 }
 
-static fcc_status_t check_rhs(const fcc_mat_lu_t *lu, const fcc_mat_t *b, const fcc_mat_t *x)
+static fcc_status_t check_rhs(const lu_t *lu, const mat_t *b, const mat_t *x)
 {
-    if (lu == NULL || !fcc_mat_valid(b) || !fcc_mat_valid(x)) {
+    if (lu == NULL || !MAT(valid)(b) || !MAT(valid)(x)) {
         return FCC_ERR_ARG;
     }
     if (lu->n == 0U || lu->n > FCC_MAT_MAX_DIM) {
         return FCC_ERR_ARG;
     }
-    if (b->rows != lu->n || !fcc_mat_same_size(b, x)) {
+    if (b->rows != lu->n || !MAT(same_size)(b, x)) {
         return FCC_ERR_SIZE;
     }
     return FCC_OK;
 }
 
 /* y <- U^-1 L^-1 y (y already permuted). */
-static void lu_substitute(const fcc_mat_lu_t *lu, fcc_real_t y[])
+static void lu_substitute(const lu_t *lu, real_t y[])
 {
     const uint16_t n = lu->n;
     for (uint16_t i = 1; i < n; ++i) {
@@ -121,7 +120,7 @@ static void lu_substitute(const fcc_mat_lu_t *lu, fcc_real_t y[])
 }
 
 /* y <- L^-T U^-T y (the result still needs the inverse permutation). */
-static void lu_substitute_trans(const fcc_mat_lu_t *lu, fcc_real_t y[])
+static void lu_substitute_trans(const lu_t *lu, real_t y[])
 {
     const uint16_t n = lu->n;
     for (uint16_t i = 0; i < n; ++i) {
@@ -137,13 +136,13 @@ static void lu_substitute_trans(const fcc_mat_lu_t *lu, fcc_real_t y[])
     }
 }
 
-fcc_status_t fcc_mat_lu_solve(const fcc_mat_lu_t *lu, const fcc_mat_t *b, fcc_mat_t *x)
+fcc_status_t MAT(lu_solve)(const lu_t *lu, const mat_t *b, mat_t *x)
 {
     const fcc_status_t st = check_rhs(lu, b, x);
     if (st != FCC_OK) {
         return st;
     }
-    fcc_real_t y[FCC_MAT_MAX_DIM];
+    real_t y[FCC_MAT_MAX_DIM];
     for (uint16_t j = 0; j < b->cols; ++j) {
         for (uint16_t i = 0; i < lu->n; ++i) {
             y[i] = FCC_MAT_AT(b, lu->perm[i], j);
@@ -153,16 +152,16 @@ fcc_status_t fcc_mat_lu_solve(const fcc_mat_lu_t *lu, const fcc_mat_t *b, fcc_ma
             FCC_MAT_AT(x, i, j) = y[i];
         }
     }
-    return fcc_mat_check_finite(x);
+    return MAT(check_finite)(x);
 }
 
-fcc_status_t fcc_mat_lu_solve_trans(const fcc_mat_lu_t *lu, const fcc_mat_t *b, fcc_mat_t *x)
+fcc_status_t MAT(lu_solve_trans)(const lu_t *lu, const mat_t *b, mat_t *x)
 {
     const fcc_status_t st = check_rhs(lu, b, x);
     if (st != FCC_OK) {
         return st;
     }
-    fcc_real_t y[FCC_MAT_MAX_DIM];
+    real_t y[FCC_MAT_MAX_DIM];
     for (uint16_t j = 0; j < b->cols; ++j) {
         for (uint16_t i = 0; i < lu->n; ++i) {
             y[i] = FCC_MAT_AT(b, i, j);
@@ -172,93 +171,93 @@ fcc_status_t fcc_mat_lu_solve_trans(const fcc_mat_lu_t *lu, const fcc_mat_t *b, 
             FCC_MAT_AT(x, lu->perm[i], j) = y[i];
         }
     }
-    return fcc_mat_check_finite(x);
+    return MAT(check_finite)(x);
 }
 
-fcc_status_t fcc_mat_lu_rcond(const fcc_mat_lu_t *lu, fcc_real_t *rcond)
+fcc_status_t MAT(lu_rcond)(const lu_t *lu, real_t *rcond)
 {
     if (lu == NULL || rcond == NULL || lu->n == 0U || lu->n > FCC_MAT_MAX_DIM) {
         return FCC_ERR_ARG;
     }
     /* ||A^-1||_1 column by column: A^-1 e_j. */
-    fcc_real_t inv_norm = FCC_R(0.0);
-    fcc_real_t y[FCC_MAT_MAX_DIM];
+    real_t inv_norm = RL(0.0);
+    real_t y[FCC_MAT_MAX_DIM];
     for (uint16_t j = 0; j < lu->n; ++j) {
         for (uint16_t i = 0; i < lu->n; ++i) {
-            y[i] = (lu->perm[i] == j) ? FCC_R(1.0) : FCC_R(0.0);
+            y[i] = (lu->perm[i] == j) ? RL(1.0) : RL(0.0);
         }
         lu_substitute(lu, y);
-        fcc_real_t sum = FCC_R(0.0);
+        real_t sum = RL(0.0);
         for (uint16_t i = 0; i < lu->n; ++i) {
-            sum += FCC_FABS(y[i]);
+            sum += MFABS(y[i]);
         }
         inv_norm = (sum > inv_norm) ? sum : inv_norm;
     }
-    const fcc_real_t denom = lu->norm1 * inv_norm;
-    *rcond = (FCC_IS_FINITE(denom) && denom > FCC_R(0.0)) ? FCC_R(1.0) / denom : FCC_R(0.0);
+    const real_t denom = lu->norm1 * inv_norm;
+    *rcond = (FCC_IS_FINITE(denom) && denom > RL(0.0)) ? RL(1.0) / denom : RL(0.0);
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_solve(const fcc_mat_t *a, const fcc_mat_t *b, fcc_mat_t *x, fcc_mat_lu_t *lu)
+fcc_status_t MAT(solve)(const mat_t *a, const mat_t *b, mat_t *x, lu_t *lu)
 {
-    const fcc_status_t st = fcc_mat_lu_factor(lu, a);
+    const fcc_status_t st = MAT(lu_factor)(lu, a);
     if (st != FCC_OK) {
         return st;
     }
-    return fcc_mat_lu_solve(lu, b, x);
+    return MAT(lu_solve)(lu, b, x);
 }
 
-fcc_status_t fcc_mat_inv(const fcc_mat_t *a, fcc_mat_t *ainv, fcc_mat_lu_t *lu)
+fcc_status_t MAT(inv)(const mat_t *a, mat_t *ainv, lu_t *lu)
 {
-    fcc_status_t st = fcc_mat_lu_factor(lu, a);
+    fcc_status_t st = MAT(lu_factor)(lu, a);
     if (st != FCC_OK) {
         return st;
     }
-    if (!fcc_mat_valid(ainv)) {
+    if (!MAT(valid)(ainv)) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(a, ainv)) {
+    if (!MAT(same_size)(a, ainv)) {
         return FCC_ERR_SIZE;
     }
-    st = fcc_mat_identity(ainv);
+    st = MAT(identity)(ainv);
     if (st != FCC_OK) {
         return st;
     }
-    return fcc_mat_lu_solve(lu, ainv, ainv);
+    return MAT(lu_solve)(lu, ainv, ainv);
 }
 
-fcc_status_t fcc_mat_chol(const fcc_mat_t *a, fcc_mat_t *l)
+fcc_status_t MAT(chol)(const mat_t *a, mat_t *l)
 {
     fcc_status_t st = check_square_input(a);
     if (st != FCC_OK) {
         return st;
     }
-    if (!fcc_mat_valid(l)) {
+    if (!MAT(valid)(l)) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_mat_same_size(a, l)) {
+    if (!MAT(same_size)(a, l)) {
         return FCC_ERR_SIZE;
     }
     const uint16_t n = a->rows;
-    fcc_real_t dmax = FCC_R(0.0);
+    real_t dmax = RL(0.0);
     for (uint16_t i = 0; i < n; ++i) {
         dmax = (FCC_MAT_AT(a, i, i) > dmax) ? FCC_MAT_AT(a, i, i) : dmax;
     }
-    const fcc_real_t tiny = (fcc_real_t)n * FCC_EPS * dmax;
+    const real_t tiny = (real_t)n * MEPS * dmax;
     /* Column by column; each a(i,j) is read just before l(i,j) overwrites it,
      * so l may be the same matrix as a. */
     for (uint16_t j = 0; j < n; ++j) {
-        fcc_real_t d = FCC_MAT_AT(a, j, j);
+        real_t d = FCC_MAT_AT(a, j, j);
         for (uint16_t k = 0; k < j; ++k) {
             d -= FCC_MAT_AT(l, j, k) * FCC_MAT_AT(l, j, k);
         }
         if (!(d > tiny)) {
             return FCC_ERR_NOT_POSDEF;
         }
-        const fcc_real_t ljj = FCC_SQRT(d);
+        const real_t ljj = MSQRT(d);
         FCC_MAT_AT(l, j, j) = ljj;
         for (uint16_t i = (uint16_t)(j + 1U); i < n; ++i) {
-            fcc_real_t s = FCC_MAT_AT(a, i, j);
+            real_t s = FCC_MAT_AT(a, i, j);
             for (uint16_t k = 0; k < j; ++k) {
                 s -= FCC_MAT_AT(l, i, k) * FCC_MAT_AT(l, j, k);
             }
@@ -267,33 +266,33 @@ fcc_status_t fcc_mat_chol(const fcc_mat_t *a, fcc_mat_t *l)
     }
     for (uint16_t i = 0; i < n; ++i) {
         for (uint16_t j = (uint16_t)(i + 1U); j < n; ++j) {
-            FCC_MAT_AT(l, i, j) = FCC_R(0.0);
+            FCC_MAT_AT(l, i, j) = RL(0.0);
         }
     }
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_chol_solve(const fcc_mat_t *l, const fcc_mat_t *b, fcc_mat_t *x)
+fcc_status_t MAT(chol_solve)(const mat_t *l, const mat_t *b, mat_t *x)
 {
-    if (!fcc_mat_valid(l) || !fcc_mat_valid(b) || !fcc_mat_valid(x)) {
+    if (!MAT(valid)(l) || !MAT(valid)(b) || !MAT(valid)(x)) {
         return FCC_ERR_ARG;
     }
     if (l->rows != l->cols || l->rows > FCC_MAT_MAX_DIM || b->rows != l->rows ||
-        !fcc_mat_same_size(b, x)) {
+        !MAT(same_size)(b, x)) {
         return FCC_ERR_SIZE;
     }
     const uint16_t n = l->rows;
-    fcc_real_t y[FCC_MAT_MAX_DIM];
+    real_t y[FCC_MAT_MAX_DIM];
     for (uint16_t c = 0; c < b->cols; ++c) {
         for (uint16_t i = 0; i < n; ++i) {
-            fcc_real_t s = FCC_MAT_AT(b, i, c);
+            real_t s = FCC_MAT_AT(b, i, c);
             for (uint16_t k = 0; k < i; ++k) {
                 s -= FCC_MAT_AT(l, i, k) * y[k];
             }
             y[i] = s / FCC_MAT_AT(l, i, i);
         }
         for (uint16_t i = n; i-- > 0U;) {
-            fcc_real_t s = y[i];
+            real_t s = y[i];
             for (uint16_t k = (uint16_t)(i + 1U); k < n; ++k) {
                 s -= FCC_MAT_AT(l, k, i) * y[k];
             }
@@ -303,5 +302,5 @@ fcc_status_t fcc_mat_chol_solve(const fcc_mat_t *l, const fcc_mat_t *b, fcc_mat_
             FCC_MAT_AT(x, i, c) = y[i];
         }
     }
-    return fcc_mat_check_finite(x);
+    return MAT(check_finite)(x);
 }

@@ -6,36 +6,35 @@
  * quadratically, is accurate for small singular values (no A^T A), and needs
  * nothing but the copy of A.
  */
-#include "fcc_mat.h"
-#include "fcc_mat_internal.h"
+#include "fcc_mat_impl.h"
 
 #define SVD_MAX_SWEEPS 40
 
 /* Rotate columns i and j of the rows x cols array w; returns true if the pair
  * was not yet orthogonal to working precision. */
-static bool orthogonalise_pair(fcc_real_t *w, uint16_t rows, uint16_t cols, uint16_t i, uint16_t j)
+static bool orthogonalise_pair(real_t *w, uint16_t rows, uint16_t cols, uint16_t i, uint16_t j)
 {
-    fcc_real_t alpha = FCC_R(0.0);
-    fcc_real_t beta = FCC_R(0.0);
-    fcc_real_t gamma = FCC_R(0.0);
+    real_t alpha = RL(0.0);
+    real_t beta = RL(0.0);
+    real_t gamma = RL(0.0);
     for (uint16_t r = 0; r < rows; ++r) {
-        const fcc_real_t wi = w[(size_t)r * cols + i];
-        const fcc_real_t wj = w[(size_t)r * cols + j];
+        const real_t wi = w[(size_t)r * cols + i];
+        const real_t wj = w[(size_t)r * cols + j];
         alpha += wi * wi;
         beta += wj * wj;
         gamma += wi * wj;
     }
-    if (gamma == FCC_R(0.0) || FCC_FABS(gamma) <= FCC_EPS * FCC_SQRT(alpha) * FCC_SQRT(beta)) {
+    if (gamma == RL(0.0) || MFABS(gamma) <= MEPS * MSQRT(alpha) * MSQRT(beta)) {
         return false;
     }
     /* The rotation that zeroes the (i, j) entry of W^T W. */
-    const fcc_real_t zeta = (beta - alpha) / (FCC_R(2.0) * gamma);
-    const fcc_real_t t = FCC_COPYSIGN(FCC_R(1.0), zeta) / (FCC_FABS(zeta) + FCC_HYPOT(FCC_R(1.0), zeta));
-    const fcc_real_t c = FCC_R(1.0) / FCC_SQRT(FCC_R(1.0) + t * t);
-    const fcc_real_t s = c * t;
+    const real_t zeta = (beta - alpha) / (RL(2.0) * gamma);
+    const real_t t = MCOPYSIGN(RL(1.0), zeta) / (MFABS(zeta) + MHYPOT(RL(1.0), zeta));
+    const real_t c = RL(1.0) / MSQRT(RL(1.0) + t * t);
+    const real_t s = c * t;
     for (uint16_t r = 0; r < rows; ++r) {
-        const fcc_real_t wi = w[(size_t)r * cols + i];
-        const fcc_real_t wj = w[(size_t)r * cols + j];
+        const real_t wi = w[(size_t)r * cols + i];
+        const real_t wj = w[(size_t)r * cols + j];
         w[(size_t)r * cols + i] = c * wi - s * wj;
         w[(size_t)r * cols + j] = s * wi + c * wj;
     }
@@ -43,10 +42,10 @@ static bool orthogonalise_pair(fcc_real_t *w, uint16_t rows, uint16_t cols, uint
 }
 
 /* Insertion sort, decreasing (at most FCC_MAT_MAX_DIM values). */
-static void sort_decreasing(fcc_real_t *s, uint16_t k)
+static void sort_decreasing(real_t *s, uint16_t k)
 {
     for (uint16_t i = 1; i < k; ++i) {
-        const fcc_real_t v = s[i];
+        const real_t v = s[i];
         uint16_t j = i;
         while (j > 0U && s[j - 1U] < v) {
             s[j] = s[j - 1U];
@@ -56,9 +55,9 @@ static void sort_decreasing(fcc_real_t *s, uint16_t k)
     }
 }
 
-fcc_status_t fcc_mat_svd_values(const fcc_mat_t *a, fcc_real_t s[], fcc_mat_svd_ws_t *ws)
+fcc_status_t MAT(svd_values)(const mat_t *a, real_t s[], svd_ws_t *ws)
 {
-    if (!fcc_mat_valid(a) || s == NULL || ws == NULL) {
+    if (!MAT(valid)(a) || s == NULL || ws == NULL) {
         return FCC_ERR_ARG;
     }
     const bool tall = a->rows >= a->cols;
@@ -67,16 +66,16 @@ fcc_status_t fcc_mat_svd_values(const fcc_mat_t *a, fcc_real_t s[], fcc_mat_svd_
     if (cols > FCC_MAT_MAX_DIM || rows > 2U * FCC_MAT_MAX_DIM) {
         return FCC_ERR_SIZE;
     }
-    fcc_status_t st = fcc_mat_check_finite(a);
+    fcc_status_t st = MAT(check_finite)(a);
     if (st != FCC_OK) {
         return st;
     }
     /* w is rows x cols: A itself or A^T. */
-    fcc_real_t amax = FCC_R(0.0);
-    (void)fcc_mat_norm_max(a, &amax);
-    if (amax == FCC_R(0.0)) {
+    real_t amax = RL(0.0);
+    (void)MAT(norm_max)(a, &amax);
+    if (amax == RL(0.0)) {
         for (uint16_t k = 0; k < cols; ++k) {
-            s[k] = FCC_R(0.0);
+            s[k] = RL(0.0);
         }
         return FCC_OK;
     }
@@ -102,23 +101,23 @@ fcc_status_t fcc_mat_svd_values(const fcc_mat_t *a, fcc_real_t s[], fcc_mat_svd_
         return FCC_ERR_NO_CONVERGENCE;
     }
     for (uint16_t k = 0; k < cols; ++k) {
-        fcc_real_t sum = FCC_R(0.0);
+        real_t sum = RL(0.0);
         for (uint16_t r = 0; r < rows; ++r) {
             sum += ws->w[(size_t)r * cols + k] * ws->w[(size_t)r * cols + k];
         }
-        s[k] = amax * FCC_SQRT(sum);
+        s[k] = amax * MSQRT(sum);
     }
     sort_decreasing(s, cols);
     return FCC_OK;
 }
 
-fcc_status_t fcc_mat_norm_2(const fcc_mat_t *a, fcc_real_t *out, fcc_mat_svd_ws_t *ws)
+fcc_status_t MAT(norm_2)(const mat_t *a, real_t *out, svd_ws_t *ws)
 {
     if (out == NULL) {
         return FCC_ERR_ARG;
     }
-    fcc_real_t s[FCC_MAT_MAX_DIM];
-    const fcc_status_t st = fcc_mat_svd_values(a, s, ws);
+    real_t s[FCC_MAT_MAX_DIM];
+    const fcc_status_t st = MAT(svd_values)(a, s, ws);
     if (st == FCC_OK) {
         *out = s[0];
     }

@@ -18,9 +18,9 @@
 #define FCC_C2D_MAX_NM (FCC_MAT_MAX_DIM / 2)
 
 typedef struct {
-    fcc_real_t blk[FCC_MAT_MAX_ELEMS]; /* the block matrix C T */
-    fcc_real_t e[FCC_MAT_MAX_ELEMS];   /* exp(C T) */
-    fcc_mat_expm_ws_t expm;
+    double blk[FCC_MAT_MAX_ELEMS]; /* the block matrix C T */
+    double e[FCC_MAT_MAX_ELEMS];   /* exp(C T) */
+    fcc_mat64_expm_ws_t expm;
 } fcc_c2d_ws_t;
 
 /*
@@ -29,8 +29,8 @@ typedef struct {
  * FCC_ERR_ARG for T <= 0 or non-finite T; FCC_ERR_SIZE for shapes that do not
  * match or do not fit (n + m <= FCC_MAT_MAX_DIM).
  */
-fcc_status_t fcc_c2d_zoh(const fcc_mat_t *f, const fcc_mat_t *g, fcc_real_t t, fcc_mat_t *phi,
-                         fcc_mat_t *gamma, fcc_c2d_ws_t *ws);
+fcc_status_t fcc_c2d_zoh(const fcc_mat64_t *f, const fcc_mat64_t *g, double t, fcc_mat64_t *phi,
+                         fcc_mat64_t *gamma, fcc_c2d_ws_t *ws);
 
 /*
  * Q_d = int_0^T e^{F s} Qc e^{F^T s} ds for a continuous white noise of
@@ -38,7 +38,7 @@ fcc_status_t fcc_c2d_zoh(const fcc_mat_t *f, const fcc_mat_t *g, fcc_real_t t, f
  * intensity W), from exp([[-F, Qc], [0, F^T]] T) = [[., E12], [0, E22]]:
  * Phi = E22^T and Q_d = Phi E12 (symmetrised).  Needs 2n <= FCC_MAT_MAX_DIM.
  */
-fcc_status_t fcc_c2d_noise(const fcc_mat_t *f, const fcc_mat_t *qc, fcc_real_t t, fcc_mat_t *qd,
+fcc_status_t fcc_c2d_noise(const fcc_mat64_t *f, const fcc_mat64_t *qc, double t, fcc_mat64_t *qd,
                            fcc_c2d_ws_t *ws);
 
 /*
@@ -52,8 +52,8 @@ fcc_status_t fcc_c2d_noise(const fcc_mat_t *f, const fcc_mat_t *qc, fcc_real_t t
  * int e^{Fa^T s} Wa e^{Fa s} ds = E22^T E12 = [[Q11, Q12], [Q12^T, Q22]].
  * Needs 2(n + m) <= FCC_MAT_MAX_DIM.
  */
-fcc_status_t fcc_c2d_cost(const fcc_mat_t *f, const fcc_mat_t *g, const fcc_mat_t *wx,
-                          const fcc_mat_t *wu, fcc_real_t t, fcc_mat_t *q11, fcc_mat_t *q12,
-                          fcc_mat_t *q22, fcc_c2d_ws_t *ws);
+fcc_status_t fcc_c2d_cost(const fcc_mat64_t *f, const fcc_mat64_t *g, const fcc_mat64_t *wx,
+                          const fcc_mat64_t *wu, double t, fcc_mat64_t *q11, fcc_mat64_t *q12,
+                          fcc_mat64_t *q22, fcc_c2d_ws_t *ws);
 
 #endif /* FCC_C2D_H */

@@ -48,7 +48,7 @@ static bool all_finite(const fcc_real_t *v, unsigned n)
     return true;
 }
 
-static fcc_status_t check_inputs(const fcc_lqg_plant_t *plant, fcc_real_t t, fcc_lqg_solver_t solver)
+static fcc_status_t check_inputs(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver)
 {
     if (solver != FCC_LQG_SOLVER_HAMILTONIAN && solver != FCC_LQG_SOLVER_DOUBLING) {
         return FCC_ERR_ARG;
@@ -67,40 +67,40 @@ static fcc_status_t check_inputs(const fcc_lqg_plant_t *plant, fcc_real_t t, fcc
 }
 
 /* Phi, Gamma, Q_d (noise density w w^T), Q11, Q12, Q22. */
-static fcc_status_t discretise(const fcc_lqg_plant_t *plant, fcc_real_t t, fcc_lqg_design_t *d,
+static fcc_status_t discretise(const fcc_lqg_plant_t *plant, double t, fcc_lqg_design64_t *d,
                                fcc_lqg_ws_t *ws)
 {
-    fcc_real_t fbuf[NX * NX];
-    fcc_real_t gbuf[NX * NU];
-    fcc_real_t wxbuf[NX * NX];
-    fcc_real_t wubuf[NU * NU] = {plant->wu};
+    double fbuf[NX * NX];
+    double gbuf[NX * NU];
+    double wxbuf[NX * NX];
+    double wubuf[NU * NU] = {(double)plant->wu};
     for (unsigned i = 0; i < NX * NX; ++i) {
-        fbuf[i] = plant->f[i];
-        wxbuf[i] = plant->wx[i];
+        fbuf[i] = (double)plant->f[i];
+        wxbuf[i] = (double)plant->wx[i];
     }
     for (unsigned i = 0; i < NX; ++i) {
-        gbuf[i] = plant->g[i];
+        gbuf[i] = (double)plant->g[i];
         for (unsigned j = 0; j < NX; ++j) {
-            ws->tmp[i * NX + j] = plant->w[i] * plant->w[j];
+            ws->tmp[i * NX + j] = (double)plant->w[i] * (double)plant->w[j];
         }
     }
-    const fcc_mat_t f = FCC_MAT(NX, NX, fbuf);
-    const fcc_mat_t g = FCC_MAT(NX, NU, gbuf);
-    const fcc_mat_t wx = FCC_MAT(NX, NX, wxbuf);
-    const fcc_mat_t wu = FCC_MAT(NU, NU, wubuf);
-    const fcc_mat_t qc = FCC_MAT(NX, NX, ws->tmp);
-    fcc_mat_t phi = FCC_MAT(NX, NX, d->phi);
-    fcc_mat_t gamma = FCC_MAT(NX, NU, d->gamma);
-    fcc_mat_t qd = FCC_MAT(NX, NX, d->qd);
-    fcc_mat_t q11 = FCC_MAT(NX, NX, d->q11);
-    fcc_mat_t q12 = FCC_MAT(NX, NU, d->q12);
-    fcc_mat_t q22 = FCC_MAT(NU, NU, d->q22);
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, fbuf);
+    const fcc_mat64_t g = FCC_MAT64(NX, NU, gbuf);
+    const fcc_mat64_t wx = FCC_MAT64(NX, NX, wxbuf);
+    const fcc_mat64_t wu = FCC_MAT64(NU, NU, wubuf);
+    const fcc_mat64_t qc = FCC_MAT64(NX, NX, ws->tmp);
+    fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
+    fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
+    fcc_mat64_t qd = FCC_MAT64(NX, NX, d->qd);
+    fcc_mat64_t q11 = FCC_MAT64(NX, NX, d->q11);
+    fcc_mat64_t q12 = FCC_MAT64(NX, NU, d->q12);
+    fcc_mat64_t q22 = FCC_MAT64(NU, NU, d->q22);
     FCC_TRY(fcc_c2d_zoh(&f, &g, t, &phi, &gamma, &ws->u.c2d));
     FCC_TRY(fcc_c2d_noise(&f, &qc, t, &qd, &ws->u.c2d));
     return fcc_c2d_cost(&f, &g, &wx, &wu, t, &q11, &q12, &q22, &ws->u.c2d);
 }
 
-static fcc_status_t solve_with(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat_t *x,
+static fcc_status_t solve_with(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat64_t *x,
                                fcc_dare_info_t *info, fcc_dare_ws_t *ws)
 {
     return (solver == FCC_LQG_SOLVER_HAMILTONIAN) ? fcc_dare_hamiltonian(p, x, info, ws)
@@ -109,26 +109,26 @@ static fcc_status_t solve_with(fcc_lqg_solver_t solver, const fcc_dare_problem_t
 
 /* Solve p by both methods; x/gain from `solver`, the other into x_alt/gain_alt
  * (gain computed by gain_fn); record residual, iterations, disagreement. */
-typedef fcc_status_t (*gain_fn_t)(const fcc_dare_problem_t *p, const fcc_mat_t *x, fcc_mat_t *gain,
+typedef fcc_status_t (*gain_fn_t)(const fcc_dare_problem_t *p, const fcc_mat64_t *x, fcc_mat64_t *gain,
                                   fcc_lqg_ws_t *ws);
 
-static fcc_status_t solve_both(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat_t *x,
-                               fcc_mat_t *gain, fcc_mat_t *x_alt, fcc_mat_t *gain_alt,
+static fcc_status_t solve_both(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat64_t *x,
+                               fcc_mat64_t *gain, fcc_mat64_t *x_alt, fcc_mat64_t *gain_alt,
                                gain_fn_t gain_fn, fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
 {
     const fcc_lqg_solver_t other = (solver == FCC_LQG_SOLVER_HAMILTONIAN)
                                        ? FCC_LQG_SOLVER_DOUBLING
                                        : FCC_LQG_SOLVER_HAMILTONIAN;
-    fcc_dare_info_t info = {0U, FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
-    fcc_dare_info_t info_alt = {0U, FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
+    fcc_dare_info_t info = {0U, 0.0, 0.0, 0.0};
+    fcc_dare_info_t info_alt = {0U, 0.0, 0.0, 0.0};
     FCC_TRY(solve_with(solver, p, x, &info, &ws->u.dare));
     FCC_TRY(gain_fn(p, x, gain, ws));
     FCC_TRY(solve_with(other, p, x_alt, &info_alt, &ws->u.dare));
     FCC_TRY(gain_fn(p, x_alt, gain_alt, ws));
-    fcc_real_t dx = FCC_R(0.0);
-    fcc_real_t dg = FCC_R(0.0);
-    FCC_TRY(fcc_mat_rel_diff(x_alt, x, &dx));
-    FCC_TRY(fcc_mat_rel_diff(gain_alt, gain, &dg));
+    double dx = 0.0;
+    double dg = 0.0;
+    FCC_TRY(fcc_mat64_rel_diff(x_alt, x, &dx));
+    FCC_TRY(fcc_mat64_rel_diff(gain_alt, gain, &dg));
     rep->residual = info.residual;
     rep->disagreement = (dx > dg) ? dx : dg;
     rep->iterations = (solver == FCC_LQG_SOLVER_DOUBLING) ? info.iterations : info_alt.iterations;
@@ -137,7 +137,7 @@ static fcc_status_t solve_both(fcc_lqg_solver_t solver, const fcc_dare_problem_t
 }
 
 /* LQR gain K = (Q22 + G^T P G)^-1 (G^T P Phi + Q12^T). */
-static fcc_status_t lqr_gain(const fcc_dare_problem_t *p, const fcc_mat_t *x, fcc_mat_t *gain,
+static fcc_status_t lqr_gain(const fcc_dare_problem_t *p, const fcc_mat64_t *x, fcc_mat64_t *gain,
                              fcc_lqg_ws_t *ws)
 {
     return fcc_dare_gain(p, x, gain, &ws->u.dare);
@@ -145,20 +145,20 @@ static fcc_status_t lqr_gain(const fcc_dare_problem_t *p, const fcc_mat_t *x, fc
 
 /* Filter gain, update form: L = M H^T (H M H^T + R)^-1, i.e. (H M H^T + R) L^T = H M
  * (M and H M H^T + R symmetric).  The problem is (Phi^T, H^T, Q_d, R). */
-static fcc_status_t kf_gain(const fcc_dare_problem_t *p, const fcc_mat_t *x, fcc_mat_t *gain,
+static fcc_status_t kf_gain(const fcc_dare_problem_t *p, const fcc_mat64_t *x, fcc_mat64_t *gain,
                             fcc_lqg_ws_t *ws)
 {
-    fcc_real_t hm[NY * NX];
-    fcc_real_t s[NY * NY];
-    fcc_real_t lt[NY * NX];
-    fcc_mat_t mhm = FCC_MAT(NY, NX, hm);
-    fcc_mat_t ms = FCC_MAT(NY, NY, s);
-    fcc_mat_t mlt = FCC_MAT(NY, NX, lt);
-    FCC_TRY(fcc_mat_mul_tn(p->b, x, &mhm)); /* b = H^T: b^T M = H M */
-    FCC_TRY(fcc_mat_mul(&mhm, p->b, &ms));  /* H M H^T */
-    FCC_TRY(fcc_mat_add(&ms, p->r, &ms));
-    FCC_TRY(fcc_mat_solve(&ms, &mhm, &mlt, &ws->u.dare.lu));
-    return fcc_mat_trans(&mlt, gain);
+    double hm[NY * NX];
+    double s[NY * NY];
+    double lt[NY * NX];
+    fcc_mat64_t mhm = FCC_MAT64(NY, NX, hm);
+    fcc_mat64_t ms = FCC_MAT64(NY, NY, s);
+    fcc_mat64_t mlt = FCC_MAT64(NY, NX, lt);
+    FCC_TRY(fcc_mat64_mul_tn(p->b, x, &mhm)); /* b = H^T: b^T M = H M */
+    FCC_TRY(fcc_mat64_mul(&mhm, p->b, &ms));  /* H M H^T */
+    FCC_TRY(fcc_mat64_add(&ms, p->r, &ms));
+    FCC_TRY(fcc_mat64_solve(&ms, &mhm, &mlt, &ws->u.dare.lu));
+    return fcc_mat64_trans(&mlt, gain);
 }
 
 /* The Kalman problem speaks of (Phi^T, H^T): name its failures in filter terms. */
@@ -173,56 +173,58 @@ static fcc_status_t kf_status(fcc_status_t st)
     return st;
 }
 
-static fcc_status_t design_lqr(fcc_lqg_solver_t solver, fcc_lqg_design_t *d, fcc_lqg_ws_t *ws)
+static fcc_status_t design_lqr(fcc_lqg_solver_t solver, fcc_lqg_design64_t *d,
+                               fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
 {
-    const fcc_mat_t phi = FCC_MAT(NX, NX, d->phi);
-    const fcc_mat_t gamma = FCC_MAT(NX, NU, d->gamma);
-    const fcc_mat_t q11 = FCC_MAT(NX, NX, d->q11);
-    const fcc_mat_t q12 = FCC_MAT(NX, NU, d->q12);
-    const fcc_mat_t q22 = FCC_MAT(NU, NU, d->q22);
+    const fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
+    const fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
+    const fcc_mat64_t q11 = FCC_MAT64(NX, NX, d->q11);
+    const fcc_mat64_t q12 = FCC_MAT64(NX, NU, d->q12);
+    const fcc_mat64_t q22 = FCC_MAT64(NU, NU, d->q22);
     const fcc_dare_problem_t p = {&phi, &gamma, &q11, &q22, &q12};
-    fcc_mat_t x = FCC_MAT(NX, NX, d->p);
-    fcc_mat_t k = FCC_MAT(NU, NX, d->k);
-    fcc_mat_t x_alt = FCC_MAT(NX, NX, ws->x_alt);
-    fcc_mat_t k_alt = FCC_MAT(NU, NX, ws->g_alt);
-    return solve_both(solver, &p, &x, &k, &x_alt, &k_alt, lqr_gain, &d->lqr, ws);
+    fcc_mat64_t x = FCC_MAT64(NX, NX, d->p);
+    fcc_mat64_t k = FCC_MAT64(NU, NX, d->k);
+    fcc_mat64_t x_alt = FCC_MAT64(NX, NX, ws->x_alt);
+    fcc_mat64_t k_alt = FCC_MAT64(NU, NX, ws->g_alt);
+    return solve_both(solver, &p, &x, &k, &x_alt, &k_alt, lqr_gain, rep, ws);
 }
 
-static fcc_status_t design_kf(fcc_lqg_solver_t solver, fcc_lqg_design_t *d, fcc_lqg_ws_t *ws)
+static fcc_status_t design_kf(fcc_lqg_solver_t solver, fcc_lqg_design64_t *d,
+                              fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
 {
-    fcc_mat_t phi = FCC_MAT(NX, NX, d->phi);
-    fcc_mat_t h = FCC_MAT(NY, NX, d->h);
-    fcc_mat_t a = FCC_MAT(NX, NX, ws->a_t);
-    fcc_mat_t b = FCC_MAT(NX, NY, ws->b_t);
-    FCC_TRY(fcc_mat_trans(&phi, &a));
-    FCC_TRY(fcc_mat_trans(&h, &b));
-    const fcc_mat_t qd = FCC_MAT(NX, NX, d->qd);
-    const fcc_mat_t r = FCC_MAT(NY, NY, d->r);
+    fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
+    fcc_mat64_t h = FCC_MAT64(NY, NX, d->h);
+    fcc_mat64_t a = FCC_MAT64(NX, NX, ws->a_t);
+    fcc_mat64_t b = FCC_MAT64(NX, NY, ws->b_t);
+    FCC_TRY(fcc_mat64_trans(&phi, &a));
+    FCC_TRY(fcc_mat64_trans(&h, &b));
+    const fcc_mat64_t qd = FCC_MAT64(NX, NX, d->qd);
+    const fcc_mat64_t r = FCC_MAT64(NY, NY, d->r);
     const fcc_dare_problem_t p = {&a, &b, &qd, &r, NULL};
-    fcc_mat_t x = FCC_MAT(NX, NX, d->m);
-    fcc_mat_t l = FCC_MAT(NX, NY, d->l);
-    fcc_mat_t x_alt = FCC_MAT(NX, NX, ws->x_alt);
-    fcc_mat_t l_alt = FCC_MAT(NX, NY, ws->g_alt);
-    FCC_TRY(kf_status(solve_both(solver, &p, &x, &l, &x_alt, &l_alt, kf_gain, &d->kf, ws)));
+    fcc_mat64_t x = FCC_MAT64(NX, NX, d->m);
+    fcc_mat64_t l = FCC_MAT64(NX, NY, d->l);
+    fcc_mat64_t x_alt = FCC_MAT64(NX, NX, ws->x_alt);
+    fcc_mat64_t l_alt = FCC_MAT64(NX, NY, ws->g_alt);
+    FCC_TRY(kf_status(solve_both(solver, &p, &x, &l, &x_alt, &l_alt, kf_gain, rep, ws)));
     /* P+ = (I - L H) M */
-    fcc_mat_t lh = FCC_MAT(NX, NX, ws->tmp);
-    fcc_mat_t pp = FCC_MAT(NX, NX, d->p_post);
-    FCC_TRY(fcc_mat_mul(&l, &h, &lh));
-    FCC_TRY(fcc_mat_mul(&lh, &x, &pp));
-    FCC_TRY(fcc_mat_sub(&x, &pp, &pp));
-    return fcc_mat_symmetrize(&pp);
+    fcc_mat64_t lh = FCC_MAT64(NX, NX, ws->tmp);
+    fcc_mat64_t pp = FCC_MAT64(NX, NX, d->p_post);
+    FCC_TRY(fcc_mat64_mul(&l, &h, &lh));
+    FCC_TRY(fcc_mat64_mul(&lh, &x, &pp));
+    FCC_TRY(fcc_mat64_sub(&x, &pp, &pp));
+    return fcc_mat64_symmetrize(&pp);
 }
 
 /* Sort eigenvalues by decreasing modulus, then decreasing imaginary part. */
-static void sort_poles(fcc_real_t *re, fcc_real_t *im, unsigned n)
+static void sort_poles(double *re, double *im, unsigned n)
 {
     for (unsigned i = 1; i < n; ++i) {
-        const fcc_real_t r = re[i];
-        const fcc_real_t m = im[i];
-        const fcc_real_t mod = FCC_HYPOT(r, m);
+        const double r = re[i];
+        const double m = im[i];
+        const double mod = hypot(r, m);
         unsigned j = i;
         while (j > 0U) {
-            const fcc_real_t pmod = FCC_HYPOT(re[j - 1U], im[j - 1U]);
+            const double pmod = hypot(re[j - 1U], im[j - 1U]);
             if (pmod > mod || (pmod == mod && im[j - 1U] >= m)) {
                 break;
             }
@@ -235,49 +237,82 @@ static void sort_poles(fcc_real_t *re, fcc_real_t *im, unsigned n)
     }
 }
 
-static fcc_status_t poles(fcc_lqg_design_t *d, fcc_lqg_ws_t *ws)
+static fcc_status_t poles(fcc_lqg_design64_t *d, fcc_lqg_ws_t *ws)
 {
-    const fcc_mat_t phi = FCC_MAT(NX, NX, d->phi);
-    const fcc_mat_t gamma = FCC_MAT(NX, NU, d->gamma);
-    const fcc_mat_t k = FCC_MAT(NU, NX, d->k);
-    const fcc_mat_t l = FCC_MAT(NX, NY, d->l);
-    const fcc_mat_t h = FCC_MAT(NY, NX, d->h);
-    fcc_mat_t t1 = FCC_MAT(NX, NX, ws->tmp);
-    fcc_mat_t t2 = FCC_MAT(NX, NX, ws->x_alt);
-    fcc_mat_t acl = FCC_MAT(NX, NX, ws->a_t);
-    FCC_TRY(fcc_mat_mul(&gamma, &k, &t1));
-    FCC_TRY(fcc_mat_sub(&phi, &t1, &acl));
-    FCC_TRY(fcc_mat_eig(&acl, d->cl_re, d->cl_im, NULL, &ws->u.dare.eig));
-    FCC_TRY(fcc_mat_mul(&l, &h, &t1));
-    FCC_TRY(fcc_mat_mul(&phi, &t1, &t2));
-    FCC_TRY(fcc_mat_sub(&phi, &t2, &acl));
-    FCC_TRY(fcc_mat_eig(&acl, d->est_re, d->est_im, NULL, &ws->u.dare.eig));
+    const fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
+    const fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
+    const fcc_mat64_t k = FCC_MAT64(NU, NX, d->k);
+    const fcc_mat64_t l = FCC_MAT64(NX, NY, d->l);
+    const fcc_mat64_t h = FCC_MAT64(NY, NX, d->h);
+    fcc_mat64_t t1 = FCC_MAT64(NX, NX, ws->tmp);
+    fcc_mat64_t t2 = FCC_MAT64(NX, NX, ws->x_alt);
+    fcc_mat64_t acl = FCC_MAT64(NX, NX, ws->a_t);
+    FCC_TRY(fcc_mat64_mul(&gamma, &k, &t1));
+    FCC_TRY(fcc_mat64_sub(&phi, &t1, &acl));
+    FCC_TRY(fcc_mat64_eig(&acl, d->cl_re, d->cl_im, NULL, &ws->u.dare.eig));
+    FCC_TRY(fcc_mat64_mul(&l, &h, &t1));
+    FCC_TRY(fcc_mat64_mul(&phi, &t1, &t2));
+    FCC_TRY(fcc_mat64_sub(&phi, &t2, &acl));
+    FCC_TRY(fcc_mat64_eig(&acl, d->est_re, d->est_im, NULL, &ws->u.dare.eig));
     sort_poles(d->cl_re, d->cl_im, NX);
     sort_poles(d->est_re, d->est_im, NX);
     return FCC_OK;
 }
 
-fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, fcc_real_t t, fcc_lqg_solver_t solver,
+/* dst[i] = (fcc_real_t)src[i]: the one place the design changes precision. */
+static void narrow(fcc_real_t *dst, const double *src, unsigned n)
+{
+    for (unsigned i = 0; i < n; ++i) {
+        dst[i] = (fcc_real_t)src[i];
+    }
+}
+
+static void export_design(const fcc_lqg_design64_t *d, fcc_lqg_design_t *out)
+{
+    narrow(out->phi, d->phi, NX * NX);
+    narrow(out->gamma, d->gamma, NX * NU);
+    narrow(out->qd, d->qd, NX * NX);
+    narrow(out->q11, d->q11, NX * NX);
+    narrow(out->q12, d->q12, NX * NU);
+    narrow(out->q22, d->q22, NU * NU);
+    narrow(out->h, d->h, NY * NX);
+    narrow(out->r, d->r, NY * NY);
+    narrow(out->p, d->p, NX * NX);
+    narrow(out->k, d->k, NU * NX);
+    narrow(out->m, d->m, NX * NX);
+    narrow(out->p_post, d->p_post, NX * NX);
+    narrow(out->l, d->l, NX * NY);
+    narrow(out->cl_re, d->cl_re, NX);
+    narrow(out->cl_im, d->cl_im, NX);
+    narrow(out->est_re, d->est_re, NX);
+    narrow(out->est_im, d->est_im, NX);
+}
+
+fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
                             fcc_lqg_design_t *out, fcc_lqg_ws_t *ws)
 {
     if (plant == NULL || out == NULL || ws == NULL) {
         return FCC_ERR_ARG;
     }
     FCC_TRY(check_inputs(plant, t, solver));
-    fcc_lqg_design_t *d = &ws->d;
-    d->t = t;
-    d->solver = solver;
+    fcc_lqg_design64_t *d = &ws->d;
+    fcc_lqg_riccati_t lqr = {0.0, 0.0, 0.0, 0U};
+    fcc_lqg_riccati_t kf = {0.0, 0.0, 0.0, 0U};
     for (unsigned i = 0; i < NY * NX; ++i) {
-        d->h[i] = plant->h[i];
+        d->h[i] = (double)plant->h[i];
     }
-    d->r[0] = plant->gyro_var;
-    d->r[1] = FCC_R(0.0);
-    d->r[2] = FCC_R(0.0);
-    d->r[3] = plant->accel_var;
+    d->r[0] = (double)plant->gyro_var;
+    d->r[1] = 0.0;
+    d->r[2] = 0.0;
+    d->r[3] = (double)plant->accel_var;
     FCC_TRY(discretise(plant, t, d, ws));
-    FCC_TRY(design_lqr(solver, d, ws));
-    FCC_TRY(design_kf(solver, d, ws));
+    FCC_TRY(design_lqr(solver, d, &lqr, ws));
+    FCC_TRY(design_kf(solver, d, &kf, ws));
     FCC_TRY(poles(d, ws));
-    *out = *d;
+    out->t = (fcc_real_t)t;
+    out->solver = solver;
+    out->lqr = lqr;
+    out->kf = kf;
+    export_design(d, out);
     return FCC_OK;
 }

@@ -48,16 +48,19 @@ fcc_status_t fcc_azkf_init(fcc_azkf_t *azkf, const fcc_azkf_config_t *cfg, const
 }
 
 fcc_status_t fcc_azkf_step(fcc_azkf_t *azkf, const fcc_sid_model_t *model, fcc_real_t de,
-                           const fcc_real_t y[2], bool have_measurement, bool oracle_fault,
-                           fcc_azkf_info_t *info)
+                           const fcc_real_t y[2], bool have_measurement, bool armed,
+                           bool oracle_fault, fcc_azkf_info_t *info)
 {
     if (azkf == NULL || model == NULL || (have_measurement && y == NULL)) {
         return FCC_ERR_ARG;
     }
     /* The detector is stepped on a copy: committed only with the ZKF step. */
     fcc_fdet_t det = azkf->det;
+    if (!armed) {
+        det.fault = false;
+    }
     bool fault = det.fault;
-    if (have_measurement) {
+    if (have_measurement && armed) {
         const fcc_real_t innov[2] = {y[0] - azkf->zkf.x[0], y[1] - azkf->zkf.x[1]};
         fcc_real_t radius[2];
         fcc_zkf_output_radius(&azkf->zkf, radius);

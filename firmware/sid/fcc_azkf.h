@@ -63,10 +63,14 @@ fcc_status_t fcc_azkf_init(fcc_azkf_t *azkf, const fcc_azkf_config_t *cfg, const
 
 /* One step: detect (y_k against <C x_k, [C P_k, F]>), choose the order or
  * skip the update, run the ZKF step.  have_measurement false: no detection
- * (the flag keeps its value), prediction only.  Errors as fcc_zkf_step; a
- * refused ZKF step leaves the filter and the detector unchanged. */
+ * (the flag keeps its value), prediction only.  armed false: no detection
+ * and no fault (the bundle disarms the detector while the model is still the
+ * prior: consistency with an unidentified model means nothing, and a fault
+ * then would freeze the very learning that fixes the model).  Errors as
+ * fcc_zkf_step; a refused ZKF step leaves the filter and the detector
+ * unchanged. */
 fcc_status_t fcc_azkf_step(fcc_azkf_t *azkf, const fcc_sid_model_t *model, fcc_real_t de,
-                           const fcc_real_t y[2], bool have_measurement, bool oracle_fault,
-                           fcc_azkf_info_t *info);
+                           const fcc_real_t y[2], bool have_measurement, bool armed,
+                           bool oracle_fault, fcc_azkf_info_t *info);
 
 #endif /* FCC_AZKF_H */

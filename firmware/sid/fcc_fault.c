@@ -12,6 +12,7 @@ void fcc_fdet_config_default(fcc_fdet_config_t *cfg)
     cfg->raise_count = FCC_FDET_DEFAULT_RAISE;
     cfg->hold_count = FCC_FDET_DEFAULT_HOLD;
     cfg->clear_count = FCC_FDET_DEFAULT_CLEAR;
+    cfg->max_fault_steps = FCC_FDET_DEFAULT_MAX_FAULT;
 }
 
 fcc_status_t fcc_fdet_config_check(const fcc_fdet_config_t *cfg)
@@ -69,14 +70,25 @@ static void debounce(fcc_fdet_t *det, bool bad)
     det->n_bad = bad ? count_up(det->n_bad) : 0u;
     det->n_good = bad ? 0u : count_up(det->n_good);
     if (!det->fault) {
-        if (det->n_bad >= det->cfg.raise_count) {
+        if (det->refractory_left > 0u) {
+            det->refractory_left--;
+        } else if (det->n_bad >= det->cfg.raise_count) {
             det->fault = true;
             det->hold_left = det->cfg.hold_count;
             det->n_good = 0u;
+            det->fault_steps = 1u;
             det->n_raised++;
         }
         return;
     }
+    if (det->cfg.max_fault_steps > 0u && det->fault_steps >= det->cfg.max_fault_steps) {
+        det->fault = false; /* persistent: the sensor is not the problem */
+        det->refractory_left = det->cfg.max_fault_steps;
+        det->n_bad = 0u;
+        det->n_dropped++;
+        return;
+    }
+    det->fault_steps = count_up(det->fault_steps);
     if (det->hold_left > 0u) {
         det->hold_left--;
         det->n_good = 0u; /* consistency counts only after the hold */

@@ -21,7 +21,13 @@
  *  - hold_count: steps the flag stays up after it is raised, whatever the
  *    measurements say (a fault that flickers is still a fault);
  *  - clear_count: consecutive consistent steps, after the hold, that clear
- *    it (the sensor must prove itself again before it is trusted).
+ *    it (the sensor must prove itself again before it is trusted);
+ *  - max_fault_steps: the longest a fault may stay flagged (0 = no limit).
+ *    The AZKF is built for *temporary* sensor faults; an inconsistency that
+ *    persists means the model or the set is wrong, not the sensor (with the
+ *    MLS frozen during a fault it would never heal).  The flag is then
+ *    dropped and no new fault is raised for as many steps, so that the
+ *    filter re-converges on the measurements and the MLS learns again.
  */
 #ifndef FCC_FAULT_H
 #define FCC_FAULT_H
@@ -41,6 +47,8 @@ typedef enum {
 #define FCC_FDET_DEFAULT_RAISE 1u
 #define FCC_FDET_DEFAULT_HOLD 0u
 #define FCC_FDET_DEFAULT_CLEAR 3u
+/* 0.5 s at 50 Hz: five times the paper's 0.1 s sensor fault. */
+#define FCC_FDET_DEFAULT_MAX_FAULT 25u
 
 typedef struct {
     fcc_fdet_mode_t mode;
@@ -48,6 +56,7 @@ typedef struct {
     uint16_t raise_count; /* >= 1 */
     uint16_t hold_count;  /* >= 0 */
     uint16_t clear_count; /* >= 1 */
+    uint16_t max_fault_steps; /* >= 0, 0 = no limit */
 } fcc_fdet_config_t;
 
 typedef struct {
@@ -57,7 +66,10 @@ typedef struct {
     uint16_t n_bad;       /* consecutive inconsistent steps */
     uint16_t n_good;      /* consecutive consistent steps */
     uint16_t hold_left;   /* steps of hold still to run */
+    uint16_t fault_steps; /* steps the current fault has been flagged */
+    uint16_t refractory_left; /* steps before a new fault may be raised */
     uint32_t n_raised;    /* times the flag was raised since init */
+    uint32_t n_dropped;   /* times a fault was dropped at max_fault_steps */
 } fcc_fdet_t;
 
 void fcc_fdet_config_default(fcc_fdet_config_t *cfg);

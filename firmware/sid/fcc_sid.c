@@ -210,7 +210,8 @@ static fcc_status_t step_zkf(fcc_sid_t *sid, const fcc_real_t y[2], fcc_real_t d
     fcc_status_t st;
     if (adaptive) {
         fcc_azkf_info_t ainfo;
-        st = fcc_azkf_step(&sid->u.azkf, model, de, y, use_y, oracle, &ainfo);
+        const bool armed = !sid->cfg.mls_enabled || !current_estimate(sid)->is_prior;
+        st = fcc_azkf_step(&sid->u.azkf, model, de, y, use_y, armed, oracle, &ainfo);
         zinfo = ainfo.zkf;
         fault = ainfo.fault;
     } else {

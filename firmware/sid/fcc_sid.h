@@ -22,7 +22,8 @@
  * measurement: a step without a usable sample (measurement_valid false,
  * non-finite or out-of-range sample) or with a flagged fault (AZKF, when
  * mls_hold_on_fault) only predicts, and a prediction teaches the MLS
- * nothing but its own model.
+ * nothing but its own model.  The AZKF's fault detector is armed only once
+ * the model is fitted (not the prior), unless the MLS is off.
  *
  * Output semantics (one row per step, comparable with another
  * implementation):

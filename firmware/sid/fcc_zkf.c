@@ -29,6 +29,11 @@ fcc_status_t fcc_zkf_init(fcc_zkf_t *zkf, const fcc_real_t x0[2], const fcc_real
     zkf->p = 2u;
     fcc_zono_norms(zkf->gen, zkf->p, zkf->norm2);
     fcc_zono_hull(zkf->gen, zkf->p, zkf->hull);
+    fcc_real_t m[4];
+    fcc_zono_covariation(zkf->gen, zkf->p, m);
+    zkf->cov[0] = m[0];
+    zkf->cov[1] = m[1];
+    zkf->cov[2] = m[3];
     memcpy(zkf->e, e, sizeof zkf->e);
     memcpy(zkf->f, f, sizeof zkf->f);
     memcpy(zkf->r, r, sizeof zkf->r);
@@ -37,76 +42,169 @@ fcc_status_t fcc_zkf_init(fcc_zkf_t *zkf, const fcc_real_t x0[2], const fcc_real
     return FCC_OK;
 }
 
-/* Pass 2: M = P_bar P_bar^T without forming P_bar: kept columns add their
- * outer product, boxed ones their absolute values to the box, whose two
- * diagonal columns are added last. */
-static void reduced_covariation(const fcc_zkf_t *zkf, bool reducing, fcc_real_t m[4],
+/* Adds |columns [from, to)| of P to the box radii. */
+static void box_run(const fcc_real_t *gen, uint32_t from, uint32_t to, fcc_real_t box[2])
+{
+    for (uint32_t j = from; j < to; ++j) {
+        box[0] += FCC_FABS(gen[2u * j]);
+        box[1] += FCC_FABS(gen[2u * j + 1u]);
+    }
+}
+
+/* Adds sign * (col col^T) of column j to the covariation sums c. */
+static void cov_add(const fcc_real_t *gen, uint32_t j, fcc_real_t sign, fcc_real_t c[3])
+{
+    const fcc_real_t a = gen[2u * j];
+    const fcc_real_t b = gen[2u * j + 1u];
+    c[0] += sign * a * a;
+    c[1] += sign * a * b;
+    c[2] += sign * b * b;
+}
+
+/* M = P_bar P_bar^T and the box radii, without forming P_bar (see the
+ * cost note in fcc_zkf.h).  Needs fcc_zono_select's result when reducing. */
+static void reduced_covariation(const fcc_zkf_t *zkf, bool reducing, uint16_t q, fcc_real_t m[4],
                                 fcc_real_t box[2])
 {
-    fcc_real_t m00 = FCC_R(0.0);
-    fcc_real_t m01 = FCC_R(0.0);
-    fcc_real_t m11 = FCC_R(0.0);
-    fcc_real_t b0 = FCC_R(0.0);
-    fcc_real_t b1 = FCC_R(0.0);
-    for (uint16_t j = 0; j < zkf->p; ++j) {
-        const fcc_real_t a = zkf->gen[2u * j];
-        const fcc_real_t b = zkf->gen[2u * j + 1u];
-        if (reducing && zkf->work.boxed[j] != 0u) {
-            b0 += FCC_FABS(a);
-            b1 += FCC_FABS(b);
-        } else {
-            m00 += a * a;
-            m01 += a * b;
-            m11 += b * b;
+    const fcc_zono_work_t *wk = &zkf->work;
+    fcc_real_t c[3] = {zkf->cov[0], zkf->cov[1], zkf->cov[2]};
+    box[0] = FCC_R(0.0);
+    box[1] = FCC_R(0.0);
+    if (reducing && q == FCC_ZONO_MIN_ORDER) {
+        /* Everything boxed: P_bar = diag(hull). */
+        box[0] = zkf->hull[0];
+        box[1] = zkf->hull[1];
+        c[0] = c[1] = c[2] = FCC_R(0.0);
+    } else if (reducing && wk->list_is_boxed) {
+        /* A few short columns leave the covariation for the box. */
+        for (uint16_t i = 0; i < wk->n_list; ++i) {
+            cov_add(zkf->gen, wk->list[i], FCC_R(-1.0), c);
+            box_run(zkf->gen, wk->list[i], wk->list[i] + 1u, box);
         }
+    } else if (reducing) {
+        /* Few kept: their covariation, and the box of the runs between them. */
+        c[0] = c[1] = c[2] = FCC_R(0.0);
+        uint32_t next = 0u;
+        for (uint16_t i = 0; i < wk->n_list; ++i) {
+            cov_add(zkf->gen, wk->list[i], FCC_R(1.0), c);
+            box_run(zkf->gen, next, wk->list[i], box);
+            next = wk->list[i] + 1u;
+        }
+        box_run(zkf->gen, next, zkf->p, box);
     }
-    m[0] = m00 + b0 * b0;
-    m[1] = m01;
-    m[2] = m01;
-    m[3] = m11 + b1 * b1;
-    box[0] = b0;
-    box[1] = b1;
+    m[0] = c[0] + box[0] * box[0];
+    m[1] = c[1];
+    m[2] = c[1];
+    m[3] = c[2] + box[1] * box[1];
 }
 
-/* Appends column (a, b) at slot w, with its squared norm and hull share. */
-static void put_column(fcc_zkf_t *zkf, uint16_t w, fcc_real_t a, fcc_real_t b, fcc_real_t hull[2])
+/* Appends column (a, b) at slot w with its squared norm and sums. */
+static void put_column(fcc_zkf_t *zkf, uint16_t w, fcc_real_t a, fcc_real_t b, fcc_real_t s[5])
 {
+    const fcc_real_t aa = a * a;
+    const fcc_real_t bb = b * b;
     zkf->gen[2u * w] = a;
     zkf->gen[2u * w + 1u] = b;
-    zkf->norm2[w] = a * a + b * b;
-    hull[0] += FCC_FABS(a);
-    hull[1] += FCC_FABS(b);
+    zkf->norm2[w] = aa + bb;
+    s[0] += FCC_FABS(a);
+    s[1] += FCC_FABS(b);
+    s[2] += aa;
+    s[3] += a * b;
+    s[4] += bb;
 }
 
-/* Pass 3 (commit): P_k+1 = [T P_bar, E, -G F] with T = A - G. */
-static void commit_generators(fcc_zkf_t *zkf, bool reducing, const fcc_real_t t[4],
+/* Sums a commit pass accumulates: hull radii and covariation. */
+typedef struct {
+    fcc_real_t h0, h1, c00, c01, c11;
+} zkf_sums_t;
+
+/* Writes T times columns [from, to) of P from slot *w on (w <= from, so in
+ * place is safe), with their squared norms, hull and covariation.  The hot
+ * loop of the filter: a run has no per-column test, the sums live in
+ * registers. */
+static void transform_run(fcc_zkf_t *zkf, const fcc_real_t t[4], uint32_t from, uint32_t to,
+                          uint32_t *w, zkf_sums_t *acc)
+{
+    const fcc_real_t *src = zkf->gen + 2u * from;
+    const fcc_real_t *const end = zkf->gen + 2u * to;
+    fcc_real_t *dst = zkf->gen + 2u * *w;
+    fcc_real_t *restrict nrm = zkf->norm2 + *w;
+    const fcc_real_t t0 = t[0], t1 = t[1], t2 = t[2], t3 = t[3];
+    zkf_sums_t s = *acc;
+    for (; src != end; src += 2, dst += 2) {
+        const fcc_real_t a = src[0];
+        const fcc_real_t b = src[1];
+        const fcc_real_t na = t0 * a + t1 * b;
+        const fcc_real_t nb = t2 * a + t3 * b;
+        const fcc_real_t aa = na * na;
+        const fcc_real_t bb = nb * nb;
+        dst[0] = na;
+        dst[1] = nb;
+        *nrm++ = aa + bb;
+        s.h0 += FCC_FABS(na);
+        s.h1 += FCC_FABS(nb);
+        s.c00 += aa;
+        s.c01 += na * nb;
+        s.c11 += bb;
+    }
+    *acc = s;
+    *w += to - from;
+}
+
+/* T P_bar for the kept columns, compacted from slot 0; returns the count. */
+static uint32_t transform_kept(fcc_zkf_t *zkf, bool reducing, const fcc_real_t t[4],
+                               zkf_sums_t *acc)
+{
+    const fcc_zono_work_t *wk = &zkf->work;
+    uint32_t w = 0u;
+    if (!reducing) {
+        transform_run(zkf, t, 0u, zkf->p, &w, acc);
+        return w;
+    }
+    uint32_t next = 0u;
+    for (uint16_t i = 0; i < wk->n_list; ++i) {
+        const uint32_t j = wk->list[i];
+        if (wk->list_is_boxed) {
+            transform_run(zkf, t, next, j, &w, acc); /* the run before a boxed column */
+        } else {
+            transform_run(zkf, t, j, j + 1u, &w, acc); /* a kept column */
+        }
+        next = j + 1u;
+    }
+    if (wk->list_is_boxed) {
+        transform_run(zkf, t, next, zkf->p, &w, acc);
+    }
+    return w;
+}
+
+/* Commit pass: P_k+1 = [T P_bar, E, -G F] with T = A - G. */
+static void commit_generators(fcc_zkf_t *zkf, bool reducing, uint16_t q, const fcc_real_t t[4],
                               const fcc_real_t box[2], const fcc_real_t g[4], bool updated)
 {
-    fcc_real_t hull[2] = {FCC_R(0.0), FCC_R(0.0)};
+    zkf_sums_t acc = {FCC_R(0.0), FCC_R(0.0), FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
     uint16_t w = 0u;
-    for (uint16_t j = 0; j < zkf->p; ++j) {
-        if (reducing && zkf->work.boxed[j] != 0u) {
-            continue;
-        }
-        const fcc_real_t a = zkf->gen[2u * j];
-        const fcc_real_t b = zkf->gen[2u * j + 1u];
-        put_column(zkf, w++, t[0] * a + t[1] * b, t[2] * a + t[3] * b, hull);
+    if (!reducing || q > FCC_ZONO_MIN_ORDER) {
+        w = (uint16_t)transform_kept(zkf, reducing, t, &acc);
     }
+    fcc_real_t s[5] = {acc.h0, acc.h1, acc.c00, acc.c01, acc.c11};
     if (reducing) {
-        put_column(zkf, w++, t[0] * box[0], t[2] * box[0], hull);
-        put_column(zkf, w++, t[1] * box[1], t[3] * box[1], hull);
+        put_column(zkf, w++, t[0] * box[0], t[2] * box[0], s);
+        put_column(zkf, w++, t[1] * box[1], t[3] * box[1], s);
     }
-    put_column(zkf, w++, zkf->e[0], zkf->e[2], hull);
-    put_column(zkf, w++, zkf->e[1], zkf->e[3], hull);
+    put_column(zkf, w++, zkf->e[0], zkf->e[2], s);
+    put_column(zkf, w++, zkf->e[1], zkf->e[3], s);
     if (updated) {
         fcc_real_t gf[4];
         fcc_sid_m2_mul(g, zkf->f, gf);
-        put_column(zkf, w++, -gf[0], -gf[2], hull);
-        put_column(zkf, w++, -gf[1], -gf[3], hull);
+        put_column(zkf, w++, -gf[0], -gf[2], s);
+        put_column(zkf, w++, -gf[1], -gf[3], s);
     }
     zkf->p = w;
-    zkf->hull[0] = hull[0];
-    zkf->hull[1] = hull[1];
+    zkf->hull[0] = s[0];
+    zkf->hull[1] = s[1];
+    zkf->cov[0] = s[2];
+    zkf->cov[1] = s[3];
+    zkf->cov[2] = s[4];
 }
 
 /* G = A M (M + R)^-1 (eq. 25 with C = I). */
@@ -146,7 +244,7 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
     }
     fcc_real_t m[4];
     fcc_real_t box[2];
-    reduced_covariation(zkf, reducing, m, box);
+    reduced_covariation(zkf, reducing, q, m, box);
 
     fcc_real_t g[4] = {FCC_R(0.0), FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
     if (use_measurement && zkf_gain(zkf, model->a, m, g) != FCC_OK) {
@@ -180,7 +278,7 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
         info->n_generators = reducing ? q : zkf->p;
         info->updated = use_measurement;
     }
-    commit_generators(zkf, reducing, t, box, g, use_measurement);
+    commit_generators(zkf, reducing, q, t, box, g, use_measurement);
     zkf->x[0] = x_new[0];
     zkf->x[1] = x_new[1];
     return FCC_OK;

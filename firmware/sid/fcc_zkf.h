@@ -18,10 +18,15 @@
  * the step is the pure prediction G = 0: P_k+1 = [A P_bar, E] (the zero
  * columns -G F are not stored).
  *
- * Cost: the step is fused into three passes over the p <= q + 4 columns
- * (selection, covariation + box sums, transform + norms + hull); nothing is
- * written before every result is known to be finite, so a refused step
- * leaves the filter exactly as it was.
+ * Cost: two passes over the p <= q + 4 columns per step.  The commit pass
+ * that writes P_k+1 also stores each column's squared norm, the interval
+ * hull and the covariation P_k+1 P_k+1^T; the next step then selects the
+ * columns to box (one comparison per column) and gets P_bar P_bar^T from
+ * that covariation by removing the few boxed columns (the shortest ones,
+ * so the subtraction costs no accuracy) and adding their box -- or, when
+ * everything is boxed (q = 2), straight from the hull.  Nothing is written
+ * before every result is known to be finite, so a refused step leaves the
+ * filter exactly as it was.
  */
 #ifndef FCC_ZKF_H
 #define FCC_ZKF_H
@@ -38,6 +43,7 @@ typedef struct {
     fcc_real_t gen[2u * FCC_ZONO_MAX_COLS];    /* P_k, column-major */
     fcc_real_t norm2[FCC_ZONO_MAX_COLS];       /* |column|^2 of P_k */
     fcc_real_t hull[2];                        /* interval hull radius of P_k */
+    fcc_real_t cov[3];                         /* P_k P_k^T: (1,1), (1,2), (2,2) */
     uint16_t p;                                /* columns of P_k */
     fcc_real_t e[4];                           /* process generators E (row-major) */
     fcc_real_t f[4];                           /* measurement generators F (row-major) */

@@ -1,7 +1,5 @@
 #include "fcc_zonotope.h"
 
-#include <string.h>
-
 void fcc_zono_norms(const fcc_real_t *r, uint16_t p, fcc_real_t *norm2)
 {
     for (uint16_t j = 0; j < p; ++j) {
@@ -23,7 +21,7 @@ static bool ranks_above(const fcc_real_t *norm2, uint16_t i, uint16_t j)
  * bottom-b search the highest-ranked one.  closer(a, b): a belongs nearer
  * the root than b. */
 typedef struct {
-    uint16_t *idx;
+    uint16_t *idx; /* heap storage */
     uint16_t size;
     const fcc_real_t *norm2;
     bool root_is_lowest;
@@ -70,15 +68,85 @@ static void heap_replace_root(sel_heap_t *h, uint16_t col)
 }
 
 /* Fills the heap with the `count` columns that are extreme in the ranking:
- * the highest-ranked when root_is_lowest, else the lowest-ranked. */
+ * the highest-ranked when root_is_lowest, else the lowest-ranked.  After the
+ * heap is full, a column can only enter by beating the root, so the scan
+ * compares with the root's norm kept in a register: since every later
+ * column has a larger index, a tie ranks it below the root (stable). */
 static void heap_select(sel_heap_t *h, uint16_t p, uint16_t count)
 {
-    for (uint16_t j = 0; j < p; ++j) {
-        if (h->size < count) {
-            heap_push(h, j);
-        } else if (closer(h, h->idx[0], j)) {
-            heap_replace_root(h, j);
+    uint16_t j = 0u;
+    for (; j < p && h->size < count; ++j) {
+        heap_push(h, j);
+    }
+    if (count == 0u) {
+        return;
+    }
+    const fcc_real_t *norm2 = h->norm2;
+    fcc_real_t root = norm2[h->idx[0]];
+    if (h->root_is_lowest) {
+        for (; j < p; ++j) {
+            if (norm2[j] > root) { /* longer: ranks above the weakest kept */
+                heap_replace_root(h, j);
+                root = norm2[h->idx[0]];
+            }
         }
+    } else {
+        /* The common case (a few shortest columns among many, every ZKF step
+         * at a large order): test four columns at once, without branches. */
+        for (; j + 4u <= p; j += 4u) {
+            const int any = (norm2[j] <= root) | (norm2[j + 1u] <= root) |
+                            (norm2[j + 2u] <= root) | (norm2[j + 3u] <= root);
+            if (!any) {
+                continue;
+            }
+            for (uint16_t k = j; k < j + 4u; ++k) {
+                if (norm2[k] <= root) { /* not longer, and later: ranks below */
+                    heap_replace_root(h, k);
+                    root = norm2[h->idx[0]];
+                }
+            }
+        }
+        for (; j < p; ++j) {
+            if (norm2[j] <= root) {
+                heap_replace_root(h, j);
+                root = norm2[h->idx[0]];
+            }
+        }
+    }
+}
+
+/* Sorts n indices ascending in place (heapsort: O(n log n), no recursion,
+ * no extra storage). */
+static void sift_down_u16(uint16_t *v, uint32_t root, uint32_t n)
+{
+    const uint16_t x = v[root];
+    for (;;) {
+        uint32_t child = 2u * root + 1u;
+        if (child >= n) {
+            break;
+        }
+        if (child + 1u < n && v[child + 1u] > v[child]) {
+            ++child;
+        }
+        if (v[child] <= x) {
+            break;
+        }
+        v[root] = v[child];
+        root = child;
+    }
+    v[root] = x;
+}
+
+static void sort_u16(uint16_t *v, uint32_t n)
+{
+    for (uint32_t i = n / 2u; i-- > 0u;) {
+        sift_down_u16(v, i, n);
+    }
+    for (uint32_t end = n; end > 1u; --end) {
+        const uint16_t top = v[0];
+        v[0] = v[end - 1u];
+        v[end - 1u] = top;
+        sift_down_u16(v, 0u, end - 1u);
     }
 }
 
@@ -94,30 +162,59 @@ fcc_status_t fcc_zono_select(const fcc_real_t *norm2, uint16_t p, uint16_t q,
     if (p > FCC_ZONO_MAX_COLS) {
         return FCC_ERR_SIZE;
     }
+    work->n_list = 0u;
+    work->list_is_boxed = true;
     if (p <= q) {
-        memset(work->boxed, 0, p);
-        return FCC_OK;
+        return FCC_OK; /* nothing boxed */
     }
     const uint16_t keep = (uint16_t)(q - FCC_ZONO_MIN_ORDER);
     const uint16_t box = (uint16_t)(p - keep);
-    sel_heap_t h = {work->heap, 0u, norm2, true};
+    sel_heap_t h = {work->list, 0u, norm2, true};
     if (keep <= box) {
-        /* Find the `keep` longest columns; every other one is boxed. */
-        memset(work->boxed, 1, p);
-        heap_select(&h, p, keep);
-        for (uint16_t i = 0; i < h.size; ++i) {
-            work->boxed[h.idx[i]] = 0u;
-        }
+        heap_select(&h, p, keep); /* the `keep` longest columns */
+        work->list_is_boxed = false;
     } else {
-        /* Fewer to box than to keep: find the `box` shortest columns. */
-        memset(work->boxed, 0, p);
         h.root_is_lowest = false;
-        heap_select(&h, p, box);
-        for (uint16_t i = 0; i < h.size; ++i) {
-            work->boxed[h.idx[i]] = 1u;
+        heap_select(&h, p, box); /* the `box` shortest columns */
+    }
+    work->n_list = h.size;
+    sort_u16(work->list, work->n_list);
+    return FCC_OK;
+}
+
+bool fcc_zono_is_boxed(const fcc_zono_work_t *work, uint16_t j)
+{
+    uint32_t lo = 0u;
+    uint32_t hi = work->n_list;
+    while (lo < hi) {
+        const uint32_t mid = (lo + hi) / 2u;
+        if (work->list[mid] < j) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
         }
     }
-    return FCC_OK;
+    const bool listed = lo < work->n_list && work->list[lo] == j;
+    return listed == work->list_is_boxed;
+}
+
+/* Moves columns [from, to) of r down to slot *w (w <= from). */
+static void move_run(fcc_real_t *r, fcc_real_t *norm2, uint32_t from, uint32_t to, uint32_t *w)
+{
+    for (uint32_t j = from; j < to; ++j, ++*w) {
+        r[2u * *w] = r[2u * j];
+        r[2u * *w + 1u] = r[2u * j + 1u];
+        norm2[*w] = norm2[j];
+    }
+}
+
+/* Adds |columns [from, to)| to the box radii. */
+static void box_run(const fcc_real_t *r, uint32_t from, uint32_t to, fcc_real_t box[2])
+{
+    for (uint32_t j = from; j < to; ++j) {
+        box[0] += FCC_FABS(r[2u * j]);
+        box[1] += FCC_FABS(r[2u * j + 1u]);
+    }
 }
 
 fcc_status_t fcc_zono_reduce(fcc_real_t *r, fcc_real_t *norm2, uint16_t *p, uint16_t q,
@@ -130,31 +227,34 @@ fcc_status_t fcc_zono_reduce(fcc_real_t *r, fcc_real_t *norm2, uint16_t *p, uint
     if (st != FCC_OK || *p <= q) {
         return st;
     }
-    fcc_real_t box0 = FCC_R(0.0);
-    fcc_real_t box1 = FCC_R(0.0);
-    uint16_t w = 0u;
-    for (uint16_t j = 0; j < *p; ++j) {
-        const fcc_real_t a = r[2u * j];
-        const fcc_real_t b = r[2u * j + 1u];
-        if (work->boxed[j] != 0u) {
-            box0 += FCC_FABS(a);
-            box1 += FCC_FABS(b);
+    fcc_real_t box[2] = {FCC_R(0.0), FCC_R(0.0)};
+    uint32_t w = 0u;
+    uint32_t next = 0u; /* first column not yet handled */
+    for (uint16_t i = 0; i < work->n_list; ++i) {
+        const uint32_t j = work->list[i];
+        if (work->list_is_boxed) {
+            move_run(r, norm2, next, j, &w);
+            box_run(r, j, j + 1u, box);
         } else {
-            r[2u * w] = a;
-            r[2u * w + 1u] = b;
-            norm2[w] = norm2[j];
-            ++w;
+            box_run(r, next, j, box);
+            move_run(r, norm2, j, j + 1u, &w);
         }
+        next = j + 1u;
     }
-    r[2u * w] = box0;
+    if (work->list_is_boxed) {
+        move_run(r, norm2, next, *p, &w);
+    } else {
+        box_run(r, next, *p, box);
+    }
+    r[2u * w] = box[0];
     r[2u * w + 1u] = FCC_R(0.0);
-    norm2[w] = box0 * box0;
+    norm2[w] = box[0] * box[0];
     ++w;
     r[2u * w] = FCC_R(0.0);
-    r[2u * w + 1u] = box1;
-    norm2[w] = box1 * box1;
+    r[2u * w + 1u] = box[1];
+    norm2[w] = box[1] * box[1];
     ++w;
-    *p = w;
+    *p = (uint16_t)w;
     return FCC_OK;
 }
 

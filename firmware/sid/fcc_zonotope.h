@@ -38,22 +38,30 @@
 /* Smallest order: n = 2 (the reduced set is then the interval hull box). */
 #define FCC_ZONO_MIN_ORDER 2u
 
-/* Scratch the reduction needs, kept by the caller (static storage). */
+/* The result of a selection (caller-owned scratch, static storage): the
+ * smaller of the two sets, boxed or kept columns, as ascending column
+ * indices.  Every column not listed belongs to the other set.  Listing the
+ * smaller set keeps every later pass O(p) with no per-column flag, and the
+ * covariation update O(min(kept, boxed)). */
 typedef struct {
-    uint8_t boxed[FCC_ZONO_MAX_COLS];           /* 1 = column goes into the box */
-    uint16_t heap[FCC_ZONO_MAX_COLS / 2u + 1u]; /* selection heap (column indices) */
+    uint16_t list[FCC_ZONO_MAX_COLS / 2u + 1u];
+    uint16_t n_list;
+    bool list_is_boxed; /* true: list = boxed columns; false: list = kept columns */
 } fcc_zono_work_t;
 
 /* norm2[j] = |r_j|^2 for the p columns of r. */
 void fcc_zono_norms(const fcc_real_t *r, uint16_t p, fcc_real_t *norm2);
 
-/* Marks in work->boxed the columns that the reduction of order q boxes
- * (exactly p - q + 2 of them, the lowest in the stable ranking); every
- * column is marked 0 when p <= q.  FCC_ERR_ARG on NULL or q < 2,
- * FCC_ERR_RANGE when q > FCC_ZONO_MAX_ORDER, FCC_ERR_SIZE when
- * p > FCC_ZONO_MAX_COLS. */
+/* Selects the columns that the reduction of order q boxes (exactly
+ * p - q + 2 of them, the lowest in the stable ranking; none when p <= q)
+ * into work.  FCC_ERR_ARG on NULL or q < 2, FCC_ERR_RANGE when
+ * q > FCC_ZONO_MAX_ORDER, FCC_ERR_SIZE when p > FCC_ZONO_MAX_COLS. */
 fcc_status_t fcc_zono_select(const fcc_real_t *norm2, uint16_t p, uint16_t q,
                              fcc_zono_work_t *work);
+
+/* True when the last selection boxes column j (binary search: for tests
+ * and diagnostics, not for loops). */
+bool fcc_zono_is_boxed(const fcc_zono_work_t *work, uint16_t j);
 
 /* In-place reduction R <- reduce_q(R) (eq. 18): *p becomes min(p, q).
  * norm2 must hold the squared column norms of R on entry; it is updated to

@@ -44,7 +44,7 @@ static void usage(FILE *out)
             "                   and must agree\n"
             "  --repeat N       run the design N times (timing aid; prints once)\n"
             "  --help           this text\n",
-            (double)FCC_LQG_T_MIN, (double)FCC_LQG_T_MAX, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX);
+            FCC_LQG_T_MIN, FCC_LQG_T_MAX, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX);
 }
 
 static int fail_usage(const char *what, const char *arg)
@@ -148,9 +148,9 @@ static int parse_args(int argc, char **argv, options_t *o)
 static int check_ranges(const options_t *o)
 {
     char msg[160];
-    if (!(o->period >= (double)FCC_LQG_T_MIN && o->period <= (double)FCC_LQG_T_MAX)) {
+    if (!(o->period >= FCC_LQG_T_MIN && o->period <= FCC_LQG_T_MAX)) {
         snprintf(msg, sizeof msg, "--period %g s is outside [%g, %g] s", o->period,
-                 (double)FCC_LQG_T_MIN, (double)FCC_LQG_T_MAX);
+                 FCC_LQG_T_MIN, FCC_LQG_T_MAX);
         return fail_usage(msg, NULL);
     }
     if (o->bits < (long)FCC_LQG_BITS_MIN || o->bits > (long)FCC_LQG_BITS_MAX) {
@@ -204,11 +204,11 @@ static void put_poles(const char *key, const fcc_real_t *re, const fcc_real_t *i
 static void put_riccati(const char *key, const fcc_lqg_riccati_t *r, bool last)
 {
     printf("    \"%s\": {\"residual\": ", key);
-    put_num((double)r->residual);
+    put_num(r->residual);
     printf(", \"solver_disagreement\": ");
-    put_num((double)r->disagreement);
+    put_num(r->disagreement);
     printf(", \"doubling_iterations\": %u, \"hamiltonian_rcond_u1\": ", (unsigned)r->iterations);
-    put_num((double)r->rcond_u1);
+    put_num(r->rcond_u1);
     printf("}%s\n", last ? "" : ",");
 }
 
@@ -266,7 +266,7 @@ int main(int argc, char **argv)
     plant.accel_var = (fcc_real_t)o.accel_var;
     fcc_status_t st = fcc_lqg_dac_init(&dac, (uint8_t)o.bits);
     for (long i = 0; i < o.repeat && st == FCC_OK; ++i) {
-        st = fcc_lqg_design(&plant, (fcc_real_t)o.period, o.solver, &design, &ws);
+        st = fcc_lqg_design(&plant, o.period, o.solver, &design, &ws);
     }
     if (st != FCC_OK) {
         fprintf(stderr, PROG ": design failed for T = %g s: %s (status %d)\n", o.period,

@@ -57,12 +57,52 @@ static int die(const char *msg)
     return 1;
 }
 
+/* The option behind a configuration the firmware refuses, in words. */
+static const char *config_problem(const fcc_sid_config_t *c)
+{
+    const fcc_mls_config_t *m = &c->mls;
+    const fcc_fdet_config_t *d = &c->azkf.det;
+    fcc_real_t tmp[4];
+    if (m->window < 4u) {
+        return "--window must be at least 4";
+    }
+    if (m->min_transitions < 4u || m->min_transitions > m->window) {
+        return "--min-transitions must be between 4 and the window";
+    }
+    if (m->ridge < FCC_R(0.0)) {
+        return "--ridge must be >= 0";
+    }
+    if (!(m->max_cond > FCC_R(1.0))) {
+        return "--max-cond must be > 1";
+    }
+    if (m->max_rho < FCC_R(0.0)) {
+        return "--max-rho must be >= 0";
+    }
+    if (!(d->margin > FCC_R(0.0))) {
+        return "--margin must be > 0";
+    }
+    if (d->raise_count < 1u || d->clear_count < 1u) {
+        return "--raise and --clear must be at least 1";
+    }
+    if (c->p0[1] != c->p0[2] || fcc_sid_m2_cholesky(c->p0, tmp) != FCC_OK) {
+        return "--p0 must be a symmetric positive definite covariance";
+    }
+    fcc_real_t r[4];
+    fcc_sid_m2_mul_bt(c->f, c->f, r);
+    if (fcc_sid_m2_spd_inv(r, tmp) != FCC_OK) {
+        return "--f must be invertible (R = F F^T is inverted by every filter)";
+    }
+    return NULL;
+}
+
 /* --mls-only: row k is the fit over the transitions that end at x_k. */
 static int run_mls_only(const sid_opts_t *o)
 {
     const fcc_status_t st = fcc_mls_init(&mls_alone, &o->cfg.mls);
     if (st != FCC_OK) {
-        fprintf(stderr, "sid_replay: invalid MLS configuration: %s\n", fcc_status_str(st));
+        const char *why = config_problem(&o->cfg);
+        fprintf(stderr, "sid_replay: invalid configuration: %s\n",
+                why != NULL ? why : fcc_status_str(st));
         return 1;
     }
     print_header();
@@ -89,7 +129,9 @@ static int run_filters(const sid_opts_t *o)
         cfg.filter = (fcc_sid_filter_t)i;
         const fcc_status_t st = fcc_sid_init(&loops[i], &cfg);
         if (st != FCC_OK) {
-            fprintf(stderr, "sid_replay: invalid configuration: %s\n", fcc_status_str(st));
+            const char *why = config_problem(&cfg);
+            fprintf(stderr, "sid_replay: invalid configuration: %s\n",
+                    why != NULL ? why : fcc_status_str(st));
             return 1;
         }
     }
@@ -107,6 +149,20 @@ static int run_filters(const sid_opts_t *o)
         }
     }
     return 0;
+}
+
+/* Refuses a bad configuration before any input is read. */
+static int check_config(const sid_opts_t *o)
+{
+    const char *why = config_problem(&o->cfg);
+    const fcc_status_t st =
+        o->mls_only ? fcc_mls_config_check(&o->cfg.mls) : fcc_sid_config_check(&o->cfg);
+    if (why == NULL && st == FCC_OK) {
+        return 0;
+    }
+    fprintf(stderr, "sid_replay: invalid configuration: %s\n",
+            why != NULL ? why : fcc_status_str(st));
+    return 1;
 }
 
 static int check_against_data(const sid_opts_t *o)
@@ -135,6 +191,9 @@ int main(int argc, char **argv)
             return 2;
         }
         return 0;
+    }
+    if (check_config(&opts) != 0) {
+        return 2;
     }
     FILE *in = stdin;
     if (opts.input != NULL && strcmp(opts.input, "-") != 0) {

@@ -4,7 +4,7 @@
 * hil.bus.e2e    -- CRC-8 SAE J1850, alive counter, receiver classification
 * hil.bus.codec  -- FrameCodec: encode/decode with E2E and range checks, counters
 * hil.bus.node   -- BusNode: a FrameCodec on a python-can bus with one Notifier
-* hil.bus.load   -- frame lengths (exact bit stuffing) and bus load
+* hil.bus.busload -- frame lengths (exact bit stuffing) and bus load
 * hil.bus.candump -- candump -L log reading/writing
 * hil.bus.diag   -- scripts/diag: per-message rate, jitter, E2E classes, bus load
 """

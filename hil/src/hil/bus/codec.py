@@ -171,8 +171,10 @@ class FrameCodec:
         return msg.frame_id, data
 
     # -- receive
-    def decode(self, frame_id: int, data: bytes | bytearray, timestamp: float = 0.0) -> Decoded:
-        msg = self.spec.by_id(frame_id)
+    def decode(self, frame_id: int, data: bytes | bytearray, timestamp: float = 0.0, *,
+               extended: bool = False) -> Decoded:
+        """Check and decode one frame (extended, remote or FD frames: pass extended=True)."""
+        msg = None if extended else self.spec.by_id(frame_id)
         if msg is None or msg.name not in self.consumes:
             self.counters.unknown_id += 1
             return Decoded(frame_id, msg.name if msg else None, Verdict.UNKNOWN_ID,

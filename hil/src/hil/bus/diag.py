@@ -22,8 +22,9 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
-from . import candump, dbc, load
+from . import busload, candump, dbc
 from .codec import decode_values
 from .e2e import E2EReceiver, E2EStatus
 
@@ -77,8 +78,8 @@ class BusStats:
             self.error_frames += 1
             return
         if not f.fd:
-            self.bits_exact += load.frame_bits(f.frame_id, f.data, f.extended, f.remote)
-            self.bits_worst += load.worst_case_bits(len(f.data), f.extended)
+            self.bits_exact += busload.frame_bits(f.frame_id, f.data, f.extended, f.remote)
+            self.bits_worst += busload.worst_case_bits(len(f.data), f.extended)
         msg = None if (f.extended or f.fd or f.remote) else self.spec.by_id(f.frame_id)
         if msg is None:
             key = f"{f.frame_id:08X}" if f.extended else f"{f.frame_id:03X}"
@@ -107,8 +108,8 @@ class BusStats:
         return {"frames": self.frames, "duration_s": duration, "messages": per,
                 "unknown_ids": dict(sorted(self.unknown.items())),
                 "error_frames": self.error_frames, "baudrate": self.spec.baudrate,
-                "load_exact_pct": load.load_percent(self.bits_exact / span, self.spec.baudrate),
-                "load_worst_pct": load.load_percent(self.bits_worst / span, self.spec.baudrate)}
+                "load_exact_pct": busload.load_percent(self.bits_exact / span, self.spec.baudrate),
+                "load_worst_pct": busload.load_percent(self.bits_worst / span, self.spec.baudrate)}
 
 
 def _fmt(x: object, spec: str) -> str:
@@ -145,6 +146,7 @@ def capture(iface: str, seconds: float, interface: str = "socketcan") -> list[ca
 
     frames: list[candump.LogFrame] = []
     with can.Bus(interface=interface, channel=iface) as bus:
+        print(f"{PROG}: capturing {iface} for {seconds:g} s", file=sys.stderr, flush=True)
         end = time.monotonic() + seconds
         while (left := end - time.monotonic()) > 0:
             msg = bus.recv(timeout=min(left, 0.2))
@@ -163,8 +165,17 @@ def analyse(frames: Iterable[candump.LogFrame], spec: dbc.BusSpec) -> dict[str, 
     return stats.report()
 
 
+class _Fail(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, not the usage block
+        raise _Fail(message)
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog=PROG, description="Decode a CAN log or a live "
+    p = _Parser(prog=PROG, description="Decode a CAN log or a live "
                                 "interface with the DBC: rates, jitter, E2E classes, bus load.")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--log", type=Path, help="candump -L log file")
@@ -176,18 +187,8 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-class _Fail(Exception):
-    pass
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, not the usage block
-        raise _Fail(message)
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
-    parser.__class__ = _Parser
     try:
         args = parser.parse_args(argv)
         if args.seconds <= 0 or not math.isfinite(args.seconds):

@@ -71,12 +71,10 @@ class BusNode:
             self.port.bus_errors += 1
             return
         self.port.rx_frames += 1
-        if msg.is_extended_id or msg.is_remote_frame or msg.is_fd:
-            with self._lock:
-                decoded = self.codec.decode(0x80000000 | msg.arbitration_id, b"", msg.timestamp)
-        else:
-            with self._lock:
-                decoded = self.codec.decode(msg.arbitration_id, bytes(msg.data), msg.timestamp)
+        foreign = msg.is_extended_id or msg.is_remote_frame or msg.is_fd
+        with self._lock:
+            decoded = self.codec.decode(msg.arbitration_id, bytes(msg.data), msg.timestamp,
+                                        extended=foreign)
         if self._on_frame is not None:
             self._on_frame(decoded)
         else:

@@ -96,7 +96,8 @@ class SidLoop:
             h = hull(zkf.gen)
             lo, hi = xh - h, xh + h
             if self.kind == "azkf":
-                gnorm, q, _, fault = self.filt.step(model, de, y if use_y else None, oracle)
+                armed = not c.mls_enabled or not self.mls.is_prior
+                gnorm, q, _, fault = self.filt.step(model, de, y if use_y else None, oracle, armed)
                 skipped = fault and c.azkf.policy == "skip"
             else:
                 q, fault, skipped = c.zkf_order, False, False

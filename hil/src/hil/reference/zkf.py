@@ -53,6 +53,7 @@ class DetectorConfig:
     raise_count: int = 1
     hold_count: int = 0
     clear_count: int = 3
+    max_fault_steps: int = 25
 
 
 class Detector:
@@ -64,6 +65,8 @@ class Detector:
         self.n_bad = 0
         self.n_good = 0
         self.hold_left = 0
+        self.fault_steps = 0
+        self.refractory_left = 0
 
     def step(self, innov: np.ndarray, radius: np.ndarray, oracle: bool) -> bool:
         cfg = self.cfg
@@ -77,9 +80,16 @@ class Detector:
         self.n_bad = self.n_bad + 1 if bad else 0
         self.n_good = 0 if bad else self.n_good + 1
         if not self.fault:
-            if self.n_bad >= cfg.raise_count:
+            if self.refractory_left > 0:
+                self.refractory_left -= 1
+            elif self.n_bad >= cfg.raise_count:
                 self.fault, self.hold_left, self.n_good = True, cfg.hold_count, 0
+                self.fault_steps = 1
             return self.fault
+        if cfg.max_fault_steps > 0 and self.fault_steps >= cfg.max_fault_steps:
+            self.fault, self.refractory_left, self.n_bad = False, cfg.max_fault_steps, 0
+            return self.fault
+        self.fault_steps += 1
         if self.hold_left > 0:
             self.hold_left -= 1
             self.n_good = 0
@@ -106,11 +116,15 @@ class Azkf:
         self.zkf = Zkf(x0, p0_gen, e, f)
         self.det = Detector(cfg.det)
 
-    def step(self, model: Model, de: float, y: np.ndarray | None,
-             oracle: bool) -> tuple[float, int, int, bool]:
-        """Returns (||G||, order used, columns of P_bar, fault flag)."""
+    def step(self, model: Model, de: float, y: np.ndarray | None, oracle: bool,
+             armed: bool = True) -> tuple[float, int, int, bool]:
+        """Returns (||G||, order used, columns of P_bar, fault flag).
+
+        armed False: no detection and no fault (model still the prior)."""
+        if not armed:
+            self.det.fault = False
         fault = self.det.fault
-        if y is not None:
+        if y is not None and armed:
             innov = np.asarray(y) - self.zkf.x
             fault = self.det.step(innov, self.zkf.output_radius(), oracle)
         skip = fault and self.cfg.policy == POLICY_SKIP

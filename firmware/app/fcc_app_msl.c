@@ -1,0 +1,295 @@
+/*
+ * fcc_app_msl.c -- missile autopilot application (see fcc_app_msl.h).
+ */
+#include "fcc_app_msl.h"
+
+#include <string.h>
+
+static const fcc_msg_t k_input_msg[FCC_APP_MSL_N_INPUTS] = {FCC_MSG_MSL_RATE_GYRO,
+                                                            FCC_MSG_MSL_ACCELEROMETER};
+
+fcc_status_t fcc_app_msl_config_default(fcc_app_msl_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(cfg, 0, sizeof *cfg);
+    cfg->solver = FCC_LQG_SOLVER_HAMILTONIAN;
+    cfg->period = FCC_APP_MSL_DEFAULT_T;
+    cfg->bits = (uint8_t)FCC_APP_MSL_DEFAULT_BITS;
+    return fcc_lqg_plant_default(&cfg->plant);
+}
+
+bool fcc_app_msl_valid(fcc_real_t period, uint8_t bits)
+{
+    return FCC_IS_FINITE(period) && period >= FCC_APP_MSL_T_MIN && period <= FCC_APP_MSL_T_MAX &&
+           bits >= FCC_LQG_BITS_MIN && bits <= FCC_LQG_BITS_MAX;
+}
+
+/* Design (period, bits) into slot s; the slot is untouched on error. */
+static fcc_status_t design_into(fcc_app_msl_t *app, unsigned int s, fcc_real_t period,
+                                uint8_t bits)
+{
+    const fcc_app_msl_slot_t *cur = &app->slot[app->active];
+    fcc_app_msl_slot_t *dst = &app->slot[s];
+    if (s != app->active && cur->period == period && cur->design.t == period) {
+        /* Only N changes: the gains do not depend on the converter. */
+        dst->design = cur->design;
+    } else {
+        const fcc_status_t st =
+            fcc_lqg_design(&app->cfg.plant, period, app->cfg.solver, &dst->design, &app->ws);
+        if (st != FCC_OK) {
+            return st;
+        }
+    }
+    dst->period = period;
+    dst->bits = bits;
+    return FCC_OK;
+}
+
+/* Make slot s the one in use; the estimate xbar carries over. */
+static fcc_status_t switch_to(fcc_app_msl_t *app, unsigned int s, const fcc_real_t *x_pred)
+{
+    fcc_real_t x0[FCC_LQG_NX];
+    if (x_pred != NULL) {
+        memcpy(x0, x_pred, sizeof x0);
+    }
+    fcc_lqg_ctrl_t next;
+    const fcc_status_t st = fcc_lqg_ctrl_init(&next, &app->slot[s].design, app->slot[s].bits,
+                                              (x_pred != NULL) ? x0 : NULL);
+    if (st != FCC_OK) {
+        return st;
+    }
+    next.updates = app->ctrl.updates;
+    next.predictions = app->ctrl.predictions;
+    app->ctrl = next;
+    app->active = (uint8_t)s;
+    return FCC_OK;
+}
+
+fcc_status_t fcc_app_msl_init(fcc_app_msl_t *app, const fcc_app_msl_config_t *cfg)
+{
+    if (app == NULL || cfg == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (!fcc_app_msl_valid(cfg->period, cfg->bits)) {
+        return FCC_ERR_RANGE;
+    }
+    memset(&app->ctrl, 0, sizeof app->ctrl);
+    app->cfg = *cfg;
+    app->active = 0u;
+    app->slot[0].period = FCC_R(0.0);
+    app->slot[0].design.t = FCC_R(0.0);
+    fcc_status_t st = design_into(app, 0u, cfg->period, cfg->bits);
+    if (st == FCC_OK) {
+        st = switch_to(app, 0u, NULL);
+    }
+    if (st != FCC_OK) {
+        return st;
+    }
+    app->spare = FCC_APP_MSL_SPARE_FREE;
+    for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
+        fcc_sensor_init(&app->in[i], fcc_bus_desc(k_input_msg[i])->id);
+    }
+    memset(&app->last, 0, sizeof app->last);
+    app->steps = 0u;
+    app->degraded_steps = 0u;
+    app->designs_applied = 0u;
+    app->designs_failed = 0u;
+    app->last_design_status = FCC_OK;
+    return FCC_OK;
+}
+
+fcc_status_t fcc_app_msl_reset(fcc_app_msl_t *app)
+{
+    if (app == NULL) {
+        return FCC_ERR_ARG;
+    }
+    for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
+        fcc_sensor_reset(&app->in[i]);
+    }
+    memset(&app->last, 0, sizeof app->last);
+    return fcc_lqg_ctrl_reset(&app->ctrl, NULL);
+}
+
+fcc_real_t fcc_app_msl_period(const fcc_app_msl_t *app)
+{
+    return (app == NULL) ? FCC_R(0.0) : app->slot[app->active].period;
+}
+
+uint8_t fcc_app_msl_bits(const fcc_app_msl_t *app)
+{
+    return (app == NULL) ? 0u : app->slot[app->active].bits;
+}
+
+fcc_status_t fcc_app_msl_request(fcc_app_msl_t *app, fcc_real_t period, uint8_t bits)
+{
+    if (app == NULL || !FCC_IS_FINITE(period)) {
+        return FCC_ERR_ARG;
+    }
+    /* A field at 0 keeps the newest value: the pending request's, if any. */
+    const bool pending = app->spare != FCC_APP_MSL_SPARE_FREE;
+    const fcc_app_msl_slot_t *cur = &app->slot[app->active];
+    const fcc_real_t base_t = pending ? app->want_period : cur->period;
+    const uint8_t base_n = pending ? app->want_bits : cur->bits;
+    const fcc_real_t t = (period == FCC_R(0.0)) ? base_t : period;
+    const uint8_t n = (bits == 0u) ? base_n : bits;
+    if (!fcc_app_msl_valid(t, n)) {
+        return FCC_ERR_RANGE;
+    }
+    app->want_period = t;
+    app->want_bits = n;
+    app->spare = FCC_APP_MSL_SPARE_WANTED;
+    return FCC_OK;
+}
+
+bool fcc_app_msl_wants_design(const fcc_app_msl_t *app)
+{
+    return app != NULL && app->spare == FCC_APP_MSL_SPARE_WANTED;
+}
+
+fcc_status_t fcc_app_msl_background(fcc_app_msl_t *app)
+{
+    if (app == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (app->spare != FCC_APP_MSL_SPARE_WANTED) {
+        return FCC_ERR_AGAIN;
+    }
+    const unsigned int spare = 1u - app->active;
+    const fcc_status_t st = design_into(app, spare, app->want_period, app->want_bits);
+    app->last_design_status = st;
+    if (st != FCC_OK) {
+        app->spare = FCC_APP_MSL_SPARE_FREE;
+        ++app->designs_failed;
+        return st;
+    }
+    app->spare = FCC_APP_MSL_SPARE_READY;
+    return FCC_OK;
+}
+
+fcc_sensor_t *fcc_app_msl_sensor(fcc_app_msl_t *app, fcc_msg_t msg)
+{
+    if (app == NULL) {
+        return NULL;
+    }
+    for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
+        if (k_input_msg[i] == msg) {
+            return &app->in[i];
+        }
+    }
+    return NULL;
+}
+
+fcc_status_t fcc_app_msl_offer(fcc_app_msl_t *app, fcc_msg_t msg, const fcc_msg_data_t *data,
+                               uint64_t t_us)
+{
+    fcc_sensor_t *s = fcc_app_msl_sensor(app, msg);
+    if (s == NULL || data == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (msg == FCC_MSG_MSL_RATE_GYRO) {
+        return fcc_sensor_offer(s, data->msl_rate_gyro.q_g, data->msl_rate_gyro.step, t_us);
+    }
+    return fcc_sensor_offer(s, data->msl_accelerometer.n_a, data->msl_accelerometer.step, t_us);
+}
+
+/* Step 1: a ready design replaces the one in use, between two steps. */
+static bool switch_if_ready(fcc_app_msl_t *app)
+{
+    if (app->spare != FCC_APP_MSL_SPARE_READY) {
+        return false;
+    }
+    app->spare = FCC_APP_MSL_SPARE_FREE;
+    fcc_real_t x_pred[FCC_LQG_NX];
+    memcpy(x_pred, app->ctrl.x_pred, sizeof x_pred);
+    const fcc_status_t st = switch_to(app, 1u - app->active, x_pred);
+    app->last_design_status = st;
+    if (st != FCC_OK) {
+        ++app->designs_failed;
+        return false;
+    }
+    ++app->designs_applied;
+    return true;
+}
+
+fcc_status_t fcc_app_msl_step(fcc_app_msl_t *app, uint32_t k, bool check_step,
+                              uint16_t stale_limit, fcc_app_msl_result_t *res)
+{
+    if (app == NULL || res == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(res, 0, sizeof *res);
+    res->k = k;
+    res->switched = switch_if_ready(app);
+    fcc_real_t y[FCC_LQG_NY] = {FCC_R(0.0), FCC_R(0.0)};
+    bool usable = true;
+    for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
+        fcc_sensor_sample_t s;
+        memset(&s, 0, sizeof s);
+        res->input_state[i] =
+            fcc_sensor_close(&app->in[i], check_step, (uint16_t)(k & 0xFFFFu), stale_limit, &s);
+        if (fcc_sensor_usable(res->input_state[i])) {
+            y[i] = s.value;
+            res->newest_rx_us = (s.t_us > res->newest_rx_us) ? s.t_us : res->newest_rx_us;
+        } else {
+            usable = false;
+        }
+    }
+    res->status = FCC_OK;
+    if (usable) {
+        res->status = fcc_lqg_ctrl_step(&app->ctrl, y, &res->out);
+    }
+    if (!usable || res->status != FCC_OK) {
+        const fcc_status_t st = fcc_lqg_ctrl_predict(&app->ctrl, &res->out);
+        if (res->status == FCC_OK) {
+            res->status = st;
+        }
+    }
+    res->measured = res->out.measured;
+    res->degraded = !res->measured;
+    res->bits = app->slot[app->active].bits;
+    res->period = app->slot[app->active].period;
+    app->last = *res;
+    ++app->steps;
+    if (res->degraded) {
+        ++app->degraded_steps;
+    }
+    return res->status;
+}
+
+fcc_status_t fcc_app_msl_encode(const fcc_app_msl_result_t *res, fcc_bus_t *bus,
+                                fcc_can_frame_t frames[2], uint32_t *n_frames)
+{
+    if (res == NULL || bus == NULL || frames == NULL || n_frames == NULL) {
+        return FCC_ERR_ARG;
+    }
+    *n_frames = 0u;
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.msl_elev_cmd.degraded = res->degraded;
+    d.msl_elev_cmd.saturated = res->out.saturated;
+    d.msl_elev_cmd.step = (uint16_t)(res->k & 0xFFFFu);
+    d.msl_elev_cmd.da_bits = res->bits;
+    /* The quantizer keeps the code in [-2^(N-1), 2^(N-1)-1] and N <= 16, so
+     * it always fits int16; the clamp only documents that it cannot wrap. */
+    d.msl_elev_cmd.da_code = (int16_t)((res->out.code > INT16_MAX) ? INT16_MAX
+                                       : (res->out.code < INT16_MIN) ? INT16_MIN
+                                                                     : res->out.code);
+    fcc_status_t first = fcc_bus_encode(bus, FCC_MSG_MSL_ELEV_CMD, &d, &frames[0]);
+    if (first == FCC_OK) {
+        ++*n_frames;
+    }
+    memset(&d, 0, sizeof d);
+    d.msl_state_est.q_hat = res->out.x_hat[0];
+    d.msl_state_est.alpha_t_hat = res->out.x_hat[1];
+    d.msl_state_est.w_g_hat = res->out.x_hat[2];
+    d.msl_state_est.step = (uint8_t)(res->k & 0xFFu);
+    const fcc_status_t st = fcc_bus_encode_sat(bus, FCC_MSG_MSL_STATE_EST, &d, &frames[*n_frames]);
+    if (st == FCC_OK) {
+        ++*n_frames;
+    } else if (first == FCC_OK) {
+        first = st;
+    }
+    return first;
+}

@@ -1,0 +1,565 @@
+/*
+ * fcc_node.c -- the flight computer node (see fcc_node.h and README.md).
+ */
+#include "fcc_node.h"
+
+#include <string.h>
+
+#define MSG_BIT(m) (1uL << (uint32_t)(m))
+
+/* Sensors of each application, in the order of its input slots. */
+static const fcc_msg_t k_sid_inputs[FCC_APP_SID_N_INPUTS] = {
+    FCC_MSG_CDRW_AOA, FCC_MSG_CDRW_PITCH_RATE, FCC_MSG_CDRW_ELEVATOR};
+static const fcc_msg_t k_msl_inputs[FCC_APP_MSL_N_INPUTS] = {FCC_MSG_MSL_RATE_GYRO,
+                                                             FCC_MSG_MSL_ACCELEROMETER};
+
+/* ---- small helpers ------------------------------------------------------------ */
+
+static void emit(fcc_node_t *node, fcc_event_class_t cls, uint32_t app, uint32_t can_id,
+                 int32_t value)
+{
+    if (node->port.event == NULL) {
+        return;
+    }
+    fcc_event_t ev;
+    ev.cls = cls;
+    ev.app = (app < FCC_N_APPS) ? (uint8_t)app : (uint8_t)FCC_EV_NO_APP;
+    ev.can_id = can_id;
+    ev.step = (app < FCC_N_APPS) ? node->app[app].last_step : 0u;
+    ev.value = value;
+    node->port.event(node->port.event_ctx, &ev);
+}
+
+static uint64_t now_us(const fcc_node_t *node)
+{
+    return node->port.now_us(node->port.clock_ctx);
+}
+
+static void send_frame(fcc_node_t *node, const fcc_can_frame_t *frame, uint32_t app)
+{
+    const fcc_status_t st = node->port.can.send(node->port.can.ctx, frame);
+    if (st == FCC_OK) {
+        ++node->cnt.tx_frames;
+    } else {
+        ++node->cnt.tx_failed;
+        emit(node, FCC_EV_TX_FAILED, app, frame->id, st);
+    }
+}
+
+static void send_frames(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_t n, uint32_t app)
+{
+    for (uint32_t i = 0u; i < n; ++i) {
+        send_frame(node, &frames[i], app);
+    }
+}
+
+/* The application a consumed message belongs to, or FCC_N_APPS. */
+static uint32_t app_of(fcc_msg_t msg)
+{
+    switch (msg) {
+    case FCC_MSG_CDRW_AOA:
+    case FCC_MSG_CDRW_PITCH_RATE:
+    case FCC_MSG_CDRW_ELEVATOR:
+        return FCC_APP_CDRW;
+    case FCC_MSG_MSL_RATE_GYRO:
+    case FCC_MSG_MSL_ACCELEROMETER:
+        return FCC_APP_MSL;
+    default:
+        return FCC_N_APPS;
+    }
+}
+
+static fcc_sensor_t *sensor_of(fcc_node_t *node, fcc_msg_t msg)
+{
+    fcc_sensor_t *s = fcc_app_sid_sensor(&node->sid, msg);
+    return (s != NULL) ? s : fcc_app_msl_sensor(&node->msl, msg);
+}
+
+/* ---- set-up ------------------------------------------------------------------- */
+
+fcc_status_t fcc_node_config_default(fcc_node_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(cfg, 0, sizeof *cfg);
+    cfg->mode = FCC_MODE_LOCKSTEP;
+    cfg->app_enabled[FCC_APP_CDRW] = true;
+    cfg->app_enabled[FCC_APP_MSL] = true;
+    cfg->stale_limit = (uint16_t)FCC_NODE_DEFAULT_STALE_LIMIT;
+    fcc_app_sid_config_default(&cfg->sid);
+    return fcc_app_msl_config_default(&cfg->msl);
+}
+
+fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
+                           const fcc_port_t *port)
+{
+    if (node == NULL || cfg == NULL || port == NULL || port->can.send == NULL ||
+        port->can.recv == NULL || port->now_us == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (cfg->mode != FCC_MODE_LOCKSTEP && cfg->mode != FCC_MODE_REALTIME) {
+        return FCC_ERR_ARG;
+    }
+    memset(node->app, 0, sizeof node->app);
+    memset(&node->cnt, 0, sizeof node->cnt);
+    node->cfg = *cfg;
+    node->port = *port;
+    node->oracle_fault = false;
+    node->shutdown = false;
+    node->config_rejected = false;
+    node->e2e_fault_flag = false;
+    node->overrun_flag = false;
+    fcc_status_t st = fcc_bus_init(&node->bus, FCC_BUS_NODE_FCC);
+    if (st == FCC_OK) {
+        st = fcc_app_sid_init(&node->sid, &cfg->sid);
+    }
+    if (st == FCC_OK) {
+        st = fcc_app_msl_init(&node->msl, &cfg->msl);
+    }
+    return st;
+}
+
+fcc_status_t fcc_node_reset(fcc_node_t *node)
+{
+    if (node == NULL) {
+        return FCC_ERR_ARG;
+    }
+    fcc_status_t st = fcc_app_sid_reset(&node->sid);
+    const fcc_status_t st2 = fcc_app_msl_reset(&node->msl);
+    st = (st != FCC_OK) ? st : st2;
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        node->app[a].have_last = false;
+        node->app[a].last_degraded = false;
+    }
+    node->oracle_fault = false;
+    /* The simulator may restart its alive counters with a new flight. */
+    for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
+        if ((node->bus.consumes & MSG_BIT(i)) != 0u) {
+            fcc_e2e_rx_resync(&node->bus.rx[i]);
+        }
+    }
+    ++node->cnt.resets;
+    emit(node, FCC_EV_RESET, FCC_N_APPS, FCC_MSG_SIM_CONTROL_ID, st);
+    return st;
+}
+
+/* ---- received frames ---------------------------------------------------------- */
+
+static void on_rejected(fcc_node_t *node, const fcc_can_frame_t *frame,
+                        const fcc_bus_rx_msg_t *m)
+{
+    const uint32_t app = (m->msg == FCC_MSG_COUNT) ? FCC_N_APPS : app_of(m->msg);
+    fcc_event_class_t cls;
+    switch (m->verdict) {
+    case FCC_BUS_UNKNOWN_ID: cls = FCC_EV_UNKNOWN_ID; break;
+    case FCC_BUS_WRONG_DLC: cls = FCC_EV_WRONG_DLC; break;
+    case FCC_BUS_OUT_OF_RANGE: cls = FCC_EV_OUT_OF_RANGE; break;
+    default:
+        if (m->e2e == FCC_E2E_REPEATED) {
+            /* A copy of data already seen: no new data, not corrupted data. */
+            emit(node, FCC_EV_E2E_REPEATED, app, frame->id, 0);
+            return;
+        }
+        node->e2e_fault_flag = true;
+        cls = (m->e2e == FCC_E2E_WRONG_SEQUENCE) ? FCC_EV_E2E_WRONG_SEQ : FCC_EV_E2E_ERROR;
+        break;
+    }
+    if (m->msg != FCC_MSG_COUNT) {
+        fcc_sensor_reject(sensor_of(node, m->msg));
+    }
+    emit(node, cls, app, frame->id, (int32_t)frame->dlc);
+}
+
+static void send_ack(fcc_node_t *node, uint32_t app, uint32_t k)
+{
+    const fcc_node_app_t *a = &node->app[app];
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.fcc_ack.app = (uint8_t)app;
+    d.fcc_ack.degraded = a->last_degraded;
+    d.fcc_ack.step = k;
+    d.fcc_ack.exec_us = (uint16_t)((a->last_exec_us > 0xFFFFu) ? 0xFFFFu : a->last_exec_us);
+    fcc_can_frame_t f;
+    if (fcc_bus_encode(&node->bus, FCC_MSG_FCC_ACK, &d, &f) == FCC_OK) {
+        send_frame(node, &f, app);
+    } else {
+        emit(node, FCC_EV_TX_REFUSED, app, FCC_MSG_FCC_ACK_ID, 0);
+    }
+}
+
+static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
+{
+    const uint32_t app = tick->app;
+    const uint32_t k = tick->step;
+    if (app >= FCC_N_APPS) {
+        return; /* the DBC range check lets only 0 and 1 through */
+    }
+    fcc_node_app_t *a = &node->app[app];
+    if (node->cfg.mode != FCC_MODE_LOCKSTEP || !node->cfg.app_enabled[app]) {
+        ++a->ticks_ignored;
+        emit(node, FCC_EV_TICK_IGNORED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
+        return;
+    }
+    if (a->have_last && k == a->last_step) {
+        ++a->ticks_repeated;
+        emit(node, FCC_EV_TICK_REPEATED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
+        send_ack(node, app, k);
+        return;
+    }
+    if (a->have_last && k < a->last_step) {
+        ++a->ticks_behind;
+        emit(node, FCC_EV_TICK_BEHIND, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
+        return;
+    }
+    if (a->have_last && k - a->last_step > 1u) {
+        const uint32_t lost = k - a->last_step - 1u;
+        a->ticks_lost += lost;
+        emit(node, FCC_EV_TICK_LOST, app, FCC_MSG_SIM_TICK_ID, (int32_t)lost);
+    }
+    if (app == FCC_APP_MSL && fcc_app_msl_wants_design(&node->msl)) {
+        /* Lockstep: a SIM_CONTROL received before this tick applies to it. */
+        (void)fcc_node_background(node);
+    }
+    (void)fcc_node_run_step(node, app, k);
+}
+
+static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
+{
+    if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_RESET) {
+        (void)fcc_node_reset(node);
+    }
+    if (c->lqg_period != FCC_R(0.0) || c->da_bits != 0u) {
+        const fcc_status_t st = fcc_app_msl_request(&node->msl, c->lqg_period, c->da_bits);
+        if (st == FCC_OK) {
+            ++node->cnt.configs_accepted;
+        } else {
+            ++node->cnt.configs_rejected;
+            node->config_rejected = true;
+            emit(node, FCC_EV_CONFIG_REJECTED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID, st);
+        }
+    }
+    if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN) {
+        node->shutdown = true;
+    }
+}
+
+void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
+{
+    if (node == NULL || frame == NULL) {
+        return;
+    }
+    ++node->cnt.rx_frames;
+    fcc_bus_rx_msg_t m;
+    if (fcc_bus_receive(&node->bus, frame, &m) != FCC_OK) {
+        on_rejected(node, frame, &m);
+        return;
+    }
+    switch (m.msg) {
+    case FCC_MSG_CDRW_AOA:
+    case FCC_MSG_CDRW_PITCH_RATE:
+    case FCC_MSG_CDRW_ELEVATOR:
+        (void)fcc_app_sid_offer(&node->sid, m.msg, &m.data, frame->t_us);
+        break;
+    case FCC_MSG_MSL_RATE_GYRO:
+    case FCC_MSG_MSL_ACCELEROMETER:
+        (void)fcc_app_msl_offer(&node->msl, m.msg, &m.data, frame->t_us);
+        break;
+    case FCC_MSG_SIM_TICK:
+        on_tick(node, &m.data.sim_tick);
+        break;
+    case FCC_MSG_SIM_CONTROL:
+        on_control(node, &m.data.sim_control);
+        break;
+    case FCC_MSG_SIM_EVENT:
+        node->oracle_fault = m.data.sim_event.oracle_fault;
+        ++node->cnt.oracle_events;
+        break;
+    default:
+        break; /* RIG_PING: answered by can_echo, not by the flight computer */
+    }
+}
+
+fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n)
+{
+    if (n != NULL) {
+        *n = 0u;
+    }
+    if (node == NULL) {
+        return FCC_ERR_ARG;
+    }
+    for (uint32_t i = 0u; i < max_frames; ++i) {
+        fcc_can_frame_t f;
+        const fcc_status_t st = node->port.can.recv(node->port.can.ctx, &f);
+        if (st == FCC_ERR_AGAIN) {
+            return FCC_OK;
+        }
+        if (st != FCC_OK) {
+            return FCC_ERR_IO;
+        }
+        fcc_node_handle_frame(node, &f);
+        if (n != NULL) {
+            ++*n;
+        }
+    }
+    return FCC_OK;
+}
+
+/* ---- steps -------------------------------------------------------------------- */
+
+/* One event per sensor whose verdict changed class this step. */
+static void report_sensors(fcc_node_t *node, uint32_t app, const fcc_msg_t *msgs, uint32_t n,
+                           const fcc_sensor_state_t *before)
+{
+    for (uint32_t i = 0u; i < n; ++i) {
+        const fcc_sensor_t *s = sensor_of(node, msgs[i]);
+        const fcc_sensor_state_t now = s->state;
+        uint32_t closes = 0u;
+        for (unsigned int c = 0u; c < (unsigned int)FCC_SENSOR_N_STATES; ++c) {
+            closes += s->count[c];
+        }
+        /* The first step after start or reset has no history to recover from. */
+        const fcc_sensor_state_t was = (closes <= 1u) ? FCC_SENSOR_OK : before[i];
+        if (now == was || (fcc_sensor_usable(now) && fcc_sensor_usable(was))) {
+            continue;
+        }
+        fcc_event_class_t cls = FCC_EV_SENSOR_RECOVERED;
+        if (now == FCC_SENSOR_STALE) {
+            cls = FCC_EV_SENSOR_STALE;
+        } else if (now == FCC_SENSOR_REJECTED) {
+            cls = FCC_EV_SENSOR_REJECTED;
+        } else if (now == FCC_SENSOR_MISALIGNED) {
+            cls = FCC_EV_SENSOR_MISALIGNED;
+        }
+        emit(node, cls, app, s->can_id, (int32_t)s->missing_run);
+    }
+}
+
+/* Close the E2E receive period of each sensor (NO_NEW_DATA) and remember
+ * the verdicts of the previous step for report_sensors(). */
+static void close_periods(fcc_node_t *node, const fcc_msg_t *msgs, uint32_t n,
+                          fcc_sensor_state_t *before)
+{
+    for (uint32_t i = 0u; i < n; ++i) {
+        (void)fcc_bus_end_period(&node->bus, msgs[i]);
+        before[i] = sensor_of(node, msgs[i])->state;
+    }
+}
+
+static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
+{
+    fcc_sensor_state_t before[FCC_APP_SID_N_INPUTS];
+    close_periods(node, k_sid_inputs, FCC_APP_SID_N_INPUTS, before);
+    fcc_app_sid_result_t res;
+    const fcc_status_t st = fcc_app_sid_step(&node->sid, k, check_step, node->cfg.stale_limit,
+                                             node->oracle_fault, &res);
+    fcc_can_frame_t frames[FCC_APP_SID_N_FRAMES];
+    uint32_t n = 0u;
+    if (fcc_app_sid_encode(&res, &node->bus, frames, &n) != FCC_OK) {
+        emit(node, FCC_EV_TX_REFUSED, FCC_APP_CDRW, FCC_EV_NO_MSG, (int32_t)n);
+    }
+    send_frames(node, frames, n, FCC_APP_CDRW);
+    report_sensors(node, FCC_APP_CDRW, k_sid_inputs, FCC_APP_SID_N_INPUTS, before);
+    *degraded = res.degraded;
+    return st;
+}
+
+static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
+{
+    fcc_sensor_state_t before[FCC_APP_MSL_N_INPUTS];
+    close_periods(node, k_msl_inputs, FCC_APP_MSL_N_INPUTS, before);
+    fcc_app_msl_result_t res;
+    const fcc_status_t st = fcc_app_msl_step(&node->msl, k, check_step, node->cfg.stale_limit, &res);
+    fcc_can_frame_t frames[2];
+    uint32_t n = 0u;
+    if (fcc_app_msl_encode(&res, &node->bus, frames, &n) != FCC_OK) {
+        emit(node, FCC_EV_TX_REFUSED, FCC_APP_MSL, FCC_MSG_MSL_ELEV_CMD_ID, (int32_t)n);
+    }
+    send_frames(node, frames, n, FCC_APP_MSL);
+    if (res.switched) {
+        ++node->cnt.configs_applied;
+        node->config_rejected = false;
+        emit(node, FCC_EV_CONFIG_APPLIED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID,
+             (int32_t)fcc_node_app_period_us(node, FCC_APP_MSL));
+    }
+    report_sensors(node, FCC_APP_MSL, k_msl_inputs, FCC_APP_MSL_N_INPUTS, before);
+    *degraded = res.degraded;
+    return st;
+}
+
+fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k)
+{
+    if (node == NULL || app >= FCC_N_APPS) {
+        return FCC_ERR_ARG;
+    }
+    fcc_node_app_t *a = &node->app[app];
+    const bool lockstep = node->cfg.mode == FCC_MODE_LOCKSTEP;
+    const uint64_t t0 = now_us(node);
+    a->last_step = k;
+    a->have_last = true;
+    bool degraded = false;
+    const fcc_status_t st = (app == FCC_APP_CDRW) ? step_sid(node, k, lockstep, &degraded)
+                                                  : step_msl(node, k, lockstep, &degraded);
+    const uint64_t dt = now_us(node) - t0;
+    a->last_exec_us = (dt > UINT32_MAX) ? UINT32_MAX : (uint32_t)dt;
+    a->worst_exec_us = (a->last_exec_us > a->worst_exec_us) ? a->last_exec_us : a->worst_exec_us;
+    a->last_degraded = degraded;
+    ++a->steps;
+    if (degraded) {
+        ++a->degraded_steps;
+    }
+    if (st != FCC_OK) {
+        ++a->step_errors;
+        emit(node, FCC_EV_STEP_ERROR, app, FCC_EV_NO_MSG, st);
+    }
+    if (lockstep) {
+        send_ack(node, app, k);
+    }
+    return st;
+}
+
+fcc_status_t fcc_node_background(fcc_node_t *node)
+{
+    if (node == NULL) {
+        return FCC_ERR_ARG;
+    }
+    const fcc_status_t st = fcc_app_msl_background(&node->msl);
+    if (st != FCC_OK && st != FCC_ERR_AGAIN) {
+        ++node->cnt.configs_rejected;
+        node->config_rejected = true;
+        emit(node, FCC_EV_CONFIG_REJECTED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID, st);
+    }
+    return st;
+}
+
+/* ---- heartbeat ---------------------------------------------------------------- */
+
+static uint16_t wrap16(uint32_t v)
+{
+    return (uint16_t)(v & 0xFFFFu);
+}
+
+static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fcc_msg_data_t *d)
+{
+    fcc_msg_fcc_status_t *s = &d->fcc_status;
+    const fcc_node_app_t *c = &node->app[FCC_APP_CDRW];
+    const fcc_node_app_t *m = &node->app[FCC_APP_MSL];
+    const uint32_t worst = (c->worst_exec_us > m->worst_exec_us) ? c->worst_exec_us
+                                                                 : m->worst_exec_us;
+    s->mode = (uint8_t)node->cfg.mode;
+    s->cdrw_degraded = c->last_degraded;
+    s->msl_degraded = m->last_degraded;
+    s->sensor_stale = bc->stale_now > 0u;
+    s->e2e_fault = node->e2e_fault_flag;
+    s->overrun = node->overrun_flag;
+    s->config_rejected = node->config_rejected;
+    s->overruns = (uint8_t)((c->overruns + m->overruns) & 0xFFu);
+    s->cdrw_steps = wrap16(c->steps);
+    s->msl_steps = wrap16(m->steps);
+    s->worst_step_us = (uint16_t)((worst > 0xFFFFu) ? 0xFFFFu : worst);
+}
+
+static void fill_counts(const fcc_bus_counters_t *bc, const fcc_can_port_counters_t *pc,
+                        fcc_msg_t msg, fcc_msg_data_t *d)
+{
+    switch (msg) {
+    case FCC_MSG_FCC_E2E_COUNTS:
+        d->fcc_e2_e_counts.ok = wrap16(bc->e2e[FCC_E2E_OK]);
+        d->fcc_e2_e_counts.repeated = wrap16(bc->e2e[FCC_E2E_REPEATED]);
+        d->fcc_e2_e_counts.ok_some_lost = wrap16(bc->e2e[FCC_E2E_OK_SOME_LOST]);
+        d->fcc_e2_e_counts.wrong_sequence = wrap16(bc->e2e[FCC_E2E_WRONG_SEQUENCE]);
+        break;
+    case FCC_MSG_FCC_E2E_FAULTS:
+        d->fcc_e2_e_faults.error = wrap16(bc->e2e[FCC_E2E_ERROR]);
+        d->fcc_e2_e_faults.no_new_data = wrap16(bc->e2e[FCC_E2E_NO_NEW_DATA]);
+        d->fcc_e2_e_faults.stale_now = wrap16(bc->stale_now);
+        break;
+    case FCC_MSG_FCC_REJECT_COUNTS:
+        d->fcc_reject_counts.unknown_id = wrap16(bc->unknown_id);
+        d->fcc_reject_counts.wrong_dlc = wrap16(bc->wrong_dlc);
+        d->fcc_reject_counts.out_of_range = wrap16(bc->out_of_range);
+        d->fcc_reject_counts.tx_refused = wrap16(bc->tx_refused);
+        break;
+    default:
+        d->fcc_bus_counts.bus_errors = wrap16(pc->bus_errors);
+        d->fcc_bus_counts.rx_overflows = wrap16(pc->rx_overflows);
+        d->fcc_bus_counts.tx_dropped = wrap16(pc->tx_dropped);
+        d->fcc_bus_counts.tx_retries = wrap16(pc->tx_retries);
+        break;
+    }
+}
+
+fcc_status_t fcc_node_send_status(fcc_node_t *node)
+{
+    if (node == NULL) {
+        return FCC_ERR_ARG;
+    }
+    static const fcc_msg_t k_msgs[5] = {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS,
+                                        FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS,
+                                        FCC_MSG_FCC_BUS_COUNTS};
+    fcc_bus_counters_t bc;
+    fcc_can_port_counters_t pc;
+    memset(&pc, 0, sizeof pc);
+    (void)fcc_bus_get_counters(&node->bus, &bc);
+    if (node->port.can.counters != NULL) {
+        (void)node->port.can.counters(node->port.can.ctx, &pc);
+    }
+    fcc_status_t first = FCC_OK;
+    for (unsigned int i = 0u; i < 5u; ++i) {
+        fcc_msg_data_t d;
+        memset(&d, 0, sizeof d);
+        if (k_msgs[i] == FCC_MSG_FCC_STATUS) {
+            fill_status(node, &bc, &d);
+        } else {
+            fill_counts(&bc, &pc, k_msgs[i], &d);
+        }
+        fcc_can_frame_t f;
+        const fcc_status_t st = fcc_bus_encode(&node->bus, k_msgs[i], &d, &f);
+        if (st == FCC_OK) {
+            send_frame(node, &f, FCC_N_APPS);
+        } else if (first == FCC_OK) {
+            first = st;
+        }
+    }
+    node->e2e_fault_flag = false;
+    node->overrun_flag = false;
+    ++node->cnt.status_sent;
+    return first;
+}
+
+/* ---- host hooks --------------------------------------------------------------- */
+
+void fcc_node_note_overrun(fcc_node_t *node, uint32_t app, uint32_t missed, uint32_t k)
+{
+    if (node == NULL || app >= FCC_N_APPS || missed == 0u) {
+        return;
+    }
+    node->app[app].overruns += missed;
+    node->overrun_flag = true;
+    node->app[app].last_step = k;
+    emit(node, FCC_EV_OVERRUN, app, FCC_EV_NO_MSG, (int32_t)missed);
+}
+
+void fcc_node_report(fcc_node_t *node, fcc_event_class_t cls, int32_t value)
+{
+    if (node != NULL) {
+        emit(node, cls, FCC_N_APPS, FCC_EV_NO_MSG, value);
+    }
+}
+
+bool fcc_node_shutdown_requested(const fcc_node_t *node)
+{
+    return node != NULL && node->shutdown;
+}
+
+uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app)
+{
+    if (node == NULL || app >= FCC_N_APPS) {
+        return 0u;
+    }
+    if (app == FCC_APP_CDRW) {
+        return FCC_APP_SID_PERIOD_US;
+    }
+    const fcc_real_t t = fcc_app_msl_period(&node->msl);
+    return (uint32_t)FCC_ROUND(t * FCC_R(1e6));
+}

@@ -1,0 +1,146 @@
+/*
+ * fcc_node.h -- the flight computer as one bus node: both applications, the
+ * lockstep protocol, run-time commands, health and the heartbeat.
+ *
+ * Portable: no OS, no heap, no clock except the port's.  The Linux main
+ * (firmware/host) and the Cortex-M4F image (firmware/target) drive it the
+ * same way:
+ *
+ *     static fcc_node_t node;                        ~100 kB: keep it static
+ *     fcc_node_init(&node, &cfg, &port);             designs the LQG (start-up)
+ *     fcc_node_send_status(&node);                   "I am listening"
+ *     loop:
+ *         fcc_node_poll(&node, 64);                  frames in; lockstep steps run on SIM_TICK
+ *         realtime: at each deadline fcc_node_run_step(&node, app, k);
+ *         idle:     fcc_node_background(&node);      run-time LQG redesign
+ *         every 1/rate: fcc_node_send_status(&node);
+ *         until fcc_node_shutdown_requested(&node)
+ *
+ * The protocol (ticks, ACK, SIM_CONTROL, SIM_EVENT, sensor health) is
+ * written down in firmware/app/README.md.
+ */
+#ifndef FCC_NODE_H
+#define FCC_NODE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_app_msl.h"
+#include "fcc_app_sid.h"
+#include "fcc_bus.h"
+#include "fcc_port.h"
+#include "fcc_types.h"
+
+/* Application numbers: the values of SIM_TICK.app / FCC_ACK.app. */
+#define FCC_APP_CDRW 0u
+#define FCC_APP_MSL 1u
+#define FCC_N_APPS 2u
+
+/* Missing frames tolerated (last value held) before a sensor is STALE. */
+#define FCC_NODE_DEFAULT_STALE_LIMIT 1u
+
+typedef enum {
+    FCC_MODE_LOCKSTEP = 0, /* steps on SIM_TICK (FCC_STATUS.mode 0) */
+    FCC_MODE_REALTIME = 1  /* steps on the port's clock (FCC_STATUS.mode 1) */
+} fcc_mode_t;
+
+typedef struct {
+    fcc_mode_t mode;
+    bool app_enabled[FCC_N_APPS];
+    uint16_t stale_limit;
+    fcc_app_sid_config_t sid;
+    fcc_app_msl_config_t msl;
+} fcc_node_config_t;
+
+/* Per application, since start (kept across SIM_CONTROL resets). */
+typedef struct {
+    uint32_t steps;
+    uint32_t degraded_steps;
+    uint32_t step_errors;
+    uint32_t ticks_lost;     /* lockstep: steps skipped by the simulator */
+    uint32_t ticks_repeated; /* lockstep: same tick again (ACK resent) */
+    uint32_t ticks_behind;   /* lockstep: tick older than the last, ignored */
+    uint32_t ticks_ignored;  /* realtime mode or disabled app */
+    uint32_t overruns;       /* realtime: steps started a whole period late */
+    uint32_t worst_exec_us;
+    uint32_t last_exec_us;
+    /* Lockstep history (cleared by a reset). */
+    bool have_last;
+    uint32_t last_step;
+    bool last_degraded;
+} fcc_node_app_t;
+
+typedef struct {
+    uint32_t rx_frames;        /* frames handed to fcc_node_handle_frame */
+    uint32_t tx_frames;        /* frames the port accepted */
+    uint32_t tx_failed;        /* frames the port did not send */
+    uint32_t resets;
+    uint32_t configs_accepted; /* SIM_CONTROL design requests accepted */
+    uint32_t configs_applied;  /* designs switched in */
+    uint32_t configs_rejected; /* requests refused or designs failed */
+    uint32_t status_sent;      /* heartbeats */
+    uint32_t oracle_events;    /* good SIM_EVENT frames */
+} fcc_node_counters_t;
+
+typedef struct {
+    fcc_node_config_t cfg;
+    fcc_port_t port;
+    fcc_bus_t bus;
+    fcc_app_sid_t sid;
+    fcc_app_msl_t msl;
+    fcc_node_app_t app[FCC_N_APPS];
+    fcc_node_counters_t cnt;
+    bool oracle_fault;     /* from the last good SIM_EVENT */
+    bool shutdown;         /* SIM_CONTROL shutdown received */
+    bool config_rejected;  /* the last request was refused (FCC_STATUS flag) */
+    bool e2e_fault_flag;   /* ERROR / WRONG_SEQUENCE since the last heartbeat */
+    bool overrun_flag;     /* overrun since the last heartbeat */
+} fcc_node_t;
+
+/* Lockstep, both applications, stale limit 1, the applications' defaults. */
+fcc_status_t fcc_node_config_default(fcc_node_config_t *cfg);
+
+/* Checks cfg, starts both applications (the LQG design runs here) and the
+ * bus node.  The port is copied; its send, recv and now_us must be set. */
+fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
+                           const fcc_port_t *port);
+
+/* SIM_CONTROL reset: fresh applications, tick history and oracle flag
+ * cleared, E2E receivers resynchronised; design and counters kept. */
+fcc_status_t fcc_node_reset(fcc_node_t *node);
+
+/* One received frame: checks (fcc_bus.h), then sensors are stored for the
+ * next step, SIM_TICK runs a lockstep step, SIM_CONTROL and SIM_EVENT are
+ * applied.  Never fails on bad input: it counts and reports it. */
+void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame);
+
+/* Receive and handle up to max_frames waiting frames: how many were handled
+ * in *n (may be NULL).  FCC_OK when the port ran dry or the budget was used,
+ * FCC_ERR_IO when the port reported an error (the caller decides what the
+ * interface is doing). */
+fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n);
+
+/* Run step k of app now and send its outputs (then FCC_ACK in lockstep).
+ * Realtime uses it at each deadline; lockstep calls it from the tick. */
+fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
+
+/* Idle-time work: a pending LQG redesign.  FCC_ERR_AGAIN when there was
+ * nothing to do. */
+fcc_status_t fcc_node_background(fcc_node_t *node);
+
+/* The five heartbeat frames (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS,
+ * FCC_REJECT_COUNTS, FCC_BUS_COUNTS); clears the since-last-heartbeat flags. */
+fcc_status_t fcc_node_send_status(fcc_node_t *node);
+
+/* Realtime: `missed` periods of app were skipped because a step started late. */
+void fcc_node_note_overrun(fcc_node_t *node, uint32_t app, uint32_t missed, uint32_t k);
+
+/* Host-side events (interface, bus errors) through the same sink. */
+void fcc_node_report(fcc_node_t *node, fcc_event_class_t cls, int32_t value);
+
+bool fcc_node_shutdown_requested(const fcc_node_t *node);
+
+/* Period of app in microseconds (the missile's follows run-time redesigns). */
+uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app);
+
+#endif /* FCC_NODE_H */

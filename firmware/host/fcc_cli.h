@@ -1,0 +1,32 @@
+/*
+ * fcc_cli.h -- the command line of the fcc executable.
+ *
+ * Every option turns into a field of fcc_node_config_t (the portable
+ * configuration) or of the host loop; nothing else reads argv.  The
+ * identification options are those of sid_replay, with the same meaning and
+ * defaults (the firmware's), so a replayed flight and a bus flight can be
+ * compared option for option.
+ */
+#ifndef FCC_CLI_H
+#define FCC_CLI_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include "fcc_node.h"
+
+typedef struct {
+    const char *iface;        /* --iface (vcan0) */
+    fcc_node_config_t node;   /* mode, apps, stale limit, both applications */
+    double duration_s;        /* --duration: 0 = until a signal or a shutdown frame */
+    double status_rate_hz;    /* --status-rate (10); 0 = only at start and exit */
+} fcc_cli_t;
+
+/* 0: parsed and checked; 1: --help was asked (usage printed to out);
+ * -1: one line in err (without the "fcc: " prefix). */
+int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_len, FILE *out);
+
+void fcc_cli_usage(FILE *out);
+
+#endif /* FCC_CLI_H */

@@ -1,0 +1,202 @@
+/*
+ * fcc_hostport.c -- Linux port: SocketCAN + clocks + interface watchdog.
+ */
+#define _DEFAULT_SOURCE 1 /* clock_gettime, ioctl flags under -std=c99 */
+
+#include "fcc_hostport.h"
+
+#include <net/if.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "fcc_bus_msgs.h"
+
+static uint64_t clock_us(clockid_t id)
+{
+    struct timespec ts;
+    (void)clock_gettime(id, &ts);
+    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+}
+
+uint64_t fcc_host_monotonic_us(void)
+{
+    return clock_us(CLOCK_MONOTONIC);
+}
+
+uint64_t fcc_host_realtime_us(void)
+{
+    return clock_us(CLOCK_REALTIME);
+}
+
+static void report(const fcc_hostport_t *hp, fcc_event_class_t cls, int32_t value)
+{
+    if (hp->event != NULL) {
+        fcc_event_t ev = {cls, 0xFFu, FCC_EV_NO_MSG, 0u, value};
+        hp->event(hp->event_ctx, &ev);
+    }
+}
+
+/* The interface exists and is administratively up. */
+static bool iface_up(const char *ifname)
+{
+    const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
+        return false;
+    }
+    struct ifreq ifr;
+    memset(&ifr, 0, sizeof ifr);
+    memcpy(ifr.ifr_name, ifname, strnlen(ifname, IFNAMSIZ - 1u));
+    const bool up = ioctl(fd, SIOCGIFFLAGS, &ifr) == 0 && (ifr.ifr_flags & IFF_UP) != 0;
+    (void)close(fd);
+    return up;
+}
+
+static void add_counters(fcc_can_port_counters_t *acc, const fcc_can_port_counters_t *c)
+{
+    acc->rx_frames += c->rx_frames;
+    acc->tx_frames += c->tx_frames;
+    acc->bus_errors += c->bus_errors;
+    acc->rx_overflows += c->rx_overflows;
+    acc->tx_retries += c->tx_retries;
+    acc->tx_dropped += c->tx_dropped;
+    acc->rx_ignored += c->rx_ignored;
+}
+
+fcc_status_t fcc_hostport_open(fcc_hostport_t *hp, const char *ifname,
+                               void (*event)(void *ctx, const fcc_event_t *ev), void *event_ctx)
+{
+    if (hp == NULL || ifname == NULL || strlen(ifname) >= sizeof hp->ifname) {
+        return FCC_ERR_ARG;
+    }
+    memset(hp, 0, sizeof *hp);
+    hp->sc.fd = -1;
+    strcpy(hp->ifname, ifname);
+    hp->cmd_id = FCC_MSG_MSL_ELEV_CMD_ID;
+    hp->event = event;
+    hp->event_ctx = event_ctx;
+    if (!iface_up(ifname)) {
+        return FCC_ERR_IO;
+    }
+    const fcc_status_t st = fcc_socketcan_open(&hp->sc, ifname);
+    hp->up = (st == FCC_OK);
+    return st;
+}
+
+int fcc_hostport_fd(const fcc_hostport_t *hp)
+{
+    return (hp != NULL && hp->up) ? hp->sc.fd : -1;
+}
+
+void fcc_hostport_lost(fcc_hostport_t *hp)
+{
+    if (hp == NULL || !hp->up) {
+        return;
+    }
+    fcc_can_port_counters_t c;
+    if (fcc_socketcan_counters(&hp->sc, &c) == FCC_OK) {
+        add_counters(&hp->carried, &c);
+    }
+    fcc_socketcan_close(&hp->sc);
+    hp->up = false;
+    ++hp->downs;
+    hp->next_probe_us = fcc_host_monotonic_us() + FCC_HOSTPORT_PROBE_US;
+    report(hp, FCC_EV_IFACE_DOWN, (int32_t)hp->downs);
+}
+
+uint64_t fcc_hostport_service(fcc_hostport_t *hp, uint64_t now_us)
+{
+    if (hp == NULL || hp->up) {
+        return UINT64_MAX;
+    }
+    if (now_us < hp->next_probe_us) {
+        return hp->next_probe_us;
+    }
+    hp->next_probe_us = now_us + FCC_HOSTPORT_PROBE_US;
+    if (!iface_up(hp->ifname)) {
+        return hp->next_probe_us;
+    }
+    fcc_socketcan_t fresh;
+    if (fcc_socketcan_open(&fresh, hp->ifname) != FCC_OK) {
+        return hp->next_probe_us;
+    }
+    hp->sc = fresh;
+    hp->up = true;
+    ++hp->reopens;
+    report(hp, FCC_EV_IFACE_UP, (int32_t)hp->reopens);
+    return UINT64_MAX;
+}
+
+void fcc_hostport_close(fcc_hostport_t *hp)
+{
+    if (hp != NULL && hp->up) {
+        fcc_socketcan_close(&hp->sc);
+        hp->up = false;
+    }
+}
+
+/* ---- the port table ------------------------------------------------------------ */
+
+static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+{
+    fcc_hostport_t *hp = ctx;
+    if (!hp->up) {
+        return FCC_ERR_IO;
+    }
+    const fcc_status_t st = fcc_socketcan_send(&hp->sc, frame);
+    if (st == FCC_OK && frame->id == hp->cmd_id) {
+        hp->cmd_sent_real_us = fcc_host_realtime_us();
+        ++hp->cmd_sends;
+    }
+    if (st == FCC_ERR_IO) {
+        fcc_hostport_lost(hp);
+    }
+    return st;
+}
+
+static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
+{
+    fcc_hostport_t *hp = ctx;
+    if (!hp->up) {
+        return FCC_ERR_AGAIN;
+    }
+    const fcc_status_t st = fcc_socketcan_recv(&hp->sc, frame);
+    if (st == FCC_ERR_IO) {
+        fcc_hostport_lost(hp);
+    }
+    return st;
+}
+
+static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
+{
+    const fcc_hostport_t *hp = ctx;
+    *out = hp->carried;
+    fcc_can_port_counters_t c;
+    if (hp->up && fcc_socketcan_counters(&hp->sc, &c) == FCC_OK) {
+        add_counters(out, &c);
+    }
+    return FCC_OK;
+}
+
+static uint64_t port_now(void *ctx)
+{
+    (void)ctx;
+    return fcc_host_monotonic_us();
+}
+
+fcc_port_t fcc_hostport_port(fcc_hostport_t *hp)
+{
+    fcc_port_t p;
+    memset(&p, 0, sizeof p);
+    p.can.ctx = hp;
+    p.can.send = port_send;
+    p.can.recv = port_recv;
+    p.can.counters = port_counters;
+    p.now_us = port_now;
+    p.clock_ctx = NULL;
+    p.event = hp->event;
+    p.event_ctx = hp->event_ctx;
+    return p;
+}

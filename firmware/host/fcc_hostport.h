@@ -1,0 +1,67 @@
+/*
+ * fcc_hostport.h -- the Linux implementation of fcc_port.h: SocketCAN
+ * (fcc_port_linux), CLOCK_MONOTONIC, and an interface watchdog.
+ *
+ * Why a watchdog: when the interface goes down the raw socket reports
+ * ENETDOWN once and every send fails; when it is deleted and created again
+ * the socket stays bound to an index that no longer exists.  The flight
+ * computer must keep running (on prediction) and come back on its own, so
+ * on an I/O error the socket is closed and the interface probed every
+ * FCC_HOSTPORT_PROBE_US; when it is up again the socket is reopened.
+ * Counters of closed sockets are carried over, so the heartbeat never goes
+ * backwards.
+ *
+ * It also stamps the send of each MSL_ELEV_CMD with CLOCK_REALTIME, the clock
+ * of the kernel's receive time stamps (SO_TIMESTAMPNS), for the latency
+ * measurement sensor frame received -> command sent.
+ */
+#ifndef FCC_HOSTPORT_H
+#define FCC_HOSTPORT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_port.h"
+#include "fcc_socketcan.h"
+
+#define FCC_HOSTPORT_PROBE_US 500000u
+
+typedef struct {
+    fcc_socketcan_t sc;
+    char ifname[32];
+    bool up;                          /* socket open and working */
+    uint64_t next_probe_us;           /* while down */
+    fcc_can_port_counters_t carried;  /* counters of sockets closed so far */
+    uint32_t downs;                   /* times the interface was lost */
+    uint32_t reopens;                 /* times it came back */
+    uint32_t cmd_id;                  /* identifier whose send is stamped */
+    uint64_t cmd_sent_real_us;        /* CLOCK_REALTIME after the last such send */
+    uint32_t cmd_sends;               /* sends stamped so far */
+    void (*event)(void *ctx, const fcc_event_t *ev);
+    void *event_ctx;
+} fcc_hostport_t;
+
+uint64_t fcc_host_monotonic_us(void);
+uint64_t fcc_host_realtime_us(void);
+
+/* Opens the interface: FCC_ERR_IO when it is missing or down (nothing kept
+ * open).  event/event_ctx receive interface down/up reports. */
+fcc_status_t fcc_hostport_open(fcc_hostport_t *hp, const char *ifname,
+                               void (*event)(void *ctx, const fcc_event_t *ev), void *event_ctx);
+
+/* The port table for the core (ctx = hp). */
+fcc_port_t fcc_hostport_port(fcc_hostport_t *hp);
+
+/* The descriptor to wait on, -1 while the interface is down. */
+int fcc_hostport_fd(const fcc_hostport_t *hp);
+
+/* An I/O error was seen: close the socket and start probing. */
+void fcc_hostport_lost(fcc_hostport_t *hp);
+
+/* While down: when due, probe the interface and reopen it if it is up.
+ * Returns the next time (monotonic us) it wants to be called, or UINT64_MAX. */
+uint64_t fcc_hostport_service(fcc_hostport_t *hp, uint64_t now_us);
+
+void fcc_hostport_close(fcc_hostport_t *hp);
+
+#endif /* FCC_HOSTPORT_H */

@@ -1,0 +1,394 @@
+/*
+ * fcc_main.c -- the fcc executable: the portable node (firmware/app) on Linux.
+ *
+ * One thread, one loop, no heap.  The loop waits (poll) on three
+ * descriptors: the CAN socket, a timerfd armed at the next absolute deadline
+ * (CLOCK_MONOTONIC, TFD_TIMER_ABSTIME: no drift, whatever the loop's own
+ * delays), and a signalfd for SIGINT/SIGTERM (no asynchronous handler, so no
+ * race with the wait).  Frames are handed to the node one by one, in arrival
+ * order; in lockstep the node steps on SIM_TICK inside that call; in realtime
+ * the loop releases each application's step at its deadline.
+ */
+#define _GNU_SOURCE 1 /* signalfd, timerfd, sigprocmask */
+
+#include <errno.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/signalfd.h>
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include "fcc_cli.h"
+#include "fcc_hist.h"
+#include "fcc_hostport.h"
+#include "fcc_node.h"
+#include "fcc_report.h"
+
+/* Frames handled before a due step or timer is looked at again: a babbling
+ * node must not delay a deadline by more than this many frames. */
+#define FRAME_BUDGET 32u
+
+typedef struct {
+    uint64_t deadline; /* next release, monotonic us */
+    uint32_t k;        /* step index of that release */
+    uint32_t period_us;
+} rt_app_t;
+
+typedef struct {
+    fcc_cli_t cli;
+    fcc_report_t report;
+    fcc_hostport_t hp;
+    fcc_node_t node;
+    int sig_fd;
+    int timer_fd;
+    uint64_t start_us;
+    uint64_t end_us;
+    uint64_t status_period_us;
+    uint64_t next_status_us;
+    rt_app_t rt[FCC_N_APPS];
+    uint32_t seen_steps[FCC_N_APPS]; /* steps already measured */
+    uint32_t seen_cmd_sends;
+    fcc_hist_t exec[FCC_N_APPS];
+    fcc_hist_t jitter[FCC_N_APPS];
+    fcc_hist_t latency; /* missile: newest sensor frame received -> command sent */
+    const char *stop_reason;
+} host_t;
+
+static host_t g_host; /* ~150 kB: static, never on the stack or the heap */
+
+static const char *const k_app_names[FCC_N_APPS] = {"cdrw", "missile"};
+
+/* ---- measurements ------------------------------------------------------------- */
+
+/* After any call that may have run steps: record their times and latency. */
+static void measure_steps(host_t *h)
+{
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        const fcc_node_app_t *na = &h->node.app[a];
+        if (na->steps != h->seen_steps[a]) {
+            h->seen_steps[a] = na->steps;
+            fcc_hist_add(&h->exec[a], na->last_exec_us);
+        }
+    }
+    if (h->hp.cmd_sends != h->seen_cmd_sends) {
+        h->seen_cmd_sends = h->hp.cmd_sends;
+        const fcc_app_msl_result_t *r = &h->node.msl.last;
+        const bool fresh = r->input_state[FCC_APP_MSL_IN_GYRO] == FCC_SENSOR_OK &&
+                           r->input_state[FCC_APP_MSL_IN_ACCEL] == FCC_SENSOR_OK;
+        if (fresh && r->newest_rx_us != 0u && h->hp.cmd_sent_real_us >= r->newest_rx_us) {
+            fcc_hist_add(&h->latency, h->hp.cmd_sent_real_us - r->newest_rx_us);
+        }
+    }
+}
+
+/* ---- frames ------------------------------------------------------------------- */
+
+static void handle_frames(host_t *h, uint32_t budget)
+{
+    for (uint32_t i = 0u; i < budget; ++i) {
+        uint32_t n = 0u;
+        (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
+        measure_steps(h);
+        if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
+            return;
+        }
+    }
+}
+
+/* ---- realtime schedule -------------------------------------------------------- */
+
+static void rt_start(host_t *h)
+{
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        h->rt[a].period_us = fcc_node_app_period_us(&h->node, a);
+        h->rt[a].deadline = h->start_us + h->rt[a].period_us;
+        h->rt[a].k = 0u;
+    }
+}
+
+static void rt_release(host_t *h, uint32_t a, uint64_t now)
+{
+    rt_app_t *r = &h->rt[a];
+    if (now >= r->deadline + r->period_us) { /* a whole period late: skip, no burst */
+        const uint64_t missed = (now - r->deadline) / r->period_us;
+        r->deadline += missed * r->period_us;
+        r->k += (uint32_t)missed;
+        fcc_node_note_overrun(&h->node, a, (uint32_t)missed, r->k);
+    }
+    fcc_hist_add(&h->jitter[a], now - r->deadline);
+    (void)fcc_node_run_step(&h->node, a, r->k);
+    measure_steps(h);
+    const uint64_t done = fcc_host_monotonic_us();
+    if (done > r->deadline + r->period_us) {
+        fcc_node_note_overrun(&h->node, a, 1u, r->k);
+    }
+    ++r->k;
+    r->period_us = fcc_node_app_period_us(&h->node, a); /* a redesign re-bases here */
+    r->deadline += r->period_us;
+}
+
+static void rt_run_due(host_t *h)
+{
+    if (h->cli.node.mode != FCC_MODE_REALTIME) {
+        return;
+    }
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        const uint64_t now = fcc_host_monotonic_us();
+        if (h->cli.node.app_enabled[a] && now >= h->rt[a].deadline) {
+            rt_release(h, a, now);
+        }
+    }
+}
+
+/* ---- the loop ----------------------------------------------------------------- */
+
+static uint64_t min_u64(uint64_t a, uint64_t b)
+{
+    return (a < b) ? a : b;
+}
+
+static uint64_t next_wake(host_t *h, uint64_t now)
+{
+    uint64_t wake = min_u64(h->end_us, h->next_status_us);
+    wake = min_u64(wake, fcc_hostport_service(&h->hp, now));
+    if (h->cli.node.mode == FCC_MODE_REALTIME) {
+        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+            if (h->cli.node.app_enabled[a]) {
+                wake = min_u64(wake, h->rt[a].deadline);
+            }
+        }
+    }
+    return wake;
+}
+
+static void arm_timer(const host_t *h, uint64_t wake)
+{
+    struct itimerspec its;
+    memset(&its, 0, sizeof its);
+    if (wake != UINT64_MAX) {
+        its.it_value.tv_sec = (time_t)(wake / 1000000u);
+        its.it_value.tv_nsec = (long)(wake % 1000000u) * 1000L;
+        if (its.it_value.tv_sec == 0 && its.it_value.tv_nsec == 0) {
+            its.it_value.tv_nsec = 1; /* 0 would disarm */
+        }
+    }
+    (void)timerfd_settime(h->timer_fd, TFD_TIMER_ABSTIME, &its, NULL);
+}
+
+static void send_status_if_due(host_t *h, uint64_t now)
+{
+    if (now < h->next_status_us) {
+        return;
+    }
+    (void)fcc_node_send_status(&h->node);
+    h->next_status_us += h->status_period_us;
+    if (h->next_status_us <= now) { /* far behind (stopped, debugger): no burst */
+        h->next_status_us = now + h->status_period_us;
+    }
+}
+
+/* One wait and everything that became due.  False when the loop must end. */
+static bool loop_once(host_t *h)
+{
+    uint64_t now = fcc_host_monotonic_us();
+    arm_timer(h, next_wake(h, now));
+    struct pollfd fds[3] = {{h->sig_fd, POLLIN, 0}, {h->timer_fd, POLLIN, 0},
+                            {fcc_hostport_fd(&h->hp), POLLIN, 0}};
+    const nfds_t nfds = (fds[2].fd >= 0) ? 3u : 2u;
+    if (poll(fds, nfds, -1) < 0 && errno != EINTR) {
+        h->stop_reason = "poll failed";
+        return false;
+    }
+    if ((fds[0].revents & POLLIN) != 0) {
+        struct signalfd_siginfo si;
+        const ssize_t n = read(h->sig_fd, &si, sizeof si);
+        h->stop_reason = (n == (ssize_t)sizeof si && si.ssi_signo == SIGINT) ? "SIGINT" : "SIGTERM";
+        return false;
+    }
+    if ((fds[1].revents & POLLIN) != 0) {
+        uint64_t expirations;
+        (void)read(h->timer_fd, &expirations, sizeof expirations);
+    }
+    if (nfds == 3u && fds[2].revents != 0) {
+        handle_frames(h, FRAME_BUDGET);
+    }
+    rt_run_due(h);
+    now = fcc_host_monotonic_us();
+    send_status_if_due(h, now);
+    (void)fcc_hostport_service(&h->hp, now);
+    (void)fcc_node_background(&h->node); /* idle time: a pending LQG redesign */
+    if (fcc_node_shutdown_requested(&h->node)) {
+        h->stop_reason = "shutdown frame";
+        return false;
+    }
+    if (now >= h->end_us) {
+        h->stop_reason = "--duration elapsed";
+        return false;
+    }
+    return true;
+}
+
+/* ---- start and stop ----------------------------------------------------------- */
+
+static int setup_fds(host_t *h)
+{
+    sigset_t mask;
+    sigemptyset(&mask);
+    sigaddset(&mask, SIGINT);
+    sigaddset(&mask, SIGTERM);
+    if (sigprocmask(SIG_BLOCK, &mask, NULL) != 0) {
+        return -1;
+    }
+    h->sig_fd = signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK);
+    h->timer_fd = timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK);
+    return (h->sig_fd >= 0 && h->timer_fd >= 0) ? 0 : -1;
+}
+
+static uint64_t host_now(void)
+{
+    return fcc_host_monotonic_us();
+}
+
+static void print_hist(const char *what, const char *app, const fcc_hist_t *hist)
+{
+    fprintf(stderr, "fcc summary: %s %s n=%llu p50=%llu p99=%llu max=%llu\n", what, app,
+            (unsigned long long)hist->n, (unsigned long long)fcc_hist_quantile(hist, 0.50),
+            (unsigned long long)fcc_hist_quantile(hist, 0.99), (unsigned long long)hist->max);
+}
+
+static void print_summary(const host_t *h)
+{
+    const fcc_node_t *n = &h->node;
+    fcc_bus_counters_t bc;
+    fcc_can_port_counters_t pc;
+    (void)fcc_bus_get_counters(&n->bus, &bc);
+    (void)n->port.can.counters(n->port.can.ctx, &pc);
+    const double secs = (double)(fcc_host_monotonic_us() - h->start_us) * 1e-6;
+    fprintf(stderr, "fcc: stopping (%s) after %.2f s, mode %s\n", h->stop_reason, secs,
+            n->cfg.mode == FCC_MODE_LOCKSTEP ? "lockstep" : "realtime");
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        const fcc_node_app_t *s = &n->app[a];
+        fprintf(stderr,
+                "fcc summary: %s steps=%lu degraded=%lu errors=%lu ticks_lost=%lu "
+                "ticks_repeated=%lu ticks_behind=%lu ticks_ignored=%lu overruns=%lu "
+                "worst_exec_us=%lu\n",
+                k_app_names[a], (unsigned long)s->steps, (unsigned long)s->degraded_steps,
+                (unsigned long)s->step_errors, (unsigned long)s->ticks_lost,
+                (unsigned long)s->ticks_repeated, (unsigned long)s->ticks_behind,
+                (unsigned long)s->ticks_ignored, (unsigned long)s->overruns,
+                (unsigned long)s->worst_exec_us);
+    }
+    fprintf(stderr, "fcc summary: lqg period_s=%.4f bits=%u designs_applied=%lu "
+            "designs_failed=%lu\n", (double)fcc_app_msl_period(&n->msl),
+            (unsigned)fcc_app_msl_bits(&n->msl), (unsigned long)n->msl.designs_applied,
+            (unsigned long)n->msl.designs_failed);
+    fprintf(stderr, "fcc summary: e2e ok=%lu repeated=%lu ok_some_lost=%lu wrong_sequence=%lu "
+            "error=%lu no_new_data=%lu stale_now=%lu\n",
+            (unsigned long)bc.e2e[FCC_E2E_OK], (unsigned long)bc.e2e[FCC_E2E_REPEATED],
+            (unsigned long)bc.e2e[FCC_E2E_OK_SOME_LOST],
+            (unsigned long)bc.e2e[FCC_E2E_WRONG_SEQUENCE], (unsigned long)bc.e2e[FCC_E2E_ERROR],
+            (unsigned long)bc.e2e[FCC_E2E_NO_NEW_DATA], (unsigned long)bc.stale_now);
+    fprintf(stderr, "fcc summary: rejected unknown_id=%lu wrong_dlc=%lu out_of_range=%lu "
+            "tx_refused=%lu tx_saturated=%lu\n", (unsigned long)bc.unknown_id,
+            (unsigned long)bc.wrong_dlc, (unsigned long)bc.out_of_range,
+            (unsigned long)bc.tx_refused, (unsigned long)bc.tx_saturated);
+    fprintf(stderr, "fcc summary: port rx_frames=%lu tx_frames=%lu tx_failed=%lu bus_errors=%lu "
+            "rx_overflows=%lu tx_dropped=%lu tx_retries=%lu iface_down=%lu iface_up=%lu\n",
+            (unsigned long)n->cnt.rx_frames, (unsigned long)n->cnt.tx_frames,
+            (unsigned long)n->cnt.tx_failed, (unsigned long)pc.bus_errors,
+            (unsigned long)pc.rx_overflows, (unsigned long)pc.tx_dropped,
+            (unsigned long)pc.tx_retries, (unsigned long)h->hp.downs,
+            (unsigned long)h->hp.reopens);
+    fprintf(stderr, "fcc summary: control resets=%lu configs_accepted=%lu configs_applied=%lu "
+            "configs_rejected=%lu heartbeats=%lu oracle_events=%lu\n",
+            (unsigned long)n->cnt.resets, (unsigned long)n->cnt.configs_accepted,
+            (unsigned long)n->cnt.configs_applied, (unsigned long)n->cnt.configs_rejected,
+            (unsigned long)n->cnt.status_sent, (unsigned long)n->cnt.oracle_events);
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        print_hist("exec_us", k_app_names[a], &h->exec[a]);
+    }
+    if (n->cfg.mode == FCC_MODE_REALTIME) {
+        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+            print_hist("jitter_us", k_app_names[a], &h->jitter[a]);
+        }
+    }
+    print_hist("latency_us", "missile", &h->latency);
+    char events[512];
+    fcc_report_totals(&h->report, events, sizeof events);
+    fprintf(stderr, "fcc summary: events %s\n", events[0] != '\0' ? events : "none");
+}
+
+static int start(host_t *h)
+{
+    fcc_report_init(&h->report, stderr, FCC_REPORT_DEFAULT_INTERVAL_US, host_now);
+    if (setup_fds(h) != 0) {
+        fprintf(stderr, "fcc: cannot set up signals and timers: %s\n", strerror(errno));
+        return 1;
+    }
+    if (fcc_hostport_open(&h->hp, h->cli.iface, fcc_report_event, &h->report) != FCC_OK) {
+        fprintf(stderr, "fcc: cannot open CAN interface '%s': it does not exist, is down, or "
+                "the kernel has no CAN support\n", h->cli.iface);
+        return 1;
+    }
+    const fcc_port_t port = fcc_hostport_port(&h->hp);
+    const fcc_status_t st = fcc_node_init(&h->node, &h->cli.node, &port);
+    if (st != FCC_OK) {
+        fprintf(stderr, "fcc: start-up failed: %s (LQG design for T = %g s or the "
+                "identification configuration)\n", fcc_status_str(st),
+                (double)h->cli.node.msl.period);
+        return 1;
+    }
+    h->start_us = fcc_host_monotonic_us();
+    h->end_us = (h->cli.duration_s > 0.0)
+                    ? h->start_us + (uint64_t)(h->cli.duration_s * 1e6)
+                    : UINT64_MAX;
+    h->status_period_us = (h->cli.status_rate_hz > 0.0)
+                              ? (uint64_t)(1e6 / h->cli.status_rate_hz)
+                              : UINT64_MAX;
+    h->next_status_us = (h->status_period_us == UINT64_MAX)
+                            ? UINT64_MAX
+                            : h->start_us + h->status_period_us;
+    rt_start(h);
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        fcc_hist_init(&h->exec[a]);
+        fcc_hist_init(&h->jitter[a]);
+    }
+    fcc_hist_init(&h->latency);
+    (void)fcc_node_send_status(&h->node); /* "listening" */
+    fprintf(stderr, "fcc: ready on %s, %s, apps %s%s%s, LQG T = %.4f s N = %u, stale limit %u\n",
+            h->cli.iface, h->cli.node.mode == FCC_MODE_LOCKSTEP ? "lockstep" : "realtime",
+            h->cli.node.app_enabled[FCC_APP_CDRW] ? "cdrw" : "",
+            (h->cli.node.app_enabled[FCC_APP_CDRW] && h->cli.node.app_enabled[FCC_APP_MSL]) ? ","
+                                                                                            : "",
+            h->cli.node.app_enabled[FCC_APP_MSL] ? "missile" : "",
+            (double)fcc_app_msl_period(&h->node.msl), (unsigned)fcc_app_msl_bits(&h->node.msl),
+            (unsigned)h->cli.node.stale_limit);
+    fflush(stderr);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    host_t *h = &g_host;
+    char err[256];
+    const int r = fcc_cli_parse(argc, argv, &h->cli, err, sizeof err, stdout);
+    if (r == 1) {
+        return 0;
+    }
+    if (r != 0) {
+        fprintf(stderr, "fcc: %s\n", err);
+        return 2;
+    }
+    if (start(h) != 0) {
+        return 1;
+    }
+    while (loop_once(h)) {
+    }
+    (void)fcc_node_send_status(&h->node); /* the last heartbeat, flushed before exit */
+    fcc_report_flush(&h->report);
+    print_summary(h);
+    fcc_hostport_close(&h->hp);
+    return 0;
+}

@@ -1,0 +1,727 @@
+/*
+ * test_app_node.c -- the flight-computer node (firmware/app/fcc_node.h)
+ * driven with frames in memory: lockstep protocol, outputs against the
+ * firmware maths run directly, sensor health, run-time commands, heartbeat,
+ * garbage.  The node is the real one; only the wires are replaced
+ * (test_app_port.h).
+ */
+#include "fcc_test.h"
+
+#include "fcc_lqg.h"
+#include "fcc_sid.h"
+#include "test_app_port.h"
+
+static fcc_node_t g_node;
+static mem_port_t g_mem;
+static fcc_sid_t g_ref_sid[3];
+
+static void start(const fcc_node_config_t *cfg)
+{
+    fcc_port_t port;
+    mem_init(&g_mem, &port);
+    fcc_node_config_t def;
+    fcc_assert_ok(fcc_node_config_default(&def));
+    fcc_assert_ok(fcc_node_init(&g_node, cfg != NULL ? cfg : &def, &port));
+}
+
+static void run(void)
+{
+    uint32_t n = 0u;
+    fcc_assert_ok(fcc_node_poll(&g_node, 100000u, &n));
+}
+
+/* A smooth pull-up: alpha, q, de at step k (rad, rad/s, rad). */
+static void flight(uint32_t k, double *alpha, double *q, double *de)
+{
+    const double t = 0.02 * (double)k;
+    *de = -0.05 - 0.08 * sin(1.3 * t);
+    *alpha = 0.16 + 0.1 * sin(0.9 * t) + 0.002 * sin(17.0 * t);
+    *q = 0.09 * cos(0.9 * t) + 0.01 * sin(11.0 * t);
+}
+
+/* The value the node sees after the frame layer (DBC resolution). */
+static double quantised(fcc_msg_t msg, double v)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    uint8_t raw[8];
+    if (msg == FCC_MSG_CDRW_AOA) {
+        d.cdrw_aoa.alpha = (fcc_real_t)v;
+    } else if (msg == FCC_MSG_CDRW_PITCH_RATE) {
+        d.cdrw_pitch_rate.q = (fcc_real_t)v;
+    } else if (msg == FCC_MSG_CDRW_ELEVATOR) {
+        d.cdrw_elevator.delta_e = (fcc_real_t)v;
+    } else if (msg == FCC_MSG_MSL_RATE_GYRO) {
+        d.msl_rate_gyro.q_g = (fcc_real_t)v;
+    } else {
+        d.msl_accelerometer.n_a = (fcc_real_t)v;
+    }
+    fcc_assert_ok(fcc_bus_pack(msg, &d, raw));
+    fcc_assert_ok(fcc_bus_decode(msg, raw, &d));
+    switch (msg) {
+    case FCC_MSG_CDRW_AOA: return (double)d.cdrw_aoa.alpha;
+    case FCC_MSG_CDRW_PITCH_RATE: return (double)d.cdrw_pitch_rate.q;
+    case FCC_MSG_CDRW_ELEVATOR: return (double)d.cdrw_elevator.delta_e;
+    case FCC_MSG_MSL_RATE_GYRO: return (double)d.msl_rate_gyro.q_g;
+    default: return (double)d.msl_accelerometer.n_a;
+    }
+}
+
+/* ---- identification ------------------------------------------------------------ */
+
+static void test_cdrw_steps_match_the_sid_loops(void **state)
+{
+    (void)state;
+    start(NULL);
+    for (int f = 0; f < 3; ++f) {
+        fcc_sid_config_t c = g_node.cfg.sid.base;
+        c.filter = (fcc_sid_filter_t)f;
+        fcc_assert_ok(fcc_sid_init(&g_ref_sid[f], &c));
+    }
+    static const uint32_t order[12] = {0x110, 0x111, 0x112, 0x113, 0x120, 0x121,
+                                       0x122, 0x123, 0x130, 0x131, 0x132, 0x133};
+    for (uint32_t k = 0u; k < 150u; ++k) {
+        double a, q, de;
+        flight(k, &a, &q, &de);
+        const size_t first = g_mem.tx_n;
+        mem_push_cdrw(&g_mem, k, a, q, de);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        run();
+        assert_int_equal(g_mem.tx_n - first, 13u);
+        for (unsigned int i = 0u; i < 12u; ++i) {
+            assert_int_equal(g_mem.tx[first + i].id, order[i]);
+        }
+        const fcc_msg_data_t ack = mem_decode_tx(&g_mem, (long)(first + 12u));
+        assert_int_equal(g_mem.tx[first + 12u].id, FCC_MSG_FCC_ACK_ID);
+        assert_int_equal(ack.fcc_ack.app, FCC_APP_CDRW);
+        assert_int_equal(ack.fcc_ack.step, k);
+        assert_false(ack.fcc_ack.degraded);
+        /* the reference: the three loops fed the same (quantised) sample */
+        fcc_sid_out_t ref[3];
+        for (int f = 0; f < 3; ++f) {
+            fcc_sid_step(&g_ref_sid[f], (fcc_real_t)quantised(FCC_MSG_CDRW_AOA, a),
+                         (fcc_real_t)quantised(FCC_MSG_CDRW_PITCH_RATE, q),
+                         (fcc_real_t)quantised(FCC_MSG_CDRW_ELEVATOR, de), false, true, &ref[f]);
+        }
+        static const int filt[3] = {FCC_SID_AZKF, FCC_SID_ZKF, FCC_SID_KF};
+        for (int i = 0; i < 3; ++i) {
+            const fcc_sid_out_t *r = &ref[filt[i]];
+            const fcc_msg_data_t st = mem_decode_tx(&g_mem, (long)(first + 4u * (unsigned)i));
+            const fcc_msg_data_t bo = mem_decode_tx(&g_mem, (long)(first + 4u * (unsigned)i + 1u));
+            const fcc_msg_data_t ma = mem_decode_tx(&g_mem, (long)(first + 4u * (unsigned)i + 2u));
+            const fcc_msg_data_t mb = mem_decode_tx(&g_mem, (long)(first + 4u * (unsigned)i + 3u));
+            fcc_assert_close(st.sid_azkf_state.alpha_hat, r->x_hat[0], 0.0, 0.6e-5);
+            fcc_assert_close(st.sid_azkf_state.q_hat, r->x_hat[1], 0.0, 0.6e-5);
+            assert_int_equal(st.sid_azkf_state.order, r->order);
+            assert_int_equal(st.sid_azkf_state.step, k & 0xFFFu);
+            fcc_assert_close(bo.sid_azkf_bounds.alpha_lo, r->lo[0], 0.0, 0.6e-4);
+            fcc_assert_close(bo.sid_azkf_bounds.q_hi, r->hi[1], 0.0, 0.6e-4);
+            fcc_assert_close(ma.sid_azkf_model_a.a21, r->model.a[2], 0.0, 0.6e-4);
+            fcc_assert_close(mb.sid_azkf_model_b.b2, r->model.b[1], 0.0, 0.6e-4);
+            fcc_assert_close(mb.sid_azkf_model_b.rho, r->rho, 0.0, 0.6e-4);
+            fcc_assert_close(mb.sid_azkf_model_b.gain_norm, r->gain_norm, 0.0, 0.6e-4);
+        }
+    }
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 150u);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].degraded_steps, 0u);
+    assert_false(g_node.sid.loop[FCC_SID_AZKF].last.model_is_prior); /* the MLS has learnt */
+}
+
+/* ---- autopilot ----------------------------------------------------------------- */
+
+static double gyro_at(uint32_t k)
+{
+    return 0.1 * cos(0.7 * (double)k) + 0.3 * sin(2.1 * (double)k);
+}
+
+static double accel_at(uint32_t k)
+{
+    return -3.0 + 40.0 * sin(0.45 * (double)k);
+}
+
+static void ref_design(double period, uint8_t bits, fcc_lqg_ctrl_t *ctrl, const fcc_real_t *x0)
+{
+    static fcc_lqg_ws_t ws;
+    static fcc_lqg_design_t d;
+    fcc_lqg_plant_t plant;
+    fcc_assert_ok(fcc_lqg_plant_default(&plant));
+    fcc_assert_ok(fcc_lqg_design(&plant, (fcc_real_t)period, FCC_LQG_SOLVER_HAMILTONIAN, &d, &ws));
+    fcc_assert_ok(fcc_lqg_ctrl_init(ctrl, &d, bits, x0));
+}
+
+/* One missile step through the node; returns the index of its command frame. */
+static long msl_step(uint32_t k, bool gyro, bool accel)
+{
+    const size_t first = g_mem.tx_n;
+    if (gyro) {
+        mem_push_gyro(&g_mem, k, gyro_at(k));
+    }
+    if (accel) {
+        mem_push_accel(&g_mem, k, accel_at(k));
+    }
+    mem_push_tick(&g_mem, FCC_APP_MSL, k);
+    run();
+    assert_int_equal(g_mem.tx_n - first, 3u);
+    assert_int_equal(g_mem.tx[first].id, FCC_MSG_MSL_ELEV_CMD_ID);
+    assert_int_equal(g_mem.tx[first + 1u].id, FCC_MSG_MSL_STATE_EST_ID);
+    assert_int_equal(g_mem.tx[first + 2u].id, FCC_MSG_FCC_ACK_ID);
+    return (long)first;
+}
+
+static void test_missile_commands_match_the_lqg(void **state)
+{
+    (void)state;
+    start(NULL);
+    fcc_lqg_ctrl_t ref;
+    ref_design(0.05, 8u, &ref, NULL);
+    for (uint32_t k = 0u; k < 100u; ++k) {
+        const long i = msl_step(k, true, true);
+        const fcc_real_t y[2] = {(fcc_real_t)quantised(FCC_MSG_MSL_RATE_GYRO, gyro_at(k)),
+                                 (fcc_real_t)quantised(FCC_MSG_MSL_ACCELEROMETER, accel_at(k))};
+        fcc_lqg_output_t out;
+        fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
+        const fcc_msg_data_t cmd = mem_decode_tx(&g_mem, i);
+        const fcc_msg_data_t est = mem_decode_tx(&g_mem, i + 1);
+        assert_int_equal(cmd.msl_elev_cmd.da_code, out.code);
+        assert_int_equal(cmd.msl_elev_cmd.da_bits, 8u);
+        assert_int_equal(cmd.msl_elev_cmd.step, k);
+        assert_int_equal(cmd.msl_elev_cmd.saturated, out.saturated);
+        assert_false(cmd.msl_elev_cmd.degraded);
+        assert_true(cmd.msl_elev_cmd.da_code >= -128 && cmd.msl_elev_cmd.da_code <= 127);
+        fcc_assert_close(est.msl_state_est.q_hat, out.x_hat[0], 0.0, 0.6e-5);
+        fcc_assert_close(est.msl_state_est.alpha_t_hat, out.x_hat[1], 0.0, 0.6e-5);
+        assert_int_equal(est.msl_state_est.step, k & 0xFFu);
+    }
+    assert_int_equal(g_node.msl.ctrl.updates, 100u);
+}
+
+static void test_missing_sensor_held_then_stale_then_recovered(void **state)
+{
+    (void)state;
+    start(NULL); /* stale limit 1 */
+    fcc_lqg_ctrl_t ref;
+    ref_design(0.05, 8u, &ref, NULL);
+    long i = msl_step(0u, true, true);
+    assert_false(mem_decode_tx(&g_mem, i).msl_elev_cmd.degraded);
+    i = msl_step(1u, false, true); /* one gyro frame lost: held */
+    assert_false(mem_decode_tx(&g_mem, i).msl_elev_cmd.degraded);
+    assert_int_equal(g_node.msl.last.input_state[FCC_APP_MSL_IN_GYRO], FCC_SENSOR_HELD);
+    i = msl_step(2u, false, true); /* two in a row: stale, prediction only */
+    const fcc_msg_data_t cmd = mem_decode_tx(&g_mem, i);
+    assert_true(cmd.msl_elev_cmd.degraded);
+    assert_false(g_node.msl.last.measured);
+    assert_int_equal(g_node.msl.last.input_state[FCC_APP_MSL_IN_GYRO], FCC_SENSOR_STALE);
+    assert_int_equal(g_mem.ev_count[FCC_EV_SENSOR_STALE], 1u);
+    assert_true(mem_decode_tx(&g_mem, i + 2).fcc_ack.degraded);
+    i = msl_step(3u, true, true);
+    assert_false(mem_decode_tx(&g_mem, i).msl_elev_cmd.degraded);
+    assert_int_equal(g_mem.ev_count[FCC_EV_SENSOR_RECOVERED], 1u);
+    fcc_bus_counters_t bc;
+    fcc_assert_ok(fcc_bus_get_counters(&g_node.bus, &bc));
+    assert_int_equal(bc.e2e[FCC_E2E_NO_NEW_DATA], 2u);
+    assert_int_equal(g_node.app[FCC_APP_MSL].degraded_steps, 1u);
+    /* the same steps by hand: update, update (held gyro), predict, update */
+    const double g0 = quantised(FCC_MSG_MSL_RATE_GYRO, gyro_at(0u));
+    fcc_lqg_output_t out;
+    fcc_real_t y[2] = {(fcc_real_t)g0, (fcc_real_t)quantised(FCC_MSG_MSL_ACCELEROMETER, accel_at(0u))};
+    fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
+    y[1] = (fcc_real_t)quantised(FCC_MSG_MSL_ACCELEROMETER, accel_at(1u));
+    fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
+    fcc_assert_ok(fcc_lqg_ctrl_predict(&ref, &out));
+    assert_int_equal(cmd.msl_elev_cmd.da_code, out.code);
+    y[0] = (fcc_real_t)quantised(FCC_MSG_MSL_RATE_GYRO, gyro_at(3u));
+    y[1] = (fcc_real_t)quantised(FCC_MSG_MSL_ACCELEROMETER, accel_at(3u));
+    fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
+    assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_code, out.code);
+}
+
+/* ---- lockstep protocol ---------------------------------------------------------- */
+
+static void test_ticks_repeated_lost_behind(void **state)
+{
+    (void)state;
+    start(NULL);
+    (void)msl_step(0u, true, true);
+    size_t first = g_mem.tx_n;
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u); /* repeated: only the ACK again */
+    run();
+    assert_int_equal(g_mem.tx_n - first, 1u);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first).fcc_ack.step, 0u);
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps, 1u);
+    assert_int_equal(g_node.app[FCC_APP_MSL].ticks_repeated, 1u);
+    (void)msl_step(4u, true, true); /* 1, 2, 3 never ticked */
+    assert_int_equal(g_node.app[FCC_APP_MSL].ticks_lost, 3u);
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps, 2u);
+    first = g_mem.tx_n;
+    mem_push_tick(&g_mem, FCC_APP_MSL, 2u); /* behind: ignored, no ACK */
+    run();
+    assert_int_equal(g_mem.tx_n, first);
+    assert_int_equal(g_node.app[FCC_APP_MSL].ticks_behind, 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TICK_BEHIND], 1u);
+    /* the other application is independent */
+    mem_push_cdrw(&g_mem, 0u, 0.1, 0.0, 0.0);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 0u);
+    run();
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 1u);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].ticks_lost, 0u);
+    /* a tick that fails E2E (the same frame again) is not answered */
+    first = g_mem.tx_n;
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 1u);
+    const fcc_can_frame_t dup = g_mem.rx[g_mem.rx_n - 1u];
+    mem_push_raw(&g_mem, dup.id, dup.data, 8u);
+    run();
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 2u);
+    assert_int_equal(mem_find_tx(&g_mem, first, FCC_MSG_FCC_ACK_ID, 1u), -1);
+}
+
+/* Re-protect a frame after editing its payload, with its own counter. */
+static void reprotect(fcc_can_frame_t *f)
+{
+    fcc_msg_t m;
+    fcc_assert_ok(fcc_bus_find(f->id, &m));
+    fcc_assert_ok(fcc_e2e_protect(fcc_bus_desc(m)->data_id, (uint8_t)(f->data[1] & 0x0Fu), f->data));
+}
+
+static void test_bad_frames_degrade_and_are_counted(void **state)
+{
+    (void)state;
+    start(NULL);
+    /* step 0: a CRC error on alpha */
+    mem_push_cdrw(&g_mem, 0u, 0.1, 0.01, 0.0);
+    g_mem.rx[0].data[0] ^= 0x5Au;
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 0u);
+    size_t first = g_mem.tx_n;
+    run();
+    assert_true(mem_decode_tx(&g_mem, (long)first).sid_azkf_state.degraded);
+    assert_true(mem_decode_tx(&g_mem, (long)first + 12).fcc_ack.degraded);
+    assert_int_equal(g_node.sid.last.input_state[FCC_APP_SID_IN_ALPHA], FCC_SENSOR_REJECTED);
+    assert_false(g_node.sid.last.measurement_valid);
+    assert_int_equal(g_mem.ev_count[FCC_EV_E2E_ERROR], 1u);
+    /* step 1: alpha = 2 rad with a valid CRC (the DBC's limit is 1.5708) */
+    mem_push_cdrw(&g_mem, 1u, 0.1, 0.01, 0.0);
+    fcc_can_frame_t *aoa = &g_mem.rx[g_mem.rx_n - 3u];
+    const int32_t raw = 2000000;
+    memcpy(&aoa->data[4], &raw, 4u); /* little-endian host, as the DBC signal */
+    reprotect(aoa);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 1u);
+    run();
+    assert_int_equal(g_node.sid.last.input_state[FCC_APP_SID_IN_ALPHA], FCC_SENSOR_REJECTED);
+    /* step 2: wrong length, unknown identifiers, an output of the FCC itself */
+    mem_push_cdrw(&g_mem, 2u, 0.1, 0.01, 0.0);
+    g_mem.rx[g_mem.rx_n - 2u].dlc = 5u;
+    const uint8_t junk[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+    mem_push_raw(&g_mem, 0x555u, junk, 8u);
+    mem_push_raw(&g_mem, FCC_MSG_SID_KF_STATE_ID, junk, 8u);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 2u);
+    run();
+    assert_int_equal(g_node.sid.last.input_state[FCC_APP_SID_IN_Q], FCC_SENSOR_REJECTED);
+    /* step 3: alpha carries step 9 (a frame of another step) */
+    mem_push_cdrw(&g_mem, 3u, 0.1, 0.01, 0.0);
+    fcc_can_frame_t *a3 = &g_mem.rx[g_mem.rx_n - 3u];
+    a3->data[2] = 9u;
+    reprotect(a3);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 3u);
+    run();
+    assert_int_equal(g_node.sid.last.input_state[FCC_APP_SID_IN_ALPHA], FCC_SENSOR_MISALIGNED);
+    fcc_bus_counters_t bc;
+    fcc_assert_ok(fcc_bus_get_counters(&g_node.bus, &bc));
+    assert_int_equal(bc.e2e[FCC_E2E_ERROR], 1u);
+    assert_int_equal(bc.out_of_range, 1u);
+    assert_int_equal(bc.wrong_dlc, 1u);
+    assert_int_equal(bc.unknown_id, 2u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_OUT_OF_RANGE], 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_WRONG_DLC], 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_UNKNOWN_ID], 2u);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].degraded_steps, 4u);
+    /* recovery: good frames, the next step is clean */
+    mem_push_cdrw(&g_mem, 4u, 0.1, 0.01, 0.0);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 4u);
+    first = g_mem.tx_n;
+    run();
+    assert_false(mem_decode_tx(&g_mem, (long)first + 12).fcc_ack.degraded);
+    assert_true(g_node.sid.last.measurement_valid);
+}
+
+static void test_misaligned_frame(void **state)
+{
+    (void)state;
+    start(NULL);
+    mem_push_gyro(&g_mem, 7u, 0.1); /* a frame of step 7 at step 0 */
+    mem_push_accel(&g_mem, 0u, 1.0);
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
+    run();
+    assert_int_equal(g_node.msl.last.input_state[FCC_APP_MSL_IN_GYRO], FCC_SENSOR_MISALIGNED);
+    assert_true(g_node.msl.last.degraded);
+    assert_int_equal(g_mem.ev_count[FCC_EV_SENSOR_MISALIGNED], 1u);
+}
+
+/* ---- run-time commands ----------------------------------------------------------- */
+
+static void test_redesign_is_switched_in_between_steps(void **state)
+{
+    (void)state;
+    start(NULL);
+    fcc_lqg_ctrl_t ref;
+    ref_design(0.05, 8u, &ref, NULL);
+    fcc_lqg_output_t out;
+    for (uint32_t k = 0u; k < 6u; ++k) {
+        if (k == 3u) { /* new period before the tick of step 3 */
+            mem_push_control(&g_mem, 0u, 0.1, 0u);
+            fcc_real_t x[3];
+            memcpy(x, ref.x_pred, sizeof x);
+            ref_design(0.1, 8u, &ref, x); /* the estimate carries over */
+        }
+        const long i = msl_step(k, true, true);
+        const fcc_real_t y[2] = {(fcc_real_t)quantised(FCC_MSG_MSL_RATE_GYRO, gyro_at(k)),
+                                 (fcc_real_t)quantised(FCC_MSG_MSL_ACCELEROMETER, accel_at(k))};
+        fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
+        assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_code, out.code);
+    }
+    assert_int_equal(g_node.cnt.configs_applied, 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_CONFIG_APPLIED], 1u);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 100000u);
+    /* bits only: no new discretisation, the next command is 12-bit */
+    mem_push_control(&g_mem, 0u, 0.0, 12u);
+    long i = msl_step(6u, true, true);
+    assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 12u);
+    fcc_assert_close(fcc_app_msl_period(&g_node.msl), 0.1, 1e-6, 0.0);
+    /* refused: T below 0.02 s, N = 1; the design in use stays */
+    mem_push_control(&g_mem, 0u, 0.01, 0u);
+    mem_push_control(&g_mem, 0u, 0.0, 1u);
+    i = msl_step(7u, true, true);
+    assert_int_equal(g_node.cnt.configs_rejected, 2u);
+    assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 12u);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 100000u);
+    const size_t first = g_mem.tx_n;
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_true(mem_decode_tx(&g_mem, (long)first).fcc_status.config_rejected);
+    /* a design that fails (impossible plant) keeps the old one too */
+    g_node.msl.cfg.plant.gyro_var = FCC_R(-1.0);
+    mem_push_control(&g_mem, 0u, 0.2, 0u);
+    i = msl_step(8u, true, true);
+    assert_int_equal(g_node.msl.designs_failed, 1u);
+    assert_int_equal(g_node.cnt.configs_rejected, 3u);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 100000u);
+    assert_false(mem_decode_tx(&g_mem, i).msl_elev_cmd.degraded);
+}
+
+static void test_pending_requests_merge(void **state)
+{
+    (void)state;
+    start(NULL);
+    /* two requests before one step: period from the first, bits from the second */
+    mem_push_control(&g_mem, 0u, 0.2, 0u);
+    mem_push_control(&g_mem, 0u, 0.0, 6u);
+    const long i = msl_step(0u, true, true);
+    assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 6u);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 200000u);
+    assert_int_equal(g_node.cnt.configs_accepted, 2u);
+    assert_int_equal(g_node.cnt.configs_applied, 1u);
+    /* realtime: a request is designed in idle time, not by the step */
+    fcc_assert_ok(fcc_app_msl_request(&g_node.msl, FCC_R(0.05), 0u));
+    assert_true(fcc_app_msl_wants_design(&g_node.msl));
+    fcc_assert_ok(fcc_node_background(&g_node));
+    assert_int_equal(fcc_node_background(&g_node), FCC_ERR_AGAIN);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 200000u); /* not yet */
+    (void)msl_step(1u, true, true);
+    assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 50000u);
+}
+
+static void test_reset_and_shutdown(void **state)
+{
+    (void)state;
+    start(NULL);
+    size_t first0 = 0u;
+    fcc_msg_data_t step0 = {0};
+    for (uint32_t k = 0u; k < 10u; ++k) {
+        double a, q, de;
+        flight(k, &a, &q, &de);
+        const size_t first = g_mem.tx_n;
+        mem_push_cdrw(&g_mem, k, a, q, de);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        run();
+        if (k == 1u) {
+            first0 = first;
+            step0 = mem_decode_tx(&g_mem, (long)first);
+        }
+    }
+    (void)first0;
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_RESET, 0.0, 0u);
+    run();
+    assert_int_equal(g_node.cnt.resets, 1u);
+    /* a new flight from step 0; the simulator restarted its alive counters too */
+    fcc_assert_ok(fcc_bus_init_masks(&g_mem.sim, g_mem.sim.consumes, g_mem.sim.produces));
+    for (uint32_t k = 0u; k < 2u; ++k) {
+        double a, q, de;
+        flight(k, &a, &q, &de);
+        const size_t first = g_mem.tx_n;
+        mem_push_cdrw(&g_mem, k, a, q, de);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        run();
+        assert_int_equal(g_mem.tx_n - first, 13u);
+        if (k == 1u) { /* the same output as the first flight's step 1 */
+            const fcc_msg_data_t again = mem_decode_tx(&g_mem, (long)first);
+            fcc_assert_close(again.sid_azkf_state.alpha_hat, step0.sid_azkf_state.alpha_hat, 0.0, 0.0);
+            fcc_assert_close(again.sid_azkf_state.q_hat, step0.sid_azkf_state.q_hat, 0.0, 0.0);
+        }
+    }
+    assert_int_equal(g_node.app[FCC_APP_CDRW].ticks_behind, 0u);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 12u); /* counters kept */
+    fcc_bus_counters_t bc;
+    fcc_assert_ok(fcc_bus_get_counters(&g_node.bus, &bc));
+    assert_int_equal(bc.e2e[FCC_E2E_WRONG_SEQUENCE], 0u);
+    assert_false(fcc_node_shutdown_requested(&g_node));
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN, 0.0, 0u);
+    run();
+    assert_true(fcc_node_shutdown_requested(&g_node));
+}
+
+static void test_oracle_fault_flag(void **state)
+{
+    (void)state;
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    cfg.sid.base.azkf.det.mode = FCC_FDET_ORACLE;
+    start(&cfg);
+    /* the detector is armed once the MLS has replaced its prior */
+    uint32_t k = 0u;
+    for (; k < 2u * FCC_MLS_DEFAULT_MIN_TRANSITIONS; ++k) {
+        double a, q, de;
+        flight(k, &a, &q, &de);
+        mem_push_cdrw(&g_mem, k, a, q, de);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+    }
+    run();
+    assert_false(g_node.sid.loop[FCC_SID_AZKF].last.model_is_prior);
+    fcc_msg_data_t ev;
+    memset(&ev, 0, sizeof ev);
+    ev.sim_event.active = true;
+    ev.sim_event.oracle_fault = true;
+    ev.sim_event.kind = FCC_MSG_SIM_EVENT_KIND_SPIKE;
+    ev.sim_event.target_id = FCC_MSG_CDRW_AOA_ID;
+    double a, q, de;
+    flight(k, &a, &q, &de);
+    mem_push_cdrw(&g_mem, k, a, q, de);
+    fcc_assert_ok(mem_push(&g_mem, FCC_MSG_SIM_EVENT, &ev));
+    mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+    size_t first = g_mem.tx_n;
+    run();
+    fcc_msg_data_t st = mem_decode_tx(&g_mem, (long)first);
+    assert_true(st.sid_azkf_state.fault);
+    assert_int_equal(st.sid_azkf_state.order, cfg.sid.base.azkf.q_fault);
+    assert_true(mem_decode_tx(&g_mem, (long)first + 8).sid_kf_state.fault); /* shown on every row */
+    ev.sim_event.active = false;
+    ev.sim_event.oracle_fault = false;
+    fcc_assert_ok(mem_push(&g_mem, FCC_MSG_SIM_EVENT, &ev));
+    ++k;
+    flight(k, &a, &q, &de);
+    mem_push_cdrw(&g_mem, k, a, q, de);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+    first = g_mem.tx_n;
+    run();
+    st = mem_decode_tx(&g_mem, (long)first);
+    assert_false(st.sid_azkf_state.fault);
+    assert_int_equal(st.sid_azkf_state.order, cfg.sid.base.azkf.q_normal);
+    assert_int_equal(g_node.cnt.oracle_events, 2u);
+}
+
+/* ---- heartbeat, modes, failures ---------------------------------------------------- */
+
+static void test_heartbeat_frames(void **state)
+{
+    (void)state;
+    start(NULL);
+    for (uint32_t k = 0u; k < 3u; ++k) {
+        mem_push_cdrw(&g_mem, k, 0.1, 0.0, 0.0);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+    }
+    g_mem.rx[0].data[0] ^= 1u; /* one CRC error */
+    run();
+    (void)msl_step(0u, true, false); /* no accelerometer: held? never seen -> stale */
+    const size_t first = g_mem.tx_n;
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_int_equal(g_mem.tx_n - first, 5u);
+    for (unsigned int i = 0u; i < 5u; ++i) {
+        assert_int_equal(g_mem.tx[first + i].id, 0x700u + i);
+    }
+    const fcc_msg_data_t s = mem_decode_tx(&g_mem, (long)first);
+    assert_int_equal(s.fcc_status.mode, FCC_MODE_LOCKSTEP);
+    assert_int_equal(s.fcc_status.cdrw_steps, 3u);
+    assert_int_equal(s.fcc_status.msl_steps, 1u);
+    assert_true(s.fcc_status.e2e_fault);
+    assert_true(s.fcc_status.msl_degraded);
+    assert_false(s.fcc_status.cdrw_degraded);
+    assert_true(s.fcc_status.sensor_stale);
+    assert_true(s.fcc_status.worst_step_us > 0u);
+    const fcc_msg_data_t c = mem_decode_tx(&g_mem, (long)first + 1);
+    const fcc_msg_data_t f = mem_decode_tx(&g_mem, (long)first + 2);
+    const fcc_msg_data_t b = mem_decode_tx(&g_mem, (long)first + 4);
+    /* 9 CDRW sensor frames (1 bad) + 3 ticks + 1 gyro + 1 tick = 13 OK */
+    assert_int_equal(c.fcc_e2_e_counts.ok, 13u);
+    assert_int_equal(f.fcc_e2_e_faults.error, 1u);
+    assert_int_equal(f.fcc_e2_e_faults.no_new_data, 1u);
+    assert_int_equal(f.fcc_e2_e_faults.stale_now, 1u);
+    assert_int_equal(b.fcc_bus_counts.bus_errors, 7u);
+    /* the since-last-heartbeat flag is cleared */
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_false(mem_decode_tx(&g_mem, (long)first + 5).fcc_status.e2e_fault);
+}
+
+static void test_realtime_mode_and_disabled_app(void **state)
+{
+    (void)state;
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    cfg.mode = FCC_MODE_REALTIME;
+    cfg.app_enabled[FCC_APP_CDRW] = false;
+    start(&cfg);
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 0u);
+    run();
+    assert_int_equal(g_mem.tx_n, 0u); /* ticks are not answered in realtime */
+    assert_int_equal(g_node.app[FCC_APP_MSL].ticks_ignored, 1u);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].ticks_ignored, 1u);
+    mem_push_gyro(&g_mem, 500u, 0.2); /* the step field is not compared in realtime */
+    mem_push_accel(&g_mem, 17u, 10.0);
+    run();
+    fcc_assert_ok(fcc_node_run_step(&g_node, FCC_APP_MSL, 0u));
+    assert_int_equal(g_mem.tx_n, 2u); /* command and estimate, no ACK */
+    assert_false(mem_decode_tx(&g_mem, 0).msl_elev_cmd.degraded);
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_int_equal(mem_decode_tx(&g_mem, 2).fcc_status.mode, FCC_MODE_REALTIME);
+    fcc_node_note_overrun(&g_node, FCC_APP_MSL, 2u, 5u);
+    assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 2u);
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 7);
+    assert_true(s.fcc_status.overrun);
+    assert_int_equal(s.fcc_status.overruns, 2u);
+}
+
+static void test_transmit_failures_are_counted(void **state)
+{
+    (void)state;
+    start(NULL);
+    g_mem.fail_send = true;
+    mem_push_gyro(&g_mem, 0u, 0.1);
+    mem_push_accel(&g_mem, 0u, 1.0);
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
+    run();
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps, 1u);
+    assert_int_equal(g_node.cnt.tx_failed, 3u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 3u);
+    g_mem.fail_send = false;
+    (void)msl_step(1u, true, true);
+    assert_int_equal(g_node.cnt.tx_frames, 3u);
+}
+
+/* ---- garbage at full rate ----------------------------------------------------------- */
+
+static uint32_t lcg(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+
+static void check_outputs_sane(size_t from)
+{
+    for (size_t i = from; i < g_mem.tx_n; ++i) {
+        const fcc_msg_data_t d = mem_decode_tx(&g_mem, (long)i); /* in range, so finite */
+        if (g_mem.tx[i].id == FCC_MSG_MSL_ELEV_CMD_ID) {
+            const int32_t half = 1 << (d.msl_elev_cmd.da_bits - 1u);
+            assert_true(d.msl_elev_cmd.da_code >= -half && d.msl_elev_cmd.da_code < half);
+        }
+        for (unsigned int s = 0u;; ++s) {
+            fcc_msg_t m;
+            fcc_assert_ok(fcc_bus_find(g_mem.tx[i].id, &m));
+            fcc_real_t r;
+            int64_t n;
+            if (fcc_bus_signal_get(m, s, &d, &r, &n) != FCC_OK) {
+                break;
+            }
+            assert_true(FCC_IS_FINITE(r));
+        }
+    }
+}
+
+static void test_garbage_never_crashes_nor_sends_nan(void **state)
+{
+    (void)state;
+    start(NULL);
+    uint32_t seed = 12345u;
+    uint32_t k[2] = {0u, 0u};
+    static const uint32_t ids[] = {0x010, 0x020, 0x040, 0x041, 0x050, 0x051, 0x052, 0x710,
+                                   0x7F0, 0x555, 0x000, 0x7FF, 0x110};
+    for (unsigned int round = 0u; round < 400u; ++round) {
+        const size_t from = g_mem.tx_n;
+        for (unsigned int j = 0u; j < 40u; ++j) {
+            uint8_t data[8];
+            for (unsigned int b = 0u; b < 8u; ++b) {
+                data[b] = (uint8_t)lcg(&seed);
+            }
+            const uint32_t id = ids[lcg(&seed) % (sizeof ids / sizeof ids[0])];
+            const uint8_t dlc = (lcg(&seed) % 4u == 0u) ? (uint8_t)(lcg(&seed) % 9u) : 8u;
+            fcc_msg_t m;
+            /* (not for SIM_TICK: a good tick far ahead would, by design, make the
+             * real ticks "behind" until the next reset) */
+            if (lcg(&seed) % 2u == 0u && fcc_bus_find(id, &m) == FCC_OK &&
+                fcc_bus_desc(m)->data_id != 0u && id != FCC_MSG_SIM_TICK_ID) {
+                /* valid CRC around random contents: reaches the range checks */
+                (void)fcc_e2e_protect(fcc_bus_desc(m)->data_id, (uint8_t)(lcg(&seed) % 16u), data);
+            }
+            if (id == 0x010u && data[1] >> 4 == 1u) {
+                data[1] &= 0x0Fu; /* no random shutdown: the test goes on */
+            }
+            mem_push_raw(&g_mem, id, data, dlc);
+        }
+        const uint32_t app = lcg(&seed) % 2u;
+        k[app] += 1u + lcg(&seed) % 3u;
+        if (app == FCC_APP_MSL) {
+            mem_push_gyro(&g_mem, k[app], 30.0 * sin((double)round)); /* beyond +-20: refused */
+            mem_push_accel(&g_mem, k[app], 200.0 * cos((double)round));
+        } else {
+            mem_push_cdrw(&g_mem, k[app], 0.2 * sin((double)round), 0.5, 0.01);
+        }
+        mem_push_tick(&g_mem, app, k[app]);
+        run();
+        check_outputs_sane(from);
+        if (g_node.shutdown) {
+            g_node.shutdown = false;
+        }
+    }
+    assert_true(g_node.app[FCC_APP_MSL].steps > 50u);
+    assert_true(g_node.app[FCC_APP_CDRW].steps > 50u);
+    /* good frames again: both applications recover on their own */
+    fcc_assert_ok(fcc_node_reset(&g_node));
+    fcc_assert_ok(fcc_bus_init_masks(&g_mem.sim, g_mem.sim.consumes, g_mem.sim.produces));
+    const size_t from = g_mem.tx_n;
+    for (uint32_t j = 0u; j < 3u; ++j) {
+        (void)msl_step(j, true, true);
+        mem_push_cdrw(&g_mem, j, 0.1, 0.0, 0.0);
+        mem_push_tick(&g_mem, FCC_APP_CDRW, j);
+        run();
+    }
+    check_outputs_sane(from);
+    assert_false(g_node.app[FCC_APP_MSL].last_degraded);
+    assert_false(g_node.app[FCC_APP_CDRW].last_degraded);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_cdrw_steps_match_the_sid_loops),
+        cmocka_unit_test(test_missile_commands_match_the_lqg),
+        cmocka_unit_test(test_missing_sensor_held_then_stale_then_recovered),
+        cmocka_unit_test(test_ticks_repeated_lost_behind),
+        cmocka_unit_test(test_bad_frames_degrade_and_are_counted),
+        cmocka_unit_test(test_misaligned_frame),
+        cmocka_unit_test(test_redesign_is_switched_in_between_steps),
+        cmocka_unit_test(test_pending_requests_merge),
+        cmocka_unit_test(test_reset_and_shutdown),
+        cmocka_unit_test(test_oracle_fault_flag),
+        cmocka_unit_test(test_heartbeat_frames),
+        cmocka_unit_test(test_realtime_mode_and_disabled_app),
+        cmocka_unit_test(test_transmit_failures_are_counted),
+        cmocka_unit_test(test_garbage_never_crashes_nor_sends_nan),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,213 @@
+/*
+ * test_app_port.h -- an in-memory port for the tests of firmware/app: frames
+ * queued for the node to receive, every frame it sends captured in order, a
+ * clock the test moves, every event recorded.  No bus, no OS: the node under
+ * test is the real one, only the wires are replaced.
+ *
+ * The simulator side encodes with the real frame layer (its own fcc_bus_t
+ * that produces the simulator's and the sensors' messages), so frames carry
+ * real E2E protection.
+ */
+#ifndef TEST_APP_PORT_H
+#define TEST_APP_PORT_H
+
+#include <string.h>
+
+#include "fcc_node.h"
+
+#define MEM_RX_MAX 1024u
+#define MEM_TX_MAX 8192u
+
+typedef struct {
+    fcc_can_frame_t rx[MEM_RX_MAX];
+    size_t rx_head;
+    size_t rx_n;
+    fcc_can_frame_t tx[MEM_TX_MAX];
+    size_t tx_n;
+    uint64_t now_us;
+    uint64_t step_us;      /* the clock advances this much per reading */
+    bool fail_send;        /* the "interface" refuses every frame */
+    uint32_t ev_count[FCC_EV_COUNT];
+    fcc_event_t last_ev[FCC_EV_COUNT];
+    fcc_bus_t sim;         /* the simulator's frame layer */
+} mem_port_t;
+
+static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
+{
+    mem_port_t *p = ctx;
+    if (p->fail_send) {
+        return FCC_ERR_IO;
+    }
+    if (p->tx_n < MEM_TX_MAX) {
+        p->tx[p->tx_n++] = *f;
+    }
+    return FCC_OK;
+}
+
+static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
+{
+    mem_port_t *p = ctx;
+    if (p->rx_head == p->rx_n) {
+        p->rx_head = p->rx_n = 0u;
+        return FCC_ERR_AGAIN;
+    }
+    *f = p->rx[p->rx_head++];
+    return FCC_OK;
+}
+
+static fcc_status_t mem_counters(void *ctx, fcc_can_port_counters_t *out)
+{
+    (void)ctx;
+    memset(out, 0, sizeof *out);
+    out->bus_errors = 7u; /* a recognisable value for the heartbeat test */
+    return FCC_OK;
+}
+
+static uint64_t mem_now(void *ctx)
+{
+    mem_port_t *p = ctx;
+    p->now_us += p->step_us;
+    return p->now_us;
+}
+
+static void mem_event(void *ctx, const fcc_event_t *ev)
+{
+    mem_port_t *p = ctx;
+    if ((unsigned int)ev->cls < (unsigned int)FCC_EV_COUNT) {
+        ++p->ev_count[ev->cls];
+        p->last_ev[ev->cls] = *ev;
+    }
+}
+
+static void mem_init(mem_port_t *p, fcc_port_t *port)
+{
+    memset(p, 0, sizeof *p);
+    p->step_us = 10u;
+    memset(port, 0, sizeof *port);
+    port->can.ctx = p;
+    port->can.send = mem_send;
+    port->can.recv = mem_recv;
+    port->can.counters = mem_counters;
+    port->now_us = mem_now;
+    port->clock_ctx = p;
+    port->event = mem_event;
+    port->event_ctx = p;
+    uint32_t produces = 0u;
+    uint32_t consumes = 0u;
+    for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
+        const fcc_bus_msg_desc_t *d = fcc_bus_desc((fcc_msg_t)i);
+        if ((d->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
+            consumes |= 1uL << i;
+        } else {
+            produces |= 1uL << i;
+        }
+    }
+    (void)fcc_bus_init_masks(&p->sim, consumes, produces);
+}
+
+/* Queue raw bytes as they are (fault injection). */
+static void mem_push_raw(mem_port_t *p, uint32_t id, const uint8_t *data, uint8_t dlc)
+{
+    fcc_can_frame_t *f = &p->rx[p->rx_n++];
+    memset(f, 0, sizeof *f);
+    f->id = id;
+    f->dlc = dlc;
+    memcpy(f->data, data, dlc);
+    f->t_us = p->now_us;
+}
+
+/* Encode (E2E-protected) and queue; returns the encode status. */
+static fcc_status_t mem_push(mem_port_t *p, fcc_msg_t msg, const fcc_msg_data_t *d)
+{
+    fcc_can_frame_t f;
+    const fcc_status_t st = fcc_bus_encode(&p->sim, msg, d, &f);
+    if (st == FCC_OK) {
+        mem_push_raw(p, f.id, f.data, f.dlc);
+    }
+    return st;
+}
+
+static void mem_push_tick(mem_port_t *p, uint32_t app, uint32_t k)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.sim_tick.app = (uint8_t)app;
+    d.sim_tick.step = k;
+    (void)mem_push(p, FCC_MSG_SIM_TICK, &d);
+}
+
+static void mem_push_cdrw(mem_port_t *p, uint32_t k, double alpha, double q, double de)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.cdrw_aoa.step = (uint16_t)k;
+    d.cdrw_aoa.alpha = (fcc_real_t)alpha;
+    (void)mem_push(p, FCC_MSG_CDRW_AOA, &d);
+    memset(&d, 0, sizeof d);
+    d.cdrw_pitch_rate.step = (uint16_t)k;
+    d.cdrw_pitch_rate.q = (fcc_real_t)q;
+    (void)mem_push(p, FCC_MSG_CDRW_PITCH_RATE, &d);
+    memset(&d, 0, sizeof d);
+    d.cdrw_elevator.step = (uint16_t)k;
+    d.cdrw_elevator.delta_e = (fcc_real_t)de;
+    (void)mem_push(p, FCC_MSG_CDRW_ELEVATOR, &d);
+}
+
+static void mem_push_gyro(mem_port_t *p, uint32_t k, double q_g)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.msl_rate_gyro.step = (uint16_t)k;
+    d.msl_rate_gyro.q_g = (fcc_real_t)q_g;
+    (void)mem_push(p, FCC_MSG_MSL_RATE_GYRO, &d);
+}
+
+static void mem_push_accel(mem_port_t *p, uint32_t k, double n_a)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.msl_accelerometer.step = (uint16_t)k;
+    d.msl_accelerometer.n_a = (fcc_real_t)n_a;
+    (void)mem_push(p, FCC_MSG_MSL_ACCELEROMETER, &d);
+}
+
+static void mem_push_control(mem_port_t *p, uint8_t command, double period, uint8_t bits)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.sim_control.command = command;
+    d.sim_control.lqg_period = (fcc_real_t)period;
+    d.sim_control.da_bits = bits;
+    (void)mem_push(p, FCC_MSG_SIM_CONTROL, &d);
+}
+
+/* Index of the n-th (0-based) sent frame with identifier id at or after
+ * index from, or -1. */
+static long mem_find_tx(const mem_port_t *p, size_t from, uint32_t id, unsigned int n)
+{
+    for (size_t i = from; i < p->tx_n; ++i) {
+        if (p->tx[i].id == id) {
+            if (n == 0u) {
+                return (long)i;
+            }
+            --n;
+        }
+    }
+    return -1;
+}
+
+/* Decode sent frame i (no E2E check: the checks of the receiving side are
+ * tested elsewhere); fails the test if it does not decode in range. */
+static fcc_msg_data_t mem_decode_tx(const mem_port_t *p, long i)
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    fcc_msg_t m;
+    if (i < 0 || fcc_bus_find(p->tx[i].id, &m) != FCC_OK ||
+        fcc_bus_decode(m, p->tx[i].data, &d) != FCC_OK) {
+        fail_msg("sent frame %ld does not decode", i);
+    }
+    return d;
+}
+
+#endif /* TEST_APP_PORT_H */

@@ -1,0 +1,130 @@
+"""The DBC itself: loads cleanly, follows the bus contract, bus load as documented."""
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import cantools
+import pytest
+
+from hil.bus import busload as load, dbc
+
+DBC = dbc.DEFAULT_DBC
+SENSORS = ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR", "MSL_RATE_GYRO", "MSL_ACCELEROMETER")
+COMMANDS = ("SIM_CONTROL", "SIM_TICK", "FCC_ACK", "MSL_ELEV_CMD")
+SID_FILTERS = ("AZKF", "ZKF", "KF")
+
+
+@pytest.fixture(scope="module")
+def spec() -> dbc.BusSpec:
+    return dbc.load(DBC)
+
+
+def test_loads_strictly_without_warnings() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        db = cantools.database.load_file(str(DBC), strict=True)
+    assert len(db.messages) >= 25
+    assert db.buses[0].baudrate == 500_000
+
+
+def test_cantools_dump_is_clean() -> None:
+    r = subprocess.run([sys.executable, "-m", "cantools", "dump", str(DBC)],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 0
+    assert r.stderr == ""
+    assert "SIM_TICK" in r.stdout and "Cycle time:     20 ms" in r.stdout
+
+
+def test_nodes(spec: dbc.BusSpec) -> None:
+    assert set(spec.nodes) >= {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR",
+                               "MSL_GYRO", "MSL_ACCEL", "FCC"}
+    # each CDRW sensor is its own node, so each can fail alone
+    senders = [spec.by_name(n).senders for n in SENSORS]
+    assert len({s for group in senders for s in group}) == len(SENSORS)
+
+
+def test_classic_frames_and_comments(spec: dbc.BusSpec) -> None:
+    for m in spec.messages:
+        assert m.length == 8 and m.frame_id <= 0x7FF, m.name
+        assert m.message.comment, f"{m.name} has no comment"
+        assert m.senders and m.receivers, m.name
+        for s in m.message.signals:
+            assert s.comment, f"{m.name}.{s.name} has no comment"
+            assert s.minimum is not None and s.maximum is not None, f"{m.name}.{s.name}"
+
+
+def test_priorities(spec: dbc.BusSpec) -> None:
+    top = max(spec.by_name(n).frame_id for n in COMMANDS)
+    sensors = [spec.by_name(n).frame_id for n in SENSORS]
+    outputs = [m.frame_id for m in spec.messages if m.name.startswith(("SID_", "MSL_STATE"))]
+    status = [m.frame_id for m in spec.messages
+              if m.name.startswith(("FCC_STATUS", "FCC_E2E", "FCC_REJECT", "FCC_BUS", "SIM_EVENT"))]
+    assert top < min(sensors)
+    assert max(sensors) < min(outputs)
+    assert max(outputs) < min(status)
+
+
+def test_e2e_on_every_sensor_and_command(spec: dbc.BusSpec) -> None:
+    protected = [m for m in spec.messages if m.protected]
+    assert {m.name for m in protected} >= set(SENSORS) | set(COMMANDS) | {"SIM_EVENT"}
+    assert len({m.data_id for m in protected}) == len(protected), "data IDs must be unique"
+    for m in protected:
+        crc = m.message.get_signal_by_name("crc")
+        counter = m.message.get_signal_by_name("counter")
+        assert (crc.start, crc.length, crc.byte_order) == (0, 8, "little_endian")
+        assert (counter.start, counter.length) == (8, 4)
+        assert 1 <= m.max_delta_counter <= 14
+
+
+def test_resolution_and_ranges(spec: dbc.BusSpec) -> None:
+    for m in spec.messages:
+        for s in m.data_signals:
+            if s.unit in ("rad", "rad/s"):
+                assert 1.0 / s.inv_scale <= 1e-4, f"{m.name}.{s.name} coarser than 1e-4"
+            if not s.is_integer:  # float build exactness: |raw| <= 2^21
+                assert max(abs(s.raw_min), abs(s.raw_max)) <= 1 << 21, f"{m.name}.{s.name}"
+    for name in ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"):
+        sig = spec.by_name(name).data_signals[-1]
+        assert sig.inv_scale == 1_000_000, "CDRW sensors: 1e-6 resolution"
+    gyro = spec.by_name("MSL_RATE_GYRO").message.get_signal_by_name("q_g")
+    accel = spec.by_name("MSL_ACCELEROMETER").message.get_signal_by_name("n_a")
+    assert (gyro.minimum, gyro.maximum) == (-20, 20)
+    assert (accel.minimum, accel.maximum) == (-4000, 4000)
+
+
+def test_identification_outputs_same_layout(spec: dbc.BusSpec) -> None:
+    for part in ("STATE", "BOUNDS", "MODEL_A", "MODEL_B"):
+        layouts = {tuple((s.name, s.start, s.length, s.signed, s.inv_scale)
+                         for s in spec.by_name(f"SID_{f}_{part}").signals) for f in SID_FILTERS}
+        assert len(layouts) == 1, part
+    names = {s.name for p in ("STATE", "BOUNDS", "MODEL_A", "MODEL_B")
+             for s in spec.by_name(f"SID_AZKF_{p}").signals}
+    assert names >= {"alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi", "a11", "a12",
+                     "a21", "a22", "b1", "b2", "rho", "gain_norm", "order", "fault", "degraded"}
+
+
+def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]:
+    names = [m.name for m in spec.messages]
+    rates = load.default_rates(names, {m.name: m.cycle_ms for m in spec.messages},
+                               missile_period_s=missile_period_s)
+    frames = sum(rates.values())
+    bits = sum(r * load.worst_case_bits(spec.by_name(n).length) for n, r in rates.items())
+    return frames, load.load_percent(bits, spec.baudrate)
+
+
+def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
+    frames, pct = _load_pct(spec, 0.05)
+    assert frames == pytest.approx(1020)
+    assert pct == pytest.approx(27.54)
+    assert pct < 40.0
+    frames_fast, pct_fast = _load_pct(spec, 0.02)
+    assert frames_fast == pytest.approx(1200)
+    assert pct_fast < 40.0
+    readme = (DBC.parent / "README.md").read_text()
+    assert f"**{pct:.1f} %**" in readme
+    assert f"**{pct_fast:.1f} %**" in readme
+    assert re.search(r"\*\*1020\*\*", readme)

@@ -1,0 +1,212 @@
+"""sid_replay (firmware/tools/sid_replay) against the numpy reference.
+
+Same flight, same configuration: every column of every row must agree with
+hil.reference (the firmware's maths checked by an independent
+implementation), bad input must give one line on stderr and a non-zero exit,
+and the error table of the paper (Tables 4-5) is computed on a synthetic
+flight with one spike fault.
+"""
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hil.reference import MlsConfig, Model, SidConfig, batch_fit
+from hil.reference.flight import Flight, synthetic_flight
+from hil.reference.metrics import error_table, format_table, read_rows, rows_to_arrays
+from hil.reference.sid import COLUMNS, replay, replay_mls_only
+from hil.reference.zkf import AzkfConfig, DetectorConfig
+
+from conftest import build_dir
+
+
+def _is_float_build() -> bool:
+    cache = build_dir() / "CMakeCache.txt"
+    return cache.exists() and "FCC_REAL:STRING=float" in cache.read_text()
+
+
+FLOAT = _is_float_build()
+
+
+@pytest.fixture(scope="module")
+def tool(bin_path) -> Path:
+    return bin_path("sid_replay")
+
+
+@pytest.fixture(scope="module")
+def flight() -> Flight:
+    return synthetic_flight()
+
+
+def run(tool: Path, stdin: str, *args: str, check: bool = True) -> subprocess.CompletedProcess:
+    res = subprocess.run([str(tool), *args], input=stdin, capture_output=True, text=True,
+                         timeout=60)
+    if check:
+        assert res.returncode == 0, res.stderr
+    return res
+
+
+def assert_rows_match(c: dict, r: dict, tol: float) -> None:
+    assert c.keys() == r.keys()
+    for name in c:
+        for col, ref in r[name].items():
+            np.testing.assert_allclose(c[name][col], ref, rtol=tol, atol=tol,
+                                       err_msg=f"{name}.{col}")
+
+
+def test_output_format(tool: Path, flight: Flight) -> None:
+    out = run(tool, flight.csv()).stdout.splitlines()
+    assert out[0] == ",".join(COLUMNS)
+    assert len(out) == 1 + 3 * len(flight.t)
+    assert [line.split(",")[1] for line in out[1:4]] == ["kf", "zkf", "azkf"]
+    only = run(tool, flight.csv(), "--filter", "azkf").stdout.splitlines()
+    assert len(only) == 1 + len(flight.t) and all(",azkf," in line for line in only[1:])
+
+
+@pytest.mark.parametrize("args, cfg", [
+    ((), SidConfig()),
+    (("--fault-policy", "skip"), SidConfig(azkf=AzkfConfig(policy="skip"))),
+    (("--detector", "oracle", "--zkf-order", "12", "--window", "60", "--ridge", "0.01"),
+     SidConfig(zkf_order=12, mls=MlsConfig(window=60, ridge=0.01),
+               azkf=AzkfConfig(det=DetectorConfig(mode="oracle")))),
+    (("--q-normal", "6", "--q-fault", "40", "--margin", "3", "--clear", "5", "--hold", "2"),
+     SidConfig(azkf=AzkfConfig(q_normal=6, q_fault=40,
+                               det=DetectorConfig(margin=3.0, clear_count=5, hold_count=2)))),
+    (("--x0", "0.1,0.05", "--p0", "0.05,0.2", "--e", "0.006", "--f", "0.03,0.001,0,0.025"),
+     SidConfig(x0=np.array([0.1, 0.05]), p0=np.diag([0.05, 0.2]), e=0.006 * np.eye(2),
+               f=np.array([[0.03, 0.001], [0.0, 0.025]]))),
+])
+def test_matches_reference(tool: Path, flight: Flight, args: tuple, cfg: SidConfig) -> None:
+    if FLOAT:
+        cfg.mls.max_cond = 1e4  # the float build's documented default
+    c = read_rows(run(tool, flight.csv(), *args).stdout)
+    r = rows_to_arrays(replay(flight.t, flight.y, flight.de, flight.fault, cfg))
+    assert_rows_match(c, r, 2e-3 if FLOAT else 1e-9)
+
+
+def test_fixed_model_checks_each_filter_alone(tool: Path, flight: Flight) -> None:
+    model = Model.from_flat([0.975, 0.019, -0.35, 0.95, -0.004, -0.55])
+    args = ("--fixed-model", ",".join(f"{v:.17g}" for v in model.flat()))
+    c = read_rows(run(tool, flight.csv(), *args).stdout)
+    cfg = SidConfig(mls_enabled=False, mls=MlsConfig(prior=model))
+    r = rows_to_arrays(replay(flight.t, flight.y, flight.de, flight.fault, cfg))
+    assert_rows_match(c, r, 1e-4 if FLOAT else 1e-10)
+    for name in c:
+        assert np.all(c[name]["a21"] == c[name]["a21"][0])
+
+
+def test_mls_only_recovers_the_model(tool: Path, flight: Flight) -> None:
+    """Exact states of a constant linear model, no noise: A, B to 1e-9."""
+    a, b = flight.a[0], flight.b[0]
+    x = np.empty_like(flight.x)
+    x[0] = flight.x[0]
+    for k in range(len(x) - 1):
+        x[k + 1] = a @ x[k] + b * flight.de[k]
+    exact = Flight(flight.t, flight.de, x, x, x, flight.fault, flight.a, flight.b)
+    out = read_rows(run(tool, exact.csv(), "--mls-only", "--ridge", "0").stdout)["mls"]
+    fit = np.column_stack([out[c] for c in ("a11", "a12", "a21", "a22", "b1", "b2")])
+    tol = 1e-3 if FLOAT else 1e-9
+    np.testing.assert_allclose(fit[-1], np.concatenate([a.ravel(), b]), atol=tol)
+    np.testing.assert_allclose(out["alpha_hat"], x[:, 0], rtol=1e-6 if FLOAT else 0)
+
+
+def test_mls_only_equals_batch_least_squares(tool: Path, flight: Flight) -> None:
+    """On noisy states (the truth of a time-varying model): the window's lstsq."""
+    h = 80
+    out = read_rows(run(tool, flight.csv(), "--mls-only", "--window", str(h)).stdout)["mls"]
+    ref = rows_to_arrays(replay_mls_only(flight.t, flight.y, flight.de, MlsConfig(window=h)))
+    tol = 5e-3 if FLOAT else 1e-9
+    for col in ("a11", "a12", "a21", "a22", "b1", "b2", "rho"):
+        np.testing.assert_allclose(out[col], ref["mls"][col], atol=tol, err_msg=col)
+    y, de = flight.y, flight.de
+    k = len(y) - 1
+    batch = batch_fit(y[k - h:k], de[k - h:k], y[k - h + 1:k + 1], 1e-4, MlsConfig().prior)
+    np.testing.assert_allclose([out[c][-1] for c in ("a11", "a12", "a21", "a22", "b1", "b2")],
+                               batch.flat(), atol=tol)
+
+
+def test_same_input_same_output(tool: Path, flight: Flight) -> None:
+    first = run(tool, flight.csv()).stdout
+    assert run(tool, flight.csv()).stdout == first
+
+
+def test_no_nan_anywhere(tool: Path, flight: Flight) -> None:
+    for policy in ("order", "skip"):
+        out = read_rows(run(tool, flight.csv(), "--fault-policy", policy).stdout)
+        for cols in out.values():
+            for v in cols.values():
+                assert np.all(np.isfinite(v))
+
+
+def test_error_table_one_fault(tool: Path, flight: Flight, capsys) -> None:
+    """Table 4 of the paper on a synthetic flight: one 0.1 s spike at 4 s."""
+    res = read_rows(run(tool, flight.csv()).stdout)
+    table = error_table(flight.y_clean, flight.x, res)
+    with capsys.disabled():
+        print("\n" + format_table(table))
+    # The adaptive filter follows the sensor in normal flight (high gain)
+    # and rejects the spike: better than the KF against the truth.
+    for i in range(2):
+        assert table["azkf"]["truth"][i] < table["kf"]["truth"][i]
+        assert table["azkf"]["meas"][i] < table["kf"]["meas"][i]
+    # Every faulty sample is flagged by the default detector.
+    assert np.all(res["azkf"]["fault"][flight.fault] == 1)
+
+
+BAD_INPUTS = {
+    "nan": "t,alpha,q,de\n0,0.1,0,0\n0.02,nan,0,0\n",
+    "inf": "t,alpha,q,de\n0,0.1,0,0\n0.02,0.1,inf,0\n",
+    "absurd alpha": "t,alpha,q,de\n0,0.1,0,0\n0.02,5.0,0,0\n",
+    "absurd elevator": "t,alpha,q,de\n0,0.1,0,0\n0.02,0.1,0,3\n",
+    "not a number": "t,alpha,q,de\n0,0.1,0,0\n0.02,0.1,zero,0\n",
+    "missing column": "t,alpha,de\n0,0.1,0\n",
+    "duplicate column": "t,alpha,q,de,q\n0,0.1,0,0,0\n",
+    "field count": "t,alpha,q,de\n0,0.1,0,0\n0.02,0.1,0\n",
+    "time goes back": "t,alpha,q,de\n0,0.1,0,0\n0.04,0.1,0,0\n0.02,0.1,0,0\n",
+    "time repeats": "t,alpha,q,de\n0,0.1,0,0\n0,0.1,0,0\n",
+    "bad fault flag": "t,alpha,q,de,fault\n0,0.1,0,0,2\n",
+    "empty file": "",
+    "header only": "t,alpha,q,de\n",
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD_INPUTS))
+def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
+    res = run(tool, BAD_INPUTS[name], "--filter", "kf", "--fixed-model", "1,0,0,1,0,0",
+              check=False)
+    assert res.returncode != 0
+    assert res.stdout == ""
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sid_replay: "), res.stderr
+
+
+@pytest.mark.parametrize("args", [
+    ("--zkf-order", "100000"), ("--q-fault", "1001"), ("--q-normal", "1"),
+    ("--window", "100"),                     # longer than the 60-row flight
+    ("--window", "5000"),                    # above the compile-time bound
+    ("--detector", "oracle"),                # no fault column
+    ("--filter", "ekf"), ("--fault-policy", "drop"), ("--margin", "x"), ("--x0", "1"),
+    ("--fixed-model", "1,2,3"), ("--p0", "1,2,3"), ("--frobnicate",), ("--ridge",),
+    ("--f", "0"),                            # R = 0 is not invertible
+    ("--margin", "-1"),
+])
+def test_bad_options_one_line_and_failure(tool: Path, flight: Flight, args: tuple) -> None:
+    short = "\n".join(flight.csv(with_fault_column=False).splitlines()[:61]) + "\n"
+    res = run(tool, short, *args, check=False)
+    assert res.returncode != 0
+    assert res.stdout == ""
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sid_replay: "), res.stderr
+
+
+def test_reads_a_file_and_ignores_unknown_columns(tool: Path, flight: Flight, tmp_path) -> None:
+    lines = flight.csv().splitlines()
+    extra = [lines[0] + ",alpha_true"] + [f"{line},0.123" for line in lines[1:]]
+    path = tmp_path / "flight.csv"
+    path.write_text("\r\n".join(extra) + "\r\n")
+    assert run(tool, "", str(path)).stdout == run(tool, flight.csv()).stdout
+    res = run(tool, "", str(tmp_path / "missing.csv"), check=False)
+    assert res.returncode != 0 and len(res.stderr.strip().splitlines()) == 1

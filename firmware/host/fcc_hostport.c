@@ -65,7 +65,7 @@ static void add_counters(fcc_can_port_counters_t *acc, const fcc_can_port_counte
     acc->rx_ignored += c->rx_ignored;
 }
 
-fcc_status_t fcc_hostport_open(fcc_hostport_t *hp, const char *ifname,
+fcc_status_t fcc_hostport_init(fcc_hostport_t *hp, const char *ifname,
                                void (*event)(void *ctx, const fcc_event_t *ev), void *event_ctx)
 {
     if (hp == NULL || ifname == NULL || strlen(ifname) >= sizeof hp->ifname) {
@@ -77,10 +77,18 @@ fcc_status_t fcc_hostport_open(fcc_hostport_t *hp, const char *ifname,
     hp->cmd_id = FCC_MSG_MSL_ELEV_CMD_ID;
     hp->event = event;
     hp->event_ctx = event_ctx;
-    if (!iface_up(ifname)) {
+    return FCC_OK;
+}
+
+fcc_status_t fcc_hostport_open(fcc_hostport_t *hp)
+{
+    if (hp == NULL || hp->up) {
+        return FCC_ERR_ARG;
+    }
+    if (!iface_up(hp->ifname)) {
         return FCC_ERR_IO;
     }
-    const fcc_status_t st = fcc_socketcan_open(&hp->sc, ifname);
+    const fcc_status_t st = fcc_socketcan_open(&hp->sc, hp->ifname);
     hp->up = (st == FCC_OK);
     return st;
 }

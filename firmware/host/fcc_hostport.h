@@ -44,10 +44,15 @@ typedef struct {
 uint64_t fcc_host_monotonic_us(void);
 uint64_t fcc_host_realtime_us(void);
 
-/* Opens the interface: FCC_ERR_IO when it is missing or down (nothing kept
- * open).  event/event_ctx receive interface down/up reports. */
-fcc_status_t fcc_hostport_open(fcc_hostport_t *hp, const char *ifname,
+/* Prepares hp for interface ifname without opening it (sends fail, receive
+ * is empty until fcc_hostport_open).  event/event_ctx receive interface
+ * down/up reports. */
+fcc_status_t fcc_hostport_init(fcc_hostport_t *hp, const char *ifname,
                                void (*event)(void *ctx, const fcc_event_t *ev), void *event_ctx);
+
+/* Opens the interface: FCC_ERR_IO when it is missing or down (nothing kept
+ * open). */
+fcc_status_t fcc_hostport_open(fcc_hostport_t *hp);
 
 /* The port table for the core (ctx = hp). */
 fcc_port_t fcc_hostport_port(fcc_hostport_t *hp);

@@ -327,17 +327,24 @@ static int start(host_t *h)
         fprintf(stderr, "fcc: cannot set up signals and timers: %s\n", strerror(errno));
         return 1;
     }
-    if (fcc_hostport_open(&h->hp, h->cli.iface, fcc_report_event, &h->report) != FCC_OK) {
-        fprintf(stderr, "fcc: cannot open CAN interface '%s': it does not exist, is down, or "
-                "the kernel has no CAN support\n", h->cli.iface);
-        return 1;
+    if (fcc_hostport_init(&h->hp, h->cli.iface, fcc_report_event, &h->report) != FCC_OK) {
+        fprintf(stderr, "fcc: bad interface name '%s'\n", h->cli.iface);
+        return 2;
     }
+    /* The applications first: a configuration the firmware refuses (e.g. F
+     * singular, a design that fails for these variances) is a command-line
+     * error, whatever the bus. */
     const fcc_port_t port = fcc_hostport_port(&h->hp);
     const fcc_status_t st = fcc_node_init(&h->node, &h->cli.node, &port);
     if (st != FCC_OK) {
-        fprintf(stderr, "fcc: start-up failed: %s (LQG design for T = %g s or the "
-                "identification configuration)\n", fcc_status_str(st),
-                (double)h->cli.node.msl.period);
+        fprintf(stderr, "fcc: configuration refused by the firmware: %s (identification "
+                "generators --p0/--e/--f, or no LQG design for T = %g s with these variances)\n",
+                fcc_status_str(st), (double)h->cli.node.msl.period);
+        return 2;
+    }
+    if (fcc_hostport_open(&h->hp) != FCC_OK) {
+        fprintf(stderr, "fcc: cannot open CAN interface '%s': it does not exist, is down, or "
+                "the kernel has no CAN support\n", h->cli.iface);
         return 1;
     }
     h->start_us = fcc_host_monotonic_us();
@@ -381,8 +388,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "fcc: %s\n", err);
         return 2;
     }
-    if (start(h) != 0) {
-        return 1;
+    const int rc = start(h);
+    if (rc != 0) {
+        return rc;
     }
     while (loop_once(h)) {
     }

@@ -22,7 +22,9 @@
  * that belong to its n eigenvalues inside the unit circle span [U1; U2]
  * and X = U2 U1^-1.  A complex pair contributes the real and imaginary parts
  * of its vector (the real invariant subspace), so everything stays real.
- * Needs A~ invertible (FCC_ERR_SINGULAR otherwise; use doubling then).
+ * Needs A~ invertible (FCC_ERR_SINGULAR otherwise; use doubling then).  An
+ * eigenvalue of Z on the unit circle (within 4 sqrt(eps)), or a singular U1,
+ * means there is no stabilising solution: FCC_ERR_NOT_STABILIZABLE.
  *
  * fcc_dare_doubling: the structure-preserving doubling algorithm (Chu, Fan,
  * Lin & Wang 2004): A_0 = A~, G_0 = G, H_0 = Q~,

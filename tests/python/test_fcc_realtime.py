@@ -43,27 +43,30 @@ def test_realtime_paces_both_applications(bin_path, tmp_path):
     fcc = Fcc(bin_path("fcc"), ("--mode", "realtime", "--duration", "3"), tmp_path).start()
     try:
         fcc.wait_ready()
-        t0 = time.monotonic()
-        received = feed(sim, 2.0)
-        elapsed = time.monotonic() - t0
+        received = feed(sim, 3.2)    # the whole run: fcc stops by itself after 3 s
         rc = fcc.wait(timeout=5)
+        received += sim.quiet(0.3)
     finally:
         fcc.kill()
         sim.close()
     assert rc == 0, fcc.stderr()
-    states = [d for d in received if d.name == "SID_AZKF_STATE" and d.ok]
-    cmds = [d for d in received if d.name == "MSL_ELEV_CMD" and d.ok]
-    assert not any(d.name == "FCC_ACK" for d in received)  # no lockstep answers in realtime
-    assert len(states) == pytest.approx(50 * elapsed, rel=0.15)
-    assert len(cmds) == pytest.approx(20 * elapsed, rel=0.15)
-    # fed at the same rate, most steps find a fresh (or bridged) sample
-    assert sum(d.values["degraded"] == 0 for d in cmds) >= 0.8 * len(cmds)
-    assert all(-128 <= d.values["da_code"] <= 127 for d in cmds)
     s = parse_summary(fcc.stderr())
-    assert s["cdrw"]["steps"] == pytest.approx(150, abs=3)    # 3 s at 50 Hz, no drift
+    assert "--duration elapsed" in fcc.stderr()
+    assert s["cdrw"]["steps"] == pytest.approx(150, abs=3)    # 3 s at 50 Hz on absolute deadlines
     assert s["missile"]["steps"] == pytest.approx(60, abs=2)  # 3 s at 20 Hz
     assert s["jitter_us cdrw"]["n"] == s["cdrw"]["steps"]
-    assert "--duration elapsed" in fcc.stderr()
+    assert s["jitter_us missile"]["n"] == s["missile"]["steps"]
+    states = [d for d in received if d.name == "SID_AZKF_STATE" and d.ok]
+    cmds = [d for d in received if d.name == "MSL_ELEV_CMD" and d.ok]
+    assert len(states) == s["cdrw"]["steps"]       # every step published its outputs
+    assert len(cmds) == s["missile"]["steps"]
+    assert not any(d.name == "FCC_ACK" for d in received)  # no lockstep answers in realtime
+    assert all(-128 <= d.values["da_code"] <= 127 for d in cmds)
+    # fed at the same rate by another clock: a late frame is bridged by the stale limit, so
+    # only the first steps (before the simulator's first frames) and scheduling stalls degrade
+    assert s["cdrw"]["degraded"] <= 0.2 * s["cdrw"]["steps"]
+    assert s["missile"]["degraded"] <= 0.2 * s["missile"]["steps"]
+    assert s["latency_us missile"]["n"] > 0
 
 
 def ip_link(state: str) -> None:

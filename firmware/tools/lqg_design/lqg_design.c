@@ -136,7 +136,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         default: ok = parse_long(val, &o->repeat); break;
         }
         if (!ok) {
-            return fail_usage("not a finite number", val);
+            return fail_usage("not a valid finite number", val);
         }
     }
     if (!o->have_period) {

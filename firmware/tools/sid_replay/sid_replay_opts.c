@@ -46,7 +46,8 @@ void sid_opts_usage(const char *prog)
            "  --margin M                    detector margin on the hull (%g)\n"
            "  --raise N / --hold N / --clear N  detector counts (%u / %u / %u)\n"
            "  --x0 a,q                      initial estimate (0.1571,0.0204)\n"
-           "  --p0 s | s1,s2 | p11,p12,p21,p22  initial covariance (0.1)\n"
+           "  --p0 s | s1,s2 | p11,p12,p21,p22  initial KF covariance; the ZKFs start\n"
+           "                                from its Cholesky factor (0.1)\n"
            "  --e s | e1,e2 | 4 values      process noise generators E (0.004)\n"
            "  --f s | f1,f2 | 4 values      measurement noise generators F (0.02)\n",
            prog, FCC_MLS_DEFAULT_WINDOW, FCC_MLS_MAX_WINDOW, FCC_MLS_DEFAULT_MIN_TRANSITIONS,

@@ -132,21 +132,37 @@ class FrameInjector:
         return any(isinstance(f, Silence) for f in self.timeline.active)
 
     def outgoing(self, t: float, messages: Sequence[tuple[str, Mapping[str, float | int]]],
-                 dt: float) -> list[TxFrame]:
+                 *, extras: bool = True) -> list[TxFrame]:
         """The frames that go on the bus at step time t for these messages (in order):
-        delayed frames now due, babbling-node frames of the last dt, then the messages."""
+        with extras, first the delayed frames now due and the babbling node's frames since
+        the last call; then the messages."""
         active = [(i, f) for i, f in enumerate(self.faults) if f.active(t)]
         out: list[TxFrame] = []
         silent = any(isinstance(f, Silence) for _, f in active)
-        out.extend(self._due(t))
-        for i, f in active:
-            if isinstance(f, Flood):
-                out.extend(self._flood(i, f, t))
+        if extras:
+            out.extend(self._due(t))
+            for i, f in active:
+                if isinstance(f, Flood):
+                    out.extend(self._flood(i, f, t))
         for name, values in messages:
             out.extend(self._one(t, name, values, active))
         if silent:
             self.counts["dropped"] += len(out)
             return []
+        self.counts["sent"] += len(out)
+        return out
+
+    def faulted(self, t: float, name: str) -> bool:
+        """True when a frame fault names this message explicitly and is active at t."""
+        return any(f.level == "frame" and getattr(f, "frame", "*") == name and f.active(t)
+                   for f in self.faults)
+
+    def infrastructure(self, t: float, name: str, values: Mapping[str, float | int]) -> list[TxFrame]:
+        """A rig frame (SIM_TICK, SIM_CONTROL): only faults that name it act on it; silence,
+        floods and '*' faults do not (the tick is the rig's clock, not a node)."""
+        active = [(i, f) for i, f in enumerate(self.faults)
+                  if f.active(t) and getattr(f, "frame", "*") == name]
+        out = self._one(t, name, values, active)
         self.counts["sent"] += len(out)
         return out
 
@@ -183,7 +199,7 @@ class FrameInjector:
              active: list[tuple[int, Fault]]) -> list[TxFrame]:
         frame = self._encode(t, name, values)
         msg = self.spec.by_name(name)
-        extra: list[TxFrame] = []
+        copies = 0
         for i, f in active:
             if f.level != "frame" or not self._targets(f, name):
                 continue
@@ -202,13 +218,13 @@ class FrameInjector:
                     frame = TxFrame(frame.frame_id, old, name)
                     self.counts["replayed"] += 1
             elif isinstance(f, FrameDuplicate):
-                extra.extend([frame] * f.count)
+                copies += f.count
                 self.counts["duplicated"] += f.count
             else:
                 frame = TxFrame(frame.frame_id, self._corrupt(i, f, msg, frame.data), name)
                 self.counts["corrupted"] += 1
         # copies are taken after every other fault: a duplicate repeats what was sent
-        return [frame] + [TxFrame(frame.frame_id, frame.data, name) for _ in extra]
+        return [frame] * (1 + copies)
 
     def _replay(self, name: str, t_old: float) -> bytes | None:
         best = None

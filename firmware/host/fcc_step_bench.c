@@ -1,0 +1,181 @@
+/*
+ * fcc_step_bench -- the cost of one application step of the flight computer,
+ * frames in to frames out, for scripts/bench.d/fcc.
+ *
+ *   fcc_step_bench cdrw|missile STEPS
+ *
+ * The node is the real one (firmware/app); its port is memory: the frames of
+ * every step (sensor frames + SIM_TICK, E2E-protected by the real frame
+ * layer) are built before the measurement, and sent frames are only counted.
+ * fcc_bench_measured_step() hands one step's frames to the node -- decode,
+ * E2E, range checks, the step itself, encode, E2E, send -- and is the only
+ * function run under callgrind's --toggle-collect, so the instruction count
+ * divided by STEPS is the cost of one step as the firmware would pay it.
+ * The CDRW flight is a pull-up with a 0.1 s sensor spike at 4 s (the paper's
+ * fault), so the AZKF switches to its large order for a while.
+ * Also prints the wall time per step (informative; callgrind is the measure).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "fcc_node.h"
+
+#define MAX_STEPS 20000u
+#define FRAMES_PER_STEP 4u
+
+static fcc_node_t g_node;
+static fcc_bus_t g_sim;
+static fcc_can_frame_t g_frames[MAX_STEPS][FRAMES_PER_STEP];
+static uint32_t g_sent;
+
+static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
+{
+    (void)ctx;
+    (void)f;
+    ++g_sent;
+    return FCC_OK;
+}
+
+static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
+{
+    (void)ctx;
+    (void)f;
+    return FCC_ERR_AGAIN;
+}
+
+static uint64_t mono_us(void *ctx)
+{
+    (void)ctx;
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+}
+
+static void encode(fcc_msg_t msg, const fcc_msg_data_t *d, fcc_can_frame_t *out)
+{
+    if (fcc_bus_encode(&g_sim, msg, d, out) != FCC_OK) {
+        fprintf(stderr, "fcc_step_bench: cannot encode message %d\n", (int)msg);
+        exit(1);
+    }
+}
+
+static void build_cdrw(uint32_t k, fcc_can_frame_t f[FRAMES_PER_STEP])
+{
+    const double t = 0.02 * (double)k;
+    const double de = -0.05 - 0.08 * sin(1.3 * t);
+    double alpha = 0.16 + 0.1 * sin(0.9 * t) + 0.002 * sin(17.0 * t);
+    const double q = 0.09 * cos(0.9 * t) + 0.01 * sin(11.0 * t);
+    if (t >= 4.0 && t < 4.1) {
+        alpha += 0.15; /* the sensor spike */
+    }
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.cdrw_aoa.step = (uint16_t)k;
+    d.cdrw_aoa.alpha = (fcc_real_t)alpha;
+    encode(FCC_MSG_CDRW_AOA, &d, &f[0]);
+    memset(&d, 0, sizeof d);
+    d.cdrw_pitch_rate.step = (uint16_t)k;
+    d.cdrw_pitch_rate.q = (fcc_real_t)q;
+    encode(FCC_MSG_CDRW_PITCH_RATE, &d, &f[1]);
+    memset(&d, 0, sizeof d);
+    d.cdrw_elevator.step = (uint16_t)k;
+    d.cdrw_elevator.delta_e = (fcc_real_t)de;
+    encode(FCC_MSG_CDRW_ELEVATOR, &d, &f[2]);
+    memset(&d, 0, sizeof d);
+    d.sim_tick.app = FCC_APP_CDRW;
+    d.sim_tick.step = k;
+    encode(FCC_MSG_SIM_TICK, &d, &f[3]);
+}
+
+static void build_missile(uint32_t k, fcc_can_frame_t f[FRAMES_PER_STEP])
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.msl_rate_gyro.step = (uint16_t)k;
+    d.msl_rate_gyro.q_g = (fcc_real_t)(0.1 * cos(0.7 * (double)k) + 0.3 * sin(2.1 * (double)k));
+    encode(FCC_MSG_MSL_RATE_GYRO, &d, &f[0]);
+    memset(&d, 0, sizeof d);
+    d.msl_accelerometer.step = (uint16_t)k;
+    d.msl_accelerometer.n_a = (fcc_real_t)(-3.0 + 40.0 * sin(0.45 * (double)k));
+    encode(FCC_MSG_MSL_ACCELEROMETER, &d, &f[1]);
+    memset(&d, 0, sizeof d);
+    d.sim_tick.app = FCC_APP_MSL;
+    d.sim_tick.step = k;
+    encode(FCC_MSG_SIM_TICK, &d, &f[2]);
+}
+
+/* The measured region: one step's frames through the node (noinline so that
+ * callgrind can toggle on it). */
+void fcc_bench_measured_step(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_t n)
+    __attribute__((noinline));
+void fcc_bench_measured_step(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_t n)
+{
+    for (uint32_t i = 0u; i < n; ++i) {
+        fcc_node_handle_frame(node, &frames[i]);
+    }
+}
+
+static void sim_masks(void)
+{
+    uint32_t produces = 0u;
+    uint32_t consumes = 0u;
+    for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
+        if ((fcc_bus_desc((fcc_msg_t)i)->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
+            consumes |= 1uL << i;
+        } else {
+            produces |= 1uL << i;
+        }
+    }
+    (void)fcc_bus_init_masks(&g_sim, consumes, produces);
+}
+
+int main(int argc, char **argv)
+{
+    const bool cdrw = argc == 3 && strcmp(argv[1], "cdrw") == 0;
+    const bool missile = argc == 3 && strcmp(argv[1], "missile") == 0;
+    const long steps = (argc == 3) ? strtol(argv[2], NULL, 10) : 0;
+    if ((!cdrw && !missile) || steps <= 0 || steps > (long)MAX_STEPS) {
+        fprintf(stderr, "usage: fcc_step_bench cdrw|missile STEPS (1..%u)\n", MAX_STEPS);
+        return 2;
+    }
+    fcc_node_config_t cfg;
+    fcc_port_t port;
+    memset(&port, 0, sizeof port);
+    port.can.send = mem_send;
+    port.can.recv = mem_recv;
+    port.now_us = mono_us;
+    if (fcc_node_config_default(&cfg) != FCC_OK || fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
+        fprintf(stderr, "fcc_step_bench: node start-up failed\n");
+        return 1;
+    }
+    sim_masks();
+    const uint32_t n = cdrw ? 4u : 3u;
+    for (uint32_t k = 0u; k < (uint32_t)steps; ++k) {
+        if (cdrw) {
+            build_cdrw(k, g_frames[k]);
+        } else {
+            build_missile(k, g_frames[k]);
+        }
+    }
+    const uint64_t t0 = mono_us(NULL);
+    for (uint32_t k = 0u; k < (uint32_t)steps; ++k) {
+        fcc_bench_measured_step(&g_node, g_frames[k], n);
+    }
+    const uint64_t t1 = mono_us(NULL);
+    const uint32_t app = cdrw ? FCC_APP_CDRW : FCC_APP_MSL;
+    if (g_node.app[app].steps != (uint32_t)steps) {
+        fprintf(stderr, "fcc_step_bench: %lu steps run, %ld expected\n",
+                (unsigned long)g_node.app[app].steps, steps);
+        return 1;
+    }
+    printf("app=%s steps=%ld frames_sent=%lu degraded=%lu wall_us_per_step=%.2f "
+           "node_bytes=%lu\n", argv[1], steps, (unsigned long)g_sent,
+           (unsigned long)g_node.app[app].degraded_steps, (double)(t1 - t0) / (double)steps,
+           (unsigned long)sizeof(fcc_node_t));
+    return 0;
+}

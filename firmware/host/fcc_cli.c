@@ -33,6 +33,8 @@ void fcc_cli_usage(FILE *out)
         "  --apps LIST              cdrw,missile | cdrw | missile (cdrw,missile)\n"
         "  --duration S             stop after S seconds (0: run until a signal or a shutdown frame)\n"
         "  --status-rate HZ         heartbeat rate, 0 = only at start and exit (10)\n"
+        "  --rt-priority P          run under SCHED_FIFO priority P (1..99) with memory locked;\n"
+        "                           0 = normal scheduling (0)\n"
         "  --stale-limit N          missing frames bridged with the last value before a sensor\n"
         "                           is stale and the step degraded (%u)\n"
         "missile autopilot:\n"
@@ -261,6 +263,14 @@ static int apply_run(fcc_cli_t *c, const char *name, const char *val, char *err,
     }
     if (strcmp(name, "--status-rate") == 0) {
         return get_double(name, val, 0.0, 1000.0, &c->status_rate_hz, err, len);
+    }
+    if (strcmp(name, "--rt-priority") == 0) {
+        unsigned long p = 0u;
+        if (get_uint(name, val, 0u, 99u, &p, err, len) != 0) {
+            return -1;
+        }
+        c->rt_priority = (int)p;
+        return 0;
     }
     if (strcmp(name, "--stale-limit") == 0) {
         return get_u16(name, val, 0u, 1000u, &c->node.stale_limit, err, len);

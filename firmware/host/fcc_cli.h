@@ -21,6 +21,7 @@ typedef struct {
     fcc_node_config_t node;   /* mode, apps, stale limit, both applications */
     double duration_s;        /* --duration: 0 = until a signal or a shutdown frame */
     double status_rate_hz;    /* --status-rate (10); 0 = only at start and exit */
+    int rt_priority;          /* --rt-priority: SCHED_FIFO priority, 0 = normal scheduling */
 } fcc_cli_t;
 
 /* 0: parsed and checked; 1: --help was asked (usage printed to out);

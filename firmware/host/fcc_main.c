@@ -16,6 +16,8 @@
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
+#include <sched.h>
+#include <sys/mman.h>
 #include <sys/signalfd.h>
 #include <sys/timerfd.h>
 #include <unistd.h>
@@ -320,6 +322,27 @@ static void print_summary(const host_t *h)
     fprintf(stderr, "fcc summary: events %s\n", events[0] != '\0' ? events : "none");
 }
 
+/* Real-time scheduling, as on a flight computer: the control loop is never
+ * preempted by ordinary processes and never waits for a page fault.  Refused
+ * (no privilege): one line, and the run goes on with normal scheduling. */
+static void set_rt_priority(int priority)
+{
+    if (priority <= 0) {
+        return;
+    }
+    struct sched_param sp;
+    memset(&sp, 0, sizeof sp);
+    sp.sched_priority = priority;
+    if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0) {
+        fprintf(stderr, "fcc: --rt-priority %d refused (%s): normal scheduling\n", priority,
+                strerror(errno));
+        return;
+    }
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+        fprintf(stderr, "fcc: memory not locked (%s)\n", strerror(errno));
+    }
+}
+
 static int start(host_t *h)
 {
     fcc_report_init(&h->report, stderr, FCC_REPORT_DEFAULT_INTERVAL_US, host_now);
@@ -357,6 +380,7 @@ static int start(host_t *h)
     h->next_status_us = (h->status_period_us == UINT64_MAX)
                             ? UINT64_MAX
                             : h->start_us + h->status_period_us;
+    set_rt_priority(h->cli.rt_priority);
     rt_start(h);
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
         fcc_hist_init(&h->exec[a]);

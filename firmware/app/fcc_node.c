@@ -233,6 +233,7 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
         const fcc_status_t st = fcc_app_msl_request(&node->msl, c->lqg_period, c->da_bits);
         if (st == FCC_OK) {
             ++node->cnt.configs_accepted;
+            node->config_rejected = false; /* set again if its design fails */
         } else {
             ++node->cnt.configs_rejected;
             node->config_rejected = true;

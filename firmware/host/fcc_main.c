@@ -136,7 +136,11 @@ static void rt_run_due(host_t *h)
     if (h->cli.node.mode != FCC_MODE_REALTIME) {
         return;
     }
-    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+    /* When both are due the autopilot goes first: its command closes a loop,
+     * the identification only observes. */
+    static const uint32_t k_order[FCC_N_APPS] = {FCC_APP_MSL, FCC_APP_CDRW};
+    for (uint32_t i = 0u; i < FCC_N_APPS; ++i) {
+        const uint32_t a = k_order[i];
         const uint64_t now = fcc_host_monotonic_us();
         if (h->cli.node.app_enabled[a] && now >= h->rt[a].deadline) {
             rt_release(h, a, now);
@@ -370,6 +374,7 @@ static int start(host_t *h)
                 "the kernel has no CAN support\n", h->cli.iface);
         return 1;
     }
+    set_rt_priority(h->cli.rt_priority);
     h->start_us = fcc_host_monotonic_us();
     h->end_us = (h->cli.duration_s > 0.0)
                     ? h->start_us + (uint64_t)(h->cli.duration_s * 1e6)
@@ -380,7 +385,6 @@ static int start(host_t *h)
     h->next_status_us = (h->status_period_us == UINT64_MAX)
                             ? UINT64_MAX
                             : h->start_us + h->status_period_us;
-    set_rt_priority(h->cli.rt_priority);
     rt_start(h);
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
         fcc_hist_init(&h->exec[a]);

@@ -21,13 +21,17 @@ static const char *app_name(uint8_t app)
     return (app == FCC_APP_CDRW) ? "cdrw" : (app == FCC_APP_MSL) ? "missile" : NULL;
 }
 
-static const char *msg_name(uint32_t can_id)
+/* " NAME (0x050)", or " 0x555" for an identifier the DBC does not know. */
+static void msg_text(uint32_t can_id, char *buf, size_t len)
 {
     fcc_msg_t m;
-    if (can_id != FCC_EV_NO_MSG && fcc_bus_find(can_id, &m) == FCC_OK) {
-        return fcc_bus_desc(m)->name;
+    if (can_id == FCC_EV_NO_MSG) {
+        buf[0] = '\0';
+    } else if (fcc_bus_find(can_id, &m) == FCC_OK) {
+        (void)snprintf(buf, len, " %s (0x%03lX)", fcc_bus_desc(m)->name, (unsigned long)can_id);
+    } else {
+        (void)snprintf(buf, len, " 0x%03lX", (unsigned long)can_id);
     }
-    return "unknown message";
 }
 
 /* The class-specific part of the line. */
@@ -66,6 +70,13 @@ static void detail(const fcc_event_t *ev, char *buf, size_t len)
     case FCC_EV_BUS_ERROR:
         (void)snprintf(buf, len, "%ld new", (long)ev->value);
         break;
+    case FCC_EV_IFACE_DOWN:
+        (void)snprintf(buf, len, "socket closed, probing every 0.5 s; the applications run on "
+                       "prediction");
+        break;
+    case FCC_EV_IFACE_UP:
+        (void)snprintf(buf, len, "socket reopened");
+        break;
     default:
         buf[0] = '\0';
         break;
@@ -75,12 +86,9 @@ static void detail(const fcc_event_t *ev, char *buf, size_t len)
 static void print_line(fcc_report_t *r, const fcc_event_t *ev)
 {
     char what[96];
-    char where[96] = "";
+    char where[64];
     detail(ev, what, sizeof what);
-    if (ev->can_id != FCC_EV_NO_MSG) {
-        (void)snprintf(where, sizeof where, " %s (0x%03lX)", msg_name(ev->can_id),
-                       (unsigned long)ev->can_id);
-    }
+    msg_text(ev->can_id, where, sizeof where);
     const char *app = app_name(ev->app);
     char step[48] = "";
     if (app != NULL) {
@@ -91,8 +99,9 @@ static void print_line(fcc_report_t *r, const fcc_event_t *ev)
         (void)snprintf(more, sizeof more, " [+%lu more since the last line]",
                        (unsigned long)r->suppressed[ev->cls]);
     }
-    fprintf(r->out, "fcc: %s:%s%s%s%s%s\n", fcc_event_class_str(ev->cls), where, step,
-            what[0] != '\0' ? ", " : "", what, more);
+    const char *sep = (what[0] == '\0') ? "" : (where[0] != '\0' || step[0] != '\0') ? ", " : " ";
+    fprintf(r->out, "fcc: %s:%s%s%s%s%s\n", fcc_event_class_str(ev->cls), where, step, sep, what,
+            more);
     r->suppressed[ev->cls] = 0u;
     ++r->printed[ev->cls];
 }

@@ -126,9 +126,9 @@ static void sim_masks(void)
     uint32_t consumes = 0u;
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
         if ((fcc_bus_desc((fcc_msg_t)i)->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
-            consumes |= 1uL << i;
+            consumes |= (uint32_t)(1u << i);
         } else {
-            produces |= 1uL << i;
+            produces |= (uint32_t)(1u << i);
         }
     }
     (void)fcc_bus_init_masks(&g_sim, consumes, produces);

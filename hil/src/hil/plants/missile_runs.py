@@ -175,6 +175,25 @@ class MissileSimulation:
         self.k += 1
         return self.plant.last_substeps
 
+    def advance_substeps(self, codes: "list[int]") -> np.ndarray:
+        """Like advance(), with one D/A code per sub-step (real-time rig: a command that
+        arrives during the period acts from the next sub-step).  Same noise draws as
+        advance() when every code is the same."""
+        if not self._sampled:
+            raise RuntimeError("missile: advance() before sample()")
+        if len(codes) != self.n_sub:
+            raise ValueError(f"missile: {len(codes)} codes for {self.n_sub} sub-steps")
+        h = self.period / self.n_sub
+        trace = np.empty((self.n_sub + 1, 3))
+        trace[0] = self.plant.x
+        for j, code in enumerate(codes):
+            self.plant.step_code(code, self.dac, h, 1)
+            trace[j + 1] = self.plant.x
+        self.plant.last_substeps = trace
+        self._sampled = False
+        self.k += 1
+        return trace
+
 
 @dataclass(frozen=True)
 class MissileRun:

@@ -21,7 +21,7 @@ class Kf:
         """Predict (unless first) and update with y (None: no measurement).  Returns ||K||."""
         x, p = self.x, self.p
         if self.started:
-            x = model.a @ x + model.b * de_prev                       # (10)
+            x = model.a @ x + model.b * de_prev + model.c           # (10)
             p = model.a @ p @ model.a.T + self.q                      # (11)
         k = np.zeros((2, 2))
         if y is not None:

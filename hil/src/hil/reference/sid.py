@@ -36,6 +36,7 @@ class SidConfig:
     f: np.ndarray = field(default_factory=lambda: 0.02 * np.eye(2))
     mls_enabled: bool = True
     mls_hold_on_fault: bool = True
+    arm_on_prior: bool = True
     mls: MlsConfig = field(default_factory=MlsConfig)
     zkf_order: int = 1000
     azkf: AzkfConfig = field(default_factory=AzkfConfig)
@@ -66,7 +67,7 @@ class SidLoop:
         self.cur_informed = False
 
     def _model(self) -> Model:
-        return self.mls.model if self.cfg.mls_enabled else self.cfg.mls.prior
+        return self.mls.model  # without MLS: the (effective) prior, never refitted
 
     def _learn(self, from_ok: bool, x: np.ndarray, de: float, x_next: np.ndarray,
                to_ok: bool) -> None:
@@ -96,7 +97,7 @@ class SidLoop:
             h = hull(zkf.gen)
             lo, hi = xh - h, xh + h
             if self.kind == "azkf":
-                armed = not c.mls_enabled or not self.mls.is_prior
+                armed = not c.mls_enabled or c.arm_on_prior or not self.mls.is_prior
                 gnorm, q, _, fault = self.filt.step(model, de, y if use_y else None, oracle, armed)
                 skipped = fault and c.azkf.policy == "skip"
             else:

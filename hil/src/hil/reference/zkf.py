@@ -33,7 +33,7 @@ class Zkf:
         a = model.a
         pbar = reduce_order(self.gen, q)                               # (17-18)
         m = pbar @ pbar.T
-        x_new = a @ self.x + model.b * de
+        x_new = a @ self.x + model.b * de + model.c
         g = np.zeros((2, 2))
         if y is not None:
             g = a @ m @ np.linalg.inv(m + self.r)                      # (25)

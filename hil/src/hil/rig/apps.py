@@ -49,11 +49,14 @@ Message = tuple[str, dict[str, float | int]]
 
 @dataclass
 class StepIO:
-    """What fcc answered to one step."""
+    """What fcc answered to one step.  Realtime: no ACK; t0 is the wall time (monotonic) the
+    period began and arrivals[i] the time frames[i] was received."""
 
     acked: bool
     degraded: bool = False
     frames: list[tuple[int, bytes]] = field(default_factory=list)
+    t0: float | None = None
+    arrivals: list[float] = field(default_factory=list)
 
 
 def _target_id(codec: FrameCodec, fault: object) -> int:
@@ -72,13 +75,15 @@ class AppDriver:
     name: str = ""
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, period: float, n_steps: int,
-                 star_frames: tuple[str, ...]) -> None:
+                 star_frames: tuple[str, ...], realtime: bool = False) -> None:
         self.scenario = scenario
         self.codec = codec
         self.period = period
         self.n_steps = n_steps
         self.k = 0
-        self.injector = FrameInjector(codec, scenario.faults, scenario.seed, star_frames)
+        self.realtime = realtime
+        self.injector = FrameInjector(codec, scenario.faults, scenario.seed, star_frames,
+                                      flood_frames=not realtime)
         self.events: list[FaultEvent] = []
         self._fault_index = {id(f): i for i, f in enumerate(scenario.faults)}
 
@@ -115,9 +120,10 @@ class CdrwDriver(AppDriver):
     app = APP_CDRW
     name = "cdrw"
 
-    def __init__(self, scenario: Scenario, codec: FrameCodec) -> None:
+    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False) -> None:
         self.sim = CdrwSimulation(scenario)
-        super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES)
+        super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
+                         realtime)
         self.samples: list[CdrwSample] = []
         self.steps: list[StepIO] = []
         self._frames: list[list[TxFrame]] = []
@@ -158,9 +164,10 @@ class MissileDriver(AppDriver):
     app = APP_MISSILE
     name = "missile"
 
-    def __init__(self, scenario: Scenario, codec: FrameCodec) -> None:
+    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False) -> None:
         self.sim = MissileSimulation(scenario)
-        super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES)
+        super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES,
+                         realtime)
         self.bits = self.sim.dac.bits
         self._cmd = codec.spec.by_name("MSL_ELEV_CMD")
         self._est = codec.spec.by_name("MSL_STATE_EST")
@@ -172,6 +179,7 @@ class MissileDriver(AppDriver):
         self.fault = np.zeros(n, dtype=np.int8)
         self.code = np.zeros(n, dtype=np.int64)
         self.cmd_ok = np.zeros(n, dtype=np.int8)       # a usable command of step k arrived
+        self.acked = np.zeros(n, dtype=np.int8)
         self.degraded = np.zeros(n, dtype=np.int8)
         self.saturated = np.zeros(n, dtype=np.int8)
         self.x_hat = np.full((n, 3), np.nan)
@@ -197,39 +205,53 @@ class MissileDriver(AppDriver):
                 msgs.append((frame, {"step": step, field_name: v}))
         return self.injector.outgoing(s.t, msgs)
 
-    def _command(self, k: int, io: StepIO) -> int | None:
-        """The D/A code of step k from fcc's frames (E2E-checked by the simulator's codec)."""
-        code = None
-        for frame_id, data in io.frames:
+    def _commands(self, k: int, io: StepIO) -> list[tuple[float, int]]:
+        """The usable D/A codes among fcc's frames (E2E-checked by the simulator's codec), with
+        their arrival times; lockstep: only the command of step k."""
+        codes: list[tuple[float, int]] = []
+        dac = self.sim.dac
+        for i, (frame_id, data) in enumerate(io.frames):
             if frame_id == self._est.frame_id and len(data) == 8:
                 v = self._est.message.decode(data)
-                if (int(v["step"]) & 0xFF) == (k & 0xFF):
+                if self.realtime or (int(v["step"]) & 0xFF) == (k & 0xFF):
                     self.x_hat[k] = (v["q_hat"], v["alpha_t_hat"], v["w_g_hat"])
+                continue
             if frame_id != self._cmd.frame_id:
                 continue
             d = self.codec.decode(frame_id, data)
-            if not d.ok or d.values is None or int(d.values["step"]) != (k & 0xFFFF):
+            ok = d.ok and d.values is not None and int(d.values["da_bits"]) == self.bits \
+                and dac.code_min <= int(d.values["da_code"]) <= dac.code_max \
+                and (self.realtime or int(d.values["step"]) == (k & 0xFFFF))
+            if not ok or d.values is None:
                 self.cmd_bad += 1
                 continue
-            if int(d.values["da_bits"]) != self.bits:
-                self.cmd_bad += 1
-                continue
-            code = int(d.values["da_code"])
+            codes.append((io.arrivals[i] if io.arrivals else 0.0, int(d.values["da_code"])))
             self.degraded[k] = int(d.values["degraded"])
             self.saturated[k] = int(d.values["saturated"])
-        return code
+        return codes
 
     def end_step(self, io: StepIO) -> None:
         k = self.k
-        code = self._command(k, io) if io.acked or io.frames else None
-        if code is None or not self.sim.dac.code_min <= code <= self.sim.dac.code_max:
+        self.acked[k] = int(io.acked)
+        codes = self._commands(k, io)
+        self.cmd_ok[k] = int(bool(codes))
+        if not codes:
             self.cmd_missing += 1
-            code = self._last_code
-        else:
-            self.cmd_ok[k] = 1
+        ns = self.sim.n_sub
+        if io.t0 is None:  # lockstep: the command of step k, held over the period
+            code = codes[-1][1] if codes else self._last_code
+            trace = self.sim.advance(code)
+        else:  # realtime: each command acts from the first sub-step after it arrived
+            h = self.period / ns
+            per_sub, code, i = [], self._last_code, 0
+            for j in range(ns):
+                while i < len(codes) and codes[i][0] <= io.t0 + j * h:
+                    code = codes[i][1]
+                    i += 1
+                per_sub.append(code)
+            code = codes[-1][1] if codes else code
+            trace = self.sim.advance_substeps(per_sub)
         self.code[k] = code
         self._last_code = code
-        trace = self.sim.advance(code)
-        ns = self.sim.n_sub
         self.x_fine[k * ns: (k + 1) * ns + 1] = trace
         self.k += 1

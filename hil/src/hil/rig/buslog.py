@@ -22,6 +22,8 @@ from .apps import FILTERS, SID_PARTS, SID_PREFIX
 SIM_CONTROL_ID = 0x010
 SIM_TICK_ID = 0x020
 COMMAND_RESET = 2
+#: sensor frames of each application (their bytes 2-3 are the low 16 bits of the step)
+SENSOR_APP = {0x050: 0, 0x051: 0, 0x052: 0, 0x040: 1, 0x041: 1}
 
 
 @dataclass
@@ -48,6 +50,7 @@ def split_flights(path: Path) -> list[FlightFrames]:
     flights: list[FlightFrames] = []
     cur: FlightFrames | None = None
     tick: dict[int, int] = {}
+    ticked: set[int] = set()
     for f in read_log(path):
         if f.error or f.remote or f.extended or f.fd:
             continue
@@ -55,12 +58,20 @@ def split_flights(path: Path) -> list[FlightFrames]:
         if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
             cur = FlightFrames(len(flights))
             flights.append(cur)
-            tick = {}
+            tick, ticked = {}, set()
             continue
         if cur is None:
             continue
         if fid == SIM_TICK_ID and len(data) == 8:
             tick[(data[1] >> 4) & 0x3] = int.from_bytes(data[2:6], "little")
+            ticked.add((data[1] >> 4) & 0x3)
+            continue
+        if fid in SENSOR_APP and len(data) == 8 and SENSOR_APP[fid] not in ticked:
+            # realtime (no ticks): outputs belong to the newest sample sent before them
+            app = SENSOR_APP[fid]
+            low = int.from_bytes(data[2:4], "little")
+            prev = tick.get(app, -1)
+            tick[app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
             continue
         app = app_of(fid)
         if app is None:
@@ -71,9 +82,11 @@ def split_flights(path: Path) -> list[FlightFrames]:
     return flights
 
 
-def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int) -> dict[str, np.ndarray]:
+def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
+               check_step: bool = True) -> dict[str, np.ndarray]:
     """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
-    (NaN where a frame is missing or its step field does not match the tick)."""
+    (NaN where a frame is missing or, lockstep, its step field does not match the tick;
+    realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
     out: dict[str, np.ndarray] = {}
     ids: dict[int, tuple[str, object]] = {}
     for flt in FILTERS:
@@ -90,17 +103,15 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int) -> dict[str, n
         frames = steps.get(k)
         if not frames:
             continue
-        good_state: set[str] = set()
         for fid, data in frames:
             if fid not in ids or len(data) != 8:
                 continue
             flt, msg = ids[fid]
             vals = msg.message.decode(data, decode_choices=False)  # type: ignore[attr-defined]
-            if "step" in vals:
+            if "step" in vals and check_step:
                 if int(vals["step"]) != (k & 0xFFF):
                     mismatched += 1
                     continue
-                good_state.add(flt)
             for name, v in vals.items():
                 if name != "step":
                     out[f"{flt}_{name}"][k] = float(v)

@@ -88,7 +88,10 @@ class FrameInjector:
     and bus-level faults active at the step's time."""
 
     def __init__(self, codec: FrameCodec, faults: Sequence[Fault], seed: int,
-                 star_frames: Iterable[str]) -> None:
+                 star_frames: Iterable[str], flood_frames: bool = True) -> None:
+        """flood_frames: the babbling node's frames are produced here, per step (lockstep);
+        False in realtime, where a cangen process babbles on its own clock."""
+        self.flood_frames = flood_frames
         self.codec = codec
         self.spec = codec.spec
         self.faults = tuple(f for f in faults if f.level in ("frame", "bus"))
@@ -141,9 +144,10 @@ class FrameInjector:
         silent = any(isinstance(f, Silence) for _, f in active)
         if extras:
             out.extend(self._due(t))
-            for i, f in active:
-                if isinstance(f, Flood):
-                    out.extend(self._flood(i, f, t))
+            if self.flood_frames:
+                for i, f in enumerate(self.faults):
+                    if isinstance(f, Flood) and f.start <= t + T_EPS:
+                        out.extend(self._flood(i, f, t))
         for name, values in messages:
             out.extend(self._one(t, name, values, active))
         if silent:
@@ -162,7 +166,7 @@ class FrameInjector:
         floods and '*' faults do not (the tick is the rig's clock, not a node)."""
         active = [(i, f) for i, f in enumerate(self.faults)
                   if f.active(t) and getattr(f, "frame", "*") == name]
-        out = self._one(t, name, values, active)
+        out = self._one(t, name, values, active, can_delay=False)
         self.counts["sent"] += len(out)
         return out
 
@@ -180,8 +184,10 @@ class FrameInjector:
         return [f for _, _, f in due]
 
     def _flood(self, index: int, f: Flood, t: float) -> list[TxFrame]:
-        """Frames the babbler has sent in [start, t]: rate * elapsed, in whole frames."""
-        total = int(math.floor(f.rate_hz * (t - f.start) + T_EPS)) + 1
+        """The babbler's frames sent since the last step: one every 1/rate s from the start,
+        those before min(t, end) -- so the frames of the last interval go out with the first
+        step after the end, and a fault of duration d gives ceil(rate * d) frames."""
+        total = int(math.ceil(f.rate_hz * (min(t, f.end) - f.start) - 1e-6))
         n = total - self._flood_sent.get(index, 0)
         self._flood_sent[index] = total
         self.counts["flood"] += max(n, 0)
@@ -196,7 +202,10 @@ class FrameInjector:
         return TxFrame(frame_id, data, name)
 
     def _one(self, t: float, name: str, values: Mapping[str, float | int],
-             active: list[tuple[int, Fault]]) -> list[TxFrame]:
+             active: list[tuple[int, Fault]], can_delay: bool = True) -> list[TxFrame]:
+        """One message with the active faults applied in their listed order.  can_delay
+        False (the tick): a delayed frame is a lost one -- in lockstep nothing happens on
+        the bus between two steps that could carry it late."""
         frame = self._encode(t, name, values)
         msg = self.spec.by_name(name)
         copies = 0
@@ -208,6 +217,9 @@ class FrameInjector:
                     self.counts["dropped"] += 1
                     return []
             elif isinstance(f, FrameDelay):
+                if not can_delay:
+                    self.counts["dropped"] += 1
+                    return []
                 self._delayed.append((t + f.delay, self._order, frame))
                 self._order += 1
                 self.counts["delayed"] += 1

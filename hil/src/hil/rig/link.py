@@ -11,6 +11,7 @@ so that the caller can notice a dead firmware or a deadline between slices), and
 from __future__ import annotations
 
 import errno
+import select
 import socket
 import struct
 import time
@@ -65,6 +66,8 @@ class CanLink:
                 continue
         self._slice = -1.0
         self.set_slice(RECV_SLICE_S)
+        self._poll = select.poll()
+        self._poll.register(self.sock, select.POLLIN)
         self.tx_frames = 0
         self.tx_retries = 0
         self.tx_dropped = 0
@@ -119,6 +122,23 @@ class CanLink:
         can_id, dlc, data = CAN_FRAME.unpack(raw)
         self.rx_frames += 1
         return can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF, data[:dlc]
+
+    def recv_wait(self, timeout: float) -> tuple[int, bytes] | None:
+        """The next frame within timeout seconds, to the millisecond (poll(); SO_RCVTIMEO is
+        rounded up to the kernel tick, 10-20 ms in the UML guest, too coarse for pacing)."""
+        if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
+            return None
+        try:
+            raw = self.sock.recv(CAN_MTU, socket.MSG_DONTWAIT)
+        except (BlockingIOError, InterruptedError):
+            return None
+        except OSError as e:
+            if e.errno in (errno.EAGAIN, errno.EINTR):
+                return None
+            raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
+        can_id, dlc, data = CAN_FRAME.unpack(raw)
+        self.rx_frames += 1
+        return can_id & 0x7FF, data[:dlc]
 
     def drain(self) -> list[tuple[int, bytes]]:
         """Every frame already queued, without waiting."""

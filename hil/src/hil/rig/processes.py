@@ -122,10 +122,29 @@ class Candump:
             err = ""
         return err.splitlines()[-1] if err else f"exit status {self.proc.returncode}"
 
-    def stop(self, settle: float = 0.05) -> None:
-        """Let the last frames reach the file, then SIGINT (candump flushes and exits)."""
+    def contains_tail(self, needle: bytes, tail: int = 4096) -> bool:
+        """True when needle is in the last `tail` bytes written (candump flushes each line)."""
+        try:
+            with open(self.log_path, "rb") as fh:
+                fh.seek(max(0, self.size() - tail))
+                return needle in fh.read()
+        except OSError:
+            return False
+
+    def stop(self, marker: bytes | None = None, timeout: float = 10.0) -> bool:
+        """Stop recording.  marker: the log line text of a frame just sent (e.g. b"7F0#FF...");
+        candump may lag behind the bus by many frames in its socket queue, so it is stopped
+        only once that line is in the file (or after timeout).  True when the log is known
+        to be complete."""
+        complete = marker is None
+        if marker is not None and self.proc.poll() is None:
+            deadline = time.monotonic() + timeout
+            while time.monotonic() < deadline and self.proc.poll() is None:
+                if self.contains_tail(marker):
+                    complete = True
+                    break
+                time.sleep(0.005)
         if self.proc.poll() is None:
-            time.sleep(settle)
             self.proc.send_signal(signal.SIGINT)
             try:
                 self.proc.wait(2.0)
@@ -135,3 +154,4 @@ class Candump:
         if self.proc.stderr:
             self.proc.stderr.close()
         self._out.close()
+        return complete

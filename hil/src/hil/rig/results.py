@@ -40,6 +40,7 @@ class CdrwResult:
                 "improvement_over_kf_pct": metrics.improvements(self.table),
                 "improvement_over_kf_truth_pct": metrics.improvements(self.table_truth),
                 "missing_steps": self.missing_steps, "unanswered_steps": self.unanswered_steps,
+                "degraded_steps": int(np.sum(self.series["degraded"])),
                 "faults": self.faults, "fault_events": self.events, "frames_injected": self.injected}
 
 
@@ -109,7 +110,7 @@ def cdrw_result(spec: BusSpec, driver: CdrwDriver, flight: FlightFrames) -> Cdrw
     for k, io in enumerate(driver.steps):
         acked[k], degraded[k] = int(io.acked), int(io.degraded)
     s["acked"], s["degraded"] = acked, degraded
-    fw = sid_arrays(spec, flight, n)
+    fw = sid_arrays(spec, flight, n, check_step=not driver.realtime)
     fw.pop("_mismatched", None)
     s.update(fw)
     y_ff = np.column_stack([s["alpha_ff"], s["q_ff"]])

@@ -16,7 +16,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..bus import SIM_NODES, FrameCodec, load
+from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
+from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
 from .link import CanLink, pack_frame
 from .paths import tool
@@ -27,6 +28,8 @@ STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_C
 COMMAND_SHUTDOWN = 1
 COMMAND_RESET = 2
 STARTUP_TIMEOUT_S = 10.0
+#: RIG_PING.seq of the last frame of every bus log
+END_MARKER_SEQ = 0xFFFFFFFF
 
 
 class RigError(RuntimeError):
@@ -106,8 +109,19 @@ class RigSession:
         self.candump: Candump | None = None
         self.fcc: FccProcess | None = None
         self.status_frames: list[tuple[int, bytes]] = []
+        self.link_stats: dict[str, int] = {}
+        self.log_complete = False
+        # fcc's E2E receiver of SIM_TICK, mirrored: tells whether fcc will act on a tick
+        tick = self.spec.by_name("SIM_TICK")
+        self._tick_msg = tick
+        self.tick_rx = E2EReceiver(tick.data_id, tick.max_delta_counter)
         self.fcc_exit: int | None = None
         self.t_start = 0.0
+
+    @staticmethod
+    def dbc_frames() -> tuple:
+        """The DBC's messages (for validating frame names in scenarios)."""
+        return load().messages
 
     # -- life cycle
     def __enter__(self) -> RigSession:
@@ -177,6 +191,18 @@ class RigSession:
     def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
         """SIM_CONTROL: 0 none / 1 shutdown / 2 reset; a new LQG period and/or D/A bits."""
         self.send_message("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})
+        if command == COMMAND_RESET:  # fcc resynchronises its E2E receivers on a reset
+            self.tick_rx.reset()
+
+    def fcc_accepts_tick(self, data: bytes, app: int, k: int) -> bool:
+        """Will fcc run step k of app on this tick frame?  The checks fcc makes, in its order
+        (length, E2E, range), on a mirror of its receiver state (which this call updates)."""
+        if len(data) != 8:
+            return False
+        if not self.tick_rx.check(data).data_usable:
+            return False
+        vals = decode_values(self._tick_msg, data)
+        return vals is not None and int(vals["app"]) == app and int(vals["step"]) == k
 
     def check_alive(self, what: str) -> None:
         assert self.fcc is not None
@@ -211,8 +237,19 @@ class RigSession:
             if self.fcc_exit is None:
                 self.fcc_exit = self.fcc.returncode
         if self.candump is not None:
-            self.candump.stop()
+            marker = None
+            if self.link is not None:  # the end marker: candump has seen everything before it
+                ping = self.spec.by_name("RIG_PING")
+                data = ping.message.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
+                try:
+                    self.link.send(ping.frame_id, data)
+                    marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()
+                except OSError:
+                    marker = None
+            self.log_complete = self.candump.stop(marker)
             self.candump = None
         if self.link is not None:
+            self.link_stats = {"tx_frames": self.link.tx_frames, "rx_frames": self.link.rx_frames,
+                               "tx_retries": self.link.tx_retries, "tx_dropped": self.link.tx_dropped}
             self.link.close()
             self.link = None

@@ -1,0 +1,408 @@
+"""What the CLI commands do: a flight, a campaign, a sweep, the demo -- each in one rig
+session (one fcc process), written to one run directory.
+
+run directory
+    summary.json      deterministic results (the seed decides them), see write_summary()
+    run_info.json     wall-clock times, fcc command line, step execution times
+    bus.log           the whole bus, candump -L
+    fcc.log           fcc's stdout/stderr (event lines, final counter block)
+    cdrw.csv, missile_T0.100_b8.csv, missile_T0.100_b8_fine.csv, campaign.csv ...
+    *.png             the papers' figures (hil.plots)
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import platform
+import shlex
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import metrics
+from ..faults import Scenario, ScenarioError, with_fault_start
+from ..plants.options import LqgOptions
+from .apps import AppDriver, CdrwDriver, MissileDriver
+from .buslog import split_flights
+from .lockstep import LockstepRunner
+from .output import write_csv, write_json
+from .results import CdrwResult, MissileResult, cdrw_result, missile_open_loop, missile_result
+from .session import COMMAND_RESET, RigError, RigSession, StatusCounters
+
+MODES = ("lockstep", "realtime")
+#: the LQG periods fcc accepts (firmware/app/README.md)
+FCC_PERIOD_RANGE = (0.02, 0.3)
+
+
+@dataclass
+class RigConfig:
+    out_dir: Path
+    iface: str = "vcan0"
+    mode: str = "lockstep"
+    timeout: float = 2.0
+    fcc_args: tuple[str, ...] = ()
+    progress: bool = True
+    plots: bool = True
+    fcc_binary: Path | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
+
+
+@dataclass
+class Outcome:
+    """What a command produced: the summary (as written) and the text tables to print."""
+
+    out_dir: Path
+    summary: dict[str, Any]
+    tables: list[str] = field(default_factory=list)
+
+
+# ---- session helpers ------------------------------------------------------------------------
+def check_missile(sc: Scenario) -> None:
+    lo, hi = FCC_PERIOD_RANGE
+    assert sc.lqg is not None
+    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
+        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
+                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
+
+
+def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
+    """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
+    names = list(apps) if apps else [sc.aircraft for sc in scenarios]
+    args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
+    for sc in scenarios:
+        if sc.aircraft == "missile":
+            assert sc.lqg is not None
+            check_missile(sc)
+            args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
+                     "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
+                     "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
+    return args + list(cfg.fcc_args)
+
+
+def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig) -> AppDriver:
+    rt = cfg.mode == "realtime"
+    return CdrwDriver(sc, rig.codec, rt) if sc.aircraft == "cdrw" else MissileDriver(sc, rig.codec, rt)
+
+
+def _bar(total: int, enabled: bool, desc: str) -> Any:
+    from tqdm import tqdm
+    return tqdm(total=total, disable=not enabled, unit="step", desc=desc, leave=False,
+                dynamic_ncols=True)
+
+
+def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
+         runner: Any = None, period: float = 0.0, bits: int = 0) -> Any:
+    """One flight: SIM_CONTROL reset (and a new LQG design when period/bits are given; it is
+    also the flight boundary in bus.log), then the steps."""
+    rig.control(COMMAND_RESET, period, bits)
+    if cfg.mode == "lockstep":
+        r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
+        r.fly(drivers)
+        return r
+    from .realtime import RealtimeRunner
+    rt = runner or RealtimeRunner(rig, progress=bar.update)
+    rt.fly(drivers)
+    return rt
+
+
+def _require_log(rig: RigSession) -> None:
+    if not rig.log_complete:
+        raise RigError(f"{rig.run_dir / 'bus.log'}: the recorder did not catch up with the bus; "
+                       f"fcc's outputs are read from that log, so the run is not evaluated")
+
+
+def firmware_summary(status: StatusCounters) -> dict[str, Any]:
+    """fcc's heartbeat counters at exit (only what the inputs decide; gauges in run_info)."""
+    g = status.get
+    return {
+        "steps": {"cdrw": g("FCC_STATUS.cdrw_steps"), "missile": g("FCC_STATUS.msl_steps")},
+        "overruns": g("FCC_STATUS.overruns"),
+        "e2e": {"ok": g("FCC_E2E_COUNTS.ok"), "repeated": g("FCC_E2E_COUNTS.repeated"),
+                "ok_some_lost": g("FCC_E2E_COUNTS.ok_some_lost"),
+                "wrong_sequence": g("FCC_E2E_COUNTS.wrong_sequence"),
+                "error": g("FCC_E2E_FAULTS.error"), "no_new_data": g("FCC_E2E_FAULTS.no_new_data")},
+        "rejected": {"unknown_id": g("FCC_REJECT_COUNTS.unknown_id"),
+                     "wrong_dlc": g("FCC_REJECT_COUNTS.wrong_dlc"),
+                     "out_of_range": g("FCC_REJECT_COUNTS.out_of_range"),
+                     "tx_refused": g("FCC_REJECT_COUNTS.tx_refused")},
+        "bus": {"bus_errors": g("FCC_BUS_COUNTS.bus_errors"),
+                "rx_overflows": g("FCC_BUS_COUNTS.rx_overflows"),
+                "tx_dropped": g("FCC_BUS_COUNTS.tx_dropped"),
+                "tx_retries": g("FCC_BUS_COUNTS.tx_retries")},
+    }
+
+
+def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
+              extra: dict[str, Any] | None = None) -> dict[str, Any]:
+    st = rig.status
+    info: dict[str, Any] = {
+        "mode": cfg.mode, "iface": cfg.iface, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
+        "python": platform.python_version(), "heartbeats": st.heartbeats,
+        "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
+        "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
+        "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
+                 "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
+    }
+    if runner is not None:
+        info.update(runner.timing())
+    if extra:
+        info.update(extra)
+    return info
+
+
+def _cdrw_block(res: CdrwResult, which: str = "table4") -> dict[str, Any]:
+    return {which: res.table, f"{which}_truth": res.table_truth,
+            "improvement_over_kf_pct": metrics.improvements(res.table),
+            "improvement_over_kf_truth_pct": metrics.improvements(res.table_truth),
+            "flight": res.summary()}
+
+
+def _write_cdrw(out: Path, res: CdrwResult, name: str = "cdrw.csv") -> None:
+    write_csv(out / name, res.series)
+
+
+def _write_missile(out: Path, res: MissileResult) -> None:
+    write_csv(out / f"missile_{res.tag}.csv", res.series)
+    write_csv(out / f"missile_{res.tag}_fine.csv", res.fine)
+
+
+def _cdrw_tables(res_table: metrics.Table, truth: metrics.Table, which: str) -> list[str]:
+    paper = metrics.PAPER_TABLE4 if which == "table4" else metrics.PAPER_TABLE5
+    label = "Table 4 (one fault)" if which == "table4" else "Table 5 (mean over the campaign)"
+    return [metrics.format_error_table(res_table, f"CDRW {label}: integral |y_faultfree - y_hat| dt",
+                                       paper),
+            metrics.format_error_table(truth, f"CDRW {label}: integral |x_true - x_hat| dt")]
+
+
+def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
+    tables = summary_tables(summary)
+    if cfg.plots:
+        from ..plots import plot_run_dir
+        names = [p.name for p in plot_run_dir(out)]
+        if names:
+            tables.append(f"plots: {', '.join(names)}")
+    return Outcome(out, summary, tables)
+
+
+def summary_tables(summary: dict[str, Any]) -> list[str]:
+    """The text tables of a summary.json (what each command prints at the end)."""
+    tables: list[str] = []
+    cd = summary.get("cdrw")
+    if cd:
+        for which in ("table4", "table5"):
+            if which in cd:
+                tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which)
+        if "azkf_better_than_kf_runs" in cd:
+            b = cd["azkf_better_than_kf_runs"]
+            tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
+                          f"flights for alpha, {b['q']} for q")
+    ms = summary.get("missile")
+    if ms and ms.get("runs"):
+        tables.append("Missile (seed 2, Fig. 3): RMS over the run\n"
+                      + metrics.format_missile_table(ms["runs"]))
+    if "firmware" in summary:
+        tables.append(format_firmware(summary["firmware"]))
+    return tables
+
+
+# ---- commands --------------------------------------------------------------------------------
+def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run") -> Outcome:
+    """One flight of one or both aircraft (interleaved in one fcc when both)."""
+    out = cfg.out_dir
+    if len({sc.aircraft for sc in scenarios}) != len(scenarios):
+        raise ValueError("one scenario per aircraft")
+    t0 = time.perf_counter()
+    with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        drivers = [make_driver(sc, rig, cfg) for sc in scenarios]
+        with _bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
+            runner = _fly(rig, drivers, cfg, bar)
+        rig.shutdown()
+    _require_log(rig)
+    flights = split_flights(out / "bus.log")
+    summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
+                               "firmware": firmware_summary(rig.status)}
+    for d in drivers:
+        if isinstance(d, CdrwDriver):
+            res = cdrw_result(rig.spec, d, flights[0])
+            _write_cdrw(out, res)
+            summary["cdrw"] = _cdrw_block(res)
+        else:
+            assert isinstance(d, MissileDriver)
+            mres = missile_result(d, reference=cfg.mode == "lockstep")
+            ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
+            _write_missile(out, mres)
+            _write_missile(out, ol)
+            summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
+                         margin: float = 0.5) -> np.ndarray:
+    """Table 5: fault start times uniform over the flight, `margin` s from both ends."""
+    if not scenario.faults:
+        raise ScenarioError(f"{scenario.source}: a campaign needs a scenario with a fault")
+    width = max(f.end for f in scenario.faults if math.isfinite(f.end)) - min(f.start for f in scenario.faults) \
+        if all(math.isfinite(f.end) for f in scenario.faults) else 0.0
+    hi = scenario.duration - margin - width
+    if hi <= margin:
+        raise ScenarioError(f"{scenario.source}: the flight is too short for faults at random times")
+    rng = np.random.default_rng([int(seed), 0x6361])  # own stream: "ca"
+    return np.round(rng.uniform(margin, hi, size=runs) / 0.02) * 0.02  # on the 50 Hz grid
+
+
+def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Outcome:
+    """Table 5: the same flight `runs` times, the scenario's faults at random times, one fcc
+    process reset between flights."""
+    if scenario.aircraft != "cdrw":
+        raise ScenarioError(f"{scenario.source}: a campaign flies the CDRW (aircraft = \"cdrw\")")
+    if runs < 1:
+        raise ValueError(f"--runs must be >= 1, got {runs}")
+    out = cfg.out_dir
+    starts = campaign_fault_times(scenario, runs, seed)
+    t0 = time.perf_counter()
+    results: list[CdrwResult] = []
+    drivers: list[CdrwDriver] = []
+    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        n = int(round(scenario.duration / scenario.plant.dt)) + 1  # type: ignore[union-attr]
+        runner = None
+        with _bar(runs * n, cfg.progress, "hil campaign") as bar:
+            for t_fault in starts:
+                d = CdrwDriver(with_fault_start(scenario, float(t_fault)), rig.codec, cfg.mode == "realtime")
+                runner = _fly(rig, [d], cfg, bar, runner)
+                drivers.append(d)
+        rig.shutdown()
+    _require_log(rig)
+    flights = split_flights(out / "bus.log")
+    if len(flights) != runs:
+        raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected {runs}")
+    rows: dict[str, list[float]] = {"run": [], "fault_start": []}
+    per_run = []
+    for i, (d, fl) in enumerate(zip(drivers, flights)):
+        res = cdrw_result(rig.spec, d, fl)
+        results.append(res)
+        rows["run"].append(i)
+        rows["fault_start"].append(float(starts[i]))
+        for key, table in (("meas", res.table), ("truth", res.table_truth)):
+            for f in metrics.FILTERS:
+                for s in metrics.STATES:
+                    rows.setdefault(f"{f}_{s}_{key}", []).append(table[f][s])
+        per_run.append({"run": i, "fault_start": float(starts[i]), "error": res.table,
+                        "error_truth": res.table_truth, "missing_steps": res.missing_steps,
+                        "unanswered_steps": res.unanswered_steps})
+    write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
+    _write_cdrw(out, results[0], "cdrw_run0.csv")
+    t5 = metrics.mean_table([r.table for r in results])
+    t5t = metrics.mean_table([r.table_truth for r in results])
+    summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
+               "scenario": scenario.name or scenario.source,
+               "faults": [f.describe() for f in scenario.faults],
+               "cdrw": {"table5": t5, "table5_truth": t5t,
+                        "improvement_over_kf_pct": metrics.improvements(t5),
+                        "improvement_over_kf_truth_pct": metrics.improvements(t5t),
+                        "azkf_better_than_kf_runs": {
+                            s: int(sum(r.table["azkf"][s] < r.table["kf"][s] for r in results))
+                            for s in metrics.STATES},
+                        "runs": per_run},
+               "firmware": firmware_summary(rig.status)}
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
+              cfg: RigConfig) -> Outcome:
+    """Fig. 3: the missile at every (T, N), one fcc process redesigning on SIM_CONTROL
+    between flights; plus the open loop at every T."""
+    if scenario.aircraft != "missile":
+        raise ScenarioError(f"{scenario.source}: a sweep flies the missile (aircraft = \"missile\")")
+    if not periods or not bits:
+        raise ValueError("a sweep needs at least one period and one word length")
+    base_lqg = scenario.lqg
+    assert base_lqg is not None
+    points = []
+    for T in periods:
+        for n in bits:
+            lqg = LqgOptions(period=float(T), bits=int(n), closed_loop=True)
+            sc = scenario.replace(lqg=lqg)
+            check_missile(sc)
+            if sc.lqg.period > sc.duration:  # type: ignore[union-attr]
+                raise ScenarioError(f"{scenario.source}: period {T} s is longer than the flight")
+            points.append(sc)
+    for n in bits:
+        if not 2 <= int(n) <= 16:
+            raise ScenarioError(f"--bits: D/A word length must be 2 to 16, got {n}")
+    out = cfg.out_dir
+    t0 = time.perf_counter()
+    first = points[0]
+    mdrivers: list[MissileDriver] = []
+    with RigSession(out, fcc_args([first], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        total = 0
+        for sc in points:
+            total += int(math.floor(sc.duration / sc.lqg.period + 1e-9))  # type: ignore[union-attr]
+        runner = None
+        with _bar(total, cfg.progress, "hil sweep") as bar:
+            for sc in points:
+                assert sc.lqg is not None
+                d = MissileDriver(sc, rig.codec, cfg.mode == "realtime")
+                runner = _fly(rig, [d], cfg, bar, runner, sc.lqg.period, sc.lqg.bits)
+                mdrivers.append(d)
+        rig.shutdown()
+    runs_out: list[dict[str, Any]] = []
+    for d in mdrivers:
+        res = missile_result(d, reference=cfg.mode == "lockstep")
+        _write_missile(out, res)
+        runs_out.append(res.run_entry())
+    for T in periods:
+        sc = scenario.replace(lqg=LqgOptions(period=float(T), bits=base_lqg.bits, closed_loop=False))
+        ol = missile_open_loop(sc)
+        _write_missile(out, ol)
+        runs_out.append(ol.run_entry())
+    summary = {"command": "sweep", "mode": cfg.mode, "scenario": scenario.name or scenario.source,
+               "seed": scenario.seed, "missile": {"runs": runs_out},
+               "firmware": firmware_summary(rig.status)}
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def format_firmware(fw: dict[str, Any]) -> str:
+    e, r, b = fw["e2e"], fw["rejected"], fw["bus"]
+    return ("fcc counters: steps cdrw {0} missile {1}, overruns {2}\n"
+            "  E2E ok {3} repeated {4} ok_some_lost {5} wrong_sequence {6} error {7} no_new_data {8}\n"
+            "  rejected unknown_id {9} wrong_dlc {10} out_of_range {11}; bus errors {12} "
+            "rx overflows {13}").format(
+        fw["steps"]["cdrw"], fw["steps"]["missile"], fw["overruns"], e["ok"], e["repeated"],
+        e["ok_some_lost"], e["wrong_sequence"], e["error"], e["no_new_data"], r["unknown_id"],
+        r["wrong_dlc"], r["out_of_range"], b["bus_errors"], b["rx_overflows"])
+
+
+ProgressFn = Callable[[int], None]
+
+
+def run_demo(cfg: RigConfig) -> list[Outcome]:
+    """The README's main job: both aircraft with their embedded default scenarios in one fcc
+    (the CDRW with the paper's sensor fault at 4 s), then the missile sweep of seed 2
+    (T = 0.2, 0.1, 0.05 s; 6, 8, 12 bits) in out_dir/sweep."""
+    from ..faults import load_default_scenario
+
+    frames = {m.name for m in RigSession.dbc_frames()}
+    cdrw = load_default_scenario("cdrw", frames)
+    msl = load_default_scenario("missile", frames)
+    first = run_flight([cdrw, msl], cfg, command="demo")
+    sweep_dir = cfg.out_dir / "sweep"
+    sweep_dir.mkdir(parents=True, exist_ok=True)
+    for pattern in ("*.csv", "*.png", "*.json", "*.log"):
+        for f in sweep_dir.glob(pattern):
+            f.unlink()
+    second = run_sweep(msl, (0.2, 0.1, 0.05), (6, 8, 12), dataclasses.replace(cfg, out_dir=sweep_dir))
+    return [first, second]

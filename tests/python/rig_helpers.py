@@ -1,0 +1,35 @@
+"""Shared by the rig's bus tests: short scenarios and a quiet flight through the real fcc."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from hil.bus import load
+from hil.faults import Scenario, loads_scenario, with_extra_faults
+from hil.rig.runs import Outcome, RigConfig, run_flight
+
+FRAMES = {m.name for m in load().messages}
+
+CDRW_1S = '''aircraft = "cdrw"
+duration = 1.0
+seed = 3
+'''
+
+MISSILE_2S = '''aircraft = "missile"
+duration = 2.0
+seed = 3
+[lqg]
+period = 0.05
+bits = 8
+'''
+
+
+def scenario(text: str, *faults: str) -> Scenario:
+    sc = loads_scenario(text, "<test>", FRAMES)
+    return with_extra_faults(sc, faults, FRAMES) if faults else sc
+
+
+def fly(out: Path, *scenarios: Scenario, **cfg: Any) -> Outcome:
+    cfg.setdefault("progress", False)
+    cfg.setdefault("plots", False)
+    return run_flight(list(scenarios), RigConfig(out_dir=out, **cfg))

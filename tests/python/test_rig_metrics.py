@@ -1,0 +1,86 @@
+"""The papers' figures of merit (hil.metrics) and the run-directory files (hil.rig.output),
+checked against hand-computed values."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from hil import metrics
+from hil.rig.output import read_csv, write_csv, write_json
+
+
+def test_error_integral_by_hand():
+    target = np.array([[0.1, 1.0], [0.2, 2.0], [0.3, 3.0]])
+    est = np.array([[0.1, 1.5], [0.1, 2.0], [0.5, 2.0]])
+    ea, eq, missing = metrics.error_integral(target, est, 0.02)
+    assert ea == pytest.approx((0.0 + 0.1 + 0.2) * 0.02)
+    assert eq == pytest.approx((0.5 + 0.0 + 1.0) * 0.02)
+    assert missing == 0
+
+
+def test_error_integral_counts_missing_estimates():
+    target = np.zeros((4, 2))
+    est = np.array([[1.0, 1.0], [np.nan, np.nan], [1.0, 1.0], [np.nan, 2.0]])
+    ea, eq, missing = metrics.error_integral(target, est, 0.5)
+    assert (ea, eq, missing) == (1.0, 2.0, 2)
+
+
+def test_error_integral_shape_check():
+    with pytest.raises(ValueError, match="shapes"):
+        metrics.error_integral(np.zeros((3, 2)), np.zeros((2, 2)), 0.02)
+
+
+def test_improvements_match_the_paper_table4():
+    imp = metrics.improvements(metrics.PAPER_TABLE4)
+    # the paper prints 45.14 %, 16.12 %, 44.33 %, 10.31 %
+    assert imp["azkf"]["alpha"] == pytest.approx(45.14, abs=0.01)
+    assert imp["azkf"]["q"] == pytest.approx(16.12, abs=0.01)
+    assert imp["zkf"]["alpha"] == pytest.approx(44.33, abs=0.01)
+    assert imp["zkf"]["q"] == pytest.approx(10.31, abs=0.01)
+    assert "kf" not in imp
+
+
+def test_mean_table():
+    a = {f: {"alpha": 1.0, "q": 2.0} for f in metrics.FILTERS}
+    b = {f: {"alpha": 3.0, "q": 6.0} for f in metrics.FILTERS}
+    assert metrics.mean_table([a, b])["zkf"] == {"alpha": 2.0, "q": 4.0}
+    with pytest.raises(ValueError):
+        metrics.mean_table([])
+
+
+def test_missile_rms():
+    t = np.linspace(0.0, 1.0, 801)
+    x = np.column_stack([np.sin(2 * np.pi * 5 * t), 0.5 * np.ones_like(t), t])
+    rq, ra = metrics.missile_rms(x)
+    assert rq == pytest.approx(1 / math.sqrt(2), rel=1e-2)
+    assert ra == pytest.approx(0.5)
+
+
+def test_tables_render():
+    text = metrics.format_error_table(metrics.PAPER_TABLE5, "T5", metrics.PAPER_TABLE5)
+    assert "0.0895 (+46.9%)" in text and "AZKF" in text and "paper" in text
+    runs = [{"period": 0.1, "bits": 8, "rms_q": 0.07, "rms_alpha": 0.005,
+             "reference": {"rms_q": 0.07, "code_agreement": 1.0}},
+            {"period": 0.1, "bits": None, "rms_q": 0.08, "rms_alpha": 0.006}]
+    text = metrics.format_missile_table(runs)
+    assert "8 bit" in text and "open" in text and "100.0 %" in text
+
+
+def test_csv_round_trip(tmp_path):
+    cols = {"t": np.array([0.0, 0.02]), "k": np.array([0, 1]), "x": np.array([np.nan, 1 / 3])}
+    write_csv(tmp_path / "a.csv", cols)
+    back = read_csv(tmp_path / "a.csv")
+    assert back["t"].tolist() == [0.0, 0.02] and back["k"].tolist() == [0.0, 1.0]
+    assert math.isnan(back["x"][0]) and back["x"][1] == 1 / 3   # full precision
+    with pytest.raises(ValueError, match="different lengths"):
+        write_csv(tmp_path / "b.csv", {"a": np.zeros(2), "b": np.zeros(3)})
+
+
+def test_json_is_sorted_and_plain(tmp_path):
+    write_json(tmp_path / "s.json", {"b": np.float64(1.5), "a": [np.int64(2), float("nan")]})
+    text = (tmp_path / "s.json").read_text()
+    assert text.index('"a"') < text.index('"b"')
+    assert json.loads(text) == {"a": [2, None], "b": 1.5}

@@ -32,8 +32,8 @@ void fcc_kf_predict(const fcc_real_t q[4], const fcc_sid_model_t *model, fcc_rea
                     fcc_real_t x[2], fcc_real_t p[4])
 {
     const fcc_real_t *a = model->a;
-    const fcc_real_t x0 = a[0] * x[0] + a[1] * x[1] + model->b[0] * de;
-    const fcc_real_t x1 = a[2] * x[0] + a[3] * x[1] + model->b[1] * de;
+    const fcc_real_t x0 = a[0] * x[0] + a[1] * x[1] + model->b[0] * de + model->c[0];
+    const fcc_real_t x1 = a[2] * x[0] + a[3] * x[1] + model->b[1] * de + model->c[1];
     fcc_real_t ap[4];
     fcc_real_t apat[4];
     fcc_sid_m2_mul(a, p, ap);

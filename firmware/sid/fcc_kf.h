@@ -2,12 +2,12 @@
  * fcc_kf.h -- the plain Kalman filter of MLS-KF (seed 1, eqs. 8-14), the
  * baseline the paper compares the zonotopic filters with.
  *
- *   predict  x-_k = A_k x_k-1 + B_k de_k-1              (10)
+ *   predict  x-_k = A_k x_k-1 + B_k de_k-1 (+ c_k)      (10)
  *            P-_k = A_k P_k-1 A_k^T + Q,  Q = E E^T      (11)
  *   update   K_k  = P-_k C^T (C P-_k C^T + R)^-1, R = F F^T   (12)
  *            x_k  = x-_k + K_k (y_k - C x-_k)            (13)
  *            P_k  = (I - K_k C) P-_k                      (14)
- * with C = I2.  After eq. (14) P is symmetrised ((P + P^T)/2): the printed
+ * with C = I2 (c_k: the model's optional affine term, 0 in the paper).  After eq. (14) P is symmetrised ((P + P^T)/2): the printed
  * form is not symmetric in rounding, and float would drift otherwise.
  *
  * The filter starts with an update of the prior (x0, P0) and no prediction

@@ -14,31 +14,57 @@ static void sums_clear(fcc_mls_sums_t *s)
     memset(s, 0, sizeof *s);
 }
 
-/* s += sign * (phi phi^T, phi z^T, z.^2) of one transition. */
+/* Empties an accumulator and sets its reference point to transition t. */
+static void sums_start(fcc_mls_sums_t *s, const fcc_mls_transition_t *t)
+{
+    sums_clear(s);
+    memcpy(s->ref_phi, t->phi, sizeof s->ref_phi);
+    memcpy(s->ref_z, t->z, sizeof s->ref_z);
+}
+
+/* s += sign * (d d^T, d e^T, e.^2, d, e) of one transition, with d, e its
+ * regressor and target about the accumulator's reference point. */
 static void sums_add(fcc_mls_sums_t *s, const fcc_mls_transition_t *t, fcc_real_t sign)
 {
-    const fcc_real_t p0 = sign * t->phi[0];
-    const fcc_real_t p1 = sign * t->phi[1];
-    const fcc_real_t p2 = sign * t->phi[2];
-    s->n[0] += p0 * t->phi[0];
-    s->n[1] += p0 * t->phi[1];
-    s->n[2] += p0 * t->phi[2];
-    s->n[3] += p1 * t->phi[1];
-    s->n[4] += p1 * t->phi[2];
-    s->n[5] += p2 * t->phi[2];
-    s->pz[0] += p0 * t->z[0];
-    s->pz[1] += p0 * t->z[1];
-    s->pz[2] += p1 * t->z[0];
-    s->pz[3] += p1 * t->z[1];
-    s->pz[4] += p2 * t->z[0];
-    s->pz[5] += p2 * t->z[1];
-    s->zz[0] += sign * t->z[0] * t->z[0];
-    s->zz[1] += sign * t->z[1] * t->z[1];
+    /* Written out: this runs twice per step (newest in, oldest out) plus the shadow. */
+    const fcc_real_t d0 = t->phi[0] - s->ref_phi[0];
+    const fcc_real_t d1 = t->phi[1] - s->ref_phi[1];
+    const fcc_real_t d2 = t->phi[2] - s->ref_phi[2];
+    const fcc_real_t e0 = t->z[0] - s->ref_z[0];
+    const fcc_real_t e1 = t->z[1] - s->ref_z[1];
+    const fcc_real_t p0 = sign * d0;
+    const fcc_real_t p1 = sign * d1;
+    const fcc_real_t p2 = sign * d2;
+    const fcc_real_t q0 = sign * e0;
+    const fcc_real_t q1 = sign * e1;
+    s->n[0] += p0 * d0;
+    s->n[1] += p0 * d1;
+    s->n[2] += p0 * d2;
+    s->n[3] += p1 * d1;
+    s->n[4] += p1 * d2;
+    s->n[5] += p2 * d2;
+    s->pz[0] += p0 * e0;
+    s->pz[1] += p0 * e1;
+    s->pz[2] += p1 * e0;
+    s->pz[3] += p1 * e1;
+    s->pz[4] += p2 * e0;
+    s->pz[5] += p2 * e1;
+    s->zz[0] += q0 * e0;
+    s->zz[1] += q1 * e1;
+    s->ps[0] += p0;
+    s->ps[1] += p1;
+    s->ps[2] += p2;
+    s->zs[0] += q0;
+    s->zs[1] += q1;
 }
 
 static void set_prior(fcc_mls_t *mls)
 {
     mls->est.model = mls->cfg.prior;
+    if (!mls->cfg.intercept) {
+        mls->est.model.c[0] = FCC_R(0.0); /* the paper's model has no affine term */
+        mls->est.model.c[1] = FCC_R(0.0);
+    }
     for (size_t i = 0; i < FCC_MLS_N_PARAMS; ++i) {
         mls->est.se[i] = FCC_R(-1.0);
     }
@@ -57,6 +83,7 @@ void fcc_mls_config_default(fcc_mls_config_t *cfg, const fcc_sid_model_t *prior)
     cfg->max_cond = FCC_MLS_DEFAULT_MAX_COND;
     cfg->max_rho = FCC_MLS_DEFAULT_MAX_RHO;
     cfg->prior = *prior;
+    cfg->intercept = false;
 }
 
 fcc_status_t fcc_mls_config_check(const fcc_mls_config_t *cfg)
@@ -104,17 +131,19 @@ fcc_status_t fcc_mls_push(fcc_mls_t *mls, const fcc_real_t x[2], fcc_real_t de,
     if (!fcc_sid_all_finite(x, 2) || !fcc_sid_all_finite(x_next, 2) || !FCC_IS_FINITE(de)) {
         return FCC_ERR_NOT_FINITE;
     }
+    const fcc_mls_transition_t tr = {{x[0], x[1], de}, {x_next[0], x_next[1]}};
+    if (mls->count == 0u) {
+        sums_start(&mls->sums, &tr); /* the first transition is the reference point */
+        sums_start(&mls->shadow, &tr);
+        mls->shadow_count = 0u;
+    }
     fcc_mls_transition_t *slot = &mls->ring[mls->head];
     if (mls->count == mls->cfg.window) {
         sums_add(&mls->sums, slot, FCC_R(-1.0)); /* the oldest leaves */
     } else {
         mls->count++;
     }
-    slot->phi[0] = x[0];
-    slot->phi[1] = x[1];
-    slot->phi[2] = de;
-    slot->z[0] = x_next[0];
-    slot->z[1] = x_next[1];
+    *slot = tr;
     mls->head = (uint16_t)((mls->head + 1u) % mls->cfg.window);
     sums_add(&mls->sums, slot, FCC_R(1.0));
 
@@ -124,7 +153,7 @@ fcc_status_t fcc_mls_push(fcc_mls_t *mls, const fcc_real_t x[2], fcc_real_t de,
     mls->shadow_count++;
     if (mls->shadow_count == mls->cfg.window) {
         mls->sums = mls->shadow;
-        sums_clear(&mls->shadow);
+        sums_start(&mls->shadow, &tr); /* the next window's sums about a recent point */
         mls->shadow_count = 0u;
     }
     mls->est.n_transitions = mls->count;
@@ -239,6 +268,66 @@ static fcc_real_t row_rss(const fcc_mls_sums_t *s, size_t i, const fcc_real_t th
     return rss > FCC_R(0.0) ? rss : FCC_R(0.0);
 }
 
+/* The sums the regression is solved on, from the window's sums about their
+ * reference point r (d = phi - r, e = z - rz; m transitions):
+ *  - the paper's regression needs them about the origin:
+ *    N = Sdd + r Sd^T + Sd r^T + m r r^T, the same for phi z^T and z^2;
+ *  - with the intercept, about the window means:
+ *    Nc = Sdd - Sd Sd^T / m, the same for phi z^T and z^2, and w->ps, w->zs
+ *    then hold the means phi_bar = r + Sd / m, z_bar = rz + Se / m.
+ * Keeping the sums about a recent sample instead of the origin is what makes
+ * the centring accurate in float: the cancellation is of deviations from the
+ * reference, not of 9-deg absolute angles.  A centred square sum cannot be
+ * negative; rounding could make it so. */
+static void normal_data(const fcc_mls_t *mls, fcc_mls_sums_t *w)
+{
+    const fcc_mls_sums_t *s = &mls->sums;
+    const fcc_real_t m = (fcc_real_t)mls->count;
+    *w = *s;
+    if (mls->cfg.intercept) {
+        for (size_t j = 0; j < 3u; ++j) {
+            for (size_t k = j; k < 3u; ++k) {
+                w->n[sym_index(j, k)] -= s->ps[j] * s->ps[k] / m;
+            }
+            w->pz[2u * j] -= s->ps[j] * s->zs[0] / m;
+            w->pz[2u * j + 1u] -= s->ps[j] * s->zs[1] / m;
+            w->ps[j] = s->ref_phi[j] + s->ps[j] / m;
+            const size_t d = sym_index(j, j);
+            w->n[d] = w->n[d] > FCC_R(0.0) ? w->n[d] : FCC_R(0.0);
+        }
+        for (size_t i = 0; i < 2u; ++i) {
+            w->zz[i] -= s->zs[i] * s->zs[i] / m;
+            w->zz[i] = w->zz[i] > FCC_R(0.0) ? w->zz[i] : FCC_R(0.0);
+            w->zs[i] = s->ref_z[i] + s->zs[i] / m;
+        }
+        return;
+    }
+    const fcc_real_t *r = s->ref_phi;
+    const fcc_real_t *rz = s->ref_z;
+    for (size_t j = 0; j < 3u; ++j) {
+        for (size_t k = j; k < 3u; ++k) {
+            w->n[sym_index(j, k)] += r[j] * s->ps[k] + s->ps[j] * r[k] + m * r[j] * r[k];
+        }
+        for (size_t i = 0; i < 2u; ++i) {
+            w->pz[2u * j + i] += r[j] * s->zs[i] + s->ps[j] * rz[i] + m * r[j] * rz[i];
+        }
+    }
+    for (size_t i = 0; i < 2u; ++i) {
+        w->zz[i] += FCC_R(2.0) * rz[i] * s->zs[i] + m * rz[i] * rz[i];
+    }
+}
+
+/* Intercept of output row i, c_i = z_bar_i - th . phi_bar, for the row's
+ * coefficients th and the means of normal_data (0 without intercept). */
+static fcc_real_t intercept_of(const fcc_mls_t *mls, const fcc_mls_sums_t *nd, size_t i,
+                               const fcc_real_t th[3])
+{
+    if (!mls->cfg.intercept) {
+        return FCC_R(0.0);
+    }
+    return nd->zs[i] - (th[0] * nd->ps[0] + th[1] * nd->ps[1] + th[2] * nd->ps[2]);
+}
+
 fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
 {
     if (mls == NULL) {
@@ -248,6 +337,8 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
         set_prior(mls);
         return FCC_OK;
     }
+    fcc_mls_sums_t nd;
+    normal_data(mls, &nd);
     const fcc_real_t ridge = mls->cfg.ridge;
     fcc_real_t theta0[3][2];
     prior_theta(&mls->cfg.prior, theta0);
@@ -256,7 +347,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     fcc_real_t d[3];
     mat3_t s;
     for (size_t j = 0; j < 3u; ++j) {
-        const fcc_real_t njj = mls->sums.n[sym_index(j, j)] + ridge;
+        const fcc_real_t njj = nd.n[sym_index(j, j)] + ridge;
         if (!(njj > FCC_R(0.0)) || !FCC_IS_FINITE(njj)) {
             return FCC_ERR_SINGULAR;
         }
@@ -264,7 +355,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     }
     for (size_t j = 0; j < 3u; ++j) {
         for (size_t k = 0; k < 3u; ++k) {
-            const fcc_real_t nr = mls->sums.n[sym_index(j, k)] + (j == k ? ridge : FCC_R(0.0));
+            const fcc_real_t nr = nd.n[sym_index(j, k)] + (j == k ? ridge : FCC_R(0.0));
             s.m[j][k] = d[j] * nr * d[k];
         }
     }
@@ -283,7 +374,7 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     for (size_t i = 0; i < 2u; ++i) {
         fcc_real_t v[3];
         for (size_t j = 0; j < 3u; ++j) {
-            v[j] = d[j] * (mls->sums.pz[2u * j + i] + ridge * theta0[j][i]);
+            v[j] = d[j] * (nd.pz[2u * j + i] + ridge * theta0[j][i]);
         }
         chol3_solve(&l, v);
         for (size_t j = 0; j < 3u; ++j) {
@@ -297,6 +388,8 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     model.a[2] = th[1][0];
     model.a[3] = th[1][1];
     model.b[1] = th[1][2];
+    model.c[0] = intercept_of(mls, &nd, 0u, th[0]);
+    model.c[1] = intercept_of(mls, &nd, 1u, th[1]);
     if (!fcc_sid_model_is_finite(&model)) {
         return FCC_ERR_NOT_FINITE;
     }
@@ -308,9 +401,10 @@ fcc_status_t fcc_mls_solve(fcc_mls_t *mls)
     /* Standard errors: sigma_i^2 [(N + ridge I)^-1]_jj, the inverse being
      * D W D of the equilibrated factorisation. */
     fcc_real_t se[FCC_MLS_N_PARAMS];
-    const fcc_real_t dof = (fcc_real_t)mls->count - FCC_R(3.0);
+    const fcc_real_t n_par = mls->cfg.intercept ? FCC_R(4.0) : FCC_R(3.0);
+    const fcc_real_t dof = (fcc_real_t)mls->count - n_par;
     for (size_t i = 0; i < 2u; ++i) {
-        const fcc_real_t var = dof > FCC_R(0.0) ? row_rss(&mls->sums, i, th[i]) / dof : FCC_R(-1.0);
+        const fcc_real_t var = dof > FCC_R(0.0) ? row_rss(&nd, i, th[i]) / dof : FCC_R(-1.0);
         for (size_t j = 0; j < 3u; ++j) {
             /* Parameter order a11 a12 a21 a22 b1 b2: row i, regressor j. */
             const size_t p = j < 2u ? 2u * i + j : 4u + i;

@@ -13,10 +13,20 @@
  *  - Exact re-sum: subtraction lets rounding accumulate (visible in float).
  *    A shadow accumulator adds every new transition and, after exactly h
  *    pushes, holds the exact sum of the current window; it then replaces the
- *    running sums.  This is the periodic exact re-sum (period h) spread over
+ *    running sums, and the next shadow starts about the newest sample.  This is the periodic exact re-sum (period h) spread over
  *    the window, so no single step pays O(h).
  *  - Prior model: until min_transitions transitions exist, the prior A0, B0
  *    is reported (too few data to fit six parameters).
+ *  - Optional intercept (off by default: the paper's eq. 30 has none):
+ *    x_{j+1} = A x_j + B de_j + c.  The states are absolute, and a trimmed
+ *    aircraft needs c != 0 (gravity, C_m0 and the trim elevator do not
+ *    cancel A x* + B de*); without it A, B absorb the trim offset.  With it,
+ *    the regression is solved on the window's data centred on their means
+ *    (Nc = N - s s^T / m with s = sum phi, the same for sum phi z^T), which
+ *    is exact, far better conditioned than appending a column of ones, and
+ *    leaves c unregularised; then c = (sum z - Theta^T s) / m.  The ridge
+ *    then acts on the *excitation* (the centred sums): with a steady state
+ *    A, B fall back onto the prior and c takes the mean offset.
  *  - Tikhonov ridge toward the prior: minimise
  *        sum_j |z_j - Theta^T phi_j|^2 + ridge * |Theta - Theta0|_F^2,
  *    i.e. (N + ridge I) Theta = sum phi z^T + ridge Theta0.  Poor excitation
@@ -30,7 +40,8 @@
  *    model whose spectral radius exceeds max_rho is refused the same way
  *    (at 50 Hz, rho = 1.2 would double an error every 4 steps: not an
  *    aircraft, a fit to noise).
- *  - Standard errors: sigma_i^2 = RSS_i / (m - 3) per row, and
+ *  - Standard errors: sigma_i^2 = RSS_i / (m - p) per row (p = 3, or 4 with
+ *    the intercept), and
  *    se = sigma_i sqrt([(N + ridge I)^-1]_jj), the posterior standard
  *    deviation when the ridge is read as a Gaussian prior (the classical
  *    least-squares standard error when ridge = 0).
@@ -56,8 +67,16 @@
 /* Transitions required before the fit replaces the prior: six parameters,
  * 0.4 s of data (enough for a short-period cycle to start). */
 #define FCC_MLS_DEFAULT_MIN_TRANSITIONS 20u
-/* Ridge toward the prior (see above); 0 disables it. */
-#define FCC_MLS_DEFAULT_RIDGE FCC_R(1e-4)
+/* Ridge toward the prior (see above); 0 disables it.  1e-3: at the CDRW's
+ * trim the elevator's excitation (0.5 deg multisine) brings ~4e-3 of
+ * information over the window in the direction where alpha, q and de are
+ * collinear, so 1e-3 holds that direction near the prior while any real
+ * manoeuvre (the pull-up: N_qq ~ 0.1 ... 1) is fitted from the data.
+ * Measured on the CDRW flight (firmware/sid/README.md): with 1e-4 the fit
+ * after 20 transitions of trim flight can be wild (the detector's worst
+ * fault-free innovation ratio over 50 seeds 5.4), with 1e-3 it is 1.75;
+ * 1e-2 holds the stall too close to the trim prior (2.0, larger errors). */
+#define FCC_MLS_DEFAULT_RIDGE FCC_R(1e-3)
 /* Largest accepted condition number of the equilibrated normal matrix.  The
  * solve loses about log10(cond) digits: 1e6 leaves 10 in double; float
  * keeps 1e4 so that at least 3 digits survive. */
@@ -78,7 +97,9 @@ typedef struct {
     fcc_real_t ridge;         /* Tikhonov weight toward the prior, >= 0 */
     fcc_real_t max_cond;      /* conditioning guard, > 1 */
     fcc_real_t max_rho;       /* plausibility guard on rho(A_k); 0 = off */
-    fcc_sid_model_t prior;    /* A0, B0: used until the window has data, and the ridge target */
+    fcc_sid_model_t prior;    /* A0, B0 (c0): used until the window has data, and the ridge
+                                 target; its c is ignored (taken as 0) without intercept */
+    bool intercept;           /* fit the affine term c too (not in the paper; default false) */
 } fcc_mls_config_t;
 
 /* The current estimate (always finite). */
@@ -97,12 +118,20 @@ typedef struct {
     fcc_real_t z[2];
 } fcc_mls_transition_t;
 
-/* Running sums of the window: N (upper triangle n00 n01 n02 n11 n12 n22),
- * sum phi z^T (3x2 row-major) and sum z_i^2. */
+/* Running sums of the window about a reference point (ref_phi, ref_z), a
+ * sample of the window, with d = phi - ref_phi and e = z - ref_z: sum d d^T
+ * (upper triangle n00 n01 n02 n11 n12 n22), sum d e^T (3x2 row-major),
+ * sum e_i^2, sum d, sum e.  The solve turns them into sums about the origin
+ * (the paper's regression) or about the window means (the intercept); sums
+ * about a recent sample keep the centring accurate in float. */
 typedef struct {
     fcc_real_t n[6];
     fcc_real_t pz[6];
     fcc_real_t zz[2];
+    fcc_real_t ps[3];
+    fcc_real_t zs[2];
+    fcc_real_t ref_phi[3];
+    fcc_real_t ref_z[2];
 } fcc_mls_sums_t;
 
 typedef struct {
@@ -116,7 +145,7 @@ typedef struct {
     fcc_mls_estimate_t est;
 } fcc_mls_t;
 
-/* Fills cfg with the defaults above and the given prior. */
+/* Fills cfg with the defaults above and the given prior (intercept off). */
 void fcc_mls_config_default(fcc_mls_config_t *cfg, const fcc_sid_model_t *prior);
 
 /* Checks a configuration: FCC_ERR_ARG on NULL or non-finite values,

@@ -7,13 +7,31 @@ void fcc_sid_default_prior(fcc_sid_model_t *prior)
     if (prior == NULL) {
         return;
     }
-    /* A0 = I + dt [[Z_a, 1], [M_a, M_q]], B0 = dt [Z_de, M_de], dt = 0.02. */
-    prior->a[0] = FCC_R(0.97);
-    prior->a[1] = FCC_R(0.02);
-    prior->a[2] = FCC_R(-0.4);
-    prior->a[3] = FCC_R(0.94);
-    prior->b[0] = FCC_R(-0.004);
-    prior->b[1] = FCC_R(-0.6);
+    /* [A0 B0] + c0 phi*^T / |phi*|^2, phi* = (alpha*, q*, de*): see the header. */
+    prior->a[0] = FCC_R(0.989307);
+    prior->a[1] = FCC_R(0.018740);
+    prior->a[2] = FCC_R(-0.540133);
+    prior->a[3] = FCC_R(0.873259);
+    prior->b[0] = FCC_R(-0.039892);
+    prior->b[1] = FCC_R(-2.015052);
+    prior->c[0] = FCC_R(0.0);
+    prior->c[1] = FCC_R(0.0);
+}
+
+void fcc_sid_default_prior_affine(fcc_sid_model_t *prior)
+{
+    if (prior == NULL) {
+        return;
+    }
+    /* A0 = I + dt A_c, B0 = dt B_c, c0 = dt (f* - A_c x* - B_c de*), X = X0(alpha). */
+    prior->a[0] = FCC_R(0.895757);
+    prior->a[1] = FCC_R(0.018740);
+    prior->a[2] = FCC_R(-1.001991);
+    prior->a[3] = FCC_R(0.873259);
+    prior->b[0] = FCC_R(-0.014816);
+    prior->b[1] = FCC_R(-1.891251);
+    prior->c[0] = FCC_R(0.015751);
+    prior->c[1] = FCC_R(0.077761);
 }
 
 static void diag2(fcc_real_t m[4], fcc_real_t v)
@@ -38,6 +56,7 @@ void fcc_sid_config_default(fcc_sid_config_t *cfg, fcc_sid_filter_t filter)
     diag2(cfg->f, FCC_SID_DEFAULT_F);
     cfg->mls_enabled = true;
     cfg->mls_hold_on_fault = true;
+    cfg->arm_on_prior = true;
     fcc_sid_model_t prior;
     fcc_sid_default_prior(&prior);
     fcc_mls_config_default(&cfg->mls, &prior);
@@ -210,7 +229,8 @@ static fcc_status_t step_zkf(fcc_sid_t *sid, const fcc_real_t y[2], fcc_real_t d
     fcc_status_t st;
     if (adaptive) {
         fcc_azkf_info_t ainfo;
-        const bool armed = !sid->cfg.mls_enabled || !current_estimate(sid)->is_prior;
+        const bool armed = !sid->cfg.mls_enabled || sid->cfg.arm_on_prior ||
+                           !current_estimate(sid)->is_prior;
         st = fcc_azkf_step(&sid->u.azkf, model, de, y, use_y, armed, oracle, &ainfo);
         zinfo = ainfo.zkf;
         fault = ainfo.fault;

@@ -9,7 +9,7 @@
  *
  *   fcc_sid_config_t cfg;
  *   fcc_sid_config_default(&cfg, FCC_SID_AZKF);    // paper values
- *   static fcc_sid_t sid;   // 18.8 kB (float, M4F) / 36.6 kB (double): static
+ *   static fcc_sid_t sid;   // 18.9 kB (float, M4F) / 36.8 kB (double): static
  *   if (fcc_sid_init(&sid, &cfg) != FCC_OK) ...
  *   each step: fcc_sid_step(&sid, y_alpha, y_q, de, oracle_fault, valid, &out);
  *
@@ -22,8 +22,10 @@
  * measurement: a step without a usable sample (measurement_valid false,
  * non-finite or out-of-range sample) or with a flagged fault (AZKF, when
  * mls_hold_on_fault) only predicts, and a prediction teaches the MLS
- * nothing but its own model.  The AZKF's fault detector is armed only once
- * the model is fitted (not the prior), unless the MLS is off.
+ * nothing but its own model.  The AZKF's fault detector is armed from the
+ * first step when arm_on_prior (default: the prior is the aircraft's
+ * wind-tunnel model, consistent with trim flight), otherwise only once the
+ * MLS has fitted a model (or when the MLS is off).
  *
  * Output semantics (one row per step, comparable with another
  * implementation):
@@ -83,6 +85,8 @@ typedef struct {
     fcc_real_t f[4];         /* measurement noise generators F (R = F F^T), row-major */
     bool mls_enabled;        /* false: mls.prior is the model every step (filter alone) */
     bool mls_hold_on_fault;  /* AZKF: do not learn transitions while a fault is flagged */
+    bool arm_on_prior;       /* AZKF: detector armed while the model is still the prior
+                                (true: the prior is a real model, see fcc_sid_default_prior) */
     fcc_mls_config_t mls;    /* window, ridge, guards, prior model */
     uint16_t zkf_order;      /* ZKF's fixed order, 2..FCC_ZONO_MAX_ORDER */
     fcc_azkf_config_t azkf;  /* q_normal, q_fault, policy, detector */
@@ -135,11 +139,23 @@ typedef struct {
  * (module headers), for the given filter. */
 void fcc_sid_config_default(fcc_sid_config_t *cfg, fcc_sid_filter_t filter);
 
-/* The representative prior model A0, B0 (Euler, dt = 0.02 s, of a small
- * delta wing near trim: Z_alpha = -1.5 1/s, M_alpha = -20 1/s^2,
- * M_q = -3 1/s, Z_de = -0.2 1/s, M_de = -30 1/s^2; not from the paper,
- * which gives none).  The application should pass the best model it has. */
+/* The prior A0, B0: the CDRW's "wind-tunnel" model at trim, i.e. the
+ * quasi-steady linearisation (separation point at its static value X0(alpha))
+ * at alpha* = 9 deg, q* = 0, de* = -0.0421 rad, in the paper's Euler form
+ * (dt = 0.02 s); hil.plants.cdrw_prior.wind_tunnel_prior() computes it and
+ * tests/python/test_sid_cdrw.py checks these digits against it.  The
+ * paper's regression has no constant term, so this prior has the trim offset
+ * c0 absorbed into [A0 B0] by the smallest change that keeps the trim a fixed
+ * point (otherwise the filters would drift by c0 per step until the MLS has
+ * data; it is also what a fit without intercept converges to on trim data).
+ * c = 0.  rho(A0) = 0.935 (the unabsorbed A0: 0.895; the plant's exact
+ * linearisation: 0.889).  The application should pass the best model it has. */
 void fcc_sid_default_prior(fcc_sid_model_t *prior);
+
+/* The same wind-tunnel model in affine form, x+ = A0 x + B0 de + c0 (the
+ * Jacobian itself and the trim offset): the prior for the optional MLS
+ * intercept (fcc_mls_config_t.intercept). */
+void fcc_sid_default_prior_affine(fcc_sid_model_t *prior);
 
 /* Checks every field; FCC_ERR_ARG / FCC_ERR_RANGE / FCC_ERR_NOT_POSDEF. */
 fcc_status_t fcc_sid_config_check(const fcc_sid_config_t *cfg);

@@ -12,7 +12,8 @@ bool fcc_sid_all_finite(const fcc_real_t *v, size_t n)
 
 bool fcc_sid_model_is_finite(const fcc_sid_model_t *model)
 {
-    return fcc_sid_all_finite(model->a, 4) && fcc_sid_all_finite(model->b, 2);
+    return fcc_sid_all_finite(model->a, 4) && fcc_sid_all_finite(model->b, 2) &&
+           fcc_sid_all_finite(model->c, 2);
 }
 
 fcc_real_t fcc_sid_m2_spectral_radius(const fcc_real_t m[4])

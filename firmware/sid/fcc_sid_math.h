@@ -29,11 +29,15 @@
 #define FCC_SID_MAX_MAGNITUDE FCC_R(1e150)
 #endif
 
-/* One discrete model x_{k+1} = A x_k + B de_k (eq. 3): a row-major 2x2 A and
- * the 2-vector B. */
+/* One discrete model x_{k+1} = A x_k + B de_k + c (eq. 3): a row-major 2x2 A,
+ * the 2-vector B and the affine term c.  The paper's model has no c (c = 0,
+ * the default): the states are absolute (alpha ~ 9 deg at trim) and A, B
+ * absorb the trim offset.  c is non-zero only with the MLS's optional
+ * intercept (fcc_mls.h), which lets A, B be the local dynamics instead. */
 typedef struct {
     fcc_real_t a[4];
     fcc_real_t b[2];
+    fcc_real_t c[2];
 } fcc_sid_model_t;
 
 /* True when all n values are finite. */

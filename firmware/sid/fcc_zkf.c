@@ -252,8 +252,8 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
     }
     const fcc_real_t *a = model->a;
     fcc_real_t x_new[2];
-    x_new[0] = a[0] * zkf->x[0] + a[1] * zkf->x[1] + model->b[0] * de;
-    x_new[1] = a[2] * zkf->x[0] + a[3] * zkf->x[1] + model->b[1] * de;
+    x_new[0] = a[0] * zkf->x[0] + a[1] * zkf->x[1] + model->b[0] * de + model->c[0];
+    x_new[1] = a[2] * zkf->x[0] + a[3] * zkf->x[1] + model->b[1] * de + model->c[1];
     if (use_measurement) {
         const fcc_real_t i0 = y[0] - zkf->x[0];
         const fcc_real_t i1 = y[1] - zkf->x[1];

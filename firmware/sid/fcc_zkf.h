@@ -6,7 +6,7 @@
  * generator matrix.  One combined predict-correct step of order q:
  *   P_bar = reduce_q(P_k)                                   (eqs. 17-18)
  *   G_k   = A P_bar P_bar^T C^T (C P_bar P_bar^T C^T + R)^-1   (eq. 25)
- *   x_k+1 = A x_k + B de_k + G_k (y_k - C x_k)               (eq. 22)
+ *   x_k+1 = A x_k + B de_k (+ c) + G_k (y_k - C x_k)         (eq. 22)
  *   P_k+1 = [(A - G_k C) P_bar, E, -G_k F]                   (eq. 24)
  * with C = I2 and R = F F^T.  A small q boxes the set, enlarges
  * P_bar P_bar^T and so raises the gain (trust the sensor); a large q keeps

@@ -254,6 +254,76 @@ static void fixed_model_mode(void **state)
     }
 }
 
+/* The default priors are the CDRW's wind-tunnel model at its trim
+ * alpha* = 9 deg, q* = 0, de* = -0.042105 rad: the paper's form keeps the trim
+ * a fixed point, the affine form with its c0, and the two differ by the
+ * smallest correction c0 phi*^T / |phi*|^2 (fcc_sid.h). */
+static void default_priors_hold_the_trim(void **state)
+{
+    (void)state;
+    const double xs[2] = {0.15707963, 0.0};
+    const double des = -0.04210504;
+    fcc_sid_model_t p, q;
+    fcc_sid_default_prior(&p);
+    fcc_sid_default_prior_affine(&q);
+    assert_true(p.c[0] == FCC_R(0.0) && p.c[1] == FCC_R(0.0));
+    const double phi2 = xs[0] * xs[0] + xs[1] * xs[1] + des * des;
+    for (int i = 0; i < 2; ++i) {
+        const double fp = (double)p.a[2 * i] * xs[0] + (double)p.a[2 * i + 1] * xs[1] +
+                          (double)p.b[i] * des;
+        const double fq = (double)q.a[2 * i] * xs[0] + (double)q.a[2 * i + 1] * xs[1] +
+                          (double)q.b[i] * des + (double)q.c[i];
+        fcc_assert_close(fp, xs[i], 0.0, 5e-6); /* digits as printed: 1e-6 */
+        fcc_assert_close(fq, xs[i], 0.0, 5e-6);
+        const double ci = (double)q.c[i]; /* printed to 1e-6; the correction is 5.9 c0 */
+        fcc_assert_close(p.a[2 * i], (double)q.a[2 * i] + ci * xs[0] / phi2, 0.0, 5e-6);
+        fcc_assert_close(p.a[2 * i + 1], (double)q.a[2 * i + 1] + ci * xs[1] / phi2, 0.0, 5e-6);
+        fcc_assert_close(p.b[i], (double)q.b[i] + ci * des / phi2, 0.0, 5e-6);
+    }
+    fcc_sid_config_t cfg;
+    fcc_sid_config_default(&cfg, FCC_SID_KF);
+    assert_memory_equal(&cfg.mls.prior, &p, sizeof p);
+    assert_false(cfg.mls.intercept);
+    assert_true(cfg.arm_on_prior);
+}
+
+/* A spike in the first steps, while the model is still the prior: caught
+ * when the detector is armed on the prior, not otherwise. */
+static void arming_on_the_prior_catches_an_early_spike(void **state)
+{
+    (void)state;
+    for (int arm = 0; arm < 2; ++arm) {
+        fcc_sid_config_t cfg;
+        fcc_sid_config_default(&cfg, FCC_SID_AZKF);
+        for (int i = 0; i < 4; ++i) {
+            cfg.mls.prior.a[i] = (fcc_real_t)a_true[i]; /* a prior that is right */
+        }
+        cfg.mls.prior.b[0] = (fcc_real_t)b_true[0];
+        cfg.mls.prior.b[1] = (fcc_real_t)b_true[1];
+        cfg.arm_on_prior = arm == 1;
+        fcc_assert_ok(fcc_sid_init(&sid_a, &cfg));
+        flight_t f;
+        flight_init(&f);
+        int flagged = 0, flagged_at_spike = 0;
+        for (int k = 0; k < 15; ++k) {
+            double y[2], de;
+            flight_next(&f, y, &de, 1e-3);
+            const bool spike = k == 10;
+            fcc_sid_out_t out;
+            (void)fcc_sid_step(&sid_a, (fcc_real_t)(y[0] + (spike ? 0.15 : 0.0)),
+                               (fcc_real_t)(y[1] + (spike ? 0.3 : 0.0)), (fcc_real_t)de, false, true,
+                               &out);
+            assert_true(out.model_is_prior);
+            flagged += out.fault ? 1 : 0;
+            flagged_at_spike += (spike && out.fault) ? 1 : 0;
+        }
+        assert_int_equal(flagged_at_spike, arm);
+        if (arm == 0) {
+            assert_int_equal(flagged, 0);
+        }
+    }
+}
+
 static void configuration_is_checked(void **state)
 {
     (void)state;
@@ -304,6 +374,8 @@ int main(void)
         cmocka_unit_test(invalid_measurement_predicts_and_teaches_nothing),
         cmocka_unit_test(same_input_same_output),
         cmocka_unit_test(fixed_model_mode),
+        cmocka_unit_test(default_priors_hold_the_trim),
+        cmocka_unit_test(arming_on_the_prior_catches_an_early_spike),
         cmocka_unit_test(configuration_is_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,7 +9,7 @@
 #define TOL FCC_TEST_TOL(1e-14, 1e-6)
 
 /* A = [[1,1],[0,1]], B = [0,1], Q = E E^T = I, R = F F^T = I, x0 = [1,0], P0 = I. */
-static const fcc_sid_model_t model = {{1, 1, 0, 1}, {0, 1}};
+static const fcc_sid_model_t model = {{1, 1, 0, 1}, {0, 1}, {0, 0}};
 static const fcc_real_t eye[4] = {1, 0, 0, 1};
 
 static void init(fcc_kf_t *kf)
@@ -76,6 +76,27 @@ static void prediction_only_without_measurement(void **state)
     fcc_assert_close(kf.p[3], 1.5, TOL, TOL);
 }
 
+static void affine_term_enters_the_prediction(void **state)
+{
+    (void)state;
+    fcc_kf_t kf;
+    init(&kf);
+    const fcc_real_t y0[2] = {2, 2};
+    fcc_assert_ok(fcc_kf_step(&kf, &model, FCC_R(0.0), y0, true, NULL));
+    fcc_sid_model_t affine = model;
+    affine.c[0] = FCC_R(0.25);
+    affine.c[1] = FCC_R(-0.5);
+    /* x- = A [1.5, 1] + B + c = [2.5 + 0.25, 2 - 0.5]; P as without c. */
+    fcc_assert_ok(fcc_kf_step(&kf, &affine, FCC_R(1.0), NULL, false, NULL));
+    fcc_assert_close(kf.x[0], 2.75, TOL, TOL);
+    fcc_assert_close(kf.x[1], 1.5, TOL, TOL);
+    fcc_assert_close(kf.p[0], 2.0, TOL, TOL);
+    /* a non-finite c is refused like any other model entry */
+    affine.c[1] = (fcc_real_t)NAN;
+    assert_int_equal(fcc_kf_step(&kf, &affine, FCC_R(1.0), NULL, false, NULL), FCC_ERR_NOT_FINITE);
+    fcc_assert_close(kf.x[0], 2.75, TOL, TOL);
+}
+
 static void covariance_stays_symmetric(void **state)
 {
     (void)state;
@@ -86,7 +107,7 @@ static void covariance_stays_symmetric(void **state)
     const fcc_real_t f[4] = {FCC_R(0.02), 0, 0, FCC_R(0.02)};
     fcc_assert_ok(fcc_kf_init(&kf, x0, p0, e, f));
     const fcc_sid_model_t m = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)},
-                               {FCC_R(-0.004), FCC_R(-0.6)}};
+                               {FCC_R(-0.004), FCC_R(-0.6)}, {0, 0}};
     for (int k = 0; k < 500; ++k) {
         const fcc_real_t y[2] = {(fcc_real_t)(0.15 + 0.01 * sin(0.1 * k)), FCC_R(0.02)};
         fcc_assert_ok(fcc_kf_step(&kf, &m, FCC_R(-0.1), y, true, NULL));
@@ -141,6 +162,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(hand_worked_two_steps),
         cmocka_unit_test(prediction_only_without_measurement),
+        cmocka_unit_test(affine_term_enters_the_prediction),
         cmocka_unit_test(covariance_stays_symmetric),
         cmocka_unit_test(refused_input_leaves_filter_unchanged),
         cmocka_unit_test(init_checks_covariances),

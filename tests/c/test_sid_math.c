@@ -28,7 +28,7 @@ static void spectral_radius_hand_cases(void **state)
     const fcc_real_t neg[4] = {FCC_R(-3.0), FCC_R(0.0), FCC_R(0.0), FCC_R(1.0)};
     fcc_assert_close(fcc_sid_m2_spectral_radius(neg), 3.0, TOL, TOL);
     /* The default prior model is stable: complex pair, |lambda|^2 = det. */
-    fcc_sid_model_t prior = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)}, {0, 0}};
+    fcc_sid_model_t prior = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)}, {0, 0}, {0, 0}};
     fcc_assert_close(fcc_sid_m2_spectral_radius(prior.a), sqrt(0.97 * 0.94 + 0.02 * 0.4), TOL, TOL);
 }
 

@@ -13,6 +13,9 @@ static fcc_mls_t mls; /* large: static, as on the target */
 static const double a_true[4] = {0.95, 0.02, -0.35, 0.93};
 static const double b_true[2] = {-0.004, -0.55};
 
+/* Affine term of the simulated model (0: the paper's model). */
+static double c_sim[2] = {0.0, 0.0};
+
 static unsigned lcg_state = 12345u;
 
 /* Uniform in [-1, 1], deterministic. */
@@ -24,7 +27,7 @@ static double urand(void)
 
 static fcc_mls_config_t config(uint16_t window, fcc_real_t ridge)
 {
-    fcc_sid_model_t prior = {{FCC_R(1.0), FCC_R(0.0), FCC_R(0.0), FCC_R(1.0)}, {0, 0}};
+    fcc_sid_model_t prior = {{FCC_R(1.0), FCC_R(0.0), FCC_R(0.0), FCC_R(1.0)}, {0, 0}, {0, 0}};
     fcc_mls_config_t cfg;
     fcc_mls_config_default(&cfg, &prior);
     cfg.window = window;
@@ -57,8 +60,8 @@ static void sim_step(fcc_mls_t *m, double noise)
     const double k = (double)sim.n;
     const double de = -0.1 + 0.05 * sin(0.37 * k) + 0.03 * sin(1.3 * k + 0.5);
     const double x0 = sim.x[0], x1 = sim.x[1];
-    const double n0 = a_true[0] * x0 + a_true[1] * x1 + b_true[0] * de + noise * urand();
-    const double n1 = a_true[2] * x0 + a_true[3] * x1 + b_true[1] * de + noise * urand();
+    const double n0 = a_true[0] * x0 + a_true[1] * x1 + b_true[0] * de + c_sim[0] + noise * urand();
+    const double n1 = a_true[2] * x0 + a_true[3] * x1 + b_true[1] * de + c_sim[1] + noise * urand();
     const fcc_real_t xr[2] = {(fcc_real_t)x0, (fcc_real_t)x1};
     const fcc_real_t nr[2] = {(fcc_real_t)n0, (fcc_real_t)n1};
     fcc_assert_ok(fcc_mls_push(m, xr, (fcc_real_t)de, nr));
@@ -184,6 +187,119 @@ static void noise_free_recovers_truth(void **state)
     double truth[2][3] = {{a_true[0], a_true[1], b_true[0]}, {a_true[2], a_true[3], b_true[1]}};
     assert_model(&est->model, truth, FCC_TEST_TOL(1e-9, 2e-3));
     assert_int_equal(est->n_transitions, 110);
+}
+
+/* x+ = A x + B de + c (a trimmed aircraft in absolute coordinates). */
+static void intercept_recovers_affine_model(void **state)
+{
+    (void)state;
+    c_sim[0] = 0.016;
+    c_sim[1] = 0.071;
+    double truth[2][3] = {{a_true[0], a_true[1], b_true[0]}, {a_true[2], a_true[3], b_true[1]}};
+    /* With the intercept: A, B and c exactly. */
+    fcc_mls_config_t cfg = config(110u, FCC_R(0.0));
+    cfg.intercept = true;
+    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
+    sim_reset();
+    for (int k = 0; k < 300; ++k) {
+        sim_step(&mls, 0.0);
+        assert_int_equal(fcc_mls_solve(&mls), FCC_OK);
+    }
+    const fcc_mls_estimate_t *est = fcc_mls_estimate(&mls);
+    assert_model(&est->model, truth, FCC_TEST_TOL(1e-9, 2e-3));
+    fcc_assert_close(est->model.c[0], 0.016, 0.0, FCC_TEST_TOL(1e-10, 2e-4));
+    fcc_assert_close(est->model.c[1], 0.071, 0.0, FCC_TEST_TOL(1e-10, 2e-3));
+    /* The paper's regression on the same data: no c, so A and B absorb it
+     * (numpy's lstsq on this window: a21 = -0.151 instead of -0.35). */
+    cfg.intercept = false;
+    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
+    sim_reset();
+    for (int k = 0; k < 300; ++k) {
+        sim_step(&mls, 0.0);
+        (void)fcc_mls_solve(&mls);
+    }
+    est = fcc_mls_estimate(&mls);
+    assert_true(est->model.c[0] == FCC_R(0.0) && est->model.c[1] == FCC_R(0.0));
+    fcc_assert_close(est->model.a[2], -0.15057, 0.0, FCC_TEST_TOL(1e-4, 2e-3));
+    c_sim[0] = c_sim[1] = 0.0;
+}
+
+/* The intercept fit against an independent batch computation: the
+ * regression on the window's data centred on their means (c free, the ridge
+ * on A and B), then c = mean(z) - Theta^T mean(phi). */
+static void intercept_equals_centred_batch(void **state)
+{
+    (void)state;
+    c_sim[0] = 0.01;
+    c_sim[1] = -0.05;
+    const double ridge = 0.02;
+    fcc_mls_config_t cfg = config(60u, (fcc_real_t)ridge);
+    cfg.intercept = true;
+    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
+    sim_reset();
+    for (int k = 0; k < 173; ++k) {
+        sim_step(&mls, 0.003);
+        fcc_assert_ok(fcc_mls_solve(&mls));
+    }
+    const size_t h = 60u;
+    double mp[3] = {0, 0, 0}, mz[2] = {0, 0};
+    for (size_t t = sim.n - h; t < sim.n; ++t) {
+        const double phi[3] = {sim.xs[t][0], sim.xs[t][1], sim.des[t]};
+        for (int j = 0; j < 3; ++j) {
+            mp[j] += phi[j] / (double)h;
+        }
+        for (int i = 0; i < 2; ++i) {
+            mz[i] += (t + 1 < sim.n ? sim.xs[t + 1][i] : sim.x[i]) / (double)h;
+        }
+    }
+    double n[3][3] = {{0}}, pz[3][2] = {{0}};
+    for (size_t t = sim.n - h; t < sim.n; ++t) {
+        const double phi[3] = {sim.xs[t][0] - mp[0], sim.xs[t][1] - mp[1], sim.des[t] - mp[2]};
+        const double z[2] = {(t + 1 < sim.n ? sim.xs[t + 1][0] : sim.x[0]) - mz[0],
+                             (t + 1 < sim.n ? sim.xs[t + 1][1] : sim.x[1]) - mz[1]};
+        for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) {
+                n[j][k] += phi[j] * phi[k];
+            }
+            pz[j][0] += phi[j] * z[0];
+            pz[j][1] += phi[j] * z[1];
+        }
+    }
+    const double theta0[3][2] = {{1.0, 0.0}, {0.0, 1.0}, {0.0, 0.0}}; /* config()'s prior */
+    for (int j = 0; j < 3; ++j) {
+        n[j][j] += ridge;
+    }
+    double coef[2][3];
+    for (int i = 0; i < 2; ++i) {
+        const double rhs[3] = {pz[0][i] + ridge * theta0[0][i], pz[1][i] + ridge * theta0[1][i],
+                               pz[2][i] + ridge * theta0[2][i]};
+        cramer3(n, rhs, coef[i]);
+    }
+    const fcc_mls_estimate_t *est = fcc_mls_estimate(&mls);
+    assert_model(&est->model, coef, FCC_TEST_TOL(1e-9, 5e-3));
+    for (int i = 0; i < 2; ++i) {
+        const double c = mz[i] - (coef[i][0] * mp[0] + coef[i][1] * mp[1] + coef[i][2] * mp[2]);
+        fcc_assert_close(est->model.c[i], c, 0.0, FCC_TEST_TOL(1e-10, 1e-3));
+    }
+    c_sim[0] = c_sim[1] = 0.0;
+}
+
+/* The prior's c is the model's only with the intercept. */
+static void prior_affine_term_needs_the_intercept(void **state)
+{
+    (void)state;
+    fcc_mls_config_t cfg = config(60u, FCC_R(0.0));
+    cfg.prior.c[0] = FCC_R(0.5);
+    cfg.prior.c[1] = FCC_R(-0.25);
+    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
+    const fcc_mls_estimate_t *est = fcc_mls_estimate(&mls);
+    assert_true(est->is_prior);
+    assert_true(est->model.c[0] == FCC_R(0.0) && est->model.c[1] == FCC_R(0.0));
+    cfg.intercept = true;
+    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
+    assert_true(est->model.c[0] == FCC_R(0.5) && est->model.c[1] == FCC_R(-0.25));
+    cfg.prior.c[0] = (fcc_real_t)INFINITY;
+    assert_int_equal(fcc_mls_config_check(&cfg), FCC_ERR_ARG);
 }
 
 static void sliding_window_equals_batch(void **state)
@@ -367,7 +483,8 @@ static void bad_input_is_refused(void **state)
 }
 
 /* The running sums stay exact to a window's worth of rounding however long
- * the flight: after 20000 pushes they equal a fresh sum of the window. */
+ * the flight: after 20000 pushes they equal a fresh sum of the window (about
+ * the accumulator's reference point, fcc_mls_sums_t). */
 static void resum_bounds_drift(void **state)
 {
     (void)state;
@@ -381,11 +498,16 @@ static void resum_bounds_drift(void **state)
         fcc_assert_ok(fcc_mls_push(&mls, x, (fcc_real_t)urand(), z));
     }
     double n00 = 0.0, pz21 = 0.0, zz1 = 0.0;
+    const fcc_real_t *r = mls.sums.ref_phi;
+    const fcc_real_t *rz = mls.sums.ref_z;
     for (size_t i = 0; i < mls.count; ++i) {
         const fcc_mls_transition_t *t = &mls.ring[i];
-        n00 += (double)t->phi[0] * (double)t->phi[0];
-        pz21 += (double)t->phi[2] * (double)t->z[1];
-        zz1 += (double)t->z[1] * (double)t->z[1];
+        const double d0 = (double)t->phi[0] - (double)r[0];
+        const double d2 = (double)t->phi[2] - (double)r[2];
+        const double e1 = (double)t->z[1] - (double)rz[1];
+        n00 += d0 * d0;
+        pz21 += d2 * e1;
+        zz1 += e1 * e1;
     }
     /* Bound: rounding of one window of 110 sums, not of 20000 steps. */
     const double tol = FCC_TEST_TOL(1e-12, 2e-5);
@@ -399,6 +521,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(hand_worked_four_transitions),
         cmocka_unit_test(noise_free_recovers_truth),
+        cmocka_unit_test(intercept_recovers_affine_model),
+        cmocka_unit_test(intercept_equals_centred_batch),
+        cmocka_unit_test(prior_affine_term_needs_the_intercept),
         cmocka_unit_test(sliding_window_equals_batch),
         cmocka_unit_test(standard_errors_match_formula),
         cmocka_unit_test(prior_until_enough_and_huge_ridge_is_prior),

@@ -15,7 +15,7 @@ static fcc_zkf_t zkf;
 static fcc_zkf_t zkf2;
 static fcc_azkf_t azkf;
 
-static const fcc_sid_model_t jordan = {{1, 1, 0, 1}, {0, 1}};
+static const fcc_sid_model_t jordan = {{1, 1, 0, 1}, {0, 1}, {0, 0}};
 static const fcc_real_t eye[4] = {1, 0, 0, 1};
 static const fcc_real_t half_eye[4] = {FCC_R(0.5), 0, 0, FCC_R(0.5)};
 
@@ -71,7 +71,7 @@ static void no_reduction_follows_kf_covariance_recursion(void **state)
     /* Without reduction P P^T obeys the one-step-predictor Riccati recursion
      * M+ = A M A^T + Q - A M (M + R)^-1 M A^T. */
     const fcc_sid_model_t m = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)},
-                               {FCC_R(-0.004), FCC_R(-0.6)}};
+                               {FCC_R(-0.004), FCC_R(-0.6)}, {0, 0}};
     const fcc_real_t x0[2] = {FCC_R(0.1571), FCC_R(0.0204)};
     const fcc_real_t p0[4] = {FCC_R(0.3162), 0, 0, FCC_R(0.3162)};
     const fcc_real_t e[4] = {FCC_R(0.004), 0, 0, FCC_R(0.004)};
@@ -117,7 +117,7 @@ static void gain_rises_when_order_drops(void **state)
 {
     (void)state;
     const fcc_sid_model_t m = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)},
-                               {FCC_R(-0.004), FCC_R(-0.6)}};
+                               {FCC_R(-0.004), FCC_R(-0.6)}, {0, 0}};
     const fcc_real_t x0[2] = {FCC_R(0.15), FCC_R(0.02)};
     const fcc_real_t p0[4] = {FCC_R(0.3), 0, 0, FCC_R(0.3)};
     const fcc_real_t e[4] = {FCC_R(0.004), 0, 0, FCC_R(0.004)};
@@ -146,7 +146,7 @@ static void run_azkf(fcc_azkf_policy_t policy, fcc_fdet_mode_t mode, fcc_real_t 
                      bool faults[200], fcc_real_t xs[200][2])
 {
     const fcc_sid_model_t m = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)},
-                               {FCC_R(-0.004), FCC_R(-0.6)}};
+                               {FCC_R(-0.004), FCC_R(-0.6)}, {0, 0}};
     fcc_azkf_config_t cfg;
     fcc_azkf_config_default(&cfg);
     cfg.policy = policy;
@@ -244,6 +244,21 @@ static void prediction_only_step(void **state)
     }
 }
 
+static void affine_term_enters_the_step(void **state)
+{
+    (void)state;
+    const fcc_real_t x0[2] = {1, 0};
+    fcc_assert_ok(fcc_zkf_init(&zkf, x0, eye, half_eye, eye));
+    fcc_sid_model_t affine = jordan;
+    affine.c[0] = FCC_R(0.25);
+    affine.c[1] = FCC_R(-0.5);
+    fcc_assert_ok(fcc_zkf_step(&zkf, &affine, FCC_R(1.0), NULL, false, 10u, NULL));
+    /* A x + B de + c = [1, 1] + [0.25, -0.5]; the set does not move with c. */
+    fcc_assert_close(zkf.x[0], 1.25, TOL, TOL);
+    fcc_assert_close(zkf.x[1], 0.5, TOL, TOL);
+    fcc_assert_close(zkf.gen[2], 1.0, TOL, TOL);
+}
+
 static void refused_step_leaves_filter_unchanged(void **state)
 {
     (void)state;
@@ -290,7 +305,7 @@ static void storage_bound_at_largest_order(void **state)
 {
     (void)state;
     const fcc_sid_model_t m = {{FCC_R(0.97), FCC_R(0.02), FCC_R(-0.4), FCC_R(0.94)},
-                               {FCC_R(-0.004), FCC_R(-0.6)}};
+                               {FCC_R(-0.004), FCC_R(-0.6)}, {0, 0}};
     const fcc_real_t x0[2] = {FCC_R(0.15), FCC_R(0.02)};
     const fcc_real_t e[4] = {FCC_R(0.004), 0, 0, FCC_R(0.004)};
     const fcc_real_t f[4] = {FCC_R(0.02), 0, 0, FCC_R(0.02)};
@@ -315,6 +330,7 @@ int main(void)
         cmocka_unit_test(azkf_gain_falls_on_fault_and_rises_after),
         cmocka_unit_test(azkf_skip_policy_predicts_only),
         cmocka_unit_test(prediction_only_step),
+        cmocka_unit_test(affine_term_enters_the_step),
         cmocka_unit_test(refused_step_leaves_filter_unchanged),
         cmocka_unit_test(storage_bound_at_largest_order),
     };

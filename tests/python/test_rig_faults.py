@@ -27,7 +27,7 @@ def test_no_fault_all_ok(tmp_path):
     o = fly(tmp_path, scenario(CDRW_1S))
     e2e, rej, fl = counters(o)
     assert o.summary["firmware"]["steps"]["cdrw"] == 51
-    assert e2e["ok"] == 3 * 51 + 51 + 1        # sensors, ticks, the reset frame
+    assert e2e["ok"] == 3 * 51 + 51 + 2        # sensors, ticks, the reset and shutdown frames
     assert sum(v for k, v in e2e.items() if k != "ok") == 0 and sum(rej.values()) == 0
     assert fl["missing_steps"] == fl["unanswered_steps"] == fl["degraded_steps"] == 0
 
@@ -35,8 +35,9 @@ def test_no_fault_all_ok(tmp_path):
 @pytest.mark.parametrize("spec, check", [
     (f"loss:frame=CDRW_AOA,{WINDOW}",
      lambda e, r, f: e["no_new_data"] == 10 and e["wrong_sequence"] == 1 and f["degraded_steps"] >= 10),
-    (f"delay:frame=CDRW_AOA,{WINDOW},delay=0.01",   # each frame one step late: misaligned
-     lambda e, r, f: e["no_new_data"] == 1 and f["degraded_steps"] >= 10 and f["frames_injected"]["delayed"] == 10),
+    # each frame one step late: the first step holds the last value, the next 9 are misaligned
+    (f"delay:frame=CDRW_AOA,{WINDOW},delay=0.01",
+     lambda e, r, f: e["no_new_data"] == 1 and f["degraded_steps"] == 9 and f["frames_injected"]["delayed"] == 10),
     (f"duplicate:frame=CDRW_AOA,{WINDOW},count=2", lambda e, r, f: e["repeated"] == 20),
     (f"replay:frame=CDRW_AOA,start=0.4,duration=0.2,age=0.2",
      lambda e, r, f: e["wrong_sequence"] >= 1 and f["frames_injected"]["replayed"] == 10),

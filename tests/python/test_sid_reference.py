@@ -155,3 +155,69 @@ def test_synthetic_flight_shape() -> None:
     # The truth obeys its own model exactly up to the bounded process noise.
     resid = f.x[1:] - np.einsum("kij,kj->ki", f.a[:-1], f.x[:-1]) - f.b[:-1] * f.de[:-1, None]
     assert np.all(np.abs(resid) <= np.array([0.0005, 0.002]) + 1e-15)
+
+
+# ---- the optional intercept (x+ = A x + B de + c) ---------------------------------------
+C_AFFINE = np.array([0.016, 0.071])
+
+
+def _simulate_affine(n: int, noise: float, seed: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    x = np.zeros((n + 1, 2))
+    x[0] = [0.15, 0.0]
+    de = -0.04 + 0.01 * np.sin(0.3 * np.arange(n)) + 0.005 * rng.standard_normal(n)
+    for k in range(n):
+        x[k + 1] = A @ x[k] + B * de[k] + C_AFFINE + noise * rng.uniform(-1, 1, 2)
+    return x, de
+
+
+def test_mls_intercept_recovers_an_affine_model() -> None:
+    x, de = _simulate_affine(200, 0.0)
+    mls = Mls(MlsConfig(ridge=0.0, intercept=True))
+    for k in range(200):
+        mls.update(x[k], de[k], x[k + 1])
+    np.testing.assert_allclose(mls.model.a, A, atol=1e-9)
+    np.testing.assert_allclose(mls.model.b, B, atol=1e-9)
+    np.testing.assert_allclose(mls.model.c, C_AFFINE, atol=1e-10)
+    # The paper's regression on the same data has no c: A and B absorb it.
+    paper = Mls(MlsConfig(ridge=0.0))
+    for k in range(200):
+        paper.update(x[k], de[k], x[k + 1])
+    assert np.all(paper.model.c == 0.0)
+    assert np.max(np.abs(paper.model.flat() - np.concatenate([A.ravel(), B]))) > 0.05
+
+
+@pytest.mark.parametrize("ridge", [0.0, 1e-3, 0.05])
+def test_mls_intercept_equals_lstsq_with_a_column_of_ones(ridge: float) -> None:
+    """Centred solve (the MLS) = lstsq with a free intercept column (batch_fit)."""
+    x, de = _simulate_affine(250, 0.003)
+    h = 90
+    mls = Mls(MlsConfig(window=h, ridge=ridge, intercept=True))
+    for k in range(250):
+        mls.update(x[k], de[k], x[k + 1])
+        if k >= 30:
+            lo = max(0, k + 1 - h)
+            ref = batch_fit(x[lo:k + 1], de[lo:k + 1], x[lo + 1:k + 2], ridge, mls.cfg.prior,
+                            intercept=True)
+            np.testing.assert_allclose(mls.model.flat8(), ref.flat8(), rtol=0, atol=1e-9)
+
+
+def test_prior_affine_term_is_used_only_with_the_intercept() -> None:
+    prior = Model(A, B, np.array([0.5, -0.25]))
+    assert np.all(Mls(MlsConfig(prior=prior)).model.c == 0.0)
+    np.testing.assert_array_equal(Mls(MlsConfig(prior=prior, intercept=True)).model.c,
+                                  prior.c)
+
+
+def test_filters_predict_with_the_affine_term() -> None:
+    model = Model(A, B, C_AFFINE)
+    kf = Kf(np.array([0.15, 0.0]), 0.1 * np.eye(2), 0.004 * np.eye(2), 0.02 * np.eye(2))
+    kf.step(model, 0.0, np.array([0.15, 0.0]))
+    x = kf.x.copy()
+    kf.step(model, -0.04, None)
+    np.testing.assert_allclose(kf.x, A @ x + B * -0.04 + C_AFFINE, atol=1e-15)
+    zkf = Zkf(np.array([0.15, 0.0]), np.sqrt(0.1) * np.eye(2), 0.004 * np.eye(2),
+              0.02 * np.eye(2))
+    zkf.step(model, -0.04, None, 1000)
+    np.testing.assert_allclose(zkf.x, A @ np.array([0.15, 0.0]) + B * -0.04 + C_AFFINE,
+                               atol=1e-15)

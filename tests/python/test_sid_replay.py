@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hil.reference import MlsConfig, Model, SidConfig, batch_fit
+from hil.reference import MlsConfig, Model, SidConfig, batch_fit, default_prior_affine
 from hil.reference.flight import Flight, synthetic_flight
 from hil.reference.metrics import error_table, format_table, read_rows, rows_to_arrays
-from hil.reference.sid import COLUMNS, replay, replay_mls_only
+from hil.reference.sid import COLUMNS, columns, replay, replay_mls_only
 from hil.reference.zkf import AzkfConfig, DetectorConfig
 
 from conftest import build_dir
@@ -64,6 +64,10 @@ def test_output_format(tool: Path, flight: Flight) -> None:
     assert [line.split(",")[1] for line in out[1:4]] == ["kf", "zkf", "azkf"]
     only = run(tool, flight.csv(), "--filter", "azkf").stdout.splitlines()
     assert len(only) == 1 + len(flight.t) and all(",azkf," in line for line in only[1:])
+    # the affine term's columns only with the intercept
+    icpt = run(tool, flight.csv(), "--mls-intercept", "--filter", "kf").stdout.splitlines()
+    assert icpt[0] == ",".join(columns(True)) and icpt[0].endswith(",rho,c1,c2")
+    assert all(len(line.split(",")) == len(columns(True)) for line in icpt[1:])
 
 
 @pytest.mark.parametrize("args, cfg", [
@@ -78,6 +82,16 @@ def test_output_format(tool: Path, flight: Flight) -> None:
     (("--x0", "0.1,0.05", "--p0", "0.05,0.2", "--e", "0.006", "--f", "0.03,0.001,0,0.025"),
      SidConfig(x0=np.array([0.1, 0.05]), p0=np.diag([0.05, 0.2]), e=0.006 * np.eye(2),
                f=np.array([[0.03, 0.001], [0.0, 0.025]]))),
+    (("--mls-intercept",), SidConfig(mls=MlsConfig(intercept=True, prior=default_prior_affine()))),
+    (("--mls-intercept", "--prior", "0.97,0.02,-0.4,0.94,-0.004,-0.6,0.001,-0.002", "--ridge",
+      "0.01"),
+     SidConfig(mls=MlsConfig(intercept=True, ridge=0.01, prior=Model.from_flat(
+         [0.97, 0.02, -0.4, 0.94, -0.004, -0.6, 0.001, -0.002])))),
+    (("--no-arm-on-prior", "--max-fault", "0", "--fault-policy", "skip", "--no-mls-hold"),
+     SidConfig(arm_on_prior=False, mls_hold_on_fault=False, azkf=AzkfConfig(
+         policy="skip", det=DetectorConfig(max_fault_steps=0)))),
+    (("--max-fault", "3", "--margin", "1.2"),
+     SidConfig(azkf=AzkfConfig(det=DetectorConfig(margin=1.2, max_fault_steps=3)))),
 ])
 def test_matches_reference(tool: Path, flight: Flight, args: tuple, cfg: SidConfig) -> None:
     if FLOAT:
@@ -96,6 +110,33 @@ def test_fixed_model_checks_each_filter_alone(tool: Path, flight: Flight) -> Non
     assert_rows_match(c, r, 1e-4 if FLOAT else 1e-10)
     for name in c:
         assert np.all(c[name]["a21"] == c[name]["a21"][0])
+
+
+def test_fixed_affine_model(tool: Path, flight: Flight) -> None:
+    model = Model.from_flat([0.975, 0.019, -0.35, 0.95, -0.004, -0.55, 0.002, 0.05])
+    args = ("--fixed-model", ",".join(f"{v:.17g}" for v in model.flat8()))
+    c = read_rows(run(tool, flight.csv(), *args).stdout)
+    cfg = SidConfig(mls_enabled=False, mls=MlsConfig(prior=model, intercept=True))
+    r = rows_to_arrays(replay(flight.t, flight.y, flight.de, flight.fault, cfg))
+    assert_rows_match(c, r, 1e-4 if FLOAT else 1e-10)
+    np.testing.assert_allclose(c["kf"]["c2"], 0.05, rtol=1e-7)  # the model used, every step
+
+
+def test_mls_only_intercept_recovers_an_affine_model(tool: Path, flight: Flight) -> None:
+    """Exact states of x+ = A x + B de + c: A, B and c to 1e-9 (the paper's form cannot)."""
+    a, b, c = flight.a[0], flight.b[0], np.array([0.016, 0.071])
+    x = np.empty_like(flight.x)
+    x[0] = flight.x[0]
+    for k in range(len(x) - 1):
+        x[k + 1] = a @ x[k] + b * flight.de[k] + c
+    exact = Flight(flight.t, flight.de, x, x, x, flight.fault, flight.a, flight.b)
+    out = read_rows(run(tool, exact.csv(), "--mls-only", "--ridge", "0",
+                        "--mls-intercept").stdout)["mls"]
+    fit = np.array([out[k][-1] for k in ("a11", "a12", "a21", "a22", "b1", "b2", "c1", "c2")])
+    tol = 2e-3 if FLOAT else 1e-9
+    np.testing.assert_allclose(fit, np.concatenate([a.ravel(), b, c]), atol=tol)
+    paper = read_rows(run(tool, exact.csv(), "--mls-only", "--ridge", "0").stdout)["mls"]
+    assert abs(paper["a21"][-1] - a[1, 0]) > 0.02
 
 
 def test_mls_only_recovers_the_model(tool: Path, flight: Flight) -> None:
@@ -123,7 +164,8 @@ def test_mls_only_equals_batch_least_squares(tool: Path, flight: Flight) -> None
         np.testing.assert_allclose(out[col], ref["mls"][col], atol=tol, err_msg=col)
     y, de = flight.y, flight.de
     k = len(y) - 1
-    batch = batch_fit(y[k - h:k], de[k - h:k], y[k - h + 1:k + 1], 1e-4, MlsConfig().prior)
+    batch = batch_fit(y[k - h:k], de[k - h:k], y[k - h + 1:k + 1], MlsConfig().ridge,
+                      MlsConfig().prior)
     np.testing.assert_allclose([out[c][-1] for c in ("a11", "a12", "a21", "a22", "b1", "b2")],
                                batch.flat(), atol=tol)
 
@@ -192,6 +234,8 @@ def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
     ("--fixed-model", "1,2,3"), ("--p0", "1,2,3"), ("--frobnicate",), ("--ridge",),
     ("--f", "0"),                            # R = 0 is not invertible
     ("--margin", "-1"),
+    ("--prior", "1,0,0,1,0,0,0"),            # 7 values: neither 6 nor 8
+    ("--max-fault", "-2"), ("--max-fault", "x"),
 ])
 def test_bad_options_one_line_and_failure(tool: Path, flight: Flight, args: tuple) -> None:
     short = "\n".join(flight.csv(with_fault_column=False).splitlines()[:61]) + "\n"

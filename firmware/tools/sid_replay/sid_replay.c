@@ -2,7 +2,8 @@
  * sid_replay -- replays a flight CSV through the firmware's identification
  * loops (MLS-KF, MLS-ZKF, MLS-AZKF side by side, each with its own MLS) and
  * writes one CSV row per step per filter on stdout.  Row semantics: see
- * fcc_sid.h.  Bad input: one line on stderr, exit status 1 (2 for a bad
+ * fcc_sid.h.  With the MLS intercept (--mls-intercept, or an 8-value model)
+ * the rows end with the affine term c1,c2.  Bad input: one line on stderr, exit status 1 (2 for a bad
  * command line).
  */
 #include <stdio.h>
@@ -23,12 +24,14 @@ static const char *const filter_names[3] = {"kf", "zkf", "azkf"};
 static sid_flight_t flight;  /* static: up to SID_CSV_MAX_ROWS rows */
 static fcc_sid_t loops[3];
 static fcc_mls_t mls_alone;
+static bool with_c; /* the c1,c2 columns are printed */
 
 static void print_header(void)
 {
     fputs("t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi,gain_norm,order,fault,"
-          "a11,a12,a21,a22,b1,b2,rho\n",
+          "a11,a12,a21,a22,b1,b2,rho",
           stdout);
+    fputs(with_c ? ",c1,c2\n" : "\n", stdout);
 }
 
 static void print_reals(const fcc_real_t *v, size_t n)
@@ -48,7 +51,11 @@ static void print_row(double t, const char *name, const fcc_real_t x[2], const f
     printf("," REAL_FMT ",%u,%d", (double)gain, order, fault);
     print_reals(m->a, 4);
     print_reals(m->b, 2);
-    printf("," REAL_FMT "\n", (double)rho);
+    printf("," REAL_FMT, (double)rho);
+    if (with_c) {
+        print_reals(m->c, 2);
+    }
+    fputc('\n', stdout);
 }
 
 static int die(const char *msg)
@@ -215,6 +222,7 @@ int main(int argc, char **argv)
     if (check_against_data(&opts) != 0) {
         return 1;
     }
+    with_c = opts.cfg.mls.intercept;
     const int rc = opts.mls_only ? run_mls_only(&opts) : run_filters(&opts);
     if (rc == 0 && (fflush(stdout) != 0 || ferror(stdout))) {
         return die("cannot write the output");

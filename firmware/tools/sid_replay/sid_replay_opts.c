@@ -27,7 +27,7 @@ void sid_opts_usage(const char *prog)
            "Replays a flight CSV (t,alpha,q,de[,fault]) through MLS-KF, MLS-ZKF and MLS-AZKF\n"
            "and writes one row per step per filter:\n"
            "  t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi,gain_norm,order,fault,\n"
-           "  a11,a12,a21,a22,b1,b2,rho\n"
+           "  a11,a12,a21,a22,b1,b2,rho   (and c1,c2 with --mls-intercept)\n"
            "options (defaults: paper values and firmware defaults):\n"
            "  --filter kf|zkf|azkf|all      filters to run (all)\n"
            "  --window N                    MLS window, transitions (%u; max %u)\n"
@@ -35,16 +35,21 @@ void sid_opts_usage(const char *prog)
            "  --ridge R                     Tikhonov weight toward the prior (%g)\n"
            "  --max-cond R                  MLS conditioning guard (%g)\n"
            "  --max-rho R                   refuse fits with rho(A) above R, 0 = off (%g)\n"
-           "  --prior a11,a12,a21,a22,b1,b2 prior model\n"
-           "  --fixed-model a11,...,b2      MLS off: this model every step\n"
+           "  --prior a11,a12,a21,a22,b1,b2[,c1,c2]  prior model (default: the CDRW's\n"
+           "                                wind-tunnel model at trim, see fcc_sid.h)\n"
+           "  --mls-intercept               fit x+ = A x + B de + c (not in the paper; the\n"
+           "                                default prior becomes the affine wind-tunnel model)\n"
+           "  --fixed-model a11,...,b2[,c1,c2]  MLS off: this model every step\n"
            "  --mls-only                    input states are exact: print the MLS fit per step\n"
            "  --no-mls-hold                 AZKF: keep learning while a fault is flagged\n"
+           "  --no-arm-on-prior             AZKF: detector off until the MLS has fitted a model\n"
            "  --zkf-order N                 ZKF fixed order (%u; max %u)\n"
            "  --q-normal N / --q-fault N    AZKF orders (%u / %u)\n"
            "  --fault-policy order|skip     AZKF fault policy (order)\n"
            "  --detector zonotope|oracle|off  fault detector (zonotope)\n"
            "  --margin M                    detector margin on the hull (%g)\n"
            "  --raise N / --hold N / --clear N  detector counts (%u / %u / %u)\n"
+           "  --max-fault N                 longest flagged fault, steps; 0 = no limit (%u)\n"
            "  --x0 a,q                      initial estimate (0.1571,0.0204)\n"
            "  --p0 s | s1,s2 | p11,p12,p21,p22  initial KF covariance; the ZKFs start\n"
            "                                from its Cholesky factor (0.1)\n"
@@ -54,7 +59,8 @@ void sid_opts_usage(const char *prog)
            (double)FCC_MLS_DEFAULT_RIDGE, (double)FCC_MLS_DEFAULT_MAX_COND,
            (double)FCC_MLS_DEFAULT_MAX_RHO, FCC_SID_DEFAULT_ZKF_ORDER, FCC_ZONO_MAX_ORDER,
            FCC_AZKF_DEFAULT_Q_NORMAL, FCC_AZKF_DEFAULT_Q_FAULT, (double)FCC_FDET_DEFAULT_MARGIN,
-           FCC_FDET_DEFAULT_RAISE, FCC_FDET_DEFAULT_HOLD, FCC_FDET_DEFAULT_CLEAR);
+           FCC_FDET_DEFAULT_RAISE, FCC_FDET_DEFAULT_HOLD, FCC_FDET_DEFAULT_CLEAR,
+           FCC_FDET_DEFAULT_MAX_FAULT);
 }
 
 /* Comma-separated finite reals; returns the count or -1. */
@@ -151,19 +157,29 @@ static int parse_matrix(const char *name, const char *val, fcc_real_t m[4], char
                 val);
 }
 
-static int parse_model(const char *name, const char *val, fcc_sid_model_t *m, char *err,
+/* 6 values (the paper's model, c = 0) or 8 (with the affine term c, which
+ * turns the intercept on so that the MLS keeps it). */
+static int parse_model(const char *name, const char *val, fcc_sid_config_t *c, char *err,
                        size_t len)
 {
-    double v[6];
-    if (parse_list(val, v, 6) != 6) {
-        return fail(err, len, "%s: expected a11,a12,a21,a22,b1,b2 (6 finite numbers), got '%s'",
+    double v[8];
+    const int n = parse_list(val, v, 8);
+    if (n != 6 && n != 8) {
+        return fail(err, len,
+                    "%s: expected a11,a12,a21,a22,b1,b2[,c1,c2] (6 or 8 finite numbers), got '%s'",
                     name, val);
     }
+    fcc_sid_model_t *m = &c->mls.prior;
     for (int i = 0; i < 4; ++i) {
         m->a[i] = (fcc_real_t)v[i];
     }
     m->b[0] = (fcc_real_t)v[4];
     m->b[1] = (fcc_real_t)v[5];
+    m->c[0] = n == 8 ? (fcc_real_t)v[6] : FCC_R(0.0);
+    m->c[1] = n == 8 ? (fcc_real_t)v[7] : FCC_R(0.0);
+    if (n == 8) {
+        c->mls.intercept = true;
+    }
     return 0;
 }
 
@@ -220,6 +236,9 @@ static int parse_x0(const char *val, fcc_real_t x0[2], char *err, size_t len)
 static int apply(sid_opts_t *o, const char *name, const char *val, bool *min_set, char *err,
                  size_t len)
 {
+    if (strcmp(name, "--prior") == 0 || strcmp(name, "--fixed-model") == 0) {
+        o->prior_given = true;
+    }
     fcc_sid_config_t *c = &o->cfg;
     if (strcmp(name, "--filter") == 0) return parse_filter(val, o, err, len);
     if (strcmp(name, "--window") == 0) return parse_count(name, val, FCC_MLS_MAX_WINDOW, &c->mls.window, err, len);
@@ -230,11 +249,11 @@ static int apply(sid_opts_t *o, const char *name, const char *val, bool *min_set
     if (strcmp(name, "--ridge") == 0) return parse_real(name, val, &c->mls.ridge, err, len);
     if (strcmp(name, "--max-cond") == 0) return parse_real(name, val, &c->mls.max_cond, err, len);
     if (strcmp(name, "--max-rho") == 0) return parse_real(name, val, &c->mls.max_rho, err, len);
-    if (strcmp(name, "--prior") == 0) return parse_model(name, val, &c->mls.prior, err, len);
+    if (strcmp(name, "--prior") == 0) return parse_model(name, val, c, err, len);
     if (strcmp(name, "--fixed-model") == 0) {
         o->fixed_model = true;
         c->mls_enabled = false;
-        return parse_model(name, val, &c->mls.prior, err, len);
+        return parse_model(name, val, c, err, len);
     }
     if (strcmp(name, "--zkf-order") == 0) return parse_order(name, val, &c->zkf_order, err, len);
     if (strcmp(name, "--q-normal") == 0) return parse_order(name, val, &c->azkf.q_normal, err, len);
@@ -245,6 +264,7 @@ static int apply(sid_opts_t *o, const char *name, const char *val, bool *min_set
     if (strcmp(name, "--raise") == 0) return parse_count(name, val, UINT16_MAX, &c->azkf.det.raise_count, err, len);
     if (strcmp(name, "--hold") == 0) return parse_count(name, val, UINT16_MAX, &c->azkf.det.hold_count, err, len);
     if (strcmp(name, "--clear") == 0) return parse_count(name, val, UINT16_MAX, &c->azkf.det.clear_count, err, len);
+    if (strcmp(name, "--max-fault") == 0) return parse_count(name, val, UINT16_MAX, &c->azkf.det.max_fault_steps, err, len);
     if (strcmp(name, "--x0") == 0) return parse_x0(val, c->x0, err, len);
     if (strcmp(name, "--p0") == 0) return parse_matrix(name, val, c->p0, err, len);
     if (strcmp(name, "--e") == 0) return parse_matrix(name, val, c->e, err, len);
@@ -261,6 +281,14 @@ static int apply_flag(sid_opts_t *o, const char *name)
     }
     if (strcmp(name, "--no-mls-hold") == 0) {
         o->cfg.mls_hold_on_fault = false;
+        return 1;
+    }
+    if (strcmp(name, "--mls-intercept") == 0) {
+        o->cfg.mls.intercept = true;
+        return 1;
+    }
+    if (strcmp(name, "--no-arm-on-prior") == 0) {
+        o->cfg.arm_on_prior = false;
         return 1;
     }
     return 0;
@@ -315,6 +343,9 @@ int sid_opts_parse(int argc, char **argv, sid_opts_t *o, char *err, size_t len)
     }
     if (!min_set && o->cfg.mls.min_transitions > o->cfg.mls.window) {
         o->cfg.mls.min_transitions = o->cfg.mls.window;
+    }
+    if (o->cfg.mls.intercept && !o->prior_given) {
+        fcc_sid_default_prior_affine(&o->cfg.mls.prior);
     }
     return 0;
 }

@@ -14,6 +14,7 @@ typedef struct {
     bool run[3];             /* KF, ZKF, AZKF selected by --filter */
     bool mls_only;           /* --mls-only */
     bool fixed_model;        /* --fixed-model given */
+    bool prior_given;        /* --prior or --fixed-model given (else the firmware's default) */
     const char *input;       /* file name, or NULL / "-" for stdin */
     fcc_sid_config_t cfg;    /* shared by the three loops (filter set per loop) */
 } sid_opts_t;

@@ -217,7 +217,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def cmd_report(args: argparse.Namespace) -> int:
     from .rig.output import read_json
-    from .rig.runs import summary_tables
+    from .rig.report import summary_tables
 
     summary_path = args.dir / "summary.json"
     if not summary_path.is_file():

@@ -36,6 +36,20 @@ def fig3_rms(runs: Sequence[Mapping[str, Any]], out: Path) -> Path | None:
         style = "--" if bits is None else "o-"
         for ax, key in ((axs[0], "rms_q"), (axs[1], "rms_alpha")):
             ax.plot(T, [r[key] for r in rs], style, color=_color(bits), label=label, ms=4)
+    # the stationary RMS by covariance analysis (no D/A quantisation), where the summary has it
+    closed = sorted((r for r in runs if r.get("bits") is not None and r.get("stationary")),
+                    key=lambda r: r["period"])
+    seen: dict[float, Mapping[str, Any]] = {r["period"]: r for r in closed}
+    if seen:
+        T = sorted(seen)
+        for ax, key in ((axs[0], "rms_q"), (axs[1], "rms_alpha")):
+            ax.plot(T, [seen[t]["stationary"][key] for t in T], ":", color="0.4",
+                    label="stationary, no quantisation")
+    opened = [r for r in runs if r.get("bits") is None and r.get("stationary")]
+    if opened:
+        for ax, key in ((axs[0], "rms_q"), (axs[1], "rms_alpha")):
+            ax.axhline(opened[0]["stationary"][key], color="0.6", lw=0.8, ls="-.",
+                       label="open loop, stationary")
     axs[0].set_ylabel("RMS q (rad/s)")
     axs[1].set_ylabel("RMS α_T (rad)")
     for ax in axs:

@@ -22,7 +22,7 @@ from hil.reference.model import Model, default_prior, spectral_radius
 
 DEFAULT_WINDOW = 110
 DEFAULT_MIN_TRANSITIONS = 20
-DEFAULT_RIDGE = 1e-4
+DEFAULT_RIDGE = 1e-3
 DEFAULT_MAX_COND = 1e6
 DEFAULT_MAX_RHO = 1.2
 

@@ -5,7 +5,8 @@ flight, with the row semantics of firmware/sid/fcc_sid.h and sid_replay:
   bounds +/- 3 sigma, order 0, fault 0.
 * ZKF / AZKF row k: x_k before y_k is used, the hull of <x_k, P_k>, the gain
   and order of step k.
-* Model columns: the model used in the step.  A transition is learnt by the
+* Model columns: the model used in the step (c1, c2 too with the MLS
+  intercept: columns(cfg)).  A transition is learnt by the
   MLS only when both its ends were corrected by a measurement (AZKF: and no
   fault flagged, when mls_hold_on_fault).
 """
@@ -24,6 +25,12 @@ from hil.reference.zonotope import hull
 FILTERS = ("kf", "zkf", "azkf")
 COLUMNS = ("t", "filter", "alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi",
            "gain_norm", "order", "fault", "a11", "a12", "a21", "a22", "b1", "b2", "rho")
+INTERCEPT_COLUMNS = ("c1", "c2")
+
+
+def columns(intercept: bool = False) -> tuple[str, ...]:
+    """sid_replay's header: the c1, c2 columns only with the MLS intercept."""
+    return COLUMNS + (INTERCEPT_COLUMNS if intercept else ())
 
 
 @dataclass
@@ -83,6 +90,8 @@ class SidLoop:
         row = {"a11": model.a[0, 0], "a12": model.a[0, 1], "a21": model.a[1, 0],
                "a22": model.a[1, 1], "b1": model.b[0], "b2": model.b[1],
                "rho": spectral_radius(model.a), "order": 0, "fault": 0}
+        if c.mls.intercept:
+            row.update(c1=model.c[0], c2=model.c[1])
         if self.kind == "kf":
             kf = self.filt
             row["gain_norm"] = kf.step(model, self.prev_de, y if use_y else None)
@@ -140,4 +149,6 @@ def replay_mls_only(t: np.ndarray, x: np.ndarray, de: np.ndarray,
                      "gain_norm": 0.0, "order": 0, "fault": 0, "a11": m.a[0, 0],
                      "a12": m.a[0, 1], "a21": m.a[1, 0], "a22": m.a[1, 1], "b1": m.b[0],
                      "b2": m.b[1], "rho": mls.rho})
+        if mls.cfg.intercept:
+            rows[-1].update(c1=m.c[0], c2=m.c[1])
     return rows

@@ -49,11 +49,11 @@ class Zkf:
 @dataclass
 class DetectorConfig:
     mode: str = ZONOTOPE
-    margin: float = 1.5
+    margin: float = 2.5
     raise_count: int = 1
     hold_count: int = 0
     clear_count: int = 3
-    max_fault_steps: int = 25
+    max_fault_steps: int = 10
 
 
 class Detector:

@@ -92,24 +92,31 @@ class FccProcess:
 
 
 class Candump:
-    """``candump -L IFACE > bus.log``: the whole bus, absolute timestamps."""
+    """The whole bus, absolute timestamps, candump log format (the ``candump -L`` format).
+
+    Run as ``candump -l`` in a private directory, then renamed to bus.log: the log file is
+    block-buffered, whereas ``-L`` on stdout flushes once per frame -- a system call per frame
+    that in the UML guest made the recorder the busiest process of a lockstep run.  The same
+    format is written either way.  Because the recorder may lag behind the bus (frames queued
+    in its socket), it is stopped only once it has gone back to waiting with an empty queue
+    after an end marker was sent; the log is then checked to end with that marker.
+    """
+
+    #: socket receive buffer: a lagging recorder must not lose frames
+    RCVBUF = 16 << 20
 
     def __init__(self, iface: str, log_path: Path) -> None:
         exe = shutil.which("candump")
         if exe is None:
             raise ProcessError("candump not found: install can-utils (scripts/setup does)")
         self.log_path = log_path
-        self._out = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
-        # -r: a large receive buffer, so that a burst (flood fault) is not lost by the recorder
-        self.proc = subprocess.Popen([exe, "-L", "-r", str(4 << 20), iface],
-                                     stdin=subprocess.DEVNULL, stdout=self._out,
+        self._dir = log_path.parent / f".candump-{os.getpid()}"
+        self._dir.mkdir(parents=True, exist_ok=True)
+        for old in self._dir.glob("candump-*.log"):
+            old.unlink()
+        self.proc = subprocess.Popen([exe, "-l", "-r", str(self.RCVBUF), iface], cwd=self._dir,
+                                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                      stderr=subprocess.PIPE)
-
-    def size(self) -> int:
-        try:
-            return os.path.getsize(self.log_path)
-        except OSError:
-            return 0
 
     def alive(self) -> bool:
         return self.proc.poll() is None
@@ -122,30 +129,36 @@ class Candump:
             err = ""
         return err.splitlines()[-1] if err else f"exit status {self.proc.returncode}"
 
-    def contains_tail(self, needle: bytes, tail: int = 4096) -> bool:
-        """True when needle is in the last `tail` bytes written (candump flushes each line)."""
+    def _state(self) -> str:
         try:
-            with open(self.log_path, "rb") as fh:
-                fh.seek(max(0, self.size() - tail))
-                return needle in fh.read()
-        except OSError:
-            return False
+            with open(f"/proc/{self.proc.pid}/stat", "rb") as fh:
+                return fh.read().rsplit(b")", 1)[1].split()[0].decode()
+        except (OSError, IndexError):
+            return "?"
+
+    def wait_idle(self, timeout: float, polls: int = 3, gap: float = 0.003) -> bool:
+        """Until candump sleeps (in select(): its socket queue is empty) for `polls` looks in a
+        row.  At start this means it listens; after a frame was sent, that it has read it."""
+        deadline = time.monotonic() + timeout
+        seen = 0
+        while time.monotonic() < deadline and self.alive():
+            seen = seen + 1 if self._state() == "S" else 0
+            if seen >= polls:
+                return True
+            time.sleep(gap)
+        return False
+
+    def _file(self) -> Path | None:
+        files = sorted(self._dir.glob("candump-*.log"))
+        return files[-1] if files else None
 
     def stop(self, marker: bytes | None = None, timeout: float = 10.0) -> bool:
-        """Stop recording.  marker: the log line text of a frame just sent (e.g. b"7F0#FF...");
-        candump may lag behind the bus by many frames in its socket queue, so it is stopped
-        only once that line is in the file (or after timeout).  True when the log is known
-        to be complete."""
-        complete = marker is None
-        if marker is not None and self.proc.poll() is None:
-            deadline = time.monotonic() + timeout
-            while time.monotonic() < deadline and self.proc.poll() is None:
-                if self.contains_tail(marker):
-                    complete = True
-                    break
-                time.sleep(0.005)
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
+        """Stop recording and move the log to log_path.  marker: the log text of a frame just
+        sent (e.g. b"7F0#FFFFFFFF00000000"); True when the log is known to end with it."""
+        if marker is not None and self.alive():
+            self.wait_idle(timeout)
+        if self.alive():
+            self.proc.send_signal(signal.SIGINT)   # candump leaves its loop and closes the file
             try:
                 self.proc.wait(2.0)
             except subprocess.TimeoutExpired:
@@ -153,5 +166,21 @@ class Candump:
                 self.proc.wait()
         if self.proc.stderr:
             self.proc.stderr.close()
-        self._out.close()
-        return complete
+        f = self._file()
+        if f is not None:
+            os.replace(f, self.log_path)
+        elif not self.log_path.exists():
+            self.log_path.write_bytes(b"")
+        try:
+            self._dir.rmdir()
+        except OSError:
+            pass
+        return marker is not None and f is not None and self._ends_with(marker)
+
+    def _ends_with(self, marker: bytes) -> bool:
+        try:
+            with open(self.log_path, "rb") as fh:
+                fh.seek(max(0, os.path.getsize(self.log_path) - 256))
+                return fh.read().rstrip().endswith(marker)
+        except OSError:
+            return False

@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import metrics
 from ..bus.dbc import BusSpec
-from ..plants.missile_runs import simulate_missile
+from ..plants.missile_runs import design_lqg, simulate_missile, steady_state_rms
 from .apps import FILTERS, CdrwDriver, MissileDriver
 from .buslog import FlightFrames, sid_arrays
 
@@ -56,6 +56,7 @@ class MissileResult:
     rms_q: float
     rms_alpha: float
     reference: dict[str, float] = field(default_factory=dict)
+    stationary: dict[str, float] = field(default_factory=dict)
     commands_missing: int = 0
     commands_rejected: int = 0
     unanswered_steps: int = 0
@@ -68,7 +69,8 @@ class MissileResult:
         entry: dict[str, Any] = {"period": self.period, "bits": self.bits,
                                  "closed_loop": self.closed_loop, "rms_q": self.rms_q,
                                  "rms_alpha": self.rms_alpha, "scenario": self.scenario,
-                                 "seed": self.seed, "steps": len(self.series["t"])}
+                                 "seed": self.seed, "steps": len(self.series["t"]),
+                                 "stationary": self.stationary}
         if self.closed_loop:
             entry.update({"reference": self.reference, "commands_missing": self.commands_missing,
                           "commands_rejected": self.commands_rejected,
@@ -145,9 +147,11 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
         mismatch = np.flatnonzero(~same)
         ref = {"rms_q": r.rms_q, "rms_alpha": r.rms_alpha, "code_agreement": float(np.mean(same)),
                "first_code_mismatch_step": int(mismatch[0]) if mismatch.size else -1}
+    sq, sa = steady_state_rms(design_lqg(d.period, d.scenario.sensors), d.sim.n_sub)  # type: ignore[arg-type]
     return MissileResult(scenario=d.scenario.name or d.scenario.source, seed=d.scenario.seed,
                          period=d.period, bits=d.bits, closed_loop=True, series=s, fine=fine,
-                         rms_q=rq, rms_alpha=ra, reference=ref, commands_missing=d.cmd_missing,
+                         rms_q=rq, rms_alpha=ra, reference=ref,
+                         stationary={"rms_q": sq, "rms_alpha": sa}, commands_missing=d.cmd_missing,
                          commands_rejected=d.cmd_bad,
                          unanswered_steps=int(d.n_steps - d.acked.sum()),
                          faults=[f.describe() for f in d.scenario.faults], events=_events(d),
@@ -161,6 +165,7 @@ def missile_open_loop(scenario: Any) -> MissileResult:
                  "q_g": r.y[:, 0], "n_a": r.y[:, 1], "code": r.code, "u": r.u}
     fine: Series = {"t": r.t_fine, "q": r.x_fine[:, 0], "alpha_T": r.x_fine[:, 1],
                     "w_g": r.x_fine[:, 2]}
+    sq, sa = steady_state_rms(None)
     return MissileResult(scenario=scenario.name or scenario.source, seed=scenario.seed,
                          period=r.period, bits=None, closed_loop=False, series=s, fine=fine,
-                         rms_q=r.rms_q, rms_alpha=r.rms_alpha)
+                         rms_q=r.rms_q, rms_alpha=r.rms_alpha, stationary={"rms_q": sq, "rms_alpha": sa})

@@ -2,9 +2,9 @@
 session (one fcc process), written to one run directory.
 
 run directory
-    summary.json      deterministic results (the seed decides them), see write_summary()
+    summary.json      deterministic results (the seed decides them; hil.rig.report)
     run_info.json     wall-clock times, fcc command line, step execution times
-    bus.log           the whole bus, candump -L
+    bus.log           the whole bus, candump log format (candump -L / -l)
     fcc.log           fcc's stdout/stderr (event lines, final counter block)
     cdrw.csv, missile_T0.100_b8.csv, missile_T0.100_b8_fine.csv, campaign.csv ...
     *.png             the papers' figures (hil.plots)
@@ -16,7 +16,7 @@ import math
 import platform
 import shlex
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,7 +31,8 @@ from .buslog import split_flights
 from .lockstep import LockstepRunner
 from .output import write_csv, write_json
 from .results import CdrwResult, MissileResult, cdrw_result, missile_open_loop, missile_result
-from .session import COMMAND_RESET, RigError, RigSession, StatusCounters
+from .report import firmware_summary, summary_tables
+from .session import COMMAND_RESET, RigError, RigSession
 
 MODES = ("lockstep", "realtime")
 #: the LQG periods fcc accepts (firmware/app/README.md)
@@ -118,27 +119,6 @@ def _require_log(rig: RigSession) -> None:
                        f"fcc's outputs are read from that log, so the run is not evaluated")
 
 
-def firmware_summary(status: StatusCounters) -> dict[str, Any]:
-    """fcc's heartbeat counters at exit (only what the inputs decide; gauges in run_info)."""
-    g = status.get
-    return {
-        "steps": {"cdrw": g("FCC_STATUS.cdrw_steps"), "missile": g("FCC_STATUS.msl_steps")},
-        "overruns": g("FCC_STATUS.overruns"),
-        "e2e": {"ok": g("FCC_E2E_COUNTS.ok"), "repeated": g("FCC_E2E_COUNTS.repeated"),
-                "ok_some_lost": g("FCC_E2E_COUNTS.ok_some_lost"),
-                "wrong_sequence": g("FCC_E2E_COUNTS.wrong_sequence"),
-                "error": g("FCC_E2E_FAULTS.error"), "no_new_data": g("FCC_E2E_FAULTS.no_new_data")},
-        "rejected": {"unknown_id": g("FCC_REJECT_COUNTS.unknown_id"),
-                     "wrong_dlc": g("FCC_REJECT_COUNTS.wrong_dlc"),
-                     "out_of_range": g("FCC_REJECT_COUNTS.out_of_range"),
-                     "tx_refused": g("FCC_REJECT_COUNTS.tx_refused")},
-        "bus": {"bus_errors": g("FCC_BUS_COUNTS.bus_errors"),
-                "rx_overflows": g("FCC_BUS_COUNTS.rx_overflows"),
-                "tx_dropped": g("FCC_BUS_COUNTS.tx_dropped"),
-                "tx_retries": g("FCC_BUS_COUNTS.tx_retries")},
-    }
-
-
 def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
               extra: dict[str, Any] | None = None) -> dict[str, Any]:
     st = rig.status
@@ -174,14 +154,6 @@ def _write_missile(out: Path, res: MissileResult) -> None:
     write_csv(out / f"missile_{res.tag}_fine.csv", res.fine)
 
 
-def _cdrw_tables(res_table: metrics.Table, truth: metrics.Table, which: str) -> list[str]:
-    paper = metrics.PAPER_TABLE4 if which == "table4" else metrics.PAPER_TABLE5
-    label = "Table 4 (one fault)" if which == "table4" else "Table 5 (mean over the campaign)"
-    return [metrics.format_error_table(res_table, f"CDRW {label}: integral |y_faultfree - y_hat| dt",
-                                       paper),
-            metrics.format_error_table(truth, f"CDRW {label}: integral |x_true - x_hat| dt")]
-
-
 def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
     tables = summary_tables(summary)
     if cfg.plots:
@@ -190,27 +162,6 @@ def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
         if names:
             tables.append(f"plots: {', '.join(names)}")
     return Outcome(out, summary, tables)
-
-
-def summary_tables(summary: dict[str, Any]) -> list[str]:
-    """The text tables of a summary.json (what each command prints at the end)."""
-    tables: list[str] = []
-    cd = summary.get("cdrw")
-    if cd:
-        for which in ("table4", "table5"):
-            if which in cd:
-                tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which)
-        if "azkf_better_than_kf_runs" in cd:
-            b = cd["azkf_better_than_kf_runs"]
-            tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
-                          f"flights for alpha, {b['q']} for q")
-    ms = summary.get("missile")
-    if ms and ms.get("runs"):
-        tables.append("Missile (seed 2, Fig. 3): RMS over the run\n"
-                      + metrics.format_missile_table(ms["runs"]))
-    if "firmware" in summary:
-        tables.append(format_firmware(summary["firmware"]))
-    return tables
 
 
 # ---- commands --------------------------------------------------------------------------------
@@ -248,16 +199,17 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
 
 def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
                          margin: float = 0.5) -> np.ndarray:
-    """Table 5: fault start times uniform over the flight, `margin` s from both ends."""
+    """Table 5: when the scenario's faults (moved together) start in each flight -- uniform
+    over the flight, `margin` s clear of both ends, on the 50 Hz sample grid."""
     if not scenario.faults:
         raise ScenarioError(f"{scenario.source}: a campaign needs a scenario with a fault")
-    width = max(f.end for f in scenario.faults if math.isfinite(f.end)) - min(f.start for f in scenario.faults) \
-        if all(math.isfinite(f.end) for f in scenario.faults) else 0.0
-    hi = scenario.duration - margin - width
+    ends = [f.end for f in scenario.faults]
+    span = (max(ends) if all(math.isfinite(e) for e in ends) else 0.0) - min(f.start for f in scenario.faults)
+    hi = scenario.duration - margin - max(span, 0.0)
     if hi <= margin:
         raise ScenarioError(f"{scenario.source}: the flight is too short for faults at random times")
     rng = np.random.default_rng([int(seed), 0x6361])  # own stream: "ca"
-    return np.round(rng.uniform(margin, hi, size=runs) / 0.02) * 0.02  # on the 50 Hz grid
+    return np.round(rng.uniform(margin, hi, size=runs) / 0.02) * 0.02
 
 
 def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Outcome:
@@ -304,7 +256,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     t5 = metrics.mean_table([r.table for r in results])
     t5t = metrics.mean_table([r.table_truth for r in results])
     summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
-               "scenario": scenario.name or scenario.source,
+               "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
                "faults": [f.describe() for f in scenario.faults],
                "cdrw": {"table5": t5, "table5_truth": t5t,
                         "improvement_over_kf_pct": metrics.improvements(t5),
@@ -373,20 +325,6 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary)
-
-
-def format_firmware(fw: dict[str, Any]) -> str:
-    e, r, b = fw["e2e"], fw["rejected"], fw["bus"]
-    return ("fcc counters: steps cdrw {0} missile {1}, overruns {2}\n"
-            "  E2E ok {3} repeated {4} ok_some_lost {5} wrong_sequence {6} error {7} no_new_data {8}\n"
-            "  rejected unknown_id {9} wrong_dlc {10} out_of_range {11}; bus errors {12} "
-            "rx overflows {13}").format(
-        fw["steps"]["cdrw"], fw["steps"]["missile"], fw["overruns"], e["ok"], e["repeated"],
-        e["ok_some_lost"], e["wrong_sequence"], e["error"], e["no_new_data"], r["unknown_id"],
-        r["wrong_dlc"], r["out_of_range"], b["bus_errors"], b["rx_overflows"])
-
-
-ProgressFn = Callable[[int], None]
 
 
 def run_demo(cfg: RigConfig) -> list[Outcome]:

@@ -142,19 +142,11 @@ class RigSession:
         self.close()
 
     def _start_candump(self) -> None:
-        assert self.link is not None
         self.candump = Candump(self.iface, self.run_dir / "bus.log")
-        ping = self.spec.by_name("RIG_PING")
-        deadline = time.monotonic() + STARTUP_TIMEOUT_S
-        seq = 0
-        while self.candump.size() == 0:
+        if not self.candump.wait_idle(STARTUP_TIMEOUT_S):
             if not self.candump.alive():
-                raise RigError(f"candump -L {self.iface} stopped: {self.candump.error()}")
-            if time.monotonic() > deadline:
-                raise RigError(f"candump did not record anything within {STARTUP_TIMEOUT_S:g} s")
-            self.link.send(ping.frame_id, ping.message.encode({"seq": seq, "t_send_us": 0}))
-            seq += 1
-            time.sleep(0.02)
+                raise RigError(f"candump -l {self.iface} stopped: {self.candump.error()}")
+            raise RigError(f"candump did not start listening within {STARTUP_TIMEOUT_S:g} s")
 
     def _wait_listening(self) -> None:
         """Until fcc's first FCC_STATUS: it has opened its socket and listens."""

@@ -1,0 +1,184 @@
+"""The rig against the real fcc on vcan0: determinism, the campaign, the sweep, `hil report`,
+and the failures a user must be told about (fcc not answering, fcc dying) without a hang."""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import time
+
+import numpy as np
+import pytest
+
+from hil import metrics
+from hil.cli import main
+from hil.faults import load_default_scenario, with_fault_start
+from hil.rig.apps import CdrwDriver
+from hil.rig.lockstep import LockstepRunner
+from hil.rig.output import read_csv
+from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
+from hil.rig.session import COMMAND_RESET, FccDied, FccTimeout, RigSession
+from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+
+pytestmark = pytest.mark.vcan
+
+
+def cli(capsys, *argv: str) -> tuple[int, str, str]:
+    rc = main(list(argv))
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def test_default_flight_is_deterministic(tmp_path, capsys):
+    """Same seed, same everything: summary.json and the time series byte for byte."""
+    for d in ("a", "b"):
+        rc, out, err = cli(capsys, "run", "cdrw", "--out", str(tmp_path / d), "--quiet", "--no-plots")
+        assert rc == 0, err
+        assert "Table 4" in out and "paper" in out
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert (a / "summary.json").read_bytes() == (b / "summary.json").read_bytes()
+    assert (a / "cdrw.csv").read_bytes() == (b / "cdrw.csv").read_bytes()
+    s = json.loads((a / "summary.json").read_text())
+    t4 = s["cdrw"]["table4"]
+    assert set(t4) == {"azkf", "zkf", "kf"} and all(set(v) == {"alpha", "q"} for v in t4.values())
+    assert set(s["cdrw"]["table4_truth"]) == {"azkf", "zkf", "kf"}
+    assert s["cdrw"]["flight"]["missing_steps"] == 0 and s["firmware"]["steps"]["cdrw"] == 351
+    ev = s["cdrw"]["flight"]["fault_events"]
+    assert [(e["action"], e["t"], e["target"]) for e in ev][:2] == [("start", 4.0, "alpha"), ("start", 4.0, "q")]
+    # the bus log decodes, and has fcc's 12 identification frames for every step
+    lines = (a / "bus.log").read_text().splitlines()
+    assert sum(1 for ln in lines if " 110#" in ln) == 351
+    # a different seed gives a different flight
+    rc, _, _ = cli(capsys, "run", "cdrw", "--seed", "2", "--out", str(tmp_path / "c"), "--quiet", "--no-plots")
+    assert rc == 0
+    assert (tmp_path / "c" / "summary.json").read_bytes() != (a / "summary.json").read_bytes()
+    # report: the same tables again, and the figures
+    rc, out2, err = cli(capsys, "report", str(a))
+    assert rc == 0, err
+    assert out2.splitlines()[0] == out.splitlines()[0] and "fig8_estimates_under_fault.png" in out2
+    for n in (5, 6, 7, 8, 9, 10):
+        assert next(a.glob(f"fig{n}_*.png")).stat().st_size > 10_000
+
+
+def test_campaign_few_runs(tmp_path):
+    sc = load_default_scenario("cdrw")
+    o = run_campaign(sc, 3, 5, RigConfig(out_dir=tmp_path / "c", progress=False, plots=False))
+    s = o.summary
+    runs = s["cdrw"]["runs"]
+    assert len(runs) == 3 and s["runs_count"] == 3
+    starts = [r["fault_start"] for r in runs]
+    assert len(set(starts)) == 3 and all(0.5 <= t <= 6.4 for t in starts)
+    for f in ("azkf", "zkf", "kf"):
+        for st in ("alpha", "q"):
+            assert s["cdrw"]["table5"][f][st] == pytest.approx(np.mean([r["error"][f][st] for r in runs]))
+    assert s["firmware"]["steps"]["cdrw"] == 3 * 351
+    c = read_csv(tmp_path / "c" / "campaign.csv")
+    assert c["fault_start"].tolist() == starts
+    # flights are independent: run 1 of the campaign = that flight alone in a fresh fcc
+    alone = fly(tmp_path / "alone", with_fault_start(sc, starts[1])).summary["cdrw"]["table4"]
+    assert alone == runs[1]["error"]
+    assert "Table 5" in "\n".join(o.tables)
+
+
+def test_sweep_switches_design_between_flights(tmp_path):
+    sc = scenario(MISSILE_2S)
+    o = run_sweep(sc, (0.1, 0.05), (6, 12), RigConfig(out_dir=tmp_path, progress=False, plots=False))
+    runs = o.summary["missile"]["runs"]
+    closed = [r for r in runs if r["closed_loop"]]
+    assert [(r["period"], r["bits"]) for r in closed] == [(0.1, 6), (0.1, 12), (0.05, 6), (0.05, 12)]
+    assert sorted(r["period"] for r in runs if not r["closed_loop"]) == [0.05, 0.1]
+    for r in closed:
+        # fcc's commands carry the requested word length (else they count as rejected) and
+        # fcc's LQG agrees with the scipy reference on the same gusts and noise
+        assert r["commands_missing"] == 0 and r["commands_rejected"] == 0
+        assert r["reference"]["code_agreement"] > 0.95
+        assert r["rms_q"] == pytest.approx(r["reference"]["rms_q"], rel=0.05)
+    s6 = read_csv(tmp_path / "missile_T0.100_b6.csv")
+    assert np.all(np.abs(s6["code"]) <= 32) and np.allclose(s6["u"], s6["code"] * 0.8 / 64)
+    assert o.summary["firmware"]["steps"]["missile"] == 20 + 20 + 40 + 40
+
+
+def test_fcc_not_answering_times_out(tmp_path, capsys):
+    """fcc up but deaf to CDRW ticks (only its missile app enabled): one line, exit 3, fast."""
+    path = tmp_path / "s.toml"
+    path.write_text(CDRW_1S)
+    t0 = time.monotonic()
+    rc, _, err = cli(capsys, "run", "cdrw", str(path), "--fcc-args", "--apps missile", "--timeout", "0.5",
+                     "--quiet", "--no-plots", "--out", str(tmp_path / "o"))
+    assert rc == 3
+    assert err.strip() == (f"hil: fcc did not answer step 0 of app cdrw within 0.5 s; bus log kept in "
+                           f"{tmp_path / 'o' / 'bus.log'}")
+    assert time.monotonic() - t0 < 10
+    assert " 020#" in (tmp_path / "o" / "bus.log").read_text()   # the unanswered tick is logged
+
+
+def test_fcc_hanging_mid_run_times_out(tmp_path):
+    sc = scenario(CDRW_1S)
+    with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
+        runner = LockstepRunner(rig, timeout=0.5)
+        d = CdrwDriver(sc, rig.codec)
+        rig.control(COMMAND_RESET)
+        for _ in range(5):
+            runner.step(d)
+        os.kill(rig.fcc.pid, signal.SIGSTOP)
+        try:
+            t0 = time.monotonic()
+            with pytest.raises(FccTimeout, match="fcc did not answer step 5 of app cdrw within 0.5 s"):
+                runner.step(d)
+            assert time.monotonic() - t0 < 2.0
+        finally:
+            os.kill(rig.fcc.pid, signal.SIGCONT)
+    assert rig.fcc.returncode is not None    # the session stopped it
+
+
+def test_fcc_killed_mid_run(tmp_path):
+    sc = scenario(CDRW_1S)
+    with pytest.raises(FccDied, match=r"fcc died during step 10 of app cdrw \(killed by SIGKILL"):
+        with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
+            runner = LockstepRunner(rig, timeout=2.0)
+            d = CdrwDriver(sc, rig.codec)
+            rig.control(COMMAND_RESET)
+            for _ in range(10):
+                runner.step(d)
+            os.kill(rig.fcc.pid, signal.SIGKILL)
+            runner.step(d)
+    log = (tmp_path / "bus.log").read_text()
+    assert log.count(" 020#") == 11 and log.rstrip().endswith("7F0#FFFFFFFF00000000")
+
+
+def test_fcc_exiting_mid_run_via_cli(tmp_path, capsys):
+    rc, _, err = cli(capsys, "run", "cdrw", "--fcc-args", "--duration 0.3", "--quiet", "--no-plots",
+                     "--out", str(tmp_path))
+    assert rc == 4
+    line = err.strip()
+    assert line.startswith("hil: fcc died during step ") and "(exit status 0" in line
+    assert "bus log kept" in line and (tmp_path / "bus.log").stat().st_size > 0
+
+
+def test_both_aircraft_interleaved_in_one_fcc(tmp_path):
+    """The demo's set-up: the CDRW at 50 Hz and the missile at 20 Hz through one fcc; each
+    gives the same results as when it flies alone."""
+    cd, ms = scenario(CDRW_1S), scenario(MISSILE_2S)
+    both = fly(tmp_path / "both", cd, ms).summary
+    alone_c = fly(tmp_path / "c", cd).summary
+    alone_m = fly(tmp_path / "m", ms).summary
+    assert both["cdrw"]["table4"] == alone_c["cdrw"]["table4"]
+    assert both["missile"]["runs"] == alone_m["missile"]["runs"]
+    assert both["firmware"]["steps"] == {"cdrw": 51, "missile": 40}
+    assert metrics.format_missile_table(both["missile"]["runs"])
+
+
+def test_realtime_both_aircraft(tmp_path):
+    """Realtime: both sides on their own clocks for 1-2 s; fcc's outputs are collected,
+    the missile is flown by fcc's commands, nothing waits on a tick."""
+    o = fly(tmp_path, scenario(CDRW_1S), scenario(MISSILE_2S), mode="realtime")
+    s = o.summary
+    fl = s["cdrw"]["flight"]
+    assert s["mode"] == "realtime"
+    assert fl["missing_steps"] < 51 * 0.2          # most samples got an estimate
+    assert all(np.isfinite(v) for row in s["cdrw"]["table4"].values() for v in row.values())
+    run = s["missile"]["runs"][0]
+    assert run["commands_missing"] <= 4 and run["rms_q"] < 1.0
+    assert s["firmware"]["steps"]["cdrw"] >= 40 and s["firmware"]["steps"]["missile"] >= 30
+    info = json.loads((tmp_path / "run_info.json").read_text())
+    assert info["realtime_steps"] == 51 + 40 and "sim_step_lateness_ms" in info

@@ -48,9 +48,10 @@ typedef enum {
  *  - margin 2.5: the largest ratio of a fault-free flight (MLS-AZKF, 50
  *    noise seeds) is 1.75 -- the identified model's error, mostly in the
  *    stall recovery -- so 2.5 leaves a factor 1.4; the paper's 0.1 s spike
- *    (0.15 rad on alpha, 0.3 rad/s on q) gives >= 5.1 at its first sample
- *    (100 random fault times), a factor 2 the other way.  (1.5, the old
- *    value, raised false alarms on 9 of 20 seeds.)
+ *    (0.15 rad on alpha, 0.3 rad/s on q) gives >= 5.2 at its first sample
+ *    (40 random fault times), a factor 2 the other way; its alpha part alone
+ *    >= 2.65.  (1.5, the old value, raises false alarms on 3 of 20 seeds
+ *    even with the wind-tunnel prior and ridge 1e-3; 9 of 20 without.)
  *  - raise 1: a spike must not reach the high-gain filter even once.
  *  - clear 3: three consistent samples (60 ms) before the sensor is trusted.
  *  - max_fault_steps 10 (0.2 s, twice the paper's fault): while a fault is

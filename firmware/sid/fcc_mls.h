@@ -67,15 +67,15 @@
 /* Transitions required before the fit replaces the prior: six parameters,
  * 0.4 s of data (enough for a short-period cycle to start). */
 #define FCC_MLS_DEFAULT_MIN_TRANSITIONS 20u
-/* Ridge toward the prior (see above); 0 disables it.  1e-3: at the CDRW's
- * trim the elevator's excitation (0.5 deg multisine) brings ~4e-3 of
- * information over the window in the direction where alpha, q and de are
- * collinear, so 1e-3 holds that direction near the prior while any real
- * manoeuvre (the pull-up: N_qq ~ 0.1 ... 1) is fitted from the data.
- * Measured on the CDRW flight (firmware/sid/README.md): with 1e-4 the fit
- * after 20 transitions of trim flight can be wild (the detector's worst
- * fault-free innovation ratio over 50 seeds 5.4), with 1e-3 it is 1.75;
- * 1e-2 holds the stall too close to the trim prior (2.0, larger errors). */
+/* Ridge toward the prior (see above); 0 disables it.  1e-3: in trim flight
+ * the smallest eigenvalue of N (the direction where alpha, q and de are
+ * collinear) is 2e-4 after 20 transitions and 1.3e-3 after 90 (CDRW,
+ * measured), so 1e-3 holds that direction near the prior, while in the
+ * pull-up it is 0.06 and the data decide.  Measured on the CDRW flight
+ * (firmware/sid/README.md): with 1e-4 a fit after 20 transitions of trim
+ * flight can be wild (the detector's worst fault-free innovation ratio over
+ * 50 seeds 5.4), with 1e-3 it is 1.75; 1e-2 holds the stall too close to
+ * the trim prior (2.0, larger errors). */
 #define FCC_MLS_DEFAULT_RIDGE FCC_R(1e-3)
 /* Largest accepted condition number of the equilibrated normal matrix.  The
  * solve loses about log10(cond) digits: 1e6 leaves 10 in double; float

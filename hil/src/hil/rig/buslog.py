@@ -10,6 +10,7 @@ timestamps and their own step field.
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -28,12 +29,12 @@ SENSOR_APP = {0x050: 0, 0x051: 0, 0x052: 0, 0x040: 1, 0x041: 1}
 
 @dataclass
 class FlightFrames:
-    """Every frame of one flight (between two resets), by application and step."""
+    """fcc's output frames of one flight (between two resets), by application and step."""
 
     index: int
     by_step: dict[int, dict[int, list[tuple[int, bytes]]]] = field(
         default_factory=lambda: defaultdict(lambda: defaultdict(list)))
-    timed: list[tuple[float, int, bytes]] = field(default_factory=list)
+    frames: int = 0
 
 
 def app_of(frame_id: int) -> int | None:
@@ -47,7 +48,12 @@ def app_of(frame_id: int) -> int | None:
 
 def split_flights(path: Path) -> list[FlightFrames]:
     """The flights of a bus log (segments that start with a SIM_CONTROL reset)."""
-    flights: list[FlightFrames] = []
+    return list(iter_flights(path))
+
+
+def iter_flights(path: Path) -> Iterator[FlightFrames]:
+    """The flights of a bus log one by one (a campaign's log holds 100 of them)."""
+    n = 0
     cur: FlightFrames | None = None
     tick: dict[int, int] = {}
     ticked: set[int] = set()
@@ -56,8 +62,10 @@ def split_flights(path: Path) -> list[FlightFrames]:
             continue
         fid, data = f.frame_id, f.data
         if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
-            cur = FlightFrames(len(flights))
-            flights.append(cur)
+            if cur is not None:
+                yield cur
+            cur = FlightFrames(n)
+            n += 1
             tick, ticked = {}, set()
             continue
         if cur is None:
@@ -76,10 +84,11 @@ def split_flights(path: Path) -> list[FlightFrames]:
         app = app_of(fid)
         if app is None:
             continue
-        cur.timed.append((f.timestamp, fid, data))
+        cur.frames += 1
         if app in tick:
             cur.by_step[app][tick[app]].append((fid, data))
-    return flights
+    if cur is not None:
+        yield cur
 
 
 def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,

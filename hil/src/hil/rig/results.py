@@ -88,8 +88,22 @@ def _events(driver: CdrwDriver | MissileDriver) -> list[dict[str, Any]]:
     return [ev.as_dict() for ev in sorted(driver.events, key=lambda e: (e.t, e.index))]
 
 
-def cdrw_result(spec: BusSpec, driver: CdrwDriver, flight: FlightFrames) -> CdrwResult:
-    n = driver.n_steps
+@dataclass
+class CdrwRecord:
+    """What the simulator knows of one CDRW flight, compact (a campaign keeps 100 of these
+    while fcc's side waits in the bus log)."""
+
+    scenario: str
+    seed: int
+    dt: float
+    realtime: bool
+    series: Series
+    faults: list[str]
+    events: list[dict[str, Any]]
+    injected: dict[str, int]
+
+
+def cdrw_record(driver: CdrwDriver) -> CdrwRecord:
     sm = driver.samples
     s: Series = {"t": np.array([x.t for x in sm])}
     s["alpha_true"] = np.array([x.alpha for x in sm])
@@ -107,25 +121,33 @@ def cdrw_result(spec: BusSpec, driver: CdrwDriver, flight: FlightFrames) -> Cdrw
         s[f"{name}_true"] = np.array([x.lin.A.flat[i] for x in sm])
     s["b1_true"] = np.array([x.lin.B[0] for x in sm])
     s["b2_true"] = np.array([x.lin.B[1] for x in sm])
+    n = driver.n_steps
     acked = np.zeros(n, dtype=np.int8)
     degraded = np.zeros(n, dtype=np.int8)
     for k, io in enumerate(driver.steps):
         acked[k], degraded[k] = int(io.acked), int(io.degraded)
     s["acked"], s["degraded"] = acked, degraded
-    fw = sid_arrays(spec, flight, n, check_step=not driver.realtime)
-    fw.pop("_mismatched", None)
-    s.update(fw)
+    return CdrwRecord(scenario=driver.scenario.name or driver.scenario.source,
+                      seed=driver.scenario.seed, dt=driver.period, realtime=driver.realtime,
+                      series=s, faults=[f.describe() for f in driver.scenario.faults],
+                      events=_events(driver), injected=dict(driver.injector.counts))
+
+
+def cdrw_result(spec: BusSpec, rec: CdrwRecord, flight: FlightFrames) -> CdrwResult:
+    """The simulator's record of a flight joined with fcc's outputs from the bus log."""
+    s = dict(rec.series)
+    n = len(s["t"])
+    s.update(sid_arrays(spec, flight, n, check_step=not rec.realtime))
+    s.pop("_mismatched", None)
     y_ff = np.column_stack([s["alpha_ff"], s["q_ff"]])
     x_true = np.column_stack([s["alpha_true"], s["q_true"]])
     est = {f: np.column_stack([s[f"{f}_alpha_hat"], s[f"{f}_q_hat"]]) for f in FILTERS}
-    table, missing = metrics.error_table(y_ff, est, driver.period)
-    table_truth, _ = metrics.error_table(x_true, est, driver.period)
-    return CdrwResult(scenario=driver.scenario.name or driver.scenario.source,
-                      seed=driver.scenario.seed, dt=driver.period, series=s, table=table,
+    table, missing = metrics.error_table(y_ff, est, rec.dt)
+    table_truth, _ = metrics.error_table(x_true, est, rec.dt)
+    return CdrwResult(scenario=rec.scenario, seed=rec.seed, dt=rec.dt, series=s, table=table,
                       table_truth=table_truth, missing_steps=missing,
-                      unanswered_steps=int(n - acked.sum()),
-                      faults=[f.describe() for f in driver.scenario.faults],
-                      events=_events(driver), injected=dict(driver.injector.counts))
+                      unanswered_steps=int(n - s["acked"].sum()), faults=rec.faults,
+                      events=rec.events, injected=rec.injected)
 
 
 def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResult:

@@ -27,10 +27,11 @@ from .. import metrics
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
 from .apps import AppDriver, CdrwDriver, MissileDriver
-from .buslog import split_flights
+from .buslog import iter_flights, split_flights
 from .lockstep import LockstepRunner
 from .output import write_csv, write_json
-from .results import CdrwResult, MissileResult, cdrw_result, missile_open_loop, missile_result
+from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
+                      missile_open_loop, missile_result)
 from .report import firmware_summary, summary_tables
 from .session import COMMAND_RESET, RigError, RigSession
 
@@ -182,7 +183,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
                                "firmware": firmware_summary(rig.status)}
     for d in drivers:
         if isinstance(d, CdrwDriver):
-            res = cdrw_result(rig.spec, d, flights[0])
+            res = cdrw_result(rig.spec, cdrw_record(d), flights[0])
             _write_cdrw(out, res)
             summary["cdrw"] = _cdrw_block(res)
         else:
@@ -222,8 +223,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     out = cfg.out_dir
     starts = campaign_fault_times(scenario, runs, seed)
     t0 = time.perf_counter()
-    results: list[CdrwResult] = []
-    drivers: list[CdrwDriver] = []
+    records: list[CdrwRecord] = []
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
         n = int(round(scenario.duration / scenario.plant.dt)) + 1  # type: ignore[union-attr]
         runner = None
@@ -231,17 +231,20 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
             for t_fault in starts:
                 d = CdrwDriver(with_fault_start(scenario, float(t_fault)), rig.codec, cfg.mode == "realtime")
                 runner = _fly(rig, [d], cfg, bar, runner)
-                drivers.append(d)
+                records.append(cdrw_record(d))   # the driver (every sample's model) is dropped
         rig.shutdown()
     _require_log(rig)
-    flights = split_flights(out / "bus.log")
-    if len(flights) != runs:
-        raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected {runs}")
     rows: dict[str, list[float]] = {"run": [], "fault_start": []}
     per_run = []
-    for i, (d, fl) in enumerate(zip(drivers, flights)):
-        res = cdrw_result(rig.spec, d, fl)
-        results.append(res)
+    tables, truths = [], []
+    flights = 0
+    for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log"))):
+        res = cdrw_result(rig.spec, rec, fl)
+        flights += 1
+        tables.append(res.table)
+        truths.append(res.table_truth)
+        if i == 0:
+            _write_cdrw(out, res, "cdrw_run0.csv")
         rows["run"].append(i)
         rows["fault_start"].append(float(starts[i]))
         for key, table in (("meas", res.table), ("truth", res.table_truth)):
@@ -251,10 +254,11 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
         per_run.append({"run": i, "fault_start": float(starts[i]), "error": res.table,
                         "error_truth": res.table_truth, "missing_steps": res.missing_steps,
                         "unanswered_steps": res.unanswered_steps})
+    if flights != runs:
+        raise RigError(f"{out / 'bus.log'}: {flights} flights recorded, expected {runs}")
     write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
-    _write_cdrw(out, results[0], "cdrw_run0.csv")
-    t5 = metrics.mean_table([r.table for r in results])
-    t5t = metrics.mean_table([r.table_truth for r in results])
+    t5 = metrics.mean_table(tables)
+    t5t = metrics.mean_table(truths)
     summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
                "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
                "faults": [f.describe() for f in scenario.faults],
@@ -262,7 +266,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                         "improvement_over_kf_pct": metrics.improvements(t5),
                         "improvement_over_kf_truth_pct": metrics.improvements(t5t),
                         "azkf_better_than_kf_runs": {
-                            s: int(sum(r.table["azkf"][s] < r.table["kf"][s] for r in results))
+                            s: int(sum(t["azkf"][s] < t["kf"][s] for t in tables))
                             for s in metrics.STATES},
                         "runs": per_run},
                "firmware": firmware_summary(rig.status)}

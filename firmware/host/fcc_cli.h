@@ -3,9 +3,10 @@
  *
  * Every option turns into a field of fcc_node_config_t (the portable
  * configuration) or of the host loop; nothing else reads argv.  The
- * identification options are those of sid_replay, with the same meaning and
- * defaults (the firmware's), so a replayed flight and a bus flight can be
- * compared option for option.
+ * identification options (and their usage text) are fcc_opt_sid.h's, the
+ * very code sid_replay uses, with the same meaning and defaults (the
+ * firmware's), so a replayed flight and a bus flight can be compared option
+ * for option.
  */
 #ifndef FCC_CLI_H
 #define FCC_CLI_H

@@ -39,6 +39,21 @@ static void flight(uint32_t k, double *alpha, double *q, double *de)
     *q = 0.09 * cos(0.9 * t) + 0.01 * sin(11.0 * t);
 }
 
+/* Sample k of flight() on the bus: the three CDRW sensor frames (an event
+ * for step k goes after them), then push_flight_step() adds the tick. */
+static void push_flight_sample(uint32_t k)
+{
+    double a, q, de;
+    flight(k, &a, &q, &de);
+    mem_push_cdrw(&g_mem, k, a, q, de);
+}
+
+static void push_flight_step(uint32_t k)
+{
+    push_flight_sample(k);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+}
+
 /* The value the node sees after the frame layer (DBC resolution). */
 static double quantised(fcc_msg_t msg, double v)
 {
@@ -92,8 +107,7 @@ static void test_cdrw_steps_match_the_sid_loops(void **state)
         double a, q, de;
         flight(k, &a, &q, &de);
         const size_t first = g_mem.tx_n;
-        mem_push_cdrw(&g_mem, k, a, q, de);
-        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        push_flight_step(k);
         run();
         assert_int_equal(g_mem.tx_n - first, 13u);
         for (unsigned int i = 0u; i < 12u; ++i) {
@@ -442,11 +456,8 @@ static void test_reset_and_shutdown(void **state)
     size_t first0 = 0u;
     fcc_msg_data_t step0 = {0};
     for (uint32_t k = 0u; k < 10u; ++k) {
-        double a, q, de;
-        flight(k, &a, &q, &de);
         const size_t first = g_mem.tx_n;
-        mem_push_cdrw(&g_mem, k, a, q, de);
-        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        push_flight_step(k);
         run();
         if (k == 1u) {
             first0 = first;
@@ -460,11 +471,8 @@ static void test_reset_and_shutdown(void **state)
     /* a new flight from step 0; the simulator restarted its alive counters too */
     fcc_assert_ok(fcc_bus_init_masks(&g_mem.sim, g_mem.sim.consumes, g_mem.sim.produces));
     for (uint32_t k = 0u; k < 2u; ++k) {
-        double a, q, de;
-        flight(k, &a, &q, &de);
         const size_t first = g_mem.tx_n;
-        mem_push_cdrw(&g_mem, k, a, q, de);
-        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        push_flight_step(k);
         run();
         assert_int_equal(g_mem.tx_n - first, 13u);
         if (k == 1u) { /* the same output as the first flight's step 1 */
@@ -494,10 +502,7 @@ static void test_oracle_fault_flag(void **state)
     /* the detector is armed once the MLS has replaced its prior */
     uint32_t k = 0u;
     for (; k < 2u * FCC_MLS_DEFAULT_MIN_TRANSITIONS; ++k) {
-        double a, q, de;
-        flight(k, &a, &q, &de);
-        mem_push_cdrw(&g_mem, k, a, q, de);
-        mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        push_flight_step(k);
     }
     run();
     assert_false(g_node.sid.loop[FCC_SID_AZKF].last.model_is_prior);
@@ -507,9 +512,7 @@ static void test_oracle_fault_flag(void **state)
     ev.sim_event.oracle_fault = true;
     ev.sim_event.kind = FCC_MSG_SIM_EVENT_KIND_SPIKE;
     ev.sim_event.target_id = FCC_MSG_CDRW_AOA_ID;
-    double a, q, de;
-    flight(k, &a, &q, &de);
-    mem_push_cdrw(&g_mem, k, a, q, de);
+    push_flight_sample(k);
     fcc_assert_ok(mem_push(&g_mem, FCC_MSG_SIM_EVENT, &ev));
     mem_push_tick(&g_mem, FCC_APP_CDRW, k);
     size_t first = g_mem.tx_n;
@@ -522,9 +525,7 @@ static void test_oracle_fault_flag(void **state)
     ev.sim_event.oracle_fault = false;
     fcc_assert_ok(mem_push(&g_mem, FCC_MSG_SIM_EVENT, &ev));
     ++k;
-    flight(k, &a, &q, &de);
-    mem_push_cdrw(&g_mem, k, a, q, de);
-    mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+    push_flight_step(k);
     first = g_mem.tx_n;
     run();
     st = mem_decode_tx(&g_mem, (long)first);

@@ -55,6 +55,13 @@ static void sim_reset(void)
     lcg_state = 12345u;
 }
 
+/* A fresh MLS on cfg and a fresh simulated flight. */
+static void start(const fcc_mls_config_t *cfg)
+{
+    fcc_assert_ok(fcc_mls_init(&mls, cfg));
+    sim_reset();
+}
+
 static void sim_step(fcc_mls_t *m, double noise)
 {
     const double k = (double)sim.n;
@@ -177,8 +184,7 @@ static void noise_free_recovers_truth(void **state)
 {
     (void)state;
     fcc_mls_config_t cfg = config(110u, FCC_R(0.0));
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 300; ++k) {
         sim_step(&mls, 0.0);
         assert_int_equal(fcc_mls_solve(&mls), FCC_OK);
@@ -199,8 +205,7 @@ static void intercept_recovers_affine_model(void **state)
     /* With the intercept: A, B and c exactly. */
     fcc_mls_config_t cfg = config(110u, FCC_R(0.0));
     cfg.intercept = true;
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 300; ++k) {
         sim_step(&mls, 0.0);
         assert_int_equal(fcc_mls_solve(&mls), FCC_OK);
@@ -212,8 +217,7 @@ static void intercept_recovers_affine_model(void **state)
     /* The paper's regression on the same data: no c, so A and B absorb it
      * (numpy's lstsq on this window: a21 = -0.151 instead of -0.35). */
     cfg.intercept = false;
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 300; ++k) {
         sim_step(&mls, 0.0);
         (void)fcc_mls_solve(&mls);
@@ -235,8 +239,7 @@ static void intercept_equals_centred_batch(void **state)
     const double ridge = 0.02;
     fcc_mls_config_t cfg = config(60u, (fcc_real_t)ridge);
     cfg.intercept = true;
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 173; ++k) {
         sim_step(&mls, 0.003);
         fcc_assert_ok(fcc_mls_solve(&mls));
@@ -308,8 +311,7 @@ static void sliding_window_equals_batch(void **state)
     for (int r = 0; r < 2; ++r) {
         const double ridge = r == 0 ? 0.0 : 0.05;
         fcc_mls_config_t cfg = config(50u, (fcc_real_t)ridge);
-        fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-        sim_reset();
+        start(&cfg);
         for (int k = 0; k < 237; ++k) { /* several wraps, not a multiple of h */
             sim_step(&mls, 0.003);
             fcc_assert_ok(fcc_mls_solve(&mls));
@@ -328,8 +330,7 @@ static void standard_errors_match_formula(void **state)
     (void)state;
     const double ridge = 0.01;
     fcc_mls_config_t cfg = config(80u, (fcc_real_t)ridge);
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 150; ++k) {
         sim_step(&mls, 0.004);
     }
@@ -371,8 +372,7 @@ static void prior_until_enough_and_huge_ridge_is_prior(void **state)
     cfg.max_cond = FCC_R(1e30); /* the guard is not under test here */
     cfg.prior.a[0] = FCC_R(0.9);
     cfg.prior.b[1] = FCC_R(-0.3);
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 29; ++k) {
         sim_step(&mls, 0.0);
         fcc_assert_ok(fcc_mls_solve(&mls));
@@ -397,8 +397,7 @@ static void guard_keeps_last_good_model(void **state)
 {
     (void)state;
     fcc_mls_config_t cfg = config(20u, FCC_R(0.0));
-    fcc_assert_ok(fcc_mls_init(&mls, &cfg));
-    sim_reset();
+    start(&cfg);
     for (int k = 0; k < 40; ++k) {
         sim_step(&mls, 0.001);
     }

@@ -54,8 +54,14 @@ def shutdown(fcc: Fcc, sim: Sim) -> dict[str, dict[str, float]]:
 FLIGHT_PRIOR = ("--prior", "0.97,0.02,-0.4,0.94,-0.004,-0.6")
 
 
-def test_cdrw_outputs_match_sid_replay(run_fcc, bin_path, tmp_path):
-    fcc, sim = run_fcc("--apps", "cdrw", *FLIGHT_PRIOR)
+# The identification options are parsed by the same code in both programs: the
+# same options must give the same outputs (the second set: those fcc gained last).
+@pytest.mark.parametrize("sid_args", [
+    FLIGHT_PRIOR,
+    (*FLIGHT_PRIOR, "--mls-intercept", "--no-arm-on-prior", "--max-fault", "3", "--window", "60"),
+], ids=["paper", "intercept"])
+def test_cdrw_outputs_match_sid_replay(run_fcc, bin_path, tmp_path, sid_args):
+    fcc, sim = run_fcc("--apps", "cdrw", *sid_args)
     n = 150
     rows = []
     outputs = []
@@ -73,7 +79,7 @@ def test_cdrw_outputs_match_sid_replay(run_fcc, bin_path, tmp_path):
     w = csv.writer(data)
     w.writerow(["t", "alpha", "q", "de"])
     w.writerows(rows)
-    replay = subprocess.run([str(bin_path("sid_replay")), "--filter", "all", *FLIGHT_PRIOR],
+    replay = subprocess.run([str(bin_path("sid_replay")), "--filter", "all", *sid_args],
                             input=data.getvalue(),
                             capture_output=True, text=True, check=True)
     reference = list(csv.DictReader(io.StringIO(replay.stdout)))

@@ -104,6 +104,17 @@ def test_sensor_faults_change_the_estimates_from_their_start(tmp_path, baseline,
         assert o.summary["firmware"]["e2e"]["no_new_data"] == 10
 
 
+def test_oracle_detector_follows_sim_event(tmp_path):
+    """SIM_EVENT carries the simulator's truth; fcc --detector oracle flags exactly the
+    faulty samples and switches the AZKF to its fault order there."""
+    fly(tmp_path, scenario(CDRW_1S, "spike:signal=alpha,start=0.4,duration=0.1,magnitude=0.15"),
+        fcc_args=("--detector", "oracle"))
+    s = read_csv(tmp_path / "cdrw.csv")
+    assert np.flatnonzero(s["fault"]).tolist() == [20, 21, 22, 23, 24]
+    assert np.array_equal(s["azkf_fault"], s["fault"])
+    assert set(s["azkf_order"][20:25]) == {1000.0} and s["azkf_order"][19] == s["azkf_order"][25] == 2.0
+
+
 def test_missile_gyro_loss_degrades_commands(tmp_path):
     o = fly(tmp_path, scenario(MISSILE_2S, "loss:frame=MSL_RATE_GYRO,start=0.5,duration=0.5"))
     run = o.summary["missile"]["runs"][0]

@@ -45,6 +45,8 @@ def test_default_flight_is_deterministic(tmp_path, capsys):
     assert s["cdrw"]["flight"]["missing_steps"] == 0 and s["firmware"]["steps"]["cdrw"] == 351
     ev = s["cdrw"]["flight"]["fault_events"]
     assert [(e["action"], e["t"], e["target"]) for e in ev][:2] == [("start", 4.0, "alpha"), ("start", 4.0, "q")]
+    log = (a / "faults.log").read_text().splitlines()
+    assert len(log) == 4 and "t=   4.000 s  start  [sensor] spike:" in log[0] and "4.100 s  end" in log[3]
     # the bus log decodes, and has fcc's 12 identification frames for every step
     lines = (a / "bus.log").read_text().splitlines()
     assert sum(1 for ln in lines if " 110#" in ln) == 351
@@ -178,7 +180,7 @@ def test_realtime_both_aircraft(tmp_path):
     assert fl["missing_steps"] < 51 * 0.2          # most samples got an estimate
     assert all(np.isfinite(v) for row in s["cdrw"]["table4"].values() for v in row.values())
     run = s["missile"]["runs"][0]
-    assert run["commands_missing"] <= 4 and run["rms_q"] < 1.0
+    assert run["commands_missing"] <= 10 and run["rms_q"] < 1.0
     assert s["firmware"]["steps"]["cdrw"] >= 40 and s["firmware"]["steps"]["missile"] >= 30
     info = json.loads((tmp_path / "run_info.json").read_text())
     assert info["realtime_steps"] == 51 + 40 and "sim_step_lateness_ms" in info

@@ -3,28 +3,15 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "fcc_opt.h"
 
 #define MAX_FIELDS 64u
 
 enum { COL_T, COL_ALPHA, COL_Q, COL_DE, COL_FAULT, N_COLS };
 static const char *const col_names[N_COLS] = {"t", "alpha", "q", "de", "fault"};
-
-#ifdef __GNUC__
-__attribute__((format(printf, 3, 4)))
-#endif
-static int fail(char *err, size_t len, const char *fmt, ...);
-
-static int fail(char *err, size_t len, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    (void)vsnprintf(err, len, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 /* Strips leading and trailing blanks (and the CR of CRLF files) in place. */
 static char *trim(char *s)
@@ -79,7 +66,7 @@ static int parse_header(char *line, int col_of[N_COLS], size_t *n_fields, char *
     char *fields[MAX_FIELDS];
     const size_t n = split(line, fields);
     if (n > MAX_FIELDS) {
-        return fail(err, len, "header: more than %u columns", MAX_FIELDS);
+        return fcc_opt_fail(err, len, "header: more than %u columns", MAX_FIELDS);
     }
     for (size_t c = 0; c < N_COLS; ++c) {
         col_of[c] = -1;
@@ -88,7 +75,8 @@ static int parse_header(char *line, int col_of[N_COLS], size_t *n_fields, char *
         for (size_t c = 0; c < N_COLS; ++c) {
             if (strcmp(fields[i], col_names[c]) == 0) {
                 if (col_of[c] >= 0) {
-                    return fail(err, len, "header: column '%s' appears twice", col_names[c]);
+                    return fcc_opt_fail(err, len, "header: column '%s' appears twice",
+                                        col_names[c]);
                 }
                 col_of[c] = (int)i;
             }
@@ -96,8 +84,8 @@ static int parse_header(char *line, int col_of[N_COLS], size_t *n_fields, char *
     }
     for (size_t c = 0; c < COL_FAULT; ++c) {
         if (col_of[c] < 0) {
-            return fail(err, len, "header: missing column '%s' (need t,alpha,q,de)",
-                        col_names[c]);
+            return fcc_opt_fail(err, len, "header: missing column '%s' (need t,alpha,q,de)",
+                                col_names[c]);
         }
     }
     *n_fields = n;
@@ -122,18 +110,19 @@ static int field_value(char *fields[MAX_FIELDS], const int col_of[N_COLS], size_
 {
     const char *s = fields[col_of[c]];
     if (parse_number(s, v) != 0) {
-        return fail(err, len, "line %zu: %s '%s' is not a number", lineno, col_names[c], s);
+        return fcc_opt_fail(err, len, "line %zu: %s '%s' is not a number", lineno, col_names[c],
+                            s);
     }
     if (!isfinite(*v)) {
-        return fail(err, len, "line %zu: %s is not finite (%s)", lineno, col_names[c], s);
+        return fcc_opt_fail(err, len, "line %zu: %s is not finite (%s)", lineno, col_names[c], s);
     }
     const double limit = c == COL_ALPHA ? lim->alpha_limit
                          : c == COL_Q   ? lim->q_limit
                          : c == COL_DE  ? lim->de_limit
                                         : HUGE_VAL;
     if (fabs(*v) > limit) {
-        return fail(err, len, "line %zu: %s = %s is outside +/-%g", lineno, col_names[c], s,
-                    limit);
+        return fcc_opt_fail(err, len, "line %zu: %s = %s is outside +/-%g", lineno, col_names[c],
+                            s, limit);
     }
     return 0;
 }
@@ -144,7 +133,8 @@ static int parse_row(char *line, size_t lineno, const int col_of[N_COLS], size_t
     char *fields[MAX_FIELDS];
     const size_t n = split(line, fields);
     if (n != n_fields) {
-        return fail(err, len, "line %zu: %zu fields, the header has %zu", lineno, n, n_fields);
+        return fcc_opt_fail(err, len, "line %zu: %zu fields, the header has %zu", lineno, n,
+                            n_fields);
     }
     double v[N_COLS] = {0.0, 0.0, 0.0, 0.0, 0.0};
     for (size_t c = 0; c < N_COLS; ++c) {
@@ -153,12 +143,12 @@ static int parse_row(char *line, size_t lineno, const int col_of[N_COLS], size_t
         }
     }
     if (col_of[COL_FAULT] >= 0 && v[COL_FAULT] != 0.0 && v[COL_FAULT] != 1.0) {
-        return fail(err, len, "line %zu: fault must be 0 or 1", lineno);
+        return fcc_opt_fail(err, len, "line %zu: fault must be 0 or 1", lineno);
     }
     const size_t k = f->n;
     if (k > 0u && !(v[COL_T] > f->t[k - 1u])) {
-        return fail(err, len, "line %zu: time %.17g does not increase (previous %.17g)", lineno,
-                    v[COL_T], f->t[k - 1u]);
+        return fcc_opt_fail(err, len, "line %zu: time %.17g does not increase (previous %.17g)",
+                            lineno, v[COL_T], f->t[k - 1u]);
     }
     f->t[k] = v[COL_T];
     f->alpha[k] = v[COL_ALPHA];
@@ -185,8 +175,8 @@ int sid_csv_read(FILE *in, const sid_csv_limits_t *lim, sid_flight_t *flight, ch
         }
         ++lineno;
         if (r < 0) {
-            return fail(err, err_len, "line %zu: longer than %u characters", lineno,
-                        SID_CSV_MAX_LINE - 2u);
+            return fcc_opt_fail(err, err_len, "line %zu: longer than %u characters", lineno,
+                                SID_CSV_MAX_LINE - 2u);
         }
         char *s = trim(line);
         if (*s == '\0') {
@@ -200,20 +190,20 @@ int sid_csv_read(FILE *in, const sid_csv_limits_t *lim, sid_flight_t *flight, ch
             continue;
         }
         if (flight->n == SID_CSV_MAX_ROWS) {
-            return fail(err, err_len, "more than %u data rows", SID_CSV_MAX_ROWS);
+            return fcc_opt_fail(err, err_len, "more than %u data rows", SID_CSV_MAX_ROWS);
         }
         if (parse_row(s, lineno, col_of, n_fields, lim, flight, err, err_len) != 0) {
             return -1;
         }
     }
     if (ferror(in)) {
-        return fail(err, err_len, "read error");
+        return fcc_opt_fail(err, err_len, "read error");
     }
     if (!have_header) {
-        return fail(err, err_len, "empty input: no header line (need t,alpha,q,de)");
+        return fcc_opt_fail(err, err_len, "empty input: no header line (need t,alpha,q,de)");
     }
     if (flight->n == 0u) {
-        return fail(err, err_len, "no data rows after the header");
+        return fcc_opt_fail(err, err_len, "no data rows after the header");
     }
     flight->has_fault = col_of[COL_FAULT] >= 0;
     return 0;

@@ -1,6 +1,9 @@
 /*
  * sid_replay_opts.h -- command line of sid_replay, turned into firmware
- * configurations (fcc_sid_config_t) with the firmware's own defaults.
+ * configurations (fcc_sid_config_t) with the firmware's own defaults.  The
+ * identification options are fcc_opt_sid.h's (the same as fcc's); only the
+ * replay's own options (--filter, --mls-only, --fixed-model, the input file)
+ * are parsed here.
  */
 #ifndef SID_REPLAY_OPTS_H
 #define SID_REPLAY_OPTS_H
@@ -14,7 +17,6 @@ typedef struct {
     bool run[3];             /* KF, ZKF, AZKF selected by --filter */
     bool mls_only;           /* --mls-only */
     bool fixed_model;        /* --fixed-model given */
-    bool prior_given;        /* --prior or --fixed-model given (else the firmware's default) */
     const char *input;       /* file name, or NULL / "-" for stdin */
     fcc_sid_config_t cfg;    /* shared by the three loops (filter set per loop) */
 } sid_opts_t;

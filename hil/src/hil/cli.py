@@ -27,7 +27,7 @@ PROG = "hil"
 EXIT_USAGE = 2
 
 #: what a run directory may contain that the rig wrote (cleared before a new run)
-OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "fcc.log", "*.csv", "*.png")
+OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "fcc.log", "faults.log", "*.csv", "*.png")
 
 
 class UsageError(Exception):

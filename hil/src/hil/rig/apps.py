@@ -59,6 +59,14 @@ class StepIO:
     arrivals: list[float] = field(default_factory=list)
 
 
+@dataclass
+class OracleFlag:
+    """The CDRW's sensor-fault truth as last told to fcc: every SIM_EVENT carries it
+    (oracle_fault), so the drivers flying in one fcc share one."""
+
+    value: bool = False
+
+
 def _target_id(codec: FrameCodec, fault: object) -> int:
     if isinstance(fault, SensorFault):
         return codec.spec.by_name(SIGNAL_FRAMES[fault.signal][0]).frame_id
@@ -75,7 +83,9 @@ class AppDriver:
     name: str = ""
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, period: float, n_steps: int,
-                 star_frames: tuple[str, ...], realtime: bool = False) -> None:
+                 star_frames: tuple[str, ...], realtime: bool = False,
+                 oracle: OracleFlag | None = None) -> None:
+        self.oracle = oracle if oracle is not None else OracleFlag()
         self.scenario = scenario
         self.codec = codec
         self.period = period
@@ -120,10 +130,11 @@ class CdrwDriver(AppDriver):
     app = APP_CDRW
     name = "cdrw"
 
-    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False) -> None:
+    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
+                 oracle: OracleFlag | None = None) -> None:
         self.sim = CdrwSimulation(scenario)
         super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
-                         realtime)
+                         realtime, oracle)
         self.samples: list[CdrwSample] = []
         self.steps: list[StepIO] = []
         self._frames: list[list[TxFrame]] = []
@@ -148,6 +159,7 @@ class CdrwDriver(AppDriver):
 
     def frames_for_step(self) -> list[TxFrame]:
         k = self.k
+        self.oracle.value = self.samples[k].fault_active
         if not self._events[k]:
             return self._frames[k]
         return self.injector.outgoing(k * self.period, self._events[k], extras=False) + self._frames[k]
@@ -164,10 +176,11 @@ class MissileDriver(AppDriver):
     app = APP_MISSILE
     name = "missile"
 
-    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False) -> None:
+    def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
+                 oracle: OracleFlag | None = None) -> None:
         self.sim = MissileSimulation(scenario)
         super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES,
-                         realtime)
+                         realtime, oracle)
         self.bits = self.sim.dac.bits
         self._cmd = codec.spec.by_name("MSL_ELEV_CMD")
         self._est = codec.spec.by_name("MSL_STATE_EST")
@@ -196,7 +209,7 @@ class MissileDriver(AppDriver):
         self.y_ff[k] = (s.meas_faultfree["q_g"], s.meas_faultfree["n_a"])
         self.fault[k] = int(s.fault_active)
         events = list(s.events) + self.injector.update(s.t)
-        msgs = self._event_messages(k, events, False)
+        msgs = self._event_messages(k, events, self.oracle.value)
         step = k & 0xFFFF
         for sig in ("q_g", "n_a"):
             v = s.meas[sig]

@@ -6,6 +6,7 @@ run directory
     run_info.json     wall-clock times, fcc command line, step execution times
     bus.log           the whole bus, candump log format (candump -L / -l)
     fcc.log           fcc's stdout/stderr (event lines, final counter block)
+    faults.log        every injected fault's start and end, with its time
     cdrw.csv, missile_T0.100_b8.csv, missile_T0.100_b8_fine.csv, campaign.csv ...
     *.png             the papers' figures (hil.plots)
 """
@@ -26,7 +27,7 @@ import numpy as np
 from .. import metrics
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
-from .apps import AppDriver, CdrwDriver, MissileDriver
+from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
 from .buslog import iter_flights, split_flights
 from .lockstep import LockstepRunner
 from .output import write_csv, write_json
@@ -88,9 +89,10 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
     return args + list(cfg.fcc_args)
 
 
-def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig) -> AppDriver:
+def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFlag | None = None) -> AppDriver:
     rt = cfg.mode == "realtime"
-    return CdrwDriver(sc, rig.codec, rt) if sc.aircraft == "cdrw" else MissileDriver(sc, rig.codec, rt)
+    cls = CdrwDriver if sc.aircraft == "cdrw" else MissileDriver
+    return cls(sc, rig.codec, rt, oracle)
 
 
 def _bar(total: int, enabled: bool, desc: str) -> Any:
@@ -155,6 +157,15 @@ def _write_missile(out: Path, res: MissileResult) -> None:
     write_csv(out / f"missile_{res.tag}_fine.csv", res.fine)
 
 
+def _write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, Any]]]]) -> None:
+    """faults.log: every fault start and end, with its time, one line each."""
+    lines = []
+    for label, events in flights:
+        for ev in events:
+            lines.append(f"{label}t={ev['t']:8.3f} s  {ev['action']:5s}  [{ev['level']}] {ev['spec']}")
+    (out / "faults.log").write_text("\n".join(lines) + ("\n" if lines else ""), encoding="utf-8")
+
+
 def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
     tables = summary_tables(summary)
     if cfg.plots:
@@ -173,7 +184,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         raise ValueError("one scenario per aircraft")
     t0 = time.perf_counter()
     with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
-        drivers = [make_driver(sc, rig, cfg) for sc in scenarios]
+        oracle = OracleFlag()
+        drivers = [make_driver(sc, rig, cfg, oracle) for sc in scenarios]
         with _bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
             runner = _fly(rig, drivers, cfg, bar)
         rig.shutdown()
@@ -181,11 +193,13 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     flights = split_flights(out / "bus.log")
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(rig.status)}
+    fault_log = []
     for d in drivers:
         if isinstance(d, CdrwDriver):
             res = cdrw_result(rig.spec, cdrw_record(d), flights[0])
             _write_cdrw(out, res)
             summary["cdrw"] = _cdrw_block(res)
+            fault_log.append(("cdrw     ", res.events))
         else:
             assert isinstance(d, MissileDriver)
             mres = missile_result(d, reference=cfg.mode == "lockstep")
@@ -193,6 +207,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
             _write_missile(out, mres)
             _write_missile(out, ol)
             summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
+            fault_log.append(("missile  ", mres.events))
+    _write_fault_log(out, fault_log)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary)
@@ -256,6 +272,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                         "unanswered_steps": res.unanswered_steps})
     if flights != runs:
         raise RigError(f"{out / 'bus.log'}: {flights} flights recorded, expected {runs}")
+    _write_fault_log(out, [(f"flight {i:3d}  ", rec.events) for i, rec in enumerate(records)])
     write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
     t5 = metrics.mean_table(tables)
     t5t = metrics.mean_table(truths)
@@ -314,10 +331,13 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
                 mdrivers.append(d)
         rig.shutdown()
     runs_out: list[dict[str, Any]] = []
+    fault_log = []
     for d in mdrivers:
         res = missile_result(d, reference=cfg.mode == "lockstep")
         _write_missile(out, res)
         runs_out.append(res.run_entry())
+        fault_log.append((f"{res.tag:12s}", res.events))
+    _write_fault_log(out, fault_log)
     for T in periods:
         sc = scenario.replace(lqg=LqgOptions(period=float(T), bits=base_lqg.bits, closed_loop=False))
         ol = missile_open_loop(sc)
@@ -345,6 +365,7 @@ def run_demo(cfg: RigConfig) -> list[Outcome]:
     sweep_dir.mkdir(parents=True, exist_ok=True)
     for pattern in ("*.csv", "*.png", "*.json", "*.log"):
         for f in sweep_dir.glob(pattern):
-            f.unlink()
+            if f.is_file():
+                f.unlink()
     second = run_sweep(msl, (0.2, 0.1, 0.05), (6, 8, 12), dataclasses.replace(cfg, out_dir=sweep_dir))
     return [first, second]

@@ -136,7 +136,10 @@ static void lu_substitute_trans(const lu_t *lu, real_t y[])
     }
 }
 
-fcc_status_t MAT(lu_solve)(const lu_t *lu, const mat_t *b, mat_t *x)
+/* x = A^-1 b, or A^-T b with trans, column by column (x may be b).  With
+ * P A = L U the row permutation gathers b's rows for A and scatters x's rows
+ * for A^T. */
+static fcc_status_t lu_solve_columns(const lu_t *lu, const mat_t *b, mat_t *x, bool trans)
 {
     const fcc_status_t st = check_rhs(lu, b, x);
     if (st != FCC_OK) {
@@ -145,33 +148,28 @@ fcc_status_t MAT(lu_solve)(const lu_t *lu, const mat_t *b, mat_t *x)
     real_t y[FCC_MAT_MAX_DIM];
     for (uint16_t j = 0; j < b->cols; ++j) {
         for (uint16_t i = 0; i < lu->n; ++i) {
-            y[i] = FCC_MAT_AT(b, lu->perm[i], j);
+            y[i] = FCC_MAT_AT(b, trans ? i : lu->perm[i], j);
         }
-        lu_substitute(lu, y);
+        if (trans) {
+            lu_substitute_trans(lu, y);
+        } else {
+            lu_substitute(lu, y);
+        }
         for (uint16_t i = 0; i < lu->n; ++i) {
-            FCC_MAT_AT(x, i, j) = y[i];
+            FCC_MAT_AT(x, trans ? lu->perm[i] : i, j) = y[i];
         }
     }
     return MAT(check_finite)(x);
 }
 
+fcc_status_t MAT(lu_solve)(const lu_t *lu, const mat_t *b, mat_t *x)
+{
+    return lu_solve_columns(lu, b, x, false);
+}
+
 fcc_status_t MAT(lu_solve_trans)(const lu_t *lu, const mat_t *b, mat_t *x)
 {
-    const fcc_status_t st = check_rhs(lu, b, x);
-    if (st != FCC_OK) {
-        return st;
-    }
-    real_t y[FCC_MAT_MAX_DIM];
-    for (uint16_t j = 0; j < b->cols; ++j) {
-        for (uint16_t i = 0; i < lu->n; ++i) {
-            y[i] = FCC_MAT_AT(b, i, j);
-        }
-        lu_substitute_trans(lu, y);
-        for (uint16_t i = 0; i < lu->n; ++i) {
-            FCC_MAT_AT(x, lu->perm[i], j) = y[i];
-        }
-    }
-    return MAT(check_finite)(x);
+    return lu_solve_columns(lu, b, x, true);
 }
 
 fcc_status_t MAT(lu_rcond)(const lu_t *lu, real_t *rcond)

@@ -182,6 +182,21 @@ static fcc_status_t prepare(const fcc_dare_problem_t *p, const dims_t *d, fcc_da
     return check_existence(d, p->b, ws);
 }
 
+/* The start of both solvers: arguments and shapes checked, the cross term
+ * removed, existence checked; *n is the state dimension. */
+static fcc_status_t start_solver(const fcc_dare_problem_t *p, const fcc_mat64_t *x,
+                                 const fcc_dare_info_t *info, fcc_dare_ws_t *ws, uint16_t *n)
+{
+    dims_t d;
+    if (ws == NULL || info == NULL) {
+        return FCC_ERR_ARG;
+    }
+    FCC_TRY(check_problem(p, x, &d));
+    FCC_TRY(prepare(p, &d, ws));
+    *n = d.n;
+    return FCC_OK;
+}
+
 /* ---- gain, residual, acceptance ----------------------------------------------- */
 
 /* K (m x n, into k) and the relative residual of x; uses ws->tmp[0..3]. */
@@ -343,13 +358,8 @@ static fcc_status_t stable_subspace(uint16_t n, const double *wr, const double *
 fcc_status_t fcc_dare_hamiltonian(const fcc_dare_problem_t *p, fcc_mat64_t *x, fcc_dare_info_t *info,
                                   fcc_dare_ws_t *ws)
 {
-    dims_t d;
-    if (ws == NULL || info == NULL) {
-        return FCC_ERR_ARG;
-    }
-    FCC_TRY(check_problem(p, x, &d));
-    FCC_TRY(prepare(p, &d, ws));
-    const uint16_t n = d.n;
+    uint16_t n = 0;
+    FCC_TRY(start_solver(p, x, info, ws, &n));
     FCC_TRY(build_symplectic(n, ws));
     fcc_mat64_t z = FCC_MAT64(2U * n, 2U * n, ws->z);
     fcc_mat64_t v = FCC_MAT64(2U * n, 2U * n, ws->v);
@@ -409,13 +419,8 @@ static fcc_status_t doubling_step(uint16_t n, double *change, fcc_dare_ws_t *ws)
 fcc_status_t fcc_dare_doubling(const fcc_dare_problem_t *p, fcc_mat64_t *x, fcc_dare_info_t *info,
                                fcc_dare_ws_t *ws)
 {
-    dims_t d;
-    if (ws == NULL || info == NULL) {
-        return FCC_ERR_ARG;
-    }
-    FCC_TRY(check_problem(p, x, &d));
-    FCC_TRY(prepare(p, &d, ws));
-    const uint16_t n = d.n;
+    uint16_t n = 0;
+    FCC_TRY(start_solver(p, x, info, ws, &n));
     const size_t nn = (size_t)n * n;
     for (size_t i = 0; i < nn; ++i) {
         ws->tmp[0][i] = ws->at[i];

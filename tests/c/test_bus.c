@@ -12,6 +12,13 @@
 
 #define BIT(m) (1uL << (uint32_t)(m))
 
+/* Both ends of the link as the DBC makes them: the FCC and the simulator. */
+static void open_link(fcc_bus_t *fcc, fcc_bus_t *sim)
+{
+    fcc_assert_ok(fcc_bus_init(fcc, FCC_BUS_NODE_FCC));
+    fcc_assert_ok(fcc_bus_init(sim, FCC_BUS_NODE_SIM));
+}
+
 static void test_node_masks_follow_the_dbc(void **state)
 {
     (void)state;
@@ -81,8 +88,7 @@ static void test_saturating_encode(void **state)
 {
     (void)state;
     fcc_bus_t fcc, sim;
-    fcc_assert_ok(fcc_bus_init(&fcc, FCC_BUS_NODE_FCC));
-    fcc_assert_ok(fcc_bus_init(&sim, FCC_BUS_NODE_SIM));
+    open_link(&fcc, &sim);
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
     d.sid_kf_bounds.alpha_lo = FCC_R(-7.0);
@@ -107,8 +113,7 @@ static void test_round_trip_and_e2e_classes(void **state)
 {
     (void)state;
     fcc_bus_t fcc, sim;
-    fcc_assert_ok(fcc_bus_init(&fcc, FCC_BUS_NODE_FCC));
-    fcc_assert_ok(fcc_bus_init(&sim, FCC_BUS_NODE_SIM));
+    open_link(&fcc, &sim);
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
     d.msl_elev_cmd.step = 41u;

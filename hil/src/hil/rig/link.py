@@ -109,10 +109,10 @@ class CanLink:
         return self.send_raw(CAN_FRAME.pack(frame_id, len(data), bytes(data)))
 
     # -- receive
-    def recv(self) -> tuple[int, bytes] | None:
-        """The next frame (id, data), or None when nothing came within one slice."""
+    def _recv_once(self, flags: int = 0) -> tuple[int, bytes] | None:
+        """One recv(2): the frame (id, data), or None when nothing was there (or in time)."""
         try:
-            raw = self.sock.recv(CAN_MTU)
+            raw = self.sock.recv(CAN_MTU, flags)
         except (BlockingIOError, TimeoutError, InterruptedError):
             return None
         except OSError as e:
@@ -123,38 +123,23 @@ class CanLink:
         self.rx_frames += 1
         return can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF, data[:dlc]
 
+    def recv(self) -> tuple[int, bytes] | None:
+        """The next frame (id, data), or None when nothing came within one slice."""
+        return self._recv_once()
+
     def recv_wait(self, timeout: float) -> tuple[int, bytes] | None:
         """The next frame within timeout seconds, to the millisecond (poll(); SO_RCVTIMEO is
         rounded up to the kernel tick, 10-20 ms in the UML guest, too coarse for pacing)."""
         if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
             return None
-        try:
-            raw = self.sock.recv(CAN_MTU, socket.MSG_DONTWAIT)
-        except (BlockingIOError, InterruptedError):
-            return None
-        except OSError as e:
-            if e.errno in (errno.EAGAIN, errno.EINTR):
-                return None
-            raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
-        can_id, dlc, data = CAN_FRAME.unpack(raw)
-        self.rx_frames += 1
-        return can_id & 0x7FF, data[:dlc]
+        return self._recv_once(socket.MSG_DONTWAIT)
 
     def drain(self) -> list[tuple[int, bytes]]:
         """Every frame already queued, without waiting."""
         out = []
-        while True:
-            try:
-                raw = self.sock.recv(CAN_MTU, socket.MSG_DONTWAIT)
-            except (BlockingIOError, InterruptedError):
-                return out
-            except OSError as e:
-                if e.errno in (errno.EAGAIN, errno.EINTR):
-                    return out
-                raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
-            can_id, dlc, data = CAN_FRAME.unpack(raw)
-            self.rx_frames += 1
-            out.append((can_id & 0x7FF, data[:dlc]))
+        while (got := self._recv_once(socket.MSG_DONTWAIT)) is not None:
+            out.append(got)
+        return out
 
     def close(self) -> None:
         try:

@@ -9,23 +9,24 @@
  * Bad input: one line on stderr, exit status 2 (usage) or 1 (the design
  * refused the problem, with the firmware's status name).
  */
-#include <errno.h>
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fcc_lqg.h"
+#include "fcc_opt.h"
 
 #define PROG "lqg_design"
 
 typedef struct {
     double period;
     bool have_period;
-    long bits;
+    unsigned long bits;
     double gyro_var;
     double accel_var;
     fcc_lqg_solver_t solver;
-    long repeat;
+    unsigned long repeat;
 } options_t;
 
 static void usage(FILE *out)
@@ -47,122 +48,65 @@ static void usage(FILE *out)
             FCC_LQG_T_MIN, FCC_LQG_T_MAX, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX);
 }
 
-static int fail_usage(const char *what, const char *arg)
+/* A noise variance: a finite number > 0. */
+static fcc_opt_result_t variance(const char *name, const char *val, double *out, char *err,
+                                 size_t err_len)
 {
-    fprintf(stderr, PROG ": %s%s%s (see --help)\n", what, arg ? ": " : "", arg ? arg : "");
-    return 2;
+    const fcc_opt_result_t r = fcc_opt_double(name, val, -DBL_MAX, DBL_MAX, out, err, err_len);
+    if (r == FCC_OPT_DONE && !(*out > 0.0)) {
+        return fcc_opt_fail(err, err_len, "%s: a variance must be > 0, not %g", name, *out);
+    }
+    return r;
 }
 
-/* A whole-string finite decimal. */
-static bool parse_real(const char *s, double *out)
+static fcc_opt_result_t apply_option(void *ctx, const char *name, const char *val, char *err,
+                                     size_t err_len)
 {
-    char *end = NULL;
-    errno = 0;
-    const double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno != 0 || !isfinite(v)) {
-        return false;
+    static const char *const solvers[] = {"hamiltonian", "doubling"};
+    options_t *o = ctx;
+    if (strcmp(name, "--period") == 0) {
+        o->have_period = true;
+        return fcc_opt_double(name, val, FCC_LQG_T_MIN, FCC_LQG_T_MAX, &o->period, err, err_len);
     }
-    *out = v;
-    return true;
-}
-
-static bool parse_long(const char *s, long *out)
-{
-    char *end = NULL;
-    errno = 0;
-    const long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno != 0) {
-        return false;
+    if (strcmp(name, "--bits") == 0) {
+        return fcc_opt_uint(name, val, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX, &o->bits, err, err_len);
     }
-    *out = v;
-    return true;
-}
-
-/* Split "--name=value" or take the next argument; NULL if missing. */
-static const char *option_value(int argc, char **argv, int *i, const char *arg, size_t name_len)
-{
-    if (arg[name_len] == '=') {
-        return arg + name_len + 1;
+    if (strcmp(name, "--gyro-var") == 0) {
+        return variance(name, val, &o->gyro_var, err, err_len);
     }
-    if (*i + 1 < argc) {
-        *i += 1;
-        return argv[*i];
+    if (strcmp(name, "--accel-var") == 0) {
+        return variance(name, val, &o->accel_var, err, err_len);
     }
-    return NULL;
+    if (strcmp(name, "--solver") == 0) {
+        int which = 0;
+        const fcc_opt_result_t r = fcc_opt_choice(name, val, solvers, 2, &which, err, err_len);
+        o->solver = which == 0 ? FCC_LQG_SOLVER_HAMILTONIAN : FCC_LQG_SOLVER_DOUBLING;
+        return r;
+    }
+    if (strcmp(name, "--repeat") == 0) {
+        return fcc_opt_uint(name, val, 1ul, 1000000ul, &o->repeat, err, err_len);
+    }
+    return FCC_OPT_NOT_MINE;
 }
 
 /* 0: parsed; 1: --help printed; 2: error printed. */
 static int parse_args(int argc, char **argv, options_t *o)
 {
-    static const char *const names[] = {"--period", "--bits", "--gyro-var", "--accel-var",
-                                        "--solver", "--repeat"};
+    char err[200];
     for (int i = 1; i < argc; ++i) {
-        const char *arg = argv[i];
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
             return 1;
         }
-        int which = -1;
-        size_t len = 0;
-        for (int k = 0; k < (int)(sizeof names / sizeof names[0]); ++k) {
-            len = strlen(names[k]);
-            if (strncmp(arg, names[k], len) == 0 && (arg[len] == '\0' || arg[len] == '=')) {
-                which = k;
-                break;
-            }
-        }
-        if (which < 0) {
-            return fail_usage("unknown argument", arg);
-        }
-        const char *val = option_value(argc, argv, &i, arg, len);
-        if (val == NULL) {
-            return fail_usage("missing value for", names[which]);
-        }
-        bool ok = true;
-        switch (which) {
-        case 0: ok = parse_real(val, &o->period); o->have_period = ok; break;
-        case 1: ok = parse_long(val, &o->bits); break;
-        case 2: ok = parse_real(val, &o->gyro_var); break;
-        case 3: ok = parse_real(val, &o->accel_var); break;
-        case 4:
-            if (strcmp(val, "hamiltonian") == 0) {
-                o->solver = FCC_LQG_SOLVER_HAMILTONIAN;
-            } else if (strcmp(val, "doubling") == 0) {
-                o->solver = FCC_LQG_SOLVER_DOUBLING;
-            } else {
-                return fail_usage("--solver must be hamiltonian or doubling, not", val);
-            }
-            break;
-        default: ok = parse_long(val, &o->repeat); break;
-        }
-        if (!ok) {
-            return fail_usage("not a valid finite number", val);
+        if (fcc_opt_take(argc, argv, &i, apply_option, o, "see --help", err, sizeof err) !=
+            FCC_OPT_DONE) {
+            fprintf(stderr, PROG ": %s\n", err);
+            return 2;
         }
     }
     if (!o->have_period) {
-        return fail_usage("--period is required", NULL);
-    }
-    return 0;
-}
-
-static int check_ranges(const options_t *o)
-{
-    char msg[160];
-    if (!(o->period >= FCC_LQG_T_MIN && o->period <= FCC_LQG_T_MAX)) {
-        snprintf(msg, sizeof msg, "--period %g s is outside [%g, %g] s", o->period,
-                 FCC_LQG_T_MIN, FCC_LQG_T_MAX);
-        return fail_usage(msg, NULL);
-    }
-    if (o->bits < (long)FCC_LQG_BITS_MIN || o->bits > (long)FCC_LQG_BITS_MAX) {
-        snprintf(msg, sizeof msg, "--bits %ld is outside %u..%u", o->bits, FCC_LQG_BITS_MIN,
-                 FCC_LQG_BITS_MAX);
-        return fail_usage(msg, NULL);
-    }
-    if (!(o->gyro_var > 0.0) || !(o->accel_var > 0.0)) {
-        return fail_usage("noise variances must be > 0", NULL);
-    }
-    if (o->repeat < 1 || o->repeat > 1000000) {
-        return fail_usage("--repeat must be 1..1000000", NULL);
+        fprintf(stderr, PROG ": --period is required (see --help)\n");
+        return 2;
     }
     return 0;
 }
@@ -253,10 +197,6 @@ int main(int argc, char **argv)
     if (rc != 0) {
         return (rc == 1) ? 0 : 2;
     }
-    rc = check_ranges(&o);
-    if (rc != 0) {
-        return rc;
-    }
     static fcc_lqg_ws_t ws; /* ~10 KB: static, as on the target */
     fcc_lqg_plant_t plant;
     fcc_lqg_design_t design;
@@ -265,7 +205,7 @@ int main(int argc, char **argv)
     plant.gyro_var = (fcc_real_t)o.gyro_var;
     plant.accel_var = (fcc_real_t)o.accel_var;
     fcc_status_t st = fcc_lqg_dac_init(&dac, (uint8_t)o.bits);
-    for (long i = 0; i < o.repeat && st == FCC_OK; ++i) {
+    for (unsigned long i = 0; i < o.repeat && st == FCC_OK; ++i) {
         st = fcc_lqg_design(&plant, o.period, o.solver, &design, &ws);
     }
     if (st != FCC_OK) {

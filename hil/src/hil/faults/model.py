@@ -88,14 +88,11 @@ class Spike(SensorFault):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Bias(SensorFault):
-    """Constant offset: reading + magnitude (typically long, e.g. a mis-rigged vane)."""
+class Bias(Spike):
+    """Constant offset: reading + magnitude, the spike's arithmetic under the name engineers
+    use for a long one (e.g. a mis-rigged vane)."""
 
     kind: ClassVar[str] = "bias"
-    magnitude: float = spec()
-
-    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
-        return value + self.magnitude
 
 
 @dataclass(frozen=True, kw_only=True)

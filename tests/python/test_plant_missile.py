@@ -173,7 +173,8 @@ def test_missile_run_records_codes_and_is_deterministic():
     r1, r2 = simulate_missile(sc), simulate_missile(sc)
     assert np.array_equal(r1.x_fine, r2.x_fine) and np.array_equal(r1.code, r2.code)
     assert r1.x[0].tolist() == [0.1, 0.0, 0.0]                 # seed 2's initial condition
-    assert len(r1.t) == 100 and len(r1.t_fine) == 801         # 10 s at T = 0.1, 8 sub-steps
+    assert len(r1.t) == 100 and len(r1.t_fine) == 4001        # 10 s at T = 0.1, 2.5 ms sub-steps
+    assert np.allclose(np.diff(r1.t_fine), missile.FINE_STEP, rtol=1e-9)
     assert np.array_equal(r1.u, r1.code * (0.8 / 256))
     assert np.any(r1.code != 0)
     r3 = simulate_missile(sc.replace(seed=2))
@@ -192,3 +193,50 @@ def test_missile_simulation_step_api_and_sensor_fault():
         sim.advance(0)
     with pytest.raises(RuntimeError):
         sim.sample()
+
+
+def test_substeps_are_on_the_common_fine_base():
+    assert missile.FINE_STEP == 0.0025
+    for T, n in ((0.02, 8), (0.05, 20), (0.1, 40), (0.2, 80), (0.3, 120), (1.0, 400)):
+        assert missile.substeps_for(T) == n and missile.common_time_base(T)
+    # off the grid or too short: smallest n >= 8 with T / n <= 2.5 ms, documented as not shared
+    for T, n in ((0.03, 12), (0.011, 8), (0.01, 8), (0.005, 8), (0.0333, 14)):
+        assert missile.substeps_for(T) == n and T / n <= missile.FINE_STEP
+    assert not missile.common_time_base(0.01) and not missile.common_time_base(0.0333)
+    assert missile.substeps_for(0.1, 16) == 40 and missile.substeps_for(0.1, 50) == 50
+    with pytest.raises(ValueError, match="period"):
+        missile.substeps_for(0.0)
+
+
+def _open_loop(T: float, seed: int = 2):
+    sc = load_default_scenario("missile")
+    sc = sc.replace(seed=seed, lqg=sc.lqg.__class__(period=T, bits=8, closed_loop=False))
+    return simulate_missile(sc)
+
+
+def test_same_seed_same_open_loop_gust_for_every_period():
+    """Common random numbers: the open-loop true state at common times does not depend on T."""
+    runs = {T: _open_loop(T) for T in (0.05, 0.1, 0.2)}
+    ref = runs[0.2]
+    for T, r in runs.items():
+        assert r.t_fine[-1] == pytest.approx(10.0) and len(r.x_fine) == 4001
+        assert np.array_equal(r.x_fine, ref.x_fine)                 # every 2.5 ms, bit for bit
+        stride = round(0.2 / T)                                     # the samples at t = 0.2 k
+        assert np.array_equal(r.x[::stride], ref.x)
+        assert r.rms_q == ref.rms_q and r.rms_alpha == ref.rms_alpha
+    assert not np.array_equal(_open_loop(0.1, seed=3).x_fine, ref.x_fine)
+
+
+def test_advance_substeps_with_one_code_flies_like_advance():
+    sc = load_default_scenario("missile")
+    a, b = MissileSimulation(sc), MissileSimulation(sc)
+    assert a.n_sub == 40 and a.common_time_base
+    for code in (3, -7, 0, 12):
+        a.sample()
+        b.sample()
+        ta = a.advance(code)
+        tb = b.advance_substeps([code] * b.n_sub)
+        assert ta.shape == (41, 3) and np.allclose(ta, tb, rtol=1e-13, atol=1e-15)
+    with pytest.raises(ValueError, match="sub-steps"):
+        b.sample()
+        b.advance_substeps([0] * 8)

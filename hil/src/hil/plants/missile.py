@@ -12,6 +12,13 @@ with Gamma_h = int_0^h e^{F s} G ds, and the noise adds a zero-mean Gaussian sam
 exact covariance Q_h = int_0^h e^{F s} f f^T e^{F^T s} ds (Van Loan 1978), drawn through a
 square-root factor of Q_h.  The discretisation is therefore independent of the number of
 sub-steps; sub-steps only give the intersample time response (seed 2 uses >= 8 per period).
+
+Common random numbers: every sampling period T is integrated on ONE fine time base
+FINE_STEP = 2.5 ms (T = 0.02 -> 8, 0.05 -> 20, 0.1 -> 40, 0.2 -> 80 sub-steps), and the plant
+draws one gust noise vector per fine step from its own seeded stream.  So the same seed flies
+the same gust for every T: in open loop the true state at the common fine times is identical
+(bit for bit) whatever T is, and a sweep over T compares controllers, not gust realisations.
+See substeps_for() for the periods that are not whole multiples of FINE_STEP.
 """
 from __future__ import annotations
 
@@ -42,6 +49,36 @@ SIGMA_W = 12.0
 Q0 = 0.1
 #: state names, in order
 STATE_NAMES = ("q", "alpha_T", "w_g")
+#: the common fine integration step, s (one gust noise draw per fine step)
+FINE_STEP = 0.0025
+#: seed 2: at least 8 sub-steps per sampling period
+MIN_SUBSTEPS = 8
+
+
+def substeps_for(period: float, min_substeps: int = MIN_SUBSTEPS) -> int:
+    """Sub-steps per sampling period: period / FINE_STEP when that is a whole number
+    >= min_substeps (the common time base: same seed, same gust for every period).
+
+    Otherwise (period not a whole multiple of 2.5 ms, e.g. 0.03 s, or too short, e.g.
+    0.01 s) it falls back to the smallest n >= min_substeps with period / n <= FINE_STEP:
+    the integration stays exact and at least as fine, but the gust noise is then drawn on
+    a different time base, so such a period does NOT share the gust realisation of the
+    periods on the common base (common_time_base() tells which case applies).
+    """
+    if not (math.isfinite(period) and period > 0.0):
+        raise ValueError(f"missile: period must be > 0, got {period}")
+    if isinstance(min_substeps, bool) or not isinstance(min_substeps, int) or min_substeps < 1:
+        raise ValueError(f"missile: min_substeps must be a positive integer, got {min_substeps!r}")
+    r = period / FINE_STEP
+    n = round(r)
+    if abs(r - n) <= 1e-9 * max(1.0, r) and n >= min_substeps:
+        return int(n)
+    return max(min_substeps, math.ceil(r - 1e-9))
+
+
+def common_time_base(period: float, min_substeps: int = MIN_SUBSTEPS) -> bool:
+    """True when the period is integrated on the common FINE_STEP base (shared gust)."""
+    return math.isclose(period / substeps_for(period, min_substeps), FINE_STEP, rel_tol=1e-9)
 
 
 def zoh(Fm: np.ndarray, Gm: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -189,10 +226,13 @@ class MissilePlant:
         """Noise-free outputs H x: (q, n_a)."""
         return self.x @ H.T
 
-    def step(self, u: float, dt: float, n_sub: int = 8) -> np.ndarray:
-        """Hold the elevator u (rad) for dt seconds, exact over n_sub equal sub-steps."""
+    def step(self, u: float, dt: float, n_sub: int | None = None) -> np.ndarray:
+        """Hold the elevator u (rad) for dt seconds, exact over n_sub equal sub-steps
+        (default: substeps_for(dt), the common 2.5 ms base), one noise draw per sub-step."""
         if not dt > 0.0:
             raise ValueError(f"missile: dt must be > 0, got {dt}")
+        if n_sub is None:
+            n_sub = substeps_for(dt)
         if isinstance(n_sub, bool) or not isinstance(n_sub, int) or n_sub < 1:
             raise ValueError(f"missile: n_sub must be a positive integer, got {n_sub!r}")
         if not (math.isfinite(u) and abs(u) <= U_MAX + 1e-12):
@@ -201,9 +241,12 @@ class MissilePlant:
         x = self.x
         trace = np.empty((n_sub + 1,) + x.shape)
         trace[0] = x
+        # one block draw = the same numbers as n_sub draws of one sub-step each (the
+        # generator fills in order), so advance one sub-step at a time flies the same gust
+        w = self.gust_scale * (self._rng.standard_normal((n_sub,) + x.shape) @ lq.T) + u * gam
+        phi_t = phi.T
         for i in range(n_sub):
-            z = self._rng.standard_normal(x.shape)
-            x = x @ phi.T + u * gam + self.gust_scale * (z @ lq.T)
+            x = x @ phi_t + w[i]
             trace[i + 1] = x
         self.x = x
         self.u = float(u)
@@ -211,6 +254,6 @@ class MissilePlant:
         self.last_substeps = trace
         return self.state
 
-    def step_code(self, code: int, dac: DAConverter, dt: float, n_sub: int = 8) -> np.ndarray:
+    def step_code(self, code: int, dac: DAConverter, dt: float, n_sub: int | None = None) -> np.ndarray:
         """Apply a D/A code from the command frame: elevator = code * LSB, held for dt."""
         return self.step(dac.value(code), dt, n_sub)

@@ -128,7 +128,13 @@ class MissileSample:
 class MissileSimulation:
     """Plant + sensors + sensor faults of a missile scenario, one control period at a time:
     ``s = sample()`` (readings at t_k), then ``advance(code)`` (the D/A code from the command
-    frame, held for one period)."""
+    frame, held for one period).
+
+    The plant is integrated on the common fine base (missile.FINE_STEP = 2.5 ms):
+    ``n_sub = missile.substeps_for(period, plant.substeps)`` sub-steps per period, one gust
+    noise draw each, so the same seed flies the same gust for every period (common random
+    numbers; see missile.substeps_for for periods off the 2.5 ms grid).  ``[plant] substeps``
+    is the minimum number of sub-steps per period.  Sensor noise is drawn per sample."""
 
     def __init__(self, scenario: Scenario) -> None:
         if scenario.aircraft != "missile" or scenario.lqg is None:
@@ -137,7 +143,10 @@ class MissileSimulation:
         self.scenario = scenario
         self.lqg: LqgOptions = scenario.lqg
         self.period = self.lqg.period
-        self.n_sub = po.substeps
+        #: sub-steps per period on the common fine time base (>= [plant] substeps)
+        self.n_sub = missile.substeps_for(self.period, po.substeps)
+        #: False when the period is off the 2.5 ms grid (its gust is then not shared)
+        self.common_time_base = missile.common_time_base(self.period, po.substeps)
         self.dac = DAConverter(self.lqg.bits)
         self.plant = MissilePlant(scenario.seed, q0=po.q0, alpha0=po.alpha0, gust0=po.gust0,
                                   gust_scale=po.gust_scale)

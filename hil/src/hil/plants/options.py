@@ -77,7 +77,8 @@ class MissilePlantOptions:
     alpha0: float = spec(0.0)        # rad
     gust0: float | str = spec(0.0, choices=("stationary",))  # ft/s, or "stationary"
     gust_scale: float = spec(1.0, ge=0.0)   # multiplies the gust input f (0: no gust)
-    substeps: int = spec(8, ge=8, le=1000)  # per control period (seed 2: >= 8)
+    substeps: int = spec(8, ge=8, le=1000)  # minimum per control period (seed 2: >= 8); the
+    # plant integrates on the common 2.5 ms base (T = 0.1 s: 40), see missile.substeps_for
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -18,6 +18,7 @@ lqrd) by Van Loan's block exponential of [[-Fa^T, Qa], [0, Fa]], Fa = [[F, G], [
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -231,9 +232,13 @@ class MissileRun:
         return float(np.sqrt(np.mean(self.x_fine[:, 1] ** 2)))
 
 
-def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | None = None) -> MissileRun:
+def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | None = None,
+                     received: Callable[[np.ndarray], np.ndarray] | None = None) -> MissileRun:
     """Fly a missile scenario offline; closed loop with the scipy LQG reference unless the
-    scenario (or the closed_loop argument) says open loop (elevator code 0 throughout)."""
+    scenario (or the closed_loop argument) says open loop (elevator code 0 throughout).
+    received maps a measurement [q_g, n_a] to what the autopilot gets (e.g. the bus's
+    resolution), so that the reference sees the same numbers as the firmware: a command
+    that lands near a half-LSB tie of the D/A otherwise rounds the other way."""
     sc = scenario if scenario is not None else load_default_scenario("missile")
     sim = MissileSimulation(sc)
     cl = sim.lqg.closed_loop if closed_loop is None else closed_loop
@@ -253,7 +258,7 @@ def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | No
         y[k] = (s.meas["q_g"], s.meas["n_a"])
         y0[k] = (s.meas_faultfree["q_g"], s.meas_faultfree["n_a"])
         if ctrl is not None:
-            code[k] = ctrl.update(y[k])
+            code[k] = ctrl.update(y[k] if received is None else received(y[k]))
             xh[k] = ctrl.x_hat
         trace = sim.advance(int(code[k]))
         x_fine[k * ns: (k + 1) * ns + 1] = trace

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .. import metrics
+from ..bus import dbc as dbc_spec
 from ..bus.dbc import BusSpec
 from ..plants.missile_runs import design_lqg, simulate_missile, steady_state_rms
 from .apps import FILTERS, CdrwDriver, MissileDriver
@@ -150,6 +151,15 @@ def cdrw_result(spec: BusSpec, rec: CdrwRecord, flight: FlightFrames) -> CdrwRes
                       events=rec.events, injected=rec.injected)
 
 
+def _as_received(y: np.ndarray) -> np.ndarray:
+    """[q_g, n_a] at the resolution of their DBC signals: what fcc decodes (NaN stays NaN)."""
+    spec = dbc_spec.load()
+    sigs = [next(s for s in spec.by_name(msg).signals if s.name == name)
+            for msg, name in (("MSL_RATE_GYRO", "q_g"), ("MSL_ACCELEROMETER", "n_a"))]
+    return np.array([v if not np.isfinite(v) else float(s.to_phys(s.to_raw(float(v))))
+                     for s, v in zip(sigs, y)])
+
+
 def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResult:
     d = driver
     s: Series = {"t": d.t.copy(), "q": d.x[:, 0], "alpha_T": d.x[:, 1], "w_g": d.x[:, 2],
@@ -163,8 +173,9 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
     rq, ra = metrics.missile_rms(d.x_fine)
     ref: dict[str, float] = {}
     if reference:
-        # the scipy LQG of hil.plants.missile_runs on the same plant, gust and noise draws
-        r = simulate_missile(d.scenario, closed_loop=True)
+        # the scipy LQG of hil.plants.missile_runs on the same plant, gust and noise draws,
+        # fed the measurements as fcc decodes them from the bus
+        r = simulate_missile(d.scenario, closed_loop=True, received=_as_received)
         same = r.code[: d.n_steps] == d.code
         mismatch = np.flatnonzero(~same)
         ref = {"rms_q": r.rms_q, "rms_alpha": r.rms_alpha, "code_agreement": float(np.mean(same)),

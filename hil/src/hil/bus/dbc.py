@@ -15,17 +15,11 @@ from pathlib import Path
 import cantools
 from cantools.database.can import Database, Message, Signal
 
+from ..rounding import round_half_away
 from .e2e import DEFAULT_MAX_DELTA_COUNTER
 
 DEFAULT_DBC = Path(__file__).resolve().parents[4] / "dbc" / "fcc_hil.dbc"
 E2E_SIGNALS = ("crc", "counter")
-
-
-def round_half_away(x: float) -> int:
-    """C99 round(): ties away from zero (Python's round() goes to even)."""
-    f = math.floor(abs(x))
-    r = f + (1 if abs(x) - f >= 0.5 else 0)
-    return int(math.copysign(r, x)) if r else 0
 
 
 @dataclass(frozen=True)

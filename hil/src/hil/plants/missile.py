@@ -28,6 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import expm
 
+from ..rounding import round_half_away
+
 
 def _frozen(a: list) -> np.ndarray:
     arr = np.array(a, dtype=float)
@@ -149,10 +151,7 @@ class DAConverter:
         """Quantise a command (rad) to the converter code."""
         if not math.isfinite(u):
             raise ValueError(f"D/A: command is not finite ({u})")
-        x = u / self.lsb
-        r = math.floor(abs(x) + 0.5)
-        c = int(r) if x >= 0.0 else -int(r)
-        return min(max(c, self.code_min), self.code_max)
+        return min(max(round_half_away(u / self.lsb), self.code_min), self.code_max)
 
     def value(self, code: int) -> float:
         """The elevator the converter outputs for a code (rad): code * LSB."""

@@ -10,7 +10,7 @@ import re
 import signal
 import subprocess
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -130,16 +130,22 @@ class Sim:
         if d.ok and d.name is not None and d.values is not None:
             self.status[d.name] = d.values
 
-    def until_ack(self, app: int, k: int, timeout: float = 2.0) -> tuple[list[Decoded], Decoded]:
-        """Frames fcc sent before FCC_ACK(app, k) (status frames kept aside), and the ACK."""
-        frames: list[Decoded] = []
-        deadline = time.monotonic() + timeout
+    def _frames(self, seconds: float) -> Iterator[Decoded]:
+        """Every frame received for `seconds` (status frames also recorded in self.status)."""
+        deadline = time.monotonic() + seconds
         while (left := deadline - time.monotonic()) > 0:
             d = self.node.recv(left)
             if d is None:
-                break
+                return
             if d.frame_id in STATUS_IDS:
                 self._keep_status(d)
+            yield d
+
+    def until_ack(self, app: int, k: int, timeout: float = 2.0) -> tuple[list[Decoded], Decoded]:
+        """Frames fcc sent before FCC_ACK(app, k) (status frames kept aside), and the ACK."""
+        frames: list[Decoded] = []
+        for d in self._frames(timeout):
+            if d.frame_id in STATUS_IDS:
                 continue
             if d.name == "FCC_ACK" and d.ok and d.values is not None \
                     and d.values["app"] == app and d.values["step"] == k:
@@ -149,16 +155,7 @@ class Sim:
 
     def quiet(self, seconds: float) -> list[Decoded]:
         """Everything received for a while (status frames recorded too)."""
-        out: list[Decoded] = []
-        deadline = time.monotonic() + seconds
-        while (left := deadline - time.monotonic()) > 0:
-            d = self.node.recv(left)
-            if d is None:
-                break
-            if d.frame_id in STATUS_IDS:
-                self._keep_status(d)
-            out.append(d)
-        return out
+        return list(self._frames(seconds))
 
     def step_cdrw(self, k: int, alpha: float, q: float, de: float,
                   skip: Iterable[str] = ()) -> tuple[dict[str, dict], Decoded]:

@@ -2,7 +2,7 @@
 
 ``FccProcess`` starts ``fcc`` with the run's flags, its stdout and stderr going to
 ``fcc.log`` in the run directory (that file keeps the firmware's event lines and its final
-counter block).  ``Candump`` records the whole bus with ``candump -L`` into ``bus.log``.
+counter block).  ``Candump`` records the whole bus (``candump -l``, the ``-L`` log format) into ``bus.log``.
 Both are stopped politely (shutdown frame / SIGINT), then firmly; neither outlives the run.
 """
 from __future__ import annotations

@@ -10,8 +10,6 @@ applied on top), so the paper's error integral against the fault-free measuremen
 """
 from __future__ import annotations
 
-import csv
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +18,7 @@ import numpy as np
 from ..faults.inject import FaultEvent, SensorFaultInjector
 from ..faults.scenario import Scenario, load_default_scenario
 from ..sensors import CdrwSensors
+from ..sid_csv import sid_csv
 from .cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
 from .options import CdrwPlantOptions
 
@@ -149,20 +148,8 @@ def simulate_cdrw(scenario: Scenario | None = None) -> CdrwFlight:
 
 
 def write_sid_csv(path: str | Path, flight: CdrwFlight) -> Path:
-    """The readings as CSV for the C tool sid_replay: header t,alpha,q,de,fault.
-
-    Values are the faulty readings (rad, rad/s, rad; 9 significant digits); fault is 0/1.
-    A dropout with fill = "nan" is written as 'nan'.
-    """
+    """The faulty readings as CSV for the C tool sid_replay (hil.sid_csv), with the fault flag."""
     p = Path(path)
-    with p.open("w", newline="", encoding="ascii") as fh:
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(("t", "alpha", "q", "de", "fault"))
-        for i in range(len(flight.t)):
-            w.writerow((f"{flight.t[i]:.4f}", _num(flight.alpha_meas[i]), _num(flight.q_meas[i]),
-                        _num(flight.de[i]), int(flight.fault_flag[i])))
+    p.write_text(sid_csv(flight.t, flight.alpha_meas, flight.q_meas, flight.de,
+                         flight.fault_flag), encoding="ascii")
     return p
-
-
-def _num(x: float) -> str:
-    return "nan" if math.isnan(x) else f"{x:.9g}"

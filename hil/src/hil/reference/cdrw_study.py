@@ -37,6 +37,7 @@ import numpy as np
 from hil.faults import load_default_scenario, with_fault_start
 from hil.plants.cdrw_flight import CdrwFlight, simulate_cdrw
 from hil.reference.metrics import read_rows
+from hil.sid_csv import sid_csv
 
 DT = 0.02
 FILTERS = ("kf", "zkf", "azkf")
@@ -71,11 +72,8 @@ def flight_csv(f: CdrwFlight, faulty: bool = True, states: bool = False) -> str:
     else:
         a, q = f.alpha_meas_faultfree, f.q_meas_faultfree
     de = f.de if faulty else f.de_faultfree
-    lines = ["t,alpha,q,de,fault"]
     flag = f.fault_flag if faulty else np.zeros(len(f.t), dtype=int)
-    for k in range(len(f.t)):
-        lines.append(f"{f.t[k]:.4f},{a[k]:.17g},{q[k]:.17g},{de[k]:.17g},{int(flag[k])}")
-    return "\n".join(lines) + "\n"
+    return sid_csv(f.t, a, q, de, flag)
 
 
 def run_tool(tool: Path, csv_text: str, args: Sequence[str] = ()) -> Rows:

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hil.sid_csv import sid_csv
+
 DT = 0.02
 
 
@@ -30,14 +32,7 @@ class Flight:
     def csv(self, with_fault_column: bool = True, faulty: bool = True) -> str:
         """The flight as sid_replay input (full precision)."""
         y = self.y if faulty else self.y_clean
-        head = "t,alpha,q,de" + (",fault" if with_fault_column else "")
-        lines = [head]
-        for k in range(len(self.t)):
-            row = f"{self.t[k]:.17g},{y[k, 0]:.17g},{y[k, 1]:.17g},{self.de[k]:.17g}"
-            if with_fault_column:
-                row += f",{int(self.fault[k])}"
-            lines.append(row)
-        return "\n".join(lines) + "\n"
+        return sid_csv(self.t, y[:, 0], y[:, 1], self.de, self.fault if with_fault_column else None)
 
 
 def _bump(t: np.ndarray, t0: float, t1: float, ramp: float) -> np.ndarray:

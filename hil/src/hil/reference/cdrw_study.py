@@ -36,7 +36,7 @@ import numpy as np
 
 from hil.faults import load_default_scenario, with_fault_start
 from hil.plants.cdrw_flight import CdrwFlight, simulate_cdrw
-from hil.reference.metrics import read_rows
+from hil.reference.metrics import error_table, read_rows
 from hil.sid_csv import sid_csv
 
 DT = 0.02
@@ -86,10 +86,9 @@ def run_tool(tool: Path, csv_text: str, args: Sequence[str] = ()) -> Rows:
 
 def errors(f: CdrwFlight, est: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """(vs fault-free measurement, vs truth): sum |target - x_hat| dt for (alpha, q)."""
-    xh = np.column_stack([est["alpha_hat"], est["q_hat"]])
-    meas = np.column_stack([f.alpha_meas_faultfree, f.q_meas_faultfree])
-    truth = np.column_stack([f.alpha_true, f.q_true])
-    return (np.sum(np.abs(meas - xh), axis=0) * DT, np.sum(np.abs(truth - xh), axis=0) * DT)
+    t = error_table(np.column_stack([f.alpha_meas_faultfree, f.q_meas_faultfree]),
+                    np.column_stack([f.alpha_true, f.q_true]), {"f": est})["f"]
+    return t["meas"], t["truth"]
 
 
 def intervals(flag: np.ndarray) -> list[tuple[int, int]]:

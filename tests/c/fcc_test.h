@@ -43,4 +43,44 @@ static inline void fcc_assert_close_at(double actual, double expected, double re
 
 #define fcc_assert_ok(expr) assert_int_equal((expr), FCC_OK)
 
+/* Matrix-relative comparison: every entry of actual within rel * max|expected|
+ * (a matrix's small entries carry the absolute error of its large ones).  The
+ * actual values are read through a getter so that one routine serves arrays of
+ * fcc_real_t and of double in both builds. */
+static inline double fcc_test_real_at(const void *v, size_t i)
+{
+    return (double)((const fcc_real_t *)v)[i];
+}
+
+static inline double fcc_test_double_at(const void *v, size_t i)
+{
+    return ((const double *)v)[i];
+}
+
+static inline void fcc_assert_matrix_close_at(double (*get)(const void *, size_t),
+                                              const void *actual, const double *expected,
+                                              size_t n, double rel, const char *what,
+                                              const char *file, int line)
+{
+    double scale = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        scale = fabs(expected[i]) > scale ? fabs(expected[i]) : scale;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const double err = fabs(get(actual, i) - expected[i]);
+        if (!(err <= rel * scale)) {
+            print_error("%s[%zu] = %.17g, expected %.17g (matrix-relative error %.3g > %.3g)\n",
+                        what, i, get(actual, i), expected[i], scale > 0.0 ? err / scale : err, rel);
+            _fail(file, line);
+        }
+    }
+}
+
+#define fcc_assert_reals_close(actual, expected, n, rel, what)                                   \
+    fcc_assert_matrix_close_at(fcc_test_real_at, (actual), (expected), (n), (rel), (what),       \
+                               __FILE__, __LINE__)
+#define fcc_assert_doubles_close(actual, expected, n, rel, what)                                 \
+    fcc_assert_matrix_close_at(fcc_test_double_at, (actual), (expected), (n), (rel), (what),     \
+                               __FILE__, __LINE__)
+
 #endif /* FCC_TEST_H */

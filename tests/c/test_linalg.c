@@ -29,32 +29,6 @@ static void load(fcc_real_t *dst, const double *src, size_t n)
     }
 }
 
-static double max_abs(const double *v, size_t n)
-{
-    double m = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        m = fabs(v[i]) > m ? fabs(v[i]) : m;
-    }
-    return m;
-}
-
-/* Every entry within rel * max|expected| (matrix-relative comparison). */
-static void assert_all_close(const fcc_real_t *actual, const double *expected, size_t n, double rel)
-{
-    const double scale = max_abs(expected, n);
-    for (size_t i = 0; i < n; ++i) {
-        fcc_assert_close(actual[i], expected[i], 0.0, rel * scale);
-    }
-}
-
-static void assert_all_close64(const double *actual, const double *expected, size_t n, double rel)
-{
-    const double scale = max_abs(expected, n);
-    for (size_t i = 0; i < n; ++i) {
-        fcc_assert_close(actual[i], expected[i], 0.0, rel * scale);
-    }
-}
-
 /* max_k ||A v_k - lambda_k v_k|| / ||A||_F over the eigenpairs of (wr, wi, V)
  * in fcc_mat_eig's storage convention, computed in double. */
 static double eig_residual(const double *a, const fcc_real_t *wr, const fcc_real_t *wi,
@@ -148,23 +122,23 @@ static void basic_operations(void **state)
     fcc_assert_ok(fcc_mat_init(&b, 3, 2, b_d));
     fcc_assert_ok(fcc_mat_mul(&a, &b, &c));
     const double ab[4] = {58, 64, 139, 154};
-    assert_all_close(c_d, ab, 4, 0.0);
+    fcc_assert_reals_close(c_d, ab, 4, 0.0, "c_d");
     fcc_mat_t t3 = FCC_MAT(3, 3, t_d);
     fcc_assert_ok(fcc_mat_mul_tn(&a, &a, &t3)); /* a^T a */
     const double ata[9] = {17, 22, 27, 22, 29, 36, 27, 36, 45};
-    assert_all_close(t_d, ata, 9, 0.0);
+    fcc_assert_reals_close(t_d, ata, 9, 0.0, "t_d");
     fcc_assert_ok(fcc_mat_mul_nt(&a, &a, &c)); /* a a^T */
     const double aat[4] = {14, 32, 32, 77};
-    assert_all_close(c_d, aat, 4, 0.0);
+    fcc_assert_reals_close(c_d, aat, 4, 0.0, "c_d");
     fcc_mat_t at = FCC_MAT(3, 2, t_d);
     fcc_assert_ok(fcc_mat_trans(&a, &at));
     const double a_t[6] = {1, 4, 2, 5, 3, 6};
-    assert_all_close(t_d, a_t, 6, 0.0);
+    fcc_assert_reals_close(t_d, a_t, 6, 0.0, "t_d");
     fcc_assert_ok(fcc_mat_add(&a, &a, &a)); /* in place */
     fcc_assert_ok(fcc_mat_scale(&a, FCC_R(0.5), &a));
     assert_int_equal(fcc_mat_sub(&a, &at, &a), FCC_ERR_SIZE);
     const double a_back[6] = {1, 2, 3, 4, 5, 6};
-    assert_all_close(a_d, a_back, 6, 0.0);
+    fcc_assert_reals_close(a_d, a_back, 6, 0.0, "a_d");
 
     /* blocks */
     fcc_real_t big_d[16] = {0};
@@ -173,7 +147,7 @@ static void basic_operations(void **state)
     fcc_real_t back_d[4];
     fcc_mat_t back = FCC_MAT(2, 2, back_d);
     fcc_assert_ok(fcc_mat_get_block(&big, 1, 1, &back));
-    assert_all_close(back_d, aat, 4, 0.0);
+    fcc_assert_reals_close(back_d, aat, 4, 0.0, "back_d");
     assert_int_equal(fcc_mat_set_block(&big, 3, 3, &c), FCC_ERR_SIZE);
     fcc_assert_ok(fcc_mat_identity(&big));
     assert_true(big_d[0] == 1 && big_d[5] == 1 && big_d[1] == 0);
@@ -315,7 +289,7 @@ static void lu_solve_needs_pivoting(void **state)
     fcc_assert_ok(fcc_mat_inv(&ma, &mi, &g_lu));
     fcc_assert_ok(fcc_mat_mul(&ma, &mi, &mp));
     const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    assert_all_close(prod, eye, 9, FCC_TEST_TOL(1e-15, 1e-6));
+    fcc_assert_reals_close(prod, eye, 9, FCC_TEST_TOL(1e-15, 1e-6), "prod");
 }
 
 static void lu_ill_conditioned_hilbert(void **state)
@@ -454,14 +428,14 @@ static void expm_closed_forms(void **state)
     fcc_mat_t me = FCC_MAT(3, 3, e);
     fcc_assert_ok(fcc_mat_expm(&ma, &me, &g_expm));
     const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    assert_all_close(e, eye, 9, 0.0);
+    fcc_assert_reals_close(e, eye, 9, 0.0, "e");
     /* nilpotent: exp(N) = I + N + N^2/2 exactly */
     const fcc_real_t c = 3;
     fcc_real_t nil[9] = {0, c, 0, 0, 0, c, 0, 0, 0};
     fcc_mat_t mn = FCC_MAT(3, 3, nil);
     fcc_assert_ok(fcc_mat_expm(&mn, &me, &g_expm));
     const double en[9] = {1, 3, 4.5, 0, 1, 3, 0, 0, 1};
-    assert_all_close(e, en, 9, FCC_TEST_TOL(1e-15, 1e-6));
+    fcc_assert_reals_close(e, en, 9, FCC_TEST_TOL(1e-15, 1e-6), "e");
     /* upper triangular with a large off-diagonal: ||A||_1 = 1e4, 11 squarings in
      * double; single precision needs 12 and each roughly doubles the error */
     const double p = -1.0;
@@ -473,14 +447,14 @@ static void expm_closed_forms(void **state)
     fcc_mat_t me2 = FCC_MAT(2, 2, e2);
     fcc_assert_ok(fcc_mat_expm(&mt, &me2, &g_expm));
     const double et[4] = {exp(p), b * (exp(p) - exp(q)) / (p - q), 0, exp(q)};
-    assert_all_close(e2, et, 4, FCC_TEST_TOL(1e-13, 5e-4));
+    fcc_assert_reals_close(e2, et, 4, FCC_TEST_TOL(1e-13, 5e-4), "e2");
     /* rotation by 100 rad: norm 100 */
     const double th = 100.0;
     fcc_real_t r[4] = {0, (fcc_real_t)th, (fcc_real_t)-th, 0};
     fcc_mat_t mr = FCC_MAT(2, 2, r);
     fcc_assert_ok(fcc_mat_expm(&mr, &me2, &g_expm));
     const double er[4] = {cos(th), sin(th), -sin(th), cos(th)};
-    assert_all_close(e2, er, 4, FCC_TEST_TOL(1e-13, 1e-4));
+    fcc_assert_reals_close(e2, er, 4, FCC_TEST_TOL(1e-13, 1e-4), "e2");
     /* very negative diagonal underflows gracefully, positive overflows -> status */
     fcc_real_t dn[4] = {-1000, 0, 0, 1};
     fcc_mat_t md = FCC_MAT(2, 2, dn);
@@ -488,7 +462,7 @@ static void expm_closed_forms(void **state)
     /* (2^8 squarings of e^(1/256): the known ~s*eps loss of scaling and
      * squaring when eigenvalue magnitudes differ widely) */
     const double ed[4] = {0, 0, 0, exp(1.0)};
-    assert_all_close(e2, ed, 4, FCC_TEST_TOL(1e-13, 1e-5));
+    fcc_assert_reals_close(e2, ed, 4, FCC_TEST_TOL(1e-13, 1e-5), "e2");
     dn[0] = 1000;
     assert_int_equal(fcc_mat_expm(&md, &me2, &g_expm), FCC_ERR_NOT_FINITE);
     assert_int_equal(fcc_mat_expm(&md, &md, &g_expm), FCC_ERR_ARG); /* e aliases a */
@@ -513,9 +487,9 @@ static void expm_scipy_vectors(void **state)
         fcc_mat64_t me64 = FCC_MAT64(n, n, e64);
         print_message("expm %s\n", v->name);
         fcc_assert_ok(fcc_mat_expm(&ma, &me, &g_expm));
-        assert_all_close(e, v->expm, (size_t)(n * n), FCC_TEST_TOL(1e-11, 1e-3));
+        fcc_assert_reals_close(e, v->expm, (size_t)(n * n), FCC_TEST_TOL(1e-11, 1e-3), "e");
         fcc_assert_ok(fcc_mat64_expm(&ma64, &me64, &g_expm64));
-        assert_all_close64(e64, v->expm, (size_t)(n * n), 1e-11);
+        fcc_assert_doubles_close(e64, v->expm, (size_t)(n * n), 1e-11, "e64");
     }
 }
 

@@ -20,43 +20,6 @@ static fcc_lqg_ws_t g_ws;
  * rounded to fcc_real_t, which bounds what the float build can show. */
 #define DESIGN_TOL FCC_TEST_TOL(1e-9, 1e-5)
 
-static double max_abs(const double *v, size_t n)
-{
-    double m = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        m = fabs(v[i]) > m ? fabs(v[i]) : m;
-    }
-    return m;
-}
-
-/* Matrix-relative comparison: every entry within rel * max|expected|. */
-static void assert_real_close(const fcc_real_t *actual, const double *expected, size_t n, double rel,
-                              const char *what)
-{
-    const double scale = max_abs(expected, n);
-    for (size_t i = 0; i < n; ++i) {
-        if (!(fabs((double)actual[i] - expected[i]) <= rel * scale)) {
-            print_error("%s[%zu] = %.17g, expected %.17g (matrix-relative error %.3g > %.3g)\n",
-                        what, i, (double)actual[i], expected[i],
-                        fabs((double)actual[i] - expected[i]) / scale, rel);
-            fail();
-        }
-    }
-}
-
-static void assert_double_close(const double *actual, const double *expected, size_t n, double rel,
-                                const char *what)
-{
-    const double scale = max_abs(expected, n);
-    for (size_t i = 0; i < n; ++i) {
-        if (!(fabs(actual[i] - expected[i]) <= rel * scale)) {
-            print_error("%s[%zu] = %.17g, expected %.17g (matrix-relative error %.3g > %.3g)\n",
-                        what, i, actual[i], expected[i], fabs(actual[i] - expected[i]) / scale, rel);
-            fail();
-        }
-    }
-}
-
 /* The paper's continuous plant as double matrices. */
 static const double k_f[9] = {-1.2132, -177.0, 0.0, 1.0, -4.03, 0.00149, 0.0, 0.0, -2.0};
 static const double k_g[3] = {-69.3, -0.2978, 0.0};
@@ -96,12 +59,12 @@ static void c2d_matches_scipy(void **state)
         fcc_assert_ok(fcc_c2d_zoh(&mf, &mg, v->t, &mphi, &mgam, &g_c2d));
         fcc_assert_ok(fcc_c2d_noise(&mf, &mqc, v->t, &mqd, &g_c2d));
         fcc_assert_ok(fcc_c2d_cost(&mf, &mg, &mwx, &mwu, v->t, &m11, &m12, &m22, &g_c2d));
-        assert_double_close(phi, v->phi, 9, 1e-12, "Phi");
-        assert_double_close(gam, v->gamma, 3, 1e-12, "Gamma");
-        assert_double_close(qd, v->qd, 9, 1e-12, "Qd");
-        assert_double_close(q11, v->q11, 9, 1e-12, "Q11");
-        assert_double_close(q12, v->q12, 3, 1e-12, "Q12");
-        assert_double_close(q22, v->q22, 1, 1e-12, "Q22");
+        fcc_assert_doubles_close(phi, v->phi, 9, 1e-12, "Phi");
+        fcc_assert_doubles_close(gam, v->gamma, 3, 1e-12, "Gamma");
+        fcc_assert_doubles_close(qd, v->qd, 9, 1e-12, "Qd");
+        fcc_assert_doubles_close(q11, v->q11, 9, 1e-12, "Q11");
+        fcc_assert_doubles_close(q12, v->q12, 3, 1e-12, "Q12");
+        fcc_assert_doubles_close(q22, v->q22, 1, 1e-12, "Q22");
     }
 }
 
@@ -128,16 +91,16 @@ static void c2d_closed_forms_and_refusals(void **state)
     fcc_assert_ok(fcc_c2d_zoh(&mf, &mg, t, &mphi, &mgam, &g_c2d));
     const double ephi[4] = {1, t, 0, 1};
     const double egam[2] = {t * t / 2, t};
-    assert_double_close(phi, ephi, 4, 1e-15, "Phi");
-    assert_double_close(gam, egam, 2, 1e-15, "Gamma");
+    fcc_assert_doubles_close(phi, ephi, 4, 1e-15, "Phi");
+    fcc_assert_doubles_close(gam, egam, 2, 1e-15, "Gamma");
     fcc_assert_ok(fcc_c2d_cost(&mf, &mg, &mwx, &mwu, t, &m11, &m12, &m22, &g_c2d));
     const double e11[4] = {t, t * t / 2, t * t / 2, t + t * t * t / 3};
     /* Q12 = int Phi(s)^T Gamma(s) ds = [T^3/6, T^2/2 + T^4/8], Q22 = int (s^4/4 + s^2) ds */
     const double e12[2] = {t * t * t / 6, t * t / 2 + t * t * t * t / 8};
     const double e22[1] = {pow(t, 5) / 20 + pow(t, 3) / 3};
-    assert_double_close(q11, e11, 4, 1e-14, "Q11");
-    assert_double_close(q12, e12, 2, 1e-14, "Q12");
-    assert_double_close(q22, e22, 1, 1e-14, "Q22");
+    fcc_assert_doubles_close(q11, e11, 4, 1e-14, "Q11");
+    fcc_assert_doubles_close(q12, e12, 2, 1e-14, "Q12");
+    fcc_assert_doubles_close(q22, e22, 1, 1e-14, "Q22");
     /* refusals */
     assert_int_equal(fcc_c2d_zoh(&mf, &mg, 0.0, &mphi, &mgam, &g_c2d), FCC_ERR_ARG);
     assert_int_equal(fcc_c2d_zoh(&mf, &mg, -0.1, &mphi, &mgam, &g_c2d), FCC_ERR_ARG);
@@ -174,7 +137,7 @@ static void dare_four_states_cross_term(void **state)
     for (int k = 0; k < 2; ++k) {
         fcc_dare_info_t info;
         fcc_assert_ok(solvers[k](&p, &mx, &info, &g_dare));
-        assert_double_close(x, lqg_dare4_x, 16, 1e-10, k == 0 ? "X (hamiltonian)" : "X (doubling)");
+        fcc_assert_doubles_close(x, lqg_dare4_x, 16, 1e-10, k == 0 ? "X (hamiltonian)" : "X (doubling)");
         assert_true(info.residual < 1e-13);
         assert_true(info.cl_radius < 1.0);
         double res = 1;
@@ -292,17 +255,17 @@ static void design_matches_scipy(void **state)
             fcc_assert_ok(fcc_lqg_design(&plant, v->t, solvers[k], &d, &g_ws));
             assert_int_equal(d.solver, solvers[k]);
             fcc_assert_close(d.t, v->t, FCC_TEST_TOL(0, 1e-7), 0);
-            assert_real_close(d.phi, v->phi, 9, DESIGN_TOL, "Phi");
-            assert_real_close(d.gamma, v->gamma, 3, DESIGN_TOL, "Gamma");
-            assert_real_close(d.qd, v->qd, 9, DESIGN_TOL, "Qd");
-            assert_real_close(d.q11, v->q11, 9, DESIGN_TOL, "Q11");
-            assert_real_close(d.q12, v->q12, 3, DESIGN_TOL, "Q12");
-            assert_real_close(d.q22, v->q22, 1, DESIGN_TOL, "Q22");
-            assert_real_close(d.k, v->k, 3, DESIGN_TOL, "K");
-            assert_real_close(d.p, v->p, 9, DESIGN_TOL, "P");
-            assert_real_close(d.m, v->m, 9, DESIGN_TOL, "M");
-            assert_real_close(d.p_post, v->p_post, 9, DESIGN_TOL, "P_post");
-            assert_real_close(d.l, v->l, 6, DESIGN_TOL, "L");
+            fcc_assert_reals_close(d.phi, v->phi, 9, DESIGN_TOL, "Phi");
+            fcc_assert_reals_close(d.gamma, v->gamma, 3, DESIGN_TOL, "Gamma");
+            fcc_assert_reals_close(d.qd, v->qd, 9, DESIGN_TOL, "Qd");
+            fcc_assert_reals_close(d.q11, v->q11, 9, DESIGN_TOL, "Q11");
+            fcc_assert_reals_close(d.q12, v->q12, 3, DESIGN_TOL, "Q12");
+            fcc_assert_reals_close(d.q22, v->q22, 1, DESIGN_TOL, "Q22");
+            fcc_assert_reals_close(d.k, v->k, 3, DESIGN_TOL, "K");
+            fcc_assert_reals_close(d.p, v->p, 9, DESIGN_TOL, "P");
+            fcc_assert_reals_close(d.m, v->m, 9, DESIGN_TOL, "M");
+            fcc_assert_reals_close(d.p_post, v->p_post, 9, DESIGN_TOL, "P_post");
+            fcc_assert_reals_close(d.l, v->l, 6, DESIGN_TOL, "L");
             assert_poles(d.cl_re, d.cl_im, v->cl_poles, "closed-loop pole");
             assert_poles(d.est_re, d.est_im, v->est_poles, "estimator pole");
             /* the two Riccati methods agree (both run in double in every build) */

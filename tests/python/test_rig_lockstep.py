@@ -73,6 +73,12 @@ def test_campaign_few_runs(tmp_path):
     for f in ("azkf", "zkf", "kf"):
         for st in ("alpha", "q"):
             assert s["cdrw"]["table5"][f][st] == pytest.approx(np.mean([r["error"][f][st] for r in runs]))
+            ci = s["cdrw"]["table5_ci"][f][st]
+            assert ci["lo"] < ci["mean"] == s["cdrw"]["table5"][f][st] < ci["hi"]
+    for st in ("alpha", "q"):
+        assert s["cdrw"]["azkf_better_than_kf_runs"][st] == sum(
+            r["error"]["azkf"][st] < r["error"]["kf"][st] for r in runs)
+    assert "t-interval" in "\n".join(o.tables) and "AZKF better than KF in" in "\n".join(o.tables)
     assert s["firmware"]["steps"]["cdrw"] == 3 * 351
     c = read_csv(tmp_path / "c" / "campaign.csv")
     assert c["fault_start"].tolist() == starts

@@ -84,3 +84,43 @@ def test_json_is_sorted_and_plain(tmp_path):
     text = (tmp_path / "s.json").read_text()
     assert text.index('"a"') < text.index('"b"')
     assert json.loads(text) == {"a": [2, None], "b": 1.5}
+
+
+def _flight(azkf_a, zkf_a, kf_a, q_scale=2.0):
+    return {"azkf": {"alpha": azkf_a, "q": q_scale * azkf_a}, "zkf": {"alpha": zkf_a, "q": q_scale * zkf_a},
+            "kf": {"alpha": kf_a, "q": q_scale * kf_a}}
+
+
+def test_campaign_table5_intervals_by_hand():
+    # three flights; t(0.975, 2) = 4.302652729749464 (tables of the Student-t distribution)
+    errs = [_flight(1.0, 2.0, 3.0), _flight(2.0, 2.5, 1.5), _flight(3.0, 2.0, 5.0)]
+    t5 = metrics.campaign_table5(errs, errs)
+    assert t5["runs_count"] == 3 and t5["ci_level"] == 0.95 and "Student-t" in t5["ci_method"]
+    c = t5["table5_ci"]["azkf"]["alpha"]
+    s = math.sqrt(((1 - 2) ** 2 + 0 + (3 - 2) ** 2) / 2)       # 1.0
+    h = 4.302652729749464 * s / math.sqrt(3)
+    assert c["mean"] == pytest.approx(2.0) and c["std"] == pytest.approx(s)
+    assert c["half_width"] == pytest.approx(h, rel=1e-12)
+    assert (c["lo"], c["hi"]) == (pytest.approx(2.0 - h), pytest.approx(2.0 + h))
+    assert t5["table5"]["kf"]["q"] == pytest.approx(2 * (3.0 + 1.5 + 5.0) / 3)
+    # paired improvement: d = kf - azkf = (2, -0.5, 2), mean 7/6, scaled by 100 / mean(kf)
+    d = np.array([2.0, -0.5, 2.0])
+    ic = t5["improvement_over_kf_ci"]["azkf"]["alpha"]
+    assert ic["mean"] == pytest.approx(100 * d.mean() / (9.5 / 3))
+    assert ic["mean"] == pytest.approx(t5["improvement_over_kf_pct"]["azkf"]["alpha"])
+    assert ic["half_width"] == pytest.approx(100 * 4.302652729749464 * d.std(ddof=1) / math.sqrt(3) / (9.5 / 3))
+    assert t5["azkf_better_than_kf_runs"] == {"alpha": 2, "q": 2}
+    assert t5["zkf_better_than_kf_runs"] == {"alpha": 2, "q": 2}
+    assert t5["azkf_better_than_kf_truth_runs"] == {"alpha": 2, "q": 2}
+    text = metrics.format_table5(t5)
+    assert "2.0000 +- " + f"{h:.4f}" in text and "AZKF better than KF in 2 of 3 flights" in text
+    json.dumps(t5, allow_nan=False)                               # plain JSON
+
+
+def test_campaign_table5_one_flight_has_no_interval():
+    t5 = metrics.campaign_table5([_flight(1.0, 2.0, 3.0)], [_flight(1.0, 2.0, 3.0)])
+    c = t5["table5_ci"]["kf"]["q"]
+    assert c["mean"] == 6.0 and c["half_width"] is None and c["lo"] is None
+    assert "+-" not in metrics.format_table5(t5).splitlines()[2]
+    with pytest.raises(ValueError):
+        metrics.campaign_table5([], [])

@@ -79,6 +79,129 @@ def mean_table(tables: Sequence[Mapping[str, Mapping[str, float]]]) -> Table:
     return {f: {s: float(np.mean([t[f][s] for t in tables])) for s in STATES} for f in tables[0]}
 
 
+#: how campaign_table5 states its interval (also written into summary.json)
+CI_METHOD = ("two-sided Student-t interval of the mean over flights: "
+             "mean +- t(1 - (1 - level)/2, n - 1) * s / sqrt(n), s the sample standard deviation "
+             "(ddof = 1); the improvement's interval is the paired one of e_KF - e_filter per "
+             "flight, scaled by 100 / mean(e_KF)")
+
+
+def t_interval(samples: Sequence[float], level: float = 0.95) -> tuple[float, float, float]:
+    """(mean, half width, sample standard deviation) of a Student-t interval of the mean.
+
+    The half width is t(1 - (1 - level)/2, n - 1) * s / sqrt(n); NaN for fewer than 2 samples."""
+    from scipy import stats
+
+    x = np.asarray(samples, dtype=float)
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError("t_interval: want a non-empty 1-D sample")
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"t_interval: level must be in (0, 1), got {level}")
+    mean = float(np.mean(x))
+    if x.size < 2:
+        return mean, math.nan, math.nan
+    s = float(np.std(x, ddof=1))
+    t = float(stats.t.ppf(1.0 - (1.0 - level) / 2.0, x.size - 1))
+    return mean, t * s / math.sqrt(x.size), s
+
+
+def _ci_cell(samples: Sequence[float], level: float) -> dict[str, float | None]:
+    mean, half, s = t_interval(samples, level)
+    fin = math.isfinite(half)
+    return {"mean": mean, "half_width": half if fin else None, "std": s if fin else None,
+            "lo": mean - half if fin else None, "hi": mean + half if fin else None}
+
+
+def campaign_table5(errors: Sequence[Mapping[str, Mapping[str, float]]],
+                    errors_truth: Sequence[Mapping[str, Mapping[str, float]]],
+                    level: float = 0.95) -> dict[str, object]:
+    """Table 5 of a campaign from its per-flight error integrals, with confidence intervals.
+
+    errors[i] and errors_truth[i] are flight i's error tables ({filter: {"alpha": e, "q": e}},
+    as error_table returns them; against the fault-free measurement and against the true
+    state).  Returns (stable shape; keys may be added, none renamed)::
+
+        {"runs_count": n, "ci_level": 0.95, "ci_method": CI_METHOD,
+         "table5":       {filter: {state: mean}},          # as mean_table
+         "table5_truth": {filter: {state: mean}},
+         "table5_ci":       {filter: {state: {"mean", "half_width", "std", "lo", "hi"}}},
+         "table5_truth_ci": {filter: {state: {...}}},
+         "improvement_over_kf_pct":       {filter: {state: %}},   # of the means
+         "improvement_over_kf_truth_pct": {filter: {state: %}},
+         "improvement_over_kf_ci":       {filter: {state: {"mean", "half_width", "std", "lo", "hi"}}},
+         "improvement_over_kf_truth_ci": {filter: {state: {...}}},
+         "azkf_better_than_kf_runs":       {state: flights with e_AZKF < e_KF},
+         "azkf_better_than_kf_truth_runs": {state: ...},
+         "zkf_better_than_kf_runs":        {state: ...},
+         "zkf_better_than_kf_truth_runs":  {state: ...}}
+
+    Every interval is the two-sided Student-t interval of the mean over the n flights
+    (CI_METHOD): mean +- t(0.975, n-1) s/sqrt(n) at level 0.95.  The improvement's interval
+    is the paired one: d_i = e_KF,i - e_filter,i, 100 * (mean(d) +- t s_d/sqrt(n)) / mean(e_KF)
+    (mean(d)/mean(e_KF) is exactly the improvement of the means).  With one flight the
+    half widths, standard deviations and bounds are None.  State keys are "alpha" and "q"."""
+    if not errors or len(errors) != len(errors_truth):
+        raise ValueError(f"campaign_table5: {len(errors)} and {len(errors_truth)} flights")
+    out: dict[str, object] = {"runs_count": len(errors), "ci_level": level, "ci_method": CI_METHOD}
+    for key, tabs in (("", errors), ("_truth", errors_truth)):
+        names = [f for f in FILTERS if f in tabs[0]]
+        mean = mean_table(tabs)
+        out[f"table5{key}"] = mean
+        out[f"table5{key}_ci"] = {f: {s: _ci_cell([t[f][s] for t in tabs], level) for s in STATES}
+                                 for f in names}
+        out[f"improvement_over_kf{key}_pct"] = improvements(mean)
+        imp_ci: dict[str, dict[str, object]] = {}
+        for f in names:
+            if f == "kf":
+                continue
+            imp_ci[f] = {}
+            for s in STATES:
+                cell = _ci_cell([t["kf"][s] - t[f][s] for t in tabs], level)
+                scale = 100.0 / mean["kf"][s] if mean["kf"][s] > 0 else math.nan
+                imp_ci[f][s] = {k: (None if v is None else v * scale) for k, v in cell.items()}
+            out[f"{f}_better_than_kf{key}_runs"] = {s: int(sum(t[f][s] < t["kf"][s] for t in tabs))
+                                                   for s in STATES}
+        out[f"improvement_over_kf{key}_ci"] = imp_ci
+    return out
+
+
+def format_table5(t5: Mapping[str, object], truth: bool = False,
+                  paper: Mapping[str, Mapping[str, float]] | None = None) -> str:
+    """Table 5 (as campaign_table5 returns it) with its intervals: `mean +- half width` per
+    filter and state, the improvement over the KF with its interval, then the win counts."""
+    key = "_truth" if truth else ""
+    mean: Mapping[str, Mapping[str, float]] = t5[f"table5{key}"]  # type: ignore[assignment]
+    ci: Mapping[str, Mapping[str, Mapping[str, float | None]]] = t5[f"table5{key}_ci"]  # type: ignore[assignment]
+    imp_ci: Mapping[str, Mapping[str, Mapping[str, float | None]]] = t5[f"improvement_over_kf{key}_ci"]  # type: ignore[assignment]
+    n = t5["runs_count"]
+    level = float(t5.get("ci_level", 0.95))  # type: ignore[arg-type]
+    what = "|x_true - x_hat|" if truth else "|y_faultfree - y_hat|"
+    names = [f for f in FILTERS if f in mean]
+    lines = [f"CDRW Table 5 (mean over {n} flights, {100 * level:g} % t-interval): "
+             f"integral {what} dt",
+             f"{'state':<8}" + "".join(f"{x.upper():>30}" for x in names)]
+
+    def pm(c: Mapping[str, float | None], fmt: str) -> str:
+        h = c["half_width"]
+        return format(float(c["mean"]), fmt) + ("" if h is None else " +- " + format(float(h), fmt))  # type: ignore[arg-type]
+
+    for s in STATES:
+        cells = [pm(ci[f][s], ".4f") for f in names]
+        lines.append(f"{s:<8}" + "".join(f"{c:>30}" for c in cells))
+        cells = [("" if f not in imp_ci else pm(imp_ci[f][s], "+.1f") + " %") for f in names]
+        lines.append(f"{'  vs KF':<8}" + "".join(f"{c:>30}" for c in cells))
+        if paper is not None:
+            pimp = improvements(paper)
+            pc = [f"{paper[f][s]:.4f}" + (f" ({pimp[f][s]:+.1f}%)" if f in pimp else "") for f in names]
+            lines.append(f"{'  paper':<8}" + "".join(f"{c:>30}" for c in pc))
+    for f in ("azkf", "zkf"):
+        w = t5.get(f"{f}_better_than_kf{key}_runs")
+        if isinstance(w, Mapping):
+            lines.append(f"{f.upper()} better than KF in {w['alpha']} of {n} flights for alpha, "
+                         f"{w['q']} of {n} for q")
+    return "\n".join(lines)
+
+
 def rms(x: np.ndarray) -> float:
     x = np.asarray(x, dtype=float)
     return float(np.sqrt(np.mean(x * x)))

@@ -44,10 +44,13 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
     tables: list[str] = []
     cd = summary.get("cdrw")
     if cd:
+        if "table5_ci" in cd:
+            tables += [metrics.format_table5(cd, paper=metrics.PAPER_TABLE5),
+                       metrics.format_table5(cd, truth=True)]
         for which in ("table4", "table5"):
-            if which in cd:
+            if which in cd and not (which == "table5" and "table5_ci" in cd):
                 tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which)
-        if "azkf_better_than_kf_runs" in cd:
+        if "azkf_better_than_kf_runs" in cd and "table5_ci" not in cd:
             b = cd["azkf_better_than_kf_runs"]
             tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
                           f"flights for alpha, {b['q']} for q")

@@ -274,18 +274,10 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
         raise RigError(f"{out / 'bus.log'}: {flights} flights recorded, expected {runs}")
     _write_fault_log(out, [(f"flight {i:3d}  ", rec.events) for i, rec in enumerate(records)])
     write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
-    t5 = metrics.mean_table(tables)
-    t5t = metrics.mean_table(truths)
     summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
                "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
                "faults": [f.describe() for f in scenario.faults],
-               "cdrw": {"table5": t5, "table5_truth": t5t,
-                        "improvement_over_kf_pct": metrics.improvements(t5),
-                        "improvement_over_kf_truth_pct": metrics.improvements(t5t),
-                        "azkf_better_than_kf_runs": {
-                            s: int(sum(t["azkf"][s] < t["kf"][s] for t in tables))
-                            for s in metrics.STATES},
-                        "runs": per_run},
+               "cdrw": {**metrics.campaign_table5(tables, truths), "runs": per_run},
                "firmware": firmware_summary(rig.status)}
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))

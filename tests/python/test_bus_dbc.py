@@ -10,9 +10,11 @@ from pathlib import Path
 import cantools
 import pytest
 
+from conftest import REPO
+
 from hil.bus import busload as load, dbc
 
-DBC = dbc.DEFAULT_DBC
+DBC = REPO / "dbc" / "fcc_hil.dbc"
 SENSORS = ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR", "MSL_RATE_GYRO", "MSL_ACCELEROMETER")
 COMMANDS = ("SIM_CONTROL", "SIM_TICK", "FCC_ACK", "MSL_ELEV_CMD")
 SID_FILTERS = ("AZKF", "ZKF", "KF")

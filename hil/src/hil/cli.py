@@ -79,7 +79,25 @@ def _positive(text: str) -> float:
     return v
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("hil")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+def _add_paths(p: argparse.ArgumentParser) -> None:
+    """--dbc and --fcc: where the bus contract and the firmware are (installed use)."""
+    p.add_argument("--dbc", type=Path, metavar="PATH",
+                   help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+    p.add_argument("--fcc", type=Path, metavar="PATH",
+                   help="the firmware binary (default $FCC_HIL_FCC, else $FCC_BUILD_DIR/bin/fcc, "
+                        "else build/bin/fcc of the source tree, else fcc on $PATH)")
+
+
 def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
+    _add_paths(p)
     p.add_argument("--out", type=Path, default=Path(out_default), metavar="DIR",
                    help=f"run directory (default {out_default})")
     p.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
@@ -96,6 +114,7 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
+    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
@@ -130,6 +149,8 @@ def _parser() -> argparse.ArgumentParser:
     rep.add_argument("dir", type=Path)
     rep.add_argument("--no-plots", action="store_true", help="only print the tables")
     rep.add_argument("--bus", action="store_true", help="also analyse bus.log (rates, E2E, load)")
+    rep.add_argument("--dbc", type=Path, metavar="PATH",
+                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
     d = sub.add_parser("demo", help="both aircraft with the default scenarios, then a missile sweep")
     _add_common(d, "out/demo")
@@ -254,13 +275,32 @@ COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "repor
             "demo": cmd_demo}
 
 
+def _apply_paths(args: argparse.Namespace) -> None:
+    dbc_path = getattr(args, "dbc", None)
+    if dbc_path is not None:
+        if not dbc_path.is_file():
+            raise UsageError(f"--dbc {dbc_path}: no such file")
+        from .bus import dbc
+        dbc.set_default(dbc_path)
+    fcc_path = getattr(args, "fcc", None)
+    if fcc_path is not None:
+        from .rig import paths
+        paths.set_fcc(fcc_path)
+        try:
+            paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
+        except paths.ToolNotFound as e:
+            raise UsageError(str(e)) from None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
+        _apply_paths(args)
         return COMMANDS[args.command](args)
     except UsageError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return EXIT_USAGE
+
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130

@@ -8,6 +8,7 @@ Python codec (hil.bus.codec) both call these functions.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -18,7 +19,12 @@ from cantools.database.can import Database, Message, Signal
 from ..rounding import round_half_away
 from .e2e import DEFAULT_MAX_DELTA_COUNTER
 
-DEFAULT_DBC = Path(__file__).resolve().parents[4] / "dbc" / "fcc_hil.dbc"
+#: the DBC shipped with the package (in the source tree a link to dbc/fcc_hil.dbc, the one
+#: source; a wheel holds a copy, tests/python/test_install.py checks it equals the source)
+PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
+DEFAULT_DBC = PACKAGED_DBC
+DBC_ENV = "FCC_HIL_DBC"
+_dbc_override: Path | None = None
 E2E_SIGNALS = ("crc", "counter")
 
 
@@ -140,10 +146,28 @@ class BusSpec:
             raise KeyError(f"no message {name!r} in {self.path.name}") from None
 
 
+def set_default(path: Path | None) -> None:
+    """The DBC given on the command line (--dbc): the default of every later load()."""
+    global _dbc_override  # noqa: PLW0603 - one process-wide choice, made by the CLI
+    _dbc_override = None if path is None else Path(path)
+
+
+def default_path() -> Path:
+    """--dbc, else $FCC_HIL_DBC, else the packaged DBC."""
+    if _dbc_override is not None:
+        return _dbc_override
+    env = os.environ.get(DBC_ENV)
+    return Path(env).expanduser() if env else PACKAGED_DBC
+
+
+def load(path: str | Path | None = None) -> BusSpec:
+    """Load and check the DBC (strict): every message 8 bytes, standard IDs.
+    No path: the default (``default_path()``)."""
+    return _load(Path(path) if path is not None else default_path())
+
+
 @lru_cache(maxsize=8)
-def load(path: str | Path = DEFAULT_DBC) -> BusSpec:
-    """Load and check the DBC (strict): every message 8 bytes, standard IDs."""
-    path = Path(path)
+def _load(path: Path) -> BusSpec:
     if not path.is_file():
         raise FileNotFoundError(f"DBC file {path} does not exist")
     db = cantools.database.load_file(str(path), strict=True)

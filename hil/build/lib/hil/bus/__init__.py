@@ -1,0 +1,25 @@
+"""The rig's bus layer on python-can + cantools, one specification with firmware/bus.
+
+* hil.bus.dbc    -- the DBC as both codecs see it (raw limits, E2E data IDs)
+* hil.bus.e2e    -- CRC-8 SAE J1850, alive counter, receiver classification
+* hil.bus.codec  -- FrameCodec: encode/decode with E2E and range checks, counters
+* hil.bus.node   -- BusNode: a FrameCodec on a python-can bus with one Notifier
+* hil.bus.busload -- frame lengths (exact bit stuffing) and bus load
+* hil.bus.candump -- candump -L log reading/writing
+* hil.bus.diag   -- scripts/diag: per-message rate, jitter, E2E classes, bus load
+"""
+from __future__ import annotations
+
+from .codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
+from .dbc import BusSpec, MessageSpec, SignalSpec, load
+from .e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
+
+#: The simulator process speaks for the simulator core and every sensor node.
+SIM_NODES = ("SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL")
+FCC_NODE = "FCC"
+
+__all__ = [
+    "BusSpec", "Counters", "Decoded", "E2EReceiver", "E2ESender", "E2EStatus", "EncodeError",
+    "FCC_NODE", "FrameCodec", "MessageSpec", "SIM_NODES", "SignalSpec", "Verdict",
+    "crc8_j1850", "load", "protect",
+]

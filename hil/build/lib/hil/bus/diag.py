@@ -1,0 +1,222 @@
+"""scripts/diag: what is on the bus, decoded with the DBC.
+
+    scripts/diag --log FILE [--dbc DBC] [--json]          a candump -L log
+    scripts/diag --iface vcan0 --seconds 5 [--save FILE]  a live interface (python-can)
+
+Per message: count, mean rate, mean period and its jitter (standard deviation
+and worst deviation of the inter-arrival time), E2E classification counts
+(OK, REPEATED, OK_SOME_LOST, WRONG_SEQUENCE, ERROR; NO_NEW_DATA = periods of the
+DBC cycle time in which no frame arrived), wrong-DLC and out-of-range counts.
+Then frames the DBC does not know, error frames, and the bus load: exact
+(stuff bits counted from each frame's bit stream) and worst case (135 bits per
+8-byte frame).  Bad files or flags: one line on stderr, exit status 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import sys
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import NoReturn
+
+from . import busload, candump, dbc
+from .codec import decode_values
+from .e2e import E2EReceiver, E2EStatus
+
+PROG = "diag"
+
+
+@dataclass
+class MessageStats:
+    name: str
+    frame_id: int
+    cycle_ms: int
+    times: list[float] = field(default_factory=list)
+    e2e: dict[str, int] = field(default_factory=lambda: {s.name: 0 for s in E2EStatus})
+    wrong_dlc: int = 0
+    out_of_range: int = 0
+
+    def summary(self, duration: float) -> dict[str, object]:
+        periods = [b - a for a, b in zip(self.times, self.times[1:])]
+        mean = statistics.fmean(periods) if periods else math.nan
+        std = statistics.pstdev(periods) if len(periods) > 1 else math.nan
+        worst = max((abs(p - mean) for p in periods), default=math.nan)
+        rate = len(periods) / (self.times[-1] - self.times[0]) if periods and self.times[-1] > self.times[0] else math.nan
+        if self.cycle_ms and periods:
+            cycle = self.cycle_ms / 1000.0
+            self.e2e["NO_NEW_DATA"] = sum(max(0, round(p / cycle) - 1) for p in periods)
+        return {"name": self.name, "id": f"0x{self.frame_id:03X}", "count": len(self.times),
+                "rate_hz": rate, "expected_hz": 1000.0 / self.cycle_ms if self.cycle_ms else None,
+                "period_ms": mean * 1e3, "jitter_std_ms": std * 1e3, "jitter_max_ms": worst * 1e3,
+                "e2e": dict(self.e2e), "wrong_dlc": self.wrong_dlc,
+                "out_of_range": self.out_of_range}
+
+
+@dataclass
+class BusStats:
+    spec: dbc.BusSpec
+    messages: dict[int, MessageStats] = field(default_factory=dict)
+    receivers: dict[int, E2EReceiver] = field(default_factory=dict)
+    unknown: dict[str, int] = field(default_factory=dict)
+    error_frames: int = 0
+    frames: int = 0
+    bits_exact: int = 0
+    bits_worst: int = 0
+    first: float | None = None
+    last: float | None = None
+
+    def add(self, f: candump.LogFrame) -> None:
+        self.frames += 1
+        self.first = f.timestamp if self.first is None else min(self.first, f.timestamp)
+        self.last = f.timestamp if self.last is None else max(self.last, f.timestamp)
+        if f.error:
+            self.error_frames += 1
+            return
+        if not f.fd:
+            self.bits_exact += busload.frame_bits(f.frame_id, f.data, f.extended, f.remote)
+            self.bits_worst += busload.worst_case_bits(len(f.data), f.extended)
+        msg = None if (f.extended or f.fd or f.remote) else self.spec.by_id(f.frame_id)
+        if msg is None:
+            key = f"{f.frame_id:08X}" if f.extended else f"{f.frame_id:03X}"
+            self.unknown[key] = self.unknown.get(key, 0) + 1
+            return
+        st = self.messages.setdefault(msg.frame_id,
+                                      MessageStats(msg.name, msg.frame_id, msg.cycle_ms))
+        st.times.append(f.timestamp)
+        if len(f.data) != msg.length:
+            st.wrong_dlc += 1
+            return
+        if msg.protected:
+            rx = self.receivers.setdefault(msg.frame_id,
+                                           E2EReceiver(msg.data_id, msg.max_delta_counter))
+            status = rx.check(f.data)
+            st.e2e[status.name] += 1
+            if not status.data_usable:
+                return
+        if decode_values(msg, f.data) is None:
+            st.out_of_range += 1
+
+    def report(self) -> dict[str, object]:
+        duration = (self.last - self.first) if self.first is not None and self.last is not None else 0.0
+        per = [self.messages[k].summary(duration) for k in sorted(self.messages)]
+        span = duration if duration > 0 else math.nan
+        return {"frames": self.frames, "duration_s": duration, "messages": per,
+                "unknown_ids": dict(sorted(self.unknown.items())),
+                "error_frames": self.error_frames, "baudrate": self.spec.baudrate,
+                "load_exact_pct": busload.load_percent(self.bits_exact / span, self.spec.baudrate),
+                "load_worst_pct": busload.load_percent(self.bits_worst / span, self.spec.baudrate)}
+
+
+def _fmt(x: object, spec: str) -> str:
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "-"
+    return format(x, spec)
+
+
+def render(rep: dict[str, object]) -> str:
+    e2e_cols = ("OK", "REPEATED", "OK_SOME_LOST", "WRONG_SEQUENCE", "ERROR", "NO_NEW_DATA")
+    short = ("ok", "rep", "lost", "wseq", "err", "nnd")
+    head = (f"{'message':<20}{'id':>6}{'count':>8}{'Hz':>9}{'exp':>6}{'T ms':>9}"
+            f"{'jit ms':>8}{'max ms':>8} " + "".join(f"{s:>6}" for s in short) + f"{'dlc':>5}{'rng':>5}")
+    lines = [head, "-" * len(head)]
+    for m in rep["messages"]:  # type: ignore[union-attr]
+        e2e = m["e2e"]
+        lines.append(
+            f"{m['name']:<20}{m['id']:>6}{m['count']:>8}{_fmt(m['rate_hz'], '.2f'):>9}"
+            f"{_fmt(m['expected_hz'], '.0f'):>6}{_fmt(m['period_ms'], '.3f'):>9}"
+            f"{_fmt(m['jitter_std_ms'], '.3f'):>8}{_fmt(m['jitter_max_ms'], '.3f'):>8} "
+            + "".join(f"{e2e[c]:>6}" for c in e2e_cols) + f"{m['wrong_dlc']:>5}{m['out_of_range']:>5}")
+    unknown = rep["unknown_ids"]
+    lines.append("-" * len(head))
+    lines.append(f"frames {rep['frames']} in {rep['duration_s']:.3f} s; unknown ids "
+                 + (", ".join(f"{k}×{v}" for k, v in unknown.items()) or "none")  # type: ignore[union-attr]
+                 + f"; error frames {rep['error_frames']}")
+    lines.append(f"bus load at {rep['baudrate'] // 1000} kbit/s: {_fmt(rep['load_exact_pct'], '.2f')} % "
+                 f"(exact stuffing), {_fmt(rep['load_worst_pct'], '.2f')} % (worst-case stuffing)")
+    return "\n".join(lines)
+
+
+def capture(iface: str, seconds: float, interface: str = "socketcan") -> list[candump.LogFrame]:
+    import can  # only the live mode needs python-can
+
+    frames: list[candump.LogFrame] = []
+    with can.Bus(interface=interface, channel=iface) as bus:
+        print(f"{PROG}: capturing {iface} for {seconds:g} s", file=sys.stderr, flush=True)
+        end = time.monotonic() + seconds
+        while (left := end - time.monotonic()) > 0:
+            msg = bus.recv(timeout=min(left, 0.2))
+            if msg is None:
+                continue
+            frames.append(candump.LogFrame(msg.timestamp, iface, msg.arbitration_id,
+                                           bytes(msg.data), msg.is_extended_id,
+                                           msg.is_remote_frame, msg.is_error_frame, msg.is_fd))
+    return frames
+
+
+def analyse(frames: Iterable[candump.LogFrame], spec: dbc.BusSpec) -> dict[str, object]:
+    stats = BusStats(spec)
+    for f in frames:
+        stats.add(f)
+    return stats.report()
+
+
+class _Fail(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, not the usage block
+        raise _Fail(message)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog=PROG, description="Decode a CAN log or a live "
+                                "interface with the DBC: rates, jitter, E2E classes, bus load.")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--log", type=Path, help="candump -L log file")
+    src.add_argument("--iface", help="live SocketCAN interface, e.g. vcan0")
+    p.add_argument("--seconds", type=float, default=5.0, help="capture time with --iface")
+    p.add_argument("--save", type=Path, help="with --iface: also write the capture as candump -L")
+    p.add_argument("--dbc", type=Path, default=dbc.DEFAULT_DBC)
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.seconds <= 0 or not math.isfinite(args.seconds):
+            raise _Fail(f"--seconds must be positive, not {args.seconds}")
+        spec = dbc.load(args.dbc)
+        if args.log is not None:
+            if not args.log.is_file():
+                raise _Fail(f"cannot read log {args.log}: no such file")
+            frames = list(candump.read_log(args.log))
+        else:
+            frames = capture(args.iface, args.seconds)
+            if args.save is not None:
+                args.save.write_text("".join(
+                    candump.format_line(f.timestamp, args.iface, f.frame_id, f.data, f.extended) + "\n"
+                    for f in frames if not (f.error or f.remote or f.fd)))
+        rep = analyse(frames, spec)
+    except _Fail as exc:
+        print(f"{PROG}: {exc}", file=sys.stderr)
+        return 2
+    except candump.LogFormatError as exc:
+        print(f"{PROG}: {args.log}: {exc}", file=sys.stderr)
+        return 2
+    except (OSError, ValueError) as exc:
+        print(f"{PROG}: {exc}".splitlines()[0], file=sys.stderr)
+        return 2
+    print(json.dumps(rep, indent=1) if args.json else render(rep))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,155 @@
+"""End-to-end protection of CAN frames (one specification with firmware/bus/fcc_e2e.h).
+
+The specification is written down in dbc/README.md ("E2E"); in short:
+
+* byte 0 of a protected frame is a CRC-8 SAE J1850 (poly 0x1D, init 0xFF,
+  xorout 0xFF, not reflected; check value 0x4B over b"123456789") computed over
+  the message's 16-bit data ID (low byte, then high byte) followed by bytes 1..7;
+* the low nibble of byte 1 is a 4-bit alive counter, +1 modulo 16 per frame;
+* the receiver classifies every frame as OK, REPEATED, OK_SOME_LOST,
+  WRONG_SEQUENCE or ERROR, and every period without any frame as NO_NEW_DATA.
+"""
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+CRC8_POLY = 0x1D
+CRC8_INIT = 0xFF
+CRC8_XOROUT = 0xFF
+COUNTER_MODULO = 16
+DEFAULT_MAX_DELTA_COUNTER = 3
+FRAME_LENGTH = 8
+
+
+def _make_table() -> tuple[int, ...]:
+    table = []
+    for byte in range(256):
+        crc = byte
+        for _ in range(8):
+            crc = ((crc << 1) ^ CRC8_POLY) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+        table.append(crc)
+    return tuple(table)
+
+
+_TABLE = _make_table()
+
+
+def crc8_j1850(data: bytes | bytearray, crc: int = CRC8_INIT, final_xor: bool = True) -> int:
+    """CRC-8 SAE J1850 of data.  crc8_j1850(b"123456789") == 0x4B."""
+    for byte in data:
+        crc = _TABLE[crc ^ byte]
+    return crc ^ CRC8_XOROUT if final_xor else crc
+
+
+def frame_crc(data_id: int, payload: bytes | bytearray) -> int:
+    """The E2E CRC of an 8-byte frame: over data ID (low, high) and bytes 1..7."""
+    if not 0 <= data_id <= 0xFFFF:
+        raise ValueError(f"E2E data ID {data_id} is not a 16-bit value")
+    if len(payload) != FRAME_LENGTH:
+        raise ValueError(f"E2E frames are {FRAME_LENGTH} bytes, not {len(payload)}")
+    return crc8_j1850(bytes((data_id & 0xFF, data_id >> 8)) + bytes(payload[1:]))
+
+
+def protect(data_id: int, payload: bytes | bytearray, counter: int) -> bytes:
+    """Write counter into the low nibble of byte 1 and the CRC into byte 0."""
+    if not 0 <= counter < COUNTER_MODULO:
+        raise ValueError(f"alive counter {counter} is not in 0..15")
+    frame = bytearray(payload)
+    if len(frame) != FRAME_LENGTH:
+        raise ValueError(f"E2E frames are {FRAME_LENGTH} bytes, not {len(frame)}")
+    frame[1] = (frame[1] & 0xF0) | counter
+    frame[0] = frame_crc(data_id, frame)
+    return bytes(frame)
+
+
+def counter_of(payload: bytes | bytearray) -> int:
+    return payload[1] & 0x0F
+
+
+class E2EStatus(enum.IntEnum):
+    """Receiver classification; values equal the C enum fcc_e2e_status_t."""
+
+    OK = 0
+    REPEATED = 1
+    OK_SOME_LOST = 2
+    WRONG_SEQUENCE = 3
+    ERROR = 4
+    NO_NEW_DATA = 5
+
+    @property
+    def data_usable(self) -> bool:
+        """True for the classes whose data may be used (OK and OK_SOME_LOST)."""
+        return self in (E2EStatus.OK, E2EStatus.OK_SOME_LOST)
+
+
+@dataclass
+class E2ESender:
+    """Sender state of one message: its data ID and the next alive counter."""
+
+    data_id: int
+    counter: int = 0
+
+    def protect(self, payload: bytes | bytearray) -> bytes:
+        frame = protect(self.data_id, payload, self.counter)
+        self.counter = (self.counter + 1) % COUNTER_MODULO
+        return frame
+
+
+@dataclass
+class E2EReceiver:
+    """Receiver state machine of one message (see dbc/README.md, "E2E receiver")."""
+
+    data_id: int
+    max_delta_counter: int = DEFAULT_MAX_DELTA_COUNTER
+    synced: bool = False
+    last_counter: int = 0
+    frames_this_period: int = 0
+    last_status: E2EStatus = E2EStatus.NO_NEW_DATA
+    stale: bool = False
+    lost_frames: int = 0
+    counts: dict[E2EStatus, int] = field(default_factory=lambda: {s: 0 for s in E2EStatus})
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.max_delta_counter < COUNTER_MODULO - 1:
+            raise ValueError(f"max delta counter {self.max_delta_counter} is not in 1..14")
+
+    def check(self, payload: bytes | bytearray) -> E2EStatus:
+        """Classify one received 8-byte frame and update the state."""
+        self.frames_this_period += 1
+        status = self._classify(payload)
+        self.counts[status] += 1
+        self.last_status = status
+        return status
+
+    def _classify(self, payload: bytes | bytearray) -> E2EStatus:
+        if len(payload) != FRAME_LENGTH or payload[0] != frame_crc(self.data_id, payload):
+            return E2EStatus.ERROR
+        counter = counter_of(payload)
+        if not self.synced:
+            self.synced, self.last_counter = True, counter
+            return E2EStatus.OK
+        delta = (counter - self.last_counter) % COUNTER_MODULO
+        if delta == 0:
+            return E2EStatus.REPEATED
+        self.last_counter = counter
+        if delta == 1:
+            return E2EStatus.OK
+        if delta <= self.max_delta_counter:
+            self.lost_frames += delta - 1
+            return E2EStatus.OK_SOME_LOST
+        return E2EStatus.WRONG_SEQUENCE
+
+    def end_period(self) -> bool:
+        """Close one receive period; True (and a NO_NEW_DATA count) if it had no frame."""
+        self.stale = self.frames_this_period == 0
+        if self.stale:
+            self.counts[E2EStatus.NO_NEW_DATA] += 1
+            self.last_status = E2EStatus.NO_NEW_DATA
+        self.frames_this_period = 0
+        return self.stale
+
+    def reset(self) -> None:
+        """Forget the counter history: the next valid frame is OK again."""
+        self.synced = False
+        self.frames_this_period = 0

@@ -1,0 +1,330 @@
+"""`hil`: fly the CDRW and the missile against fcc on a CAN bus, and report.
+
+    hil run cdrw|missile [SCENARIO.toml] [--fault SPEC]... [--out DIR] [--seed S]
+                                         [--mode lockstep|realtime]
+    hil campaign cdrw [SCENARIO.toml] --runs 100 --seed S        (Table 5)
+    hil sweep missile [SCENARIO.toml] --periods 0.2,0.1,0.05 --bits 6,8,12   (Fig. 3)
+    hil report DIR                                              (tables + plots again)
+    hil demo [--out out/demo]                                   (both aircraft + a sweep)
+
+Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
+firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin).  Exit status: 0 done; 1 the run
+failed (bus, firmware start-up, fcc exit status); 2 bad command line or scenario; 3 fcc did
+not answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on
+stderr; the bus log of a failed run is kept.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import shlex
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import NoReturn
+
+PROG = "hil"
+EXIT_USAGE = 2
+
+#: what a run directory may contain that the rig wrote (cleared before a new run)
+OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "fcc.log", "faults.log", "*.csv", "*.png")
+
+
+class UsageError(Exception):
+    """Bad command line or scenario: one line, exit 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, not argparse's usage block
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
+
+
+def _floats(text: str) -> list[float]:
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got {text!r}") from None
+    if not vals or not all(math.isfinite(v) and v > 0 for v in vals):
+        raise argparse.ArgumentTypeError(f"expected positive numbers separated by commas, got {text!r}")
+    return vals
+
+
+def _ints(text: str) -> list[int]:
+    try:
+        vals = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got {text!r}") from None
+    if not vals:
+        raise argparse.ArgumentTypeError("expected at least one number")
+    return vals
+
+
+def _seed(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
+    return v
+
+
+def _positive(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return v
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("hil")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+def _add_paths(p: argparse.ArgumentParser) -> None:
+    """--dbc and --fcc: where the bus contract and the firmware are (installed use)."""
+    p.add_argument("--dbc", type=Path, metavar="PATH",
+                   help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+    p.add_argument("--fcc", type=Path, metavar="PATH",
+                   help="the firmware binary (default $FCC_HIL_FCC, else $FCC_BUILD_DIR/bin/fcc, "
+                        "else build/bin/fcc of the source tree, else fcc on $PATH)")
+
+
+def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
+    _add_paths(p)
+    p.add_argument("--out", type=Path, default=Path(out_default), metavar="DIR",
+                   help=f"run directory (default {out_default})")
+    p.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    p.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep",
+                   help="lockstep (deterministic, default) or realtime (both sides on their clocks)")
+    p.add_argument("--timeout", type=_positive, default=2.0, metavar="S",
+                   help="lockstep: seconds to wait for fcc's answer to a step (default 2)")
+    p.add_argument("--fcc-args", default="", metavar="ARGS",
+                   help="extra fcc options, one string, e.g. \"--detector oracle\"")
+    p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
+                "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
+    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
+
+    r = sub.add_parser("run", help="one flight of one aircraft")
+    r.add_argument("aircraft", choices=("cdrw", "missile"))
+    r.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    r.add_argument("--fault", action="append", default=[], metavar="SPEC",
+                   help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
+    r.add_argument("--seed", type=_seed, help="override the scenario's seed")
+    _add_common(r, "out/run-<aircraft>")
+
+    c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
+    c.add_argument("aircraft", choices=("cdrw",))
+    c.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
+    c.add_argument("--seed", type=_seed, default=1, help="seed of the fault times (default 1)")
+    c.add_argument("--fault", action="append", default=[], metavar="SPEC",
+                   help="extra fault (moved in time with the scenario's)")
+    _add_common(c, "out/campaign-cdrw")
+
+    s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
+    s.add_argument("aircraft", choices=("missile",))
+    s.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    s.add_argument("--periods", type=_floats, default=[0.2, 0.1, 0.05], metavar="T,T,...",
+                   help="sampling periods in s (default 0.2,0.1,0.05)")
+    s.add_argument("--bits", type=_ints, default=[6, 8, 12], metavar="N,N,...",
+                   help="D/A word lengths (default 6,8,12)")
+    s.add_argument("--seed", type=_seed, help="override the scenario's seed")
+    s.add_argument("--fault", action="append", default=[], metavar="SPEC", help="extra fault")
+    _add_common(s, "out/sweep-missile")
+
+    rep = sub.add_parser("report", help="print a run directory's tables and redraw its plots")
+    rep.add_argument("dir", type=Path)
+    rep.add_argument("--no-plots", action="store_true", help="only print the tables")
+    rep.add_argument("--bus", action="store_true", help="also analyse bus.log (rates, E2E, load)")
+    rep.add_argument("--dbc", type=Path, metavar="PATH",
+                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+
+    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then a missile sweep")
+    _add_common(d, "out/demo")
+    return p
+
+
+# ---- helpers -------------------------------------------------------------------------------
+def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
+    from .bus import load
+    from .faults import load_default_scenario, load_scenario, with_extra_faults
+
+    frames = {m.name for m in load().messages}
+    sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
+    if sc.aircraft != aircraft:
+        raise UsageError(f"{sc.source}: a scenario for aircraft {sc.aircraft!r}, not {aircraft!r}")
+    if faults:
+        sc = with_extra_faults(sc, faults, frames)
+        for f in sc.faults:
+            if f.start >= sc.duration:
+                raise UsageError(f"command line: fault {f.describe()!r}: field 'start': {f.start:g} s "
+                                 f"is not before the end of the run ({sc.duration:g} s)")
+    if seed is not None:
+        sc = sc.replace(seed=seed)
+    return sc
+
+
+def prepare_out_dir(path: Path) -> Path:
+    """Create the run directory; remove what an earlier run wrote there (and only that)."""
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"--out {path}: exists and is not a directory")
+    path.mkdir(parents=True, exist_ok=True)
+    for pattern in OUTPUT_GLOBS:
+        for f in path.glob(pattern):
+            if f.is_file():
+                f.unlink()
+    return path
+
+
+def _config(args: argparse.Namespace, out: Path):
+    from .rig.runs import RigConfig
+
+    try:
+        extra = tuple(shlex.split(args.fcc_args))
+    except ValueError as e:
+        raise UsageError(f"--fcc-args: {e}") from None
+    return RigConfig(out_dir=prepare_out_dir(out), iface=args.iface, mode=args.mode,
+                     timeout=args.timeout, fcc_args=extra, progress=not args.quiet,
+                     plots=not args.no_plots)
+
+
+def _print(outcome) -> None:
+    for t in outcome.tables:
+        print(t)
+        print()
+    print(f"results in {outcome.out_dir}/")
+
+
+# ---- commands -------------------------------------------------------------------------------
+def cmd_run(args: argparse.Namespace) -> int:
+    from .rig.runs import run_flight
+
+    sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
+    out = Path(str(args.out).replace("<aircraft>", args.aircraft))
+    _print(run_flight([sc], _config(args, out)))
+    return 0
+
+
+def cmd_campaign(args: argparse.Namespace) -> int:
+    from .rig.runs import run_campaign
+
+    if args.runs < 1:
+        raise UsageError(f"--runs must be at least 1, got {args.runs}")
+    sc = _scenario("cdrw", args.scenario, args.fault, None)
+    _print(run_campaign(sc, args.runs, args.seed, _config(args, args.out)))
+    return 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from .rig.runs import run_sweep
+
+    sc = _scenario("missile", args.scenario, args.fault, args.seed)
+    _print(run_sweep(sc, args.periods, args.bits, _config(args, args.out)))
+    return 0
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from .rig.output import read_json
+    from .rig.report import summary_tables
+
+    summary_path = args.dir / "summary.json"
+    if not summary_path.is_file():
+        raise UsageError(f"{args.dir}: no summary.json (not a run directory)")
+    try:
+        summary = read_json(summary_path)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    for t in summary_tables(summary):
+        print(t)
+        print()
+    if args.bus and (args.dir / "bus.log").is_file():
+        from .bus import load
+        from .bus.candump import read_log
+        from .bus.diag import analyse, render
+        print(render(analyse(read_log(args.dir / "bus.log"), load())))
+    if not args.no_plots:
+        from .plots import plot_run_dir
+        names = [p.name for p in plot_run_dir(args.dir)]
+        if names:
+            print(f"plots: {', '.join(names)}")
+    return 0
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from .rig.runs import run_demo
+
+    for outcome in run_demo(_config(args, args.out)):
+        _print(outcome)
+    return 0
+
+
+COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
+            "demo": cmd_demo}
+
+
+def _apply_paths(args: argparse.Namespace) -> None:
+    dbc_path = getattr(args, "dbc", None)
+    if dbc_path is not None:
+        if not dbc_path.is_file():
+            raise UsageError(f"--dbc {dbc_path}: no such file")
+        from .bus import dbc
+        dbc.set_default(dbc_path)
+    fcc_path = getattr(args, "fcc", None)
+    if fcc_path is not None:
+        from .rig import paths
+        paths.set_fcc(fcc_path)
+        try:
+            paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
+        except paths.ToolNotFound as e:
+            raise UsageError(str(e)) from None
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        args = _parser().parse_args(argv)
+        _apply_paths(args)
+        return COMMANDS[args.command](args)
+    except UsageError as e:
+        print(f"{PROG}: {e}", file=sys.stderr)
+        return EXIT_USAGE
+
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - every failure is one line for the user
+        return _fail(e)
+
+
+def _fail(e: Exception) -> int:
+    from .faults import ScenarioError
+    from .rig.paths import ToolNotFound
+    from .rig.session import RigError
+
+    msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+    if isinstance(e, ScenarioError):
+        print(f"{PROG}: {msg}", file=sys.stderr)
+        return EXIT_USAGE
+    if isinstance(e, RigError):
+        print(f"{PROG}: {msg}", file=sys.stderr)
+        return e.exit_code
+    if isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError)):
+        print(f"{PROG}: {msg}", file=sys.stderr)
+        return 1
+    raise e
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,300 @@
+"""Missile runs without the bus: open loop, and closed loop with a pure-Python LQG reference.
+
+The reference autopilot is designed here with scipy (a trusted solver, independent of the
+firmware's Hamiltonian-eigenvector design), so the firmware's gains, estimates and D/A codes
+can be cross-checked offline.  Conventions (the firmware must use the same to compare):
+
+* sample k at t_k = k*T: readings y_k = H x(t_k) + v_k (then sensor faults);
+* seed 2's filter:  x_hat_k = x_bar_k + L (y_k - H x_bar_k),  u_k = -K x_hat_k,
+  code_k = D/A code of u_k, the plant gets code_k * LSB held over [t_k, t_k + T),
+  x_bar_{k+1} = Phi x_hat_k + Gamma * (code_k * LSB)  (the command actually applied);
+* x_bar_0 = 0 (nothing known before the first reading); a reading that is NaN (dropout)
+  skips the update (x_hat_k = x_bar_k).
+
+Discrete design for period T (SPEC section 3): Phi, Gamma by ZOH, Q_d by Van Loan, and the
+continuous cost turned into the discrete cost with cross term (Q11, Q12, Q22, as MATLAB's
+lqrd) by Van Loan's block exponential of [[-Fa^T, Qa], [0, Fa]], Fa = [[F, G], [0, 0]].
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import expm, solve_continuous_lyapunov, solve_discrete_are, solve_discrete_lyapunov
+
+from ..faults.inject import FaultEvent, SensorFaultInjector
+from ..faults.scenario import Scenario, load_default_scenario
+from ..sensors import MissileSensorOptions, MissileSensors
+from . import missile
+from .missile import DAConverter, MissilePlant
+from .options import LqgOptions, MissilePlantOptions
+
+#: seed 2's cost weights: J = E int (x^T A x + u^T B u) dt
+COST_A = np.diag([0.12, 11.0, 0.0])
+COST_B = 1.0
+
+
+@dataclass(frozen=True)
+class LqgDesign:
+    T: float
+    Phi: np.ndarray     # 3x3
+    Gamma: np.ndarray   # 3
+    Qd: np.ndarray      # 3x3, process noise covariance per period
+    Q11: np.ndarray     # 3x3  discrete cost (with cross term)
+    Q12: np.ndarray     # 3
+    Q22: float
+    R: np.ndarray       # 2x2 measurement noise covariance
+    K: np.ndarray       # 3, u = -K x_hat
+    P: np.ndarray       # 3x3, control Riccati solution
+    M: np.ndarray       # 3x3, steady a-priori error covariance (before the reading)
+    L: np.ndarray       # 3x2, filter gain
+    Z: np.ndarray       # 3x3, steady a-posteriori error covariance
+
+
+def discrete_cost(T: float, A: np.ndarray = COST_A, B: float = COST_B) -> tuple[np.ndarray, np.ndarray, float]:
+    """(Q11, Q12, Q22) = int_0^T [Phi(s) Gamma(s)]^T blkdiag(A, B) [Phi(s) Gamma(s); 0 I] ds."""
+    n = 3
+    fa = np.zeros((n + 1, n + 1))
+    fa[:n, :n] = missile.F
+    fa[:n, n] = missile.G
+    qa = np.zeros((n + 1, n + 1))
+    qa[:n, :n] = A
+    qa[n, n] = B
+    blk = np.zeros((2 * (n + 1), 2 * (n + 1)))
+    blk[: n + 1, : n + 1] = -fa.T
+    blk[: n + 1, n + 1:] = qa
+    blk[n + 1:, n + 1:] = fa
+    e = expm(blk * T)
+    w = e[n + 1:, n + 1:].T @ e[: n + 1, n + 1:]
+    w = 0.5 * (w + w.T)
+    return w[:n, :n], w[:n, n].copy(), float(w[n, n])
+
+
+def design_lqg(T: float, sensors: MissileSensorOptions = MissileSensorOptions(),
+               A: np.ndarray = COST_A, B: float = COST_B) -> LqgDesign:
+    """Steady-state discrete LQG for period T (scipy's DARE solver)."""
+    if not T > 0.0:
+        raise ValueError(f"lqg: period must be > 0, got {T}")
+    phi, gam = missile.zoh(missile.F, missile.G, T)
+    gam = gam[:, 0]
+    qd = missile.van_loan_noise(missile.F, missile.f, T)
+    q11, q12, q22 = discrete_cost(T, A, B)
+    g = gam[:, None]
+    p = solve_discrete_are(phi, g, q11, np.array([[q22]]), s=q12[:, None])
+    k = np.linalg.solve(np.array([[q22]]) + g.T @ p @ g, g.T @ p @ phi + q12[None, :])[0]
+    r = sensors.R
+    h = missile.H
+    m = solve_discrete_are(phi.T, h.T, qd, r)
+    m = 0.5 * (m + m.T)
+    lg = m @ h.T @ np.linalg.inv(h @ m @ h.T + r)
+    z = (np.eye(3) - lg @ h) @ m
+    return LqgDesign(T=T, Phi=phi, Gamma=gam, Qd=qd, Q11=q11, Q12=q12, Q22=q22, R=r, K=k,
+                     P=p, M=m, L=lg, Z=0.5 * (z + z.T))
+
+
+class LqgReference:
+    """The reference autopilot: seed 2's steady-state filter and regulator, D/A in the loop."""
+
+    def __init__(self, design: LqgDesign, dac: DAConverter) -> None:
+        self.design = design
+        self.dac = dac
+        self.x_bar = np.zeros(3)
+        self.x_hat = np.zeros(3)
+
+    def update(self, y: np.ndarray) -> int:
+        """One period: take the readings (q_g, n_a), return the D/A code to apply."""
+        d = self.design
+        if np.all(np.isfinite(y)):
+            self.x_hat = self.x_bar + d.L @ (y - missile.H @ self.x_bar)
+        else:
+            self.x_hat = self.x_bar.copy()
+        code = self.dac.code(float(-d.K @ self.x_hat))
+        self.x_bar = d.Phi @ self.x_hat + d.Gamma * self.dac.value(code)
+        return code
+
+
+@dataclass(frozen=True)
+class MissileSample:
+    k: int
+    t: float
+    x: np.ndarray                      # true [q, alpha_T, w_g]
+    meas: dict[str, float]             # readings with faults: q_g, n_a
+    meas_faultfree: dict[str, float]
+    fault_active: bool
+    events: tuple[FaultEvent, ...]
+
+
+class MissileSimulation:
+    """Plant + sensors + sensor faults of a missile scenario, one control period at a time:
+    ``s = sample()`` (readings at t_k), then ``advance(code)`` (the D/A code from the command
+    frame, held for one period).
+
+    The plant is integrated on the common fine base (missile.FINE_STEP = 2.5 ms):
+    ``n_sub = missile.substeps_for(period, plant.substeps)`` sub-steps per period, one gust
+    noise draw each, so the same seed flies the same gust for every period (common random
+    numbers; see missile.substeps_for for periods off the 2.5 ms grid).  ``[plant] substeps``
+    is the minimum number of sub-steps per period.  Sensor noise is drawn per sample."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        if scenario.aircraft != "missile" or scenario.lqg is None:
+            raise ValueError(f"{scenario.source}: not a missile scenario (aircraft = {scenario.aircraft})")
+        po: MissilePlantOptions = scenario.plant  # type: ignore[assignment]
+        self.scenario = scenario
+        self.lqg: LqgOptions = scenario.lqg
+        self.period = self.lqg.period
+        #: sub-steps per period on the common fine time base (>= [plant] substeps)
+        self.n_sub = missile.substeps_for(self.period, po.substeps)
+        #: False when the period is off the 2.5 ms grid (its gust is then not shared)
+        self.common_time_base = missile.common_time_base(self.period, po.substeps)
+        self.dac = DAConverter(self.lqg.bits)
+        self.plant = MissilePlant(scenario.seed, q0=po.q0, alpha0=po.alpha0, gust0=po.gust0,
+                                  gust_scale=po.gust_scale)
+        self.sensors = MissileSensors(scenario.seed, scenario.sensors)  # type: ignore[arg-type]
+        self.faults = SensorFaultInjector(scenario.sensor_faults, scenario.seed)
+        #: control periods in the run
+        self.n_periods = max(1, int(math.floor(scenario.duration / self.period + 1e-9)))
+        self.k = 0
+        self._sampled = False
+
+    @property
+    def done(self) -> bool:
+        return self.k >= self.n_periods
+
+    def sample(self) -> MissileSample:
+        if self.done:
+            raise RuntimeError("missile: the run is over")
+        if self._sampled:
+            raise RuntimeError("missile: sample() twice without advance()")
+        t = self.k * self.period
+        clean = self.sensors.measure(self.plant.x)
+        n_log = len(self.faults.log)
+        faulty = self.faults.apply(t, clean)
+        self._sampled = True
+        return MissileSample(k=self.k, t=t, x=self.plant.state, meas=faulty,
+                             meas_faultfree=clean, fault_active=bool(self.faults.active),
+                             events=tuple(self.faults.log[n_log:]))
+
+    def advance(self, code: int) -> np.ndarray:
+        """Apply a D/A code (validated against the word length) for one period."""
+        if not self._sampled:
+            raise RuntimeError("missile: advance() before sample()")
+        self.plant.step_code(code, self.dac, self.period, self.n_sub)
+        self._sampled = False
+        self.k += 1
+        return self.plant.last_substeps
+
+    def advance_substeps(self, codes: "list[int]") -> np.ndarray:
+        """Like advance(), with one D/A code per sub-step (real-time rig: a command that
+        arrives during the period acts from the next sub-step).  Same noise draws as
+        advance() when every code is the same."""
+        if not self._sampled:
+            raise RuntimeError("missile: advance() before sample()")
+        if len(codes) != self.n_sub:
+            raise ValueError(f"missile: {len(codes)} codes for {self.n_sub} sub-steps")
+        h = self.period / self.n_sub
+        trace = np.empty((self.n_sub + 1, 3))
+        trace[0] = self.plant.x
+        for j, code in enumerate(codes):
+            self.plant.step_code(code, self.dac, h, 1)
+            trace[j + 1] = self.plant.x
+        self.plant.last_substeps = trace
+        self._sampled = False
+        self.k += 1
+        return trace
+
+
+@dataclass(frozen=True)
+class MissileRun:
+    period: float
+    bits: int | None                  # None: open loop
+    closed_loop: bool
+    t: np.ndarray                     # (n,) sample times
+    x: np.ndarray                     # (n, 3) true state at the samples
+    y: np.ndarray                     # (n, 2) readings with faults
+    y_faultfree: np.ndarray
+    code: np.ndarray                  # (n,) D/A codes applied (0 in open loop)
+    u: np.ndarray                     # (n,) elevator applied, rad
+    x_hat: np.ndarray                 # (n, 3) reference estimate (zeros in open loop)
+    t_fine: np.ndarray                # (n*n_sub + 1,) sub-step times
+    x_fine: np.ndarray                # (n*n_sub + 1, 3)
+    design: LqgDesign | None
+    events: tuple[FaultEvent, ...] = field(default=())
+
+    @property
+    def rms_q(self) -> float:
+        """RMS pitch rate over the run (time average of the sub-step trace)."""
+        return float(np.sqrt(np.mean(self.x_fine[:, 0] ** 2)))
+
+    @property
+    def rms_alpha(self) -> float:
+        return float(np.sqrt(np.mean(self.x_fine[:, 1] ** 2)))
+
+
+def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | None = None,
+                     received: Callable[[np.ndarray], np.ndarray] | None = None) -> MissileRun:
+    """Fly a missile scenario offline; closed loop with the scipy LQG reference unless the
+    scenario (or the closed_loop argument) says open loop (elevator code 0 throughout).
+    received maps a measurement [q_g, n_a] to what the autopilot gets (e.g. the bus's
+    resolution), so that the reference sees the same numbers as the firmware: a command
+    that lands near a half-LSB tie of the D/A otherwise rounds the other way."""
+    sc = scenario if scenario is not None else load_default_scenario("missile")
+    sim = MissileSimulation(sc)
+    cl = sim.lqg.closed_loop if closed_loop is None else closed_loop
+    design = design_lqg(sim.period, sc.sensors) if cl else None  # type: ignore[arg-type]
+    ctrl = LqgReference(design, sim.dac) if design is not None else None
+    n, ns = sim.n_periods, sim.n_sub
+    t = np.empty(n)
+    x = np.empty((n, 3))
+    y = np.empty((n, 2))
+    y0 = np.empty((n, 2))
+    code = np.zeros(n, dtype=np.int64)
+    xh = np.zeros((n, 3))
+    x_fine = np.empty((n * ns + 1, 3))
+    for k in range(n):
+        s = sim.sample()
+        t[k], x[k] = s.t, s.x
+        y[k] = (s.meas["q_g"], s.meas["n_a"])
+        y0[k] = (s.meas_faultfree["q_g"], s.meas_faultfree["n_a"])
+        if ctrl is not None:
+            code[k] = ctrl.update(y[k] if received is None else received(y[k]))
+            xh[k] = ctrl.x_hat
+        trace = sim.advance(int(code[k]))
+        x_fine[k * ns: (k + 1) * ns + 1] = trace
+    t_fine = np.arange(n * ns + 1) * (sim.period / ns)
+    return MissileRun(period=sim.period, bits=sim.lqg.bits if cl else None, closed_loop=cl, t=t,
+                      x=x, y=y, y_faultfree=y0, code=code, u=code * sim.dac.lsb if cl else np.zeros(n),
+                      x_hat=xh, t_fine=t_fine, x_fine=x_fine, design=design,
+                      events=tuple(sim.faults.log))
+
+
+def steady_state_rms(design: LqgDesign | None, n_sub: int = 8) -> tuple[float, float]:
+    """Analytic stationary RMS of (q, alpha_T), averaged over n_sub points per period
+    (covariance analysis, D/A quantisation ignored).  design=None: open loop."""
+    if design is None:
+        pc = solve_continuous_lyapunov(missile.F, -np.outer(missile.f, missile.f))
+        return float(math.sqrt(pc[0, 0])), float(math.sqrt(pc[1, 1]))
+    d = design
+    h = missile.H
+    i3 = np.eye(3)
+    ilh = i3 - d.L @ h
+    gk = np.outer(d.Gamma, d.K)
+    # z = [x_k, e_k] with e_k = x_k - x_bar_k (a-priori error); noises w_k (Qd), v_k (R)
+    acl = np.block([[d.Phi - gk, gk @ ilh], [np.zeros((3, 3)), d.Phi @ ilh]])
+    bw = np.vstack([i3, i3])
+    bv = np.vstack([-gk @ d.L, -d.Phi @ d.L])
+    cov = solve_discrete_lyapunov(acl, bw @ d.Qd @ bw.T + bv @ d.R @ bv.T)
+    # inside the period: x(t_k + s) = Phi(s) x_k + Gamma(s) u_k + w(s),
+    # u_k = -K x_hat_k = -K [(I) x_k - (I - L H) e_k + L v_k]
+    acc = np.zeros(2)
+    for j in range(n_sub):
+        s = j * d.T / n_sub
+        phi_s, gam_s = missile.zoh(missile.F, missile.G, s)
+        gam_s = gam_s[:, 0]
+        cz = np.hstack([phi_s - np.outer(gam_s, d.K), np.outer(gam_s, d.K) @ ilh])
+        cv = -np.outer(gam_s, d.K) @ d.L
+        p = cz @ cov @ cz.T + cv @ d.R @ cv.T + missile.van_loan_noise(missile.F, missile.f, s)
+        acc += np.array([p[0, 0], p[1, 1]])
+    acc /= n_sub
+    return float(math.sqrt(acc[0])), float(math.sqrt(acc[1]))

@@ -1,0 +1,54 @@
+"""The papers' figures as PNG files, drawn from a run directory's CSV files and summary.json
+(so `hil report DIR` redraws them without flying again).
+
+    plot_run_dir(path) -> [written PNG paths]
+
+cdrw.csv (or a campaign's cdrw_run0.csv) → Figs. 5-10 of seed 1; campaign.csv → each flight's
+errors against its fault time; summary.json missile.runs → Fig. 3 of seed 2;
+missile_T*_fine.csv → the time responses (Figs. 4-6) at each period.
+"""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..rig.output import read_csv
+
+_FINE = re.compile(r"^missile_T(?P<T>\d+\.\d+)_(?P<b>open|b\d+)_fine\.csv$")
+
+
+def plot_run_dir(run_dir: Path) -> list[Path]:
+    from . import cdrw, missile  # matplotlib is imported only when drawing
+
+    run_dir = Path(run_dir)
+    written: list[Path] = []
+    for name in ("cdrw.csv", "cdrw_run0.csv"):
+        if (run_dir / name).is_file():
+            written += cdrw.all_figures(read_csv(run_dir / name), run_dir)
+            break
+    if (run_dir / "campaign.csv").is_file():
+        written.append(cdrw.campaign_figure(read_csv(run_dir / "campaign.csv"), run_dir))
+    summary_path = run_dir / "summary.json"
+    if summary_path.is_file():
+        runs = json.loads(summary_path.read_text()).get("missile", {}).get("runs", [])
+        periods = {r["period"] for r in runs}
+        if len(periods) > 1:
+            p = missile.fig3_rms(runs, run_dir)
+            if p is not None:
+                written.append(p)
+    by_period: dict[float, dict[int | None, dict[str, np.ndarray]]] = {}
+    for f in sorted(run_dir.glob("missile_T*_fine.csv")):
+        m = _FINE.match(f.name)
+        if m is None:
+            continue
+        bits = None if m["b"] == "open" else int(m["b"][1:])
+        by_period.setdefault(float(m["T"]), {})[bits] = read_csv(f)
+    for T, curves in sorted(by_period.items(), reverse=True):
+        written.append(missile.fig_time_response(T, curves, run_dir))
+    return written
+
+
+__all__ = ["plot_run_dir"]

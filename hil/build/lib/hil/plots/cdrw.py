@@ -1,0 +1,158 @@
+"""Seed 1's figures from a CDRW time series (cdrw.csv): Figs. 5 to 10.
+
+Angles are drawn in degrees and rates in deg/s, as the paper draws them; the series are in
+rad and rad/s.  The fault interval (sensor fault active) is shaded in every figure.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ._mpl import plt, save
+
+Series = dict[str, np.ndarray]
+DEG = 180.0 / np.pi
+COLORS = {"azkf": "tab:red", "zkf": "tab:green", "kf": "tab:blue"}
+LABELS = {"azkf": "MLS-AZKF", "zkf": "MLS-ZKF", "kf": "MLS-KF"}
+STALL_DEG = 15.0
+
+
+def _shade_faults(ax, s: Series) -> None:
+    f = s.get("fault")
+    if f is None or not np.any(f > 0):
+        return
+    t = s["t"]
+    dt = t[1] - t[0] if len(t) > 1 else 0.02
+    on = np.flatnonzero(np.diff(np.concatenate([[0], (f > 0).astype(int), [0]])))
+    for a, b in zip(on[::2], on[1::2]):
+        ax.axvspan(t[a], t[b - 1] + dt, color="0.85", zorder=0, lw=0)
+
+
+def _stall_times(s: Series) -> list[float]:
+    a = s["alpha_true"] * DEG
+    cross = np.flatnonzero(np.diff(np.sign(a - STALL_DEG)))
+    return [float(s["t"][i]) for i in cross]
+
+
+def fig5_alpha_q(s: Series, out: Path) -> Path:
+    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5.5))
+    for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
+        _shade_faults(ax, s)
+        ax.plot(s["t"], s[f"{key}_meas"] * DEG, ".", ms=2.5, color="0.35", label="measured")
+        ax.plot(s["t"], s[f"{key}_true"] * DEG, "-", lw=1.2, color="k", label="true")
+        ax.set_ylabel(f"{'α' if key == 'alpha' else 'q'} ({unit})")
+        ax.grid(alpha=0.3)
+    axs[0].axhline(STALL_DEG, ls=":", color="tab:red", lw=1, label="15°")
+    axs[0].legend(loc="upper left", fontsize=8)
+    axs[1].set_xlabel("t (s)")
+    fig.suptitle("Fig. 5 — CDRW flight (simulated): α and q")
+    return save(fig, out / "fig5_cdrw_alpha_q.png")
+
+
+def fig6_model(s: Series, out: Path) -> Path:
+    names = ("a11", "a12", "a21", "a22", "b1", "b2")
+    fig, axs = plt.subplots(3, 2, sharex=True, figsize=(9, 7))
+    for ax, n in zip(axs.flat, names):
+        _shade_faults(ax, s)
+        for f in ("kf", "zkf", "azkf"):
+            ax.plot(s["t"], s[f"{f}_{n}"], color=COLORS[f], lw=1, label=LABELS[f])
+        ax.plot(s["t"], s[f"{n}_true"], "k--", lw=1, label="true (local linearisation)")
+        ax.set_ylabel(n)
+        ax.grid(alpha=0.3)
+    axs[0, 0].legend(fontsize=7)
+    for ax in axs[-1]:
+        ax.set_xlabel("t (s)")
+    fig.suptitle("Fig. 6 — elements of A_k, B_k estimated by the MLS (h = 2.2 s)")
+    return save(fig, out / "fig6_model_elements.png")
+
+
+def fig7_rho(s: Series, out: Path) -> Path:
+    fig, ax = plt.subplots(figsize=(8, 4))
+    _shade_faults(ax, s)
+    for f in ("kf", "zkf", "azkf"):
+        ax.plot(s["t"], s[f"{f}_rho"], color=COLORS[f], lw=1, label=f"ρ(A_k), {LABELS[f]}")
+    ax.plot(s["t"], s["rho_true"], "k--", lw=1.2, label="ρ(A) true, separation state held")
+    ax.plot(s["t"], s["rho_static"], "k:", lw=1.2, label="ρ(A) quasi-steady (wind-tunnel-like)")
+    for tc in _stall_times(s):
+        ax.axvline(tc, color="tab:red", lw=0.8, ls=":")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("spectral radius")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title("Fig. 7 — ρ(A_k) estimated by the MLS vs the true model (red: α crosses 15°)")
+    return save(fig, out / "fig7_spectral_radius.png")
+
+
+def fig8_estimates(s: Series, out: Path) -> Path:
+    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
+    for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
+        _shade_faults(ax, s)
+        ax.plot(s["t"], s[f"{key}_meas"] * DEG, ".", ms=2.5, color="0.5", label="measured (with fault)")
+        ax.plot(s["t"], s[f"{key}_ff"] * DEG, "-", lw=0.8, color="0.2", label="measured, fault-free")
+        for f in ("kf", "zkf", "azkf"):
+            ax.plot(s["t"], s[f"{f}_{key}_hat"] * DEG, color=COLORS[f], lw=1.1, label=LABELS[f])
+        ax.set_ylabel(f"{'α' if key == 'alpha' else 'q'} ({unit})")
+        ax.grid(alpha=0.3)
+    axs[0].legend(fontsize=7, ncol=2)
+    axs[1].set_xlabel("t (s)")
+    fig.suptitle("Fig. 8 — estimates under the sensor fault: MLS-AZKF, MLS-ZKF, MLS-KF")
+    return save(fig, out / "fig8_estimates_under_fault.png")
+
+
+def fig9_gains(s: Series, out: Path) -> Path:
+    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5), height_ratios=(2, 1))
+    ax = axs[0]
+    _shade_faults(ax, s)
+    for f in ("kf", "zkf", "azkf"):
+        ax.plot(s["t"], s[f"{f}_gain_norm"], color=COLORS[f], lw=1.1,
+                label=("‖K_k‖₂, " if f == "kf" else "‖G_k‖₂, ") + LABELS[f])
+    ax.set_ylabel("gain norm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    _shade_faults(axs[1], s)
+    axs[1].step(s["t"], s["azkf_order"], where="post", color=COLORS["azkf"], lw=1, label="AZKF order q")
+    axs[1].step(s["t"], s["azkf_fault"] * s["azkf_order"].max(), where="post", color="k", lw=0.8,
+                ls=":", label="AZKF fault flag")
+    axs[1].set_yscale("symlog")
+    axs[1].set_ylabel("order")
+    axs[1].set_xlabel("t (s)")
+    axs[1].legend(fontsize=7)
+    fig.suptitle("Fig. 9 — gains of MLS-AZKF and MLS-KF (and the order the AZKF uses)")
+    return save(fig, out / "fig9_gain_norms.png")
+
+
+def fig10_bounds(s: Series, out: Path) -> Path:
+    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
+    for ax, f in zip(axs, ("azkf", "kf")):
+        _shade_faults(ax, s)
+        ax.fill_between(s["t"], s[f"{f}_alpha_lo"] * DEG, s[f"{f}_alpha_hi"] * DEG,
+                        color=COLORS[f], alpha=0.25, lw=0,
+                        label="interval hull of the zonotope" if f != "kf" else "±3σ")
+        ax.plot(s["t"], s[f"{f}_alpha_hat"] * DEG, color=COLORS[f], lw=1, label=f"α̂, {LABELS[f]}")
+        ax.plot(s["t"], s["alpha_true"] * DEG, "k--", lw=0.8, label="α true")
+        ax.set_ylabel("α (deg)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axs[1].set_xlabel("t (s)")
+    fig.suptitle("Fig. 10 — bounds of the α estimate: MLS-AZKF vs MLS-KF")
+    return save(fig, out / "fig10_bounds.png")
+
+
+def all_figures(s: Series, out: Path) -> list[Path]:
+    return [fig5_alpha_q(s, out), fig6_model(s, out), fig7_rho(s, out), fig8_estimates(s, out),
+            fig9_gains(s, out), fig10_bounds(s, out)]
+
+
+def campaign_figure(c: Series, out: Path) -> Path:
+    """Table 5's raw material: each flight's error integrals against its fault time."""
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4))
+    for ax, st, unit in ((axs[0], "alpha", "rad·s"), (axs[1], "q", "rad")):
+        for f in ("kf", "zkf", "azkf"):
+            ax.plot(c["fault_start"], c[f"{f}_{st}_meas"], "o", ms=3, color=COLORS[f], label=LABELS[f])
+        ax.set_xlabel("fault start (s)")
+        ax.set_ylabel(f"∫|y − ŷ| dt, {st} ({unit})")
+        ax.grid(alpha=0.3)
+    axs[0].legend(fontsize=7)
+    fig.suptitle(f"Campaign — error integral of each of {len(c['run'])} flights (Table 5 = their means)")
+    return save(fig, out / "campaign_errors.png")

@@ -1,0 +1,20 @@
+"""Numpy reference of the seed-1 identification (MLS, KF, ZKF, AZKF).
+
+Same semantics as the C modules in firmware/sid (same defaults, same row
+meaning, same reduction rule), written the way the equations read, so that
+the tests can compare the firmware with an independent implementation and
+the benchmark can time the same step in numpy.
+"""
+from hil.reference.model import Model, default_prior, default_prior_affine, norm2, spectral_radius
+from hil.reference.mls import Mls, MlsConfig, batch_fit
+from hil.reference.kf import Kf
+from hil.reference.zonotope import contains, hull, reduce_order
+from hil.reference.zkf import Azkf, AzkfConfig, Detector, DetectorConfig, Zkf
+from hil.reference.sid import SidConfig, SidLoop, replay
+
+__all__ = [
+    "Azkf", "AzkfConfig", "Detector", "DetectorConfig", "Kf", "Mls", "MlsConfig", "Model",
+    "SidConfig", "SidLoop", "Zkf", "batch_fit", "contains", "default_prior", "default_prior_affine",
+    "hull", "norm2",
+    "reduce_order", "replay", "spectral_radius",
+]

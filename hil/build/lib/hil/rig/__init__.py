@@ -1,0 +1,20 @@
+"""The rig: fly the simulated aircraft against the fcc firmware over SocketCAN.
+
+* session   -- RigSession: the bus recorder (candump), fcc, the simulator's socket
+* apps      -- CdrwDriver / MissileDriver: one aircraft, step by step
+* inject    -- FrameInjector: frame- and bus-level faults on the simulator's frames
+* lockstep  -- LockstepRunner: tick, wait for FCC_ACK, integrate (deterministic)
+* realtime  -- RealtimeRunner: both sides on their own clocks
+* buslog    -- fcc's outputs read back from bus.log
+* results   -- time series and figures of merit of a flight
+* runs      -- the CLI commands: run_flight, run_campaign, run_sweep, run_demo
+* report    -- summary.json as text tables
+* output    -- CSV and JSON files of a run directory
+* bench     -- scripts/bench.d/rig
+"""
+from .report import summary_tables
+from .runs import RigConfig, run_campaign, run_demo, run_flight, run_sweep
+from .session import FccDied, FccTimeout, RigError, RigSession
+
+__all__ = ["FccDied", "FccTimeout", "RigConfig", "RigError", "RigSession", "run_campaign",
+           "run_demo", "run_flight", "run_sweep", "summary_tables"]

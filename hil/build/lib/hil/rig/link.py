@@ -1,0 +1,154 @@
+"""The simulator's CAN socket: python-can opens and configures it, the lockstep hot path
+reads and writes raw SocketCAN frames on it.
+
+Why not ``bus.send(can.Message)`` / ``bus.recv()``: in the User-Mode Linux guest every system
+call is slow, and python-can's receive path costs a ``select()`` plus a ``recvmsg()`` per
+frame.  Here a receive is one blocking ``recv()`` bounded by ``SO_RCVTIMEO`` (a short slice,
+so that the caller can notice a dead firmware or a deadline between slices), and a send is one
+``send()`` of a pre-packed ``struct can_frame``.  The socket is still python-can's
+(filters, loopback and error-frame settings are python-can's own code).
+"""
+from __future__ import annotations
+
+import errno
+import select
+import socket
+import struct
+import time
+from collections.abc import Iterable
+
+import can
+
+#: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
+CAN_FRAME = struct.Struct("=IB3x8s")
+CAN_MTU = CAN_FRAME.size
+CAN_EFF_FLAG = 0x80000000
+CAN_RTR_FLAG = 0x40000000
+CAN_ERR_FLAG = 0x20000000
+#: receive slice: how often a blocked receive wakes up to check deadlines and the firmware
+RECV_SLICE_S = 0.05
+#: a full transmit queue (ENOBUFS) is retried this long before the frame counts as dropped
+SEND_RETRY_S = 0.05
+
+_TIMEVAL = struct.Struct("@ll")
+
+
+class LinkError(RuntimeError):
+    """The interface cannot be opened or used (one line)."""
+
+
+def pack_frame(frame_id: int, data: bytes) -> bytes:
+    """A raw struct can_frame for a classic frame of len(data) <= 8 bytes."""
+    return CAN_FRAME.pack(frame_id, len(data), bytes(data))
+
+
+class CanLink:
+    """One raw CAN socket on an interface, opened through python-can."""
+
+    def __init__(self, channel: str, frame_ids: Iterable[int] | None = None,
+                 rcvbuf: int = 4 << 20) -> None:
+        """frame_ids: the identifiers to receive (kernel filters); None: every frame."""
+        filters = None if frame_ids is None else [
+            {"can_id": i, "can_mask": 0x7FF, "extended": False} for i in sorted(set(frame_ids))]
+        try:
+            self.bus = can.Bus(interface="socketcan", channel=channel, can_filters=filters,
+                               receive_own_messages=False, ignore_rx_error_frames=True)
+        except (OSError, can.CanError) as e:
+            raise LinkError(f"cannot open CAN interface {channel!r}: {e}") from None
+        self.channel = channel
+        self.sock: socket.socket = self.bus.socket
+        self.sock.setblocking(True)
+        for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):
+            try:  # FORCE needs CAP_NET_ADMIN (root in the UML guest); else capped by rmem_max
+                self.sock.setsockopt(socket.SOL_SOCKET, opt, rcvbuf)
+                break
+            except OSError:
+                continue
+        self._slice = -1.0
+        self.set_slice(RECV_SLICE_S)
+        self._poll = select.poll()
+        self._poll.register(self.sock, select.POLLIN)
+        self.tx_frames = 0
+        self.tx_retries = 0
+        self.tx_dropped = 0
+        self.rx_frames = 0
+
+    def set_slice(self, seconds: float) -> None:
+        """Longest time one recv() blocks (SO_RCVTIMEO)."""
+        if seconds != self._slice:
+            sec = int(seconds)
+            self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVTIMEO,
+                                 _TIMEVAL.pack(sec, int((seconds - sec) * 1e6)))
+            self._slice = seconds
+
+    # -- transmit
+    def send_raw(self, raw: bytes) -> bool:
+        """Send one packed struct can_frame; False when the queue stayed full (counted)."""
+        try:
+            self.sock.send(raw)
+            self.tx_frames += 1
+            return True
+        except OSError as e:
+            if e.errno not in (errno.ENOBUFS, errno.EAGAIN):
+                raise LinkError(f"{self.channel}: cannot send: {e.strerror}") from None
+        deadline = time.monotonic() + SEND_RETRY_S
+        while time.monotonic() < deadline:
+            self.tx_retries += 1
+            time.sleep(0.0005)
+            try:
+                self.sock.send(raw)
+                self.tx_frames += 1
+                return True
+            except OSError as e:
+                if e.errno not in (errno.ENOBUFS, errno.EAGAIN):
+                    raise LinkError(f"{self.channel}: cannot send: {e.strerror}") from None
+        self.tx_dropped += 1
+        return False
+
+    def send(self, frame_id: int, data: bytes) -> bool:
+        return self.send_raw(CAN_FRAME.pack(frame_id, len(data), bytes(data)))
+
+    # -- receive
+    def _recv_once(self, flags: int = 0) -> tuple[int, bytes] | None:
+        """One recv(2): the frame (id, data), or None when nothing was there (or in time)."""
+        try:
+            raw = self.sock.recv(CAN_MTU, flags)
+        except (BlockingIOError, TimeoutError, InterruptedError):
+            return None
+        except OSError as e:
+            if e.errno in (errno.EAGAIN, errno.EINTR):
+                return None
+            raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
+        can_id, dlc, data = CAN_FRAME.unpack(raw)
+        self.rx_frames += 1
+        return can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF, data[:dlc]
+
+    def recv(self) -> tuple[int, bytes] | None:
+        """The next frame (id, data), or None when nothing came within one slice."""
+        return self._recv_once()
+
+    def recv_wait(self, timeout: float) -> tuple[int, bytes] | None:
+        """The next frame within timeout seconds, to the millisecond (poll(); SO_RCVTIMEO is
+        rounded up to the kernel tick, 10-20 ms in the UML guest, too coarse for pacing)."""
+        if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
+            return None
+        return self._recv_once(socket.MSG_DONTWAIT)
+
+    def drain(self) -> list[tuple[int, bytes]]:
+        """Every frame already queued, without waiting."""
+        out = []
+        while (got := self._recv_once(socket.MSG_DONTWAIT)) is not None:
+            out.append(got)
+        return out
+
+    def close(self) -> None:
+        try:
+            self.bus.shutdown()
+        except Exception:  # noqa: BLE001 - closing twice or after the interface vanished
+            pass
+
+    def __enter__(self) -> CanLink:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,138 @@
+"""Lockstep: the simulator publishes step k, fcc steps on the tick and answers, the simulator
+waits for the answer before it integrates.  Deterministic, and faster than real time.
+
+Per step k of an application (firmware/app/README.md, "Lockstep protocol"):
+  1. the driver samples its sensors at t_k (fault starts/ends go out first as SIM_EVENT);
+  2. the frames pass the frame/bus fault injector and go out, then SIM_TICK(app, k);
+  3. the runner reads until FCC_ACK(app, k), keeping every output frame of the step;
+     heartbeat frames update the firmware counters on the way;
+  4. the driver consumes the outputs (missile: the elevator command) and integrates.
+Several applications are interleaved by their step times (the CDRW at 50 Hz and the missile
+at 1/T in one fcc process): the earliest t_k goes next, the CDRW first on a tie.
+
+fcc silent for `timeout` s → FccTimeout("fcc did not answer step k of app X within 2 s");
+fcc gone → FccDied with its exit status.  A tick that a fault drops or corrupts on purpose is
+not answered by a correct fcc: the runner knows it (it mirrors fcc's E2E receiver of the
+tick) and moves on without waiting; the next clean tick that fcc's E2E check
+would refuse as a wrong sequence is followed by one more, which resynchronises it.
+"""
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+
+from .apps import APP_NAMES, AppDriver, StepIO
+from .link import pack_frame
+from .session import FccDied, FccTimeout, RigSession
+
+DEFAULT_TIMEOUT_S = 2.0
+#: check the clock every this many frames even when frames keep coming
+CLOCK_EVERY = 32
+
+
+class LockstepRunner:
+    def __init__(self, session: RigSession, timeout: float = DEFAULT_TIMEOUT_S,
+                 progress: Callable[[int], None] | None = None) -> None:
+        if not timeout > 0:
+            raise ValueError(f"lockstep timeout must be > 0, got {timeout}")
+        self.rig = session
+        self.timeout = timeout
+        self.progress = progress
+        self.ack_id = session.spec.by_name("FCC_ACK").frame_id
+        self.exec_us: dict[int, list[int]] = {0: [], 1: []}
+        self.unanswered_ticks = 0
+        self.steps = 0
+        self.wall_s = 0.0
+
+    def timing(self) -> dict[str, object]:
+        """Wall-clock facts of the flights (run_info.json, never summary.json)."""
+        def stats(v: list[int]) -> dict[str, float]:
+            if not v:
+                return {}
+            a = sorted(v)
+            return {"n": len(a), "p50": a[len(a) // 2], "p99": a[min(len(a) - 1, int(0.99 * len(a)))],
+                    "max": a[-1]}
+        return {"lockstep_wall_s": self.wall_s, "lockstep_steps": self.steps,
+                "wall_ms_per_step": 1e3 * self.wall_s / self.steps if self.steps else None,
+                "fcc_exec_us": {APP_NAMES[a]: stats(v) for a, v in self.exec_us.items() if v},
+                "unanswered_ticks": self.unanswered_ticks}
+
+    def fly(self, drivers: Sequence[AppDriver]) -> None:
+        """Run every driver to its end, interleaved by step time."""
+        t0 = time.perf_counter()
+        try:
+            while True:
+                pending = [d for d in drivers if not d.done]
+                if not pending:
+                    break
+                self.step(min(pending, key=lambda d: (d.t_next, d.app)))
+        finally:
+            self.wall_s += time.perf_counter() - t0
+        link = self.rig.link
+        assert link is not None
+        for d in drivers:  # frames still held back by a delay fault arrive after the run
+            for f in d.injector.flush_delayed():
+                link.send_raw(pack_frame(f.frame_id, f.data))
+
+    def step(self, d: AppDriver) -> StepIO:
+        link = self.rig.link
+        assert link is not None
+        k, t = d.k, d.t_next
+        frames = list(d.frames_for_step())
+        tick = {"app": d.app, "step": k}
+        ticks = d.injector.infrastructure(t, "SIM_TICK", tick)
+        answer_expected = any([self.rig.fcc_accepts_tick(f.data, d.app, k) for f in ticks])
+        if not answer_expected and not d.injector.faulted(t, "SIM_TICK"):
+            # a clean tick that fcc's E2E check will refuse (wrong sequence after ticks lost
+            # on purpose): one more tick, with the next counter, resynchronises it
+            more = d.injector.infrastructure(t, "SIM_TICK", tick)
+            answer_expected = any([self.rig.fcc_accepts_tick(f.data, d.app, k) for f in more])
+            ticks += more
+        frames += ticks
+        for f in frames:
+            link.send_raw(pack_frame(f.frame_id, f.data))
+        io = self._await_ack(d.app, k, answer_expected)
+        d.end_step(io)
+        self.steps += 1
+        if self.progress is not None:
+            self.progress(1)
+        return io
+
+    def _await_ack(self, app: int, k: int, expected: bool) -> StepIO:
+        rig, link = self.rig, self.rig.link
+        assert link is not None
+        io = StepIO(acked=False)
+        if not expected:  # fcc will not act on this tick: nothing to wait for
+            self.unanswered_ticks += 1
+            return io
+        deadline = time.monotonic() + self.timeout
+        n = 0
+        while True:
+            got = link.recv()
+            if got is None or n % CLOCK_EVERY == CLOCK_EVERY - 1:
+                if got is None:
+                    rig.check_alive(f"during step {k} of app {APP_NAMES[app]}")
+                if time.monotonic() > deadline:
+                    raise FccTimeout(f"fcc did not answer step {k} of app {APP_NAMES[app]} "
+                                     f"within {self.timeout:g} s; bus log kept in "
+                                     f"{rig.run_dir / 'bus.log'}")
+                if got is None:
+                    continue
+            n += 1
+            frame_id, data = got
+            if frame_id == self.ack_id:
+                dec = rig.codec.decode(frame_id, data)
+                if dec.ok and dec.values is not None and int(dec.values["app"]) == app \
+                        and int(dec.values["step"]) == k:
+                    io.acked = True
+                    io.degraded = bool(dec.values["degraded"])
+                    self.exec_us[app].append(int(dec.values["exec_us"]))
+                    return io
+                continue  # a repeated ACK of an earlier tick
+            if frame_id >= 0x700:
+                rig.note_frame(frame_id, data)
+                continue
+            io.frames.append(got)
+
+
+__all__ = ["DEFAULT_TIMEOUT_S", "FccDied", "FccTimeout", "LockstepRunner"]

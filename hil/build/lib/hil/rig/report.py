@@ -1,0 +1,71 @@
+"""What a run directory's summary says, as text: the papers' tables and fcc's counters.
+
+Used at the end of every command and by `hil report DIR` (which reads summary.json back).
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from .. import metrics
+from .session import StatusCounters
+
+
+def firmware_summary(status: StatusCounters) -> dict[str, Any]:
+    """fcc's heartbeat counters at exit (only what the inputs decide; gauges in run_info)."""
+    g = status.get
+    return {
+        "steps": {"cdrw": g("FCC_STATUS.cdrw_steps"), "missile": g("FCC_STATUS.msl_steps")},
+        "overruns": g("FCC_STATUS.overruns"),
+        "e2e": {"ok": g("FCC_E2E_COUNTS.ok"), "repeated": g("FCC_E2E_COUNTS.repeated"),
+                "ok_some_lost": g("FCC_E2E_COUNTS.ok_some_lost"),
+                "wrong_sequence": g("FCC_E2E_COUNTS.wrong_sequence"),
+                "error": g("FCC_E2E_FAULTS.error"), "no_new_data": g("FCC_E2E_FAULTS.no_new_data")},
+        "rejected": {"unknown_id": g("FCC_REJECT_COUNTS.unknown_id"),
+                     "wrong_dlc": g("FCC_REJECT_COUNTS.wrong_dlc"),
+                     "out_of_range": g("FCC_REJECT_COUNTS.out_of_range"),
+                     "tx_refused": g("FCC_REJECT_COUNTS.tx_refused")},
+        "bus": {"bus_errors": g("FCC_BUS_COUNTS.bus_errors"),
+                "rx_overflows": g("FCC_BUS_COUNTS.rx_overflows"),
+                "tx_dropped": g("FCC_BUS_COUNTS.tx_dropped"),
+                "tx_retries": g("FCC_BUS_COUNTS.tx_retries")},
+    }
+
+
+def _cdrw_tables(res_table: metrics.Table, truth: metrics.Table, which: str) -> list[str]:
+    paper = metrics.PAPER_TABLE4 if which == "table4" else metrics.PAPER_TABLE5
+    label = "Table 4 (one fault)" if which == "table4" else "Table 5 (mean over the campaign)"
+    return [metrics.format_error_table(res_table, f"CDRW {label}: integral |y_faultfree - y_hat| dt",
+                                       paper),
+            metrics.format_error_table(truth, f"CDRW {label}: integral |x_true - x_hat| dt")]
+
+
+def summary_tables(summary: dict[str, Any]) -> list[str]:
+    """The text tables of a summary.json (what each command prints at the end)."""
+    tables: list[str] = []
+    cd = summary.get("cdrw")
+    if cd:
+        for which in ("table4", "table5"):
+            if which in cd:
+                tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which)
+        if "azkf_better_than_kf_runs" in cd:
+            b = cd["azkf_better_than_kf_runs"]
+            tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
+                          f"flights for alpha, {b['q']} for q")
+    ms = summary.get("missile")
+    if ms and ms.get("runs"):
+        tables.append("Missile (seed 2, Fig. 3): RMS over the run\n"
+                      + metrics.format_missile_table(ms["runs"]))
+    if "firmware" in summary:
+        tables.append(format_firmware(summary["firmware"]))
+    return tables
+
+
+def format_firmware(fw: dict[str, Any]) -> str:
+    e, r, b = fw["e2e"], fw["rejected"], fw["bus"]
+    return ("fcc counters: steps cdrw {0} missile {1}, overruns {2}\n"
+            "  E2E ok {3} repeated {4} ok_some_lost {5} wrong_sequence {6} error {7} no_new_data {8}\n"
+            "  rejected unknown_id {9} wrong_dlc {10} out_of_range {11}; bus errors {12} "
+            "rx overflows {13}").format(
+        fw["steps"]["cdrw"], fw["steps"]["missile"], fw["overruns"], e["ok"], e["repeated"],
+        e["ok_some_lost"], e["wrong_sequence"], e["error"], e["no_new_data"], r["unknown_id"],
+        r["wrong_dlc"], r["out_of_range"], b["bus_errors"], b["rx_overflows"])

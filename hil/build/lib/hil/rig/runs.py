@@ -1,0 +1,371 @@
+"""What the CLI commands do: a flight, a campaign, a sweep, the demo -- each in one rig
+session (one fcc process), written to one run directory.
+
+run directory
+    summary.json      deterministic results (the seed decides them; hil.rig.report)
+    run_info.json     wall-clock times, fcc command line, step execution times
+    bus.log           the whole bus, candump log format (candump -L / -l)
+    fcc.log           fcc's stdout/stderr (event lines, final counter block)
+    faults.log        every injected fault's start and end, with its time
+    cdrw.csv, missile_T0.100_b8.csv, missile_T0.100_b8_fine.csv, campaign.csv ...
+    *.png             the papers' figures (hil.plots)
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import platform
+import shlex
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import metrics
+from ..faults import Scenario, ScenarioError, with_fault_start
+from ..plants.options import LqgOptions
+from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+from .buslog import iter_flights, split_flights
+from .lockstep import LockstepRunner
+from .output import write_csv, write_json
+from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
+                      missile_open_loop, missile_result)
+from .report import firmware_summary, summary_tables
+from .session import COMMAND_RESET, RigError, RigSession
+
+MODES = ("lockstep", "realtime")
+#: the LQG periods fcc accepts (firmware/app/README.md)
+FCC_PERIOD_RANGE = (0.02, 0.3)
+
+
+@dataclass
+class RigConfig:
+    out_dir: Path
+    iface: str = "vcan0"
+    mode: str = "lockstep"
+    timeout: float = 2.0
+    fcc_args: tuple[str, ...] = ()
+    progress: bool = True
+    plots: bool = True
+    fcc_binary: Path | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
+
+
+@dataclass
+class Outcome:
+    """What a command produced: the summary (as written) and the text tables to print."""
+
+    out_dir: Path
+    summary: dict[str, Any]
+    tables: list[str] = field(default_factory=list)
+
+
+# ---- session helpers ------------------------------------------------------------------------
+def check_missile(sc: Scenario) -> None:
+    lo, hi = FCC_PERIOD_RANGE
+    assert sc.lqg is not None
+    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
+        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
+                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
+
+
+def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
+    """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
+    names = list(apps) if apps else [sc.aircraft for sc in scenarios]
+    args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
+    for sc in scenarios:
+        if sc.aircraft == "missile":
+            assert sc.lqg is not None
+            check_missile(sc)
+            args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
+                     "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
+                     "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
+    return args + list(cfg.fcc_args)
+
+
+def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFlag | None = None) -> AppDriver:
+    rt = cfg.mode == "realtime"
+    cls = CdrwDriver if sc.aircraft == "cdrw" else MissileDriver
+    return cls(sc, rig.codec, rt, oracle)
+
+
+def _bar(total: int, enabled: bool, desc: str) -> Any:
+    from tqdm import tqdm
+    return tqdm(total=total, disable=not enabled, unit="step", desc=desc, leave=False,
+                dynamic_ncols=True)
+
+
+def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
+         runner: Any = None, period: float = 0.0, bits: int = 0) -> Any:
+    """One flight: SIM_CONTROL reset (and a new LQG design when period/bits are given; it is
+    also the flight boundary in bus.log), then the steps."""
+    rig.control(COMMAND_RESET, period, bits)
+    if cfg.mode == "lockstep":
+        r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
+        r.fly(drivers)
+        return r
+    from .realtime import RealtimeRunner
+    rt = runner or RealtimeRunner(rig, progress=bar.update)
+    rt.fly(drivers)
+    return rt
+
+
+def _require_log(rig: RigSession) -> None:
+    if not rig.log_complete:
+        raise RigError(f"{rig.run_dir / 'bus.log'}: the recorder did not catch up with the bus; "
+                       f"fcc's outputs are read from that log, so the run is not evaluated")
+
+
+def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
+              extra: dict[str, Any] | None = None) -> dict[str, Any]:
+    st = rig.status
+    info: dict[str, Any] = {
+        "mode": cfg.mode, "iface": cfg.iface, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
+        "python": platform.python_version(), "heartbeats": st.heartbeats,
+        "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
+        "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
+        "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
+                 "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
+    }
+    if runner is not None:
+        info.update(runner.timing())
+    if extra:
+        info.update(extra)
+    return info
+
+
+def _cdrw_block(res: CdrwResult, which: str = "table4") -> dict[str, Any]:
+    return {which: res.table, f"{which}_truth": res.table_truth,
+            "improvement_over_kf_pct": metrics.improvements(res.table),
+            "improvement_over_kf_truth_pct": metrics.improvements(res.table_truth),
+            "flight": res.summary()}
+
+
+def _write_cdrw(out: Path, res: CdrwResult, name: str = "cdrw.csv") -> None:
+    write_csv(out / name, res.series)
+
+
+def _write_missile(out: Path, res: MissileResult) -> None:
+    write_csv(out / f"missile_{res.tag}.csv", res.series)
+    write_csv(out / f"missile_{res.tag}_fine.csv", res.fine)
+
+
+def _write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, Any]]]]) -> None:
+    """faults.log: every fault start and end, with its time, one line each."""
+    lines = []
+    for label, events in flights:
+        for ev in events:
+            lines.append(f"{label}t={ev['t']:8.3f} s  {ev['action']:5s}  [{ev['level']}] {ev['spec']}")
+    (out / "faults.log").write_text("\n".join(lines) + ("\n" if lines else ""), encoding="utf-8")
+
+
+def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
+    tables = summary_tables(summary)
+    if cfg.plots:
+        from ..plots import plot_run_dir
+        names = [p.name for p in plot_run_dir(out)]
+        if names:
+            tables.append(f"plots: {', '.join(names)}")
+    return Outcome(out, summary, tables)
+
+
+# ---- commands --------------------------------------------------------------------------------
+def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run") -> Outcome:
+    """One flight of one or both aircraft (interleaved in one fcc when both)."""
+    out = cfg.out_dir
+    if len({sc.aircraft for sc in scenarios}) != len(scenarios):
+        raise ValueError("one scenario per aircraft")
+    t0 = time.perf_counter()
+    with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        oracle = OracleFlag()
+        drivers = [make_driver(sc, rig, cfg, oracle) for sc in scenarios]
+        with _bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
+            runner = _fly(rig, drivers, cfg, bar)
+        rig.shutdown()
+    _require_log(rig)
+    flights = split_flights(out / "bus.log")
+    summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
+                               "firmware": firmware_summary(rig.status)}
+    fault_log = []
+    for d in drivers:
+        if isinstance(d, CdrwDriver):
+            res = cdrw_result(rig.spec, cdrw_record(d), flights[0])
+            _write_cdrw(out, res)
+            summary["cdrw"] = _cdrw_block(res)
+            fault_log.append(("cdrw     ", res.events))
+        else:
+            assert isinstance(d, MissileDriver)
+            mres = missile_result(d, reference=cfg.mode == "lockstep")
+            ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
+            _write_missile(out, mres)
+            _write_missile(out, ol)
+            summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
+            fault_log.append(("missile  ", mres.events))
+    _write_fault_log(out, fault_log)
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
+                         margin: float = 0.5) -> np.ndarray:
+    """Table 5: when the scenario's faults (moved together) start in each flight -- uniform
+    over the flight, `margin` s clear of both ends, on the 50 Hz sample grid."""
+    if not scenario.faults:
+        raise ScenarioError(f"{scenario.source}: a campaign needs a scenario with a fault")
+    ends = [f.end for f in scenario.faults]
+    span = (max(ends) if all(math.isfinite(e) for e in ends) else 0.0) - min(f.start for f in scenario.faults)
+    hi = scenario.duration - margin - max(span, 0.0)
+    if hi <= margin:
+        raise ScenarioError(f"{scenario.source}: the flight is too short for faults at random times")
+    rng = np.random.default_rng([int(seed), 0x6361])  # own stream: "ca"
+    return np.round(rng.uniform(margin, hi, size=runs) / 0.02) * 0.02
+
+
+def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Outcome:
+    """Table 5: the same flight `runs` times, the scenario's faults at random times, one fcc
+    process reset between flights."""
+    if scenario.aircraft != "cdrw":
+        raise ScenarioError(f"{scenario.source}: a campaign flies the CDRW (aircraft = \"cdrw\")")
+    if runs < 1:
+        raise ValueError(f"--runs must be >= 1, got {runs}")
+    out = cfg.out_dir
+    starts = campaign_fault_times(scenario, runs, seed)
+    t0 = time.perf_counter()
+    records: list[CdrwRecord] = []
+    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        n = int(round(scenario.duration / scenario.plant.dt)) + 1  # type: ignore[union-attr]
+        runner = None
+        with _bar(runs * n, cfg.progress, "hil campaign") as bar:
+            for t_fault in starts:
+                d = CdrwDriver(with_fault_start(scenario, float(t_fault)), rig.codec, cfg.mode == "realtime")
+                runner = _fly(rig, [d], cfg, bar, runner)
+                records.append(cdrw_record(d))   # the driver (every sample's model) is dropped
+        rig.shutdown()
+    _require_log(rig)
+    rows: dict[str, list[float]] = {"run": [], "fault_start": []}
+    per_run = []
+    tables, truths = [], []
+    flights = 0
+    for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log"))):
+        res = cdrw_result(rig.spec, rec, fl)
+        flights += 1
+        tables.append(res.table)
+        truths.append(res.table_truth)
+        if i == 0:
+            _write_cdrw(out, res, "cdrw_run0.csv")
+        rows["run"].append(i)
+        rows["fault_start"].append(float(starts[i]))
+        for key, table in (("meas", res.table), ("truth", res.table_truth)):
+            for f in metrics.FILTERS:
+                for s in metrics.STATES:
+                    rows.setdefault(f"{f}_{s}_{key}", []).append(table[f][s])
+        per_run.append({"run": i, "fault_start": float(starts[i]), "error": res.table,
+                        "error_truth": res.table_truth, "missing_steps": res.missing_steps,
+                        "unanswered_steps": res.unanswered_steps})
+    if flights != runs:
+        raise RigError(f"{out / 'bus.log'}: {flights} flights recorded, expected {runs}")
+    _write_fault_log(out, [(f"flight {i:3d}  ", rec.events) for i, rec in enumerate(records)])
+    write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
+    t5 = metrics.mean_table(tables)
+    t5t = metrics.mean_table(truths)
+    summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
+               "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
+               "faults": [f.describe() for f in scenario.faults],
+               "cdrw": {"table5": t5, "table5_truth": t5t,
+                        "improvement_over_kf_pct": metrics.improvements(t5),
+                        "improvement_over_kf_truth_pct": metrics.improvements(t5t),
+                        "azkf_better_than_kf_runs": {
+                            s: int(sum(t["azkf"][s] < t["kf"][s] for t in tables))
+                            for s in metrics.STATES},
+                        "runs": per_run},
+               "firmware": firmware_summary(rig.status)}
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
+              cfg: RigConfig) -> Outcome:
+    """Fig. 3: the missile at every (T, N), one fcc process redesigning on SIM_CONTROL
+    between flights; plus the open loop at every T."""
+    if scenario.aircraft != "missile":
+        raise ScenarioError(f"{scenario.source}: a sweep flies the missile (aircraft = \"missile\")")
+    if not periods or not bits:
+        raise ValueError("a sweep needs at least one period and one word length")
+    base_lqg = scenario.lqg
+    assert base_lqg is not None
+    points = []
+    for T in periods:
+        for n in bits:
+            lqg = LqgOptions(period=float(T), bits=int(n), closed_loop=True)
+            sc = scenario.replace(lqg=lqg)
+            check_missile(sc)
+            if sc.lqg.period > sc.duration:  # type: ignore[union-attr]
+                raise ScenarioError(f"{scenario.source}: period {T} s is longer than the flight")
+            points.append(sc)
+    for n in bits:
+        if not 2 <= int(n) <= 16:
+            raise ScenarioError(f"--bits: D/A word length must be 2 to 16, got {n}")
+    out = cfg.out_dir
+    t0 = time.perf_counter()
+    first = points[0]
+    mdrivers: list[MissileDriver] = []
+    with RigSession(out, fcc_args([first], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+        total = 0
+        for sc in points:
+            total += int(math.floor(sc.duration / sc.lqg.period + 1e-9))  # type: ignore[union-attr]
+        runner = None
+        with _bar(total, cfg.progress, "hil sweep") as bar:
+            for sc in points:
+                assert sc.lqg is not None
+                d = MissileDriver(sc, rig.codec, cfg.mode == "realtime")
+                runner = _fly(rig, [d], cfg, bar, runner, sc.lqg.period, sc.lqg.bits)
+                mdrivers.append(d)
+        rig.shutdown()
+    runs_out: list[dict[str, Any]] = []
+    fault_log = []
+    for d in mdrivers:
+        res = missile_result(d, reference=cfg.mode == "lockstep")
+        _write_missile(out, res)
+        runs_out.append(res.run_entry())
+        fault_log.append((f"{res.tag:12s}", res.events))
+    _write_fault_log(out, fault_log)
+    for T in periods:
+        sc = scenario.replace(lqg=LqgOptions(period=float(T), bits=base_lqg.bits, closed_loop=False))
+        ol = missile_open_loop(sc)
+        _write_missile(out, ol)
+        runs_out.append(ol.run_entry())
+    summary = {"command": "sweep", "mode": cfg.mode, "scenario": scenario.name or scenario.source,
+               "seed": scenario.seed, "missile": {"runs": runs_out},
+               "firmware": firmware_summary(rig.status)}
+    write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    return _finish(cfg, out, summary)
+
+
+def run_demo(cfg: RigConfig) -> list[Outcome]:
+    """The README's main job: both aircraft with their embedded default scenarios in one fcc
+    (the CDRW with the paper's sensor fault at 4 s), then the missile sweep of seed 2
+    (T = 0.2, 0.1, 0.05 s; 6, 8, 12 bits) in out_dir/sweep."""
+    from ..faults import load_default_scenario
+
+    frames = {m.name for m in RigSession.dbc_frames()}
+    cdrw = load_default_scenario("cdrw", frames)
+    msl = load_default_scenario("missile", frames)
+    first = run_flight([cdrw, msl], cfg, command="demo")
+    sweep_dir = cfg.out_dir / "sweep"
+    sweep_dir.mkdir(parents=True, exist_ok=True)
+    for pattern in ("*.csv", "*.png", "*.json", "*.log"):
+        for f in sweep_dir.glob(pattern):
+            if f.is_file():
+                f.unlink()
+    second = run_sweep(msl, (0.2, 0.1, 0.05), (6, 8, 12), dataclasses.replace(cfg, out_dir=sweep_dir))
+    return [first, second]

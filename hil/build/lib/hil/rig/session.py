@@ -1,0 +1,247 @@
+"""One rig session: the bus recorder, the firmware process and the simulator's socket.
+
+    with RigSession(run_dir, fcc_args=[...]) as rig:     # candump, then fcc, then "listening"
+        ... lockstep or realtime flights (rig.link, rig.codec, rig.send_message) ...
+        rig.shutdown()                                     # SIM_CONTROL shutdown, fcc exits 0
+
+Order matters: the socket is opened first (so fcc's first heartbeat is seen), then candump
+(its readiness is proven by a RIG_PING it has written to bus.log), then fcc (ready when its
+first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
+bus.log and fcc.log.
+"""
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
+from ..bus.codec import decode_values
+from ..bus.dbc import BusSpec
+from .link import CanLink, pack_frame
+from .paths import tool
+from .processes import Candump, FccProcess
+
+STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
+                 "FCC_BUS_COUNTS")
+COMMAND_SHUTDOWN = 1
+COMMAND_RESET = 2
+STARTUP_TIMEOUT_S = 10.0
+#: RIG_PING.seq of the last frame of every bus log
+END_MARKER_SEQ = 0xFFFFFFFF
+
+
+class RigError(RuntimeError):
+    """A run cannot go on (one line for the user; the bus log is kept)."""
+
+    exit_code = 1
+
+
+class FccTimeout(RigError):
+    exit_code = 3
+
+
+class FccDied(RigError):
+    exit_code = 4
+
+
+@dataclass
+class StatusCounters:
+    """fcc's heartbeat counters, unwrapped across the 16-bit (or 8-bit) fields of the DBC
+    (the heartbeat comes often enough that no counter moves by a whole wrap in between)."""
+
+    values: dict[str, int] = field(default_factory=dict)
+    _last_raw: dict[str, int] = field(default_factory=dict)
+    last: dict[str, dict[str, int | float]] = field(default_factory=dict)
+    heartbeats: int = 0
+
+    @classmethod
+    def from_frames(cls, spec: BusSpec, frames: list[tuple[int, bytes]]) -> StatusCounters:
+        sc = cls()
+        for frame_id, data in frames:
+            sc.update(spec, frame_id, data)
+        return sc
+
+    def update(self, spec: BusSpec, frame_id: int, data: bytes) -> None:
+        msg = spec.by_id(frame_id)
+        if msg is None or msg.name not in STATUS_FRAMES or len(data) != 8:
+            return
+        vals = msg.message.decode(data, decode_choices=False)
+        self.last[msg.name] = dict(vals)
+        if msg.name == "FCC_STATUS":
+            self.heartbeats += 1
+        for sig in msg.signals:
+            raw = int(vals[sig.name])
+            key = f"{msg.name}.{sig.name}"
+            if sig.length == 1 or sig.name in ("mode", "stale_now", "worst_step_us"):
+                self.values[key] = raw          # flags and gauges: not counters
+                continue
+            prev = self._last_raw.get(key)
+            mod = 1 << sig.length
+            self.values[key] = self.values.get(key, 0) + (raw if prev is None else (raw - prev) % mod)
+            self._last_raw[key] = raw
+
+    def get(self, name: str, default: int = 0) -> int:
+        return self.values.get(name, default)
+
+
+class RigSession:
+    """candump + fcc + the simulator's socket, for the duration of a ``with`` block."""
+
+    def __init__(self, run_dir: Path, fcc_args: Sequence[str], *, iface: str = "vcan0",
+                 fcc_binary: Path | None = None, spec: BusSpec | None = None,
+                 record: bool = True) -> None:
+        self.run_dir = Path(run_dir)
+        self.iface = iface
+        self.spec = spec or load()
+        self.codec = FrameCodec(self.spec, SIM_NODES)
+        # Only what the simulator acts on comes to its socket: the acknowledge, the missile's
+        # command and estimate, the heartbeat.  The identification outputs (12 frames per
+        # CDRW step) are read back from bus.log after the run: the recorder gets every frame
+        # anyway, and in the UML guest every frame received costs a slow system call.
+        self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_STATE_EST", "RIG_PONG", *STATUS_FRAMES)
+        self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
+        self.fcc_binary = fcc_binary or tool("fcc")
+        self.fcc_args = ["--iface", iface, *fcc_args]
+        self.record = record
+        self.link: CanLink | None = None
+        self.candump: Candump | None = None
+        self.fcc: FccProcess | None = None
+        self.status_frames: list[tuple[int, bytes]] = []
+        self.link_stats: dict[str, int] = {}
+        self.log_complete = False
+        # fcc's E2E receiver of SIM_TICK, mirrored: tells whether fcc will act on a tick
+        tick = self.spec.by_name("SIM_TICK")
+        self._tick_msg = tick
+        self.tick_rx = E2EReceiver(tick.data_id, tick.max_delta_counter)
+        self.fcc_exit: int | None = None
+        self.t_start = 0.0
+
+    @staticmethod
+    def dbc_frames() -> tuple:
+        """The DBC's messages (for validating frame names in scenarios)."""
+        return load().messages
+
+    # -- life cycle
+    def __enter__(self) -> RigSession:
+        self.run_dir.mkdir(parents=True, exist_ok=True)
+        try:
+            self.link = CanLink(self.iface, self.fcc_ids)
+            if self.record:
+                self._start_candump()
+            self.fcc = FccProcess(self.fcc_binary, self.fcc_args, self.run_dir / "fcc.log")
+            self._wait_listening()
+        except BaseException:
+            self.close()
+            raise
+        self.t_start = time.monotonic()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _start_candump(self) -> None:
+        self.candump = Candump(self.iface, self.run_dir / "bus.log")
+        if not self.candump.wait_idle(STARTUP_TIMEOUT_S):
+            if not self.candump.alive():
+                raise RigError(f"candump -l {self.iface} stopped: {self.candump.error()}")
+            raise RigError(f"candump did not start listening within {STARTUP_TIMEOUT_S:g} s")
+
+    def _wait_listening(self) -> None:
+        """Until fcc's first FCC_STATUS: it has opened its socket and listens."""
+        assert self.link is not None and self.fcc is not None
+        status_id = self.spec.by_name("FCC_STATUS").frame_id
+        deadline = time.monotonic() + STARTUP_TIMEOUT_S
+        while time.monotonic() < deadline:
+            got = self.link.recv()
+            if got is None:
+                if self.fcc.poll() is not None:
+                    raise FccDied(f"fcc stopped at start-up ({self.fcc.describe_exit()})")
+                continue
+            self.note_frame(*got)
+            if got[0] == status_id:
+                return
+        raise FccTimeout(f"fcc did not send its first FCC_STATUS within {STARTUP_TIMEOUT_S:g} s")
+
+    def note_frame(self, frame_id: int, data: bytes) -> None:
+        """Keep heartbeat frames (decoded after the run, off the hot path)."""
+        if frame_id >= 0x700:
+            self.status_frames.append((frame_id, data))
+
+    @property
+    def status(self) -> StatusCounters:
+        """fcc's counters as of the last heartbeat received."""
+        return StatusCounters.from_frames(self.spec, self.status_frames)
+
+    # -- sending
+    def send_message(self, name: str, values: Mapping[str, float | int]) -> None:
+        assert self.link is not None
+        frame_id, data = self.codec.encode(name, values)
+        self.link.send_raw(pack_frame(frame_id, data))
+
+    def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
+        """SIM_CONTROL: 0 none / 1 shutdown / 2 reset; a new LQG period and/or D/A bits."""
+        self.send_message("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})
+        if command == COMMAND_RESET:  # fcc resynchronises its E2E receivers on a reset
+            self.tick_rx.reset()
+
+    def fcc_accepts_tick(self, data: bytes, app: int, k: int) -> bool:
+        """Will fcc run step k of app on this tick frame?  The checks fcc makes, in its order
+        (length, E2E, range), on a mirror of its receiver state (which this call updates)."""
+        if len(data) != 8:
+            return False
+        if not self.tick_rx.check(data).data_usable:
+            return False
+        vals = decode_values(self._tick_msg, data)
+        return vals is not None and int(vals["app"]) == app and int(vals["step"]) == k
+
+    def check_alive(self, what: str) -> None:
+        assert self.fcc is not None
+        if self.fcc.poll() is not None:
+            raise FccDied(f"fcc died {what} ({self.fcc.describe_exit()}); "
+                          f"bus log kept in {self.run_dir / 'bus.log'}")
+
+    def shutdown(self, timeout: float = 5.0) -> int:
+        """SIM_CONTROL shutdown; wait for fcc's exit and its last heartbeat."""
+        assert self.fcc is not None and self.link is not None
+        if self.fcc.poll() is None:
+            self.control(COMMAND_SHUTDOWN)
+            deadline = time.monotonic() + timeout
+            while self.fcc.poll() is None and time.monotonic() < deadline:
+                got = self.link.recv()
+                if got is not None:
+                    self.note_frame(*got)
+        for got in self.link.drain():
+            self.note_frame(*got)
+        rc = self.fcc.stop()
+        self.fcc_exit = rc
+        if rc != 0:
+            raise FccDied(f"fcc did not exit cleanly after the shutdown command "
+                          f"({self.fcc.describe_exit()})")
+        return rc
+
+    def close(self) -> None:
+        if self.fcc is not None and self.fcc.poll() is None:
+            self.fcc.stop(grace=0.0)
+        if self.fcc is not None:
+            self.fcc.stop(grace=0.0)
+            if self.fcc_exit is None:
+                self.fcc_exit = self.fcc.returncode
+        if self.candump is not None:
+            marker = None
+            if self.link is not None:  # the end marker: candump has seen everything before it
+                ping = self.spec.by_name("RIG_PING")
+                data = ping.message.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
+                try:
+                    self.link.send(ping.frame_id, data)
+                    marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()
+                except OSError:
+                    marker = None
+            self.log_complete = self.candump.stop(marker)
+            self.candump = None
+        if self.link is not None:
+            self.link_stats = {"tx_frames": self.link.tx_frames, "rx_frames": self.link.rx_frames,
+                               "tx_retries": self.link.tx_retries, "tx_dropped": self.link.tx_dropped}
+            self.link.close()
+            self.link = None

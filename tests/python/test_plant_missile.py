@@ -11,8 +11,8 @@ from scipy.linalg import expm, solve_continuous_lyapunov
 from hil.faults import load_default_scenario, parse_fault_spec
 from hil.plants import missile
 from hil.plants.missile import DAConverter, MissilePlant, van_loan_noise, zoh
-from hil.plants.missile_runs import (MissileSimulation, design_lqg, discrete_cost, simulate_missile,
-                                     steady_state_rms)
+from hil.plants.missile_cov import closed_loop_rms, open_loop_rms
+from hil.plants.missile_runs import MissileSimulation, design_lqg, discrete_cost, simulate_missile
 from hil.sensors import MissileSensorOptions, MissileSensors
 
 
@@ -159,8 +159,8 @@ def test_closed_loop_beats_open_loop_and_matches_covariance_analysis():
     long = sc.replace(duration=400.0, lqg=sc.lqg.__class__(period=0.1, bits=12))
     cl = simulate_missile(long)
     ol = simulate_missile(long, closed_loop=False)
-    rq, ra = steady_state_rms(design_lqg(0.1))
-    oq, oa = steady_state_rms(None)
+    rq, ra = closed_loop_rms(design_lqg(0.1), 8)
+    oq, oa = open_loop_rms()
     assert cl.rms_q == pytest.approx(rq, rel=0.05) and cl.rms_alpha == pytest.approx(ra, rel=0.05)
     assert ol.rms_q == pytest.approx(oq, rel=0.05) and ol.rms_alpha == pytest.approx(oa, rel=0.05)
     assert rq < oq and ra < oa

@@ -5,6 +5,8 @@
     hil campaign cdrw [SCENARIO.toml] --runs 100 --seed S        (Table 5)
     hil sweep missile [SCENARIO.toml] --periods 0.2,0.1,0.05 --bits 6,8,12   (Fig. 3)
     hil report DIR                                              (tables + plots again)
+    hil study missile-rms [--periods LIST] [--bits LIST] [--gyro-var V] [--json]
+                                   (Fig. 3 by covariance analysis, no bus needed)
     hil demo [--out out/demo]                                   (both aircraft + a sweep)
 
 Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
@@ -24,6 +26,8 @@ from pathlib import Path
 from typing import NoReturn
 
 PROG = "hil"
+#: Fig. 3's grid of sampling periods: 0.02 to 0.3 s every 10 ms (29 points)
+FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 EXIT_USAGE = 2
 
 #: what a run directory may contain that the rig wrote (cleared before a new run)
@@ -152,6 +156,18 @@ def _parser() -> argparse.ArgumentParser:
     rep.add_argument("--dbc", type=Path, metavar="PATH",
                      help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
+    st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance analysis")
+    st.add_argument("study", choices=("missile-rms",))
+    st.add_argument("--periods", type=_floats, default=list(FIG3_PERIODS), metavar="T,T,...",
+                    help="sampling periods in s (default 0.02,0.03,...,0.3)")
+    st.add_argument("--bits", type=_ints, default=[6, 8, 12], metavar="N,N,...",
+                    help="D/A word lengths (default 6,8,12)")
+    st.add_argument("--gyro-var", type=_positive, default=0.8, metavar="V",
+                    help="rate-gyro noise variance, rad^2/s^2 (default 0.8, as printed)")
+    st.add_argument("--accel-var", type=_positive, default=0.8, metavar="V",
+                    help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
+    st.add_argument("--json", action="store_true", help="print the result as one JSON object")
+
     d = sub.add_parser("demo", help="both aircraft with the default scenarios, then a missile sweep")
     _add_common(d, "out/demo")
     return p
@@ -263,6 +279,23 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_study(args: argparse.Namespace) -> int:
+    import json
+
+    from .plants.missile_cov import format_study, missile_rms_study
+    from .rig.paths import tool
+
+    for n in args.bits:
+        if not 2 <= n <= 16:
+            raise UsageError(f"--bits: D/A word length must be 2 to 16, got {n}")
+    for T in args.periods:
+        if not 0.001 <= T <= 1.0:
+            raise UsageError(f"--periods: lqg_design accepts 0.001 to 1 s, got {T:g}")
+    study = missile_rms_study(args.periods, args.bits, args.gyro_var, args.accel_var, tool("lqg_design"))
+    print(json.dumps(study, allow_nan=False) if args.json else format_study(study))
+    return 0
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     from .rig.runs import run_demo
 
@@ -272,7 +305,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
-            "demo": cmd_demo}
+            "study": cmd_study, "demo": cmd_demo}
 
 
 def _apply_paths(args: argparse.Namespace) -> None:

@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import expm, solve_continuous_lyapunov, solve_discrete_are, solve_discrete_lyapunov
+from scipy.linalg import expm, solve_discrete_are
 
 from ..faults.inject import FaultEvent, SensorFaultInjector
 from ..faults.scenario import Scenario, load_default_scenario
@@ -51,6 +51,10 @@ class LqgDesign:
     M: np.ndarray       # 3x3, steady a-priori error covariance (before the reading)
     L: np.ndarray       # 3x2, filter gain
     Z: np.ndarray       # 3x3, steady a-posteriori error covariance
+
+    @property
+    def H(self) -> np.ndarray:
+        return missile.H
 
 
 def discrete_cost(T: float, A: np.ndarray = COST_A, B: float = COST_B) -> tuple[np.ndarray, np.ndarray, float]:
@@ -267,34 +271,3 @@ def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | No
                       x=x, y=y, y_faultfree=y0, code=code, u=code * sim.dac.lsb if cl else np.zeros(n),
                       x_hat=xh, t_fine=t_fine, x_fine=x_fine, design=design,
                       events=tuple(sim.faults.log))
-
-
-def steady_state_rms(design: LqgDesign | None, n_sub: int = 8) -> tuple[float, float]:
-    """Analytic stationary RMS of (q, alpha_T), averaged over n_sub points per period
-    (covariance analysis, D/A quantisation ignored).  design=None: open loop."""
-    if design is None:
-        pc = solve_continuous_lyapunov(missile.F, -np.outer(missile.f, missile.f))
-        return float(math.sqrt(pc[0, 0])), float(math.sqrt(pc[1, 1]))
-    d = design
-    h = missile.H
-    i3 = np.eye(3)
-    ilh = i3 - d.L @ h
-    gk = np.outer(d.Gamma, d.K)
-    # z = [x_k, e_k] with e_k = x_k - x_bar_k (a-priori error); noises w_k (Qd), v_k (R)
-    acl = np.block([[d.Phi - gk, gk @ ilh], [np.zeros((3, 3)), d.Phi @ ilh]])
-    bw = np.vstack([i3, i3])
-    bv = np.vstack([-gk @ d.L, -d.Phi @ d.L])
-    cov = solve_discrete_lyapunov(acl, bw @ d.Qd @ bw.T + bv @ d.R @ bv.T)
-    # inside the period: x(t_k + s) = Phi(s) x_k + Gamma(s) u_k + w(s),
-    # u_k = -K x_hat_k = -K [(I) x_k - (I - L H) e_k + L v_k]
-    acc = np.zeros(2)
-    for j in range(n_sub):
-        s = j * d.T / n_sub
-        phi_s, gam_s = missile.zoh(missile.F, missile.G, s)
-        gam_s = gam_s[:, 0]
-        cz = np.hstack([phi_s - np.outer(gam_s, d.K), np.outer(gam_s, d.K) @ ilh])
-        cv = -np.outer(gam_s, d.K) @ d.L
-        p = cz @ cov @ cz.T + cv @ d.R @ cv.T + missile.van_loan_noise(missile.F, missile.f, s)
-        acc += np.array([p[0, 0], p[1, 1]])
-    acc /= n_sub
-    return float(math.sqrt(acc[0])), float(math.sqrt(acc[1]))

@@ -14,7 +14,8 @@ import numpy as np
 from .. import metrics
 from ..bus import dbc as dbc_spec
 from ..bus.dbc import BusSpec
-from ..plants.missile_runs import design_lqg, simulate_missile, steady_state_rms
+from ..plants.missile_cov import closed_loop_rms, open_loop_rms
+from ..plants.missile_runs import design_lqg, simulate_missile
 from .apps import FILTERS, CdrwDriver, MissileDriver
 from .buslog import FlightFrames, sid_arrays
 
@@ -180,7 +181,8 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
         mismatch = np.flatnonzero(~same)
         ref = {"rms_q": r.rms_q, "rms_alpha": r.rms_alpha, "code_agreement": float(np.mean(same)),
                "first_code_mismatch_step": int(mismatch[0]) if mismatch.size else -1}
-    sq, sa = steady_state_rms(design_lqg(d.period, d.scenario.sensors), d.sim.n_sub)  # type: ignore[arg-type]
+    # stationary RMS of this loop (covariance analysis, D/A as LSB^2/12 noise)
+    sq, sa = closed_loop_rms(design_lqg(d.period, d.scenario.sensors), d.bits)  # type: ignore[arg-type]
     return MissileResult(scenario=d.scenario.name or d.scenario.source, seed=d.scenario.seed,
                          period=d.period, bits=d.bits, closed_loop=True, series=s, fine=fine,
                          rms_q=rq, rms_alpha=ra, reference=ref,
@@ -198,7 +200,7 @@ def missile_open_loop(scenario: Any) -> MissileResult:
                  "q_g": r.y[:, 0], "n_a": r.y[:, 1], "code": r.code, "u": r.u}
     fine: Series = {"t": r.t_fine, "q": r.x_fine[:, 0], "alpha_T": r.x_fine[:, 1],
                     "w_g": r.x_fine[:, 2]}
-    sq, sa = steady_state_rms(None)
+    sq, sa = open_loop_rms()
     return MissileResult(scenario=scenario.name or scenario.source, seed=scenario.seed,
                          period=r.period, bits=None, closed_loop=False, series=s, fine=fine,
                          rms_q=r.rms_q, rms_alpha=r.rms_alpha, stationary={"rms_q": sq, "rms_alpha": sa})

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 from hil import metrics
+from hil.bus import diag, load
+from hil.bus.logio import read_frames
 from hil.cli import main
 from hil.faults import load_default_scenario, with_fault_start
 from hil.rig.apps import CdrwDriver
@@ -50,6 +52,14 @@ def test_default_flight_is_deterministic(tmp_path, capsys):
     # the bus log decodes, and has fcc's 12 identification frames for every step
     lines = (a / "bus.log").read_text().splitlines()
     assert sum(1 for ln in lines if " 110#" in ln) == 351
+    # ... in simulated time (the recorder's wall-clock log beside it): the true 50 Hz tick
+    # and bus load, the same frames in both
+    assert (a / "bus_wall.log").read_text().count("\n") == len(lines)
+    rep = diag.analyse(read_frames(a / "bus.log"), load())
+    tick = next(m for m in rep["messages"] if m["name"] == "SIM_TICK")
+    assert tick["rate_hz"] == pytest.approx(50.0, abs=0.05) and tick["used_period_ms"] == [20.0]
+    assert tick["e2e"]["NO_NEW_DATA"] == 0 and rep["timestamps_backwards"] == 0
+    assert 10.0 < rep["load_worst_pct"] < 40.0 and rep["duration_s"] == pytest.approx(7.1, abs=0.1)
     # a different seed gives a different flight
     rc, _, _ = cli(capsys, "run", "cdrw", "--seed", "2", "--out", str(tmp_path / "c"), "--quiet", "--no-plots")
     assert rc == 0
@@ -90,7 +100,14 @@ def test_campaign_few_runs(tmp_path):
 
 def test_sweep_switches_design_between_flights(tmp_path):
     sc = scenario(MISSILE_2S)
-    o = run_sweep(sc, (0.1, 0.05), (6, 12), RigConfig(out_dir=tmp_path, progress=False, plots=False))
+    o = run_sweep(sc, (0.1, 0.05), (6, 12), RigConfig(out_dir=tmp_path, progress=False, plots=False,
+                                                        log_format="asc"))
+    # the Vector ASC log in simulated time: each flight's own period, no false NO_NEW_DATA
+    assert not (tmp_path / "bus.log").exists()
+    rep = diag.analyse(read_frames(tmp_path / "bus.asc"), load())
+    gyro = next(m for m in rep["messages"] if m["name"] == "MSL_RATE_GYRO")
+    assert gyro["count"] == 120 and gyro["used_period_ms"] == [50.0, 100.0]
+    assert gyro["e2e"]["NO_NEW_DATA"] == 0 and gyro["jitter_max_ms"] < 5.0
     runs = o.summary["missile"]["runs"]
     closed = [r for r in runs if r["closed_loop"]]
     assert [(r["period"], r["bits"]) for r in closed] == [(0.1, 6), (0.1, 12), (0.05, 6), (0.05, 12)]

@@ -31,7 +31,8 @@ FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 EXIT_USAGE = 2
 
 #: what a run directory may contain that the rig wrote (cleared before a new run)
-OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "fcc.log", "faults.log", "*.csv", "*.png")
+OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "bus.asc", "bus.blf", "bus_wall.log", "fcc.log",
+                "faults.log", "*.csv", "*.png")
 
 
 class UsageError(Exception):
@@ -112,6 +113,9 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
     p.add_argument("--fcc-args", default="", metavar="ARGS",
                    help="extra fcc options, one string, e.g. \"--detector oracle\"")
     p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
+    p.add_argument("--log-format", choices=("log", "asc", "blf"), default="log",
+                   help="bus log format: candump -L (bus.log, default), Vector ASC or BLF (python-can); "
+                        "lockstep: simulated timestamps, the recorder's wall-clock log in bus_wall.log")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -152,7 +156,7 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="print a run directory's tables and redraw its plots")
     rep.add_argument("dir", type=Path)
     rep.add_argument("--no-plots", action="store_true", help="only print the tables")
-    rep.add_argument("--bus", action="store_true", help="also analyse bus.log (rates, E2E, load)")
+    rep.add_argument("--bus", action="store_true", help="also analyse the bus log (rates, E2E, load)")
     rep.add_argument("--dbc", type=Path, metavar="PATH",
                      help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
@@ -214,7 +218,7 @@ def _config(args: argparse.Namespace, out: Path):
         raise UsageError(f"--fcc-args: {e}") from None
     return RigConfig(out_dir=prepare_out_dir(out), iface=args.iface, mode=args.mode,
                      timeout=args.timeout, fcc_args=extra, progress=not args.quiet,
-                     plots=not args.no_plots)
+                     plots=not args.no_plots, log_format=args.log_format)
 
 
 def _print(outcome) -> None:
@@ -266,11 +270,14 @@ def cmd_report(args: argparse.Namespace) -> int:
     for t in summary_tables(summary):
         print(t)
         print()
-    if args.bus and (args.dir / "bus.log").is_file():
+    if args.bus:
         from .bus import load
-        from .bus.candump import read_log
         from .bus.diag import analyse, render
-        print(render(analyse(read_log(args.dir / "bus.log"), load())))
+        from .bus.logio import read_frames, run_log
+        log = run_log(args.dir)
+        if log is None:
+            raise UsageError(f"{args.dir}: no bus log (bus.log, bus.asc or bus.blf)")
+        print(render(analyse(read_frames(log), load())))
     if not args.no_plots:
         from .plots import plot_run_dir
         names = [p.name for p in plot_run_dir(args.dir)]

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from .. import metrics
+from ..bus import load
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
 from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
@@ -35,6 +36,7 @@ from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_r
                       missile_open_loop, missile_result)
 from .report import firmware_summary, summary_tables
 from .session import COMMAND_RESET, RigError, RigSession
+from .simtime import finish_bus_log
 
 MODES = ("lockstep", "realtime")
 #: the LQG periods fcc accepts (firmware/app/README.md)
@@ -51,6 +53,7 @@ class RigConfig:
     progress: bool = True
     plots: bool = True
     fcc_binary: Path | None = None
+    log_format: str = "log"
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -166,7 +169,20 @@ def _write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, 
     (out / "faults.log").write_text("\n".join(lines) + ("\n" if lines else ""), encoding="utf-8")
 
 
-def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
+def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
+    """Each application's step period (s) in these scenarios (0 CDRW, 1 missile)."""
+    periods: dict[int, float] = {}
+    for sc in scenarios:
+        if sc.aircraft == "cdrw":
+            periods[0] = float(sc.plant.dt)  # type: ignore[union-attr]
+        else:
+            assert sc.lqg is not None
+            periods[1] = float(sc.lqg.period)
+    return periods
+
+
+def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float]) -> Outcome:
+    finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
     tables = summary_tables(summary)
     if cfg.plots:
         from ..plots import plot_run_dir
@@ -211,7 +227,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     _write_fault_log(out, fault_log)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
-    return _finish(cfg, out, summary)
+    return _finish(cfg, out, summary, step_periods(scenarios))
 
 
 def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
@@ -281,7 +297,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                "firmware": firmware_summary(rig.status)}
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
-    return _finish(cfg, out, summary)
+    return _finish(cfg, out, summary, step_periods([scenario]))
 
 
 def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
@@ -340,7 +356,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
                "firmware": firmware_summary(rig.status)}
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
-    return _finish(cfg, out, summary)
+    return _finish(cfg, out, summary, step_periods([first]))
 
 
 def run_demo(cfg: RigConfig) -> list[Outcome]:
@@ -355,7 +371,7 @@ def run_demo(cfg: RigConfig) -> list[Outcome]:
     first = run_flight([cdrw, msl], cfg, command="demo")
     sweep_dir = cfg.out_dir / "sweep"
     sweep_dir.mkdir(parents=True, exist_ok=True)
-    for pattern in ("*.csv", "*.png", "*.json", "*.log"):
+    for pattern in ("*.csv", "*.png", "*.json", "*.log", "*.asc", "*.blf"):
         for f in sweep_dir.glob(pattern):
             if f.is_file():
                 f.unlink()

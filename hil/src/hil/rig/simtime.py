@@ -1,0 +1,86 @@
+"""Simulated time in a lockstep run's bus log.
+
+A lockstep run goes as fast as fcc answers, so the recorder's wall-clock timestamps are
+squeezed (the 50 Hz tick shows as 400 Hz, the bus load above 100 %).  After the run the log
+is rewritten: every frame gets the simulated time of the step it belongs to, and inside a
+step the frames follow each other at the bus's bit rate (frame i starts when frame i-1 has
+left the wire, its length with worst-case bit stuffing).  The step of a frame: a sensor frame
+carries its step (bytes 2-3), SIM_TICK(app, k) names it, every other frame belongs to the
+step in progress.  Flights start at a SIM_CONTROL reset, on the next 0.1 s after the
+frames before it (the start-up's heartbeats, the previous flight); a SIM_CONTROL with a
+new LQG period changes the missile's step period.  The wall-clock log is kept beside it.
+"""
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import replace
+from pathlib import Path
+
+from ..bus.busload import worst_case_bits
+from ..bus.candump import LogFrame, read_log
+from ..bus.logio import RUN_FORMATS, write_frames
+from .buslog import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+
+#: the recorder's own log of a lockstep run (wall-clock timestamps)
+WALL_LOG = "bus_wall.log"
+#: flights start on this grid (s)
+FLIGHT_GRID_S = 0.1
+MISSILE_APP = 1
+
+
+def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
+              baudrate: int) -> Iterator[LogFrame]:
+    """The frames again, timestamped in simulated time (periods: step period per app)."""
+    period = dict(periods)
+    offset = 0.0          # simulated time of the current flight's step 0
+    t_step = 0.0
+    bus_free = 0.0
+    last_step: dict[int, int] = {}
+    for f in frames:
+        data = f.data
+        plain = not (f.error or f.remote or f.extended or f.fd) and len(data) == 8
+        if plain and f.frame_id == SIM_CONTROL_ID and (data[1] >> 4) == COMMAND_RESET:
+            offset = math.ceil(bus_free / FLIGHT_GRID_S - 1e-9) * FLIGHT_GRID_S
+            t_step, last_step = offset, {}
+            lqg_period = int.from_bytes(data[2:4], "little") * 1e-4
+            if lqg_period > 0:
+                period[MISSILE_APP] = lqg_period
+        elif plain and f.frame_id == SIM_TICK_ID:
+            app = (data[1] >> 4) & 0x3
+            t_step = max(t_step, offset + int.from_bytes(data[2:6], "little") * period.get(app, 0.0))
+            last_step[app] = int.from_bytes(data[2:6], "little")
+        elif plain and f.frame_id in SENSOR_APP:
+            app = SENSOR_APP[f.frame_id]
+            low = int.from_bytes(data[2:4], "little")
+            prev = last_step.get(app)
+            k = low if prev is None else prev + ((low - prev + 0x8000) & 0xFFFF) - 0x8000
+            t_step = max(t_step, offset + k * period.get(app, 0.0))
+        t = max(t_step, bus_free)
+        bits = 0 if (f.fd or f.error) else worst_case_bits(0 if f.remote else len(data), f.extended)
+        bus_free = t + bits / baudrate
+        yield replace(f, timestamp=round(t, 6))
+
+
+def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: str,
+                   baudrate: int) -> Path:
+    """The run's bus log as users read it: lockstep -> bus.<fmt> in simulated time and the
+    recorder's wall-clock log renamed bus_wall.log; realtime -> bus.<fmt> in wall-clock time.
+    Returns the path of bus.<fmt>."""
+    if fmt not in RUN_FORMATS:
+        raise ValueError(f"log format must be one of {', '.join(RUN_FORMATS)}, not {fmt!r}")
+    raw = run_dir / "bus.log"
+    out = run_dir / f"bus.{fmt}"
+    if mode == "lockstep":
+        wall = run_dir / WALL_LOG
+        os.replace(raw, wall)
+        tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
+        write_frames(tmp, simulated(read_log(wall), periods, baudrate))
+        os.replace(tmp, out)
+    elif fmt != "log":
+        tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
+        write_frames(tmp, read_log(raw))
+        os.replace(tmp, out)
+        raw.unlink()
+    return out

@@ -4,6 +4,7 @@ $FCC_HIL_FCC, and `hil --version` answers."""
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -32,9 +33,13 @@ def test_wheel_runs_outside_the_tree(tmp_path: Path) -> None:
     import json
 
     whl_dir = tmp_path / "wheel"
+    in_tree_build = REPO / "hil" / "build"     # setuptools builds there; not left behind
+    had_build = in_tree_build.exists()
     r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
                         "-q", "-w", str(whl_dir), str(REPO / "hil")], capture_output=True, text=True,
                        timeout=300)
+    if not had_build:
+        shutil.rmtree(in_tree_build, ignore_errors=True)
     assert r.returncode == 0, r.stderr
     (whl,) = whl_dir.glob("hil-*.whl")
     site = tmp_path / "site"

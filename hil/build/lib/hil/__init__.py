@@ -1,1 +1,0 @@
-"""Hardware-in-the-loop simulator for the fcc flight computer."""

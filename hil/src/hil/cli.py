@@ -156,6 +156,7 @@ def _parser() -> argparse.ArgumentParser:
     rep = sub.add_parser("report", help="print a run directory's tables and redraw its plots")
     rep.add_argument("dir", type=Path)
     rep.add_argument("--no-plots", action="store_true", help="only print the tables")
+    rep.add_argument("--plots-only", action="store_true", help="only draw the figures (no tables)")
     rep.add_argument("--bus", action="store_true", help="also analyse the bus log (rates, E2E, load)")
     rep.add_argument("--dbc", type=Path, metavar="PATH",
                      help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
@@ -267,7 +268,9 @@ def cmd_report(args: argparse.Namespace) -> int:
         summary = read_json(summary_path)
     except ValueError as e:
         raise UsageError(str(e)) from None
-    for t in summary_tables(summary):
+    if args.plots_only and args.no_plots:
+        raise UsageError("--plots-only and --no-plots exclude each other")
+    for t in [] if args.plots_only else summary_tables(summary):
         print(t)
         print()
     if args.bus:

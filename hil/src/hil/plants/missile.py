@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
+from ._linalg import expm
 
 from ..rounding import round_half_away
 

@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from scipy.linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
+from ._linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
 
 from . import missile
 

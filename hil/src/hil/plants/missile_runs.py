@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import expm, solve_discrete_are
+from ._linalg import expm, solve_discrete_are
 
 from ..faults.inject import FaultEvent, SensorFaultInjector
 from ..faults.scenario import Scenario, load_default_scenario

@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import platform
 import shlex
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -39,6 +41,8 @@ from .session import COMMAND_RESET, RigError, RigSession
 from .simtime import finish_bus_log
 
 MODES = ("lockstep", "realtime")
+#: scripts/with-vcan: a file of commands to run on the host after the guest (defer_plots)
+AFTER_ENV = "WITH_VCAN_AFTER"
 #: the LQG periods fcc accepts (firmware/app/README.md)
 FCC_PERIOD_RANGE = (0.02, 0.3)
 
@@ -169,6 +173,19 @@ def _write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, 
     (out / "faults.log").write_text("\n".join(lines) + ("\n" if lines else ""), encoding="utf-8")
 
 
+def defer_plots(out: Path) -> bool:
+    """Inside scripts/with-vcan's User-Mode Linux guest, drawing costs several times what it
+    costs on the host: with-vcan names a file ($WITH_VCAN_AFTER) of commands it runs on the
+    host once the guest has exited; the figures are queued there.  False: draw now."""
+    after = os.environ.get(AFTER_ENV)
+    if not after:
+        return False
+    cmd = [sys.executable, "-m", "hil.cli", "report", "--plots-only", str(out.resolve())]
+    with open(after, "a", encoding="utf-8") as f:
+        f.write(shlex.join(cmd) + "\n")
+    return True
+
+
 def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
     """Each application's step period (s) in these scenarios (0 CDRW, 1 missile)."""
     periods: dict[int, float] = {}
@@ -184,7 +201,9 @@ def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
 def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float]) -> Outcome:
     finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
     tables = summary_tables(summary)
-    if cfg.plots:
+    if cfg.plots and defer_plots(out):
+        tables.append(f"plots: drawn after the guest exits (`hil report --plots-only {out}` on the host)")
+    elif cfg.plots:
         from ..plots import plot_run_dir
         names = [p.name for p in plot_run_dir(out)]
         if names:

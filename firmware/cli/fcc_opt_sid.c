@@ -112,6 +112,15 @@ static fcc_opt_result_t apply_filters(fcc_sid_config_t *c, const char *name, con
                                       char *err, size_t len)
 {
     if (strcmp(name, "--zkf-order") == 0) return get_order(name, val, &c->zkf_order, err, len);
+    if (strcmp(name, "--rows") == 0) {
+        static const char *const rows[] = {"paper", "prior", "posterior"};
+        static const fcc_sid_rows_t rows_of[] = {FCC_SID_ROWS_PAPER, FCC_SID_ROWS_PRIOR,
+                                                 FCC_SID_ROWS_POSTERIOR};
+        int i = 0;
+        const fcc_opt_result_t r = fcc_opt_choice(name, val, rows, 3, &i, err, len);
+        c->rows = (r == FCC_OPT_DONE) ? rows_of[i] : c->rows;
+        return r;
+    }
     if (strcmp(name, "--q-normal") == 0) return get_order(name, val, &c->azkf.q_normal, err, len);
     if (strcmp(name, "--q-fault") == 0) return get_order(name, val, &c->azkf.q_fault, err, len);
     if (strcmp(name, "--p0") == 0) return fcc_opt_mat2(name, val, c->p0, err, len);
@@ -208,6 +217,9 @@ void fcc_opt_sid_usage(FILE *out)
         "                                default prior becomes the affine wind-tunnel model)\n"
         "  --no-mls-hold                 AZKF: keep learning while a fault is flagged\n"
         "  --no-arm-on-prior             AZKF: detector off until the MLS has fitted a model\n"
+        "  --rows paper|prior|posterior  estimate each row reports, and the MLS learns from:\n"
+        "                                paper = KF after y_k, ZKF/AZKF before (default);\n"
+        "                                prior = all before y_k; posterior = all after\n"
         "  --zkf-order N                 ZKF fixed order (%u; %u..%u)\n"
         "  --q-normal N / --q-fault N    AZKF orders without / during a fault (%u / %u)\n"
         "  --fault-policy order|skip     AZKF fault policy (order)\n"

@@ -87,6 +87,8 @@ fcc_status_t fcc_kf_step(fcc_kf_t *kf, const fcc_sid_model_t *model, fcc_real_t 
     if (predict) {
         fcc_kf_predict(kf->q, model, de_prev, x, p);
     }
+    const fcc_real_t prior_x[2] = {x[0], x[1]};
+    const fcc_real_t prior_p[4] = {p[0], p[1], p[2], p[3]};
     if (use_measurement && fcc_kf_update(kf->r, y, x, p, k) != FCC_OK) {
         return FCC_ERR_NOT_FINITE;
     }
@@ -103,6 +105,8 @@ fcc_status_t fcc_kf_step(fcc_kf_t *kf, const fcc_sid_model_t *model, fcc_real_t 
         info->gain_norm = use_measurement ? fcc_sid_m2_norm2(k) : FCC_R(0.0);
         info->predicted = predict;
         info->updated = use_measurement;
+        memcpy(info->prior_x, prior_x, sizeof info->prior_x);
+        memcpy(info->prior_p, prior_p, sizeof info->prior_p);
     }
     return FCC_OK;
 }

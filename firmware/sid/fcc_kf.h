@@ -37,6 +37,8 @@ typedef struct {
     fcc_real_t gain_norm; /* ||K_k||_2 */
     bool predicted;       /* eqs. 10-11 ran (false on the first step) */
     bool updated;         /* eqs. 12-14 ran */
+    fcc_real_t prior_x[2]; /* x-_k, before y_k (step 0: x0) */
+    fcc_real_t prior_p[4]; /* P-_k (step 0: P0) */
 } fcc_kf_info_t;
 
 /* x0, p0: prior mean and covariance (symmetric positive definite);

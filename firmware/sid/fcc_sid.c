@@ -76,6 +76,10 @@ fcc_status_t fcc_sid_config_check(const fcc_sid_config_t *cfg)
     if (cfg->filter != FCC_SID_KF && cfg->filter != FCC_SID_ZKF && cfg->filter != FCC_SID_AZKF) {
         return FCC_ERR_ARG;
     }
+    if (cfg->rows != FCC_SID_ROWS_PAPER && cfg->rows != FCC_SID_ROWS_PRIOR &&
+        cfg->rows != FCC_SID_ROWS_POSTERIOR) {
+        return FCC_ERR_ARG;
+    }
     if (!fcc_sid_all_finite(cfg->x0, 2) || !fcc_sid_all_finite(cfg->p0, 4) ||
         !fcc_sid_all_finite(cfg->e, 4) || !fcc_sid_all_finite(cfg->f, 4)) {
         return FCC_ERR_ARG;
@@ -121,14 +125,20 @@ static void zkf_bounds(const fcc_zkf_t *zkf, fcc_sid_out_t *out)
     }
 }
 
+/* Row of an estimate x with covariance p: +/- 3 sigma. */
+static void kf_row(const fcc_real_t x[2], const fcc_real_t p[4], fcc_sid_out_t *out)
+{
+    const fcc_real_t s[2] = {FCC_R(3.0) * FCC_SQRT(p[0]), FCC_R(3.0) * FCC_SQRT(p[3])};
+    for (size_t i = 0; i < 2u; ++i) {
+        out->x_hat[i] = x[i];
+        out->lo[i] = x[i] - s[i];
+        out->hi[i] = x[i] + s[i];
+    }
+}
+
 static void kf_bounds(const fcc_kf_t *kf, fcc_sid_out_t *out)
 {
-    const fcc_real_t s[2] = {FCC_R(3.0) * FCC_SQRT(kf->p[0]), FCC_R(3.0) * FCC_SQRT(kf->p[3])};
-    for (size_t i = 0; i < 2u; ++i) {
-        out->x_hat[i] = kf->x[i];
-        out->lo[i] = kf->x[i] - s[i];
-        out->hi[i] = kf->x[i] + s[i];
-    }
+    kf_row(kf->x, kf->p, out);
 }
 
 fcc_status_t fcc_sid_init(fcc_sid_t *sid, const fcc_sid_config_t *cfg)
@@ -158,6 +168,10 @@ fcc_status_t fcc_sid_init(fcc_sid_t *sid, const fcc_sid_config_t *cfg)
     }
     if (st != FCC_OK) {
         return st;
+    }
+    if (cfg->filter != FCC_SID_KF) {
+        fcc_zkf_set_posterior(cfg->filter == FCC_SID_ZKF ? &sid->u.zkf : &sid->u.azkf.zkf,
+                              cfg->rows == FCC_SID_ROWS_POSTERIOR);
     }
     /* The "last good output" before any step: the prior. */
     fcc_sid_out_t *last = &sid->last;
@@ -201,16 +215,25 @@ static fcc_status_t step_kf(fcc_sid_t *sid, const fcc_real_t y[2], fcc_real_t de
         return st;
     }
     fill_model(sid, out);
-    kf_bounds(kf, out);
     out->gain_norm = info.gain_norm;
     out->measurement_used = use_y;
 
-    learn(sid, sid->have_prev && sid->prev_informed, sid->prev_x, sid->prev_de, kf->x, use_y);
-    sid->prev_x[0] = kf->x[0];
-    sid->prev_x[1] = kf->x[1];
+    /* The state this row reports and whether a measurement corrected it. */
+    const bool prior_rows = sid->cfg.rows == FCC_SID_ROWS_PRIOR;
+    const fcc_real_t *x_row = prior_rows ? info.prior_x : kf->x;
+    const bool informed = prior_rows ? (sid->have_prev && sid->cur_informed) : use_y;
+    if (prior_rows) {
+        kf_row(info.prior_x, info.prior_p, out);
+    } else {
+        kf_bounds(kf, out);
+    }
+    learn(sid, sid->have_prev && sid->prev_informed, sid->prev_x, sid->prev_de, x_row, informed);
+    sid->prev_x[0] = x_row[0];
+    sid->prev_x[1] = x_row[1];
     sid->prev_de = de;
     sid->have_prev = true;
-    sid->prev_informed = use_y;
+    sid->prev_informed = informed;
+    sid->cur_informed = use_y;
     return FCC_OK;
 }
 
@@ -247,8 +270,25 @@ static fcc_status_t step_zkf(fcc_sid_t *sid, const fcc_real_t y[2], fcc_real_t d
     out->measurement_used = zinfo.updated;
 
     const bool informed = zinfo.updated && !(fault && sid->cfg.mls_hold_on_fault);
-    learn(sid, sid->cur_informed, x_k, de, zkf->x, informed);
-    sid->cur_informed = informed;
+    if (sid->cfg.rows != FCC_SID_ROWS_POSTERIOR) {
+        learn(sid, sid->cur_informed, x_k, de, zkf->x, informed);
+        sid->cur_informed = informed;
+        return FCC_OK;
+    }
+    /* Posterior rows: x_k|k, its set, ||G'_k||; the MLS learns x_k-1|k-1 -> x_k|k. */
+    for (size_t i = 0; i < 2u; ++i) {
+        out->x_hat[i] = zinfo.post_x[i];
+        out->lo[i] = zinfo.post_x[i] - zinfo.post_hull[i];
+        out->hi[i] = zinfo.post_x[i] + zinfo.post_hull[i];
+    }
+    out->gain_norm = zinfo.post_gain_norm;
+    learn(sid, sid->have_prev && sid->prev_informed, sid->prev_x, sid->prev_de, zinfo.post_x,
+          informed);
+    sid->prev_x[0] = zinfo.post_x[0];
+    sid->prev_x[1] = zinfo.post_x[1];
+    sid->prev_de = de;
+    sid->have_prev = true;
+    sid->prev_informed = informed;
     return FCC_OK;
 }
 

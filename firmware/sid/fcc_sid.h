@@ -28,12 +28,22 @@
  * MLS has fitted a model (or when the MLS is off).
  *
  * Output semantics (one row per step, comparable with another
- * implementation):
- *  - KF row k is the posterior after y_k (step 0 updates x0, P0 without a
- *    prediction); its bounds are +/- 3 sigma; order 0; fault 0.
- *  - ZKF and AZKF row k is x_k before y_k is used (their step is one
- *    combined predict-correct), with the gain and order used in step k and
- *    the interval hull of <x_k, P_k> as bounds.
+ * implementation), chosen by cfg.rows:
+ *  - FCC_SID_ROWS_PAPER (default, the paper's printed equations): KF row k
+ *    is the posterior after y_k (step 0 updates x0, P0 without a
+ *    prediction), bounds +/- 3 sigma, order 0, fault 0; ZKF and AZKF row k
+ *    is x_k before y_k is used (their step is one combined predict-correct),
+ *    with the gain and order used in step k and the interval hull of
+ *    <x_k, P_k> as bounds.
+ *  - FCC_SID_ROWS_POSTERIOR: every filter after y_k.  KF as above; ZKF/AZKF
+ *    x_k|k = x_k + G'_k (y_k - x_k), G'_k = P_bar P_bar^T (P_bar P_bar^T + R)^-1,
+ *    bounds the hull of [(I - G'_k) P_bar, -G'_k F], gain ||G'_k||_2
+ *    (fcc_zkf.h; without a measurement: x_k, the hull of P_k, 0).
+ *  - FCC_SID_ROWS_PRIOR: every filter before y_k, with the gain used in step
+ *    k.  ZKF/AZKF as PAPER; KF x-_k, P-_k (step 0: x0, P0), +/- 3 sigma.
+ *  In every mode the MLS learns from the states the rows report: the
+ *  transition ending at the newest such state, after each step (PAPER: KF
+ *  posteriors, ZKF/AZKF priors).
  *  - A_k, B_k, rho(A_k), standard errors: the model used in the step.
  *
  * Bad input: a non-finite or out-of-range elevator refuses the step
@@ -76,8 +86,16 @@ typedef enum {
 #define FCC_SID_DEFAULT_Q_LIMIT FCC_R(10.0)
 #define FCC_SID_DEFAULT_DE_LIMIT FCC_R(1.0)
 
+/* Which estimate a row reports (see the file comment). */
+typedef enum {
+    FCC_SID_ROWS_PAPER = 0,     /* KF after y_k, ZKF/AZKF before y_k (the paper's equations) */
+    FCC_SID_ROWS_PRIOR = 1,     /* every filter before y_k */
+    FCC_SID_ROWS_POSTERIOR = 2  /* every filter after y_k */
+} fcc_sid_rows_t;
+
 typedef struct {
     fcc_sid_filter_t filter;
+    fcc_sid_rows_t rows;     /* row semantics and what the MLS learns from (PAPER) */
     fcc_real_t x0[2];        /* initial estimate (rad, rad/s) */
     fcc_real_t p0[4];        /* initial KF covariance (SPD); the ZKF starts from its
                                 Cholesky factor, i.e. the same P0 as covariation */
@@ -129,7 +147,8 @@ typedef struct {
     fcc_real_t prev_de;       /* KF: de_k-1 */
     bool have_prev;           /* KF: prev_x exists */
     bool prev_informed;       /* KF: prev_x was corrected by a measurement */
-    bool cur_informed;        /* ZKF/AZKF: x_k was corrected by y_k-1 */
+    bool cur_informed;        /* ZKF/AZKF: x_k was corrected by y_k-1; KF prior rows:
+                                 the last step used its measurement */
     fcc_status_t mls_status;  /* status of the last fit */
     uint32_t k;               /* steps done */
     fcc_sid_out_t last;       /* last good output */

@@ -207,9 +207,9 @@ static void commit_generators(fcc_zkf_t *zkf, bool reducing, uint16_t q, const f
     zkf->cov[2] = s[4];
 }
 
-/* G = A M (M + R)^-1 (eq. 25 with C = I). */
+/* G = A M (M + R)^-1 (eq. 25 with C = I); gp = M (M + R)^-1 when not NULL. */
 static fcc_status_t zkf_gain(const fcc_zkf_t *zkf, const fcc_real_t a[4], const fcc_real_t m[4],
-                             fcc_real_t g[4])
+                             fcc_real_t g[4], fcc_real_t *gp)
 {
     const fcc_real_t s[4] = {m[0] + zkf->r[0], m[1] + zkf->r[1], m[2] + zkf->r[2],
                              m[3] + zkf->r[3]};
@@ -220,7 +220,64 @@ static fcc_status_t zkf_gain(const fcc_zkf_t *zkf, const fcc_real_t a[4], const 
     fcc_real_t am[4];
     fcc_sid_m2_mul(a, m, am);
     fcc_sid_m2_mul(am, sinv, g);
+    if (gp != NULL) {
+        fcc_sid_m2_mul(m, sinv, gp);
+    }
     return FCC_OK;
+}
+
+/* Adds the interval hull radii of T times columns [from, to) of P to h. */
+static void hull_run(const fcc_real_t *gen, const fcc_real_t t[4], uint32_t from, uint32_t to,
+                     fcc_real_t h[2])
+{
+    for (uint32_t j = from; j < to; ++j) {
+        const fcc_real_t a = gen[2u * j];
+        const fcc_real_t b = gen[2u * j + 1u];
+        h[0] += FCC_FABS(t[0] * a + t[1] * b);
+        h[1] += FCC_FABS(t[2] * a + t[3] * b);
+    }
+}
+
+/* Hull radii of [T P_bar, -G' F] (the posterior set), P_bar = the kept
+ * columns of P and the box (the columns commit_generators would transform). */
+static void posterior_hull(const fcc_zkf_t *zkf, bool reducing, uint16_t q, const fcc_real_t t[4],
+                           const fcc_real_t box[2], const fcc_real_t gp[4], fcc_real_t h[2])
+{
+    const fcc_zono_work_t *wk = &zkf->work;
+    h[0] = FCC_R(0.0);
+    h[1] = FCC_R(0.0);
+    if (!reducing) {
+        hull_run(zkf->gen, t, 0u, zkf->p, h);
+    } else if (q > FCC_ZONO_MIN_ORDER) {
+        uint32_t next = 0u;
+        for (uint16_t i = 0; i < wk->n_list; ++i) {
+            const uint32_t j = wk->list[i];
+            if (wk->list_is_boxed) {
+                hull_run(zkf->gen, t, next, j, h);
+            } else {
+                hull_run(zkf->gen, t, j, j + 1u, h);
+            }
+            next = j + 1u;
+        }
+        if (wk->list_is_boxed) {
+            hull_run(zkf->gen, t, next, zkf->p, h);
+        }
+    }
+    if (reducing) {
+        h[0] += FCC_FABS(t[0] * box[0]) + FCC_FABS(t[1] * box[1]);
+        h[1] += FCC_FABS(t[2] * box[0]) + FCC_FABS(t[3] * box[1]);
+    }
+    fcc_real_t gf[4];
+    fcc_sid_m2_mul(gp, zkf->f, gf);
+    h[0] += FCC_FABS(gf[0]) + FCC_FABS(gf[1]);
+    h[1] += FCC_FABS(gf[2]) + FCC_FABS(gf[3]);
+}
+
+void fcc_zkf_set_posterior(fcc_zkf_t *zkf, bool on)
+{
+    if (zkf != NULL) {
+        zkf->posterior = on;
+    }
 }
 
 fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real_t de,
@@ -247,7 +304,8 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
     reduced_covariation(zkf, reducing, q, m, box);
 
     fcc_real_t g[4] = {FCC_R(0.0), FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
-    if (use_measurement && zkf_gain(zkf, model->a, m, g) != FCC_OK) {
+    fcc_real_t gp[4] = {FCC_R(0.0), FCC_R(0.0), FCC_R(0.0), FCC_R(0.0)};
+    if (use_measurement && zkf_gain(zkf, model->a, m, g, zkf->posterior ? gp : NULL) != FCC_OK) {
         return FCC_ERR_NOT_FINITE;
     }
     const fcc_real_t *a = model->a;
@@ -277,6 +335,23 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
         info->order = q;
         info->n_generators = reducing ? q : zkf->p;
         info->updated = use_measurement;
+        info->post_x[0] = info->post_x[1] = FCC_R(0.0);
+        info->post_hull[0] = info->post_hull[1] = FCC_R(0.0);
+        info->post_gain_norm = FCC_R(0.0);
+        if (zkf->posterior && use_measurement) {
+            const fcc_real_t i0 = y[0] - zkf->x[0];
+            const fcc_real_t i1 = y[1] - zkf->x[1];
+            const fcc_real_t tp[4] = {FCC_R(1.0) - gp[0], -gp[1], -gp[2], FCC_R(1.0) - gp[3]};
+            info->post_x[0] = zkf->x[0] + gp[0] * i0 + gp[1] * i1;
+            info->post_x[1] = zkf->x[1] + gp[2] * i0 + gp[3] * i1;
+            posterior_hull(zkf, reducing, q, tp, box, gp, info->post_hull);
+            info->post_gain_norm = fcc_sid_m2_norm2(gp);
+        } else if (zkf->posterior) {
+            info->post_x[0] = zkf->x[0];
+            info->post_x[1] = zkf->x[1];
+            info->post_hull[0] = zkf->hull[0];
+            info->post_hull[1] = zkf->hull[1];
+        }
     }
     commit_generators(zkf, reducing, q, t, box, g, use_measurement);
     zkf->x[0] = x_new[0];

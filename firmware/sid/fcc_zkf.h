@@ -49,6 +49,7 @@ typedef struct {
     fcc_real_t f[4];                           /* measurement generators F (row-major) */
     fcc_real_t r[4];                           /* R = F F^T */
     fcc_real_t f_hull[2];                      /* interval hull radius of F */
+    bool posterior;                            /* also compute the posterior (info.post_*) */
     fcc_zono_work_t work;
 } fcc_zkf_t;
 
@@ -59,6 +60,15 @@ typedef struct {
     uint16_t order;        /* q used */
     uint16_t n_generators; /* columns of P_bar_k */
     bool updated;          /* the measurement entered the step */
+    /* With zkf->posterior (else zero): the estimate after y_k,
+     *   x_k|k = x_k + G'_k (y_k - x_k),  G'_k = P_bar P_bar^T (P_bar P_bar^T + R)^-1
+     * (so that x_k+1 = A x_k|k + B de_k: G_k = A G'_k), its set
+     * <x_k|k, [(I - G'_k) P_bar, -G'_k F]> as interval hull radii, and ||G'_k||_2.
+     * Without a measurement: x_k, the hull of P_k and 0.  One extra pass over
+     * the kept columns. */
+    fcc_real_t post_x[2];
+    fcc_real_t post_hull[2];
+    fcc_real_t post_gain_norm;
 } fcc_zkf_info_t;
 
 /* x0: initial centre; p0: 2x2 initial generator matrix (row-major; the
@@ -77,6 +87,9 @@ fcc_status_t fcc_zkf_init(fcc_zkf_t *zkf, const fcc_real_t x0[2], const fcc_real
 fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real_t de,
                           const fcc_real_t y[2], bool use_measurement, uint16_t q,
                           fcc_zkf_info_t *info);
+
+/* Also report the posterior of every step (info.post_*); off after init. */
+void fcc_zkf_set_posterior(fcc_zkf_t *zkf, bool on);
 
 /* Radius of the interval hull of the predicted output zonotope
  * <C x_k, [C P_k, F]> (the fault detector's bound on the innovation). */

@@ -92,6 +92,12 @@ def test_output_format(tool: Path, flight: Flight) -> None:
          policy="skip", det=DetectorConfig(max_fault_steps=0)))),
     (("--max-fault", "3", "--margin", "1.2"),
      SidConfig(azkf=AzkfConfig(det=DetectorConfig(margin=1.2, max_fault_steps=3)))),
+    (("--rows", "posterior"), SidConfig(rows="posterior")),
+    (("--rows", "prior"), SidConfig(rows="prior")),
+    (("--rows", "posterior", "--fault-policy", "skip", "--q-normal", "5"),
+     SidConfig(rows="posterior", azkf=AzkfConfig(policy="skip", q_normal=5))),
+    (("--rows", "prior", "--detector", "oracle", "--zkf-order", "12"),
+     SidConfig(rows="prior", zkf_order=12, azkf=AzkfConfig(det=DetectorConfig(mode="oracle")))),
 ])
 def test_matches_reference(tool: Path, flight: Flight, args: tuple, cfg: SidConfig) -> None:
     if FLOAT:
@@ -254,3 +260,22 @@ def test_reads_a_file_and_ignores_unknown_columns(tool: Path, flight: Flight, tm
     assert run(tool, "", str(path)).stdout == run(tool, flight.csv()).stdout
     res = run(tool, "", str(tmp_path / "missing.csv"), check=False)
     assert res.returncode != 0 and len(res.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("rows", ["posterior", "prior"])
+def test_unreduced_zkf_is_the_kf(tool: Path, flight: Flight, rows: str) -> None:
+    """Eqs. 21-25 without reduction (order >= generator count) with Q = E E^T, R = F F^T and
+    the ZKF started from chol(P0) are the KF, read at the same moment (before or after y_k),
+    on the same model.  240 steps keep the 4 new generators per step under the order 1000.
+    (With the MLS on they part after the MLS starts fitting: the ZKF's combined step
+    predicts x_k+1 in step k with the model of step k, the KF predicts it in step k+1 with
+    a model that has also learnt the transition ending at x_k.)"""
+    n = 240
+    csv = "\n".join(flight.csv().splitlines()[: n + 1]) + "\n"
+    model = "0.989307,0.018740,-0.540133,0.873259,-0.039892,-2.015052"
+    c = read_rows(run(tool, csv, "--rows", rows, "--zkf-order", "1000", "--fixed-model", model).stdout)
+    tol = 1e-5 if FLOAT else 1e-12
+    assert len(c["kf"]["alpha_hat"]) == n
+    # prior rows: the ZKF's gain column is its predictor gain G_k = A K_k, the KF's is K_k
+    for col in ("alpha_hat", "q_hat") + (("gain_norm",) if rows == "posterior" else ()):
+        np.testing.assert_allclose(c["zkf"][col], c["kf"][col], rtol=0, atol=tol, err_msg=col)

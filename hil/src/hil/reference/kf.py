@@ -16,6 +16,7 @@ class Kf:
         self.r = f @ f.T
         self.started = False
         self.gain = np.zeros((2, 2))
+        self.prior_x, self.prior_p = self.x.copy(), self.p.copy()   # before the last y_k
 
     def step(self, model: Model, de_prev: float, y: np.ndarray | None) -> float:
         """Predict (unless first) and update with y (None: no measurement).  Returns ||K||."""
@@ -24,6 +25,7 @@ class Kf:
             x = model.a @ x + model.b * de_prev + model.c           # (10)
             p = model.a @ p @ model.a.T + self.q                      # (11)
         k = np.zeros((2, 2))
+        self.prior_x, self.prior_p = x.copy(), p.copy()
         if y is not None:
             k = p @ np.linalg.inv(p + self.r)                         # (12)
             x = x + k @ (np.asarray(y) - x)                           # (13)
@@ -32,6 +34,8 @@ class Kf:
         self.x, self.p, self.gain, self.started = x, p, k, True
         return norm2(k) if y is not None else 0.0
 
-    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        s = 3.0 * np.sqrt(np.diag(self.p))
-        return self.x - s, self.x + s
+    def bounds(self, prior: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """+- 3 sigma of the posterior (prior: of the last step's prediction)."""
+        x, p = (self.prior_x, self.prior_p) if prior else (self.x, self.p)
+        s = 3.0 * np.sqrt(np.diag(p))
+        return x - s, x + s

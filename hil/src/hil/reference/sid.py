@@ -1,10 +1,14 @@
 """One identification loop (MLS closed with KF, ZKF or AZKF) and the replay of a
-flight, with the row semantics of firmware/sid/fcc_sid.h and sid_replay:
+flight, with the row semantics of firmware/sid/fcc_sid.h and sid_replay
+(SidConfig.rows, sid_replay --rows):
 
-* KF row k: posterior after y_k (step 0 updates x0, P0 without predicting),
-  bounds +/- 3 sigma, order 0, fault 0.
-* ZKF / AZKF row k: x_k before y_k is used, the hull of <x_k, P_k>, the gain
-  and order of step k.
+* "paper" (default): KF row k: posterior after y_k (step 0 updates x0, P0 without
+  predicting), bounds +/- 3 sigma, order 0, fault 0.  ZKF / AZKF row k: x_k before
+  y_k is used, the hull of <x_k, P_k>, the gain and order of step k.
+* "posterior": every filter after y_k; ZKF/AZKF x_k|k = x_k + G'(y_k - x_k),
+  G' = M (M + R)^-1 (M = P_bar P_bar^T), the hull of [(I - G') P_bar, -G' F], ||G'||.
+* "prior": every filter before y_k; KF x-_k with +/- 3 sigma of P-_k, ||K_k||.
+* In each mode the MLS learns from the states the rows report.
 * Model columns: the model used in the step (c1, c2 too with the MLS
   intercept: columns(cfg)).  A transition is learnt by the
   MLS only when both its ends were corrected by a measurement (AZKF: and no
@@ -23,6 +27,7 @@ from hil.reference.zkf import Azkf, AzkfConfig, Zkf
 from hil.reference.zonotope import hull
 
 FILTERS = ("kf", "zkf", "azkf")
+ROWS = ("paper", "prior", "posterior")
 COLUMNS = ("t", "filter", "alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi",
            "gain_norm", "order", "fault", "a11", "a12", "a21", "a22", "b1", "b2", "rho")
 INTERCEPT_COLUMNS = ("c1", "c2")
@@ -50,6 +55,7 @@ class SidConfig:
     alpha_limit: float = 1.5707963
     q_limit: float = 10.0
     de_limit: float = 1.0
+    rows: str = "paper"
 
 
 class SidLoop:
@@ -58,6 +64,8 @@ class SidLoop:
     def __init__(self, kind: str, cfg: SidConfig | None = None) -> None:
         if kind not in FILTERS:
             raise ValueError(f"unknown filter {kind!r}")
+        if (cfg or SidConfig()).rows not in ROWS:
+            raise ValueError(f"unknown rows {(cfg or SidConfig()).rows!r}")
         self.kind = kind
         self.cfg = cfg or SidConfig()
         self.mls = Mls(self.cfg.mls)
@@ -95,11 +103,14 @@ class SidLoop:
         if self.kind == "kf":
             kf = self.filt
             row["gain_norm"] = kf.step(model, self.prev_de, y if use_y else None)
-            lo, hi = kf.bounds()
-            xh = kf.x
+            prior = c.rows == "prior"
+            lo, hi = kf.bounds(prior)
+            xh = kf.prior_x if prior else kf.x
+            informed = (self.prev_x is not None and self.cur_informed) if prior else use_y
             self._learn(self.prev_x is not None and self.prev_informed, self.prev_x, self.prev_de,
-                        kf.x, use_y)
-            self.prev_x, self.prev_de, self.prev_informed = kf.x.copy(), de, use_y
+                        xh, informed)
+            self.prev_x, self.prev_de, self.prev_informed = xh.copy(), de, informed
+            self.cur_informed = use_y
         else:
             zkf = self.filt.zkf if self.kind == "azkf" else self.filt
             xh = zkf.x.copy()
@@ -114,8 +125,16 @@ class SidLoop:
                 gnorm, _ = zkf.step(model, de, y if use_y else None, q)
             row.update(gain_norm=gnorm, order=q, fault=int(fault))
             informed = use_y and not skipped and not (fault and c.mls_hold_on_fault)
-            self._learn(self.cur_informed, xh, de, zkf.x, informed)
-            self.cur_informed = informed
+            if c.rows != "posterior":
+                self._learn(self.cur_informed, xh, de, zkf.x, informed)
+                self.cur_informed = informed
+            else:
+                xh = zkf.post_x.copy()
+                lo, hi = xh - zkf.post_hull, xh + zkf.post_hull
+                row["gain_norm"] = zkf.post_gain
+                self._learn(self.prev_x is not None and self.prev_informed, self.prev_x,
+                            self.prev_de, xh, informed)
+                self.prev_x, self.prev_de, self.prev_informed = xh.copy(), de, informed
         row.update(alpha_hat=xh[0], q_hat=xh[1], alpha_lo=lo[0], alpha_hi=hi[0], q_lo=lo[1],
                    q_hi=hi[1])
         return row

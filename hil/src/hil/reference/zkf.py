@@ -23,6 +23,10 @@ class Zkf:
         self.f = np.asarray(f, dtype=float)
         self.r = self.f @ self.f.T
         self.gain = np.zeros((2, 2))
+        #: the last step's posterior: x_k|k, hull radii of its set, ||G'_k||
+        self.post_x = self.x.copy()
+        self.post_hull = hull(self.gen)
+        self.post_gain = 0.0
 
     def output_radius(self) -> np.ndarray:
         """Hull radius of <C x, [C P, F]>."""
@@ -35,9 +39,15 @@ class Zkf:
         m = pbar @ pbar.T
         x_new = a @ self.x + model.b * de + model.c
         g = np.zeros((2, 2))
+        self.post_x, self.post_hull, self.post_gain = self.x.copy(), hull(self.gen), 0.0
         if y is not None:
             g = a @ m @ np.linalg.inv(m + self.r)                      # (25)
             x_new = x_new + g @ (np.asarray(y) - self.x)               # (22)
+            # the estimate after y_k: G' = M (M + R)^-1, G = A G'
+            gp = m @ np.linalg.inv(m + self.r)
+            self.post_x = self.x + gp @ (np.asarray(y) - self.x)
+            self.post_hull = hull(np.hstack([(np.eye(2) - gp) @ pbar, -gp @ self.f]))
+            self.post_gain = norm2(gp)
         cols = [(a - g) @ pbar, self.e]                                # (24)
         if y is not None:
             cols.append(-g @ self.f)

@@ -53,10 +53,15 @@ class MissileSensorOptions:
 
     var_gyro: float = 0.8   # E{v_g^2}, rad^2/s^2 (seed 2 as printed)
     var_acc: float = 0.8    # E{v_a^2}, ft^2/s^4
+    #: multiplies the noise the sensors add (0: noise-free readings, for the deterministic
+    #: responses of Figs. 4-6); the autopilot's design keeps the nominal variances above
+    noise_scale: float = 1.0
 
     def __post_init__(self) -> None:
         if self.var_gyro < 0.0 or self.var_acc < 0.0:
             raise ValueError("noise variances must be >= 0")
+        if not self.noise_scale >= 0.0:
+            raise ValueError("noise_scale must be >= 0")
 
     @property
     def R(self) -> np.ndarray:
@@ -100,7 +105,8 @@ class MissileSensors:
 
     def __init__(self, seed: int, options: MissileSensorOptions = MissileSensorOptions()) -> None:
         self.options = options
-        self._sd = (math.sqrt(options.var_gyro), math.sqrt(options.var_acc))
+        self._sd = (options.noise_scale * math.sqrt(options.var_gyro),
+                    options.noise_scale * math.sqrt(options.var_acc))
         self._rng = np.random.default_rng([int(seed), 0x736D])  # own stream: "sm"
 
     def measure(self, x: np.ndarray) -> dict[str, float]:

@@ -1,0 +1,298 @@
+/*
+ * mps2_board.c -- mps2-an386: CMSDK APB UART driver, SysTick clock,
+ * semihosting exit; see mps2_board.h.
+ */
+#include "mps2_board.h"
+
+#include <stdbool.h>
+
+/* ---- registers ---------------------------------------------------------------- */
+
+typedef struct {
+    volatile uint32_t data;      /* 0x00 */
+    volatile uint32_t state;     /* 0x04: bit 0 TX full, 1 RX full, 2 TX overrun, 3 RX overrun */
+    volatile uint32_t ctrl;      /* 0x08: bit 0 TX en, 1 RX en, 2 TX int, 3 RX int, 4/5 overrun int */
+    volatile uint32_t intstatus; /* 0x0C: read status, write 1 to clear (TX 0, RX 1, TXO 2, RXO 3) */
+    volatile uint32_t bauddiv;   /* 0x10 */
+} cmsdk_uart_t;
+
+#define UART0 ((cmsdk_uart_t *)0x40004000u)
+#define UART1 ((cmsdk_uart_t *)0x40005000u)
+#define UART_STATE_TXFULL 0x1u
+#define UART_STATE_RXFULL 0x2u
+#define UART_STATE_OVERRUN 0xCu
+#define UART_CTRL_TX_EN 0x1u
+#define UART_CTRL_RX_EN 0x2u
+#define UART_CTRL_TX_INT 0x4u
+#define UART_CTRL_RX_INT 0x8u
+#define UART_CTRL_RXO_INT 0x20u
+#define UART_INT_TX 0x1u
+#define UART_INT_RX 0x2u
+#define UART_INT_OVERRUN 0xCu
+/* 25 MHz / 115200 baud: QEMU ignores the rate but wants a valid divider. */
+#define UART_BAUDDIV 217u
+
+#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+#define NVIC_ISER0 (*(volatile uint32_t *)0xE000E100u)
+#define SYST_TICKS_PER_MS (MPS2_CPU_HZ / 1000u)
+#define IRQ_UART0_RX 0u
+#define IRQ_UART0_TX 1u
+#define IRQ_UART_OVERFLOW 12u
+/* Log UART: give up on a byte after this many polls (QEMU never blocks a
+ * file or null backend; a stuck pty must not stop the flight computer). */
+#define LOG_POLL_LIMIT 100000u
+
+#define MPS2_STACK_PAINT 0xA5A5A5A5u
+extern uint32_t mps2_stack_bottom, mps2_stack_top, mps2_bootcfg_start;
+
+/* ---- state (one board) ----------------------------------------------------------- */
+
+typedef struct {
+    volatile uint32_t ms;                       /* SysTick wraps */
+    uint8_t rx[MPS2_LINK_RX_RING];
+    volatile uint32_t rx_head;                  /* written by the RX interrupt */
+    volatile uint32_t rx_tail;                  /* written by the main loop */
+    uint8_t tx[MPS2_LINK_TX_RING];
+    volatile uint32_t tx_head;                  /* written by the main loop */
+    volatile uint32_t tx_tail;                  /* written by the pump (interrupts masked) */
+    volatile mps2_counters_t cnt;
+} mps2_t;
+
+static mps2_t g_board;
+
+void mps2_systick_isr(void);
+void mps2_uart0_rx_isr(void);
+void mps2_uart0_tx_isr(void);
+void mps2_uart_overflow_isr(void);
+
+static uint32_t irq_save(void)
+{
+    uint32_t primask;
+    __asm__ volatile("mrs %0, primask\n\tcpsid i" : "=r"(primask)::"memory");
+    return primask;
+}
+
+static void irq_restore(uint32_t primask)
+{
+    __asm__ volatile("msr primask, %0" ::"r"(primask) : "memory");
+}
+
+/* ---- clock ------------------------------------------------------------------------ */
+
+void mps2_systick_isr(void)
+{
+    g_board.ms = g_board.ms + 1u;
+}
+
+uint64_t mps2_ticks(void)
+{
+    uint32_t ms;
+    uint32_t cvr;
+    do { /* a wrap between the two reads shows as a changed ms: read again */
+        ms = g_board.ms;
+        cvr = SYST_CVR;
+    } while (ms != g_board.ms);
+    return (uint64_t)ms * SYST_TICKS_PER_MS + (uint64_t)(SYST_TICKS_PER_MS - 1u - cvr);
+}
+
+uint64_t mps2_now_us(void)
+{
+    return mps2_ticks() / (MPS2_CPU_HZ / 1000000u);
+}
+
+/* ---- link UART (UART0) -------------------------------------------------------------- */
+
+static uint32_t ring_used(uint32_t head, uint32_t tail)
+{
+    return head - tail; /* free-running indices, power-of-two rings */
+}
+
+void mps2_uart0_rx_isr(void)
+{
+    /* Clear first, then drain: a byte that lands after the last read raises
+     * the interrupt again instead of waiting unseen in the UART. */
+    UART0->intstatus = UART_INT_RX;
+    while ((UART0->state & UART_STATE_RXFULL) != 0u) {
+        const uint8_t b = (uint8_t)UART0->data;
+        const uint32_t head = g_board.rx_head;
+        if (ring_used(head, g_board.rx_tail) < MPS2_LINK_RX_RING) {
+            g_board.rx[head % MPS2_LINK_RX_RING] = b;
+            g_board.rx_head = head + 1u;
+            g_board.cnt.rx_bytes = g_board.cnt.rx_bytes + 1u;
+        } else {
+            g_board.cnt.rx_overflows = g_board.cnt.rx_overflows + 1u;
+        }
+    }
+}
+
+void mps2_uart_overflow_isr(void)
+{
+    if ((UART0->state & UART_STATE_OVERRUN) != 0u) {
+        g_board.cnt.rx_overflows = g_board.cnt.rx_overflows + 1u;
+    }
+    UART0->state = UART_STATE_OVERRUN;   /* write 1 to clear */
+    UART0->intstatus = UART_INT_OVERRUN;
+    UART1->state = UART_STATE_OVERRUN;
+    UART1->intstatus = UART_INT_OVERRUN;
+}
+
+/* Moves queued bytes into the UART while it takes them; asks for the TX
+ * interrupt only while bytes remain.  Called with interrupts masked. */
+static void tx_pump(void)
+{
+    uint32_t tail = g_board.tx_tail;
+    while (tail != g_board.tx_head && (UART0->state & UART_STATE_TXFULL) == 0u) {
+        UART0->data = g_board.tx[tail % MPS2_LINK_TX_RING];
+        ++tail;
+    }
+    g_board.tx_tail = tail;
+    if (tail != g_board.tx_head) {
+        UART0->ctrl |= UART_CTRL_TX_INT;
+    } else {
+        UART0->ctrl &= ~UART_CTRL_TX_INT;
+    }
+}
+
+void mps2_uart0_tx_isr(void)
+{
+    UART0->intstatus = UART_INT_TX;
+    tx_pump();
+}
+
+int mps2_link_getc(uint8_t *byte)
+{
+    const uint32_t tail = g_board.rx_tail;
+    if (tail == g_board.rx_head) {
+        return 0;
+    }
+    *byte = g_board.rx[tail % MPS2_LINK_RX_RING];
+    g_board.rx_tail = tail + 1u;
+    return 1;
+}
+
+fcc_status_t mps2_link_write(void *ctx, const uint8_t *bytes, size_t n)
+{
+    (void)ctx;
+    if (bytes == NULL || n > MPS2_LINK_TX_RING) {
+        return FCC_ERR_ARG;
+    }
+    const uint32_t primask = irq_save();
+    uint32_t head = g_board.tx_head;
+    if ((size_t)(MPS2_LINK_TX_RING - ring_used(head, g_board.tx_tail)) < n) {
+        g_board.cnt.tx_refused = g_board.cnt.tx_refused + 1u;
+        irq_restore(primask);
+        return FCC_ERR_AGAIN;
+    }
+    for (size_t i = 0u; i < n; ++i) {
+        g_board.tx[head % MPS2_LINK_TX_RING] = bytes[i];
+        ++head;
+    }
+    g_board.tx_head = head;
+    g_board.cnt.tx_bytes = g_board.cnt.tx_bytes + (uint32_t)n;
+    tx_pump();
+    irq_restore(primask);
+    return FCC_OK;
+}
+
+/* ---- log UART (UART1) --------------------------------------------------------------- */
+
+void mps2_log(const char *text)
+{
+    for (const char *p = text; p != NULL && *p != '\0'; ++p) {
+        uint32_t polls = 0u;
+        while ((UART1->state & UART_STATE_TXFULL) != 0u && polls < LOG_POLL_LIMIT) {
+            ++polls;
+        }
+        if (polls == LOG_POLL_LIMIT) {
+            g_board.cnt.log_dropped = g_board.cnt.log_dropped + 1u;
+            continue;
+        }
+        UART1->data = (uint8_t)*p;
+    }
+}
+
+void mps2_log_u64(uint64_t v)
+{
+    char buf[21];
+    size_t i = sizeof buf - 1u;
+    buf[i] = '\0';
+    do {
+        buf[--i] = (char)('0' + (int)(v % 10u));
+        v /= 10u;
+    } while (v != 0u && i > 0u);
+    mps2_log(&buf[i]);
+}
+
+/* ---- board ------------------------------------------------------------------------- */
+
+void mps2_board_init(void)
+{
+    SYST_CSR = 0u;
+    SYST_RVR = SYST_TICKS_PER_MS - 1u;
+    SYST_CVR = 0u;
+    SYST_CSR = 0x7u; /* CPU clock, interrupt, enable */
+    UART0->bauddiv = UART_BAUDDIV;
+    UART0->ctrl = UART_CTRL_TX_EN | UART_CTRL_RX_EN | UART_CTRL_RX_INT | UART_CTRL_RXO_INT;
+    UART1->bauddiv = UART_BAUDDIV;
+    UART1->ctrl = UART_CTRL_TX_EN;
+    NVIC_ISER0 = (1u << IRQ_UART0_RX) | (1u << IRQ_UART0_TX) | (1u << IRQ_UART_OVERFLOW);
+}
+
+void mps2_idle(uint64_t until_us)
+{
+    if (mps2_now_us() >= until_us) {
+        return;
+    }
+    /* Masked check-then-sleep: an interrupt that arrives in between still
+     * ends the WFI (it is pending), so no byte waits for the next SysTick. */
+    const uint32_t primask = irq_save();
+    if (g_board.rx_tail == g_board.rx_head) {
+        __asm__ volatile("dsb\n\twfi" ::: "memory");
+    }
+    irq_restore(primask);
+}
+
+uint32_t mps2_stack_used(void)
+{
+    const uint32_t *p = &mps2_stack_bottom;
+    while (p < &mps2_stack_top && *p == MPS2_STACK_PAINT) {
+        ++p;
+    }
+    return (uint32_t)((uintptr_t)&mps2_stack_top - (uintptr_t)p);
+}
+
+void mps2_counters(mps2_counters_t *out)
+{
+    const uint32_t primask = irq_save();
+    out->rx_bytes = g_board.cnt.rx_bytes;
+    out->rx_overflows = g_board.cnt.rx_overflows;
+    out->tx_bytes = g_board.cnt.tx_bytes;
+    out->tx_refused = g_board.cnt.tx_refused;
+    out->log_dropped = g_board.cnt.log_dropped;
+    irq_restore(primask);
+}
+
+void mps2_exit(int status)
+{
+    /* SYS_EXIT_EXTENDED (0x20): r1 -> {ADP_Stopped_ApplicationExit, status}. */
+    static volatile uint32_t block[2];
+    block[0] = 0x20026u;
+    block[1] = (uint32_t)status;
+    /* Let the link drain first: the last heartbeat must leave the board. */
+    for (uint32_t i = 0u; i < 1000000u && g_board.tx_tail != g_board.tx_head; ++i) {
+        const uint32_t primask = irq_save();
+        tx_pump();
+        irq_restore(primask);
+    }
+    __asm__ volatile("mov r0, #0x20\n\tmov r1, %0\n\tbkpt #0xab" ::"r"(block) : "r0", "r1", "memory");
+    for (;;) {
+        __asm__ volatile("wfi");
+    }
+}
+
+const volatile uint8_t *mps2_bootcfg(void)
+{
+    return (const volatile uint8_t *)&mps2_bootcfg_start;
+}

@@ -1,0 +1,343 @@
+/*
+ * m4f_main.c -- the flight computer as it runs on the Cortex-M4F board
+ * (QEMU mps2-an386): the same fcc_node as the Linux `fcc`, its CAN port an
+ * SLCAN device on UART0, its clock the SysTick, its configuration the boot
+ * record, its log UART1.  firmware/target/README.md is the interface.
+ *
+ *   boot:    defaults + boot record -> fcc_node_init (the LQG design runs here)
+ *   closed:  answers SLCAN commands, sends nothing
+ *   O:       the heartbeat ("listening"), then as the host fcc: lockstep steps
+ *            on SIM_TICK, or realtime steps on absolute SysTick deadlines;
+ *            heartbeats at the status rate; a pending LQG redesign in idle time
+ *   SIM_CONTROL shutdown: last heartbeat, summary on the log, QEMU exits 0
+ */
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "fcc_bootcfg.h"
+#include "fcc_node.h"
+#include "fcc_slcan.h"
+#include "mps2_board.h"
+
+/* Bytes decoded per recv call at most: the receive interrupt keeps adding. */
+#define RECV_BYTE_BUDGET 512u
+/* Frames handled per loop turn before deadlines are looked at again. */
+#define POLL_BUDGET 64u
+/* Below this much time to a deadline the loop spins instead of sleeping
+ * (the SysTick that ends a WFI comes every millisecond). */
+#define SPIN_US 1000u
+#define EVENT_LINE_GAP_US 1000000u
+
+typedef struct {
+    uint64_t deadline;
+    uint32_t period_us;
+    uint32_t k;
+} rt_app_t;
+
+typedef struct {
+    fcc_node_t node;
+    fcc_node_config_t cfg;
+    fcc_slcan_dev_t link;
+    uint64_t status_period_us; /* 0: only when opened and at shutdown */
+    uint64_t next_status_us;
+    bool flying;               /* the channel was opened at least once */
+    rt_app_t rt[FCC_N_APPS];
+    uint64_t event_last_us[FCC_EV_COUNT];
+    uint32_t event_suppressed[FCC_EV_COUNT];
+} image_t;
+
+static image_t g_img;
+
+/* ---- the port ------------------------------------------------------------------------ */
+
+static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+{
+    image_t *img = ctx;
+    return fcc_slcan_dev_send(&img->link, frame);
+}
+
+static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
+{
+    image_t *img = ctx;
+    uint8_t b = 0u;
+    for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b) != 0; ++i) {
+        if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
+            frame->t_us = mps2_now_us();
+            return FCC_OK;
+        }
+    }
+    return FCC_ERR_AGAIN;
+}
+
+static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
+{
+    const image_t *img = ctx;
+    mps2_counters_t b;
+    mps2_counters(&b);
+    memset(out, 0, sizeof *out);
+    out->rx_frames = img->link.cnt.frames_rx;
+    out->tx_frames = img->link.cnt.frames_tx;
+    out->bus_errors = img->link.cnt.line_errors;   /* garbled SLCAN lines */
+    out->rx_overflows = b.rx_overflows;
+    out->tx_dropped = img->link.cnt.tx_refused;
+    out->rx_ignored = img->link.cnt.ignored;
+    return FCC_OK;
+}
+
+static uint64_t port_now(void *ctx)
+{
+    (void)ctx;
+    return mps2_now_us();
+}
+
+static void log_kv(const char *key, uint64_t v)
+{
+    mps2_log(" ");
+    mps2_log(key);
+    mps2_log("=");
+    mps2_log_u64(v);
+}
+
+/* One log line per event class per second, with the count suppressed. */
+static void port_event(void *ctx, const fcc_event_t *ev)
+{
+    image_t *img = ctx;
+    if ((unsigned)ev->cls >= (unsigned)FCC_EV_COUNT) {
+        return;
+    }
+    const uint64_t now = mps2_now_us();
+    const unsigned c = (unsigned)ev->cls;
+    if (img->event_last_us[c] != 0u && now - img->event_last_us[c] < EVENT_LINE_GAP_US) {
+        ++img->event_suppressed[c];
+        return;
+    }
+    img->event_last_us[c] = (now == 0u) ? 1u : now;
+    mps2_log("fcc: ");
+    mps2_log(fcc_event_class_str(ev->cls));
+    if (ev->app != FCC_EV_NO_APP) {
+        mps2_log((ev->app == FCC_APP_CDRW) ? " cdrw" : " missile");
+        log_kv("step", ev->step);
+    }
+    if (ev->can_id != FCC_EV_NO_MSG) {
+        log_kv("id", ev->can_id);
+    }
+    mps2_log((ev->value < 0) ? " value=-" : " value=");
+    mps2_log_u64((ev->value < 0) ? (uint64_t)(-(int64_t)ev->value) : (uint64_t)ev->value);
+    if (img->event_suppressed[c] != 0u) {
+        log_kv("suppressed", img->event_suppressed[c]);
+        img->event_suppressed[c] = 0u;
+    }
+    mps2_log("\n");
+}
+
+/* ---- realtime schedule: absolute deadlines, overruns skipped ------------------------ */
+
+static void rt_start(image_t *img, uint64_t now)
+{
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        img->rt[a].period_us = fcc_node_app_period_us(&img->node, a);
+        img->rt[a].deadline = now + img->rt[a].period_us;
+        img->rt[a].k = 0u;
+    }
+}
+
+static void rt_release(image_t *img, uint32_t a, uint64_t now)
+{
+    rt_app_t *r = &img->rt[a];
+    if (now >= r->deadline + r->period_us) { /* a whole period late: skip, no burst */
+        const uint64_t missed = (now - r->deadline) / r->period_us;
+        r->deadline += missed * r->period_us;
+        r->k += (uint32_t)missed;
+        fcc_node_note_overrun(&img->node, a, (uint32_t)missed, r->k);
+    }
+    (void)fcc_node_run_step(&img->node, a, r->k);
+    if (mps2_now_us() > r->deadline + r->period_us) {
+        fcc_node_note_overrun(&img->node, a, 1u, r->k);
+    }
+    ++r->k;
+    r->period_us = fcc_node_app_period_us(&img->node, a); /* a redesign re-bases here */
+    r->deadline += r->period_us;
+}
+
+static void rt_run_due(image_t *img)
+{
+    /* The autopilot first when both are due, as the host fcc. */
+    static const uint32_t k_order[FCC_N_APPS] = {FCC_APP_MSL, FCC_APP_CDRW};
+    for (uint32_t i = 0u; i < FCC_N_APPS; ++i) {
+        const uint32_t a = k_order[i];
+        const uint64_t now = mps2_now_us();
+        if (img->cfg.app_enabled[a] && now >= img->rt[a].deadline) {
+            rt_release(img, a, now);
+        }
+    }
+}
+
+/* ---- start, loop, stop ------------------------------------------------------------------ */
+
+static void summary_app(const char *name, const fcc_node_app_t *a)
+{
+    mps2_log("fcc summary: ");
+    mps2_log(name);
+    log_kv("steps", a->steps);
+    log_kv("degraded", a->degraded_steps);
+    log_kv("errors", a->step_errors);
+    log_kv("ticks_lost", a->ticks_lost);
+    log_kv("ticks_repeated", a->ticks_repeated);
+    log_kv("ticks_behind", a->ticks_behind);
+    log_kv("ticks_ignored", a->ticks_ignored);
+    log_kv("overruns", a->overruns);
+    log_kv("worst_exec_us", a->worst_exec_us);
+    mps2_log("\n");
+}
+
+static void summary(const image_t *img)
+{
+    summary_app("cdrw", &img->node.app[FCC_APP_CDRW]);
+    summary_app("missile", &img->node.app[FCC_APP_MSL]);
+    const fcc_slcan_counters_t *s = &img->link.cnt;
+    mps2_log("fcc summary: slcan");
+    log_kv("lines", s->lines);
+    log_kv("frames_rx", s->frames_rx);
+    log_kv("frames_tx", s->frames_tx);
+    log_kv("line_errors", s->line_errors);
+    log_kv("overlong", s->overlong);
+    log_kv("noise", s->noise);
+    log_kv("ignored", s->ignored);
+    log_kv("tx_refused", s->tx_refused);
+    log_kv("replies_lost", s->replies_lost);
+    mps2_log("\n");
+    mps2_counters_t b;
+    mps2_counters(&b);
+    mps2_log("fcc summary: board");
+    log_kv("rx_bytes", b.rx_bytes);
+    log_kv("rx_overflows", b.rx_overflows);
+    log_kv("tx_bytes", b.tx_bytes);
+    log_kv("tx_refused", b.tx_refused);
+    log_kv("stack_used", mps2_stack_used());
+    log_kv("uptime_us", mps2_now_us());
+    mps2_log("\n");
+}
+
+static void refuse(const char *what, const char *detail)
+{
+    mps2_log("fcc: ");
+    mps2_log(what);
+    mps2_log(detail);
+    mps2_log("\n");
+    mps2_exit(2);
+}
+
+static void configure(image_t *img)
+{
+    float rate = 10.0f;
+    const char *field = NULL;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    const volatile uint8_t *sector = mps2_bootcfg();
+    for (uint32_t i = 0u; i < FCC_BOOTCFG_SIZE; ++i) {
+        rec[i] = sector[i];
+    }
+    if (fcc_node_config_default(&img->cfg) != FCC_OK) {
+        refuse("default configuration refused", "");
+    }
+    const fcc_status_t st = fcc_bootcfg_apply(rec, &img->cfg, &rate, &field);
+    if (st == FCC_ERR_AGAIN) {
+        mps2_log("fcc: no boot configuration record: compile-time defaults\n");
+    } else if (st != FCC_OK) {
+        refuse("boot configuration refused: field ", (field != NULL) ? field : "?");
+    } else {
+        mps2_log("fcc: boot configuration record applied\n");
+    }
+    img->status_period_us = (rate > 0.0f) ? (uint64_t)(1e6f / rate) : 0u;
+}
+
+static void start(image_t *img)
+{
+    configure(img);
+    if (fcc_slcan_dev_init(&img->link, mps2_link_write, NULL, "V0110", "NFCC1") != FCC_OK) {
+        refuse("SLCAN device refused its set-up", "");
+    }
+    fcc_port_t port;
+    memset(&port, 0, sizeof port);
+    port.can.ctx = img;
+    port.can.send = port_send;
+    port.can.recv = port_recv;
+    port.can.counters = port_counters;
+    port.now_us = port_now;
+    port.event = port_event;
+    port.event_ctx = img;
+    if (fcc_node_init(&img->node, &img->cfg, &port) != FCC_OK) {
+        refuse("configuration refused by the applications (LQG design failed?)", "");
+    }
+    mps2_log((img->cfg.mode == FCC_MODE_REALTIME) ? "fcc: ready, realtime" : "fcc: ready, lockstep");
+    log_kv("cdrw", img->cfg.app_enabled[FCC_APP_CDRW] ? 1u : 0u);
+    log_kv("missile", img->cfg.app_enabled[FCC_APP_MSL] ? 1u : 0u);
+    log_kv("missile_period_us", fcc_node_app_period_us(&img->node, FCC_APP_MSL));
+    log_kv("boot_us", mps2_now_us());
+    mps2_log(", waiting for SLCAN 'O' on UART0\n");
+}
+
+static uint64_t min_u64(uint64_t a, uint64_t b)
+{
+    return (a < b) ? a : b;
+}
+
+/* One turn of the loop; the time until which nothing is due. */
+static uint64_t loop_once(image_t *img)
+{
+    (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
+    uint64_t now = mps2_now_us();
+    if (fcc_slcan_dev_take_opened(&img->link)) {
+        (void)fcc_node_send_status(&img->node); /* "listening" */
+        img->next_status_us = now + img->status_period_us;
+        if (!img->flying) {
+            rt_start(img, now);
+        }
+        img->flying = true;
+        mps2_log("fcc: SLCAN channel open\n");
+    }
+    uint64_t wake = UINT64_MAX;
+    if (img->flying && img->cfg.mode == FCC_MODE_REALTIME) {
+        rt_run_due(img);
+        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+            if (img->cfg.app_enabled[a]) {
+                wake = min_u64(wake, img->rt[a].deadline);
+            }
+        }
+    }
+    now = mps2_now_us();
+    if (img->link.state == FCC_SLCAN_OPEN && img->status_period_us != 0u) {
+        if (now >= img->next_status_us) {
+            (void)fcc_node_send_status(&img->node);
+            img->next_status_us += img->status_period_us;
+            if (img->next_status_us <= now) { /* far behind: no burst */
+                img->next_status_us = now + img->status_period_us;
+            }
+        }
+        wake = min_u64(wake, img->next_status_us);
+    }
+    if (fcc_node_background(&img->node) == FCC_OK) {
+        return 0u; /* did work: look again before sleeping */
+    }
+    return wake;
+}
+
+int main(void)
+{
+    image_t *img = &g_img;
+    mps2_board_init();
+    mps2_log("fcc-m4f: Cortex-M4F image on mps2-an386, SLCAN on UART0, log on UART1\n");
+    start(img);
+    for (;;) {
+        const uint64_t wake = loop_once(img);
+        if (fcc_node_shutdown_requested(&img->node)) {
+            (void)fcc_node_send_status(&img->node); /* the last heartbeat */
+            summary(img);
+            mps2_exit(0);
+        }
+        const uint64_t now = mps2_now_us();
+        if (wake > now + SPIN_US) {
+            mps2_idle(wake);
+        }
+    }
+}

@@ -173,6 +173,17 @@ def _parser() -> argparse.ArgumentParser:
                     help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
     st.add_argument("--json", action="store_true", help="print the result as one JSON object")
 
+    rp = sub.add_parser("replay", help="replay a recorded lockstep run into fcc; compare every "
+                        "firmware frame (exit 0 identical, 1 the first difference)")
+    rp.add_argument("dir", type=Path, metavar="RUN_DIR")
+    rp.add_argument("--out", type=Path, metavar="DIR", help="where fcc.log goes (default RUN_DIR/replay)")
+    rp.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    rp.add_argument("--timeout", type=_positive, default=2.0, metavar="S",
+                    help="seconds to wait for fcc's answer to a step (default 2)")
+    rp.add_argument("--fcc-args", default="", metavar="ARGS",
+                    help="fcc options added to the recorded ones, e.g. \"--ridge 0.01\"")
+    _add_paths(rp)
+
     d = sub.add_parser("demo", help="both aircraft with the default scenarios, then a missile sweep")
     _add_common(d, "out/demo")
     return p
@@ -306,6 +317,28 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_replay(args: argparse.Namespace) -> int:
+    from .rig.replay import ReplayError, replay
+
+    try:
+        extra = shlex.split(args.fcc_args)
+    except ValueError as e:
+        raise UsageError(f"--fcc-args: {e}") from None
+    if not args.dir.is_dir():
+        raise UsageError(f"{args.dir}: not a run directory")
+    out = args.out or args.dir / "replay"
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        steps, diff = replay(args.dir, out, extra, args.iface, args.timeout)
+    except ReplayError as e:
+        raise UsageError(str(e)) from None
+    if diff is not None:
+        print(f"replay of {args.dir}: DIFFERENT after {steps} identical steps; {diff}")
+        return 1
+    print(f"replay of {args.dir}: identical ({steps} steps, every firmware frame)")
+    return 0
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     from .rig.runs import run_demo
 
@@ -315,7 +348,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
-            "study": cmd_study, "demo": cmd_demo}
+            "study": cmd_study, "replay": cmd_replay, "demo": cmd_demo}
 
 
 def _apply_paths(args: argparse.Namespace) -> None:

@@ -1,0 +1,47 @@
+"""`hil replay`: a recorded lockstep flight replayed into a fresh fcc is identical frame for
+frame on the same firmware, and the first difference (step, message, signal, both values) is
+reported, exit status 1, when the firmware's behaviour changes."""
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from hil.cli import main
+from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+
+pytestmark = pytest.mark.vcan
+
+
+def cli(capsys, *argv: str) -> tuple[int, str, str]:
+    rc = main(list(argv))
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def test_replay_identical_then_different(tmp_path, capsys):
+    # both aircraft in one fcc, a frame fault and a dropped tick on the way
+    fly(tmp_path / "rec", scenario(CDRW_1S, "loss:frame=CDRW_AOA,start=0.3,duration=0.1"),
+        scenario(MISSILE_2S, "loss:frame=SIM_TICK,start=1.0,duration=0.1"))
+    rc, out, err = cli(capsys, "replay", str(tmp_path / "rec"))
+    assert rc == 0, out + err
+    steps = int(re.search(r"identical \((\d+) steps", out)[1])
+    assert steps >= 51 + 38
+    # a changed filter parameter: the first differing step, message, signal and values
+    rc, out, err = cli(capsys, "replay", str(tmp_path / "rec"), "--fcc-args", "--ridge 0.05")
+    assert rc == 1, out + err
+    m = re.search(r"DIFFERENT after (\d+) identical steps; first difference at step (\d+) of app cdrw: "
+                  r"(SID_\w+)\.(\w+): recorded (\S+), replayed (\S+)$", out.strip())
+    assert m, out
+    assert float(m[5]) != float(m[6])
+    # a changed autopilot: the elevator command differs
+    rc, out, _ = cli(capsys, "replay", str(tmp_path / "rec"), "--fcc-args", "--lqg-bits 6")
+    assert rc == 1 and "MSL_" in out
+
+
+def test_replay_refuses_what_it_cannot_replay(tmp_path, capsys):
+    rc, _, err = cli(capsys, "replay", str(tmp_path / "nothing"))
+    assert rc == 2 and "not a run directory" in err
+    fly(tmp_path / "rt", scenario(CDRW_1S), mode="realtime")
+    rc, _, err = cli(capsys, "replay", str(tmp_path / "rt"))
+    assert rc == 2 and "only lockstep runs replay" in err and err.count("\n") == 1

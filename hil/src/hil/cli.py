@@ -119,6 +119,26 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+def _add_parallel(p: argparse.ArgumentParser) -> None:
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, metavar="N",
+                   help="fly on N rigs at once from the host shell (each its own UML guest or vcanK, "
+                        "fcc and recorder; Dask)")
+    g.add_argument("--scheduler", metavar="ADDRESS",
+                   help="fly on a running Dask cluster, e.g. tcp://host:8786 (README: Clusters)")
+
+
+def _parallel(args: argparse.Namespace) -> dict[str, object] | None:
+    """--workers/--scheduler as keyword arguments of the parallel runners (None: sequential)."""
+    if args.workers is None and args.scheduler is None:
+        return None
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers must be at least 1, got {args.workers}")
+    if args.mode != "lockstep":
+        raise UsageError("--workers/--scheduler fly lockstep flights only (realtime needs the machine to itself)")
+    return {"workers": args.workers, "scheduler": args.scheduler}
+
+
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
@@ -140,6 +160,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--seed", type=_seed, default=1, help="seed of the fault times (default 1)")
     c.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault (moved in time with the scenario's)")
+    _add_parallel(c)
     _add_common(c, "out/campaign-cdrw")
 
     s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
@@ -256,8 +277,25 @@ def cmd_campaign(args: argparse.Namespace) -> int:
     if args.runs < 1:
         raise UsageError(f"--runs must be at least 1, got {args.runs}")
     sc = _scenario("cdrw", args.scenario, args.fault, None)
-    _print(run_campaign(sc, args.runs, args.seed, _config(args, args.out)))
-    return 0
+    par = _parallel(args)
+    if par is None:
+        _print(run_campaign(sc, args.runs, args.seed, _config(args, args.out)))
+        return 0
+    from .parallel.campaign import run_campaign_parallel
+    outcome = run_campaign_parallel(sc, args.runs, args.seed, _config(args, args.out), **par)  # type: ignore[arg-type]
+    _print(outcome)
+    return _report_failed(outcome.summary)
+
+
+def _report_failed(summary: dict) -> int:
+    """Flights that failed twice: one line, exit 1 (the others' results are written)."""
+    failed = summary.get("failed_runs") or []
+    if not failed:
+        return 0
+    first = failed[0]
+    print(f"{PROG}: {len(failed)} flight(s) failed twice and are left out of the results "
+          f"(summary.json failed_runs); first: run {first['run']}: {first['error']}", file=sys.stderr)
+    return 1
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:

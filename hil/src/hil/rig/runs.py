@@ -198,8 +198,9 @@ def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
     return periods
 
 
-def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float]) -> Outcome:
-    finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
+def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None) -> Outcome:
+    if periods is not None:   # None: no bus log in `out` (flights on several rigs, hil.parallel)
+        finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
     tables = summary_tables(summary)
     if cfg.plots and defer_plots(out):
         tables.append(f"plots: drawn after the guest exits (`hil report --plots-only {out}` on the host)")
@@ -264,6 +265,64 @@ def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
     return np.round(rng.uniform(margin, hi, size=runs) / 0.02) * 0.02
 
 
+@dataclass
+class CampaignFlight:
+    """One campaign flight as Table 5 needs it (small: it crosses processes and machines when
+    the flights are flown in parallel, hil.parallel)."""
+
+    index: int
+    fault_start: float
+    table: metrics.Table
+    table_truth: metrics.Table
+    missing_steps: int
+    unanswered_steps: int
+    events: list[dict[str, Any]]
+    series: dict[str, np.ndarray] | None = None   # flight 0 only: cdrw_run0.csv
+
+
+def campaign_flight(index: int, fault_start: float, res: CdrwResult) -> CampaignFlight:
+    return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,
+                          res.unanswered_steps, res.events, res.series if index == 0 else None)
+
+
+def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
+                   flights: Sequence[CampaignFlight], firmware: dict[str, Any], mode: str,
+                   failed: Sequence[dict[str, Any]] = ()) -> dict[str, Any]:
+    """Table 5 from the campaign's flights (in any order; merged by index): campaign.csv,
+    cdrw_run0.csv, faults.log and summary.json.  `failed`: flights that gave no result
+    (listed in the summary; Table 5 is then the mean over the others)."""
+    flights = sorted(flights, key=lambda f: f.index)
+    if not flights:
+        raise RigError(f"{out}: no campaign flight gave a result")
+    rows: dict[str, list[float]] = {"run": [], "fault_start": []}
+    per_run = []
+    for fl in flights:
+        if fl.series is not None:
+            write_csv(out / "cdrw_run0.csv", fl.series)
+        rows["run"].append(fl.index)
+        rows["fault_start"].append(fl.fault_start)
+        for key, table in (("meas", fl.table), ("truth", fl.table_truth)):
+            for f in metrics.FILTERS:
+                for s in metrics.STATES:
+                    rows.setdefault(f"{f}_{s}_{key}", []).append(table[f][s])
+        per_run.append({"run": fl.index, "fault_start": fl.fault_start, "error": fl.table,
+                        "error_truth": fl.table_truth, "missing_steps": fl.missing_steps,
+                        "unanswered_steps": fl.unanswered_steps})
+    _write_fault_log(out, [(f"flight {fl.index:3d}  ", fl.events) for fl in flights])
+    write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
+    summary: dict[str, Any] = {
+        "command": "campaign", "mode": mode, "seed": seed, "runs_count": runs,
+        "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
+        "faults": [f.describe() for f in scenario.faults],
+        "cdrw": {**metrics.campaign_table5([fl.table for fl in flights],
+                                           [fl.table_truth for fl in flights]), "runs": per_run},
+        "firmware": firmware}
+    if failed:
+        summary["failed_runs"] = list(failed)
+    write_json(out / "summary.json", summary)
+    return summary
+
+
 def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Outcome:
     """Table 5: the same flight `runs` times, the scenario's faults at random times, one fcc
     process reset between flights."""
@@ -285,36 +344,11 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                 records.append(cdrw_record(d))   # the driver (every sample's model) is dropped
         rig.shutdown()
     _require_log(rig)
-    rows: dict[str, list[float]] = {"run": [], "fault_start": []}
-    per_run = []
-    tables, truths = [], []
-    flights = 0
-    for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log"))):
-        res = cdrw_result(rig.spec, rec, fl)
-        flights += 1
-        tables.append(res.table)
-        truths.append(res.table_truth)
-        if i == 0:
-            _write_cdrw(out, res, "cdrw_run0.csv")
-        rows["run"].append(i)
-        rows["fault_start"].append(float(starts[i]))
-        for key, table in (("meas", res.table), ("truth", res.table_truth)):
-            for f in metrics.FILTERS:
-                for s in metrics.STATES:
-                    rows.setdefault(f"{f}_{s}_{key}", []).append(table[f][s])
-        per_run.append({"run": i, "fault_start": float(starts[i]), "error": res.table,
-                        "error_truth": res.table_truth, "missing_steps": res.missing_steps,
-                        "unanswered_steps": res.unanswered_steps})
-    if flights != runs:
-        raise RigError(f"{out / 'bus.log'}: {flights} flights recorded, expected {runs}")
-    _write_fault_log(out, [(f"flight {i:3d}  ", rec.events) for i, rec in enumerate(records)])
-    write_csv(out / "campaign.csv", {k: np.asarray(v) for k, v in rows.items()})
-    summary = {"command": "campaign", "mode": cfg.mode, "seed": seed, "runs_count": runs,
-               "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
-               "faults": [f.describe() for f in scenario.faults],
-               "cdrw": {**metrics.campaign_table5(tables, truths), "runs": per_run},
-               "firmware": firmware_summary(rig.status)}
-    write_json(out / "summary.json", summary)
+    flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl))
+               for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log")))]
+    if len(flights) != runs:
+        raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected {runs}")
+    summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status), cfg.mode)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods([scenario]))
 

@@ -1,0 +1,216 @@
+"""Flights on a Dask cluster: a local one of N worker processes (one rig each), or a running
+cluster's scheduler (``--scheduler tcp://HOST:8786``) whose workers are machines with the
+project built.
+
+Each task is one flight: the worker's rig (hil.parallel.guest, booted on the worker's first
+flight and kept) flies it and the value comes back to this process.  One progress bar counts
+flights.  A flight whose rig failed (fcc died or hung, the guest died or did not answer) is
+submitted once more, to another worker when there is one; a flight whose worker process was
+killed is rescheduled by Dask itself (``distributed.scheduler.allowed-failures`` = 1 here).
+A flight that fails twice is reported, and the others are kept.
+"""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import os
+import socket
+import threading
+import time
+from collections import Counter
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..rig.runs import RigConfig
+from .guest import GuestRig
+
+FLIGHT_TIMEOUT_S = 120.0
+#: Dask's rescheduling after a worker died: once (the flight is then reported)
+ALLOWED_FAILURES = 1
+
+
+@dataclass
+class Flight:
+    """fn(*args, cfg) in a rig, cfg.out_dir and cfg.iface being the rig's own."""
+
+    index: int
+    fn: Callable[..., Any]
+    args: tuple[Any, ...]
+
+
+@dataclass
+class Done:
+    """A flight's value and where and how long it flew (a worker's answer)."""
+
+    value: Any
+    worker: str
+    rig_s: float       # inside the rig (session, flight, results)
+    task_s: float      # on the worker, the rig's hand-over included
+
+
+class FlightFailed(RuntimeError):
+    """A flight failed on a worker: (one line, that worker's address)."""
+
+    def __init__(self, message: str, worker: str) -> None:
+        super().__init__(message, worker)
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+@dataclass
+class Results:
+    values: dict[int, Any] = field(default_factory=dict)
+    failed: dict[int, str] = field(default_factory=dict)
+    info: dict[str, Any] = field(default_factory=dict)
+
+
+# ---- on a worker ------------------------------------------------------------------------------
+_rig: GuestRig | None = None
+_rig_lock = threading.Lock()
+
+
+def _worker_rig(flight_timeout: float) -> GuestRig:
+    global _rig
+    with _rig_lock:
+        if _rig is None:
+            _rig = GuestRig(flight_timeout=flight_timeout)
+        return _rig
+
+
+def fly_on_rig(flight: Flight, cfg: RigConfig, flight_timeout: float) -> Done:
+    """The Dask task: one flight in this worker process's rig."""
+    from distributed import get_worker
+    t0 = time.perf_counter()
+    worker = get_worker().address
+    rig = _worker_rig(flight_timeout)
+    try:
+        with _rig_lock:
+            if not rig.alive():
+                rig.start()
+        fcfg = dataclasses.replace(cfg, out_dir=rig.work_dir(f"flight-{flight.index:06d}"),
+                                   iface=rig.iface, progress=False, plots=False)
+        value, rig_s = rig.call(flight.fn, *flight.args, fcfg)
+    except Exception as e:  # noqa: BLE001 - one line, with the worker, for the coordinator
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise FlightFailed(f"{type(e).__name__}: {msg} (worker {worker}, host {socket.gethostname()})",
+                           worker) from None
+    return Done(value, worker, rig_s, time.perf_counter() - t0)
+
+
+def stop_rig() -> int:
+    """client.run: stop this worker's rig (its guest powers off)."""
+    global _rig
+    with _rig_lock:
+        if _rig is not None:
+            _rig.stop()
+            _rig = None
+    return os.getpid()
+
+
+def noop(x: int) -> int:
+    """The engine's own cost per task (scripts/bench)."""
+    return x
+
+
+# ---- the coordinator --------------------------------------------------------------------------
+class Cluster:
+    """A Dask client on a local cluster of `workers` processes, or on `scheduler`."""
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
+        import dask
+        from distributed import Client, LocalCluster
+
+        if (workers is None) == (scheduler is None):
+            raise ValueError("give either a number of workers or a scheduler address")
+        t0 = time.perf_counter()
+        self.cluster = None
+        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+            if scheduler is None:
+                assert workers is not None
+                self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                            dashboard_address=None, memory_limit=0,
+                                            silence_logs=logging.CRITICAL)
+                self.client = Client(self.cluster)
+            else:
+                self.client = Client(scheduler, timeout=30)
+                self.client.wait_for_workers(1, timeout=120)
+        self.address = self.client.scheduler.address
+        self.start_s = time.perf_counter() - t0
+
+    def workers(self) -> list[str]:
+        return sorted(self.client.scheduler_info()["workers"])
+
+    def close(self) -> None:
+        try:
+            self.client.run(stop_rig)
+        except Exception:  # noqa: BLE001 - a worker already gone: its rig stops on its lease
+            pass
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+    def __enter__(self) -> Cluster:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def run(self, flights: Sequence[Flight], cfg: RigConfig, *, progress: bool = True,
+            desc: str = "flights", flight_timeout: float = FLIGHT_TIMEOUT_S) -> Results:
+        """Every flight once (a failed one twice); values by flight index."""
+        from distributed import as_completed
+        from distributed.scheduler import KilledWorker
+        from tqdm import tqdm
+
+        t0 = time.perf_counter()
+        res = Results()
+        meta: dict[Any, tuple[Flight, int]] = {}
+
+        def submit(fl: Flight, attempt: int, avoid: str | None = None) -> Any:
+            kw: dict[str, Any] = {}
+            others = [w for w in self.workers() if w != avoid]
+            if avoid is not None and others:
+                kw = {"workers": others, "allow_other_workers": False}
+            fut = self.client.submit(fly_on_rig, fl, cfg, flight_timeout, pure=False,
+                                     key=f"hil-flight-{fl.index}-{attempt}-{os.urandom(4).hex()}", **kw)
+            meta[fut] = (fl, attempt)
+            return fut
+
+        per_worker: Counter[str] = Counter()
+        rig_s = task_s = 0.0
+        retries = 0
+        ac = as_completed([submit(fl, 0) for fl in flights])
+        with tqdm(total=len(flights), disable=not progress, unit="flight", desc=desc, leave=False,
+                  dynamic_ncols=True) as bar:
+            for fut in ac:
+                fl, attempt = meta.pop(fut)
+                if fut.status == "finished":
+                    done: Done = fut.result()
+                    res.values[fl.index] = done.value
+                    per_worker[done.worker] += 1
+                    rig_s += done.rig_s
+                    task_s += done.task_s
+                    bar.update(1)
+                    continue
+                exc = fut.exception()
+                if attempt == 0 and not isinstance(exc, KilledWorker):
+                    retries += 1
+                    bar.set_postfix(retried=retries)
+                    avoid = exc.args[1] if isinstance(exc, FlightFailed) else None
+                    ac.add(submit(fl, 1, avoid))
+                    continue
+                what = "its worker died twice" if isinstance(exc, KilledWorker) else str(exc)
+                res.failed[fl.index] = what
+                bar.update(1)
+        wall = time.perf_counter() - t0
+        n = len(res.values)
+        res.info = {"engine": "dask.distributed", "scheduler": self.address,
+                    "workers": len(per_worker), "flights_by_worker": dict(sorted(per_worker.items())),
+                    "cluster_start_s": self.start_s, "flights_wall_s": wall,
+                    "flights_per_s": n / wall if wall > 0 else None,
+                    "rig_s_per_flight": rig_s / n if n else None,
+                    "task_s_per_flight": task_s / n if n else None,
+                    "retried": retries, "failed": len(res.failed)}
+        return res

@@ -1,0 +1,197 @@
+"""The host side of one worker's rig: a long-lived vcan bus with the flight server on it.
+
+On a kernel with vcan the rig is the host itself with a vcan interface of its own (vcan1,
+vcan2, ... whichever is free); otherwise it is a User-Mode Linux guest (scripts/with-vcan)
+with its own vcan0.  Either way it runs hil.parallel.server, boots once (about 3 s for a
+guest) and flies many flights; each flight has its own candump and fcc inside it.
+
+A rig that dies or does not answer within the flight timeout is killed and booted again for
+the next flight; the flight itself fails (the engine retries it elsewhere).
+"""
+from __future__ import annotations
+
+import itertools
+import os
+import pickle
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from ..rig.paths import REPO
+from ..rig.session import RigError
+from .server import LEASE_S, POLL_S, write_atomic
+
+BOOT_TIMEOUT_S = 120.0
+#: the guest's own limit (with-vcan --timeout); the lease ends it much earlier when unused
+GUEST_LIFETIME_S = 7 * 24 * 3600
+
+
+class RigDown(RigError):
+    """The rig died, hung or could not start: the flight it had is lost (and retried)."""
+
+
+def rig_root() -> Path:
+    """Where rigs keep their request/answer files and flight directories: $HIL_RIG_DIR, or
+    the temporary directory (a UML guest sees the host's whole file system)."""
+    return Path(os.environ.get("HIL_RIG_DIR") or tempfile.gettempdir())
+
+
+def _native_iface() -> str | None:
+    """A vcan interface of our own on the host kernel, or None (no CAN here: use a guest)."""
+    if shutil.which("ip") is None:
+        return None
+    subprocess.run(["modprobe", "vcan"], capture_output=True)
+    for k in range(1, 100):
+        name = f"vcan{k}"
+        r = subprocess.run(["ip", "link", "add", "dev", name, "type", "vcan"], capture_output=True, text=True)
+        if r.returncode == 0:
+            up = subprocess.run(["ip", "link", "set", name, "txqueuelen", "1000", "up"], capture_output=True)
+            if up.returncode == 0:
+                return name
+            subprocess.run(["ip", "link", "delete", name], capture_output=True)
+            return None
+        if "exists" not in r.stderr:
+            return None
+    return None
+
+
+class GuestRig:
+    """One rig, started on first use; call() runs a function in it and returns its value."""
+
+    def __init__(self, root: Path | None = None, flight_timeout: float = 120.0,
+                 boot_timeout: float = BOOT_TIMEOUT_S) -> None:
+        self.base = Path(root or rig_root()) / f"hil-rig-{os.getpid()}"
+        self.flight_timeout = flight_timeout
+        self.boot_timeout = boot_timeout
+        self.dir: Path | None = None
+        self.iface = "vcan0"
+        self.native = False
+        self.proc: subprocess.Popen[bytes] | None = None
+        self.boots = 0
+        self._seq = itertools.count()
+        self._lock = threading.Lock()
+        self._keeper: threading.Thread | None = None
+
+    # -- life cycle
+    def start(self) -> None:
+        self.boots += 1
+        d = self.base / f"boot{self.boots}"
+        shutil.rmtree(d, ignore_errors=True)
+        (d / "req").mkdir(parents=True)
+        (d / "res").mkdir()
+        (d / "lease").touch()
+        self.dir = d
+        server = [sys.executable, "-m", "hil.parallel.server", str(d)]
+        iface = _native_iface()
+        self.native = iface is not None
+        if iface is not None:
+            self.iface, cmd = iface, server
+        else:
+            self.iface = "vcan0"
+            cmd = [str(REPO / "scripts" / "with-vcan"), "--uml", "--timeout", str(GUEST_LIFETIME_S), *server]
+        log = open(d / "rig.log", "wb")  # noqa: SIM115 - the child owns it
+        try:
+            self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                                         cwd=REPO, start_new_session=True)
+        finally:
+            log.close()
+        if self._keeper is None:
+            self._keeper = threading.Thread(target=self._renew, name="hil-rig-lease", daemon=True)
+            self._keeper.start()
+        deadline = time.monotonic() + self.boot_timeout
+        while not (d / "ready").exists():
+            if self.proc.poll() is not None:
+                raise RigDown(f"the rig did not start ({self._last_words()})")
+            if time.monotonic() > deadline:
+                self.kill()
+                raise RigDown(f"the rig did not start within {self.boot_timeout:g} s")
+            time.sleep(0.05)
+
+    def _renew(self) -> None:
+        """Touch the lease while this process lives (a killed worker's rig stops by itself)."""
+        while True:
+            d = self.dir
+            if d is not None and self.alive():
+                try:
+                    (d / "lease").touch()
+                except OSError:
+                    pass
+            time.sleep(min(2.0, LEASE_S / 5))
+
+    def alive(self) -> bool:
+        return self.proc is not None and self.proc.poll() is None
+
+    def _last_words(self) -> str:
+        try:
+            lines = [ln for ln in (self.dir / "rig.log").read_text(errors="replace").splitlines() if ln.strip()]  # type: ignore[operator]
+        except OSError:
+            lines = []
+        return lines[-1].strip() if lines else f"exit status {self.proc.returncode if self.proc else '?'}"
+
+    def kill(self) -> None:
+        """Stop the rig at once (the guest and everything in it)."""
+        if self.proc is not None and self.proc.poll() is None:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            self.proc.wait()
+        self._release_iface()
+
+    def stop(self, timeout: float = 30.0) -> None:
+        """Ask the server to end (the guest then powers off); kill it if it does not."""
+        if self.proc is not None and self.proc.poll() is None and self.dir is not None:
+            (self.dir / "stop").touch()
+            try:
+                self.proc.wait(timeout)
+            except subprocess.TimeoutExpired:
+                pass
+        self.kill()
+        if self.dir is not None:
+            shutil.rmtree(self.dir, ignore_errors=True)
+        for d in (self.base / "flights", self.base):   # kept where a failed flight left files
+            try:
+                d.rmdir()
+            except OSError:
+                pass
+
+    def _release_iface(self) -> None:
+        if self.native:
+            subprocess.run(["ip", "link", "delete", self.iface], capture_output=True)
+            self.native = False
+
+    # -- work
+    def call(self, fn: Callable[..., Any], *args: Any) -> tuple[Any, float]:
+        """fn(*args) inside the rig: (its value, seconds it took there).  Raises what fn
+        raised, or RigDown when the rig died or did not answer within the flight timeout."""
+        with self._lock:
+            if not self.alive():
+                self.start()
+            assert self.dir is not None and self.proc is not None
+            name = f"{next(self._seq):09d}.pkl"
+            write_atomic(self.dir / "req" / name, pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
+            res = self.dir / "res" / name
+            deadline = time.monotonic() + self.flight_timeout
+            while not res.exists():
+                if self.proc.poll() is not None:
+                    raise RigDown(f"the rig stopped during a flight ({self._last_words()})")
+                if time.monotonic() > deadline:
+                    self.kill()
+                    raise RigDown(f"the rig did not answer within {self.flight_timeout:g} s; killed")
+                time.sleep(POLL_S)
+            status, value, seconds = pickle.loads(res.read_bytes())
+            res.unlink()
+        if status != "ok":
+            raise value
+        return value, seconds
+
+    def work_dir(self, name: str) -> Path:
+        """A directory for one flight's files (kept there when the flight fails)."""
+        return self.base / "flights" / name

@@ -1,0 +1,87 @@
+"""The loop inside a worker's rig: ``python -m hil.parallel.server DIR``.
+
+Runs where the rig's CAN interface is (a UML guest started by scripts/with-vcan, or the host
+with its own vcanK).  DIR is shared with the host side (hil.parallel.guest):
+
+    DIR/ready        written once the loop runs
+    DIR/req/N.pkl    a request: pickled (function, args); taken and removed by the loop
+    DIR/res/N.pkl    its answer: pickled ("ok", value, seconds) or ("error", exception, seconds)
+    DIR/lease        touched by the host while it wants the rig; the loop ends when it has not
+                     changed for LEASE_S (the host process was killed) or when DIR/stop appears
+
+Files are written under a temporary name and renamed, so a reader never sees half of one.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import sys
+import time
+import traceback
+from pathlib import Path
+from typing import Any
+
+LEASE_S = 20.0
+POLL_S = 0.01
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_bytes(data)
+    os.replace(tmp, path)
+
+
+def _answer(req: Path, res_dir: Path) -> None:
+    t0 = time.perf_counter()
+    try:
+        fn, args = pickle.loads(req.read_bytes())
+        req.unlink()
+        out: tuple[Any, ...] = ("ok", fn(*args), 0.0)
+    except Exception as e:  # noqa: BLE001 - every failure goes back to the host
+        try:
+            pickle.dumps(e)
+            err: BaseException = e
+        except Exception:  # noqa: BLE001 - an exception that does not pickle: its text
+            err = RuntimeError(f"{type(e).__name__}: {e}")
+        print(traceback.format_exc(), file=sys.stderr, flush=True)
+        out = ("error", err, 0.0)
+        req.unlink(missing_ok=True)
+    out = (out[0], out[1], time.perf_counter() - t0)
+    write_atomic(res_dir / req.name, pickle.dumps(out, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def serve(root: Path, lease_s: float = LEASE_S) -> int:
+    req_dir, res_dir = root / "req", root / "res"
+    lease = root / "lease"
+    write_atomic(root / "ready", f"{os.getpid()}\n".encode())
+    last_lease, seen_at = None, time.monotonic()
+    while not (root / "stop").exists():
+        try:
+            stamp = lease.stat().st_mtime_ns
+        except OSError:
+            return 0                                 # the host removed the rig directory
+        if stamp != last_lease:
+            last_lease, seen_at = stamp, time.monotonic()
+        elif time.monotonic() - seen_at > lease_s:
+            print(f"hil.parallel.server: lease not renewed for {lease_s:g} s, stopping",
+                  file=sys.stderr, flush=True)
+            return 0
+        reqs = sorted(p for p in req_dir.glob("*.pkl"))
+        if not reqs:
+            time.sleep(POLL_S)
+            continue
+        for req in reqs:
+            _answer(req, res_dir)
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) != 1:
+        print("usage: python -m hil.parallel.server DIR", file=sys.stderr)
+        return 2
+    return serve(Path(args[0]))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

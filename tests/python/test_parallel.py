@@ -1,0 +1,119 @@
+"""Campaigns on several rigs at once (hil.parallel, Dask): from the host shell, each worker
+its own UML guest (or vcanK) with its own fcc and recorder.
+
+* 4 flights on 2 workers = the same on 1 worker, byte for byte (summary.json, campaign.csv,
+  faults.log, cdrw_run0.csv), and = the sequential campaign in one fcc (all but one counter);
+* a worker killed in the middle of a flight: the flight is flown again elsewhere, same results;
+* a flight that fails on its rig is retried once and then reported (exit 1, one line).
+
+Bounded: each test boots at most two guests (about 3 s each) and flies a few 7 s flights.
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from hil.cli import main
+
+REPO = Path(__file__).resolve().parents[2]
+RUNS, SEED = 4, 3
+ARTEFACTS = ("summary.json", "campaign.csv", "faults.log", "cdrw_run0.csv")
+
+pytestmark = pytest.mark.skipif(shutil.which("linux.uml") is None and not Path("/sys/class/net/vcan0").exists(),
+                                reason="needs user-mode-linux or a kernel with vcan")
+
+
+def campaign(out: Path, *extra: str) -> tuple[int, str]:
+    argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
+            "--quiet", "--no-plots", *extra]
+    return main(argv), ""
+
+
+@pytest.fixture(scope="module")
+def one_worker(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("w1")
+    rc, _ = campaign(out, "--workers", "1")
+    assert rc == 0
+    return out
+
+
+def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
+    rc, _ = campaign(tmp_path, "--workers", "2")
+    assert rc == 0, capsys.readouterr().err
+    for name in ARTEFACTS:
+        assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
+    info = json.loads((tmp_path / "run_info.json").read_text())["parallel"]
+    assert info["engine"] == "dask.distributed" and info["failed"] == 0
+    assert sum(info["flights_by_worker"].values()) == RUNS and len(info["flights_by_worker"]) == 2
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert [r["run"] for r in s["cdrw"]["runs"]] == list(range(RUNS)) and "failed_runs" not in s
+    assert s["firmware"]["steps"]["cdrw"] == RUNS * 351
+
+
+def test_workers_equal_the_sequential_campaign(one_worker, tmp_path):
+    """The sequential form inside one guest, one fcc reset between flights: the same Table 5,
+    campaign.csv and faults; fcc's counters the same but E2E ok, which counts each session's
+    shutdown frame (one session per flight on the workers)."""
+    r = subprocess.run([str(REPO / "scripts" / "with-vcan"), sys.executable, "-m", "hil.cli", "campaign",
+                        "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(tmp_path),
+                        "--quiet", "--no-plots"], cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    for name in ("campaign.csv", "faults.log", "cdrw_run0.csv"):
+        assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
+    seq = json.loads((tmp_path / "summary.json").read_text())
+    par = json.loads((one_worker / "summary.json").read_text())
+    assert seq["cdrw"] == par["cdrw"]
+    assert par["firmware"]["e2e"].pop("ok") - seq["firmware"]["e2e"].pop("ok") == RUNS - 1
+    assert seq == par
+
+
+def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
+    """A running cluster (the --scheduler path): one worker process is killed while its rig
+    flies; Dask gives the flight to another worker and the results are unchanged."""
+    from distributed import Client, LocalCluster
+
+    rigs = tmp_path / "rigs"
+    monkeypatch.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
+    out = tmp_path / "out"
+    killed: list[int] = []
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                      memory_limit=0) as cluster, Client(cluster) as client:
+        pids = set(client.run(os.getpid).values())
+
+        def kill_first_flying() -> None:
+            deadline = time.monotonic() + 300
+            while time.monotonic() < deadline and not killed:
+                for pid in pids:
+                    if any((rigs / f"hil-rig-{pid}" / "flights").glob("flight-*")):
+                        os.kill(pid, signal.SIGKILL)
+                        killed.append(pid)
+                        return
+                time.sleep(0.02)
+
+        t = threading.Thread(target=kill_first_flying, daemon=True)
+        t.start()
+        rc, _ = campaign(out, "--scheduler", cluster.scheduler_address)
+        t.join(5)
+    assert killed, "no worker was seen flying"
+    assert rc == 0
+    for name in ARTEFACTS:
+        assert (out / name).read_bytes() == (one_worker / name).read_bytes(), name
+
+
+def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
+    """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
+    campaign stops with one line and exit 1."""
+    rc = main(["campaign", "cdrw", "--runs", "2", "--seed", "1", "--out", str(tmp_path), "--quiet",
+               "--no-plots", "--workers", "1", "--fcc-args=--no-such-option"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 1 and len(err) == 1
+    assert "all 2 flights failed twice" in err[0] and "fcc" in err[0]

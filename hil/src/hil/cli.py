@@ -194,6 +194,9 @@ def _parser() -> argparse.ArgumentParser:
                     help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
     st.add_argument("--json", action="store_true", help="print the result as one JSON object")
 
+    fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")
+    fl.add_argument("kinds", nargs="*", metavar="KIND", help="only these kinds")
+
     rp = sub.add_parser("replay", help="replay a recorded lockstep run into fcc; compare every "
                         "firmware frame (exit 0 identical, 1 the first difference)")
     rp.add_argument("dir", type=Path, metavar="RUN_DIR")
@@ -355,6 +358,17 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_faults(args: argparse.Namespace) -> int:
+    from .faults import KINDS
+    from .faults.catalog import catalog
+
+    unknown = [k for k in args.kinds if k not in KINDS]
+    if unknown:
+        raise UsageError(f"no fault kind {unknown[0]!r} (kinds: {', '.join(KINDS)})")
+    print(catalog(args.kinds or None))
+    return 0
+
+
 def cmd_replay(args: argparse.Namespace) -> int:
     from .rig.replay import ReplayError, replay
 
@@ -386,7 +400,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
-            "study": cmd_study, "replay": cmd_replay, "demo": cmd_demo}
+            "study": cmd_study, "replay": cmd_replay, "faults": cmd_faults,
+            "demo": cmd_demo}
 
 
 def _apply_paths(args: argparse.Namespace) -> None:

@@ -59,15 +59,19 @@ class Fcc:
         return self.stderr_path.read_text(errors="replace")
 
     def wait_ready(self, timeout: float = 5.0) -> None:
+        self.wait_for("fcc: ready", timeout)
+
+    def wait_for(self, text: str, timeout: float = 10.0) -> None:
+        """Until fcc has written `text` on stderr (polled; fails after `timeout` s)."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            if "fcc: ready" in self.stderr():
+            if text in self.stderr():
                 return
             assert self.proc is not None
             if self.proc.poll() is not None:
                 raise AssertionError(f"fcc exited {self.proc.returncode}: {self.stderr()}")
             time.sleep(0.01)
-        raise AssertionError(f"fcc not ready after {timeout} s: {self.stderr()}")
+        raise AssertionError(f"fcc did not write {text!r} within {timeout} s: {self.stderr()}")
 
     def wait(self, timeout: float = 5.0) -> int:
         assert self.proc is not None

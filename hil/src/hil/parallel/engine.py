@@ -162,7 +162,7 @@ class Cluster:
         """Every flight once (a failed one twice); values by flight index."""
         from distributed import as_completed
         from distributed.scheduler import KilledWorker
-        from tqdm import tqdm
+        from ..progress import bar as progress_bar
 
         t0 = time.perf_counter()
         res = Results()
@@ -182,8 +182,7 @@ class Cluster:
         rig_s = task_s = 0.0
         retries = 0
         ac = as_completed([submit(fl, 0) for fl in flights])
-        with tqdm(total=len(flights), disable=not progress, unit="flight", desc=desc, leave=False,
-                  dynamic_ncols=True) as bar:
+        with progress_bar(len(flights), progress, desc, unit="flight") as bar:
             for fut in ac:
                 fl, attempt = meta.pop(fut)
                 if fut.status == "finished":

@@ -30,6 +30,7 @@ from .. import metrics
 from ..bus import load
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
+from ..progress import bar as progress_bar
 from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
 from .buslog import iter_flights, split_flights
 from .lockstep import LockstepRunner
@@ -100,12 +101,6 @@ def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFla
     rt = cfg.mode == "realtime"
     cls = CdrwDriver if sc.aircraft == "cdrw" else MissileDriver
     return cls(sc, rig.codec, rt, oracle)
-
-
-def _bar(total: int, enabled: bool, desc: str) -> Any:
-    from tqdm import tqdm
-    return tqdm(total=total, disable=not enabled, unit="step", desc=desc, leave=False,
-                dynamic_ncols=True)
 
 
 def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
@@ -222,7 +217,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
         oracle = OracleFlag()
         drivers = [make_driver(sc, rig, cfg, oracle) for sc in scenarios]
-        with _bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
+        with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
             runner = _fly(rig, drivers, cfg, bar)
         rig.shutdown()
     _require_log(rig)
@@ -337,7 +332,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
         n = int(round(scenario.duration / scenario.plant.dt)) + 1  # type: ignore[union-attr]
         runner = None
-        with _bar(runs * n, cfg.progress, "hil campaign") as bar:
+        with progress_bar(runs * n, cfg.progress, "hil campaign") as bar:
             for t_fault in starts:
                 d = CdrwDriver(with_fault_start(scenario, float(t_fault)), rig.codec, cfg.mode == "realtime")
                 runner = _fly(rig, [d], cfg, bar, runner)
@@ -384,7 +379,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
         for sc in points:
             total += int(math.floor(sc.duration / sc.lqg.period + 1e-9))  # type: ignore[union-attr]
         runner = None
-        with _bar(total, cfg.progress, "hil sweep") as bar:
+        with progress_bar(total, cfg.progress, "hil sweep") as bar:
             for sc in points:
                 assert sc.lqg is not None
                 d = MissileDriver(sc, rig.codec, cfg.mode == "realtime")

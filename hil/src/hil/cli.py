@@ -194,6 +194,15 @@ def _parser() -> argparse.ArgumentParser:
                     help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
     st.add_argument("--json", action="store_true", help="print the result as one JSON object")
 
+    lv = sub.add_parser("live", help="dashboard of the bus while a run flies (alpha, q, estimates, "
+                        "fault flags, E2E counters)")
+    lv.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    lv.add_argument("--seconds", type=_positive, default=10.0, metavar="S", help="how long (default 10)")
+    lv.add_argument("--rich", action="store_true",
+                    help="redraw in place even when stdout is not a terminal (e.g. inside scripts/with-vcan)")
+    lv.add_argument("--dbc", type=Path, metavar="PATH",
+                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+
     fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")
     fl.add_argument("kinds", nargs="*", metavar="KIND", help="only these kinds")
 
@@ -358,6 +367,17 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_live(args: argparse.Namespace) -> int:
+    from .bus import load
+    from .live import run
+
+    try:
+        run(args.iface, args.seconds, load(), force_rich=args.rich)
+    except OSError as e:
+        raise RuntimeError(f"cannot watch CAN interface {args.iface!r}: {e}") from None
+    return 0
+
+
 def cmd_faults(args: argparse.Namespace) -> int:
     from .faults import KINDS
     from .faults.catalog import catalog
@@ -400,7 +420,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
-            "study": cmd_study, "replay": cmd_replay, "faults": cmd_faults,
+            "study": cmd_study, "replay": cmd_replay, "faults": cmd_faults, "live": cmd_live,
             "demo": cmd_demo}
 
 

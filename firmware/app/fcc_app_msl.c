@@ -97,6 +97,7 @@ fcc_status_t fcc_app_msl_init(fcc_app_msl_t *app, const fcc_app_msl_config_t *cf
     app->designs_applied = 0u;
     app->designs_failed = 0u;
     app->last_design_status = FCC_OK;
+    app->designing = false;
     return FCC_OK;
 }
 
@@ -140,12 +141,22 @@ fcc_status_t fcc_app_msl_request(fcc_app_msl_t *app, fcc_real_t period, uint8_t 
     app->want_period = t;
     app->want_bits = n;
     app->spare = FCC_APP_MSL_SPARE_WANTED;
+    app->designing = false; /* a design under way was for older values: start again */
     return FCC_OK;
 }
 
 bool fcc_app_msl_wants_design(const fcc_app_msl_t *app)
 {
     return app != NULL && app->spare == FCC_APP_MSL_SPARE_WANTED;
+}
+
+static fcc_status_t design_failed(fcc_app_msl_t *app, fcc_status_t st)
+{
+    app->last_design_status = st;
+    app->spare = FCC_APP_MSL_SPARE_FREE;
+    app->designing = false;
+    ++app->designs_failed;
+    return st;
 }
 
 fcc_status_t fcc_app_msl_background(fcc_app_msl_t *app)
@@ -157,13 +168,31 @@ fcc_status_t fcc_app_msl_background(fcc_app_msl_t *app)
         return FCC_ERR_AGAIN;
     }
     const unsigned int spare = 1u - app->active;
-    const fcc_status_t st = design_into(app, spare, app->want_period, app->want_bits);
-    app->last_design_status = st;
-    if (st != FCC_OK) {
-        app->spare = FCC_APP_MSL_SPARE_FREE;
-        ++app->designs_failed;
-        return st;
+    const fcc_app_msl_slot_t *cur = &app->slot[app->active];
+    fcc_status_t st = FCC_OK;
+    if (!app->designing && cur->period == app->want_period && cur->design.t == app->want_period) {
+        st = design_into(app, spare, app->want_period, app->want_bits); /* N only: a copy */
+    } else {
+        if (!app->designing) {
+            st = fcc_lqg_design_begin(&app->cfg.plant, (double)app->want_period, app->cfg.solver,
+                                      &app->ws);
+            if (st != FCC_OK) {
+                return design_failed(app, st);
+            }
+            app->designing = true;
+        }
+        st = fcc_lqg_design_slice(&app->ws, &app->slot[spare].design);
+        if (st == FCC_ERR_AGAIN) {
+            return FCC_OK; /* more slices to come */
+        }
+        app->designing = false;
+        app->slot[spare].period = app->want_period;
+        app->slot[spare].bits = app->want_bits;
     }
+    if (st != FCC_OK) {
+        return design_failed(app, st);
+    }
+    app->last_design_status = FCC_OK;
     app->spare = FCC_APP_MSL_SPARE_READY;
     return FCC_OK;
 }

@@ -92,6 +92,7 @@ typedef struct {
     uint32_t designs_applied;       /* run-time designs switched in */
     uint32_t designs_failed;        /* run-time designs that failed (old one kept) */
     fcc_status_t last_design_status;
+    bool designing;                 /* the wanted design is under way in ws (sliced) */
 } fcc_app_msl_t;
 
 /* The paper's plant, T = 0.05 s, 8 bits, Hamiltonian solver. */
@@ -113,12 +114,17 @@ fcc_status_t fcc_app_msl_reset(fcc_app_msl_t *app);
  * range (nothing changes).  A newer request replaces one not switched in yet. */
 fcc_status_t fcc_app_msl_request(fcc_app_msl_t *app, fcc_real_t period, uint8_t bits);
 
-/* Compute a wanted design into the spare slot.  FCC_ERR_AGAIN when there was
- * nothing to do, FCC_OK when a design became ready, the design's error when it
- * failed (the request is dropped, the old design stays). */
+/* Compute a wanted design into the spare slot, one slice per call (the
+ * design is sliced so that a realtime loop can run it between control steps:
+ * FCC_LQG_DESIGN_SLICES calls, each bounded; bench pil measures them).
+ * FCC_ERR_AGAIN when there was nothing to do, FCC_OK after a slice of work
+ * (the design is ready, and switched in at the next step, once
+ * fcc_app_msl_wants_design() is false), the design's error when it failed
+ * (the request is dropped, the old design stays).  A newer request restarts
+ * the design. */
 fcc_status_t fcc_app_msl_background(fcc_app_msl_t *app);
 
-/* True when a request is waiting for fcc_app_msl_background(). */
+/* True while a request is waiting for (more) fcc_app_msl_background(). */
 bool fcc_app_msl_wants_design(const fcc_app_msl_t *app);
 
 /* The design in use: period (s) and bits. */

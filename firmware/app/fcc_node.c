@@ -217,9 +217,10 @@ static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
         a->ticks_lost += lost;
         emit(node, FCC_EV_TICK_LOST, app, FCC_MSG_SIM_TICK_ID, (int32_t)lost);
     }
-    if (app == FCC_APP_MSL && fcc_app_msl_wants_design(&node->msl)) {
-        /* Lockstep: a SIM_CONTROL received before this tick applies to it. */
-        (void)fcc_node_background(node);
+    /* Lockstep: a SIM_CONTROL received before this tick applies to it (all
+     * its slices now; each call makes progress, so this ends). */
+    while (app == FCC_APP_MSL && fcc_app_msl_wants_design(&node->msl) &&
+           fcc_node_background(node) == FCC_OK) {
     }
     (void)fcc_node_run_step(node, app, k);
 }

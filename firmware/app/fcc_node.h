@@ -124,8 +124,9 @@ fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n);
  * Realtime uses it at each deadline; lockstep calls it from the tick. */
 fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
 
-/* Idle-time work: a pending LQG redesign.  FCC_ERR_AGAIN when there was
- * nothing to do. */
+/* Idle-time work: one slice of a pending LQG redesign (fcc_app_msl_background).
+ * FCC_OK after a slice (call again while it returns FCC_OK, or between
+ * control steps), FCC_ERR_AGAIN when there was nothing to do. */
 fcc_status_t fcc_node_background(fcc_node_t *node);
 
 /* The five heartbeat frames (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS,

@@ -17,20 +17,20 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "fcc_bench_flight.h"
 #include "fcc_node.h"
 
 #define MAX_STEPS 20000u
-#define FRAMES_PER_STEP 4u
 
 static fcc_node_t g_node;
 static fcc_bus_t g_sim;
-static fcc_can_frame_t g_frames[MAX_STEPS][FRAMES_PER_STEP];
+static fcc_can_frame_t g_frames[MAX_STEPS][FCC_BENCH_MAX_FRAMES];
+static uint32_t g_nframes[MAX_STEPS];
 static uint32_t g_sent;
 
 static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
@@ -56,59 +56,6 @@ static uint64_t mono_us(void *ctx)
     return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
 }
 
-static void encode(fcc_msg_t msg, const fcc_msg_data_t *d, fcc_can_frame_t *out)
-{
-    if (fcc_bus_encode(&g_sim, msg, d, out) != FCC_OK) {
-        fprintf(stderr, "fcc_step_bench: cannot encode message %d\n", (int)msg);
-        exit(1);
-    }
-}
-
-static void build_cdrw(uint32_t k, fcc_can_frame_t f[FRAMES_PER_STEP])
-{
-    const double t = 0.02 * (double)k;
-    const double de = -0.05 - 0.08 * sin(1.3 * t);
-    double alpha = 0.16 + 0.1 * sin(0.9 * t) + 0.002 * sin(17.0 * t);
-    const double q = 0.09 * cos(0.9 * t) + 0.01 * sin(11.0 * t);
-    if (t >= 4.0 && t < 4.1) {
-        alpha += 0.15; /* the sensor spike */
-    }
-    fcc_msg_data_t d;
-    memset(&d, 0, sizeof d);
-    d.cdrw_aoa.step = (uint16_t)k;
-    d.cdrw_aoa.alpha = (fcc_real_t)alpha;
-    encode(FCC_MSG_CDRW_AOA, &d, &f[0]);
-    memset(&d, 0, sizeof d);
-    d.cdrw_pitch_rate.step = (uint16_t)k;
-    d.cdrw_pitch_rate.q = (fcc_real_t)q;
-    encode(FCC_MSG_CDRW_PITCH_RATE, &d, &f[1]);
-    memset(&d, 0, sizeof d);
-    d.cdrw_elevator.step = (uint16_t)k;
-    d.cdrw_elevator.delta_e = (fcc_real_t)de;
-    encode(FCC_MSG_CDRW_ELEVATOR, &d, &f[2]);
-    memset(&d, 0, sizeof d);
-    d.sim_tick.app = FCC_APP_CDRW;
-    d.sim_tick.step = k;
-    encode(FCC_MSG_SIM_TICK, &d, &f[3]);
-}
-
-static void build_missile(uint32_t k, fcc_can_frame_t f[FRAMES_PER_STEP])
-{
-    fcc_msg_data_t d;
-    memset(&d, 0, sizeof d);
-    d.msl_rate_gyro.step = (uint16_t)k;
-    d.msl_rate_gyro.q_g = (fcc_real_t)(0.1 * cos(0.7 * (double)k) + 0.3 * sin(2.1 * (double)k));
-    encode(FCC_MSG_MSL_RATE_GYRO, &d, &f[0]);
-    memset(&d, 0, sizeof d);
-    d.msl_accelerometer.step = (uint16_t)k;
-    d.msl_accelerometer.n_a = (fcc_real_t)(-3.0 + 40.0 * sin(0.45 * (double)k));
-    encode(FCC_MSG_MSL_ACCELEROMETER, &d, &f[1]);
-    memset(&d, 0, sizeof d);
-    d.sim_tick.app = FCC_APP_MSL;
-    d.sim_tick.step = k;
-    encode(FCC_MSG_SIM_TICK, &d, &f[2]);
-}
-
 /* The measured region: one step's frames through the node (noinline so that
  * callgrind can toggle on it). */
 void fcc_bench_measured_step(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_t n)
@@ -118,20 +65,6 @@ void fcc_bench_measured_step(fcc_node_t *node, const fcc_can_frame_t *frames, ui
     for (uint32_t i = 0u; i < n; ++i) {
         fcc_node_handle_frame(node, &frames[i]);
     }
-}
-
-static void sim_masks(void)
-{
-    uint32_t produces = 0u;
-    uint32_t consumes = 0u;
-    for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
-        if ((fcc_bus_desc((fcc_msg_t)i)->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
-            consumes |= (uint32_t)(1u << i);
-        } else {
-            produces |= (uint32_t)(1u << i);
-        }
-    }
-    (void)fcc_bus_init_masks(&g_sim, consumes, produces);
 }
 
 int main(int argc, char **argv)
@@ -153,18 +86,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "fcc_step_bench: node start-up failed\n");
         return 1;
     }
-    sim_masks();
-    const uint32_t n = cdrw ? 4u : 3u;
-    for (uint32_t k = 0u; k < (uint32_t)steps; ++k) {
-        if (cdrw) {
-            build_cdrw(k, g_frames[k]);
-        } else {
-            build_missile(k, g_frames[k]);
-        }
+    fcc_status_t st = fcc_bench_sim_init(&g_sim);
+    for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
+        st = cdrw ? fcc_bench_cdrw_frames(&g_sim, k, false, g_frames[k], &g_nframes[k])
+                  : fcc_bench_missile_frames(&g_sim, k, g_frames[k], &g_nframes[k]);
+    }
+    if (st != FCC_OK) {
+        fprintf(stderr, "fcc_step_bench: cannot encode the flight's frames: %s\n", fcc_status_str(st));
+        return 1;
     }
     const uint64_t t0 = mono_us(NULL);
     for (uint32_t k = 0u; k < (uint32_t)steps; ++k) {
-        fcc_bench_measured_step(&g_node, g_frames[k], n);
+        fcc_bench_measured_step(&g_node, g_frames[k], g_nframes[k]);
     }
     const uint64_t t1 = mono_us(NULL);
     const uint32_t app = cdrw ? FCC_APP_CDRW : FCC_APP_MSL;

@@ -138,7 +138,21 @@ typedef struct {
     double a_t[FCC_LQG_NX * FCC_LQG_NX];
     double b_t[FCC_LQG_NX * FCC_LQG_NY];
     double tmp[FCC_LQG_NX * FCC_LQG_NX];
+    /* A design in progress (fcc_lqg_design_begin / _slice). */
+    const fcc_lqg_plant_t *plant;
+    double t;
+    fcc_lqg_solver_t solver;
+    unsigned slice;               /* next slice, FCC_LQG_DESIGN_SLICES = none pending */
+    fcc_dare_info_t first;        /* the first solver's report, kept for the second slice */
+    fcc_lqg_riccati_t lqr;
+    fcc_lqg_riccati_t kf;
 } fcc_lqg_ws_t;
+
+/* The design runs in this many slices (fcc_lqg_design_slice), each a bounded
+ * piece of work, so that a caller with a deadline can run it between control
+ * steps: ZOH, noise, cost; LQR by the chosen solver, by the other + cross-check;
+ * the same for the Kalman filter; poles and the conversion of the result. */
+#define FCC_LQG_DESIGN_SLICES 8u
 
 /* The paper's missile (Mach 1.2, sea level), weights A = diag(0.12, 11, 0),
  * B = 1, and noise variances 0.8 / 0.8. */
@@ -156,6 +170,15 @@ fcc_status_t fcc_lqg_plant_default(fcc_lqg_plant_t *plant);
  */
 fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
                             fcc_lqg_design_t *out, fcc_lqg_ws_t *ws);
+
+/* The same design in slices: begin checks the inputs (the statuses above) and
+ * remembers plant (which must stay valid until the end), t and solver; each
+ * slice call does the next piece: FCC_ERR_AGAIN while slices remain, FCC_OK
+ * when the last one has written *out, or the design's error (the design is
+ * then over).  fcc_lqg_design is begin + slices until done. */
+fcc_status_t fcc_lqg_design_begin(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
+                                  fcc_lqg_ws_t *ws);
+fcc_status_t fcc_lqg_design_slice(fcc_lqg_ws_t *ws, fcc_lqg_design_t *out);
 
 /* ---- D/A converter ------------------------------------------------------------ */
 

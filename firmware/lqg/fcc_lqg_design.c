@@ -66,38 +66,68 @@ static fcc_status_t check_inputs(const fcc_lqg_plant_t *plant, double t, fcc_lqg
     return FCC_OK;
 }
 
-/* Phi, Gamma, Q_d (noise density w w^T), Q11, Q12, Q22. */
-static fcc_status_t discretise(const fcc_lqg_plant_t *plant, double t, fcc_lqg_design64_t *d,
-                               fcc_lqg_ws_t *ws)
+/* The plant's continuous matrices in double (each discretisation slice
+ * rebuilds them: the scratch in between belongs to the c2d routines). */
+typedef struct {
+    double f[NX * NX];
+    double g[NX * NU];
+    double wx[NX * NX];
+    double wu[NU * NU];
+} plant64_t;
+
+static void plant64(const fcc_lqg_plant_t *plant, plant64_t *p)
 {
-    double fbuf[NX * NX];
-    double gbuf[NX * NU];
-    double wxbuf[NX * NX];
-    double wubuf[NU * NU] = {(double)plant->wu};
     for (unsigned i = 0; i < NX * NX; ++i) {
-        fbuf[i] = (double)plant->f[i];
-        wxbuf[i] = (double)plant->wx[i];
+        p->f[i] = (double)plant->f[i];
+        p->wx[i] = (double)plant->wx[i];
     }
     for (unsigned i = 0; i < NX; ++i) {
-        gbuf[i] = (double)plant->g[i];
+        p->g[i] = (double)plant->g[i];
+    }
+    p->wu[0] = (double)plant->wu;
+}
+
+/* Slice 0: Phi, Gamma. */
+static fcc_status_t discretise_zoh(fcc_lqg_ws_t *ws)
+{
+    plant64_t p;
+    plant64(ws->plant, &p);
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, p.f);
+    const fcc_mat64_t g = FCC_MAT64(NX, NU, p.g);
+    fcc_mat64_t phi = FCC_MAT64(NX, NX, ws->d.phi);
+    fcc_mat64_t gamma = FCC_MAT64(NX, NU, ws->d.gamma);
+    return fcc_c2d_zoh(&f, &g, ws->t, &phi, &gamma, &ws->u.c2d);
+}
+
+/* Slice 1: Q_d of the noise density w w^T. */
+static fcc_status_t discretise_noise(fcc_lqg_ws_t *ws)
+{
+    plant64_t p;
+    plant64(ws->plant, &p);
+    for (unsigned i = 0; i < NX; ++i) {
         for (unsigned j = 0; j < NX; ++j) {
-            ws->tmp[i * NX + j] = (double)plant->w[i] * (double)plant->w[j];
+            ws->tmp[i * NX + j] = (double)ws->plant->w[i] * (double)ws->plant->w[j];
         }
     }
-    const fcc_mat64_t f = FCC_MAT64(NX, NX, fbuf);
-    const fcc_mat64_t g = FCC_MAT64(NX, NU, gbuf);
-    const fcc_mat64_t wx = FCC_MAT64(NX, NX, wxbuf);
-    const fcc_mat64_t wu = FCC_MAT64(NU, NU, wubuf);
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, p.f);
     const fcc_mat64_t qc = FCC_MAT64(NX, NX, ws->tmp);
-    fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
-    fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
-    fcc_mat64_t qd = FCC_MAT64(NX, NX, d->qd);
-    fcc_mat64_t q11 = FCC_MAT64(NX, NX, d->q11);
-    fcc_mat64_t q12 = FCC_MAT64(NX, NU, d->q12);
-    fcc_mat64_t q22 = FCC_MAT64(NU, NU, d->q22);
-    FCC_TRY(fcc_c2d_zoh(&f, &g, t, &phi, &gamma, &ws->u.c2d));
-    FCC_TRY(fcc_c2d_noise(&f, &qc, t, &qd, &ws->u.c2d));
-    return fcc_c2d_cost(&f, &g, &wx, &wu, t, &q11, &q12, &q22, &ws->u.c2d);
+    fcc_mat64_t qd = FCC_MAT64(NX, NX, ws->d.qd);
+    return fcc_c2d_noise(&f, &qc, ws->t, &qd, &ws->u.c2d);
+}
+
+/* Slice 2: the sampled cost Q11, Q12, Q22. */
+static fcc_status_t discretise_cost(fcc_lqg_ws_t *ws)
+{
+    plant64_t p;
+    plant64(ws->plant, &p);
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, p.f);
+    const fcc_mat64_t g = FCC_MAT64(NX, NU, p.g);
+    const fcc_mat64_t wx = FCC_MAT64(NX, NX, p.wx);
+    const fcc_mat64_t wu = FCC_MAT64(NU, NU, p.wu);
+    fcc_mat64_t q11 = FCC_MAT64(NX, NX, ws->d.q11);
+    fcc_mat64_t q12 = FCC_MAT64(NX, NU, ws->d.q12);
+    fcc_mat64_t q22 = FCC_MAT64(NU, NU, ws->d.q22);
+    return fcc_c2d_cost(&f, &g, &wx, &wu, ws->t, &q11, &q12, &q22, &ws->u.c2d);
 }
 
 static fcc_status_t solve_with(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat64_t *x,
@@ -107,23 +137,33 @@ static fcc_status_t solve_with(fcc_lqg_solver_t solver, const fcc_dare_problem_t
                                                   : fcc_dare_doubling(p, x, info, ws);
 }
 
-/* Solve p by both methods; x/gain from `solver`, the other into x_alt/gain_alt
- * (gain computed by gain_fn); record residual, iterations, disagreement. */
+/* Riccati equation p solved by both methods, in two slices: `solver` into
+ * x/gain (first), then the other into x_alt/gain_alt and the comparison
+ * (second, which fills rep: residual, iterations, disagreement). */
 typedef fcc_status_t (*gain_fn_t)(const fcc_dare_problem_t *p, const fcc_mat64_t *x, fcc_mat64_t *gain,
                                   fcc_lqg_ws_t *ws);
 
-static fcc_status_t solve_both(fcc_lqg_solver_t solver, const fcc_dare_problem_t *p, fcc_mat64_t *x,
-                               fcc_mat64_t *gain, fcc_mat64_t *x_alt, fcc_mat64_t *gain_alt,
-                               gain_fn_t gain_fn, fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
+static fcc_lqg_solver_t other_solver(fcc_lqg_solver_t solver)
 {
-    const fcc_lqg_solver_t other = (solver == FCC_LQG_SOLVER_HAMILTONIAN)
-                                       ? FCC_LQG_SOLVER_DOUBLING
-                                       : FCC_LQG_SOLVER_HAMILTONIAN;
-    fcc_dare_info_t info = {0U, 0.0, 0.0, 0.0};
+    return (solver == FCC_LQG_SOLVER_HAMILTONIAN) ? FCC_LQG_SOLVER_DOUBLING
+                                                  : FCC_LQG_SOLVER_HAMILTONIAN;
+}
+
+static fcc_status_t solve_first(const fcc_dare_problem_t *p, fcc_mat64_t *x, fcc_mat64_t *gain,
+                                gain_fn_t gain_fn, fcc_lqg_ws_t *ws)
+{
+    ws->first = (fcc_dare_info_t){0U, 0.0, 0.0, 0.0};
+    FCC_TRY(solve_with(ws->solver, p, x, &ws->first, &ws->u.dare));
+    return gain_fn(p, x, gain, ws);
+}
+
+static fcc_status_t solve_second(const fcc_dare_problem_t *p, const fcc_mat64_t *x,
+                                 const fcc_mat64_t *gain, fcc_mat64_t *x_alt, fcc_mat64_t *gain_alt,
+                                 gain_fn_t gain_fn, fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
+{
+    const fcc_dare_info_t info = ws->first;
     fcc_dare_info_t info_alt = {0U, 0.0, 0.0, 0.0};
-    FCC_TRY(solve_with(solver, p, x, &info, &ws->u.dare));
-    FCC_TRY(gain_fn(p, x, gain, ws));
-    FCC_TRY(solve_with(other, p, x_alt, &info_alt, &ws->u.dare));
+    FCC_TRY(solve_with(other_solver(ws->solver), p, x_alt, &info_alt, &ws->u.dare));
     FCC_TRY(gain_fn(p, x_alt, gain_alt, ws));
     double dx = 0.0;
     double dg = 0.0;
@@ -131,8 +171,8 @@ static fcc_status_t solve_both(fcc_lqg_solver_t solver, const fcc_dare_problem_t
     FCC_TRY(fcc_mat64_rel_diff(gain_alt, gain, &dg));
     rep->residual = info.residual;
     rep->disagreement = (dx > dg) ? dx : dg;
-    rep->iterations = (solver == FCC_LQG_SOLVER_DOUBLING) ? info.iterations : info_alt.iterations;
-    rep->rcond_u1 = (solver == FCC_LQG_SOLVER_HAMILTONIAN) ? info.rcond_u1 : info_alt.rcond_u1;
+    rep->iterations = (ws->solver == FCC_LQG_SOLVER_DOUBLING) ? info.iterations : info_alt.iterations;
+    rep->rcond_u1 = (ws->solver == FCC_LQG_SOLVER_HAMILTONIAN) ? info.rcond_u1 : info_alt.rcond_u1;
     return (rep->disagreement <= FCC_LQG_AGREE_TOL) ? FCC_OK : FCC_ERR_DISAGREE;
 }
 
@@ -173,9 +213,10 @@ static fcc_status_t kf_status(fcc_status_t st)
     return st;
 }
 
-static fcc_status_t design_lqr(fcc_lqg_solver_t solver, fcc_lqg_design64_t *d,
-                               fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
+/* Slices 3 and 4: the LQR, chosen solver then the other. */
+static fcc_status_t design_lqr(fcc_lqg_ws_t *ws, bool second)
 {
+    fcc_lqg_design64_t *d = &ws->d;
     const fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
     const fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
     const fcc_mat64_t q11 = FCC_MAT64(NX, NX, d->q11);
@@ -186,27 +227,33 @@ static fcc_status_t design_lqr(fcc_lqg_solver_t solver, fcc_lqg_design64_t *d,
     fcc_mat64_t k = FCC_MAT64(NU, NX, d->k);
     fcc_mat64_t x_alt = FCC_MAT64(NX, NX, ws->x_alt);
     fcc_mat64_t k_alt = FCC_MAT64(NU, NX, ws->g_alt);
-    return solve_both(solver, &p, &x, &k, &x_alt, &k_alt, lqr_gain, rep, ws);
+    return second ? solve_second(&p, &x, &k, &x_alt, &k_alt, lqr_gain, &ws->lqr, ws)
+                  : solve_first(&p, &x, &k, lqr_gain, ws);
 }
 
-static fcc_status_t design_kf(fcc_lqg_solver_t solver, fcc_lqg_design64_t *d,
-                              fcc_lqg_riccati_t *rep, fcc_lqg_ws_t *ws)
+/* Slices 5 and 6: the Kalman filter (the dual problem), then P+ = (I - L H) M. */
+static fcc_status_t design_kf(fcc_lqg_ws_t *ws, bool second)
 {
+    fcc_lqg_design64_t *d = &ws->d;
     fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
     fcc_mat64_t h = FCC_MAT64(NY, NX, d->h);
     fcc_mat64_t a = FCC_MAT64(NX, NX, ws->a_t);
     fcc_mat64_t b = FCC_MAT64(NX, NY, ws->b_t);
-    FCC_TRY(fcc_mat64_trans(&phi, &a));
-    FCC_TRY(fcc_mat64_trans(&h, &b));
+    if (!second) {
+        FCC_TRY(fcc_mat64_trans(&phi, &a));
+        FCC_TRY(fcc_mat64_trans(&h, &b));
+    }
     const fcc_mat64_t qd = FCC_MAT64(NX, NX, d->qd);
     const fcc_mat64_t r = FCC_MAT64(NY, NY, d->r);
     const fcc_dare_problem_t p = {&a, &b, &qd, &r, NULL};
     fcc_mat64_t x = FCC_MAT64(NX, NX, d->m);
     fcc_mat64_t l = FCC_MAT64(NX, NY, d->l);
+    if (!second) {
+        return kf_status(solve_first(&p, &x, &l, kf_gain, ws));
+    }
     fcc_mat64_t x_alt = FCC_MAT64(NX, NX, ws->x_alt);
     fcc_mat64_t l_alt = FCC_MAT64(NX, NY, ws->g_alt);
-    FCC_TRY(kf_status(solve_both(solver, &p, &x, &l, &x_alt, &l_alt, kf_gain, rep, ws)));
-    /* P+ = (I - L H) M */
+    FCC_TRY(kf_status(solve_second(&p, &x, &l, &x_alt, &l_alt, kf_gain, &ws->kf, ws)));
     fcc_mat64_t lh = FCC_MAT64(NX, NX, ws->tmp);
     fcc_mat64_t pp = FCC_MAT64(NX, NX, d->p_post);
     FCC_TRY(fcc_mat64_mul(&l, &h, &lh));
@@ -288,16 +335,15 @@ static void export_design(const fcc_lqg_design64_t *d, fcc_lqg_design_t *out)
     narrow(out->est_im, d->est_im, NX);
 }
 
-fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
-                            fcc_lqg_design_t *out, fcc_lqg_ws_t *ws)
+fcc_status_t fcc_lqg_design_begin(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
+                                  fcc_lqg_ws_t *ws)
 {
-    if (plant == NULL || out == NULL || ws == NULL) {
+    if (plant == NULL || ws == NULL) {
         return FCC_ERR_ARG;
     }
+    ws->slice = FCC_LQG_DESIGN_SLICES;
     FCC_TRY(check_inputs(plant, t, solver));
     fcc_lqg_design64_t *d = &ws->d;
-    fcc_lqg_riccati_t lqr = {0.0, 0.0, 0.0, 0U};
-    fcc_lqg_riccati_t kf = {0.0, 0.0, 0.0, 0U};
     for (unsigned i = 0; i < NY * NX; ++i) {
         d->h[i] = (double)plant->h[i];
     }
@@ -305,14 +351,66 @@ fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solv
     d->r[1] = 0.0;
     d->r[2] = 0.0;
     d->r[3] = (double)plant->accel_var;
-    FCC_TRY(discretise(plant, t, d, ws));
-    FCC_TRY(design_lqr(solver, d, &lqr, ws));
-    FCC_TRY(design_kf(solver, d, &kf, ws));
-    FCC_TRY(poles(d, ws));
-    out->t = (fcc_real_t)t;
-    out->solver = solver;
-    out->lqr = lqr;
-    out->kf = kf;
-    export_design(d, out);
+    ws->plant = plant;
+    ws->t = t;
+    ws->solver = solver;
+    ws->lqr = (fcc_lqg_riccati_t){0.0, 0.0, 0.0, 0U};
+    ws->kf = (fcc_lqg_riccati_t){0.0, 0.0, 0.0, 0U};
+    ws->slice = 0U;
     return FCC_OK;
+}
+
+static fcc_status_t run_slice(fcc_lqg_ws_t *ws, unsigned slice, fcc_lqg_design_t *out)
+{
+    switch (slice) {
+    case 0U:
+        return discretise_zoh(ws);
+    case 1U:
+        return discretise_noise(ws);
+    case 2U:
+        return discretise_cost(ws);
+    case 3U:
+    case 4U:
+        return design_lqr(ws, slice == 4U);
+    case 5U:
+    case 6U:
+        return design_kf(ws, slice == 6U);
+    default:
+        FCC_TRY(poles(&ws->d, ws));
+        out->t = (fcc_real_t)ws->t;
+        out->solver = ws->solver;
+        out->lqr = ws->lqr;
+        out->kf = ws->kf;
+        export_design(&ws->d, out);
+        return FCC_OK;
+    }
+}
+
+fcc_status_t fcc_lqg_design_slice(fcc_lqg_ws_t *ws, fcc_lqg_design_t *out)
+{
+    if (ws == NULL || out == NULL || ws->slice >= FCC_LQG_DESIGN_SLICES) {
+        return FCC_ERR_ARG;
+    }
+    const unsigned slice = ws->slice;
+    const fcc_status_t st = run_slice(ws, slice, out);
+    ws->slice = (st == FCC_OK && slice + 1U < FCC_LQG_DESIGN_SLICES) ? slice + 1U
+                                                                    : FCC_LQG_DESIGN_SLICES;
+    if (st != FCC_OK) {
+        return st;
+    }
+    return (ws->slice < FCC_LQG_DESIGN_SLICES) ? FCC_ERR_AGAIN : FCC_OK;
+}
+
+fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
+                            fcc_lqg_design_t *out, fcc_lqg_ws_t *ws)
+{
+    if (out == NULL) {
+        return FCC_ERR_ARG;
+    }
+    FCC_TRY(fcc_lqg_design_begin(plant, t, solver, ws));
+    fcc_status_t st = FCC_ERR_AGAIN;
+    for (unsigned i = 0; i < FCC_LQG_DESIGN_SLICES && st == FCC_ERR_AGAIN; ++i) {
+        st = fcc_lqg_design_slice(ws, out);
+    }
+    return st;
 }

@@ -440,9 +440,17 @@ static void test_pending_requests_merge(void **state)
     assert_int_equal(g_node.cnt.configs_accepted, 2u);
     assert_int_equal(g_node.cnt.configs_applied, 1u);
     /* realtime: a request is designed in idle time, not by the step */
+    /* in FCC_LQG_DESIGN_SLICES slices; a newer request restarts the design */
+    fcc_assert_ok(fcc_app_msl_request(&g_node.msl, FCC_R(0.1), 0u));
+    fcc_assert_ok(fcc_node_background(&g_node));
+    fcc_assert_ok(fcc_node_background(&g_node));
     fcc_assert_ok(fcc_app_msl_request(&g_node.msl, FCC_R(0.05), 0u));
     assert_true(fcc_app_msl_wants_design(&g_node.msl));
-    fcc_assert_ok(fcc_node_background(&g_node));
+    for (unsigned n = 0u; n < FCC_LQG_DESIGN_SLICES; ++n) {
+        assert_true(fcc_app_msl_wants_design(&g_node.msl));
+        fcc_assert_ok(fcc_node_background(&g_node));
+    }
+    assert_false(fcc_app_msl_wants_design(&g_node.msl));
     assert_int_equal(fcc_node_background(&g_node), FCC_ERR_AGAIN);
     assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 200000u); /* not yet */
     (void)msl_step(1u, true, true);

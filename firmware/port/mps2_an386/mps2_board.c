@@ -36,6 +36,10 @@ typedef struct {
 #define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
 #define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
 #define NVIC_ISER0 (*(volatile uint32_t *)0xE000E100u)
+#define DUALTIMER1_LOAD (*(volatile uint32_t *)0x40002000u)
+#define DUALTIMER1_VALUE (*(volatile uint32_t *)0x40002004u)
+#define DUALTIMER1_CTRL (*(volatile uint32_t *)0x40002008u)
+#define DUALTIMER_CTRL_EN_32BIT_FREE 0x82u /* enable, 32-bit, free-running, no prescale */
 #define SYST_TICKS_PER_MS (MPS2_CPU_HZ / 1000u)
 #define IRQ_UART0_RX 0u
 #define IRQ_UART0_TX 1u
@@ -50,7 +54,8 @@ extern uint32_t mps2_stack_bottom, mps2_stack_top, mps2_bootcfg_start;
 /* ---- state (one board) ----------------------------------------------------------- */
 
 typedef struct {
-    volatile uint32_t ms;                       /* SysTick wraps */
+    uint32_t last_elapsed;                      /* clock extension (main loop only) */
+    uint32_t wraps;
     uint8_t rx[MPS2_LINK_RX_RING];
     volatile uint32_t rx_head;                  /* written by the RX interrupt */
     volatile uint32_t rx_tail;                  /* written by the main loop */
@@ -81,20 +86,23 @@ static void irq_restore(uint32_t primask)
 
 /* ---- clock ------------------------------------------------------------------------ */
 
+/* The SysTick only ends a WFI every millisecond. */
 void mps2_systick_isr(void)
 {
-    g_board.ms = g_board.ms + 1u;
 }
 
+/* The dual timer's first counter, free-running over 32 bits, is the clock:
+ * QEMU derives its value from virtual time directly, whereas a periodic
+ * SysTick drifts when the host serves its interrupts late.  Extended to 64
+ * bits here (it wraps every 171 s; only the main loop reads it). */
 uint64_t mps2_ticks(void)
 {
-    uint32_t ms;
-    uint32_t cvr;
-    do { /* a wrap between the two reads shows as a changed ms: read again */
-        ms = g_board.ms;
-        cvr = SYST_CVR;
-    } while (ms != g_board.ms);
-    return (uint64_t)ms * SYST_TICKS_PER_MS + (uint64_t)(SYST_TICKS_PER_MS - 1u - cvr);
+    const uint32_t elapsed = 0xFFFFFFFFu - DUALTIMER1_VALUE;
+    if (elapsed < g_board.last_elapsed) {
+        ++g_board.wraps;
+    }
+    g_board.last_elapsed = elapsed;
+    return ((uint64_t)g_board.wraps << 32) | elapsed;
 }
 
 uint64_t mps2_now_us(void)
@@ -233,6 +241,9 @@ void mps2_board_init(void)
     SYST_RVR = SYST_TICKS_PER_MS - 1u;
     SYST_CVR = 0u;
     SYST_CSR = 0x7u; /* CPU clock, interrupt, enable */
+    DUALTIMER1_CTRL = 0u;
+    DUALTIMER1_LOAD = 0xFFFFFFFFu;
+    DUALTIMER1_CTRL = DUALTIMER_CTRL_EN_32BIT_FREE;
     UART0->bauddiv = UART_BAUDDIV;
     UART0->ctrl = UART_CTRL_TX_EN | UART_CTRL_RX_EN | UART_CTRL_RX_INT | UART_CTRL_RXO_INT;
     UART1->bauddiv = UART_BAUDDIV;

@@ -5,8 +5,9 @@
  *   UART0 (0x40004000)  the CAN link (SLCAN): receive and transmit by
  *                       interrupt through fixed rings, never blocks
  *   UART1 (0x40005000)  the log: polled, bounded wait, drops when stuck
- *   SysTick             1 ms interrupt on the 25 MHz CPU clock, extended to a
- *                       64-bit microsecond clock and a 25 MHz tick counter
+ *   dual timer 1        free-running 32-bit counter at 25 MHz, extended to a
+ *                       64-bit tick count and microsecond clock
+ *   SysTick             1 ms interrupt: wakes the idle loop
  *   semihosting         only to end QEMU with an exit status
  *
  * No heap, no OS; the only mutable state is this module's (one board).

@@ -1,0 +1,31 @@
+/*
+ * fcc_bench_flight.h -- the frames of the benchmark flights, as the simulator
+ * would send them (E2E-protected by the real frame layer): one CDRW pull-up
+ * with the paper's 0.1 s sensor spike at 4 s, and a missile fed by smooth
+ * sensor signals.  Shared by the host bench (firmware/host/fcc_step_bench.c,
+ * callgrind) and the on-target bench (firmware/target/m4f_bench.c, QEMU).
+ */
+#ifndef FCC_BENCH_FLIGHT_H
+#define FCC_BENCH_FLIGHT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fcc_bus.h"
+#include "fcc_can.h"
+
+#define FCC_BENCH_MAX_FRAMES 5u
+
+/* The simulator's side of the bus: it sends what fcc consumes. */
+fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim);
+
+/* Step k of the CDRW: alpha, q, delta_e, (with oracle_fault: a SIM_EVENT
+ * saying a fault is active), then SIM_TICK(0, k).  *n frames in f. */
+fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, uint32_t k, bool oracle_fault,
+                                   fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n);
+
+/* Step k of the missile: gyro, accelerometer, SIM_TICK(1, k). */
+fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, uint32_t k,
+                                      fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n);
+
+#endif /* FCC_BENCH_FLIGHT_H */

@@ -141,6 +141,30 @@ void fcc_node_report(fcc_node_t *node, fcc_event_class_t cls, int32_t value);
 
 bool fcc_node_shutdown_requested(const fcc_node_t *node);
 
+/* ---- realtime schedule (fcc_node_rt.c): the same for every main ---------------- */
+
+/* One application's absolute deadlines t0 + k T on the port's clock. */
+typedef struct {
+    uint64_t deadline;  /* next release, port microseconds */
+    uint32_t period_us;
+    uint32_t k;         /* step index of that release */
+} fcc_node_rt_t;
+
+/* First deadlines one period after start_us. */
+void fcc_node_rt_start(const fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS], uint64_t start_us);
+
+/* Runs each enabled application whose deadline has come, the autopilot first.
+ * A step that starts a whole period late skips the missed periods (counted as
+ * overruns, no catch-up burst); one that ends after its next deadline is an
+ * overrun; the deadline then advances by the period, which a redesign may have
+ * changed.  jitter_us[a]: start - deadline of each step run (UINT64_MAX: app a
+ * did not run).  Returns how many steps ran. */
+uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
+                             uint64_t jitter_us[FCC_N_APPS]);
+
+/* The earliest deadline of the enabled applications (UINT64_MAX: none). */
+uint64_t fcc_node_rt_next(const fcc_node_t *node, const fcc_node_rt_t rt[FCC_N_APPS]);
+
 /* Period of app in microseconds (the missile's follows run-time redesigns). */
 uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app);
 

@@ -33,12 +33,6 @@
 #define FRAME_BUDGET 32u
 
 typedef struct {
-    uint64_t deadline; /* next release, monotonic us */
-    uint32_t k;        /* step index of that release */
-    uint32_t period_us;
-} rt_app_t;
-
-typedef struct {
     fcc_cli_t cli;
     fcc_report_t report;
     fcc_hostport_t hp;
@@ -49,7 +43,7 @@ typedef struct {
     uint64_t end_us;
     uint64_t status_period_us;
     uint64_t next_status_us;
-    rt_app_t rt[FCC_N_APPS];
+    fcc_node_rt_t rt[FCC_N_APPS];
     uint32_t seen_steps[FCC_N_APPS]; /* steps already measured */
     uint32_t seen_cmd_sends;
     fcc_hist_t exec[FCC_N_APPS];
@@ -101,51 +95,21 @@ static void handle_frames(host_t *h, uint32_t budget)
 
 /* ---- realtime schedule -------------------------------------------------------- */
 
-static void rt_start(host_t *h)
-{
-    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
-        h->rt[a].period_us = fcc_node_app_period_us(&h->node, a);
-        h->rt[a].deadline = h->start_us + h->rt[a].period_us;
-        h->rt[a].k = 0u;
-    }
-}
-
-static void rt_release(host_t *h, uint32_t a, uint64_t now)
-{
-    rt_app_t *r = &h->rt[a];
-    if (now >= r->deadline + r->period_us) { /* a whole period late: skip, no burst */
-        const uint64_t missed = (now - r->deadline) / r->period_us;
-        r->deadline += missed * r->period_us;
-        r->k += (uint32_t)missed;
-        fcc_node_note_overrun(&h->node, a, (uint32_t)missed, r->k);
-    }
-    fcc_hist_add(&h->jitter[a], now - r->deadline);
-    (void)fcc_node_run_step(&h->node, a, r->k);
-    measure_steps(h);
-    const uint64_t done = fcc_host_monotonic_us();
-    if (done > r->deadline + r->period_us) {
-        fcc_node_note_overrun(&h->node, a, 1u, r->k);
-    }
-    ++r->k;
-    r->period_us = fcc_node_app_period_us(&h->node, a); /* a redesign re-bases here */
-    r->deadline += r->period_us;
-}
-
 static void rt_run_due(host_t *h)
 {
     if (h->cli.node.mode != FCC_MODE_REALTIME) {
         return;
     }
-    /* When both are due the autopilot goes first: its command closes a loop,
-     * the identification only observes. */
-    static const uint32_t k_order[FCC_N_APPS] = {FCC_APP_MSL, FCC_APP_CDRW};
-    for (uint32_t i = 0u; i < FCC_N_APPS; ++i) {
-        const uint32_t a = k_order[i];
-        const uint64_t now = fcc_host_monotonic_us();
-        if (h->cli.node.app_enabled[a] && now >= h->rt[a].deadline) {
-            rt_release(h, a, now);
+    uint64_t jitter[FCC_N_APPS];
+    if (fcc_node_rt_run_due(&h->node, h->rt, jitter) == 0u) {
+        return;
+    }
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        if (jitter[a] != UINT64_MAX) {
+            fcc_hist_add(&h->jitter[a], jitter[a]);
         }
     }
+    measure_steps(h);
 }
 
 /* ---- the loop ----------------------------------------------------------------- */
@@ -160,11 +124,7 @@ static uint64_t next_wake(host_t *h, uint64_t now)
     uint64_t wake = min_u64(h->end_us, h->next_status_us);
     wake = min_u64(wake, fcc_hostport_service(&h->hp, now));
     if (h->cli.node.mode == FCC_MODE_REALTIME) {
-        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
-            if (h->cli.node.app_enabled[a]) {
-                wake = min_u64(wake, h->rt[a].deadline);
-            }
-        }
+        wake = min_u64(wake, fcc_node_rt_next(&h->node, h->rt));
     }
     return wake;
 }
@@ -386,7 +346,7 @@ static int start(host_t *h)
     h->next_status_us = (h->status_period_us == UINT64_MAX)
                             ? UINT64_MAX
                             : h->start_us + h->status_period_us;
-    rt_start(h);
+    fcc_node_rt_start(&h->node, h->rt, h->start_us);
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
         fcc_hist_init(&h->exec[a]);
         fcc_hist_init(&h->jitter[a]);

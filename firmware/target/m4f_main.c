@@ -31,19 +31,13 @@
 #define EVENT_LINE_GAP_US 1000000u
 
 typedef struct {
-    uint64_t deadline;
-    uint32_t period_us;
-    uint32_t k;
-} rt_app_t;
-
-typedef struct {
     fcc_node_t node;
     fcc_node_config_t cfg;
     fcc_slcan_dev_t link;
     uint64_t status_period_us; /* 0: only when opened and at shutdown */
     uint64_t next_status_us;
     bool flying;               /* the channel was opened at least once */
-    rt_app_t rt[FCC_N_APPS];
+    fcc_node_rt_t rt[FCC_N_APPS];
     uint32_t slice_worst_us;   /* longest LQG design slice so far (realtime scheduling) */
     uint64_t event_last_us[FCC_EV_COUNT];
     uint32_t event_suppressed[FCC_EV_COUNT];
@@ -131,48 +125,6 @@ static void port_event(void *ctx, const fcc_event_t *ev)
         img->event_suppressed[c] = 0u;
     }
     mps2_log("\n");
-}
-
-/* ---- realtime schedule: absolute deadlines, overruns skipped ------------------------ */
-
-static void rt_start(image_t *img, uint64_t now)
-{
-    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
-        img->rt[a].period_us = fcc_node_app_period_us(&img->node, a);
-        img->rt[a].deadline = now + img->rt[a].period_us;
-        img->rt[a].k = 0u;
-    }
-}
-
-static void rt_release(image_t *img, uint32_t a, uint64_t now)
-{
-    rt_app_t *r = &img->rt[a];
-    if (now >= r->deadline + r->period_us) { /* a whole period late: skip, no burst */
-        const uint64_t missed = (now - r->deadline) / r->period_us;
-        r->deadline += missed * r->period_us;
-        r->k += (uint32_t)missed;
-        fcc_node_note_overrun(&img->node, a, (uint32_t)missed, r->k);
-    }
-    (void)fcc_node_run_step(&img->node, a, r->k);
-    if (mps2_now_us() > r->deadline + r->period_us) {
-        fcc_node_note_overrun(&img->node, a, 1u, r->k);
-    }
-    ++r->k;
-    r->period_us = fcc_node_app_period_us(&img->node, a); /* a redesign re-bases here */
-    r->deadline += r->period_us;
-}
-
-static void rt_run_due(image_t *img)
-{
-    /* The autopilot first when both are due, as the host fcc. */
-    static const uint32_t k_order[FCC_N_APPS] = {FCC_APP_MSL, FCC_APP_CDRW};
-    for (uint32_t i = 0u; i < FCC_N_APPS; ++i) {
-        const uint32_t a = k_order[i];
-        const uint64_t now = mps2_now_us();
-        if (img->cfg.app_enabled[a] && now >= img->rt[a].deadline) {
-            rt_release(img, a, now);
-        }
-    }
 }
 
 /* ---- start, loop, stop ------------------------------------------------------------------ */
@@ -300,19 +252,16 @@ static uint64_t loop_once(image_t *img)
         (void)fcc_node_send_status(&img->node); /* "listening" */
         img->next_status_us = now + img->status_period_us;
         if (!img->flying) {
-            rt_start(img, now);
+            fcc_node_rt_start(&img->node, img->rt, now);
         }
         img->flying = true;
         mps2_log("fcc: SLCAN channel open\n");
     }
     uint64_t wake = UINT64_MAX;
     if (img->flying && img->cfg.mode == FCC_MODE_REALTIME) {
-        rt_run_due(img);
-        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
-            if (img->cfg.app_enabled[a]) {
-                wake = min_u64(wake, img->rt[a].deadline);
-            }
-        }
+        uint64_t jitter[FCC_N_APPS];
+        (void)fcc_node_rt_run_due(&img->node, img->rt, jitter);
+        wake = fcc_node_rt_next(&img->node, img->rt);
     }
     now = mps2_now_us();
     if (img->link.state == FCC_SLCAN_OPEN && img->status_period_us != 0u) {

@@ -33,3 +33,12 @@ def fly(out: Path, *scenarios: Scenario, **cfg: Any) -> Outcome:
     cfg.setdefault("progress", False)
     cfg.setdefault("plots", False)
     return run_flight(list(scenarios), RigConfig(out_dir=out, **cfg))
+
+
+def cli(capsys: Any, *argv: str) -> tuple[int, str, str]:
+    """`hil ARGV...` in this process: (exit status, stdout, stderr)."""
+    from hil.cli import main
+
+    rc = main(list(argv))
+    out, err = capsys.readouterr()
+    return rc, out, err

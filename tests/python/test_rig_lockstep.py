@@ -13,22 +13,15 @@ import pytest
 from hil import metrics
 from hil.bus import diag, load
 from hil.bus.logio import read_frames
-from hil.cli import main
 from hil.faults import load_default_scenario, with_fault_start
 from hil.rig.apps import CdrwDriver
 from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
 from hil.rig.session import COMMAND_RESET, FccDied, FccTimeout, RigSession
-from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
-
-
-def cli(capsys, *argv: str) -> tuple[int, str, str]:
-    rc = main(list(argv))
-    out, err = capsys.readouterr()
-    return rc, out, err
 
 
 def test_default_flight_is_deterministic(tmp_path, capsys):

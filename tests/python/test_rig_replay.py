@@ -7,16 +7,9 @@ import re
 
 import pytest
 
-from hil.cli import main
-from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
-
-
-def cli(capsys, *argv: str) -> tuple[int, str, str]:
-    rc = main(list(argv))
-    out, err = capsys.readouterr()
-    return rc, out, err
 
 
 def test_replay_identical_then_different(tmp_path, capsys):

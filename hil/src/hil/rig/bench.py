@@ -73,11 +73,16 @@ def main(argv: list[str] | None = None) -> int:
          "ok" if camp < CAMPAIGN_TARGET_S else "MISSED"),
         ("  lockstep loops only", f"{cinfo['lockstep_wall_s']:.1f} s", "", ""),
     ]
+    print_table("rig (lockstep through vcan0 and fcc)", rows)
+    return 0
+
+
+def print_table(title: str, rows: list[tuple[str, str, str, str]]) -> None:
+    """A bench part's table: (what, measured, target, ok/MISSED) rows under a title."""
     w = max(len(r[0]) for r in rows)
-    print(f"{'rig (lockstep through vcan0 and fcc)':<{w}}  {'measured':>16}  {'target':>10}")
+    print(f"{title:<{w}}  {'measured':>16}  {'target':>10}")
     for name, val, target, verdict in rows:
         print(f"{name:<{w}}  {val:>16}  {target:>10}  {verdict}")
-    return 0
 
 
 if __name__ == "__main__":

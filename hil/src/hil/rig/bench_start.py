@@ -15,6 +15,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from .bench import print_table
 from .runs import AFTER_ENV
 
 NO_PLOTS_BUDGET_S = 1.5
@@ -59,10 +60,7 @@ def main(argv: list[str] | None = None) -> int:
                          f"{statistics.median(totals):.2f} / {statistics.median(loops):.2f} s", "", ""))
         rows.append(("python -c pass", f"{t_pass:.2f} s", "", ""))
         rows.append(("python -c 'import hil.cli, hil.rig.runs'", f"{t_imp:.2f} s", "", ""))
-    w = max(len(r[0]) for r in rows)
-    print(f"{'start-up, inside the guest':<{w}}  {'measured':>14}  {'budget':>8}")
-    for name, val, budget, verdict in rows:
-        print(f"{name:<{w}}  {val:>14}  {budget:>8}  {verdict}")
+    print_table("start-up, inside the guest", rows)
     return 0
 
 

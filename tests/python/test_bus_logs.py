@@ -109,3 +109,24 @@ def test_diag_unreadable_log_is_one_line(tmp_path: Path, repo: Path) -> None:
         assert r.returncode == 2 and r.stdout == ""
         (line,) = r.stderr.strip().splitlines()
         assert line.startswith(f"diag: {tmp_path / name}: cannot read")
+
+
+def test_tick_streams_per_application_and_heartbeats_do_not_hold_up_steps() -> None:
+    """The demo's interleaving: CDRW ticks at 50 Hz and missile ticks at 10 Hz on one SIM_TICK
+    identifier are two streams; a burst of heartbeats in a slow step keeps the steps on time."""
+    fcc = FrameCodec(SPEC, "FCC")
+    wall = [frame("SIM_CONTROL", {"command": 2, "lqg_period": 0.0, "da_bits": 0}, 1.0)]
+    for k in range(50):
+        if k == 3:   # fcc's heartbeat, 40 frames in one step (a slow wall-clock step)
+            wall += [LogFrame(1.0, "vcan0", *fcc.encode("FCC_BUS_COUNTS", {
+                "bus_errors": 0, "rx_overflows": 0, "tx_dropped": 0, "tx_retries": 0})) for _ in range(40)]
+        wall.append(frame("SIM_TICK", {"app": 0, "step": k}, 1.0 + 1e-3 * k))
+        if k % 5 == 0:
+            wall.append(frame("SIM_TICK", {"app": 1, "step": k // 5}, 1.0 + 1e-3 * k))
+    rep = diag.analyse(simulated(wall, {0: 0.02, 1: 0.1}, SPEC.baudrate), SPEC)
+    ticks = {m["name"]: m for m in rep["messages"] if m["name"].startswith("SIM_TICK")}
+    assert set(ticks) == {"SIM_TICK[cdrw]", "SIM_TICK[missile]"}
+    assert ticks["SIM_TICK[cdrw]"]["used_period_ms"] == [20.0]
+    assert ticks["SIM_TICK[missile]"]["used_period_ms"] == [100.0]
+    assert ticks["SIM_TICK[cdrw]"]["jitter_max_ms"] < 1.0        # not pushed by the heartbeats
+    assert all(m["e2e"]["NO_NEW_DATA"] == 0 for m in ticks.values())

@@ -35,6 +35,9 @@ from .e2e import E2EReceiver, E2EStatus
 PROG = "diag"
 SIM_CONTROL_ID = 0x010
 COMMAND_RESET = 2
+#: messages that carry an application in bits 12-13 (lockstep tick and answer): one stream each
+PER_APP = ("SIM_TICK", "FCC_ACK")
+APPS = {0: "cdrw", 1: "missile"}
 
 
 @dataclass
@@ -119,8 +122,11 @@ class BusStats:
             return
         if f.frame_id == SIM_CONTROL_ID and len(f.data) == 8 and (f.data[1] >> 4) == COMMAND_RESET:
             self.flight += 1
-        st = self.messages.setdefault(msg.frame_id,
-                                      MessageStats(msg.name, msg.frame_id, msg.cycle_ms, msg.protected))
+        key, name = msg.frame_id, msg.name
+        if msg.name in PER_APP and len(f.data) == msg.length:  # one stream per application
+            app = (f.data[1] >> 4) & 0x3
+            key, name = msg.frame_id * 4 + app, f"{msg.name}[{APPS.get(app, app)}]"
+        st = self.messages.setdefault(key, MessageStats(name, msg.frame_id, msg.cycle_ms, msg.protected))
         st.times.append(f.timestamp)
         st.flights.append(self.flight)
         if len(f.data) != msg.length:
@@ -138,7 +144,7 @@ class BusStats:
 
     def report(self) -> dict[str, object]:
         duration = (self.last - self.first) if self.first is not None and self.last is not None else 0.0
-        per = [self.messages[k].summary() for k in sorted(self.messages)]
+        per = [m.summary() for m in sorted(self.messages.values(), key=lambda m: (m.frame_id, m.name))]
         span = duration if duration > 0 else math.nan
         return {"frames": self.frames, "duration_s": duration, "messages": per,
                 "unknown_ids": dict(sorted(self.unknown.items())),

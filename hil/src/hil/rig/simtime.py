@@ -6,7 +6,8 @@ is rewritten: every frame gets the simulated time of the step it belongs to, and
 step the frames follow each other at the bus's bit rate (frame i starts when frame i-1 has
 left the wire, its length with worst-case bit stuffing).  The step of a frame: a sensor frame
 carries its step (bytes 2-3), SIM_TICK(app, k) names it, every other frame belongs to the
-step in progress.  Flights start at a SIM_CONTROL reset, on the next 0.1 s after the
+step in progress (fcc's heartbeat, paced by the wall clock, is stamped with the step it fell
+in without delaying the frames after it).  Flights start at a SIM_CONTROL reset, on the next 0.1 s after the
 frames before it (the start-up's heartbeats, the previous flight); a SIM_CONTROL with a
 new LQG period changes the missile's step period.  The wall-clock log is kept beside it.
 """
@@ -25,6 +26,9 @@ from .buslog import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
 WALL_LOG = "bus_wall.log"
+#: fcc's heartbeat frames: paced by the wall clock, so a slow lockstep step gathers many of
+#: them; they get the time of the step they fell in but do not hold up the steps' frames
+WALL_PACED = (0x700, 0x70F)
 #: flights start on this grid (s)
 FLIGHT_GRID_S = 0.1
 MISSILE_APP = 1
@@ -58,8 +62,9 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
             k = low if prev is None else prev + ((low - prev + 0x8000) & 0xFFFF) - 0x8000
             t_step = max(t_step, offset + k * period.get(app, 0.0))
         t = max(t_step, bus_free)
-        bits = 0 if (f.fd or f.error) else worst_case_bits(0 if f.remote else len(data), f.extended)
-        bus_free = t + bits / baudrate
+        if not (plain and WALL_PACED[0] <= f.frame_id <= WALL_PACED[1]):
+            bits = 0 if (f.fd or f.error) else worst_case_bits(0 if f.remote else len(data), f.extended)
+            bus_free = t + bits / baudrate
         yield replace(f, timestamp=round(t, 6))
 
 

@@ -13,6 +13,23 @@
 #define MAX_RHO_MAX 1e3
 #define MARGIN_MIN 1e-6
 #define MARGIN_MAX 1e6
+/* Bound on every element of a prior model (a 50 Hz discrete model has |a| ~ 1) and of the
+ * --p0/--e/--f matrices: beyond these the filters overflow (float) or are meaningless. */
+#define PRIOR_MAX 1e3
+#define MAT2_MAX 1e6
+
+/* Every value of v[0..n) within -hi..hi, else one message naming the option. */
+static fcc_opt_result_t check_abs(const char *name, const double *v, int n, double hi, char *err,
+                                  size_t len)
+{
+    for (int i = 0; i < n; ++i) {
+        if (v[i] < -hi || v[i] > hi) {
+            return fcc_opt_fail(err, len, "%s: value %d (%g) is outside %g..%g", name, i + 1,
+                                v[i], -hi, hi);
+        }
+    }
+    return FCC_OPT_DONE;
+}
 
 void fcc_opt_sid_begin(fcc_opt_sid_t *s, fcc_sid_config_t *cfg)
 {
@@ -56,6 +73,10 @@ fcc_opt_result_t fcc_opt_sid_model(fcc_opt_sid_t *s, const char *name, const cha
         return fcc_opt_fail(
             err, len, "%s: expected a11,a12,a21,a22,b1,b2[,c1,c2] (6 or 8 finite numbers), got '%s'",
             name, val);
+    }
+    const fcc_opt_result_t r = check_abs(name, v, n, PRIOR_MAX, err, len);
+    if (r != FCC_OPT_DONE) {
+        return r;
     }
     fcc_sid_model_t *m = &s->cfg->mls.prior;
     for (int i = 0; i < 4; ++i) {
@@ -123,9 +144,23 @@ static fcc_opt_result_t apply_filters(fcc_sid_config_t *c, const char *name, con
     }
     if (strcmp(name, "--q-normal") == 0) return get_order(name, val, &c->azkf.q_normal, err, len);
     if (strcmp(name, "--q-fault") == 0) return get_order(name, val, &c->azkf.q_fault, err, len);
-    if (strcmp(name, "--p0") == 0) return fcc_opt_mat2(name, val, c->p0, err, len);
-    if (strcmp(name, "--e") == 0) return fcc_opt_mat2(name, val, c->e, err, len);
-    if (strcmp(name, "--f") == 0) return fcc_opt_mat2(name, val, c->f, err, len);
+    fcc_real_t *mat = NULL;
+    if (strcmp(name, "--p0") == 0) mat = c->p0;
+    if (strcmp(name, "--e") == 0) mat = c->e;
+    if (strcmp(name, "--f") == 0) mat = c->f;
+    if (mat != NULL) {
+        fcc_real_t m[4];
+        const fcc_opt_result_t r = fcc_opt_mat2(name, val, m, err, len);
+        if (r != FCC_OPT_DONE) {
+            return r;
+        }
+        const double d[4] = {(double)m[0], (double)m[1], (double)m[2], (double)m[3]};
+        const fcc_opt_result_t b = check_abs(name, d, 4, MAT2_MAX, err, len);
+        if (b == FCC_OPT_DONE) {
+            memcpy(mat, m, sizeof m);
+        }
+        return b;
+    }
     if (strcmp(name, "--x0") == 0) {
         double v[2];
         if (val == NULL) {
@@ -134,6 +169,14 @@ static fcc_opt_result_t apply_filters(fcc_sid_config_t *c, const char *name, con
         if (fcc_opt_list(val, v, 2) != 2) {
             return fcc_opt_fail(err, len, "--x0: expected alpha,q (2 finite numbers), got '%s'",
                                 val);
+        }
+        const double lim[2] = {(double)c->alpha_limit, (double)c->q_limit};
+        for (int i = 0; i < 2; ++i) {
+            if (v[i] < -lim[i] || v[i] > lim[i]) {
+                return fcc_opt_fail(err, len, "--x0: %s = %g is outside %g..%g (what the "
+                                    "sensor can read)", i == 0 ? "alpha" : "q", v[i], -lim[i],
+                                    lim[i]);
+            }
         }
         c->x0[0] = (fcc_real_t)v[0];
         c->x0[1] = (fcc_real_t)v[1];
@@ -228,7 +271,7 @@ void fcc_opt_sid_usage(FILE *out)
         "  --margin M                    detector margin on the hull (%g)\n"
         "  --raise N / --hold N / --clear N  detector counts (%u / %u / %u)\n"
         "  --max-fault N                 longest flagged fault, steps; 0 = no limit (%u)\n"
-        "  --x0 a,q                      initial estimate (%g,%g)\n"
+        "  --x0 a,q                      initial estimate (%g,%g; |a| <= %g rad, |q| <= %g rad/s)\n"
         "  --p0 s | s1,s2 | p11,p12,p21,p22  initial KF covariance; the ZKFs start\n"
         "                                from its Cholesky factor (%g)\n"
         "  --e s | e1,e2 | 4 values      process noise generators E (%g)\n"
@@ -239,6 +282,7 @@ void fcc_opt_sid_usage(FILE *out)
         FCC_ZONO_MAX_ORDER, FCC_AZKF_DEFAULT_Q_NORMAL, FCC_AZKF_DEFAULT_Q_FAULT,
         (double)FCC_FDET_DEFAULT_MARGIN, FCC_FDET_DEFAULT_RAISE, FCC_FDET_DEFAULT_HOLD,
         FCC_FDET_DEFAULT_CLEAR, FCC_FDET_DEFAULT_MAX_FAULT, (double)FCC_SID_DEFAULT_X0_ALPHA,
-        (double)FCC_SID_DEFAULT_X0_Q, (double)FCC_SID_DEFAULT_P0, (double)FCC_SID_DEFAULT_E,
+        (double)FCC_SID_DEFAULT_X0_Q, (double)FCC_SID_DEFAULT_ALPHA_LIMIT,
+        (double)FCC_SID_DEFAULT_Q_LIMIT, (double)FCC_SID_DEFAULT_P0, (double)FCC_SID_DEFAULT_E,
         (double)FCC_SID_DEFAULT_F);
 }

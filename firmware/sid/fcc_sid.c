@@ -89,6 +89,10 @@ fcc_status_t fcc_sid_config_check(const fcc_sid_config_t *cfg)
         !FCC_IS_FINITE(cfg->q_limit) || !FCC_IS_FINITE(cfg->de_limit)) {
         return FCC_ERR_RANGE;
     }
+    /* an initial state no sensor could ever read is a configuration error, not a flight */
+    if (FCC_FABS(cfg->x0[0]) > cfg->alpha_limit || FCC_FABS(cfg->x0[1]) > cfg->q_limit) {
+        return FCC_ERR_RANGE;
+    }
     if (cfg->zkf_order < FCC_ZONO_MIN_ORDER || cfg->zkf_order > FCC_ZONO_MAX_ORDER) {
         return FCC_ERR_RANGE;
     }
@@ -255,13 +259,16 @@ static fcc_status_t step_zkf(fcc_sid_t *sid, const fcc_real_t y[2], fcc_real_t d
         const bool armed = !sid->cfg.mls_enabled || sid->cfg.arm_on_prior ||
                            !current_estimate(sid)->is_prior;
         st = fcc_azkf_step(&sid->u.azkf, model, de, y, use_y, armed, oracle, &ainfo);
+        if (st != FCC_OK) { /* ainfo is not written on failure: read it only after success */
+            return st;
+        }
         zinfo = ainfo.zkf;
         fault = ainfo.fault;
     } else {
         st = fcc_zkf_step(zkf, model, de, y, use_y, sid->cfg.zkf_order, &zinfo);
-    }
-    if (st != FCC_OK) {
-        return st;
+        if (st != FCC_OK) {
+            return st;
+        }
     }
     out->gain_norm = zinfo.gain_norm;
     out->order = zinfo.order;

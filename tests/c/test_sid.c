@@ -365,6 +365,63 @@ static void configuration_is_checked(void **state)
     assert_int_equal(fcc_sid_step(&sid_a, 0, 0, 0, false, true, NULL), FCC_ERR_ARG);
 }
 
+/* Fills the stack below the caller with a pattern no bool holds, so that a local read
+ * before it is written is seen by UBSan (invalid bool load) rather than reading a lucky 0. */
+static void poison_stack(void)
+{
+    volatile unsigned char junk[8192];
+    for (size_t i = 0; i < sizeof junk; ++i) {
+        junk[i] = 0xA5u;
+    }
+}
+
+/* Regression: when the AZKF step fails, fcc_sid_step read the AZKF's info (not written on
+ * failure) before looking at the status (`fcc --x0 1e308,1e308` aborted under UBSan).  The
+ * failure is now reported, nothing uninitialised is read, and the last row is kept. */
+static void failed_filter_step_reads_nothing_uninitialised(void **state)
+{
+    (void)state;
+    static const fcc_sid_filter_t filters[3] = {FCC_SID_KF, FCC_SID_ZKF, FCC_SID_AZKF};
+    for (int i = 0; i < 3; ++i) {
+        fcc_sid_config_t cfg;
+        fcc_sid_config_default(&cfg, filters[i]);
+        fcc_assert_ok(fcc_sid_init(&sid_a, &cfg));
+        fcc_sid_out_t out;
+        fcc_assert_ok(fcc_sid_step(&sid_a, FCC_R(0.1), FCC_R(0.0), FCC_R(-0.1), false, true, &out));
+        const fcc_sid_out_t good = out;
+        /* a state the filter cannot propagate: its step fails (overflow to infinity) */
+        fcc_real_t *x = cfg.filter == FCC_SID_KF    ? sid_a.u.kf.x
+                        : cfg.filter == FCC_SID_ZKF ? sid_a.u.zkf.x
+                                                    : sid_a.u.azkf.zkf.x;
+        x[0] = x[1] = FCC_REAL_MAX;
+        poison_stack();
+        const fcc_status_t st =
+            fcc_sid_step(&sid_a, FCC_R(0.1), FCC_R(0.0), FCC_R(-0.1), false, true, &out);
+        assert_true(st != FCC_OK);
+        assert_false(out.stepped);
+        assert_int_equal(out.filter_status, st);
+        assert_memory_equal(out.x_hat, good.x_hat, sizeof good.x_hat);
+        assert_int_equal(out.k, good.k);
+    }
+}
+
+/* --x0 beyond what a sensor can read is a configuration error, not a flight. */
+static void initial_state_outside_the_sensor_range_is_refused(void **state)
+{
+    (void)state;
+    fcc_sid_config_t cfg;
+    fcc_sid_config_default(&cfg, FCC_SID_AZKF);
+    cfg.x0[0] = cfg.alpha_limit * FCC_R(1.01);
+    assert_int_equal(fcc_sid_init(&sid_a, &cfg), FCC_ERR_RANGE);
+    fcc_sid_config_default(&cfg, FCC_SID_AZKF);
+    cfg.x0[1] = -cfg.q_limit * FCC_R(1.01);
+    assert_int_equal(fcc_sid_init(&sid_a, &cfg), FCC_ERR_RANGE);
+    fcc_sid_config_default(&cfg, FCC_SID_AZKF);
+    cfg.x0[0] = cfg.alpha_limit;
+    cfg.x0[1] = -cfg.q_limit;
+    fcc_assert_ok(fcc_sid_init(&sid_a, &cfg));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -377,6 +434,8 @@ int main(void)
         cmocka_unit_test(default_priors_hold_the_trim),
         cmocka_unit_test(arming_on_the_prior_catches_an_early_spike),
         cmocka_unit_test(configuration_is_checked),
+        cmocka_unit_test(failed_filter_step_reads_nothing_uninitialised),
+        cmocka_unit_test(initial_state_outside_the_sensor_range_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

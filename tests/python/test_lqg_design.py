@@ -167,6 +167,16 @@ def test_bad_input_is_one_line_and_nonzero(tool: Path, args: list[str]) -> None:
     assert len(lines) == 1 and lines[0].startswith("lqg_design: "), proc.stderr
 
 
+def test_a_write_error_fails(tool: Path) -> None:
+    """A full disk is not a design: `lqg_design ... >/dev/full` exits non-zero, one line."""
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run([str(tool), "--period", "0.1"], stdout=full, stderr=subprocess.PIPE,
+                              text=True, check=False)
+    assert proc.returncode == 1
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("lqg_design: cannot write"), proc.stderr
+
+
 def test_reference_vectors_are_up_to_date(tmp_path: Path) -> None:
     """Regenerate with scipy; the committed JSON must match and the committed C
     headers must be exactly what the generator renders from that JSON."""

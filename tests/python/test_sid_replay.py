@@ -218,6 +218,8 @@ BAD_INPUTS = {
     "bad fault flag": "t,alpha,q,de,fault\n0,0.1,0,0,2\n",
     "empty file": "",
     "header only": "t,alpha,q,de\n",
+    "NUL-led line": "t,alpha,q,de\n0,0.1,0,0\n\x000.02,0.1,0,0\n0.04,0.1,0,0\n",
+    "NUL inside a line": "t,alpha,q,de\n0,0.1,0,0\n0.02,0.1\x00,0,0\n",
 }
 
 
@@ -242,6 +244,8 @@ def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
     ("--margin", "-1"),
     ("--prior", "1,0,0,1,0,0,0"),            # 7 values: neither 6 nor 8
     ("--max-fault", "-2"), ("--max-fault", "x"),
+    ("--x0", "1e308,1e308"), ("--x0", "0,11"),   # beyond what the sensors can read
+    ("--prior", "1e300,0,0,1,0,0"), ("--p0", "1e300"), ("--e", "1e30,1"),
 ])
 def test_bad_options_one_line_and_failure(tool: Path, flight: Flight, args: tuple) -> None:
     short = "\n".join(flight.csv(with_fault_column=False).splitlines()[:61]) + "\n"

@@ -21,6 +21,9 @@
 #ifndef SO_RXQ_OVFL
 #define SO_RXQ_OVFL 40
 #endif
+#ifndef SO_RCVBUFFORCE
+#define SO_RCVBUFFORCE 33
+#endif
 
 static uint64_t monotonic_us(void)
 {
@@ -49,6 +52,14 @@ static fcc_status_t configure(int fd)
     }
     if (st == FCC_OK) {
         st = set_opt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask);
+    }
+    if (st == FCC_OK) {
+        /* A burst (a flood before a lockstep tick) must not overflow the default ~200 kB
+         * (~300 frames): best effort, FORCE needs CAP_NET_ADMIN, else capped by rmem_max. */
+        const int rcvbuf = FCC_SOCKETCAN_RCVBUF_BYTES;
+        if (set_opt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf, sizeof rcvbuf) != FCC_OK) {
+            (void)set_opt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
+        }
     }
     return st;
 }

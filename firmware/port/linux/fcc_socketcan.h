@@ -22,6 +22,8 @@
 
 #define FCC_SOCKETCAN_MAX_FILTERS 64u
 #define FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US 5000u
+/* Receive buffer asked for (SO_RCVBUFFORCE, else SO_RCVBUF): ~5000 queued frames */
+#define FCC_SOCKETCAN_RCVBUF_BYTES (4 << 20)
 
 typedef struct {
     int fd;                       /* -1 when closed */

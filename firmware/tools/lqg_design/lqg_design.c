@@ -9,6 +9,7 @@
  * Bad input: one line on stderr, exit status 2 (usage) or 1 (the design
  * refused the problem, with the firmware's status name).
  */
+#include <errno.h>
 #include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -214,5 +215,9 @@ int main(int argc, char **argv)
         return 1;
     }
     print_design(&design, &dac);
+    if (fflush(stdout) != 0 || ferror(stdout)) { /* e.g. a full disk: never exit 0 on it */
+        fprintf(stderr, PROG ": cannot write the design: %s\n", strerror(errno));
+        return 1;
+    }
     return 0;
 }

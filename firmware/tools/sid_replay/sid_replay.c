@@ -149,8 +149,15 @@ static int run_filters(const sid_opts_t *o)
                 continue;
             }
             fcc_sid_out_t out;
-            (void)fcc_sid_step(&loops[i], (fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k],
-                               (fcc_real_t)flight.de[k], flight.fault[k] != 0u, true, &out);
+            const fcc_status_t st =
+                fcc_sid_step(&loops[i], (fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k],
+                             (fcc_real_t)flight.de[k], flight.fault[k] != 0u, true, &out);
+            if (!out.stepped) { /* the filter did not step: its row would be stale, refuse */
+                fflush(stdout);
+                fprintf(stderr, "sid_replay: row %zu (t = %g): the %s step failed: %s\n",
+                        k + 1u, flight.t[k], filter_names[i], fcc_status_str(st));
+                return 1;
+            }
             print_row(flight.t[k], filter_names[i], out.x_hat, out.lo, out.hi, out.gain_norm,
                       out.order, out.fault ? 1 : 0, &out.model, out.rho);
         }

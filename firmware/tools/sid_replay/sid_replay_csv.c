@@ -48,17 +48,28 @@ static size_t split(char *line, char *fields[MAX_FIELDS])
     }
 }
 
-/* Reads one line; 1 = got one, 0 = end of file, -1 = too long. */
+/* Reads one line; 1 = got one, 0 = end of file, -1 = too long, -2 = it holds a NUL byte
+ * (which would end the C string early: a NUL-led line looked blank and was skipped). */
 static int read_line(FILE *in, char *buf, size_t size)
 {
-    if (fgets(buf, (int)size, in) == NULL) {
+    size_t n = 0u;
+    bool nul = false;
+    int c = EOF;
+    while ((c = getc(in)) != EOF) {
+        if (n + 1u == size) {
+            return -1;
+        }
+        nul = nul || c == '\0';
+        buf[n++] = (char)c;
+        if (c == '\n') {
+            break;
+        }
+    }
+    buf[n] = '\0';
+    if (n == 0u) {
         return 0;
     }
-    const size_t n = strlen(buf);
-    if (n > 0u && buf[n - 1u] != '\n' && !feof(in)) {
-        return -1;
-    }
-    return 1;
+    return nul ? -2 : 1;
 }
 
 static int parse_header(char *line, int col_of[N_COLS], size_t *n_fields, char *err, size_t len)
@@ -174,6 +185,10 @@ int sid_csv_read(FILE *in, const sid_csv_limits_t *lim, sid_flight_t *flight, ch
             break;
         }
         ++lineno;
+        if (r == -2) {
+            return fcc_opt_fail(err, err_len, "line %zu: contains a NUL byte (not a text CSV)",
+                                lineno);
+        }
         if (r < 0) {
             return fcc_opt_fail(err, err_len, "line %zu: longer than %u characters", lineno,
                                 SID_CSV_MAX_LINE - 2u);

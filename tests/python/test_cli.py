@@ -135,3 +135,91 @@ def test_entry_point_help():
     assert r.returncode == 0
     for cmd in ("run", "campaign", "sweep", "report", "demo"):
         assert cmd in r.stdout
+
+
+# ---- no garbage with exit 0: the smaller defects of issue 13 ----------------------------------
+@pytest.mark.parametrize("fault, words", [
+    # frames nobody the rig plays sends: accepted and "injected" before, yet did nothing
+    ("loss:frame=SID_AZKF_STATE,start=1,duration=1", "does not send SID_AZKF_STATE in a cdrw run"),
+    ("loss:frame=MSL_RATE_GYRO,start=1,duration=1", "does not send MSL_RATE_GYRO in a cdrw run"),
+    ("bad_crc:frame=SIM_CONTROL,start=1,duration=1", "does not send SIM_CONTROL"),
+    # out_of_range on a signal its frame does not have: exit 1 at run time before
+    ("out_of_range:frame=CDRW_AOA,signal=q,start=1,duration=1", "CDRW_AOA has no signal 'q'"),
+    ("out_of_range:frame=*,signal=alpha,start=1,duration=1", "needs one frame"),
+])
+def test_fault_targets_are_what_the_simulator_sends(capsys, tmp_path, fault, words):
+    rc, _, err = run(capsys, "run", "cdrw", "--fault", fault, "--out", str(tmp_path / "o"))
+    assert rc == 2
+    assert words in one_line(err)
+    assert not (tmp_path / "o").exists()
+
+
+def test_scenario_that_is_not_utf8(capsys, tmp_path):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes('aircraft = "cdrw"\nname = "Flügel"\n'.encode("latin-1"))
+    rc, _, err = run(capsys, "run", "cdrw", str(path), "--out", str(tmp_path / "o"))
+    assert rc == 2 and "not UTF-8" in one_line(err) and str(path) in err
+
+
+@pytest.mark.parametrize("text, words", [
+    ('aircraft = "cdrw"\nduration = 1e9\n', "GB of memory"),
+    ('aircraft = "missile"\nduration = 1e9\n', "GB of memory"),
+    ('aircraft = "cdrw"\n[plant]\ndt = 1e-9\n', "field 'dt': must be >= 0.001"),
+    ('aircraft = "cdrw"\n[plant]\nsubstep = 1e-12\n', "field 'substep'"),
+])
+def test_duration_and_steps_are_bounded_before_flying(capsys, tmp_path, text, words):
+    path = tmp_path / "big.toml"
+    path.write_text(text)
+    aircraft = "missile" if "missile" in text else "cdrw"
+    rc, _, err = run(capsys, "run", aircraft, str(path), "--out", str(tmp_path / "o"),
+                     "--iface", "rigtest9")
+    assert rc == 2 and words in one_line(err)
+
+
+def test_campaign_memory_counts_every_flight():
+    from hil.faults import load_default_scenario
+    from hil.faults.schema import ScenarioError
+    from hil.rig.budget import check_memory, estimate_bytes
+
+    sc = load_default_scenario("cdrw")
+    assert estimate_bytes(sc, 1000) > 10 * estimate_bytes(sc, 1)
+    check_memory([sc], 100, available=2 * 10**9)      # the README's campaign: fits
+    with pytest.raises(ScenarioError, match="GB of memory"):
+        check_memory([sc.replace(duration=7000.0)], 100, available=2 * 10**9)
+
+
+def test_fcc_args_may_be_a_single_flag(capsys, tmp_path):
+    # `--fcc-args "--mls-intercept"` was refused as a missing argument (exit 2)
+    rc, _, err = run(capsys, "run", "cdrw", "--fcc-args", "--mls-intercept", "--iface", "rigtest9",
+                     "--quiet", "--out", str(tmp_path / "o"))
+    assert rc == 1 and "cannot open CAN interface 'rigtest9'" in one_line(err)
+
+
+@pytest.mark.parametrize("doc, words", [
+    ("null", "expected a JSON object, got null"),
+    ("[1, 2]", "expected a JSON object, got list"),
+    ('{"firmware": {}}', "missing key 'e2e'"),
+    ('{"cdrw": {"table4": {}}}', "missing key"),
+    ('{"missile": {"runs": [1, 2]}}', "not a hil summary"),
+])
+def test_report_on_a_damaged_summary_is_one_line(capsys, tmp_path, doc, words):
+    (tmp_path / "summary.json").write_text(doc)
+    rc, _, err = run(capsys, "report", str(tmp_path))
+    line = one_line(err)
+    assert rc == 2 and words in line and str(tmp_path / "summary.json") in line
+
+
+def test_report_into_a_closed_pipe(tmp_path):
+    """`hil report DIR | head`: no broken-pipe message, exit 0 (the results are in place).
+    The reader here (`true`) exits before hil has started, so hil's first print meets a
+    closed pipe whatever the timing."""
+    import json
+    from hil import metrics
+    summary = {"cdrw": {"table4": metrics.PAPER_TABLE4, "table4_truth": metrics.PAPER_TABLE4}}
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    exe = Path(sys.executable).with_name("hil")
+    r = subprocess.run(["bash", "-o", "pipefail", "-c",
+                        f"'{exe}' report '{tmp_path}' --no-plots | true"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""

@@ -124,10 +124,12 @@ def test_fcc_not_answering_times_out(tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "cdrw", str(path), "--fcc-args", "--apps missile", "--timeout", "0.5",
                      "--quiet", "--no-plots", "--out", str(tmp_path / "o"))
     assert rc == 3
-    assert err.strip() == (f"hil: fcc did not answer step 0 of app cdrw within 0.5 s; bus log kept in "
-                           f"{tmp_path / 'o' / 'bus.log'}")
+    (kept,) = tmp_path.glob("o.failed-*")      # the failed run's directory, marked
+    assert err.strip() == (f"hil: fcc did not answer step 0 of app cdrw within 0.5 s (bus log and "
+                           f"partial results kept in {kept})")
     assert time.monotonic() - t0 < 10
-    assert " 020#" in (tmp_path / "o" / "bus.log").read_text()   # the unanswered tick is logged
+    assert " 020#" in (kept / "bus.log").read_text()   # the unanswered tick is logged
+    assert not (tmp_path / "o").exists() and (kept / "FAILED").exists()
 
 
 def test_fcc_hanging_mid_run_times_out(tmp_path):
@@ -166,11 +168,13 @@ def test_fcc_killed_mid_run(tmp_path):
 
 def test_fcc_exiting_mid_run_via_cli(tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "cdrw", "--fcc-args", "--duration 0.3", "--quiet", "--no-plots",
-                     "--out", str(tmp_path))
+                     "--out", str(tmp_path / "o"))
     assert rc == 4
     line = err.strip()
     assert line.startswith("hil: fcc died during step ") and "(exit status 0" in line
-    assert "bus log kept" in line and (tmp_path / "bus.log").stat().st_size > 0
+    (kept,) = tmp_path.glob("o.failed-*")
+    assert f"bus log and partial results kept in {kept}" in line
+    assert (kept / "bus.log").stat().st_size > 0
 
 
 def test_both_aircraft_interleaved_in_one_fcc(tmp_path):

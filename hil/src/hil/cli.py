@@ -11,14 +11,16 @@
 
 Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
 firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin).  Exit status: 0 done; 1 the run
-failed (bus, firmware start-up, fcc exit status); 2 bad command line or scenario; 3 fcc did
-not answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on
-stderr; the bus log of a failed run is kept.
+failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
+status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
+answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on stderr;
+a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.rig.rundir).
 """
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import shlex
 import sys
 from collections.abc import Sequence
@@ -29,10 +31,6 @@ PROG = "hil"
 #: Fig. 3's grid of sampling periods: 0.02 to 0.3 s every 10 ms (29 points)
 FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 EXIT_USAGE = 2
-
-#: what a run directory may contain that the rig wrote (cleared before a new run)
-OUTPUT_GLOBS = ("summary.json", "run_info.json", "bus.log", "bus.asc", "bus.blf", "bus_wall.log", "fcc.log",
-                "faults.log", "*.csv", "*.png")
 
 
 class UsageError(Exception):
@@ -104,7 +102,9 @@ def _add_paths(p: argparse.ArgumentParser) -> None:
 def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
     _add_paths(p)
     p.add_argument("--out", type=Path, default=Path(out_default), metavar="DIR",
-                   help=f"run directory (default {out_default})")
+                   help=f"run directory (default {out_default}); written when the run is done")
+    p.add_argument("--force", action="store_true",
+                   help="write into an --out that holds other files (they are kept)")
     p.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
     p.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep",
                    help="lockstep (deterministic, default) or realtime (both sides on their clocks)")
@@ -242,35 +242,32 @@ def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int
     return sc
 
 
-def prepare_out_dir(path: Path) -> Path:
-    """Create the run directory; remove what an earlier run wrote there (and only that)."""
-    if path.exists() and not path.is_dir():
-        raise UsageError(f"--out {path}: exists and is not a directory")
-    path.mkdir(parents=True, exist_ok=True)
-    for pattern in OUTPUT_GLOBS:
-        for f in path.glob(pattern):
-            if f.is_file():
-                f.unlink()
-    return path
-
-
-def _config(args: argparse.Namespace, out: Path):
+def _config(args: argparse.Namespace, stage: Path):
     from .rig.runs import RigConfig
 
     try:
         extra = tuple(shlex.split(args.fcc_args))
     except ValueError as e:
         raise UsageError(f"--fcc-args: {e}") from None
-    return RigConfig(out_dir=prepare_out_dir(out), iface=args.iface, mode=args.mode,
+    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout, fcc_args=extra, progress=not args.quiet,
                      plots=not args.no_plots, log_format=args.log_format)
 
 
-def _print(outcome) -> None:
-    for t in outcome.tables:
-        print(t)
-        print()
-    print(f"results in {outcome.out_dir}/")
+def _staged(args: argparse.Namespace, out: Path, runner) -> list:
+    """runner(cfg) -> [Outcome, ...] in a staging directory, published to out when done
+    (hil.rig.rundir); the tables are printed once the results are in place."""
+    from .rig.rundir import staged_run
+
+    with staged_run(out, args.command, force=args.force) as stage:
+        outcomes = runner(_config(args, stage))
+    for outcome in outcomes:
+        for t in outcome.tables:
+            print(t)
+            print()
+        where = out / outcome.out_dir.relative_to(stage)
+        print(f"results in {where}/")
+    return outcomes
 
 
 # ---- commands -------------------------------------------------------------------------------
@@ -279,7 +276,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
     out = Path(str(args.out).replace("<aircraft>", args.aircraft))
-    _print(run_flight([sc], _config(args, out)))
+    _staged(args, out, lambda cfg: [run_flight([sc], cfg)])
     return 0
 
 
@@ -291,11 +288,11 @@ def cmd_campaign(args: argparse.Namespace) -> int:
     sc = _scenario("cdrw", args.scenario, args.fault, None)
     par = _parallel(args)
     if par is None:
-        _print(run_campaign(sc, args.runs, args.seed, _config(args, args.out)))
+        _staged(args, args.out, lambda cfg: [run_campaign(sc, args.runs, args.seed, cfg)])
         return 0
     from .parallel.campaign import run_campaign_parallel
-    outcome = run_campaign_parallel(sc, args.runs, args.seed, _config(args, args.out), **par)  # type: ignore[arg-type]
-    _print(outcome)
+    (outcome,) = _staged(args, args.out, lambda cfg: [run_campaign_parallel(
+        sc, args.runs, args.seed, cfg, **par)])  # type: ignore[arg-type]
     return _report_failed(outcome.summary)
 
 
@@ -314,8 +311,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from .rig.runs import run_sweep
 
     sc = _scenario("missile", args.scenario, args.fault, args.seed)
-    _print(run_sweep(sc, args.periods, args.bits, _config(args, args.out)))
+    _staged(args, args.out, lambda cfg: [run_sweep(sc, args.periods, args.bits, cfg)])
     return 0
+
+
+def _not_a_summary(path: Path, e: Exception) -> UsageError:
+    if isinstance(e, KeyError):
+        return UsageError(f"{path}: not a hil summary: missing key {e.args[0]!r}")
+    return UsageError(f"{path}: not a hil summary: {str(e).splitlines()[0] if str(e) else type(e).__name__}")
 
 
 def cmd_report(args: argparse.Namespace) -> int:
@@ -331,7 +334,14 @@ def cmd_report(args: argparse.Namespace) -> int:
         raise UsageError(str(e)) from None
     if args.plots_only and args.no_plots:
         raise UsageError("--plots-only and --no-plots exclude each other")
-    for t in [] if args.plots_only else summary_tables(summary):
+    if not isinstance(summary, dict):
+        raise UsageError(f"{summary_path}: not a hil summary: expected a JSON object, got "
+                         f"{type(summary).__name__ if summary is not None else 'null'}")
+    try:
+        tables = [] if args.plots_only else summary_tables(summary)
+    except (KeyError, TypeError, AttributeError, ValueError, IndexError) as e:
+        raise _not_a_summary(summary_path, e) from None
+    for t in tables:
         print(t)
         print()
     if args.bus:
@@ -344,7 +354,10 @@ def cmd_report(args: argparse.Namespace) -> int:
         print(render(analyse(read_frames(log), load())))
     if not args.no_plots:
         from .plots import plot_run_dir
-        names = [p.name for p in plot_run_dir(args.dir)]
+        try:
+            names = [p.name for p in plot_run_dir(args.dir)]
+        except (KeyError, TypeError, AttributeError, IndexError) as e:
+            raise _not_a_summary(summary_path, e) from None
         if names:
             print(f"plots: {', '.join(names)}")
     return 0
@@ -414,8 +427,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 def cmd_demo(args: argparse.Namespace) -> int:
     from .rig.runs import run_demo
 
-    for outcome in run_demo(_config(args, args.out)):
-        _print(outcome)
+    _staged(args, args.out, run_demo)
     return 0
 
 
@@ -441,38 +453,73 @@ def _apply_paths(args: argparse.Namespace) -> None:
             raise UsageError(str(e)) from None
 
 
+def _join_fcc_args(argv: Sequence[str]) -> list[str]:
+    """`--fcc-args "--mls-intercept"`: argparse takes a value that starts with '--' for an
+    option of its own; joined as --fcc-args=VALUE it is the value it is meant to be."""
+    out: list[str] = []
+    it = iter(argv)
+    for a in it:
+        if a == "--fcc-args":
+            val = next(it, None)
+            out.append(a if val is None else f"{a}={val}")
+        else:
+            out.append(a)
+    return out
+
+
+def _quiet_stdout() -> None:
+    """The reader of our stdout has gone (`hil ... | head`): print nothing more, quietly."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     try:
-        args = _parser().parse_args(argv)
+        args = _parser().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         _apply_paths(args)
         return COMMANDS[args.command](args)
+    except BrokenPipeError:
+        # the results are already in place when the tables are printed: not a failed run
+        _quiet_stdout()
+        return 0
     except UsageError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return EXIT_USAGE
-
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:
+        print(f"{PROG}: interrupted{_notes(e)}", file=sys.stderr)
         return 130
     except Exception as e:  # noqa: BLE001 - every failure is one line for the user
         return _fail(e)
 
 
+def _notes(e: BaseException) -> str:
+    """Where a failed run's partial results are (hil.rig.rundir adds it as a note), to end
+    the one line with."""
+    notes = getattr(e, "__notes__", ())
+    return f" ({'; '.join(notes)})" if notes else ""
+
+
 def _fail(e: Exception) -> int:
     from .faults import ScenarioError
     from .rig.paths import ToolNotFound
+    from .rig.rundir import OutDirRefused
     from .rig.session import RigError
 
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-    if isinstance(e, ScenarioError):
-        print(f"{PROG}: {msg}", file=sys.stderr)
-        return EXIT_USAGE
-    if isinstance(e, RigError):
-        print(f"{PROG}: {msg}", file=sys.stderr)
-        return e.exit_code
-    if isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError)):
-        print(f"{PROG}: {msg}", file=sys.stderr)
-        return 1
-    raise e
+    if isinstance(e, (ScenarioError, OutDirRefused)):
+        code = EXIT_USAGE
+    elif isinstance(e, RigError):
+        code = e.exit_code
+    elif isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError)):
+        code = 1
+    else:
+        raise e
+    print(f"{PROG}: {msg}{_notes(e)}", file=sys.stderr)
+    return code
 
 
 if __name__ == "__main__":

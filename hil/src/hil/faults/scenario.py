@@ -31,13 +31,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..sensors import SIGNALS, CdrwSensorOptions, MissileSensorOptions
-from .model import KINDS, Fault, FrameFault, SensorFault
+from .model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from .schema import ScenarioError, build
 
 if TYPE_CHECKING:  # imported lazily below: hil.plants.options itself uses hil.faults.schema
     from ..plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 
 AIRCRAFT = ("cdrw", "missile")
+#: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
+#: sensor frames, and the rig's lockstep tick and fault events
+SENSOR_FRAMES = {"cdrw": ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
+                 "missile": ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")}
+RIG_FRAMES = ("SIM_TICK", "SIM_EVENT")
 DEFAULT_DURATION = {"cdrw": 7.0, "missile": 10.0}
 TOP_LEVEL_KEYS = ("name", "description", "aircraft", "duration", "seed",
                   "plant", "sensors", "lqg", "faults")
@@ -94,10 +99,24 @@ def _check_target(fault: Fault, aircraft: str, known_frames: Collection[str] | N
     if isinstance(fault, SensorFault) and fault.signal not in SIGNALS[aircraft]:
         raise ScenarioError(f"{where}: field 'signal': unknown signal {fault.signal!r} for "
                             f"aircraft {aircraft} (signals: {', '.join(SIGNALS[aircraft])})")
-    if (isinstance(fault, FrameFault) and known_frames is not None and fault.frame != "*"
-            and fault.frame not in known_frames):
+    if not isinstance(fault, FrameFault) or fault.frame == "*":
+        if isinstance(fault, OutOfRange):
+            raise ScenarioError(f"{where}: field 'frame': out_of_range needs one frame, not '*'")
+        return
+    sent = SENSOR_FRAMES[aircraft] + RIG_FRAMES
+    if known_frames is not None and fault.frame not in known_frames:
         raise ScenarioError(f"{where}: field 'frame': unknown frame {fault.frame!r} "
                             f"(frames: *, {', '.join(sorted(known_frames))})")
+    if fault.frame not in sent:  # a DBC frame, but nobody the rig plays sends it
+        raise ScenarioError(f"{where}: field 'frame': the simulator does not send "
+                            f"{fault.frame} in a {aircraft} run (frames: *, {', '.join(sent)})")
+    if isinstance(fault, OutOfRange):
+        from ..bus import load  # the DBC names the frame's signals
+
+        signals = [sig.name for sig in load().by_name(fault.frame).data_signals]
+        if fault.signal not in signals:
+            raise ScenarioError(f"{where}: field 'signal': {fault.frame} has no signal "
+                                f"{fault.signal!r} (signals: {', '.join(signals)})")
 
 
 def fault_from_table(table: Mapping[str, Any], aircraft: str, where: str,
@@ -220,6 +239,8 @@ def load_scenario(path: str | Path, known_frames: Collection[str] | None = None)
         text = p.read_text(encoding="utf-8")
     except OSError as e:
         raise ScenarioError(f"{p}: cannot read scenario: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise ScenarioError(f"{p}: not UTF-8 text (byte {e.start}: {e.reason})") from None
     return loads_scenario(text, str(p), known_frames)
 
 

@@ -61,8 +61,8 @@ class CdrwPlantOptions:
     it is applied as a rate v_k/dt held over the step.
     """
 
-    dt: float = spec(0.02, gt=0.0, le=0.1)          # s, frame period (seed 1: 50 Hz)
-    substep: float = spec(0.002, gt=0.0, le=0.02)   # s, RK4 sub-step
+    dt: float = spec(0.02, ge=0.001, le=0.1)        # s, frame period (seed 1: 50 Hz)
+    substep: float = spec(0.002, ge=1e-5, le=0.02)  # s, RK4 sub-step
     process_noise: tuple[float, float] = spec((0.004, 0.004), ge=0.0)
     q0: float = spec(0.0)                           # rad/s, initial pitch rate
     maneuver: CdrwManeuver = spec(default_factory=CdrwManeuver)

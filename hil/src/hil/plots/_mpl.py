@@ -1,6 +1,7 @@
 """matplotlib on the Agg backend (files only, no display), one place."""
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import matplotlib
@@ -14,9 +15,12 @@ _META = {"Software": None}
 
 def save(fig: "plt.Figure", path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=110, metadata=_META)
+    from ..rig.rundir import atomic_write
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, metadata=_META)
     plt.close(fig)
-    return path
+    return atomic_write(path, buf.getvalue())  # never a half-written PNG
 
 
 __all__ = ["plt", "save"]

@@ -10,6 +10,7 @@
 * runs      -- the CLI commands: run_flight, run_campaign, run_sweep, run_demo
 * report    -- summary.json as text tables
 * output    -- CSV and JSON files of a run directory
+* rundir    -- atomic writes; the staged run directory (published when done, kept when failed)
 * bench     -- scripts/bench.d/rig
 """
 from .report import summary_tables

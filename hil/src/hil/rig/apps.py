@@ -24,6 +24,7 @@ import numpy as np
 
 from ..bus import FrameCodec
 from ..faults import FaultEvent, Scenario, SensorFault
+from ..faults.scenario import SENSOR_FRAMES
 from ..plants.cdrw_flight import CdrwSample, CdrwSimulation
 from ..plants.missile_runs import MissileSimulation
 from .inject import KIND_CODES, FrameInjector, TxFrame
@@ -38,8 +39,8 @@ SIGNAL_FRAMES = {
     "de": ("CDRW_ELEVATOR", "delta_e"),
     "q_g": ("MSL_RATE_GYRO", "q_g"), "n_a": ("MSL_ACCELEROMETER", "n_a"),
 }
-CDRW_SENSOR_FRAMES = ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")
-MISSILE_SENSOR_FRAMES = ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")
+CDRW_SENSOR_FRAMES = SENSOR_FRAMES["cdrw"]
+MISSILE_SENSOR_FRAMES = SENSOR_FRAMES["missile"]
 FILTERS = ("azkf", "zkf", "kf")
 SID_PREFIX = {"azkf": "SID_AZKF", "zkf": "SID_ZKF", "kf": "SID_KF"}
 SID_PARTS = ("STATE", "BOUNDS", "MODEL_A", "MODEL_B")

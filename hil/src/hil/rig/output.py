@@ -1,4 +1,5 @@
-"""Writing and reading a run directory: CSV time series and JSON documents.
+"""Writing and reading a run directory: CSV time series and JSON documents (each written
+atomically: hil.rig.rundir).
 
 summary.json holds only what the seed determines (sorted keys, no wall-clock value), so two
 lockstep runs with the same seed write byte-identical files; timings, host and command lines
@@ -7,6 +8,7 @@ go to run_info.json.
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 from collections.abc import Mapping
@@ -14,6 +16,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .rundir import atomic_write_text
 
 
 def _cell(v: Any) -> str:
@@ -30,12 +34,12 @@ def write_csv(path: Path, columns: Mapping[str, np.ndarray]) -> Path:
     if len(n) != 1:
         raise ValueError(f"{path.name}: columns of different lengths {sorted(n)}")
     arrays = [np.asarray(columns[k]) for k in names]
-    with open(path, "w", newline="", encoding="ascii") as fh:
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(names)
-        for row in zip(*arrays):
-            w.writerow([_cell(v) for v in row])
-    return path
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(names)
+    for row in zip(*arrays):
+        w.writerow([_cell(v) for v in row])
+    return atomic_write_text(path, buf.getvalue(), encoding="ascii")
 
 
 def read_csv(path: Path) -> dict[str, np.ndarray]:
@@ -66,8 +70,7 @@ def _plain(obj: Any) -> Any:
 
 
 def write_json(path: Path, doc: Mapping[str, Any]) -> Path:
-    path.write_text(json.dumps(_plain(doc), indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    return path
+    return atomic_write_text(path, json.dumps(_plain(doc), indent=2, sort_keys=True) + "\n")
 
 
 def read_json(path: Path) -> dict[str, Any]:

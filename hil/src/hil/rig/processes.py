@@ -3,17 +3,44 @@
 ``FccProcess`` starts ``fcc`` with the run's flags, its stdout and stderr going to
 ``fcc.log`` in the run directory (that file keeps the firmware's event lines and its final
 counter block).  ``Candump`` records the whole bus (``candump -l``, the ``-L`` log format) into ``bus.log``.
-Both are stopped politely (shutdown frame / SIGINT), then firmly; neither outlives the run.
+Both are stopped politely (shutdown frame / SIGINT), then firmly; neither outlives the run,
+not even a killed rig: every child runs in its own process group (a Ctrl-C on the terminal
+reaches the rig, which stops them in order) with a parent-death signal (Linux
+PR_SET_PDEATHSIG = SIGKILL), so ``kill -9`` of hil takes fcc, candump and cangen with it.
 """
 from __future__ import annotations
 
+import ctypes
 import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
+
+PR_SET_PDEATHSIG = 1
+
+
+def _die_with_parent(parent: int) -> Callable[[], None] | None:
+    """preexec_fn for a child that must not outlive this process (Linux; elsewhere None)."""
+    if not sys.platform.startswith("linux"):
+        return None
+    libc = ctypes.CDLL(None, use_errno=True)
+
+    def preexec() -> None:
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if os.getppid() != parent:  # the parent died before prctl: nobody would kill us
+            os._exit(1)
+    return preexec
+
+
+def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
+    """subprocess.Popen for a rig child: own process group, killed when the rig dies."""
+    return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),
+                            **kw)
 
 
 class ProcessError(RuntimeError):
@@ -36,8 +63,8 @@ class FccProcess:
         self.log_path = log_path
         self._log = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
         try:
-            self.proc = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL, stdout=self._log,
-                                         stderr=subprocess.STDOUT)
+            self.proc = spawn(self.cmd, stdin=subprocess.DEVNULL, stdout=self._log,
+                              stderr=subprocess.STDOUT)
         except OSError as e:
             self._log.close()
             raise ProcessError(f"cannot start {binary}: {e.strerror}") from None
@@ -114,9 +141,9 @@ class Candump:
         self._dir.mkdir(parents=True, exist_ok=True)
         for old in self._dir.glob("candump-*.log"):
             old.unlink()
-        self.proc = subprocess.Popen([exe, "-l", "-r", str(self.RCVBUF), iface], cwd=self._dir,
-                                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.PIPE)
+        self.proc = spawn([exe, "-l", "-r", str(self.RCVBUF), iface], cwd=self._dir,
+                          stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                          stderr=subprocess.PIPE)
 
     def alive(self) -> bool:
         return self.proc.poll() is None

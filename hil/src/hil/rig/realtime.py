@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 from ..faults import Flood
 from .apps import AppDriver, StepIO
 from .link import pack_frame
+from .processes import spawn
 from .session import RigError, RigSession
 
 #: a step that starts this late (s) counts as late
@@ -41,8 +42,8 @@ class Babbler:
         args = [exe, iface, "-g", f"{gap_ms:.3f}", "-I", f"{f.can_id:03X}", "-L", str(f.dlc)]
         if f.dlc:
             args += ["-D", data]
-        self.proc = subprocess.Popen(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.DEVNULL)
+        self.proc = spawn(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL)
 
     def stop(self) -> None:
         if self.proc.poll() is None:

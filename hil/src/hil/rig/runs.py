@@ -32,12 +32,14 @@ from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
 from ..progress import bar as progress_bar
 from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+from .budget import check_memory
 from .buslog import iter_flights, split_flights
 from .lockstep import LockstepRunner
 from .output import write_csv, write_json
 from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
                       missile_open_loop, missile_result)
 from .report import firmware_summary, summary_tables
+from .rundir import atomic_write_text, published_path
 from .session import COMMAND_RESET, RigError, RigSession
 from .simtime import finish_bus_log
 
@@ -118,9 +120,29 @@ def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any
     return rt
 
 
+def count_babbled(log: Path, drivers: Sequence[AppDriver]) -> None:
+    """Realtime floods come from cangen, on its own: its frames are counted in the bus log
+    (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
+    from ..bus.candump import read_log
+    from ..faults import Flood
+
+    ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
+    if not ids:
+        return
+    seen = dict.fromkeys(ids, 0)
+    for fr in read_log(log):
+        if fr.frame_id in seen:
+            seen[fr.frame_id] += 1
+    for d in drivers:
+        mine = {f.can_id for f in d.injector.faults if isinstance(f, Flood)}
+        n = sum(seen.pop(i, 0) for i in mine)
+        d.injector.counts["flood"] += n
+        d.injector.counts["sent"] += n
+
+
 def _require_log(rig: RigSession) -> None:
     if not rig.log_complete:
-        raise RigError(f"{rig.run_dir / 'bus.log'}: the recorder did not catch up with the bus; "
+        raise RigError(f"bus.log: the recorder did not catch up with the bus; "
                        f"fcc's outputs are read from that log, so the run is not evaluated")
 
 
@@ -165,7 +187,7 @@ def _write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, 
     for label, events in flights:
         for ev in events:
             lines.append(f"{label}t={ev['t']:8.3f} s  {ev['action']:5s}  [{ev['level']}] {ev['spec']}")
-    (out / "faults.log").write_text("\n".join(lines) + ("\n" if lines else ""), encoding="utf-8")
+    atomic_write_text(out / "faults.log", "\n".join(lines) + ("\n" if lines else ""))
 
 
 def defer_plots(out: Path) -> bool:
@@ -175,7 +197,8 @@ def defer_plots(out: Path) -> bool:
     after = os.environ.get(AFTER_ENV)
     if not after:
         return False
-    cmd = [sys.executable, "-m", "hil.cli", "report", "--plots-only", str(out.resolve())]
+    final = published_path(out.resolve())  # the run is drawn where it will be published
+    cmd = [sys.executable, "-m", "hil.cli", "report", "--plots-only", str(final)]
     with open(after, "a", encoding="utf-8") as f:
         f.write(shlex.join(cmd) + "\n")
     return True
@@ -198,7 +221,8 @@ def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[in
         finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
     tables = summary_tables(summary)
     if cfg.plots and defer_plots(out):
-        tables.append(f"plots: drawn after the guest exits (`hil report --plots-only {out}` on the host)")
+        tables.append(f"plots: drawn after the guest exits (`hil report --plots-only "
+                      f"{published_path(out)}` on the host)")
     elif cfg.plots:
         from ..plots import plot_run_dir
         names = [p.name for p in plot_run_dir(out)]
@@ -213,6 +237,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     out = cfg.out_dir
     if len({sc.aircraft for sc in scenarios}) != len(scenarios):
         raise ValueError("one scenario per aircraft")
+    check_memory(scenarios)
     t0 = time.perf_counter()
     with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
         oracle = OracleFlag()
@@ -222,6 +247,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         rig.shutdown()
     _require_log(rig)
     flights = split_flights(out / "bus.log")
+    if cfg.mode == "realtime":
+        count_babbled(out / "bus.log", drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(rig.status)}
     fault_log = []
@@ -325,6 +352,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
         raise ScenarioError(f"{scenario.source}: a campaign flies the CDRW (aircraft = \"cdrw\")")
     if runs < 1:
         raise ValueError(f"--runs must be >= 1, got {runs}")
+    check_memory([scenario], flights=runs)
     out = cfg.out_dir
     starts = campaign_fault_times(scenario, runs, seed)
     t0 = time.perf_counter()
@@ -342,7 +370,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl))
                for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log")))]
     if len(flights) != runs:
-        raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected {runs}")
+        raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
     summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status), cfg.mode)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods([scenario]))
@@ -370,6 +398,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     for n in bits:
         if not 2 <= int(n) <= 16:
             raise ScenarioError(f"--bits: D/A word length must be 2 to 16, got {n}")
+    check_memory(points)
     out = cfg.out_dir
     t0 = time.perf_counter()
     first = points[0]
@@ -417,11 +446,7 @@ def run_demo(cfg: RigConfig) -> list[Outcome]:
     cdrw = load_default_scenario("cdrw", frames)
     msl = load_default_scenario("missile", frames)
     first = run_flight([cdrw, msl], cfg, command="demo")
-    sweep_dir = cfg.out_dir / "sweep"
+    sweep_dir = cfg.out_dir / "sweep"   # cfg.out_dir is a fresh staging directory
     sweep_dir.mkdir(parents=True, exist_ok=True)
-    for pattern in ("*.csv", "*.png", "*.json", "*.log", "*.asc", "*.blf"):
-        for f in sweep_dir.glob(pattern):
-            if f.is_file():
-                f.unlink()
     second = run_sweep(msl, (0.2, 0.1, 0.05), (6, 8, 12), dataclasses.replace(cfg, out_dir=sweep_dir))
     return [first, second]

@@ -11,6 +11,7 @@ bus.log and fcc.log.
 """
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -19,7 +20,7 @@ from pathlib import Path
 from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
-from .link import CanLink, pack_frame
+from .link import CanLink, LinkError, pack_frame
 from .paths import tool
 from .processes import Candump, FccProcess
 
@@ -28,6 +29,9 @@ STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_C
 COMMAND_SHUTDOWN = 1
 COMMAND_RESET = 2
 STARTUP_TIMEOUT_S = 10.0
+#: before fcc is started, the bus is listened to this long for another fcc's frames (its
+#: heartbeat comes at 10 Hz by default)
+LEFTOVER_LISTEN_S = 0.25
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
 
@@ -86,6 +90,18 @@ class StatusCounters:
         return self.values.get(name, default)
 
 
+_SUMMARY = re.compile(r"^fcc summary: (\w+) steps=\d+ degraded=\d+ errors=(\d+)")
+
+
+def step_errors(fcc_log: Path) -> dict[str, int]:
+    """fcc's failed steps per application, from its exit summary (fcc.log)."""
+    try:
+        text = fcc_log.read_text(errors="replace")
+    except OSError:
+        return {}
+    return {m[1]: int(m[2]) for m in map(_SUMMARY.match, text.splitlines()) if m}
+
+
 class RigSession:
     """candump + fcc + the simulator's socket, for the duration of a ``with`` block."""
 
@@ -128,8 +144,10 @@ class RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
             self.link = CanLink(self.iface, self.fcc_ids)
+            t_open = time.monotonic()
             if self.record:
                 self._start_candump()
+            self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
             self.fcc = FccProcess(self.fcc_binary, self.fcc_args, self.run_dir / "fcc.log")
             self._wait_listening()
         except BaseException:
@@ -148,6 +166,22 @@ class RigSession:
                 raise RigError(f"candump -l {self.iface} stopped: {self.candump.error()}")
             raise RigError(f"candump did not start listening within {STARTUP_TIMEOUT_S:g} s")
 
+    def _check_bus_idle(self, until: float) -> None:
+        """No other fcc may be on the bus: its commands and acknowledgements would mix with
+        this run's (a leftover of a killed rig, or a second rig on the same interface)."""
+        assert self.link is not None
+        while True:
+            left = until - time.monotonic()
+            got = self.link.recv_wait(max(left, 0.0))  # left <= 0: a last look at the queue
+            if got is None:
+                if left <= 0:
+                    return
+                continue
+            msg = self.spec.by_id(got[0])
+            raise RigError(f"another fcc is already on {self.iface} (heard its "
+                           f"{msg.name if msg else hex(got[0])} before this run started fcc); "
+                           f"stop it first")
+
     def _wait_listening(self) -> None:
         """Until fcc's first FCC_STATUS: it has opened its socket and listens."""
         assert self.link is not None and self.fcc is not None
@@ -156,8 +190,8 @@ class RigSession:
         while time.monotonic() < deadline:
             got = self.link.recv()
             if got is None:
-                if self.fcc.poll() is not None:
-                    raise FccDied(f"fcc stopped at start-up ({self.fcc.describe_exit()})")
+                if self.fcc.poll() is not None:  # a start-up failure: exit 1 (RigError)
+                    raise RigError(f"fcc stopped at start-up ({self.fcc.describe_exit()})")
                 continue
             self.note_frame(*got)
             if got[0] == status_id:
@@ -199,8 +233,7 @@ class RigSession:
     def check_alive(self, what: str) -> None:
         assert self.fcc is not None
         if self.fcc.poll() is not None:
-            raise FccDied(f"fcc died {what} ({self.fcc.describe_exit()}); "
-                          f"bus log kept in {self.run_dir / 'bus.log'}")
+            raise FccDied(f"fcc died {what} ({self.fcc.describe_exit()})")
 
     def shutdown(self, timeout: float = 5.0) -> int:
         """SIM_CONTROL shutdown; wait for fcc's exit and its last heartbeat."""
@@ -219,27 +252,41 @@ class RigSession:
         if rc != 0:
             raise FccDied(f"fcc did not exit cleanly after the shutdown command "
                           f"({self.fcc.describe_exit()})")
+        failed = {app: n for app, n in step_errors(self.run_dir / "fcc.log").items() if n}
+        if failed:  # an estimate or command of a failed step is stale: no results from it
+            raise RigError("fcc reported failed steps (" + ", ".join(
+                f"{app} {n}" for app, n in failed.items()) + "); its step error lines are in "
+                "fcc.log; the run is not evaluated")
         return rc
 
     def close(self) -> None:
-        if self.fcc is not None and self.fcc.poll() is None:
-            self.fcc.stop(grace=0.0)
-        if self.fcc is not None:
-            self.fcc.stop(grace=0.0)
-            if self.fcc_exit is None:
-                self.fcc_exit = self.fcc.returncode
-        if self.candump is not None:
-            marker = None
-            if self.link is not None:  # the end marker: candump has seen everything before it
-                ping = self.spec.by_name("RIG_PING")
-                data = ping.message.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
-                try:
-                    self.link.send(ping.frame_id, data)
+        """Stop fcc, then the recorder (bus.log is moved into place on every path, also when
+        the interface is gone), then close the socket."""
+        try:
+            if self.fcc is not None:
+                self.fcc.stop(grace=0.0)
+                if self.fcc_exit is None:
+                    self.fcc_exit = self.fcc.returncode
+        finally:
+            self._stop_recorder()
+            self._close_link()
+
+    def _stop_recorder(self) -> None:
+        if self.candump is None:
+            return
+        marker = None
+        if self.link is not None:  # the end marker: candump has seen everything before it
+            ping = self.spec.by_name("RIG_PING")
+            data = ping.message.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
+            try:
+                if self.link.send(ping.frame_id, data):
                     marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()
-                except OSError:
-                    marker = None
-            self.log_complete = self.candump.stop(marker)
-            self.candump = None
+            except (OSError, LinkError):  # the interface is down: the log ends where it ends
+                marker = None
+        candump, self.candump = self.candump, None
+        self.log_complete = candump.stop(marker)
+
+    def _close_link(self) -> None:
         if self.link is not None:
             self.link_stats = {"tx_frames": self.link.tx_frames, "rx_frames": self.link.rx_frames,
                                "tx_retries": self.link.tx_retries, "tx_dropped": self.link.tx_dropped}

@@ -1,0 +1,204 @@
+"""Result safety: atomic file writes and the staged run directory.
+
+Every file a run writes goes first into a new staging directory next to ``--out``
+(``.NAME.partial-PID``); when the run is done, that directory is renamed into place in one
+step, so ``--out`` holds either the previous complete results or the new complete ones, never
+a mixture.  Each file inside is itself written atomically (temporary file, fsync, rename), so
+even a copy made while a run writes never sees half a CSV.
+
+What ``--out`` may already be:
+  * missing or empty: the staging directory is renamed onto it;
+  * a complete earlier hil run (its ``.hil-run.json`` lists every file in it, and nothing else
+    is there): it is swapped out and removed (only the files it lists, which hil wrote);
+  * anything else (the user's own files): refused, exit 2, unless ``--force``; with
+    ``--force`` the new files are moved in one by one (same names replaced), and every other
+    file stays untouched.
+A run that fails keeps what it had (bus.log, fcc.log, any result written) in
+``NAME.failed-YYYYmmddTHHMMSS``, next to ``--out``, with a ``FAILED`` file that says why;
+``--out`` itself is not touched.
+"""
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+#: the list of files a complete hil run wrote (what makes a directory "hil's own")
+MANIFEST = ".hil-run.json"
+#: in a failed run's directory: why it failed
+FAILED = "FAILED"
+_STAGE = re.compile(r"\.(.+)\.partial-\d+")
+
+
+class OutDirRefused(Exception):
+    """--out holds files hil did not write (one line; the CLI exits 2)."""
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def atomic_write(path: Path, data: bytes) -> Path:
+    """Write a whole file or nothing: a temporary file beside it, fsync, rename over it.  A
+    full disk or a kill leaves the old file (or none), never a truncated one."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise
+    _fsync_dir(path.parent)
+    return path
+
+
+def atomic_write_text(path: Path, text: str, encoding: str = "utf-8") -> Path:
+    return atomic_write(path, text.encode(encoding))
+
+
+def _files(root: Path) -> list[str]:
+    """Every file and link under root, as relative POSIX paths (directories not listed)."""
+    out = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        for name in filenames + [d for d in dirnames if os.path.islink(os.path.join(dirpath, d))]:
+            out.append(Path(dirpath, name).relative_to(root).as_posix())
+    return sorted(out)
+
+
+def _manifest(path: Path) -> set[str] | None:
+    try:
+        doc = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
+        files = doc["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
+        return None
+    return set(files)
+
+
+def is_own_run(path: Path) -> bool:
+    """A directory that holds exactly what a complete hil run listed in its manifest."""
+    listed = _manifest(path)
+    return listed is not None and set(_files(path)) <= listed | {MANIFEST}
+
+
+def check_out_dir(out: Path, force: bool) -> None:
+    """Refuse an --out that exists with files hil did not write (unless force)."""
+    if out.exists() and not out.is_dir():
+        raise OutDirRefused(f"--out {out}: exists and is not a directory")
+    if force or not out.is_dir() or is_own_run(out):
+        return
+    foreign = [f for f in _files(out) if f not in (_manifest(out) or set()) | {MANIFEST}]
+    if foreign:
+        raise OutDirRefused(f"--out {out}: not empty and not a hil run directory ({len(foreign)} "
+                            f"other file(s), e.g. {foreign[0]}); choose another --out, or "
+                            f"--force to add the results (other files are kept)")
+
+
+def _write_manifest(stage: Path, command: str) -> None:
+    doc = {"tool": "hil", "command": command, "complete": True,
+           "files": [f for f in _files(stage) if f != MANIFEST]}
+    atomic_write_text(stage / MANIFEST, json.dumps(doc, indent=1) + "\n")
+
+
+def _merge_into(stage: Path, out: Path) -> None:
+    """--force: each staged file replaces its namesake in out; nothing else in out changes."""
+    for rel in _files(stage):
+        dst = out / rel
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        if dst.is_dir() and not dst.is_symlink():
+            raise OutDirRefused(f"--out {out}: {rel} is a directory, the run has a file there")
+        os.replace(stage / rel, dst)
+    shutil.rmtree(stage, ignore_errors=True)
+
+
+def _publish(stage: Path, out: Path, force: bool) -> None:
+    if out.is_dir() and any(out.iterdir()):
+        if is_own_run(out):
+            old = out.with_name(f".{out.name}.old-{os.getpid()}")
+            os.rename(out, old)
+            os.rename(stage, out)
+            shutil.rmtree(old, ignore_errors=True)  # only what the earlier run wrote
+        elif force:
+            _merge_into(stage, out)
+        else:  # a foreign file appeared during the run
+            raise OutDirRefused(f"--out {out}: files appeared in it during the run; the results "
+                                f"are in {stage}")
+    else:
+        os.rename(stage, out)  # replaces an empty directory
+    _fsync_dir(out.parent)
+
+
+def published_path(path: Path) -> Path:
+    """Where a path inside a staging directory will be once the run is published (for
+    anything that names it for later, e.g. deferred plots)."""
+    parts = list(Path(path).parts)
+    for i, part in enumerate(parts):
+        m = _STAGE.fullmatch(part)
+        if m:
+            parts[i] = m[1]
+    return Path(*parts)
+
+
+def failed_dir(out: Path) -> Path:
+    stamp = time.strftime("%Y%m%dT%H%M%S")
+    cand = out.with_name(f"{out.name}.failed-{stamp}")
+    i = 1
+    while cand.exists():
+        i += 1
+        cand = out.with_name(f"{out.name}.failed-{stamp}-{i}")
+    return cand
+
+
+@contextmanager
+def staged_run(out: Path, command: str, *, force: bool = False) -> Iterator[Path]:
+    """The directory to write a run into; published to out when the block ends normally.
+    On an exception whatever was written is kept in NAME.failed-TIME (see module doc) and
+    the exception gets a note (PEP 678) saying where; a failure before any file was written
+    leaves nothing."""
+    out = Path(out)
+    check_out_dir(out, force)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    stage = out.with_name(f".{out.name}.partial-{os.getpid()}")
+    if stage.exists():
+        shutil.rmtree(stage)  # our own pid's leftover: hil wrote it
+    stage.mkdir()
+    try:
+        yield stage
+    except BaseException as e:
+        if not _files(stage):  # failed before writing anything: nothing to keep
+            shutil.rmtree(stage, ignore_errors=True)
+            raise
+        kept = failed_dir(out)
+        first = str(e).splitlines()[0] if str(e) else type(e).__name__
+        try:
+            atomic_write_text(stage / FAILED, f"hil {command} failed: {first}\n")
+            os.rename(stage, kept)
+        except OSError:
+            kept = stage
+        what = "bus log and partial results" if (kept / "bus.log").is_file() else "partial results"
+        e.add_note(f"{what} kept in {kept}")
+        raise
+    _write_manifest(stage, command)
+    _publish(stage, out, force)

@@ -155,8 +155,10 @@ fcc_status_t fcc_app_sid_step(fcc_app_sid_t *app, uint32_t k, bool check_step,
         const fcc_status_t st = fcc_sid_step(&app->loop[f], sample[FCC_APP_SID_IN_ALPHA].value,
                                              sample[FCC_APP_SID_IN_Q].value, app->de_last,
                                              oracle_fault, res->measurement_valid, &res->out[f]);
-        if (st != FCC_OK && res->status == FCC_OK) {
-            res->status = st;
+        /* A filter that did not step is a step error (its outputs are stale); a rejected
+         * measurement or a refused MLS fit only degrades the step (the loop stepped). */
+        if (!res->out[f].stepped && res->status == FCC_OK) {
+            res->status = st; /* != FCC_OK: a filter that refuses to step says why */
         }
         loop_trouble = loop_trouble || st != FCC_OK || !res->out[f].stepped;
     }

@@ -80,6 +80,17 @@ fcc_status_t fcc_hostport_init(fcc_hostport_t *hp, const char *ifname,
     return FCC_OK;
 }
 
+/* fcc's receive buffer: a burst (a flood before a lockstep tick) must not overflow the
+ * default ~200 kB (~300 frames) and lose the tick; 4 MiB hold ~5000 frames. */
+#define FCC_HOSTPORT_RCVBUF_BYTES (4 << 20)
+
+static void size_rcvbuf(fcc_socketcan_t *sc)
+{
+    /* best effort: refused without privilege, the default buffer still works */
+    const fcc_status_t st = fcc_socketcan_set_rcvbuf(sc, FCC_HOSTPORT_RCVBUF_BYTES);
+    (void)st;
+}
+
 fcc_status_t fcc_hostport_open(fcc_hostport_t *hp)
 {
     if (hp == NULL || hp->up) {
@@ -90,6 +101,9 @@ fcc_status_t fcc_hostport_open(fcc_hostport_t *hp)
     }
     const fcc_status_t st = fcc_socketcan_open(&hp->sc, hp->ifname);
     hp->up = (st == FCC_OK);
+    if (hp->up) {
+        size_rcvbuf(&hp->sc);
+    }
     return st;
 }
 
@@ -130,6 +144,7 @@ uint64_t fcc_hostport_service(fcc_hostport_t *hp, uint64_t now_us)
     if (fcc_socketcan_open(&fresh, hp->ifname) != FCC_OK) {
         return hp->next_probe_us;
     }
+    size_rcvbuf(&fresh);
     hp->sc = fresh;
     hp->up = true;
     ++hp->reopens;

@@ -53,14 +53,6 @@ static fcc_status_t configure(int fd)
     if (st == FCC_OK) {
         st = set_opt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask);
     }
-    if (st == FCC_OK) {
-        /* A burst (a flood before a lockstep tick) must not overflow the default ~200 kB
-         * (~300 frames): best effort, FORCE needs CAP_NET_ADMIN, else capped by rmem_max. */
-        const int rcvbuf = FCC_SOCKETCAN_RCVBUF_BYTES;
-        if (set_opt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf, sizeof rcvbuf) != FCC_OK) {
-            (void)set_opt(fd, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
-        }
-    }
     return st;
 }
 
@@ -99,6 +91,18 @@ fcc_status_t fcc_socketcan_open(fcc_socketcan_t *s, const char *ifname)
     }
     s->fd = fd;
     return FCC_OK;
+}
+
+fcc_status_t fcc_socketcan_set_rcvbuf(fcc_socketcan_t *s, int bytes)
+{
+    if (s == NULL || s->fd < 0 || bytes <= 0) {
+        return FCC_ERR_ARG;
+    }
+    /* FORCE needs CAP_NET_ADMIN; without it the plain option is capped by rmem_max */
+    if (set_opt(s->fd, SOL_SOCKET, SO_RCVBUFFORCE, &bytes, sizeof bytes) == FCC_OK) {
+        return FCC_OK;
+    }
+    return set_opt(s->fd, SOL_SOCKET, SO_RCVBUF, &bytes, sizeof bytes);
 }
 
 fcc_status_t fcc_socketcan_set_filters(fcc_socketcan_t *s, const uint32_t *ids, size_t n)

@@ -22,8 +22,6 @@
 
 #define FCC_SOCKETCAN_MAX_FILTERS 64u
 #define FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US 5000u
-/* Receive buffer asked for (SO_RCVBUFFORCE, else SO_RCVBUF): ~5000 queued frames */
-#define FCC_SOCKETCAN_RCVBUF_BYTES (4 << 20)
 
 typedef struct {
     int fd;                       /* -1 when closed */
@@ -40,6 +38,10 @@ fcc_status_t fcc_socketcan_open(fcc_socketcan_t *s, const char *ifname);
 /* Receive only these standard identifiers (n <= FCC_SOCKETCAN_MAX_FILTERS;
  * n == 0 receives every frame again). */
 fcc_status_t fcc_socketcan_set_filters(fcc_socketcan_t *s, const uint32_t *ids, size_t n);
+
+/* Asks for a receive buffer of `bytes` (SO_RCVBUFFORCE, else SO_RCVBUF, which the kernel
+ * caps at rmem_max); FCC_ERR_IO when neither is accepted. */
+fcc_status_t fcc_socketcan_set_rcvbuf(fcc_socketcan_t *s, int bytes);
 
 /* One frame if one is waiting (FCC_OK), FCC_ERR_AGAIN if none, FCC_ERR_IO on a
  * socket error.  Error frames and frames the port cannot represent (extended,

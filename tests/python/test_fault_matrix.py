@@ -1,0 +1,128 @@
+"""The fault matrix: every fault class x both aircraft, lockstep, the real fcc on vcan0.
+
+Each cell flies a short flight (CDRW 1 s = 51 steps of 20 ms; missile 2 s = 40 steps of
+50 ms) with one fault over steps 10-19, then checks
+  * the run completes (every step answered, the run evaluated: what `hil run` exits 0 on);
+  * fcc's counters (its final heartbeat) are exactly what the injected faults imply: the
+    E2E classes and the rejections, derived below from the frames the injector reports;
+  * nothing is lost: bus.log ends with the rig's end marker, and holds every frame the
+    simulator sent and one FCC_ACK per answered step.
+The `expect` functions state the arithmetic: F = sensor frames per step of the aircraft,
+N = steps under the fault (10), base = the fault-free E2E "ok" count.
+"""
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from hil.bus.candump import read_log
+from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+
+pytestmark = pytest.mark.vcan
+
+N = 10
+AIRCRAFT = {
+    #          scenario   steps F  fault window       a signal  a frame         its signal
+    "cdrw": (CDRW_1S, 51, 3, "start=0.2,duration=0.2", "alpha", "CDRW_AOA", "alpha"),
+    "missile": (MISSILE_2S, 40, 2, "start=0.5,duration=0.5", "q_g", "MSL_RATE_GYRO", "q_g"),
+}
+SIM_IDS = {0x010, 0x020, 0x050, 0x051, 0x052, 0x040, 0x041, 0x710, 0x7F0}
+ACK_ID = 0x028
+
+
+def base_ok(steps: int, f: int) -> int:
+    """Fault-free E2E OK: every sensor frame, every tick, the reset and shutdown commands."""
+    return f * steps + steps + 2
+
+
+#: kind -> (spec template, expected counters given (steps, F, injected counts));
+#: counters not named must be 0.  {w}: the window, {sig}/{frame}/{fsig}: the aircraft's.
+#: Every fault sends a SIM_EVENT at its start and its end (+2 OK), except where the
+#: simulator is silenced at the start.
+Expect = Callable[[int, int, dict], dict]
+CASES: dict[str, tuple[str, Expect]] = {
+    # sensor level: the frames are all there, the values change
+    "spike": ("spike:signal={sig},{w},magnitude=0.05", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    "bias": ("bias:signal={sig},{w},magnitude=0.02", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    "stuck": ("stuck:signal={sig},{w}", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    "noise_burst": ("noise_burst:signal={sig},{w},std=0.02",
+                    lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    "drift": ("drift:signal={sig},{w},rate=0.1", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    "scale": ("scale:signal={sig},{w},factor=1.5", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
+    # a dead sensor sends nothing (its counter does not move): N empty periods, no jump
+    "dropout": ("dropout:signal={sig},{w}",
+                lambda s, f, i: {"ok": base_ok(s, f) + 2 - N, "no_new_data": N}),
+    # frame level, on every sensor frame of the aircraft (frame = *) unless one is needed
+    "loss": ("loss:frame=*,{w}",   # N*F empty periods; each sensor's next frame jumps N+1
+             lambda s, f, i: {"ok": base_ok(s, f) + 2 - N * f - f, "no_new_data": N * f,
+                              "wrong_sequence": f}),
+    "delay": ("delay:frame=*,{w},delay=0.01",  # late by < 1 step: in order, E2E OK, the
+              lambda s, f, i: {"ok": base_ok(s, f) + 2, "no_new_data": f}),  # 1st period empty
+    "duplicate": ("duplicate:frame=*,{w},count=2",
+                  lambda s, f, i: {"ok": base_ok(s, f) + 2, "repeated": 2 * N * f}),
+    "replay": ("replay:frame={frame},{w},age=0.2", None),  # see test_replay below
+    "bad_crc": ("bad_crc:frame=*,{w}",  # N*F errors; the next good frame jumps N+1
+                lambda s, f, i: {"ok": base_ok(s, f) + 2 - N * f - f, "error": N * f,
+                                 "wrong_sequence": f}),
+    "counter_freeze": ("counter_freeze:frame={frame},{w}",  # 1st frozen = its own counter
+                       lambda s, f, i: {"ok": base_ok(s, f) + 2 - N, "repeated": N - 1,
+                                        "wrong_sequence": 1}),
+    "counter_jump": ("counter_jump:frame={frame},{w},jump=5",  # into and out of the jump
+                     lambda s, f, i: {"ok": base_ok(s, f) + 2 - 2, "wrong_sequence": 2}),
+    "wrong_dlc": ("wrong_dlc:frame={frame},{w},dlc=4",  # refused before E2E; then a jump
+                  lambda s, f, i: {"ok": base_ok(s, f) + 2 - N - 1, "wrong_dlc": N,
+                                   "no_new_data": 0, "wrong_sequence": 1}),
+    "out_of_range": ("out_of_range:frame={frame},signal={fsig},{w}",  # E2E OK, then refused
+                     lambda s, f, i: {"ok": base_ok(s, f) + 2, "out_of_range": N}),
+    # bus level
+    "flood": ("flood:{w},rate_hz=2000,can_id=0x7FE",
+              lambda s, f, i: {"ok": base_ok(s, f) + 2, "unknown_id": i["flood"]}),
+    "silence": ("silence:{w}",  # the start event is silenced too; each sensor jumps after
+                lambda s, f, i: {"ok": base_ok(s, f) + 1 - N * f - f, "no_new_data": N * f,
+                                 "wrong_sequence": f}),
+}
+COUNTERS = ("ok", "repeated", "ok_some_lost", "wrong_sequence", "error", "no_new_data",
+            "unknown_id", "wrong_dlc", "out_of_range")
+
+
+def spec_for(kind: str, aircraft: str) -> str:
+    _, _, _, w, sig, frame, fsig = AIRCRAFT[aircraft]
+    return CASES[kind][0].format(w=w, sig=sig, frame=frame, fsig=fsig)
+
+
+def fly_cell(tmp_path: Path, kind: str, aircraft: str) -> tuple[dict, dict, dict]:
+    text, steps, f, *_ = AIRCRAFT[aircraft]
+    o = fly(tmp_path, scenario(text, spec_for(kind, aircraft)))
+    summary = o.summary
+    fw = summary["firmware"]
+    got = {**fw["e2e"], **fw["rejected"]}
+    if aircraft == "cdrw":
+        fl = summary["cdrw"]["flight"]
+        injected, answered = fl["frames_injected"], fl["steps"] - fl["unanswered_steps"]
+    else:
+        run = summary["missile"]["runs"][0]
+        injected, answered = run["frames_injected"], run["steps"] - run["unanswered_steps"]
+    assert answered == steps and fw["steps"][aircraft] == steps
+    # nothing lost: the whole bus is in bus.log
+    info = json.loads((tmp_path / "run_info.json").read_text())
+    frames = list(read_log(tmp_path / "bus.log"))
+    assert frames[-1].frame_id == 0x7F0 and frames[-1].data == bytes.fromhex("FFFFFFFF00000000")
+    sim = sum(1 for fr in frames if fr.frame_id in SIM_IDS or fr.frame_id == 0x7FE)
+    assert sim == info["link"]["tx_frames"], "a frame the simulator sent is missing in bus.log"
+    acks = sum(1 for fr in frames if fr.frame_id == ACK_ID)
+    assert steps <= acks <= steps + info.get("resent_ticks", 0)  # a resent tick: one more ACK
+    return got, injected, info
+
+
+@pytest.mark.parametrize("aircraft", sorted(AIRCRAFT))
+@pytest.mark.parametrize("kind", [k for k in CASES if CASES[k][1] is not None])
+def test_fault_class(tmp_path, kind, aircraft):
+    got, injected, info = fly_cell(tmp_path, kind, aircraft)
+    _, steps, f, *_ = AIRCRAFT[aircraft]
+    expect = CASES[kind][1](steps, f, injected)  # type: ignore[misc]
+    expect["ok"] += info.get("resent_ticks", 0)  # a tick resent under load is one more OK
+    want = {c: expect.get(c, 0) for c in COUNTERS}
+    assert {c: got[c] for c in COUNTERS} == want, (kind, aircraft, injected)

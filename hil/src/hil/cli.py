@@ -355,9 +355,12 @@ def cmd_report(args: argparse.Namespace) -> int:
     if not args.no_plots:
         from .plots import plot_run_dir
         try:
-            names = [p.name for p in plot_run_dir(args.dir)]
+            written = plot_run_dir(args.dir)
         except (KeyError, TypeError, AttributeError, IndexError) as e:
             raise _not_a_summary(summary_path, e) from None
+        from .rig.rundir import note_written
+        note_written(args.dir, written)
+        names = [p.name for p in written]
         if names:
             print(f"plots: {', '.join(names)}")
     return 0

@@ -122,6 +122,18 @@ def _write_manifest(stage: Path, command: str) -> None:
     atomic_write_text(stage / MANIFEST, json.dumps(doc, indent=1) + "\n")
 
 
+def note_written(run_dir: Path, paths: list[Path]) -> None:
+    """Files added to a published hil run later (figures drawn by `hil report`): listed in
+    its manifest, so the directory stays hil's own."""
+    listed = _manifest(run_dir)
+    if listed is None:
+        return
+    doc = json.loads((run_dir / MANIFEST).read_text(encoding="utf-8"))
+    doc["files"] = sorted(listed | {Path(p).resolve().relative_to(run_dir.resolve()).as_posix()
+                                    for p in paths})
+    atomic_write_text(run_dir / MANIFEST, json.dumps(doc, indent=1) + "\n")
+
+
 def _merge_into(stage: Path, out: Path) -> None:
     """--force: each staged file replaces its namesake in out; nothing else in out changes."""
     for rel in _files(stage):

@@ -11,7 +11,7 @@ Several applications are interleaved by their step times (the CDRW at 50 Hz and 
 at 1/T in one fcc process): the earliest t_k goes next, the CDRW first on a tie.
 
 A tick (or its answer) can be lost without any fault: a flood overflows a receive queue.
-So when the answer has not come within a quarter of the timeout, the tick is sent again
+So when the answer has not come within half the timeout, the tick is sent again
 with the next alive counter -- fcc runs a step once and answers a repeated tick with the
 same ACK (firmware/app/README.md, "Repeated tick"); each resend is counted (run_info.json
 "resent_ticks").  fcc silent for `timeout` s after all that → FccTimeout("fcc did not answer
@@ -123,7 +123,7 @@ class LockstepRunner:
             return io
         start = time.monotonic()
         deadline = start + self.timeout
-        next_resend = start + self.timeout / 4
+        next_resend = start + self.timeout / 2
         n = 0
         while True:
             got = link.recv()
@@ -133,7 +133,7 @@ class LockstepRunner:
                 now = time.monotonic()
                 if resend is not None and now >= next_resend and now < deadline:
                     resend()
-                    next_resend = now + self.timeout / 4
+                    next_resend = now + self.timeout / 2
                 if now > deadline:
                     raise FccTimeout(f"fcc did not answer step {k} of app {APP_NAMES[app]} "
                                      f"within {self.timeout:g} s")

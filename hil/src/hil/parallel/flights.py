@@ -13,8 +13,8 @@ from ..rig.apps import CdrwDriver
 from ..rig.buslog import split_flights
 from ..rig.report import firmware_summary
 from ..rig.results import cdrw_record, cdrw_result
-from ..rig.runs import (CampaignFlight, RigConfig, _bar, _fly, _require_log, campaign_flight,
-                        fcc_args)
+from ..progress import bar as progress_bar
+from ..rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
 from ..rig.session import RigError, RigSession
 
 
@@ -34,7 +34,7 @@ def fly_campaign_flight(scenario: Scenario, index: int, fault_start: float, cfg:
     out.mkdir(parents=True, exist_ok=True)
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
         d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
-        with _bar(d.n_steps, False, "") as bar:
+        with progress_bar(d.n_steps, False, "") as bar:
             _fly(rig, [d], cfg, bar)
         rec = cdrw_record(d)
         rig.shutdown()

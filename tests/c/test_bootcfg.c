@@ -1,0 +1,168 @@
+/*
+ * test_bootcfg.c -- the boot configuration record (firmware/app/fcc_bootcfg.h):
+ * the CRC-32 check value, a record laid out by hand from the table of
+ * firmware/target/README.md, and every refusal (no record, version, length,
+ * CRC, each field out of range) leaving the configuration untouched.
+ */
+#include "fcc_test.h"
+
+#include <string.h>
+
+#include "fcc_bootcfg.h"
+
+static void put16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+}
+
+static void put32(uint8_t *p, uint32_t v)
+{
+    for (unsigned i = 0u; i < 4u; ++i) {
+        p[i] = (uint8_t)(v >> (8u * i));
+    }
+}
+
+static void put_f32(uint8_t *p, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    put32(p, u);
+}
+
+static void put_f64(uint8_t *p, double d)
+{
+    uint64_t u;
+    memcpy(&u, &d, sizeof u);
+    put32(p, (uint32_t)u);
+    put32(p + 4, (uint32_t)(u >> 32));
+}
+
+static void seal(uint8_t rec[FCC_BOOTCFG_SIZE])
+{
+    put32(&rec[60], fcc_bootcfg_crc32(rec, 60u));
+}
+
+/* Realtime, missile only, stale limit 3, 20 Hz, T = 0.1 s, 12 bits, oracle,
+ * skip, variances 0.5 / 2.0. */
+static void record(uint8_t rec[FCC_BOOTCFG_SIZE])
+{
+    memset(rec, 0, FCC_BOOTCFG_SIZE);
+    memcpy(rec, "FCCB", 4u);
+    put16(&rec[4], 1u);
+    put16(&rec[6], 64u);
+    rec[8] = 1u;
+    rec[9] = 2u;
+    put16(&rec[10], 3u);
+    put_f32(&rec[12], 20.0f);
+    put_f64(&rec[16], 0.1);
+    rec[24] = 12u;
+    rec[25] = 1u;
+    rec[26] = 1u;
+    put_f64(&rec[28], 0.5);
+    put_f64(&rec[36], 2.0);
+    seal(rec);
+}
+
+static void test_crc32_check_value(void **state)
+{
+    (void)state;
+    const uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+    assert_int_equal(fcc_bootcfg_crc32(check, sizeof check), 0xCBF43926u);
+    assert_int_equal(fcc_bootcfg_crc32(NULL, 0u), 0u);
+}
+
+static void test_record_applied(void **state)
+{
+    (void)state;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    record(rec);
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    float rate = 10.0f;
+    const char *field = "x";
+    fcc_assert_ok(fcc_bootcfg_apply(rec, &cfg, &rate, &field));
+    assert_null(field);
+    assert_int_equal(cfg.mode, FCC_MODE_REALTIME);
+    assert_false(cfg.app_enabled[FCC_APP_CDRW]);
+    assert_true(cfg.app_enabled[FCC_APP_MSL]);
+    assert_int_equal(cfg.stale_limit, 3u);
+    assert_true(rate == 20.0f);
+    assert_true(cfg.msl.period == (fcc_real_t)0.1);
+    assert_int_equal(cfg.msl.bits, 12u);
+    assert_int_equal(cfg.sid.base.azkf.det.mode, FCC_FDET_ORACLE);
+    assert_int_equal(cfg.sid.base.azkf.policy, FCC_AZKF_POLICY_SKIP);
+    assert_true(cfg.msl.plant.gyro_var == (fcc_real_t)0.5);
+    assert_true(cfg.msl.plant.accel_var == (fcc_real_t)2.0);
+}
+
+static void test_refusals_change_nothing(void **state)
+{
+    (void)state;
+    static const struct {
+        unsigned offset;
+        uint8_t value;
+        bool reseal;
+        fcc_status_t status;
+        const char *field;
+    } cases[] = {
+        {0u, 0xFFu, true, FCC_ERR_AGAIN, NULL},            /* erased flash: no record */
+        {4u, 2u, true, FCC_ERR_FORMAT, "version"},
+        {6u, 63u, true, FCC_ERR_FORMAT, "length"},
+        {20u, 0x01u, false, FCC_ERR_FORMAT, "crc"},        /* a flipped bit */
+        {8u, 2u, true, FCC_ERR_RANGE, "mode"},
+        {9u, 0u, true, FCC_ERR_RANGE, "apps"},
+        {9u, 4u, true, FCC_ERR_RANGE, "apps"},
+        {11u, 0x04u, true, FCC_ERR_RANGE, "stale_limit"}, /* 1027 */
+        {24u, 17u, true, FCC_ERR_RANGE, "lqg_bits"},
+        {24u, 1u, true, FCC_ERR_RANGE, "lqg_bits"},
+        {23u, 0x40u, true, FCC_ERR_RANGE, "lqg_period"},  /* 0.1 -> 2.x */
+        {25u, 3u, true, FCC_ERR_RANGE, "detector"},
+        {26u, 2u, true, FCC_ERR_RANGE, "fault_policy"},
+        {35u, 0xFFu, true, FCC_ERR_RANGE, "gyro_var"},    /* 0.5 -> -2^1023 */
+        {43u, 0x80u, true, FCC_ERR_RANGE, "accel_var"},   /* 2.0 -> -0.0 */
+        {15u, 0xFFu, true, FCC_ERR_RANGE, "status_rate"}, /* NaN */
+    };
+    for (size_t i = 0u; i < sizeof cases / sizeof cases[0]; ++i) {
+        uint8_t rec[FCC_BOOTCFG_SIZE];
+        record(rec);
+        rec[cases[i].offset] = (cases[i].offset == 20u) ? (uint8_t)(rec[20] ^ cases[i].value)
+                                                       : cases[i].value;
+        if (cases[i].reseal) {
+            seal(rec);
+        }
+        fcc_node_config_t cfg;
+        fcc_node_config_t before;
+        fcc_assert_ok(fcc_node_config_default(&cfg));
+        memcpy(&before, &cfg, sizeof cfg);
+        float rate = 10.0f;
+        const char *field = NULL;
+        const fcc_status_t st = fcc_bootcfg_apply(rec, &cfg, &rate, &field);
+        if (st != cases[i].status) {
+            fail_msg("case %zu (offset %u): status %d, expected %d", i, cases[i].offset, (int)st,
+                     (int)cases[i].status);
+        }
+        if (cases[i].field == NULL) {
+            assert_null(field);
+        } else {
+            assert_non_null(field);
+            assert_string_equal(field, cases[i].field);
+        }
+        assert_memory_equal(&cfg, &before, sizeof cfg);
+        assert_true(rate == 10.0f);
+    }
+    fcc_node_config_t cfg;
+    float rate = 0.0f;
+    const char *field = NULL;
+    assert_int_equal(fcc_bootcfg_apply(NULL, &cfg, &rate, &field), FCC_ERR_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_crc32_check_value),
+        cmocka_unit_test(test_record_applied),
+        cmocka_unit_test(test_refusals_change_nothing),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

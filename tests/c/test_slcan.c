@@ -119,7 +119,7 @@ static void test_parse_rejects(void **state)
         "t12",          /* short id */
         "t123",         /* no DLC */
         "t1239",        /* DLC 9 */
-        "t800" "0",     /* id beyond 11 bits */
+        "t8000",        /* id beyond 11 bits */
         "T200000000",   /* id beyond 29 bits */
         "t12321",       /* one data digit missing */
         "t1231112",     /* one data digit too many */

@@ -136,4 +136,5 @@ def test_fault_class(tmp_path, kind):
         # start event took a counter, so its end event arrives OK_SOME_LOST
         want["ok"] -= 1
         want["ok_some_lost"] += 1
+    print(f"MATRIX {kind} " + json.dumps({c: got[c] for c in COUNTERS}))  # README's table
     assert {c: got[c] for c in COUNTERS} == want, (kind, injected)

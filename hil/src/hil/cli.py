@@ -2,6 +2,8 @@
 
     hil run cdrw|missile [SCENARIO.toml] [--fault SPEC]... [--out DIR] [--seed S]
                                          [--mode lockstep|realtime]
+                                         [--target host|qemu-m4f|external] [--fcc PATH]
+                                         [--interface NAME --channel CH --bitrate B]
     hil campaign cdrw [SCENARIO.toml] --runs 100 --seed S        (Table 5)
     hil sweep missile [SCENARIO.toml] --periods 0.2,0.1,0.05 --bits 6,8,12   (Fig. 3)
     hil report DIR                                              (tables + plots again)
@@ -10,7 +12,8 @@
     hil demo [--out out/demo]                                   (both aircraft + a sweep)
 
 Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
-firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin).  Exit status: 0 done; 1 the run
+firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin); --target qemu-m4f flies the
+Cortex-M4F image under QEMU instead, --target external whatever answers on the bus.  Exit status: 0 done; 1 the run
 failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
 status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
 answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on stderr;
@@ -96,7 +99,23 @@ def _add_paths(p: argparse.ArgumentParser) -> None:
                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
     p.add_argument("--fcc", type=Path, metavar="PATH",
                    help="the firmware binary (default $FCC_HIL_FCC, else $FCC_BUILD_DIR/bin/fcc, "
-                        "else build/bin/fcc of the source tree, else fcc on $PATH)")
+                        "else build/bin/fcc of the source tree, else fcc on $PATH); with "
+                        "--target qemu-m4f: the ELF image (default: cross-built into build-m4f)")
+
+
+TARGET_CHOICES = ("host", "qemu-m4f", "external")
+#: lockstep answer timeout by target (--timeout)
+DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
+
+
+def _bitrate(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected bits per second, e.g. 500000, got {text!r}") from None
+    if not 10_000 <= v <= 1_000_000:
+        raise argparse.ArgumentTypeError(f"expected 10000 to 1000000 bit/s, got {v}")
+    return v
 
 
 def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
@@ -105,11 +124,24 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
                    help=f"run directory (default {out_default}); written when the run is done")
     p.add_argument("--force", action="store_true",
                    help="write into an --out that holds other files (they are kept)")
-    p.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    p.add_argument("--target", choices=TARGET_CHOICES, default="host",
+                   help="device under test: host (fcc, the Linux build; default), qemu-m4f (the "
+                   "Cortex-M4F image under QEMU, SLCAN over its UART) or external (start no "
+                   "firmware: whatever answers on the bus, e.g. a board on can0)")
+    p.add_argument("--interface", default="socketcan", metavar="NAME",
+                   help="python-can interface of the simulator's bus (default socketcan; e.g. "
+                   "pcan, kvaser, slcan; the bus is then recorded by the rig itself, not candump)")
+    p.add_argument("--channel", "--iface", dest="iface", default="vcan0", metavar="CHANNEL",
+                   help="python-can channel: the CAN interface (default vcan0; e.g. can0)")
+    p.add_argument("--bitrate", type=_bitrate, metavar="BIT/S",
+                   help="bitrate for interfaces that set it when opened (python-can's bitrate; a "
+                   "SocketCAN interface's is set with `ip link`; the bus's is 500000)")
     p.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep",
                    help="lockstep (deterministic, default) or realtime (both sides on their clocks)")
-    p.add_argument("--timeout", type=_positive, default=2.0, metavar="S",
-                   help="lockstep: seconds to wait for fcc's answer to a step (default 2)")
+    p.add_argument("--timeout", type=_positive, metavar="S",
+                   help="lockstep: seconds to wait for fcc's answer to a step; external: for "
+                   "the device's heartbeat at the start (default 2; qemu-m4f: 30, emulation "
+                   "on a loaded machine)")
     p.add_argument("--fcc-args", default="", metavar="ARGS",
                    help="extra fcc options, one string, e.g. \"--detector oracle\"")
     p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
@@ -249,9 +281,19 @@ def _config(args: argparse.Namespace, stage: Path):
         extra = tuple(shlex.split(args.fcc_args))
     except ValueError as e:
         raise UsageError(f"--fcc-args: {e}") from None
+    if args.fcc is not None and args.target == "external":
+        raise UsageError("--fcc: the external target runs no firmware of the rig's")
+    if args.fcc_args and args.target == "external":
+        raise UsageError("--fcc-args: the external target is configured through SIM_CONTROL, "
+                         "and by whoever started it")
+    if args.target == "qemu-m4f" and args.interface != "socketcan":
+        raise UsageError("--target qemu-m4f: the image's serial line is routed to a SocketCAN "
+                         "interface (slcand, can-gw): use --interface socketcan")
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
-                     timeout=args.timeout, fcc_args=extra, progress=not args.quiet,
-                     plots=not args.no_plots, log_format=args.log_format)
+                     timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
+                     progress=not args.quiet,
+                     plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
+                     target=args.target, interface=args.interface, bitrate=args.bitrate)
 
 
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:
@@ -447,12 +489,13 @@ def _apply_paths(args: argparse.Namespace) -> None:
         from .bus import dbc
         dbc.set_default(dbc_path)
     fcc_path = getattr(args, "fcc", None)
+    from .rig import paths
+    paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
     if fcc_path is not None:
-        from .rig import paths
-        paths.set_fcc(fcc_path)
         try:
             paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
         except paths.ToolNotFound as e:
+            paths.set_fcc(None)
             raise UsageError(str(e)) from None
 
 

@@ -1,6 +1,8 @@
 """The rig: fly the simulated aircraft against the fcc firmware over SocketCAN.
 
 * session   -- RigSession: the bus recorder (candump), fcc, the simulator's socket
+* targets   -- the device under test: host fcc, qemu-m4f (qemu: the M4F image + slcand + can-gw),
+               external (whatever answers on the bus)
 * apps      -- CdrwDriver / MissileDriver: one aircraft, step by step
 * inject    -- FrameInjector: frame- and bus-level faults on the simulator's frames
 * lockstep  -- LockstepRunner: tick, wait for FCC_ACK, integrate (deterministic)

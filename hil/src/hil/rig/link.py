@@ -7,6 +7,12 @@ frame.  Here a receive is one blocking ``recv()`` bounded by ``SO_RCVTIMEO`` (a 
 so that the caller can notice a dead firmware or a deadline between slices), and a send is one
 ``send()`` of a pre-packed ``struct can_frame``.  The socket is still python-can's
 (filters, loopback and error-frame settings are python-can's own code).
+
+Any other python-can interface (``interface="pcan"``, ``"slcan"``, ``"kvaser"`` ...) goes through
+python-can's own ``send()``/``recv()``; there the link is also the bus recorder (no candump
+beside it: many adapters cannot be opened twice): every frame it sends and every frame it
+receives goes to ``log_path`` in the candump ``-L`` format (``hil.bus.candump.format_line``),
+in the order the rig saw them, and the receive filter is applied in Python after logging.
 """
 from __future__ import annotations
 
@@ -16,8 +22,12 @@ import socket
 import struct
 import time
 from collections.abc import Iterable
+from pathlib import Path
+from typing import TextIO
 
 import can
+
+from ..bus.candump import format_line
 
 #: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
 CAN_FRAME = struct.Struct("=IB3x8s")
@@ -45,9 +55,30 @@ def pack_frame(frame_id: int, data: bytes) -> bytes:
 class CanLink:
     """One raw CAN socket on an interface, opened through python-can."""
 
+    #: python-can interfaces driven through the raw socket (the others: python-can's send/recv)
+    RAW_INTERFACES = frozenset({"socketcan"})
+
+    @classmethod
+    def is_raw(cls, interface: str) -> bool:
+        """Raw SocketCAN (recorded by candump), or python-can's path (recorded by the link)."""
+        return interface in cls.RAW_INTERFACES
+
     def __init__(self, channel: str, frame_ids: Iterable[int] | None = None,
-                 rcvbuf: int = 4 << 20) -> None:
-        """frame_ids: the identifiers to receive (kernel filters); None: every frame."""
+                 rcvbuf: int = 4 << 20, *, interface: str = "socketcan",
+                 bitrate: int | None = None, log_path: Path | None = None) -> None:
+        """frame_ids: the identifiers to receive (kernel filters); None: every frame.
+        interface/bitrate: python-can's; log_path: record the bus (not with socketcan)."""
+        self.channel = channel
+        self.interface = interface
+        self.tx_frames = 0
+        self.tx_retries = 0
+        self.tx_dropped = 0
+        self.rx_frames = 0
+        if not self.is_raw(interface):
+            self._open_generic(frame_ids, bitrate, log_path)
+            return
+        if log_path is not None:
+            raise ValueError("on SocketCAN the recorder is candump, not the link")
         filters = None if frame_ids is None else [
             {"can_id": i, "can_mask": 0x7FF, "extended": False} for i in sorted(set(frame_ids))]
         try:
@@ -55,7 +86,8 @@ class CanLink:
                                receive_own_messages=False, ignore_rx_error_frames=True)
         except (OSError, can.CanError) as e:
             raise LinkError(f"cannot open CAN interface {channel!r}: {e}") from None
-        self.channel = channel
+        self._generic = False
+        self.writer: TextIO | None = None
         self.sock: socket.socket = self.bus.socket
         self.sock.setblocking(True)
         for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):
@@ -68,14 +100,67 @@ class CanLink:
         self.set_slice(RECV_SLICE_S)
         self._poll = select.poll()
         self._poll.register(self.sock, select.POLLIN)
-        self.tx_frames = 0
-        self.tx_retries = 0
-        self.tx_dropped = 0
-        self.rx_frames = 0
+
+    def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
+                      log_path: Path | None) -> None:
+        kwargs = {} if bitrate is None else {"bitrate": bitrate}
+        try:
+            self.bus = can.Bus(interface=self.interface, channel=self.channel,
+                               receive_own_messages=False, **kwargs)
+        except (OSError, ValueError, ImportError, can.CanError) as e:
+            raise LinkError(f"cannot open CAN interface {self.interface}:{self.channel}: "
+                            f"{str(e).splitlines()[0] if str(e) else type(e).__name__}") from None
+        self._generic = True
+        self._wanted = None if frame_ids is None else frozenset(frame_ids)
+        self._slice = RECV_SLICE_S
+        self.writer = None if log_path is None else open(log_path, "w", encoding="ascii")  # noqa: SIM115
+        self._t0 = time.time() - time.monotonic()
+
+    def _log(self, msg: can.Message) -> None:
+        """One log line, stamped with the rig's clock (adapters' own clocks have other epochs)."""
+        if self.writer is not None:
+            self.writer.write(format_line(self._t0 + time.monotonic(), self.channel,
+                                          msg.arbitration_id, bytes(msg.data),
+                                          msg.is_extended_id) + "\n")
+
+    def _send_generic(self, frame_id: int, data: bytes) -> bool:
+        msg = can.Message(arbitration_id=frame_id, data=data, is_extended_id=frame_id > 0x7FF,
+                          channel=self.channel)
+        try:
+            self.bus.send(msg, timeout=SEND_RETRY_S)
+        except can.CanOperationError:
+            self.tx_dropped += 1
+            return False
+        except can.CanError as e:
+            raise LinkError(f"{self.channel}: cannot send: {e}") from None
+        self.tx_frames += 1
+        self._log(msg)
+        return True
+
+    def _recv_generic(self, timeout: float) -> tuple[int, bytes] | None:
+        """The next wanted frame within timeout s (every frame received is logged)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                msg = self.bus.recv(max(0.0, deadline - time.monotonic()))
+            except can.CanError as e:
+                raise LinkError(f"{self.channel}: cannot receive: {e}") from None
+            if msg is None:
+                return None
+            if msg.is_error_frame or msg.is_remote_frame:
+                continue
+            self.rx_frames += 1
+            self._log(msg)
+            if self._wanted is None or msg.arbitration_id in self._wanted:
+                return msg.arbitration_id, bytes(msg.data)
+            if time.monotonic() >= deadline:
+                return None
 
     def set_slice(self, seconds: float) -> None:
         """Longest time one recv() blocks (SO_RCVTIMEO)."""
-        if seconds != self._slice:
+        if self._generic:
+            self._slice = seconds
+        elif seconds != self._slice:
             sec = int(seconds)
             self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVTIMEO,
                                  _TIMEVAL.pack(sec, int((seconds - sec) * 1e6)))
@@ -84,6 +169,9 @@ class CanLink:
     # -- transmit
     def send_raw(self, raw: bytes) -> bool:
         """Send one packed struct can_frame; False when the queue stayed full (counted)."""
+        if self._generic:
+            can_id, dlc, data = CAN_FRAME.unpack(raw)
+            return self._send_generic(can_id & 0x1FFFFFFF, data[:dlc])
         try:
             self.sock.send(raw)
             self.tx_frames += 1
@@ -125,11 +213,15 @@ class CanLink:
 
     def recv(self) -> tuple[int, bytes] | None:
         """The next frame (id, data), or None when nothing came within one slice."""
+        if self._generic:
+            return self._recv_generic(self._slice)
         return self._recv_once()
 
     def recv_wait(self, timeout: float) -> tuple[int, bytes] | None:
         """The next frame within timeout seconds, to the millisecond (poll(); SO_RCVTIMEO is
         rounded up to the kernel tick, 10-20 ms in the UML guest, too coarse for pacing)."""
+        if self._generic:
+            return self._recv_generic(timeout)
         if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
             return None
         return self._recv_once(socket.MSG_DONTWAIT)
@@ -137,11 +229,18 @@ class CanLink:
     def drain(self) -> list[tuple[int, bytes]]:
         """Every frame already queued, without waiting."""
         out = []
+        if self._generic:
+            while (got := self._recv_generic(0.0)) is not None:
+                out.append(got)
+            return out
         while (got := self._recv_once(socket.MSG_DONTWAIT)) is not None:
             out.append(got)
         return out
 
     def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close()
+            self.writer = None
         try:
             self.bus.shutdown()
         except Exception:  # noqa: BLE001 - closing twice or after the interface vanished
@@ -152,3 +251,23 @@ class CanLink:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+class LinkRecorder:
+    """The bus recorder of a non-SocketCAN bus: the link's own log (see the module text), with
+    the interface of ``processes.Candump`` that the session uses."""
+
+    def __init__(self, link: CanLink) -> None:
+        if link.writer is None:
+            raise ValueError("the link was opened without a log")
+        self.link = link
+
+    def alive(self) -> bool:
+        return True
+
+    def stop(self, marker: bytes | None = None, timeout: float = 10.0) -> bool:
+        """The log holds every frame the link saw, the marker (sent just before) last."""
+        if self.link.writer is not None:
+            self.link.writer.close()
+            self.link.writer = None
+        return marker is not None

@@ -135,7 +135,8 @@ class LockstepRunner:
                     resend()
                     next_resend = now + self.timeout / 2
                 if now > deadline:
-                    raise FccTimeout(f"fcc did not answer step {k} of app {APP_NAMES[app]} "
+                    raise FccTimeout(f"{rig.fcc.label if rig.fcc else 'fcc'} did not answer step {k} "
+                                     f"of app {APP_NAMES[app]} "
                                      f"within {self.timeout:g} s")
                 if got is None:
                     continue

@@ -204,10 +204,12 @@ class Candump:
             pass
         return marker is not None and f is not None and self._ends_with(marker)
 
-    def _ends_with(self, marker: bytes) -> bool:
+    def _ends_with(self, marker: bytes, tail: int = 1 << 16) -> bool:
+        """The marker is the last frame of the log -- or, when a device the rig does not stop
+        (--target external) kept sending after it, among the last `tail` bytes."""
         try:
             with open(self.log_path, "rb") as fh:
-                fh.seek(max(0, os.path.getsize(self.log_path) - 256))
-                return fh.read().rstrip().endswith(marker)
+                fh.seek(max(0, os.path.getsize(self.log_path) - tail))
+                return any(ln.endswith(marker) for ln in fh.read().splitlines()[1:])
         except OSError:
             return False

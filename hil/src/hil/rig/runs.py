@@ -5,7 +5,9 @@ run directory
     summary.json      deterministic results (the seed decides them; hil.rig.report)
     run_info.json     wall-clock times, fcc command line, step execution times
     bus.log           the whole bus, candump log format (candump -L / -l)
-    fcc.log           fcc's stdout/stderr (event lines, final counter block)
+    fcc.log           fcc's stdout/stderr (event lines, final counter block); qemu-m4f: the
+                      image's log UART; external: the command line the device should run
+    qemu.log, bootcfg.bin   qemu-m4f: QEMU's own messages, the image's boot configuration
     faults.log        every injected fault's start and end, with its time
     cdrw.csv, missile_T0.100_b8.csv, missile_T0.100_b8_fine.csv, campaign.csv ...
     *.png             the papers' figures (hil.plots)
@@ -42,6 +44,7 @@ from .report import firmware_summary, summary_tables
 from .rundir import atomic_write_text, published_path
 from .session import COMMAND_RESET, RigError, RigSession
 from .simtime import finish_bus_log
+from .targets import TARGETS
 
 MODES = ("lockstep", "realtime")
 #: scripts/with-vcan: a file of commands to run on the host after the guest (defer_plots)
@@ -61,10 +64,16 @@ class RigConfig:
     plots: bool = True
     fcc_binary: Path | None = None
     log_format: str = "log"
+    #: the device under test (hil.rig.targets) and python-can's bus of the simulator
+    target: str = "host"
+    interface: str = "socketcan"
+    bitrate: int | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
+        if self.target not in TARGETS:
+            raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {self.target!r}")
 
 
 @dataclass
@@ -97,6 +106,25 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
                      "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
                      "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
     return args + list(cfg.fcc_args)
+
+
+def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig) -> RigSession:
+    """The rig session of a command: its target, its bus, the device's configuration."""
+    return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
+                      target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
+                      mode=cfg.mode, answer_timeout=cfg.timeout)
+
+
+def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
+    """(period, bits) for the first reset: a device not configured by its command line (the
+    emulated image, an external device) gets the missile's design through SIM_CONTROL."""
+    if rig.fcc is None or rig.fcc.configured_by_args:
+        return 0.0, 0
+    for sc in scenarios:
+        if sc.aircraft == "missile":
+            assert sc.lqg is not None
+            return sc.lqg.period, sc.lqg.bits
+    return 0.0, 0
 
 
 def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFlag | None = None) -> AppDriver:
@@ -150,7 +178,8 @@ def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
               extra: dict[str, Any] | None = None) -> dict[str, Any]:
     st = rig.status
     info: dict[str, Any] = {
-        "mode": cfg.mode, "iface": cfg.iface, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
+        "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
         "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
         "python": platform.python_version(), "heartbeats": st.heartbeats,
         "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
@@ -239,11 +268,11 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         raise ValueError("one scenario per aircraft")
     check_memory(scenarios)
     t0 = time.perf_counter()
-    with RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+    with open_session(out, scenarios, cfg) as rig:
         oracle = OracleFlag()
         drivers = [make_driver(sc, rig, cfg, oracle) for sc in scenarios]
         with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
-            runner = _fly(rig, drivers, cfg, bar)
+            runner = _fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
         rig.shutdown()
     _require_log(rig)
     flights = split_flights(out / "bus.log")
@@ -357,7 +386,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     starts = campaign_fault_times(scenario, runs, seed)
     t0 = time.perf_counter()
     records: list[CdrwRecord] = []
-    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+    with open_session(out, [scenario], cfg) as rig:
         n = int(round(scenario.duration / scenario.plant.dt)) + 1  # type: ignore[union-attr]
         runner = None
         with progress_bar(runs * n, cfg.progress, "hil campaign") as bar:
@@ -403,7 +432,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     t0 = time.perf_counter()
     first = points[0]
     mdrivers: list[MissileDriver] = []
-    with RigSession(out, fcc_args([first], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
+    with open_session(out, [first], cfg) as rig:
         total = 0
         for sc in points:
             total += int(math.floor(sc.duration / sc.lqg.period + 1e-9))  # type: ignore[union-attr]

@@ -20,9 +20,9 @@ from pathlib import Path
 from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
-from .link import CanLink, LinkError, pack_frame
-from .paths import tool
-from .processes import Candump, FccProcess
+from .link import CanLink, LinkError, LinkRecorder, pack_frame
+from .processes import Candump
+from .targets import Device, start_device
 
 STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
                  "FCC_BUS_COUNTS")
@@ -32,6 +32,9 @@ STARTUP_TIMEOUT_S = 10.0
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
+#: FCC_STATUS.mode
+MODE_CODES = {"lockstep": 0, "realtime": 1}
+MODE_NAMES = {v: k for k, v in MODE_CODES.items()}
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
 
@@ -107,9 +110,22 @@ class RigSession:
 
     def __init__(self, run_dir: Path, fcc_args: Sequence[str], *, iface: str = "vcan0",
                  fcc_binary: Path | None = None, spec: BusSpec | None = None,
-                 record: bool = True) -> None:
+                 record: bool = True, target: str = "host", interface: str = "socketcan",
+                 bitrate: int | None = None, mode: str | None = None,
+                 answer_timeout: float = 2.0) -> None:
+        """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
+        recorder is candump on SocketCAN, the link's own log writer otherwise); target: the
+        device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
+        qemu-m4f: the ELF image; default: the build's)."""
         self.run_dir = Path(run_dir)
         self.iface = iface
+        self.interface = interface
+        self.bitrate = bitrate
+        self.target = target
+        #: the run's mode, checked against the device's FCC_STATUS.mode (None: not checked)
+        self.mode = mode
+        #: an external device must answer (its heartbeat) within this many seconds
+        self.answer_timeout = answer_timeout
         self.spec = spec or load()
         self.codec = FrameCodec(self.spec, SIM_NODES)
         # Only what the simulator acts on comes to its socket: the acknowledge, the missile's
@@ -118,12 +134,12 @@ class RigSession:
         # anyway, and in the UML guest every frame received costs a slow system call.
         self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_STATE_EST", "RIG_PONG", *STATUS_FRAMES)
         self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
-        self.fcc_binary = fcc_binary or tool("fcc")
-        self.fcc_args = ["--iface", iface, *fcc_args]
+        self.fcc_binary = fcc_binary
+        self.fcc_args = list(fcc_args)
         self.record = record
         self.link: CanLink | None = None
-        self.candump: Candump | None = None
-        self.fcc: FccProcess | None = None
+        self.candump: Candump | LinkRecorder | None = None
+        self.fcc: Device | None = None
         self.status_frames: list[tuple[int, bytes]] = []
         self.link_stats: dict[str, int] = {}
         self.log_complete = False
@@ -143,12 +159,17 @@ class RigSession:
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
-            self.link = CanLink(self.iface, self.fcc_ids)
+            socketcan = CanLink.is_raw(self.interface)
+            log = self.run_dir / "bus.log" if self.record and not socketcan else None
+            self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,
+                                bitrate=self.bitrate, log_path=log)
             t_open = time.monotonic()
             if self.record:
-                self._start_candump()
-            self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
-            self.fcc = FccProcess(self.fcc_binary, self.fcc_args, self.run_dir / "fcc.log")
+                self._start_candump() if socketcan else self._start_link_recorder()
+            if self.target != "external":  # an external device is on the bus by design
+                self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
+            self.fcc = start_device(self.target, self.run_dir, self.fcc_args, self.iface,
+                                    firmware=self.fcc_binary, interface=self.interface)
             self._wait_listening()
         except BaseException:
             self.close()
@@ -182,21 +203,36 @@ class RigSession:
                            f"{msg.name if msg else hex(got[0])} before this run started fcc); "
                            f"stop it first")
 
+    def _start_link_recorder(self) -> None:
+        assert self.link is not None
+        self.candump = LinkRecorder(self.link)
+
     def _wait_listening(self) -> None:
-        """Until fcc's first FCC_STATUS: it has opened its socket and listens."""
+        """Until the device's first FCC_STATUS: it has opened its socket and listens (an
+        external device: its next heartbeat), in the run's mode."""
         assert self.link is not None and self.fcc is not None
-        status_id = self.spec.by_name("FCC_STATUS").frame_id
-        deadline = time.monotonic() + STARTUP_TIMEOUT_S
+        dev = self.fcc
+        status = self.spec.by_name("FCC_STATUS")
+        timeout = dev.startup_timeout if dev.owned else self.answer_timeout
+        deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             got = self.link.recv()
             if got is None:
-                if self.fcc.poll() is not None:  # a start-up failure: exit 1 (RigError)
-                    raise RigError(f"fcc stopped at start-up ({self.fcc.describe_exit()})")
+                if dev.poll() is not None:  # a start-up failure: exit 1 (RigError)
+                    raise RigError(f"{dev.label} stopped at start-up ({dev.describe_exit()})")
                 continue
             self.note_frame(*got)
-            if got[0] == status_id:
+            if got[0] == status.frame_id and len(got[1]) == 8:
+                mode = int(status.message.decode(got[1], decode_choices=False)["mode"])
+                if self.mode is not None and mode != MODE_CODES[self.mode]:
+                    raise RigError(f"{dev.label} runs in {MODE_NAMES.get(mode, mode)} mode, "
+                                   f"the run is {self.mode}")
                 return
-        raise FccTimeout(f"fcc did not send its first FCC_STATUS within {STARTUP_TIMEOUT_S:g} s")
+        if not dev.owned:
+            raise RigError(f"nothing answered on {self.iface} within {timeout:g} s (no FCC_STATUS "
+                           f"heartbeat): is the device under test running, connected and at "
+                           f"the bus's bitrate?")
+        raise FccTimeout(f"{dev.label} did not send its first FCC_STATUS within {timeout:g} s")
 
     def note_frame(self, frame_id: int, data: bytes) -> None:
         """Keep heartbeat frames (decoded after the run, off the hot path)."""
@@ -233,11 +269,16 @@ class RigSession:
     def check_alive(self, what: str) -> None:
         assert self.fcc is not None
         if self.fcc.poll() is not None:
-            raise FccDied(f"fcc died {what} ({self.fcc.describe_exit()})")
+            raise FccDied(f"{self.fcc.label} died {what} ({self.fcc.describe_exit()})")
 
     def shutdown(self, timeout: float = 5.0) -> int:
-        """SIM_CONTROL shutdown; wait for fcc's exit and its last heartbeat."""
+        """SIM_CONTROL shutdown; wait for fcc's exit and its last heartbeat.  A device the rig
+        does not own (external) is left running: the rig waits for its next heartbeat, so that
+        the counters include the last step."""
         assert self.fcc is not None and self.link is not None
+        if not self.fcc.owned:
+            self._next_heartbeat(timeout)
+            return 0
         if self.fcc.poll() is None:
             self.control(COMMAND_SHUTDOWN)
             deadline = time.monotonic() + timeout
@@ -250,7 +291,7 @@ class RigSession:
         rc = self.fcc.stop()
         self.fcc_exit = rc
         if rc != 0:
-            raise FccDied(f"fcc did not exit cleanly after the shutdown command "
+            raise FccDied(f"{self.fcc.label} did not exit cleanly after the shutdown command "
                           f"({self.fcc.describe_exit()})")
         failed = {app: n for app, n in step_errors(self.run_dir / "fcc.log").items() if n}
         if failed:  # an estimate or command of a failed step is stale: no results from it
@@ -258,6 +299,21 @@ class RigSession:
                 f"{app} {n}" for app, n in failed.items()) + "); its step error lines are in "
                 "fcc.log; the run is not evaluated")
         return rc
+
+    def _next_heartbeat(self, timeout: float) -> bool:
+        """Until a whole heartbeat (FCC_BUS_COUNTS is its last frame) has come."""
+        assert self.link is not None
+        last_id = self.spec.by_name(STATUS_FRAMES[-1]).frame_id
+        for got in self.link.drain():
+            self.note_frame(*got)
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            got = self.link.recv()
+            if got is not None:
+                self.note_frame(*got)
+                if got[0] == last_id:
+                    return True
+        return False
 
     def close(self) -> None:
         """Stop fcc, then the recorder (bus.log is moved into place on every path, also when

@@ -52,9 +52,10 @@ def test_external_nothing_answers(capsys, tmp_path):
     line = one_line(err)
     assert line.startswith("hil: nothing answered on nobody") and "within 0.5 s" in line
     assert time.monotonic() - t0 < 5
-    log = (tmp_path / "o" / "bus.log").read_text().splitlines()
+    (kept,) = tmp_path.glob("o.failed-*")       # the failed run's directory
+    log = (kept / "bus.log").read_text().splitlines()
     assert log and log[-1].endswith(" 7F0#FFFFFFFF00000000")
-    assert "the rig started no firmware" in (tmp_path / "o" / "fcc.log").read_text()
+    assert "the rig started no firmware" in (kept / "fcc.log").read_text()
 
 
 def test_boot_options_refuse_what_the_image_does_not_take():

@@ -17,6 +17,7 @@ def test_view_shows_values_flags_and_counters():
     t = 100.0
     for k in range(50):
         view.add(*sim.encode("CDRW_AOA", {"alpha": 0.1234, "step": k}), t + 0.02 * k)
+    view.add(*sim.encode("CDRW_ELEVATOR", {"delta_e": -0.05, "step": 49}), t + 0.98)
     view.add(*fcc.encode("SID_AZKF_STATE", {"alpha_hat": 0.1201, "q_hat": -0.05, "order": 1000,
                                             "fault": 1, "degraded": 0, "step": 49}), t + 1.0)
     view.add(*fcc.encode("FCC_STATUS", {"mode": 1, "cdrw_degraded": 0, "msl_degraded": 0,
@@ -28,7 +29,7 @@ def test_view_shows_values_flags_and_counters():
     view.add(*sim.encode("SIM_EVENT", {"active": 1, "oracle_fault": 1, "fault_id": 0, "kind": KIND_CODES["spike"],
                                        "target_id": 0x050, "step": 50}), t + 1.0)
     text = "\n".join(view.lines(t + 1.0))
-    assert "alpha +0.1234 rad" in text and "(50 Hz)" in text
+    assert "alpha +0.1234 rad" in text and "elevator -0.0500 rad" in text and "(50 Hz)" in text
     assert "AZKF  alpha_hat +0.1201" in text and "order 1000  fault 1" in text
     assert "flags: sensor_stale e2e_fault" in text and "overruns 2" in text
     assert "ok 147  repeated 1  ok_some_lost 2  wrong_sequence 3" in text

@@ -64,7 +64,7 @@ class BusView:
             return "-" if v is None else format(v, spec)
 
         out = [f"CDRW  alpha {f(self.get('CDRW_AOA', 'alpha'))} rad   q {f(self.get('CDRW_PITCH_RATE', 'q'))} rad/s"
-               f"   elevator {f(self.get('CDRW_ELEVATOR', 'de'))} rad   ({self.rate('CDRW_AOA', now):.0f} Hz)"]
+               f"   elevator {f(self.get('CDRW_ELEVATOR', 'delta_e'))} rad   ({self.rate('CDRW_AOA', now):.0f} Hz)"]
         for label, frame in FILTER_FRAMES:
             g = lambda s: self.get(frame, s)  # noqa: E731
             out.append(f"  {label:<5} alpha_hat {f(g('alpha_hat'))}  q_hat {f(g('q_hat'))}  order "

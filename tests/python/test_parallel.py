@@ -4,7 +4,8 @@ its own UML guest (or vcanK) with its own fcc and recorder.
 * 4 flights on 2 workers = the same on 1 worker, byte for byte (summary.json, campaign.csv,
   faults.log, cdrw_run0.csv), and = the sequential campaign in one fcc (all but one counter);
 * a worker killed in the middle of a flight: the flight is flown again elsewhere, same results;
-* a flight that fails on its rig is retried once and then reported (exit 1, one line).
+* a flight that fails on its rig is retried once and then reported (exit 1, one line);
+* a sweep's (T, N) points on 2 workers = the sequential sweep.
 
 Bounded: each test boots at most two guests (about 3 s each) and flies a few 7 s flights.
 """
@@ -85,7 +86,7 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     monkeypatch.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
     out = tmp_path / "out"
     killed: list[int] = []
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
                       memory_limit=0) as cluster, Client(cluster) as client:
         pids = set(client.run(os.getpid).values())
 
@@ -112,8 +113,26 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
 def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
     """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
     campaign stops with one line and exit 1."""
-    rc = main(["campaign", "cdrw", "--runs", "2", "--seed", "1", "--out", str(tmp_path), "--quiet",
+    rc = main(["campaign", "cdrw", "--runs", "1", "--seed", "1", "--out", str(tmp_path), "--quiet",
                "--no-plots", "--workers", "1", "--fcc-args=--no-such-option"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1
-    assert "all 2 flights failed twice" in err[0] and "fcc" in err[0]
+    assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
+
+
+def test_sweep_on_workers_equals_the_sequential_sweep(tmp_path):
+    """Two (T, N) points on 2 workers: every missile time series, faults.log and the RMS table
+    as the sequential sweep in one fcc (E2E ok again counts one shutdown frame per session)."""
+    argv = ["sweep", "missile", "--periods", "0.2,0.1", "--bits", "8", "--quiet", "--no-plots"]
+    r = subprocess.run([str(REPO / "scripts" / "with-vcan"), sys.executable, "-m", "hil.cli", *argv,
+                        "--out", str(tmp_path / "seq")], cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert main([*argv, "--out", str(tmp_path / "par"), "--workers", "2"]) == 0
+    seq_files = sorted(p.name for p in (tmp_path / "seq").iterdir() if p.suffix == ".csv")
+    assert len(seq_files) == 8 and seq_files == sorted(p.name for p in (tmp_path / "par").glob("*.csv"))
+    for name in [*seq_files, "faults.log"]:
+        assert (tmp_path / "seq" / name).read_bytes() == (tmp_path / "par" / name).read_bytes(), name
+    seq = json.loads((tmp_path / "seq" / "summary.json").read_text())
+    par = json.loads((tmp_path / "par" / "summary.json").read_text())
+    assert par["firmware"]["e2e"].pop("ok") - seq["firmware"]["e2e"].pop("ok") == 1
+    assert seq == par

@@ -204,6 +204,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="D/A word lengths (default 6,8,12)")
     s.add_argument("--seed", type=_seed, help="override the scenario's seed")
     s.add_argument("--fault", action="append", default=[], metavar="SPEC", help="extra fault")
+    _add_parallel(s)
     _add_common(s, "out/sweep-missile")
 
     rep = sub.add_parser("report", help="print a run directory's tables and redraw its plots")
@@ -322,39 +323,39 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: object) -> int:
+    """A campaign or sweep: sequential(*inputs, cfg) in this process's rig, or with
+    --workers/--scheduler hil.parallel.runs.<parallel> on many rigs; flights that failed twice
+    there are one line and exit 1 (the others' results are written)."""
+    par = _parallel(args)
+    if par is None:
+        _staged(args, args.out, lambda cfg: [sequential(*inputs, cfg)])
+        return 0
+    from .parallel import runs
+    (outcome,) = _staged(args, args.out, lambda cfg: [getattr(runs, parallel)(*inputs, cfg, **par)])
+    failed = outcome.summary.get("failed_runs") or []
+    if not failed:
+        return 0
+    print(f"{PROG}: {len(failed)} flight(s) failed twice and are left out of the results "
+          f"(summary.json failed_runs); first: flight {failed[0]['run']}: {failed[0]['error']}",
+          file=sys.stderr)
+    return 1
+
+
 def cmd_campaign(args: argparse.Namespace) -> int:
     from .rig.runs import run_campaign
 
     if args.runs < 1:
         raise UsageError(f"--runs must be at least 1, got {args.runs}")
     sc = _scenario("cdrw", args.scenario, args.fault, None)
-    par = _parallel(args)
-    if par is None:
-        _staged(args, args.out, lambda cfg: [run_campaign(sc, args.runs, args.seed, cfg)])
-        return 0
-    from .parallel.campaign import run_campaign_parallel
-    (outcome,) = _staged(args, args.out, lambda cfg: [run_campaign_parallel(
-        sc, args.runs, args.seed, cfg, **par)])  # type: ignore[arg-type]
-    return _report_failed(outcome.summary)
-
-
-def _report_failed(summary: dict) -> int:
-    """Flights that failed twice: one line, exit 1 (the others' results are written)."""
-    failed = summary.get("failed_runs") or []
-    if not failed:
-        return 0
-    first = failed[0]
-    print(f"{PROG}: {len(failed)} flight(s) failed twice and are left out of the results "
-          f"(summary.json failed_runs); first: run {first['run']}: {first['error']}", file=sys.stderr)
-    return 1
+    return _run_many(args, run_campaign, "run_campaign_parallel", sc, args.runs, args.seed)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     from .rig.runs import run_sweep
 
     sc = _scenario("missile", args.scenario, args.fault, args.seed)
-    _staged(args, args.out, lambda cfg: [run_sweep(sc, args.periods, args.bits, cfg)])
-    return 0
+    return _run_many(args, run_sweep, "run_sweep_parallel", sc, args.periods, args.bits)
 
 
 def _not_a_summary(path: Path, e: Exception) -> UsageError:

@@ -46,7 +46,7 @@ class Done:
     value: Any
     worker: str
     rig_s: float       # inside the rig (session, flight, results)
-    task_s: float      # on the worker, the rig's hand-over included
+    task_s: float      # on the worker, the rig's hand-over included (its boot not)
 
 
 class FlightFailed(RuntimeError):
@@ -82,13 +82,14 @@ def _worker_rig(flight_timeout: float) -> GuestRig:
 def fly_on_rig(flight: Flight, cfg: RigConfig, flight_timeout: float) -> Done:
     """The Dask task: one flight in this worker process's rig."""
     from distributed import get_worker
-    t0 = time.perf_counter()
     worker = get_worker().address
     rig = _worker_rig(flight_timeout)
+    t0 = time.perf_counter()
     try:
         with _rig_lock:
             if not rig.alive():
                 rig.start()
+                t0 = time.perf_counter()   # the boot is not the flight's
         fcfg = dataclasses.replace(cfg, out_dir=rig.work_dir(f"flight-{flight.index:06d}"),
                                    iface=rig.iface, progress=False, plots=False)
         value, rig_s = rig.call(flight.fn, *flight.args, fcfg)
@@ -130,7 +131,7 @@ class Cluster:
             if scheduler is None:
                 assert workers is not None
                 self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                            dashboard_address=None, memory_limit=0,
+                                            dashboard_address=":0", memory_limit=0,
                                             silence_logs=logging.CRITICAL)
                 self.client = Client(self.cluster)
             else:
@@ -180,6 +181,7 @@ class Cluster:
 
         per_worker: Counter[str] = Counter()
         rig_s = task_s = 0.0
+        finished_at: list[float] = []
         retries = 0
         ac = as_completed([submit(fl, 0) for fl in flights])
         with progress_bar(len(flights), progress, desc, unit="flight") as bar:
@@ -191,6 +193,7 @@ class Cluster:
                     per_worker[done.worker] += 1
                     rig_s += done.rig_s
                     task_s += done.task_s
+                    finished_at.append(time.perf_counter() - t0)
                     bar.update(1)
                     continue
                 exc = fut.exception()
@@ -205,10 +208,15 @@ class Cluster:
                 bar.update(1)
         wall = time.perf_counter() - t0
         n = len(res.values)
+        # steady state: after as many flights as workers (every rig has booted by then)
+        k = len(per_worker)
+        steady = ((n - k) / (finished_at[-1] - finished_at[k - 1])
+                  if k >= 1 and n > k and finished_at[-1] > finished_at[k - 1] else None)
         res.info = {"engine": "dask.distributed", "scheduler": self.address,
                     "workers": len(per_worker), "flights_by_worker": dict(sorted(per_worker.items())),
                     "cluster_start_s": self.start_s, "flights_wall_s": wall,
                     "flights_per_s": n / wall if wall > 0 else None,
+                    "steady_flights_per_s": steady,
                     "rig_s_per_flight": rig_s / n if n else None,
                     "task_s_per_flight": task_s / n if n else None,
                     "retried": retries, "failed": len(res.failed)}

@@ -53,6 +53,7 @@ def _answer(req: Path, res_dir: Path) -> None:
 def serve(root: Path, lease_s: float = LEASE_S) -> int:
     req_dir, res_dir = root / "req", root / "res"
     lease = root / "lease"
+    import hil.parallel.flights  # noqa: F401 - the flights' modules, loaded before "ready" (boot, not flight time)
     write_atomic(root / "ready", f"{os.getpid()}\n".encode())
     last_lease, seen_at = None, time.monotonic()
     while not (root / "stop").exists():

@@ -405,16 +405,12 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     return _finish(cfg, out, summary, step_periods([scenario]))
 
 
-def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
-              cfg: RigConfig) -> Outcome:
-    """Fig. 3: the missile at every (T, N), one fcc process redesigning on SIM_CONTROL
-    between flights; plus the open loop at every T."""
+def sweep_points(scenario: Scenario, periods: Sequence[float], bits: Sequence[int]) -> list[Scenario]:
+    """The closed-loop flights of a sweep, in order: every (T, N), T outer."""
     if scenario.aircraft != "missile":
         raise ScenarioError(f"{scenario.source}: a sweep flies the missile (aircraft = \"missile\")")
     if not periods or not bits:
         raise ValueError("a sweep needs at least one period and one word length")
-    base_lqg = scenario.lqg
-    assert base_lqg is not None
     points = []
     for T in periods:
         for n in bits:
@@ -427,6 +423,38 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     for n in bits:
         if not 2 <= int(n) <= 16:
             raise ScenarioError(f"--bits: D/A word length must be 2 to 16, got {n}")
+    return points
+
+
+def write_sweep(out: Path, scenario: Scenario, periods: Sequence[float], results: Sequence[MissileResult],
+                firmware: dict[str, Any], mode: str) -> dict[str, Any]:
+    """Fig. 3 from the sweep's closed-loop flights (in sweep_points order) and the open loop
+    at every T: the missile CSVs, faults.log and summary.json."""
+    base_lqg = scenario.lqg
+    assert base_lqg is not None
+    runs_out: list[dict[str, Any]] = []
+    fault_log = []
+    for res in results:
+        _write_missile(out, res)
+        runs_out.append(res.run_entry())
+        fault_log.append((f"{res.tag:12s}", res.events))
+    _write_fault_log(out, fault_log)
+    for T in periods:
+        sc = scenario.replace(lqg=LqgOptions(period=float(T), bits=base_lqg.bits, closed_loop=False))
+        ol = missile_open_loop(sc)
+        _write_missile(out, ol)
+        runs_out.append(ol.run_entry())
+    summary = {"command": "sweep", "mode": mode, "scenario": scenario.name or scenario.source,
+               "seed": scenario.seed, "missile": {"runs": runs_out}, "firmware": firmware}
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
+              cfg: RigConfig) -> Outcome:
+    """Fig. 3: the missile at every (T, N), one fcc process redesigning on SIM_CONTROL
+    between flights; plus the open loop at every T."""
+    points = sweep_points(scenario, periods, bits)
     check_memory(points)
     out = cfg.out_dir
     t0 = time.perf_counter()
@@ -444,23 +472,8 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
                 runner = _fly(rig, [d], cfg, bar, runner, sc.lqg.period, sc.lqg.bits)
                 mdrivers.append(d)
         rig.shutdown()
-    runs_out: list[dict[str, Any]] = []
-    fault_log = []
-    for d in mdrivers:
-        res = missile_result(d, reference=cfg.mode == "lockstep")
-        _write_missile(out, res)
-        runs_out.append(res.run_entry())
-        fault_log.append((f"{res.tag:12s}", res.events))
-    _write_fault_log(out, fault_log)
-    for T in periods:
-        sc = scenario.replace(lqg=LqgOptions(period=float(T), bits=base_lqg.bits, closed_loop=False))
-        ol = missile_open_loop(sc)
-        _write_missile(out, ol)
-        runs_out.append(ol.run_entry())
-    summary = {"command": "sweep", "mode": cfg.mode, "scenario": scenario.name or scenario.source,
-               "seed": scenario.seed, "missile": {"runs": runs_out},
-               "firmware": firmware_summary(rig.status)}
-    write_json(out / "summary.json", summary)
+    results = [missile_result(d, reference=cfg.mode == "lockstep") for d in mdrivers]
+    summary = write_sweep(out, scenario, periods, results, firmware_summary(rig.status), cfg.mode)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods([first]))
 

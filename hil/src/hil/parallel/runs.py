@@ -1,0 +1,76 @@
+"""`hil campaign|sweep ... --workers N | --scheduler ADDRESS`: Table 5 and Fig. 3 flown by
+many rigs.
+
+Everything a flight depends on is decided here, in the coordinator, exactly as in the
+sequential commands: the campaign's fault times from its seed (hil.rig.runs.campaign_fault_times),
+the sweep's (T, N) points (hil.rig.runs.sweep_points).  Each flight carries its own inputs and
+the results are merged in flight order by the sequential commands' own writers, so the run
+directory is the same for any number of workers.
+"""
+from __future__ import annotations
+
+import functools
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..faults import Scenario, ScenarioError
+from ..rig.output import write_json
+from ..rig.session import RigError
+from ..rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points, write_campaign,
+                        write_sweep)
+from .engine import Cluster, Flight
+from .flights import add_counters, fly_campaign_flight, fly_sweep_point
+
+
+def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConfig, *,
+                          workers: int | None = None, scheduler: str | None = None) -> Outcome:
+    """Table 5 over `runs` flights on a local cluster of `workers` rigs or on `scheduler`.
+    Flights that failed twice are listed in summary.json (failed_runs) and left out of the
+    means; the caller reports them."""
+    if scenario.aircraft != "cdrw":
+        raise ScenarioError(f"{scenario.source}: a campaign flies the CDRW (aircraft = \"cdrw\")")
+    if runs < 1:
+        raise ValueError(f"--runs must be >= 1, got {runs}")
+    out = Path(cfg.out_dir)
+    starts = campaign_fault_times(scenario, runs, seed)
+    flights = [Flight(i, fly_campaign_flight, (scenario, i, float(t))) for i, t in enumerate(starts)]
+    t0 = time.perf_counter()
+    with Cluster(workers, scheduler) as cluster:
+        res = cluster.run(flights, cfg, progress=cfg.progress, desc="hil campaign")
+    done = [res.values[i] for i in sorted(res.values)]
+    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
+    if not done:
+        raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
+    firmware = functools.reduce(add_counters, [d.firmware for d in done]) if done else {}
+    summary = write_campaign(out, scenario, seed, runs, [d.flight for d in done], firmware, cfg.mode,
+                             failed)
+    write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
+                                       "parallel": res.info})
+    return _finish(cfg, out, summary, None)
+
+
+def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
+                       cfg: RigConfig, *, workers: int | None = None,
+                       scheduler: str | None = None) -> Outcome:
+    """Fig. 3 with every (T, N) flown on its own rig session, on `workers` local rigs or on
+    `scheduler`; the open loop is computed here.  A point that failed twice is reported
+    (summary.json failed_runs) and missing from the table."""
+    points = sweep_points(scenario, periods, bits)
+    out = Path(cfg.out_dir)
+    flights = [Flight(i, fly_sweep_point, (sc,)) for i, sc in enumerate(points)]
+    t0 = time.perf_counter()
+    with Cluster(workers, scheduler) as cluster:
+        res = cluster.run(flights, cfg, progress=cfg.progress, desc="hil sweep")
+    done = [res.values[i] for i in sorted(res.values)]
+    if not done:
+        raise RigError(f"all {len(points)} sweep flights failed twice; first: {res.failed[0]}")
+    firmware = functools.reduce(add_counters, [d.firmware for d in done])
+    summary = write_sweep(out, scenario, periods, [d.flight for d in done], firmware, cfg.mode)
+    if res.failed:
+        summary["failed_runs"] = [{"run": i, "period": points[i].lqg.period, "bits": points[i].lqg.bits,  # type: ignore[union-attr]
+                                   "error": res.failed[i]} for i in sorted(res.failed)]
+        write_json(out / "summary.json", summary)
+    write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
+                                       "parallel": res.info})
+    return _finish(cfg, out, summary, None)

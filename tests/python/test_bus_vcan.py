@@ -219,7 +219,7 @@ def test_diag_on_a_log_recorded_from_vcan(sim: BusNode, tmp_path: Path, repo: Pa
     assert r.returncode == 0, r.stderr
     rep = json.loads(r.stdout)
     by_name = {m["name"]: m for m in rep["messages"]}
-    aoa, tick = by_name["CDRW_AOA"], by_name["SIM_TICK"]
+    aoa, tick = by_name["CDRW_AOA"], by_name["SIM_TICK[cdrw]"]  # one stream per application
     assert aoa["count"] == 62 and tick["count"] == 60
     assert aoa["e2e"]["OK_SOME_LOST"] == 1 and aoa["e2e"]["REPEATED"] == 1
     assert aoa["e2e"]["ERROR"] == 1 and aoa["wrong_dlc"] == 1
@@ -247,6 +247,6 @@ def test_diag_live_interface(sim: BusNode, tmp_path: Path, repo: Path) -> None:
     out, _ = proc.communicate(timeout=30)
     assert proc.returncode == 0
     rep = json.loads(out)
-    (tick,) = [m for m in rep["messages"] if m["name"] == "SIM_TICK"]
+    (tick,) = [m for m in rep["messages"] if m["name"] == "SIM_TICK[missile]"]
     assert 0 < tick["count"] <= 40 and tick["e2e"]["ERROR"] == 0
     assert len([f for f in read_log(saved) if f.frame_id == 0x020]) == tick["count"]

@@ -49,7 +49,7 @@ def test_default_flight_is_deterministic(tmp_path, capsys):
     # and bus load, the same frames in both
     assert (a / "bus_wall.log").read_text().count("\n") == len(lines)
     rep = diag.analyse(read_frames(a / "bus.log"), load())
-    tick = next(m for m in rep["messages"] if m["name"] == "SIM_TICK")
+    tick = next(m for m in rep["messages"] if m["name"] == "SIM_TICK[cdrw]")
     assert tick["rate_hz"] == pytest.approx(50.0, abs=0.05) and tick["used_period_ms"] == [20.0]
     assert tick["e2e"]["NO_NEW_DATA"] == 0 and rep["timestamps_backwards"] == 0
     assert 10.0 < rep["load_worst_pct"] < 40.0 and rep["duration_s"] == pytest.approx(7.1, abs=0.1)

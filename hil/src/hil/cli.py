@@ -9,7 +9,7 @@
     hil report DIR                                              (tables + plots again)
     hil study missile-rms [--periods LIST] [--bits LIST] [--gyro-var V] [--json]
                                    (Fig. 3 by covariance analysis, no bus needed)
-    hil demo [--out out/demo]                                   (both aircraft + a sweep)
+    hil demo [--out out/demo]        (both aircraft; Figs. 4-6 responses; Fig. 3 with HIL points)
 
 Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
 firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin); --target qemu-m4f flies the
@@ -250,7 +250,8 @@ def _parser() -> argparse.ArgumentParser:
                     help="fcc options added to the recorded ones, e.g. \"--ridge 0.01\"")
     _add_paths(rp)
 
-    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then a missile sweep")
+    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
+                       "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
     _add_common(d, "out/demo")
     return p
 

@@ -10,8 +10,8 @@ KF is 100 * (1 - e_filter / e_KF) %.  Row k of each filter is the firmware's out
 (KF: posterior after y_k; ZKF/AZKF: x_k before y_k is used -- firmware/sid/fcc_sid.h), all
 compared with y_k, over the whole flight, as the paper does.
 
-Seed 2, Fig. 3: RMS of q and alpha_T over the run, from the sub-step trace (>= 8 points per
-control period), as hil.plants.missile_runs does for its offline reference.
+Seed 2, Fig. 3: hil.plants.missile_runs.rms_over (a run's RMS over [0, duration] of its
+sub-step trace) and hil.plants.missile_cov (the stationary RMS, exactly).
 """
 from __future__ import annotations
 
@@ -200,16 +200,6 @@ def format_table5(t5: Mapping[str, object], truth: bool = False,
             lines.append(f"{f.upper()} better than KF in {w['alpha']} of {n} flights for alpha, "
                          f"{w['q']} of {n} for q")
     return "\n".join(lines)
-
-
-def rms(x: np.ndarray) -> float:
-    x = np.asarray(x, dtype=float)
-    return float(np.sqrt(np.mean(x * x)))
-
-
-def missile_rms(x_fine: np.ndarray) -> tuple[float, float]:
-    """(RMS q, RMS alpha_T) of a sub-step state trace (columns q, alpha_T, w_g)."""
-    return rms(x_fine[:, 0]), rms(x_fine[:, 1])
 
 
 # ---- text tables -------------------------------------------------------------------------

@@ -158,7 +158,9 @@ class MissileSimulation:
         self.sensors = MissileSensors(scenario.seed, scenario.sensors)  # type: ignore[arg-type]
         self.faults = SensorFaultInjector(scenario.sensor_faults, scenario.seed)
         #: control periods in the run
-        self.n_periods = max(1, int(math.floor(scenario.duration / self.period + 1e-9)))
+        # every period flies at least `duration` seconds (the RMS is taken over exactly
+        # [0, duration]: a sweep compares the same seconds at every T)
+        self.n_periods = max(1, int(math.ceil(scenario.duration / self.period - 1e-9)))
         self.k = 0
         self._sampled = False
 
@@ -225,15 +227,23 @@ class MissileRun:
     x_fine: np.ndarray                # (n*n_sub + 1, 3)
     design: LqgDesign | None
     events: tuple[FaultEvent, ...] = field(default=())
+    duration: float = math.inf        # the RMS covers [0, duration] of the sub-step trace
 
     @property
     def rms_q(self) -> float:
-        """RMS pitch rate over the run (time average of the sub-step trace)."""
-        return float(np.sqrt(np.mean(self.x_fine[:, 0] ** 2)))
+        """RMS pitch rate over [0, duration] (time average of the sub-step trace)."""
+        return rms_over(self.t_fine, self.x_fine, self.duration)[0]
 
     @property
     def rms_alpha(self) -> float:
-        return float(np.sqrt(np.mean(self.x_fine[:, 1] ** 2)))
+        return rms_over(self.t_fine, self.x_fine, self.duration)[1]
+
+
+def rms_over(t_fine: np.ndarray, x_fine: np.ndarray, duration: float) -> tuple[float, float]:
+    """(RMS q, RMS alpha_T) of the sub-step trace over [0, duration]."""
+    keep = np.asarray(t_fine) <= duration + 1e-9
+    x = np.asarray(x_fine)[keep]
+    return float(np.sqrt(np.mean(x[:, 0] ** 2))), float(np.sqrt(np.mean(x[:, 1] ** 2)))
 
 
 def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | None = None,
@@ -270,4 +280,4 @@ def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | No
     return MissileRun(period=sim.period, bits=sim.lqg.bits if cl else None, closed_loop=cl, t=t,
                       x=x, y=y, y_faultfree=y0, code=code, u=code * sim.dac.lsb if cl else np.zeros(n),
                       x_hat=xh, t_fine=t_fine, x_fine=x_fine, design=design,
-                      events=tuple(sim.faults.log))
+                      events=tuple(sim.faults.log), duration=sc.duration)

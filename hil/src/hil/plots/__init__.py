@@ -32,10 +32,15 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
     if (run_dir / "campaign.csv").is_file():
         written.append(cdrw.campaign_figure(read_csv(run_dir / "campaign.csv"), run_dir))
     summary_path = run_dir / "summary.json"
+    summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
+    if (run_dir / "fig3.json").is_file():
+        p = missile.fig3_covariance(json.loads((run_dir / "fig3.json").read_text()), run_dir)
+        if p is not None:
+            written.append(p)
     if summary_path.is_file():
-        runs = json.loads(summary_path.read_text()).get("missile", {}).get("runs", [])
+        runs = summary.get("missile", {}).get("runs", [])
         periods = {r["period"] for r in runs}
-        if len(periods) > 1:
+        if len(periods) > 1 and not summary.get("responses"):  # a 3 s response is no RMS
             p = missile.fig3_rms(runs, run_dir)
             if p is not None:
                 written.append(p)
@@ -46,8 +51,13 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
             continue
         bits = None if m["b"] == "open" else int(m["b"][1:])
         by_period.setdefault(float(m["T"]), {})[bits] = read_csv(f)
+    responses = summary.get("responses") or {}
+    subtitle = ("deterministic: q0 = 0.1 rad/s, α_T0 = 0, no gust, no sensor noise "
+                "(the design keeps its nominal R)") if responses.get("deterministic") else ""
     for T, curves in sorted(by_period.items(), reverse=True):
-        written.append(missile.fig_time_response(T, curves, run_dir))
+        elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
+                    if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
+        written.append(missile.fig_time_response(T, curves, run_dir, elevator, subtitle))
     return written
 
 

@@ -61,20 +61,67 @@ def fig3_rms(runs: Sequence[Mapping[str, Any]], out: Path) -> Path | None:
     return save(fig, out / "fig3_missile_rms.png")
 
 
-def fig_time_response(period: float, curves: Mapping[int | None, Series], out: Path) -> Path:
-    """q(t) and alpha_T(t) at one period for each word length, against the open loop."""
-    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5.5))
+def fig3_covariance(doc: Mapping[str, Any], out: Path) -> Path | None:
+    """Fig. 3 as the paper ran it (hil.rig.figures): per gyro variance (rows) the stationary
+    RMS of q and alpha_T (columns) by covariance analysis against T for each word length and
+    an ideal D/A, the open-loop level, and the HIL Monte-Carlo points with 95 % intervals."""
+    studies = doc.get("studies") or []
+    if not studies:
+        return None
+    fig, axs = plt.subplots(len(studies), 2, figsize=(11, 3.8 * len(studies)), squeeze=False)
+    for row, st in zip(axs, studies):
+        ps = st["periods"]
+        T = [p["period"] for p in ps]
+        for ax, key, unit in ((row[0], "rms_q", "RMS q (rad/s)"), (row[1], "rms_alpha", "RMS α_T (rad)")):
+            ax.plot(T, [p[key] for p in ps], "-", color="0.3", lw=2.2, alpha=0.5, label="ideal D/A")
+            for n in sorted(ps[0]["dac"] if ps else {}, key=int):
+                ax.plot(T, [p["dac"][n][key] for p in ps], "-", color=_color(int(n)), lw=1.1,
+                        label=f"{n}-bit D/A (LSB²/12 noise)")
+            ax.axhline(st["open_loop"][key], color="k", ls="--", lw=1.0, label="open loop")
+            pts = [h for h in doc.get("hil", []) if h["gyro_var"] == st["gyro_var"]]
+            for h in pts:
+                lo, hi, v = h[f"{key}_lo"], h[f"{key}_hi"], h[key]
+                ax.errorbar([h["period"]], [v], yerr=[[v - lo], [hi - v]], fmt="o", ms=5,
+                            color=_color(int(h["bits"])), mec="k", capsize=3)
+            if pts:
+                ax.plot([], [], "o", color="0.5", mec="k",
+                        label=f"HIL fcc, {pts[0]['seconds']:g} s flight, 95 % CI")
+            ax.set_xlabel("sampling period T (s)")
+            ax.set_ylabel(unit)
+            ax.set_title(f"gyro variance {st['gyro_var']:g} rad²/s², accel {st['accel_var']:g}",
+                         fontsize=9)
+            ax.grid(alpha=0.3)
+        row[1].legend(fontsize=7, loc="lower right")
+    fig.suptitle("Fig. 3 — missile: stationary RMS (covariance analysis) vs the sampling period")
+    return save(fig, out / "fig3_missile_rms_covariance.png")
+
+
+def fig_time_response(period: float, curves: Mapping[int | None, Series], out: Path,
+                      elevator: Mapping[int | None, Series] | None = None,
+                      subtitle: str = "") -> Path:
+    """q(t) and alpha_T(t) at one period for each word length, against the open loop; the
+    applied elevator (D/A output, held) below when the per-step series are given.  The
+    legend sits outside the axes, clear of the curves."""
+    n = 3 if elevator else 2
+    fig, axs = plt.subplots(n, 1, sharex=True, figsize=(9, 2.4 * n + 0.8))
     for bits in sorted(curves, key=lambda b: (b is None, b or 0)):
         s = curves[bits]
         label = "open loop" if bits is None else f"{bits}-bit D/A"
         lw = 0.8 if bits is None else 1.1
         axs[0].plot(s["t"], s["q"], color=_color(bits), lw=lw, label=label)
         axs[1].plot(s["t"], s["alpha_T"], color=_color(bits), lw=lw, label=label)
+        if elevator and bits is not None and bits in elevator:
+            e = elevator[bits]
+            axs[2].step(e["t"], e["u"], where="post", color=_color(bits), lw=lw, label=label)
     axs[0].set_ylabel("q (rad/s)")
     axs[1].set_ylabel("α_T (rad)")
-    axs[1].set_xlabel("t (s)")
+    if elevator:
+        axs[2].set_ylabel("elevator (rad)")
+    axs[-1].set_xlabel("t (s)")
     for ax in axs:
         ax.grid(alpha=0.3)
-    axs[0].legend(fontsize=8, ncol=4)
-    fig.suptitle(f"Figs. 4–6 — missile time response at T = {period:g} s")
+    axs[0].legend(fontsize=8, ncol=4, loc="lower center", bbox_to_anchor=(0.5, 1.02),
+                  frameon=False)
+    fig.suptitle(f"Figs. 4–6 — missile time response at T = {period:g} s" +
+                 (f"\n{subtitle}" if subtitle else ""), fontsize=10)
     return save(fig, out / f"fig4-6_missile_response_T{period:.3f}.png")

@@ -54,6 +54,12 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
             b = cd["azkf_better_than_kf_runs"]
             tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
                           f"flights for alpha, {b['q']} for q")
+    if summary.get("responses", {}).get("dead_zone"):
+        from .figures import format_dead_zone
+        tables.append(format_dead_zone(summary["responses"]["dead_zone"]))
+    if summary.get("fig3"):
+        from .figures import format_fig3
+        tables.append(format_fig3(summary["fig3"]))
     ms = summary.get("missile")
     if ms and ms.get("runs"):
         tables.append("Missile (seed 2, Fig. 3): RMS over the run\n"

@@ -15,7 +15,7 @@ from .. import metrics
 from ..bus import dbc as dbc_spec
 from ..bus.dbc import BusSpec
 from ..plants.missile_cov import closed_loop_rms, open_loop_rms
-from ..plants.missile_runs import design_lqg, simulate_missile
+from ..plants.missile_runs import design_lqg, rms_over, simulate_missile
 from .apps import FILTERS, CdrwDriver, MissileDriver
 from .buslog import FlightFrames, sid_arrays
 
@@ -171,7 +171,7 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
     ns = d.sim.n_sub
     fine: Series = {"t": np.arange(len(d.x_fine)) * (d.period / ns), "q": d.x_fine[:, 0],
                     "alpha_T": d.x_fine[:, 1], "w_g": d.x_fine[:, 2]}
-    rq, ra = metrics.missile_rms(d.x_fine)
+    rq, ra = rms_over(fine["t"], d.x_fine, d.scenario.duration)
     ref: dict[str, float] = {}
     if reference:
         # the scipy LQG of hil.plants.missile_runs on the same plant, gust and noise draws,

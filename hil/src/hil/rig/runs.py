@@ -248,6 +248,11 @@ def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
 def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None) -> Outcome:
     if periods is not None:   # None: no bus log in `out` (flights on several rigs, hil.parallel)
         finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
+    return _report(cfg, out, summary)
+
+
+def _report(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
+    """The summary's tables and, unless off, the figures of the run directory."""
     tables = summary_tables(summary)
     if cfg.plots and defer_plots(out):
         tables.append(f"plots: drawn after the guest exits (`hil report --plots-only "
@@ -462,8 +467,8 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     mdrivers: list[MissileDriver] = []
     with open_session(out, [first], cfg) as rig:
         total = 0
-        for sc in points:
-            total += int(math.floor(sc.duration / sc.lqg.period + 1e-9))  # type: ignore[union-attr]
+        for sc in points:  # as MissileSimulation: every period flies the whole duration
+            total += max(1, int(math.ceil(sc.duration / sc.lqg.period - 1e-9)))  # type: ignore[union-attr]
         runner = None
         with progress_bar(total, cfg.progress, "hil sweep") as bar:
             for sc in points:
@@ -478,17 +483,78 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
     return _finish(cfg, out, summary, step_periods([first]))
 
 
+def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = (),
+             bits: Sequence[int] = ()) -> Outcome:
+    """Fig. 3 as the paper ran it: the covariance analysis at both gyro variances on the fine
+    grid, and HIL Monte-Carlo points (one long flight per point in stationary gusts, fcc on
+    the bus) with 95 % batch-means intervals; fig3.json + fig3_missile_rms_covariance.png."""
+    from ..faults import load_default_scenario
+    from ..plants.missile_cov import missile_rms_study
+    from . import figures
+    from .paths import tool
+
+    seconds = seconds or figures.MC_SECONDS
+    periods = tuple(periods) or figures.MC_PERIODS
+    bits = tuple(bits) or figures.MC_BITS
+    base = load_default_scenario("missile", {m.name for m in RigSession.dbc_frames()})
+    out = cfg.out_dir
+    studies, hil = [], []
+    for var in figures.FIG3_GYRO_VARS:
+        studies.append(missile_rms_study(figures.FIG3_PERIODS, figures.FIG3_BITS, var,
+                                         base.sensors.var_acc, tool("lqg_design")))  # type: ignore[union-attr]
+        sub = out / f"mc_gyro_{var:g}"
+        sub.mkdir(parents=True, exist_ok=True)
+        sc = figures.stationary_scenario(base, var, seconds)
+        o = run_sweep(sc, periods, bits, dataclasses.replace(cfg, out_dir=sub, plots=False))
+        for r in o.summary["missile"]["runs"]:
+            if r["bits"] is None:
+                continue
+            tag = f"T{r['period']:.3f}_b{r['bits']}"
+            hil.append({"gyro_var": var, "period": r["period"], "bits": r["bits"], "seed": sc.seed,
+                        **figures.batch_rms(sub / f"missile_{tag}_fine.csv", seconds)})
+    doc = figures.fig3_document(studies, hil)
+    figures.write_fig3(out, doc)
+    summary = {"command": "fig3", "fig3": doc}
+    write_json(out / "summary.json", summary)
+    return _report(cfg, out, summary)
+
+
+def run_responses(cfg: RigConfig) -> Outcome:
+    """Figs. 4-6: deterministic initial-condition responses through fcc (q0 = 0.1 rad/s, no
+    gust, no sensor noise) at T = 0.2, 0.1, 0.05 s, open loop and 6, 8, 12 bits."""
+    from ..faults import load_default_scenario
+    from . import figures
+
+    base = load_default_scenario("missile", {m.name for m in RigSession.dbc_frames()})
+    sc = figures.response_scenario(base)
+    o = run_sweep(sc, figures.RESPONSE_PERIODS, figures.RESPONSE_BITS,
+                  dataclasses.replace(cfg, plots=False))
+    rows = figures.dead_zone(cfg.out_dir, o.summary["missile"]["runs"])
+    o.summary["responses"] = {"deterministic": True, "seconds": sc.duration, "dead_zone": rows}
+    write_json(cfg.out_dir / "summary.json", o.summary)
+    return _report(cfg, cfg.out_dir, o.summary)
+
+
+def _fresh(path: Path) -> Path:
+    path.mkdir(parents=True, exist_ok=True)
+    for pattern in ("*.csv", "*.png", "*.json", "*.log", "*.asc", "*.blf"):
+        for f in path.glob(pattern):
+            if f.is_file():
+                f.unlink()
+    return path
+
+
 def run_demo(cfg: RigConfig) -> list[Outcome]:
     """The README's main job: both aircraft with their embedded default scenarios in one fcc
-    (the CDRW with the paper's sensor fault at 4 s), then the missile sweep of seed 2
-    (T = 0.2, 0.1, 0.05 s; 6, 8, 12 bits) in out_dir/sweep."""
+    (the CDRW with the paper's sensor fault at 4 s); then seed 2 as the paper ran it: the
+    deterministic responses of Figs. 4-6 (out_dir/responses) and Fig. 3 by covariance
+    analysis with HIL Monte-Carlo points (out_dir/fig3)."""
     from ..faults import load_default_scenario
 
     frames = {m.name for m in RigSession.dbc_frames()}
     cdrw = load_default_scenario("cdrw", frames)
     msl = load_default_scenario("missile", frames)
     first = run_flight([cdrw, msl], cfg, command="demo")
-    sweep_dir = cfg.out_dir / "sweep"   # cfg.out_dir is a fresh staging directory
-    sweep_dir.mkdir(parents=True, exist_ok=True)
-    second = run_sweep(msl, (0.2, 0.1, 0.05), (6, 8, 12), dataclasses.replace(cfg, out_dir=sweep_dir))
-    return [first, second]
+    responses = run_responses(dataclasses.replace(cfg, out_dir=_fresh(cfg.out_dir / "responses")))
+    fig3 = run_fig3(dataclasses.replace(cfg, out_dir=_fresh(cfg.out_dir / "fig3")))
+    return [first, responses, fig3]

@@ -223,3 +223,15 @@ def test_report_into_a_closed_pipe(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     assert r.stderr == ""
+
+def test_report_paper_rows_only_for_the_papers_scenario(capsys, tmp_path):
+    import json
+    from hil import metrics
+    t = metrics.PAPER_TABLE4
+    for paper in (True, False):
+        summary = {"command": "run", "cdrw": {"table4": t, "table4_truth": t, "rows": "posterior",
+                                               "paper_scenario": paper}}
+        (tmp_path / "summary.json").write_text(json.dumps(summary))
+        rc, out, err = run(capsys, "report", str(tmp_path), "--no-plots")
+        assert rc == 0, err
+        assert ("  paper" in out) is paper and "posterior rows" in out

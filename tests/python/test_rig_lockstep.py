@@ -82,6 +82,15 @@ def test_campaign_few_runs(tmp_path):
         assert s["cdrw"]["azkf_better_than_kf_runs"][st] == sum(
             r["error"]["azkf"][st] < r["error"]["kf"][st] for r in runs)
     assert "t-interval" in "\n".join(o.tables) and "AZKF better than KF in" in "\n".join(o.tables)
+    # the symmetric comparison: both row modes, coverage, the replay matches fcc's rows
+    cd = s["cdrw"]
+    assert cd["rows"] == "paper" and cd["paper_scenario"] is True
+    assert set(cd["tables"]) == {"prior", "posterior"}
+    for mode in ("prior", "posterior"):
+        assert cd["tables"][mode]["table5_ci"]["kf"]["q"]["mean"] > 0
+        assert 0.0 <= cd["tables"][mode]["coverage"]["azkf"]["alpha"] <= 1.0
+    assert cd["replay_check"]["max_abs_estimate_difference"] < 2e-5   # bus resolution 1e-5
+    assert 0.0 < cd["coverage"]["kf"]["alpha"] <= 1.0
     assert s["firmware"]["steps"]["cdrw"] == 3 * 351
     c = read_csv(tmp_path / "c" / "campaign.csv")
     assert c["fault_start"].tolist() == starts

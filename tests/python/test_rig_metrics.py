@@ -125,3 +125,21 @@ def test_campaign_table5_one_flight_has_no_interval():
     assert "+-" not in metrics.format_table5(t5).splitlines()[2]
     with pytest.raises(ValueError):
         metrics.campaign_table5([], [])
+
+
+def test_coverage_table_by_hand():
+    truth = np.array([[0.0, 1.0], [0.5, 1.0], [1.0, 1.0], [2.0, 1.0]])
+    lo = np.array([[-1.0, 0.0], [0.0, 0.0], [np.nan, np.nan], [0.0, 1.5]])
+    hi = np.array([[1.0, 2.0], [0.4, 2.0], [np.nan, np.nan], [3.0, 2.0]])
+    cov = metrics.coverage_table(truth, {"kf": (lo, hi)})
+    assert cov == {"kf": {"alpha": pytest.approx(2 / 3), "q": pytest.approx(2 / 3)}}
+    assert "66.7%" in metrics.format_coverage(cov, "t")
+
+
+def test_campaign_table5_with_coverage():
+    errs = [_flight(1.0, 2.0, 3.0), _flight(2.0, 2.5, 1.5)]
+    cov = [{f: {"alpha": 1.0, "q": 0.5} for f in metrics.FILTERS},
+           {f: {"alpha": 0.8, "q": 0.7} for f in metrics.FILTERS}]
+    t5 = metrics.campaign_table5(errs, errs, coverage=cov)
+    assert t5["coverage"]["kf"] == {"alpha": pytest.approx(0.9), "q": pytest.approx(0.6)}
+    assert t5["coverage_ci"]["azkf"]["q"]["mean"] == pytest.approx(0.6)

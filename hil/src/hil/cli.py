@@ -144,6 +144,10 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
                    "on a loaded machine)")
     p.add_argument("--fcc-args", default="", metavar="ARGS",
                    help="extra fcc options, one string, e.g. \"--detector oracle\"")
+    p.add_argument("--rows", choices=("paper", "prior", "posterior"), default="paper",
+                   help="CDRW: the estimate fcc reports per step: paper (KF after y_k, ZKF/AZKF "
+                   "before, default), prior (all before y_k) or posterior (all after); the "
+                   "summary has Table 4/5 both ways in any case")
     p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
     p.add_argument("--log-format", choices=("log", "asc", "blf"), default="log",
                    help="bus log format: candump -L (bus.log, default), Vector ASC or BLF (python-can); "
@@ -293,7 +297,7 @@ def _config(args: argparse.Namespace, stage: Path):
                          "interface (slcand, can-gw): use --interface socketcan")
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
-                     progress=not args.quiet,
+                     progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
                      target=args.target, interface=args.interface, bitrate=args.bitrate)
 

@@ -60,6 +60,32 @@ def error_table(target: np.ndarray, estimates: Mapping[str, np.ndarray], dt: flo
     return table, missing
 
 
+def coverage_table(truth: np.ndarray, bounds: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> Table:
+    """{filter: {"alpha": share, "q": share}}: the share of steps at which the true state lies
+    inside the filter's bounds (lo <= x <= hi; zonotope: the interval hull, which a correct
+    model and bounded noise guarantee; KF: +-3 sigma).  Steps without bounds are left out."""
+    truth = np.asarray(truth, dtype=float)
+    out: Table = {}
+    for name in FILTERS:
+        if name not in bounds:
+            continue
+        lo, hi = (np.asarray(b, dtype=float) for b in bounds[name])
+        ok = np.isfinite(lo) & np.isfinite(hi)
+        inside = (lo <= truth) & (truth <= hi) & ok
+        out[name] = {s: (float(inside[:, i].sum() / ok[:, i].sum()) if ok[:, i].any() else math.nan)
+                     for i, s in enumerate(STATES)}
+    return out
+
+
+def format_coverage(cov: Mapping[str, Mapping[str, float]], title: str) -> str:
+    """Bounds coverage as a small table (percent of steps)."""
+    names = [f for f in FILTERS if f in cov]
+    lines = [title, f"{'state':<8}" + "".join(f"{n.upper():>10}" for n in names)]
+    for s in STATES:
+        lines.append(f"{s:<8}" + "".join(f"{100 * cov[n][s]:>9.1f}%" for n in names))
+    return "\n".join(lines)
+
+
 def improvements(table: Mapping[str, Mapping[str, float]], baseline: str = "kf") -> Table:
     """{filter: {state: % better than the baseline}} for every filter but the baseline."""
     base = table[baseline]
@@ -114,7 +140,8 @@ def _ci_cell(samples: Sequence[float], level: float) -> dict[str, float | None]:
 
 def campaign_table5(errors: Sequence[Mapping[str, Mapping[str, float]]],
                     errors_truth: Sequence[Mapping[str, Mapping[str, float]]],
-                    level: float = 0.95) -> dict[str, object]:
+                    level: float = 0.95,
+                    coverage: Sequence[Mapping[str, Mapping[str, float]]] | None = None) -> dict[str, object]:
     """Table 5 of a campaign from its per-flight error integrals, with confidence intervals.
 
     errors[i] and errors_truth[i] are flight i's error tables ({filter: {"alpha": e, "q": e}},
@@ -133,7 +160,10 @@ def campaign_table5(errors: Sequence[Mapping[str, Mapping[str, float]]],
          "azkf_better_than_kf_runs":       {state: flights with e_AZKF < e_KF},
          "azkf_better_than_kf_truth_runs": {state: ...},
          "zkf_better_than_kf_runs":        {state: ...},
-         "zkf_better_than_kf_truth_runs":  {state: ...}}
+         "zkf_better_than_kf_truth_runs":  {state: ...},
+         # only when per-flight coverage tables are given (coverage_table):
+         "coverage":    {filter: {state: mean share of steps inside the bounds}},
+         "coverage_ci": {filter: {state: {"mean", "half_width", "std", "lo", "hi"}}}}
 
     Every interval is the two-sided Student-t interval of the mean over the n flights
     (CI_METHOD): mean +- t(0.975, n-1) s/sqrt(n) at level 0.95.  The improvement's interval
@@ -162,11 +192,17 @@ def campaign_table5(errors: Sequence[Mapping[str, Mapping[str, float]]],
             out[f"{f}_better_than_kf{key}_runs"] = {s: int(sum(t[f][s] < t["kf"][s] for t in tabs))
                                                    for s in STATES}
         out[f"improvement_over_kf{key}_ci"] = imp_ci
+    if coverage:
+        if len(coverage) != len(errors):
+            raise ValueError(f"campaign_table5: {len(coverage)} coverage tables for {len(errors)} flights")
+        out["coverage"] = mean_table(coverage)
+        out["coverage_ci"] = {f: {s: _ci_cell([c[f][s] for c in coverage], level) for s in STATES}
+                              for f in coverage[0]}
     return out
 
 
 def format_table5(t5: Mapping[str, object], truth: bool = False,
-                  paper: Mapping[str, Mapping[str, float]] | None = None) -> str:
+                  paper: Mapping[str, Mapping[str, float]] | None = None, rows: str = "") -> str:
     """Table 5 (as campaign_table5 returns it) with its intervals: `mean +- half width` per
     filter and state, the improvement over the KF with its interval, then the win counts."""
     key = "_truth" if truth else ""
@@ -177,8 +213,8 @@ def format_table5(t5: Mapping[str, object], truth: bool = False,
     level = float(t5.get("ci_level", 0.95))  # type: ignore[arg-type]
     what = "|x_true - x_hat|" if truth else "|y_faultfree - y_hat|"
     names = [f for f in FILTERS if f in mean]
-    lines = [f"CDRW Table 5 (mean over {n} flights, {100 * level:g} % t-interval): "
-             f"integral {what} dt",
+    lines = [f"CDRW Table 5 (mean over {n} flights, {100 * level:g} % t-interval"
+             + (f", {rows} rows" if rows else "") + f"): integral {what} dt",
              f"{'state':<8}" + "".join(f"{x.upper():>30}" for x in names)]
 
     def pm(c: Mapping[str, float | None], fmt: str) -> str:

@@ -31,9 +31,11 @@ def firmware_summary(status: StatusCounters) -> dict[str, Any]:
     }
 
 
-def _cdrw_tables(res_table: metrics.Table, truth: metrics.Table, which: str) -> list[str]:
-    paper = metrics.PAPER_TABLE4 if which == "table4" else metrics.PAPER_TABLE5
+def _cdrw_tables(res_table: metrics.Table, truth: metrics.Table, which: str,
+                 show_paper: bool = True, rows: str = "") -> list[str]:
+    paper = (metrics.PAPER_TABLE4 if which == "table4" else metrics.PAPER_TABLE5) if show_paper else None
     label = "Table 4 (one fault)" if which == "table4" else "Table 5 (mean over the campaign)"
+    label += f", {rows} rows" if rows else ""
     return [metrics.format_error_table(res_table, f"CDRW {label}: integral |y_faultfree - y_hat| dt",
                                        paper),
             metrics.format_error_table(truth, f"CDRW {label}: integral |x_true - x_hat| dt")]
@@ -44,16 +46,37 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
     tables: list[str] = []
     cd = summary.get("cdrw")
     if cd:
+        # the paper's numbers only beside the paper's default scenario (old summaries: shown)
+        paper = bool(cd.get("paper_scenario", True))
+        rows = cd.get("rows", "")
         if "table5_ci" in cd:
-            tables += [metrics.format_table5(cd, paper=metrics.PAPER_TABLE5),
-                       metrics.format_table5(cd, truth=True)]
+            tables += [metrics.format_table5(cd, paper=metrics.PAPER_TABLE5 if paper else None,
+                                             rows=rows),
+                       metrics.format_table5(cd, truth=True, rows=rows)]
         for which in ("table4", "table5"):
             if which in cd and not (which == "table5" and "table5_ci" in cd):
-                tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which)
+                tables += _cdrw_tables(cd[which], cd[f"{which}_truth"], which, paper, rows)
         if "azkf_better_than_kf_runs" in cd and "table5_ci" not in cd:
             b = cd["azkf_better_than_kf_runs"]
             tables.append(f"AZKF better than KF in {b['alpha']} of {summary.get('runs_count')} "
                           f"flights for alpha, {b['q']} for q")
+        if "coverage" in cd:
+            tables.append(metrics.format_coverage(
+                cd["coverage"], f"Bounds coverage ({rows or 'fcc'} rows): steps with the true state "
+                "inside the bounds (zonotope hull; KF +-3 sigma)"))
+        for mode, t in (cd.get("tables") or {}).items():
+            if mode == rows:
+                continue
+            if "table5_ci" in t:
+                tables += [metrics.format_table5(t, rows=mode), metrics.format_table5(t, truth=True, rows=mode)]
+            else:
+                tables += _cdrw_tables(t["table4"], t["table4_truth"], "table4", False, mode)
+            if "coverage" in t:
+                tables.append(metrics.format_coverage(t["coverage"], f"Bounds coverage ({mode} rows)"))
+        if cd.get("replay_check"):
+            rc = cd["replay_check"]
+            tables.append(f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
+                          f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")
     if summary.get("responses", {}).get("dead_zone"):
         from .figures import format_dead_zone
         tables.append(format_dead_zone(summary["responses"]["dead_zone"]))

@@ -30,6 +30,7 @@ class CdrwResult:
     series: Series
     table: metrics.Table               # vs the fault-free measurement
     table_truth: metrics.Table         # vs the true state
+    coverage: metrics.Table            # share of steps with the truth inside the bounds
     missing_steps: int                 # steps without an estimate from fcc
     unanswered_steps: int              # steps fcc did not acknowledge
     faults: list[str]
@@ -41,7 +42,7 @@ class CdrwResult:
                 "dt": self.dt, "error": self.table, "error_truth": self.table_truth,
                 "improvement_over_kf_pct": metrics.improvements(self.table),
                 "improvement_over_kf_truth_pct": metrics.improvements(self.table_truth),
-                "missing_steps": self.missing_steps, "unanswered_steps": self.unanswered_steps,
+                "coverage": self.coverage, "missing_steps": self.missing_steps, "unanswered_steps": self.unanswered_steps,
                 "degraded_steps": int(np.sum(self.series["degraded"])),
                 "faults": self.faults, "fault_events": self.events, "frames_injected": self.injected}
 
@@ -146,8 +147,11 @@ def cdrw_result(spec: BusSpec, rec: CdrwRecord, flight: FlightFrames) -> CdrwRes
     est = {f: np.column_stack([s[f"{f}_alpha_hat"], s[f"{f}_q_hat"]]) for f in FILTERS}
     table, missing = metrics.error_table(y_ff, est, rec.dt)
     table_truth, _ = metrics.error_table(x_true, est, rec.dt)
+    bounds = {f: (np.column_stack([s[f"{f}_alpha_lo"], s[f"{f}_q_lo"]]),
+                  np.column_stack([s[f"{f}_alpha_hi"], s[f"{f}_q_hi"]])) for f in FILTERS}
     return CdrwResult(scenario=rec.scenario, seed=rec.seed, dt=rec.dt, series=s, table=table,
-                      table_truth=table_truth, missing_steps=missing,
+                      table_truth=table_truth, coverage=metrics.coverage_table(x_true, bounds),
+                      missing_steps=missing,
                       unanswered_steps=int(n - s["acked"].sum()), faults=rec.faults,
                       events=rec.events, injected=rec.injected)
 

@@ -40,6 +40,7 @@ from .lockstep import LockstepRunner
 from .output import write_csv, write_json
 from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
                       missile_open_loop, missile_result)
+from . import rowtables
 from .report import firmware_summary, summary_tables
 from .rundir import atomic_write_text, published_path
 from .session import COMMAND_RESET, RigError, RigSession
@@ -60,6 +61,7 @@ class RigConfig:
     mode: str = "lockstep"
     timeout: float = 2.0
     fcc_args: tuple[str, ...] = ()
+    rows: str = "paper"            # CDRW: which estimate fcc reports (fcc --rows)
     progress: bool = True
     plots: bool = True
     fcc_binary: Path | None = None
@@ -105,6 +107,8 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
             args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
                      "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
                      "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
+    if cfg.rows != "paper":
+        args += ["--rows", cfg.rows]
     return args + list(cfg.fcc_args)
 
 
@@ -194,8 +198,14 @@ def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
     return info
 
 
-def _cdrw_block(res: CdrwResult, which: str = "table4") -> dict[str, Any]:
-    return {which: res.table, f"{which}_truth": res.table_truth,
+def _cdrw_block(res: CdrwResult, spec: Any, args: Sequence[str], paper: bool) -> dict[str, Any]:
+    """summary.json's cdrw: Table 4 of the rows fcc flew (cdrw.rows), the bounds coverage,
+    both symmetric tables (cdrw.tables: prior, posterior) and the replay's check."""
+    flown, sid_args = rowtables.sid_options(args)
+    tables, check = rowtables.symmetric_tables(spec, res.series, res.dt, flown, sid_args)
+    return {"table4": res.table, "table4_truth": res.table_truth, "rows": flown,
+            "coverage": res.coverage, "tables": tables, "replay_check": check,
+            "paper_scenario": paper,
             "improvement_over_kf_pct": metrics.improvements(res.table),
             "improvement_over_kf_truth_pct": metrics.improvements(res.table_truth),
             "flight": res.summary()}
@@ -290,7 +300,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         if isinstance(d, CdrwDriver):
             res = cdrw_result(rig.spec, cdrw_record(d), flights[0])
             _write_cdrw(out, res)
-            summary["cdrw"] = _cdrw_block(res)
+            summary["cdrw"] = _cdrw_block(res, rig.spec, fcc_args(scenarios, cfg),
+                                          is_paper_scenario(d.scenario))
             fault_log.append(("cdrw     ", res.events))
         else:
             assert isinstance(d, MissileDriver)
@@ -304,6 +315,19 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods(scenarios))
+
+
+def is_paper_scenario(sc: Scenario) -> bool:
+    """The paper's default CDRW scenario (the embedded one, its seed, its fault): only then
+    are the paper's numbers printed beside ours."""
+    from ..faults import load_default_scenario
+    try:
+        ref = load_default_scenario("cdrw", {m.name for m in RigSession.dbc_frames()})
+    except Exception:  # noqa: BLE001 - no default, no paper rows
+        return False
+    return sc.aircraft == "cdrw" and sc.seed == ref.seed and sc.duration == ref.duration \
+        and sc.plant == ref.plant and sc.sensors == ref.sensors \
+        and [f.describe() for f in sc.faults] == [f.describe() for f in ref.faults]
 
 
 def campaign_fault_times(scenario: Scenario, runs: int, seed: int,
@@ -334,11 +358,40 @@ class CampaignFlight:
     unanswered_steps: int
     events: list[dict[str, Any]]
     series: dict[str, np.ndarray] | None = None   # flight 0 only: cdrw_run0.csv
+    coverage: metrics.Table | None = None           # bounds coverage of fcc's rows
+    rows: str = "paper"                             # the rows fcc flew
+    modes: dict[str, Any] | None = None             # rowtables.symmetric_tables: prior, posterior
+    replay_check: dict[str, Any] | None = None
 
 
-def campaign_flight(index: int, fault_start: float, res: CdrwResult) -> CampaignFlight:
+def campaign_flight(index: int, fault_start: float, res: CdrwResult,
+                    fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
+    """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
+    flew and with which identification options, for the symmetric tables."""
+    from ..bus import load as load_spec
+    flown, sid_args = rowtables.sid_options(fcc_arg_list)
+    modes, check = rowtables.symmetric_tables(load_spec(), res.series, res.dt, flown, sid_args)
     return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,
-                          res.unanswered_steps, res.events, res.series if index == 0 else None)
+                          res.unanswered_steps, res.events, res.series if index == 0 else None,
+                          res.coverage, flown, modes, check)
+
+
+def _campaign_modes(flights: Sequence[CampaignFlight]) -> dict[str, Any]:
+    """cdrw.rows, cdrw.tables (Table 5 with intervals in prior and posterior rows) and
+    cdrw.replay_check of a campaign, from its flights' symmetric tables."""
+    flown = flights[0].rows
+    missing = next((fl.replay_check for fl in flights if not fl.modes), None)
+    if missing is not None:
+        return {"rows": flown, "tables": {},
+                "replay_check": {"rows": flown, "not_computed": (missing or {}).get(
+                    "not_computed", "no symmetric tables for some flights")}}
+    tables = {m: metrics.campaign_table5([fl.modes[m]["table4"] for fl in flights],  # type: ignore[index]
+                                         [fl.modes[m]["table4_truth"] for fl in flights],  # type: ignore[index]
+                                         coverage=[fl.modes[m]["coverage"] for fl in flights])  # type: ignore[index]
+              for m in rowtables.SYMMETRIC}
+    worst = max(fl.replay_check["max_abs_estimate_difference"] for fl in flights)  # type: ignore[index]
+    return {"rows": flown, "tables": tables,
+            "replay_check": {"rows": flown, "max_abs_estimate_difference": worst}}
 
 
 def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
@@ -370,8 +423,11 @@ def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
         "command": "campaign", "mode": mode, "seed": seed, "runs_count": runs,
         "scenario": scenario.name or scenario.source, "flight_seed": scenario.seed,
         "faults": [f.describe() for f in scenario.faults],
-        "cdrw": {**metrics.campaign_table5([fl.table for fl in flights],
-                                           [fl.table_truth for fl in flights]), "runs": per_run},
+        "cdrw": {**metrics.campaign_table5(
+            [fl.table for fl in flights], [fl.table_truth for fl in flights],
+            coverage=[fl.coverage for fl in flights] if all(fl.coverage for fl in flights) else None),
+            **_campaign_modes(flights), "paper_scenario": is_paper_scenario(scenario),
+            "runs": per_run},
         "firmware": firmware}
     if failed:
         summary["failed_runs"] = list(failed)
@@ -401,7 +457,8 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                 records.append(cdrw_record(d))   # the driver (every sample's model) is dropped
         rig.shutdown()
     _require_log(rig)
-    flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl))
+    args = fcc_args([scenario], cfg)
+    flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl), args)
                for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log")))]
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")

@@ -27,7 +27,12 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
     written: list[Path] = []
     for name in ("cdrw.csv", "cdrw_run0.csv"):
         if (run_dir / name).is_file():
-            written += cdrw.all_figures(read_csv(run_dir / name), run_dir)
+            note = ""
+            if name == "cdrw_run0.csv" and (run_dir / "campaign.csv").is_file():
+                c = read_csv(run_dir / "campaign.csv")
+                note = (f"campaign flight 0 of {len(c['run'])} (fault at "
+                        f"{float(c['fault_start'][0]):.2f} s); the tables are over all flights")
+            written += cdrw.all_figures(read_csv(run_dir / name), run_dir, note)
             break
     if (run_dir / "campaign.csv").is_file():
         written.append(cdrw.campaign_figure(read_csv(run_dir / "campaign.csv"), run_dir))

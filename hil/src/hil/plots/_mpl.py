@@ -13,8 +13,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 _META = {"Software": None}
 
 
-def save(fig: "plt.Figure", path: Path) -> Path:
-    fig.tight_layout()
+def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None) -> Path:
+    """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write."""
+    fig.tight_layout(rect=rect)
     from ..rig.rundir import atomic_write
 
     buf = io.BytesIO()

@@ -25,8 +25,18 @@ def _shade_faults(ax, s: Series) -> None:
     t = s["t"]
     dt = t[1] - t[0] if len(t) > 1 else 0.02
     on = np.flatnonzero(np.diff(np.concatenate([[0], (f > 0).astype(int), [0]])))
-    for a, b in zip(on[::2], on[1::2]):
-        ax.axvspan(t[a], t[b - 1] + dt, color="0.85", zorder=0, lw=0)
+    for i, (a, b) in enumerate(zip(on[::2], on[1::2])):
+        ax.axvspan(t[a], t[b - 1] + dt, color="0.85", zorder=0, lw=0,
+                   label="sensor fault active" if i == 0 else None)
+
+
+#: the series key plot_run_dir sets to say which flight a figure shows (campaigns)
+NOTE_KEY = "_figure_note"
+
+
+def _note(s: Series) -> str:
+    note = s.get(NOTE_KEY)
+    return f"\n{note}" if isinstance(note, str) and note else ""
 
 
 def _stall_times(s: Series) -> list[float]:
@@ -46,7 +56,7 @@ def fig5_alpha_q(s: Series, out: Path) -> Path:
     axs[0].axhline(STALL_DEG, ls=":", color="tab:red", lw=1, label="15°")
     axs[0].legend(loc="upper left", fontsize=8)
     axs[1].set_xlabel("t (s)")
-    fig.suptitle("Fig. 5 — CDRW flight (simulated): α and q")
+    fig.suptitle("Fig. 5 — CDRW flight (simulated): α and q" + _note(s))
     return save(fig, out / "fig5_cdrw_alpha_q.png")
 
 
@@ -60,11 +70,13 @@ def fig6_model(s: Series, out: Path) -> Path:
         ax.plot(s["t"], s[f"{n}_true"], "k--", lw=1, label="true (local linearisation)")
         ax.set_ylabel(n)
         ax.grid(alpha=0.3)
-    axs[0, 0].legend(fontsize=7)
+    # one legend for the figure, in its own strip under the title, clear of every curve
+    fig.legend(*axs[0, 0].get_legend_handles_labels(), fontsize=7, ncol=5, loc="upper center",
+               bbox_to_anchor=(0.5, 0.935 if _note(s) else 0.955), frameon=False)
     for ax in axs[-1]:
         ax.set_xlabel("t (s)")
-    fig.suptitle("Fig. 6 — elements of A_k, B_k estimated by the MLS (h = 2.2 s)")
-    return save(fig, out / "fig6_model_elements.png")
+    fig.suptitle("Fig. 6 — elements of A_k, B_k estimated by the MLS (h = 2.2 s)" + _note(s))
+    return save(fig, out / "fig6_model_elements.png", rect=(0, 0, 1, 0.9 if _note(s) else 0.925))
 
 
 def fig7_rho(s: Series, out: Path) -> Path:
@@ -80,7 +92,8 @@ def fig7_rho(s: Series, out: Path) -> Path:
     ax.set_ylabel("spectral radius")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    ax.set_title("Fig. 7 — ρ(A_k) estimated by the MLS vs the true model (red: α crosses 15°)")
+    ax.set_title("Fig. 7 — ρ(A_k) estimated by the MLS vs the true model (red: α crosses 15°)"
+                 + _note(s), fontsize=10)
     return save(fig, out / "fig7_spectral_radius.png")
 
 
@@ -96,7 +109,7 @@ def fig8_estimates(s: Series, out: Path) -> Path:
         ax.grid(alpha=0.3)
     axs[0].legend(fontsize=7, ncol=2)
     axs[1].set_xlabel("t (s)")
-    fig.suptitle("Fig. 8 — estimates under the sensor fault: MLS-AZKF, MLS-ZKF, MLS-KF")
+    fig.suptitle("Fig. 8 — estimates under the sensor fault: MLS-AZKF, MLS-ZKF, MLS-KF" + _note(s))
     return save(fig, out / "fig8_estimates_under_fault.png")
 
 
@@ -112,13 +125,20 @@ def fig9_gains(s: Series, out: Path) -> Path:
     ax.legend(fontsize=7)
     _shade_faults(axs[1], s)
     axs[1].step(s["t"], s["azkf_order"], where="post", color=COLORS["azkf"], lw=1, label="AZKF order q")
-    axs[1].step(s["t"], s["azkf_fault"] * s["azkf_order"].max(), where="post", color="k", lw=0.8,
-                ls=":", label="AZKF fault flag")
     axs[1].set_yscale("symlog")
     axs[1].set_ylabel("order")
     axs[1].set_xlabel("t (s)")
-    axs[1].legend(fontsize=7)
-    fig.suptitle("Fig. 9 — gains of MLS-AZKF and MLS-KF (and the order the AZKF uses)")
+    # the fault flag on its own 0/1 axis (not on the symlog order axis)
+    flag = axs[1].twinx()
+    flag.step(s["t"], s["azkf_fault"], where="post", color="k", lw=0.8, ls=":",
+              label="AZKF fault flag (right axis)")
+    flag.set_ylim(-0.1, 1.6)
+    flag.set_yticks([0, 1])
+    flag.set_ylabel("fault flag")
+    h1, l1 = axs[1].get_legend_handles_labels()
+    h2, l2 = flag.get_legend_handles_labels()
+    axs[1].legend(h1 + h2, l1 + l2, fontsize=7, loc="upper right")
+    fig.suptitle("Fig. 9 — gains of MLS-AZKF and MLS-KF (and the order the AZKF uses)" + _note(s))
     return save(fig, out / "fig9_gain_norms.png")
 
 
@@ -135,11 +155,13 @@ def fig10_bounds(s: Series, out: Path) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axs[1].set_xlabel("t (s)")
-    fig.suptitle("Fig. 10 — bounds of the α estimate: MLS-AZKF vs MLS-KF")
+    fig.suptitle("Fig. 10 — bounds of the α estimate: MLS-AZKF vs MLS-KF" + _note(s))
     return save(fig, out / "fig10_bounds.png")
 
 
-def all_figures(s: Series, out: Path) -> list[Path]:
+def all_figures(s: Series, out: Path, note: str = "") -> list[Path]:
+    """Figs. 5-10; note (e.g. which campaign flight) goes under every title."""
+    s = {**s, NOTE_KEY: note} if note else s  # type: ignore[dict-item]
     return [fig5_alpha_q(s, out), fig6_model(s, out), fig7_rho(s, out), fig8_estimates(s, out),
             fig9_gains(s, out), fig10_bounds(s, out)]
 
@@ -154,5 +176,6 @@ def campaign_figure(c: Series, out: Path) -> Path:
         ax.set_ylabel(f"∫|y − ŷ| dt, {st} ({unit})")
         ax.grid(alpha=0.3)
     axs[0].legend(fontsize=7)
-    fig.suptitle(f"Campaign — error integral of each of {len(c['run'])} flights (Table 5 = their means)")
+    fig.suptitle(f"Campaign — error integral of each of {len(c['run'])} flights (Table 5 = their means)"
+                 "\nagainst the fault-free measurement; Figs. 5-10 of this directory show flight 0")
     return save(fig, out / "campaign_errors.png")

@@ -73,7 +73,9 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
                 tables += _cdrw_tables(t["table4"], t["table4_truth"], "table4", False, mode)
             if "coverage" in t:
                 tables.append(metrics.format_coverage(t["coverage"], f"Bounds coverage ({mode} rows)"))
-        if cd.get("replay_check"):
+        if cd.get("replay_check", {}).get("not_computed"):
+            tables.append(f"prior/posterior tables not computed: {cd['replay_check']['not_computed']}")
+        elif cd.get("replay_check"):
             rc = cd["replay_check"]
             tables.append(f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
                           f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")

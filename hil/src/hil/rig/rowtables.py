@@ -1,4 +1,4 @@
-"""The symmetric filter comparison of a CDRW flight: Table 4 with every filter's prior and
+"""The symmetric filter comparison of a CDRW flight (summary.json's cdrw.tables): Table 4 with every filter's prior and
 with every filter's posterior (`--rows prior|posterior`), next to the rows fcc flew with.
 
 fcc runs one row mode on the bus (`hil run --rows`, default "paper": KF after y_k,
@@ -115,12 +115,18 @@ def symmetric_tables(spec: BusSpec, series: Mapping[str, np.ndarray], dt: float,
                      sid_args: Sequence[str] = ()) -> tuple[dict[str, Any], dict[str, float]]:
     """({mode: mode_tables} for prior and posterior, replay_check).  The mode fcc flew is
     taken from fcc's rows; the others from the replay.  replay_check: the largest
-    |replay - fcc| of the estimates in fcc's own mode (NaN rows left out)."""
+    |replay - fcc| of the estimates in fcc's own mode (NaN rows left out).  When sid_replay
+    refuses the flight (e.g. shorter than the MLS window) the tables are empty and
+    replay_check says why ("not_computed")."""
     tables: dict[str, Any] = {}
+    try:
+        replays = {m: replay(spec, series, m, sid_args) for m in dict.fromkeys((*SYMMETRIC, flown))}
+    except RuntimeError as e:
+        return {}, {"rows": flown, "not_computed": str(e)}
     for mode in SYMMETRIC:
-        est = fcc_rows(series) if mode == flown else replay(spec, series, mode, sid_args)
+        est = fcc_rows(series) if mode == flown else replays[mode]
         tables[mode] = mode_tables(series, est, dt)
-    mine = replay(spec, series, flown, sid_args)
+    mine = replays[flown]
     ours = fcc_rows(series)
     diff = max(float(np.nanmax(np.abs(mine[f][c] - ours[f][c]))) if np.any(np.isfinite(ours[f][c])) else 0.0
                for f in FILTERS for c in ("alpha_hat", "q_hat"))

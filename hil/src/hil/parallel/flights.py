@@ -42,7 +42,8 @@ def fly_campaign_flight(scenario: Scenario, index: int, fault_start: float, cfg:
     flights = split_flights(out / "bus.log")
     if len(flights) != 1:
         raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected 1")
-    done = FlightDone(campaign_flight(index, fault_start, cdrw_result(rig.spec, rec, flights[0])),
+    done = FlightDone(campaign_flight(index, fault_start, cdrw_result(rig.spec, rec, flights[0]),
+                                      fcc_args([scenario], cfg)),
                       firmware_summary(rig.status))
     if not keep:
         shutil.rmtree(out, ignore_errors=True)

@@ -29,7 +29,7 @@ REPO = Path(__file__).resolve().parents[2]
 RUNS, SEED = 4, 3
 ARTEFACTS = ("summary.json", "campaign.csv", "faults.log", "cdrw_run0.csv")
 
-pytestmark = pytest.mark.skipif(shutil.which("linux.uml") is None and not Path("/sys/class/net/vcan0").exists(),
+needs_rig = pytest.mark.skipif(shutil.which("linux.uml") is None and not Path("/sys/class/net/vcan0").exists(),
                                 reason="needs user-mode-linux or a kernel with vcan")
 
 
@@ -47,6 +47,7 @@ def one_worker(tmp_path_factory) -> Path:
     return out
 
 
+@needs_rig
 def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
     rc, _ = campaign(tmp_path, "--workers", "2")
     assert rc == 0, capsys.readouterr().err
@@ -60,6 +61,7 @@ def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
     assert s["firmware"]["steps"]["cdrw"] == RUNS * 351
 
 
+@needs_rig
 def test_workers_equal_the_sequential_campaign(one_worker, tmp_path):
     """The sequential form inside one guest, one fcc reset between flights: the same Table 5,
     campaign.csv and faults; fcc's counters the same but E2E ok, which counts each session's
@@ -77,6 +79,7 @@ def test_workers_equal_the_sequential_campaign(one_worker, tmp_path):
     assert seq == par
 
 
+@needs_rig
 def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     """A running cluster (the --scheduler path): one worker process is killed while its rig
     flies; Dask gives the flight to another worker and the results are unchanged."""
@@ -110,6 +113,7 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
         assert (out / name).read_bytes() == (one_worker / name).read_bytes(), name
 
 
+@needs_rig
 def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
     """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
     campaign stops with one line and exit 1."""
@@ -120,6 +124,7 @@ def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
     assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
 
 
+@needs_rig
 def test_sweep_on_workers_equals_the_sequential_sweep(tmp_path):
     """Two (T, N) points on 2 workers: every missile time series, faults.log and the RMS table
     as the sequential sweep in one fcc (E2E ok again counts one shutdown frame per session)."""
@@ -136,3 +141,16 @@ def test_sweep_on_workers_equals_the_sequential_sweep(tmp_path):
     par = json.loads((tmp_path / "par" / "summary.json").read_text())
     assert par["firmware"]["e2e"].pop("ok") - seq["firmware"]["e2e"].pop("ok") == 1
     assert seq == par
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--workers", "0"], "--workers must be at least 1"),
+    (["--workers", "2", "--mode", "realtime"], "lockstep flights only"),
+    (["--workers", "2", "--target", "external"], "not --target/--interface"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not allowed with argument"),
+])
+def test_bad_parallel_options_are_one_line(tmp_path, capsys, extra, words):
+    rc = main(["campaign", "cdrw", "--runs", "2", "--out", str(tmp_path / "c"), "--quiet", *extra])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and words in err[0]
+    assert not (tmp_path / "c").exists()

@@ -172,6 +172,9 @@ def _parallel(args: argparse.Namespace) -> dict[str, object] | None:
         raise UsageError(f"--workers must be at least 1, got {args.workers}")
     if args.mode != "lockstep":
         raise UsageError("--workers/--scheduler fly lockstep flights only (realtime needs the machine to itself)")
+    if args.target != "host" or args.interface != "socketcan":
+        raise UsageError("--workers/--scheduler fly the host fcc on rigs of their own (vcan), "
+                         "not --target/--interface")
     return {"workers": args.workers, "scheduler": args.scheduler}
 
 

@@ -5,7 +5,7 @@
 
 #include <string.h>
 
-#define MSG_BIT(m) (1uL << (uint32_t)(m))
+#define MSG_BIT(m) ((uint64_t)1u << (uint32_t)(m))
 
 /* Sensors of each application, in the order of its input slots. */
 static const fcc_msg_t k_sid_inputs[FCC_APP_SID_N_INPUTS] = {
@@ -455,7 +455,7 @@ static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fc
     s->e2e_fault = node->e2e_fault_flag;
     s->overrun = node->overrun_flag;
     s->config_rejected = node->config_rejected;
-    s->overruns = (uint8_t)((c->overruns + m->overruns) & 0xFFu);
+    s->overruns = (uint8_t)((c->overruns + m->overruns) & 0x3Fu);
     s->cdrw_steps = wrap16(c->steps);
     s->msl_steps = wrap16(m->steps);
     s->worst_step_us = (uint16_t)((worst > 0xFFFFu) ? 0xFFFFu : worst);

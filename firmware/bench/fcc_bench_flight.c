@@ -11,13 +11,13 @@
 
 fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim)
 {
-    uint32_t produces = 0u;
-    uint32_t consumes = 0u;
+    uint64_t produces = 0u;
+    uint64_t consumes = 0u;
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
         if ((fcc_bus_desc((fcc_msg_t)i)->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
-            consumes |= (uint32_t)(1u << i);
+            consumes |= (uint64_t)1u << i;
         } else {
-            produces |= (uint32_t)(1u << i);
+            produces |= (uint64_t)1u << i;
         }
     }
     return fcc_bus_init_masks(sim, consumes, produces);

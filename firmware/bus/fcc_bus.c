@@ -5,10 +5,10 @@
 
 #include <string.h>
 
-/* Message masks are 32-bit: the DBC may grow to 32 messages before this must change. */
-typedef char fcc_bus_assert_msg_count[(FCC_MSG_COUNT <= 32) ? 1 : -1];
+/* Message masks are 64-bit: the DBC may grow to 64 messages before this must change. */
+typedef char fcc_bus_assert_msg_count[(FCC_MSG_COUNT <= 64) ? 1 : -1];
 
-#define MSG_BIT(i) ((uint32_t)1u << (uint32_t)(i))
+#define MSG_BIT(i) ((uint64_t)1u << (uint32_t)(i))
 
 /* ---- field access (memcpy: no alignment or aliasing assumptions) ----------- */
 
@@ -22,6 +22,7 @@ static int64_t field_get_int(const void *base, uint16_t offset, uint8_t type)
     case FCC_FIELD_I8: { int8_t v; memcpy(&v, p, sizeof v); return v; }
     case FCC_FIELD_I16: { int16_t v; memcpy(&v, p, sizeof v); return v; }
     case FCC_FIELD_I32: { int32_t v; memcpy(&v, p, sizeof v); return v; }
+    case FCC_FIELD_U64: { uint64_t v; memcpy(&v, p, sizeof v); return (int64_t)v; }
     case FCC_FIELD_BOOL: { bool v; memcpy(&v, p, sizeof v); return v ? 1 : 0; }
     default: return 0;
     }
@@ -38,6 +39,7 @@ static void field_set_int(void *base, uint16_t offset, uint8_t type, int64_t val
     case FCC_FIELD_I8: { const int8_t v = (int8_t)value; memcpy(p, &v, sizeof v); break; }
     case FCC_FIELD_I16: { const int16_t v = (int16_t)value; memcpy(p, &v, sizeof v); break; }
     case FCC_FIELD_I32: { const int32_t v = (int32_t)value; memcpy(p, &v, sizeof v); break; }
+    case FCC_FIELD_U64: { const uint64_t v = (uint64_t)value; memcpy(p, &v, sizeof v); break; }
     case FCC_FIELD_BOOL: { const bool v = (value != 0); memcpy(p, &v, sizeof v); break; }
     default: break;
     }
@@ -215,9 +217,9 @@ fcc_status_t fcc_bus_signal_set(fcc_msg_t msg, uint32_t sig, fcc_msg_data_t *dat
 
 /* ---- stateful node ----------------------------------------------------------- */
 
-fcc_status_t fcc_bus_init_masks(fcc_bus_t *bus, uint32_t consumes, uint32_t produces)
+fcc_status_t fcc_bus_init_masks(fcc_bus_t *bus, uint64_t consumes, uint64_t produces)
 {
-    const uint32_t all = (FCC_MSG_COUNT >= 32) ? 0xFFFFFFFFu : (MSG_BIT(FCC_MSG_COUNT) - 1u);
+    const uint64_t all = (FCC_MSG_COUNT >= 64) ? UINT64_MAX : (MSG_BIT(FCC_MSG_COUNT) - 1u);
     if (bus == NULL || (consumes & ~all) != 0u || (produces & ~all) != 0u) {
         return FCC_ERR_ARG;
     }
@@ -242,8 +244,8 @@ fcc_status_t fcc_bus_init(fcc_bus_t *bus, uint32_t node)
     if (node >= FCC_BUS_N_NODES) {
         return FCC_ERR_ARG;
     }
-    uint32_t consumes = 0u;
-    uint32_t produces = 0u;
+    uint64_t consumes = 0u;
+    uint64_t produces = 0u;
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
         if ((fcc_bus_msg_table[i].receivers & (1u << node)) != 0u) {
             consumes |= MSG_BIT(i);

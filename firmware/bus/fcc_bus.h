@@ -64,8 +64,8 @@ typedef struct {
 
 /* One node's bus state: caller-owned, about 1.3 kB. */
 typedef struct {
-    uint32_t consumes;   /* bit i: message i is received by this node */
-    uint32_t produces;   /* bit i: message i is sent by this node */
+    uint64_t consumes;   /* bit i: message i is received by this node */
+    uint64_t produces;   /* bit i: message i is sent by this node */
     fcc_e2e_rx_t rx[FCC_MSG_COUNT];
     fcc_e2e_tx_t tx[FCC_MSG_COUNT];
     uint32_t unknown_id;
@@ -79,7 +79,7 @@ typedef struct {
  * ones whose sender it is (node = FCC_BUS_NODE_*). */
 fcc_status_t fcc_bus_init(fcc_bus_t *bus, uint32_t node);
 /* Explicit message masks (bit i = fcc_msg_t i): tools, tests, bus monitors. */
-fcc_status_t fcc_bus_init_masks(fcc_bus_t *bus, uint32_t consumes, uint32_t produces);
+fcc_status_t fcc_bus_init_masks(fcc_bus_t *bus, uint64_t consumes, uint64_t produces);
 
 /* Steps 1-4 above.  FCC_OK: out->data holds good values.  Otherwise
  * FCC_ERR_FORMAT (unknown id, wrong DLC, E2E not usable) or FCC_ERR_RANGE, with

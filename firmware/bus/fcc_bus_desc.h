@@ -22,7 +22,8 @@ typedef enum {
     FCC_FIELD_I16,
     FCC_FIELD_I32,
     FCC_FIELD_BOOL,  /* physical only: 1-bit signals */
-    FCC_FIELD_REAL   /* physical only: scaled signals, fcc_real_t */
+    FCC_FIELD_REAL,  /* physical only: scaled signals, fcc_real_t */
+    FCC_FIELD_U64    /* wide integers (SecOC MACs); values fit int64_t */
 } fcc_field_type_t;
 
 typedef struct {

@@ -92,14 +92,14 @@ static void mem_init(mem_port_t *p, fcc_port_t *port)
     port->clock_ctx = p;
     port->event = mem_event;
     port->event_ctx = p;
-    uint32_t produces = 0u;
-    uint32_t consumes = 0u;
+    uint64_t produces = 0u;
+    uint64_t consumes = 0u;
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
         const fcc_bus_msg_desc_t *d = fcc_bus_desc((fcc_msg_t)i);
         if ((d->senders & (1u << FCC_BUS_NODE_FCC)) != 0u) {
-            consumes |= 1uL << i;
+            consumes |= (uint64_t)1u << i;
         } else {
-            produces |= 1uL << i;
+            produces |= (uint64_t)1u << i;
         }
     }
     (void)fcc_bus_init_masks(&p->sim, consumes, produces);

@@ -10,7 +10,7 @@
 
 #include "fcc_bus.h"
 
-#define BIT(m) (1uL << (uint32_t)(m))
+#define BIT(m) ((uint64_t)1u << (uint32_t)(m))
 
 /* Both ends of the link as the DBC makes them: the FCC and the simulator. */
 static void open_link(fcc_bus_t *fcc, fcc_bus_t *sim)

@@ -13,7 +13,7 @@
 #include "fcc_bus.h"
 
 #define VEC_DIR FCC_SOURCE_DIR "/tests/vectors/bus/"
-#define ALL_MSGS ((uint32_t)((1uLL << FCC_MSG_COUNT) - 1u))
+#define ALL_MSGS ((uint64_t)((1uLL << FCC_MSG_COUNT) - 1u))
 
 static size_t parse_hex(const char *hex, uint8_t *out, size_t max)
 {
@@ -106,7 +106,7 @@ static void test_golden_frames(void **state)
     assert_non_null(f);
     char line[1024];
     int n = 0;
-    uint32_t seen_msgs = 0u;
+    uint64_t seen_msgs = 0u;
     vec_t v;
     while (fgets(line, sizeof line, f) != NULL) {
         if (!parse_frame_line(line, &v)) {
@@ -127,7 +127,7 @@ static void test_golden_frames(void **state)
         check_values(msg, &decoded, v.pairs, &from_text);
         reencode_and_compare(msg, &decoded, &v);
         reencode_and_compare(msg, &from_text, &v);
-        seen_msgs |= 1uL << (uint32_t)msg;
+        seen_msgs |= (uint64_t)1u << (uint32_t)msg;
         ++n;
     }
     fclose(f);

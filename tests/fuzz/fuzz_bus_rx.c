@@ -68,7 +68,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static fcc_bus_t fcc, all; /* static: 2.6 kB, not on the fuzzer's stack */
     if (fcc_bus_init(&fcc, FCC_BUS_NODE_FCC) != FCC_OK ||
-        fcc_bus_init_masks(&all, (uint32_t)((1uLL << FCC_MSG_COUNT) - 1u), 0u) != FCC_OK) {
+        fcc_bus_init_masks(&all, (uint64_t)((1uLL << FCC_MSG_COUNT) - 1u), 0u) != FCC_OK) {
         abort();
     }
     for (size_t off = 0u; off + REC <= size; off += REC) {

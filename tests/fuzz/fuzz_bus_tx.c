@@ -52,7 +52,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)fcc_bus_signal_set(msg, i, &in, real, integer % 70000);
     }
     static fcc_bus_t tx, rx;
-    const uint32_t all = (uint32_t)((1uLL << FCC_MSG_COUNT) - 1u);
+    const uint64_t all = (uint64_t)((1uLL << FCC_MSG_COUNT) - 1u);
     if (fcc_bus_init_masks(&tx, 0u, all) != FCC_OK || fcc_bus_init_masks(&rx, all, 0u) != FCC_OK) {
         abort();
     }

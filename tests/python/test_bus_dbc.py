@@ -120,13 +120,31 @@ def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]
 
 def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
     frames, pct = _load_pct(spec, 0.05)
-    assert frames == pytest.approx(1020)
-    assert pct == pytest.approx(27.54)
+    assert frames == pytest.approx(1140)   # 1020 + 120 SecOC authenticator and security frames
+    assert pct == pytest.approx(30.78)
     assert pct < 40.0
     frames_fast, pct_fast = _load_pct(spec, 0.02)
-    assert frames_fast == pytest.approx(1200)
+    assert frames_fast == pytest.approx(1380)
     assert pct_fast < 40.0
     readme = (DBC.parent / "README.md").read_text()
     assert f"**{pct:.1f} %**" in readme
     assert f"**{pct_fast:.1f} %**" in readme
-    assert re.search(r"\*\*1020\*\*", readme)
+    assert re.search(r"\*\*1140\*\*", readme)
+
+
+def test_secoc_attributes(spec: dbc.BusSpec) -> None:
+    """Every command/configuration frame and the heartbeat have an authenticator right after
+    them in priority, with a unique SecOC data ID; authenticators carry fv + a 48-bit MAC."""
+    auths = {m.name: m for m in spec.messages if m.is_authenticator}
+    covered = {p for m in auths.values() for p in m.secoc_pdus}
+    assert covered >= {"SIM_CONTROL", "SIM_TICK", "MSL_ELEV_CMD", "FCC_STATUS", "FCC_E2E_COUNTS",
+                       "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS", "FCC_SEC_COUNTS",
+                       "FCC_SEC_SESSION"}
+    assert len({m.secoc_data_id for m in auths.values()}) == len(auths)
+    for m in auths.values():
+        sigs = {s.name: (s.start, s.length) for s in m.signals}
+        assert sigs == {"fv": (0, 16), "mac": (16, 48)}, m.name
+        first = spec.by_name(m.secoc_pdus[0])
+        assert m.senders == first.senders
+        assert m.frame_id > max(spec.by_name(p).frame_id for p in m.secoc_pdus)
+        assert not (0x001 <= m.frame_id <= 0x00F) and m.frame_id != 0x705   # issue 11's IDs

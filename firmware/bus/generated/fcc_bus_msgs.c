@@ -9,7 +9,7 @@
 #include "fcc_bus_msgs.h"
 
 static const fcc_bus_signal_desc_t sig_sim_control[] = {
-    {"command", (uint16_t)offsetof(fcc_msg_sim_control_t, command), (uint16_t)offsetof(struct fcc_hil_sim_control_t, command), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(2)},
+    {"command", (uint16_t)offsetof(fcc_msg_sim_control_t, command), (uint16_t)offsetof(struct fcc_hil_sim_control_t, command), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(5)},
     {"lqg_period", (uint16_t)offsetof(fcc_msg_sim_control_t, lqg_period), (uint16_t)offsetof(struct fcc_hil_sim_control_t, lqg_period), FCC_FIELD_REAL, FCC_FIELD_U16, FCC_R(10000.0), INT64_C(0), INT64_C(3000)},
     {"da_bits", (uint16_t)offsetof(fcc_msg_sim_control_t, da_bits), (uint16_t)offsetof(struct fcc_hil_sim_control_t, da_bits), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(16)},
 };
@@ -22,6 +22,21 @@ static int unpack_sim_control(void *raw, const uint8_t data[8])
 static int pack_sim_control(uint8_t data[8], const void *raw)
 {
     return fcc_hil_sim_control_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_sim_control_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_sim_control_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_sim_control_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_sim_control_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_sim_control_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_sim_control_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_sim_control_auth_unpack(raw, data, 8u);
+}
+
+static int pack_sim_control_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_sim_control_auth_pack(data, raw, 8u);
 }
 
 static const fcc_bus_signal_desc_t sig_sim_tick[] = {
@@ -37,6 +52,21 @@ static int unpack_sim_tick(void *raw, const uint8_t data[8])
 static int pack_sim_tick(uint8_t data[8], const void *raw)
 {
     return fcc_hil_sim_tick_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_sim_tick_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_sim_tick_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_sim_tick_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_sim_tick_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_sim_tick_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_sim_tick_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_sim_tick_auth_unpack(raw, data, 8u);
+}
+
+static int pack_sim_tick_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_sim_tick_auth_pack(data, raw, 8u);
 }
 
 static const fcc_bus_signal_desc_t sig_fcc_ack[] = {
@@ -72,6 +102,21 @@ static int unpack_msl_elev_cmd(void *raw, const uint8_t data[8])
 static int pack_msl_elev_cmd(uint8_t data[8], const void *raw)
 {
     return fcc_hil_msl_elev_cmd_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_msl_elev_cmd_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_msl_elev_cmd_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_msl_elev_cmd_auth_unpack(raw, data, 8u);
+}
+
+static int pack_msl_elev_cmd_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_msl_elev_cmd_auth_pack(data, raw, 8u);
 }
 
 static const fcc_bus_signal_desc_t sig_msl_rate_gyro[] = {
@@ -384,7 +429,8 @@ static const fcc_bus_signal_desc_t sig_fcc_status[] = {
     {"e2e_fault", (uint16_t)offsetof(fcc_msg_fcc_status_t, e2e_fault), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, e2e_fault), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"overrun", (uint16_t)offsetof(fcc_msg_fcc_status_t, overrun), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, overrun), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"config_rejected", (uint16_t)offsetof(fcc_msg_fcc_status_t, config_rejected), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, config_rejected), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
-    {"overruns", (uint16_t)offsetof(fcc_msg_fcc_status_t, overruns), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, overruns), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"overruns", (uint16_t)offsetof(fcc_msg_fcc_status_t, overruns), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, overruns), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(63)},
+    {"op_mode", (uint16_t)offsetof(fcc_msg_fcc_status_t, op_mode), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, op_mode), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(2)},
     {"cdrw_steps", (uint16_t)offsetof(fcc_msg_fcc_status_t, cdrw_steps), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, cdrw_steps), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"msl_steps", (uint16_t)offsetof(fcc_msg_fcc_status_t, msl_steps), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, msl_steps), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"worst_step_us", (uint16_t)offsetof(fcc_msg_fcc_status_t, worst_step_us), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, worst_step_us), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
@@ -467,6 +513,53 @@ static int pack_fcc_bus_counts(uint8_t data[8], const void *raw)
     return fcc_hil_fcc_bus_counts_pack(data, raw, 8u);
 }
 
+static const fcc_bus_signal_desc_t sig_fcc_sec_counts[] = {
+    {"mac_failed", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, mac_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, mac_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"freshness_failed", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, freshness_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, freshness_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"unpaired", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, unpaired), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, unpaired), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mode_refused", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, mode_refused), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, mode_refused), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+};
+
+static int unpack_fcc_sec_counts(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_sec_counts_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_sec_counts(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_sec_counts_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_fcc_sec_session[] = {
+    {"trip", (uint16_t)offsetof(fcc_msg_fcc_sec_session_t, trip), (uint16_t)offsetof(struct fcc_hil_fcc_sec_session_t, trip), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(4294967295)},
+    {"verified", (uint16_t)offsetof(fcc_msg_fcc_sec_session_t, verified), (uint16_t)offsetof(struct fcc_hil_fcc_sec_session_t, verified), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(4294967295)},
+};
+
+static int unpack_fcc_sec_session(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_sec_session_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_sec_session(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_sec_session_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_fcc_status_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_fcc_status_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_status_auth_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_status_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_status_auth_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_sim_event[] = {
     {"active", (uint16_t)offsetof(fcc_msg_sim_event_t, active), (uint16_t)offsetof(struct fcc_hil_sim_event_t, active), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"oracle_fault", (uint16_t)offsetof(fcc_msg_sim_event_t, oracle_fault), (uint16_t)offsetof(struct fcc_hil_sim_event_t, oracle_fault), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
@@ -518,9 +611,12 @@ static int pack_rig_pong(uint8_t data[8], const void *raw)
 
 const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"SIM_CONTROL", 0x010u, 0x1010u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control / sizeof sig_sim_control[0]), sig_sim_control, unpack_sim_control, pack_sim_control},
+    {"SIM_CONTROL_AUTH", 0x011u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control_auth / sizeof sig_sim_control_auth[0]), sig_sim_control_auth, unpack_sim_control_auth, pack_sim_control_auth},
     {"SIM_TICK", 0x020u, 0x1020u, 3u, 20u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_tick / sizeof sig_sim_tick[0]), sig_sim_tick, unpack_sim_tick, pack_sim_tick},
+    {"SIM_TICK_AUTH", 0x021u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_tick_auth / sizeof sig_sim_tick_auth[0]), sig_sim_tick_auth, unpack_sim_tick_auth, pack_sim_tick_auth},
     {"FCC_ACK", 0x028u, 0x1028u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_ack / sizeof sig_fcc_ack[0]), sig_fcc_ack, unpack_fcc_ack, pack_fcc_ack},
     {"MSL_ELEV_CMD", 0x030u, 0x1030u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_elev_cmd / sizeof sig_msl_elev_cmd[0]), sig_msl_elev_cmd, unpack_msl_elev_cmd, pack_msl_elev_cmd},
+    {"MSL_ELEV_CMD_AUTH", 0x031u, 0x0000u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_elev_cmd_auth / sizeof sig_msl_elev_cmd_auth[0]), sig_msl_elev_cmd_auth, unpack_msl_elev_cmd_auth, pack_msl_elev_cmd_auth},
     {"MSL_RATE_GYRO", 0x040u, 0x1040u, 3u, 50u, (1u << FCC_BUS_NODE_MSL_GYRO), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_msl_rate_gyro / sizeof sig_msl_rate_gyro[0]), sig_msl_rate_gyro, unpack_msl_rate_gyro, pack_msl_rate_gyro},
     {"MSL_ACCELEROMETER", 0x041u, 0x1041u, 3u, 50u, (1u << FCC_BUS_NODE_MSL_ACCEL), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_msl_accelerometer / sizeof sig_msl_accelerometer[0]), sig_msl_accelerometer, unpack_msl_accelerometer, pack_msl_accelerometer},
     {"CDRW_AOA", 0x050u, 0x1050u, 3u, 20u, (1u << FCC_BUS_NODE_CDRW_AOA_SENSOR), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_cdrw_aoa / sizeof sig_cdrw_aoa[0]), sig_cdrw_aoa, unpack_cdrw_aoa, pack_cdrw_aoa},
@@ -544,7 +640,17 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"FCC_E2E_FAULTS", 0x702u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_e2_e_faults / sizeof sig_fcc_e2_e_faults[0]), sig_fcc_e2_e_faults, unpack_fcc_e2_e_faults, pack_fcc_e2_e_faults},
     {"FCC_REJECT_COUNTS", 0x703u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_reject_counts / sizeof sig_fcc_reject_counts[0]), sig_fcc_reject_counts, unpack_fcc_reject_counts, pack_fcc_reject_counts},
     {"FCC_BUS_COUNTS", 0x704u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_bus_counts / sizeof sig_fcc_bus_counts[0]), sig_fcc_bus_counts, unpack_fcc_bus_counts, pack_fcc_bus_counts},
+    {"FCC_SEC_COUNTS", 0x706u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_counts / sizeof sig_fcc_sec_counts[0]), sig_fcc_sec_counts, unpack_fcc_sec_counts, pack_fcc_sec_counts},
+    {"FCC_SEC_SESSION", 0x707u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_session / sizeof sig_fcc_sec_session[0]), sig_fcc_sec_session, unpack_fcc_sec_session, pack_fcc_sec_session},
+    {"FCC_STATUS_AUTH", 0x708u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status_auth / sizeof sig_fcc_status_auth[0]), sig_fcc_status_auth, unpack_fcc_status_auth, pack_fcc_status_auth},
     {"SIM_EVENT", 0x710u, 0x1710u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_event / sizeof sig_sim_event[0]), sig_sim_event, unpack_sim_event, pack_sim_event},
     {"RIG_PING", 0x7F0u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_rig_ping / sizeof sig_rig_ping[0]), sig_rig_ping, unpack_rig_ping, pack_rig_ping},
     {"RIG_PONG", 0x7F1u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_rig_pong / sizeof sig_rig_pong[0]), sig_rig_pong, unpack_rig_pong, pack_rig_pong},
+};
+
+const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {
+    {FCC_MSG_SIM_CONTROL_AUTH, 0x2010u, 1u, {FCC_MSG_SIM_CONTROL}},
+    {FCC_MSG_SIM_TICK_AUTH, 0x2020u, 1u, {FCC_MSG_SIM_TICK}},
+    {FCC_MSG_MSL_ELEV_CMD_AUTH, 0x2030u, 1u, {FCC_MSG_MSL_ELEV_CMD}},
+    {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 7u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION}},
 };

@@ -27,43 +27,52 @@
 /* Messages: index in fcc_bus_msg_table[] (sorted by CAN identifier). */
 typedef enum {
     FCC_MSG_SIM_CONTROL = 0, /* 0x010 */
-    FCC_MSG_SIM_TICK = 1, /* 0x020 */
-    FCC_MSG_FCC_ACK = 2, /* 0x028 */
-    FCC_MSG_MSL_ELEV_CMD = 3, /* 0x030 */
-    FCC_MSG_MSL_RATE_GYRO = 4, /* 0x040 */
-    FCC_MSG_MSL_ACCELEROMETER = 5, /* 0x041 */
-    FCC_MSG_CDRW_AOA = 6, /* 0x050 */
-    FCC_MSG_CDRW_PITCH_RATE = 7, /* 0x051 */
-    FCC_MSG_CDRW_ELEVATOR = 8, /* 0x052 */
-    FCC_MSG_MSL_STATE_EST = 9, /* 0x100 */
-    FCC_MSG_SID_AZKF_STATE = 10, /* 0x110 */
-    FCC_MSG_SID_AZKF_BOUNDS = 11, /* 0x111 */
-    FCC_MSG_SID_AZKF_MODEL_A = 12, /* 0x112 */
-    FCC_MSG_SID_AZKF_MODEL_B = 13, /* 0x113 */
-    FCC_MSG_SID_ZKF_STATE = 14, /* 0x120 */
-    FCC_MSG_SID_ZKF_BOUNDS = 15, /* 0x121 */
-    FCC_MSG_SID_ZKF_MODEL_A = 16, /* 0x122 */
-    FCC_MSG_SID_ZKF_MODEL_B = 17, /* 0x123 */
-    FCC_MSG_SID_KF_STATE = 18, /* 0x130 */
-    FCC_MSG_SID_KF_BOUNDS = 19, /* 0x131 */
-    FCC_MSG_SID_KF_MODEL_A = 20, /* 0x132 */
-    FCC_MSG_SID_KF_MODEL_B = 21, /* 0x133 */
-    FCC_MSG_FCC_STATUS = 22, /* 0x700 */
-    FCC_MSG_FCC_E2E_COUNTS = 23, /* 0x701 */
-    FCC_MSG_FCC_E2E_FAULTS = 24, /* 0x702 */
-    FCC_MSG_FCC_REJECT_COUNTS = 25, /* 0x703 */
-    FCC_MSG_FCC_BUS_COUNTS = 26, /* 0x704 */
-    FCC_MSG_SIM_EVENT = 27, /* 0x710 */
-    FCC_MSG_RIG_PING = 28, /* 0x7F0 */
-    FCC_MSG_RIG_PONG = 29, /* 0x7F1 */
+    FCC_MSG_SIM_CONTROL_AUTH = 1, /* 0x011 */
+    FCC_MSG_SIM_TICK = 2, /* 0x020 */
+    FCC_MSG_SIM_TICK_AUTH = 3, /* 0x021 */
+    FCC_MSG_FCC_ACK = 4, /* 0x028 */
+    FCC_MSG_MSL_ELEV_CMD = 5, /* 0x030 */
+    FCC_MSG_MSL_ELEV_CMD_AUTH = 6, /* 0x031 */
+    FCC_MSG_MSL_RATE_GYRO = 7, /* 0x040 */
+    FCC_MSG_MSL_ACCELEROMETER = 8, /* 0x041 */
+    FCC_MSG_CDRW_AOA = 9, /* 0x050 */
+    FCC_MSG_CDRW_PITCH_RATE = 10, /* 0x051 */
+    FCC_MSG_CDRW_ELEVATOR = 11, /* 0x052 */
+    FCC_MSG_MSL_STATE_EST = 12, /* 0x100 */
+    FCC_MSG_SID_AZKF_STATE = 13, /* 0x110 */
+    FCC_MSG_SID_AZKF_BOUNDS = 14, /* 0x111 */
+    FCC_MSG_SID_AZKF_MODEL_A = 15, /* 0x112 */
+    FCC_MSG_SID_AZKF_MODEL_B = 16, /* 0x113 */
+    FCC_MSG_SID_ZKF_STATE = 17, /* 0x120 */
+    FCC_MSG_SID_ZKF_BOUNDS = 18, /* 0x121 */
+    FCC_MSG_SID_ZKF_MODEL_A = 19, /* 0x122 */
+    FCC_MSG_SID_ZKF_MODEL_B = 20, /* 0x123 */
+    FCC_MSG_SID_KF_STATE = 21, /* 0x130 */
+    FCC_MSG_SID_KF_BOUNDS = 22, /* 0x131 */
+    FCC_MSG_SID_KF_MODEL_A = 23, /* 0x132 */
+    FCC_MSG_SID_KF_MODEL_B = 24, /* 0x133 */
+    FCC_MSG_FCC_STATUS = 25, /* 0x700 */
+    FCC_MSG_FCC_E2E_COUNTS = 26, /* 0x701 */
+    FCC_MSG_FCC_E2E_FAULTS = 27, /* 0x702 */
+    FCC_MSG_FCC_REJECT_COUNTS = 28, /* 0x703 */
+    FCC_MSG_FCC_BUS_COUNTS = 29, /* 0x704 */
+    FCC_MSG_FCC_SEC_COUNTS = 30, /* 0x706 */
+    FCC_MSG_FCC_SEC_SESSION = 31, /* 0x707 */
+    FCC_MSG_FCC_STATUS_AUTH = 32, /* 0x708 */
+    FCC_MSG_SIM_EVENT = 33, /* 0x710 */
+    FCC_MSG_RIG_PING = 34, /* 0x7F0 */
+    FCC_MSG_RIG_PONG = 35, /* 0x7F1 */
     FCC_MSG_COUNT
 } fcc_msg_t;
 
 /* CAN identifiers. */
 #define FCC_MSG_SIM_CONTROL_ID 0x010u
+#define FCC_MSG_SIM_CONTROL_AUTH_ID 0x011u
 #define FCC_MSG_SIM_TICK_ID 0x020u
+#define FCC_MSG_SIM_TICK_AUTH_ID 0x021u
 #define FCC_MSG_FCC_ACK_ID 0x028u
 #define FCC_MSG_MSL_ELEV_CMD_ID 0x030u
+#define FCC_MSG_MSL_ELEV_CMD_AUTH_ID 0x031u
 #define FCC_MSG_MSL_RATE_GYRO_ID 0x040u
 #define FCC_MSG_MSL_ACCELEROMETER_ID 0x041u
 #define FCC_MSG_CDRW_AOA_ID 0x050u
@@ -87,6 +96,9 @@ typedef enum {
 #define FCC_MSG_FCC_E2E_FAULTS_ID 0x702u
 #define FCC_MSG_FCC_REJECT_COUNTS_ID 0x703u
 #define FCC_MSG_FCC_BUS_COUNTS_ID 0x704u
+#define FCC_MSG_FCC_SEC_COUNTS_ID 0x706u
+#define FCC_MSG_FCC_SEC_SESSION_ID 0x707u
+#define FCC_MSG_FCC_STATUS_AUTH_ID 0x708u
 #define FCC_MSG_SIM_EVENT_ID 0x710u
 #define FCC_MSG_RIG_PING_ID 0x7F0u
 #define FCC_MSG_RIG_PONG_ID 0x7F1u
@@ -95,12 +107,18 @@ typedef enum {
 #define FCC_MSG_SIM_CONTROL_COMMAND_NONE 0u
 #define FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN 1u
 #define FCC_MSG_SIM_CONTROL_COMMAND_RESET 2u
+#define FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT 3u
+#define FCC_MSG_SIM_CONTROL_COMMAND_GROUND 4u
+#define FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE 5u
 #define FCC_MSG_SIM_TICK_APP_CDRW_SID 0u
 #define FCC_MSG_SIM_TICK_APP_MISSILE_LQG 1u
 #define FCC_MSG_FCC_ACK_APP_CDRW_SID 0u
 #define FCC_MSG_FCC_ACK_APP_MISSILE_LQG 1u
 #define FCC_MSG_FCC_STATUS_MODE_LOCKSTEP 0u
 #define FCC_MSG_FCC_STATUS_MODE_REALTIME 1u
+#define FCC_MSG_FCC_STATUS_OP_MODE_GROUND 0u
+#define FCC_MSG_FCC_STATUS_OP_MODE_FLIGHT 1u
+#define FCC_MSG_FCC_STATUS_OP_MODE_MAINTENANCE 2u
 #define FCC_MSG_SIM_EVENT_KIND_NONE 0u
 #define FCC_MSG_SIM_EVENT_KIND_SPIKE 1u
 #define FCC_MSG_SIM_EVENT_KIND_BIAS 2u
@@ -124,16 +142,28 @@ typedef enum {
 /* Physical values of each message (crc and counter are the frame layer's). */
 /* SIM_CONTROL (0x010, event, SIM -> FCC, E2E data ID 0x1010): Run-time configuration and commands from the simulator to the FCC. Sent on demand. A field at 0 keeps the current setting. */
 typedef struct {
-    uint8_t command; /* [0, 2]. 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state. */
+    uint8_t command; /* [0, 5]. 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state, 3 enter FLIGHT, 4 enter GROUND (end of flight), 5 enter MAINTENANCE. Accepted only when authenticated and allowed in the current mode (firmware/app/README.md, Modes). */
     fcc_real_t lqg_period; /* [0, 0.3] s, LSB 0.0001. New LQG sampling period T in seconds (valid 0.02 to 0.3); 0 keeps the current period. The FCC redesigns the LQG for the new T. */
     uint8_t da_bits; /* [0, 16] bit. New D/A word length N in bits (valid 1 to 16); 0 keeps the current word length. */
 } fcc_msg_sim_control_t;
+
+/* SIM_CONTROL_AUTH (0x011, event, SIM -> FCC): SecOC authenticator of SIM_CONTROL: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_sim_control_auth_t;
 
 /* SIM_TICK (0x020, 20 ms, SIM -> FCC, E2E data ID 0x1020): Lockstep tick: every sensor frame of this step has been sent; the FCC runs one step of the application and answers with FCC_ACK. 50 Hz for the CDRW, 1/T for the missile (default T = 0.05 s). */
 typedef struct {
     uint8_t app; /* [0, 1]. Application to step: 0 CDRW system identification, 1 missile LQG autopilot. */
     uint32_t step; /* [0, 4294967295]. Step index k of that application, from 0; the low 16 bits match the step field of the sensor frames. */
 } fcc_msg_sim_tick_t;
+
+/* SIM_TICK_AUTH (0x021, 20 ms, SIM -> FCC): SecOC authenticator of SIM_TICK: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_sim_tick_auth_t;
 
 /* FCC_ACK (0x028, 20 ms, FCC -> SIM, E2E data ID 0x1028): Lockstep acknowledge: the FCC has finished step k of an application and has sent every output frame of that step before this one (send through one ordered transmit queue). */
 typedef struct {
@@ -151,6 +181,12 @@ typedef struct {
     int16_t da_code; /* [-32768, 32767]. Signed D/A code, clamp(round(u / LSB), -2^(N-1), 2^(N-1)-1), LSB = 0.8 / 2^N rad. */
     uint8_t da_bits; /* [1, 16] bit. D/A word length N in bits used to compute da_code. */
 } fcc_msg_msl_elev_cmd_t;
+
+/* MSL_ELEV_CMD_AUTH (0x031, 50 ms, FCC -> SIM): SecOC authenticator of MSL_ELEV_CMD: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_msl_elev_cmd_auth_t;
 
 /* MSL_RATE_GYRO (0x040, 50 ms, MSL_GYRO -> FCC, E2E data ID 0x1040): Missile rate gyro sample q_g = q + v_g, taken at the sampling instant of step k. */
 typedef struct {
@@ -301,7 +337,8 @@ typedef struct {
     bool e2e_fault; /* [0, 1]. 1 when an E2E ERROR or WRONG_SEQUENCE was seen since the last heartbeat. */
     bool overrun; /* [0, 1]. 1 when a step overran its period since the last heartbeat. */
     bool config_rejected; /* [0, 1]. 1 when the last SIM_CONTROL request was refused (value out of range or redesign failed). */
-    uint8_t overruns; /* [0, 255]. Number of step overruns since start (wraps). */
+    uint8_t overruns; /* [0, 63]. Number of step overruns since start (wraps). */
+    uint8_t op_mode; /* [0, 2]. Operating mode: 0 GROUND (standby), 1 FLIGHT, 2 MAINTENANCE. */
     uint16_t cdrw_steps; /* [0, 65535]. CDRW steps run since start (wraps). */
     uint16_t msl_steps; /* [0, 65535]. Missile steps run since start (wraps). */
     uint16_t worst_step_us; /* [0, 65535] us. Worst step execution time since start, microseconds, saturated at 65535. */
@@ -338,6 +375,26 @@ typedef struct {
     uint16_t tx_retries; /* [0, 65535]. Transmit retries after ENOBUFS or EAGAIN. */
 } fcc_msg_fcc_bus_counts_t;
 
+/* FCC_SEC_COUNTS (0x706, 100 ms, FCC -> SIM): FCC authentication and mode counters since start (wrap). */
+typedef struct {
+    uint16_t mac_failed; /* [0, 65535]. Authenticators received whose MAC matched no pending secured frame (forgeries, frames of another session or key). */
+    uint16_t freshness_failed; /* [0, 65535]. Authenticators whose freshness value was not newer than the last accepted one or beyond the acceptance window (replays). */
+    uint16_t unpaired; /* [0, 65535]. Secured frames dropped without a valid authenticator (evicted or superseded). */
+    uint16_t mode_refused; /* [0, 65535]. Authenticated commands refused in the current mode (for example RESET, SHUTDOWN or a new LQG design in flight, a tick on the ground). */
+} fcc_msg_fcc_sec_counts_t;
+
+/* FCC_SEC_SESSION (0x707, 100 ms, FCC -> SIM): FCC authentication session. */
+typedef struct {
+    uint32_t trip; /* [0, 4294967295]. Trip counter: the high 32 bits of every freshness value of this fcc process, drawn at start (never 0). The simulator uses it for the frames it authenticates. */
+    uint32_t verified; /* [0, 4294967295]. Secured frames received, authenticated and accepted since start. */
+} fcc_msg_fcc_sec_session_t;
+
+/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_fcc_status_auth_t;
+
 /* SIM_EVENT (0x710, event, SIM -> FCC, E2E data ID 0x1710): Fault-injection event from the simulator, sent when a fault starts or ends. Diagnostic only, except oracle_fault which the FCC oracle fault detector reads. */
 typedef struct {
     bool active; /* [0, 1]. 1 when the fault starts, 0 when it ends. */
@@ -363,9 +420,12 @@ typedef struct {
 /* Any message, physical values. */
 typedef union {
     fcc_msg_sim_control_t sim_control;
+    fcc_msg_sim_control_auth_t sim_control_auth;
     fcc_msg_sim_tick_t sim_tick;
+    fcc_msg_sim_tick_auth_t sim_tick_auth;
     fcc_msg_fcc_ack_t fcc_ack;
     fcc_msg_msl_elev_cmd_t msl_elev_cmd;
+    fcc_msg_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     fcc_msg_msl_rate_gyro_t msl_rate_gyro;
     fcc_msg_msl_accelerometer_t msl_accelerometer;
     fcc_msg_cdrw_aoa_t cdrw_aoa;
@@ -389,6 +449,9 @@ typedef union {
     fcc_msg_fcc_e2_e_faults_t fcc_e2_e_faults;
     fcc_msg_fcc_reject_counts_t fcc_reject_counts;
     fcc_msg_fcc_bus_counts_t fcc_bus_counts;
+    fcc_msg_fcc_sec_counts_t fcc_sec_counts;
+    fcc_msg_fcc_sec_session_t fcc_sec_session;
+    fcc_msg_fcc_status_auth_t fcc_status_auth;
     fcc_msg_sim_event_t sim_event;
     fcc_msg_rig_ping_t rig_ping;
     fcc_msg_rig_pong_t rig_pong;
@@ -397,9 +460,12 @@ typedef union {
 /* Any message, cantools raw struct (frame-layer scratch). */
 typedef union {
     struct fcc_hil_sim_control_t sim_control;
+    struct fcc_hil_sim_control_auth_t sim_control_auth;
     struct fcc_hil_sim_tick_t sim_tick;
+    struct fcc_hil_sim_tick_auth_t sim_tick_auth;
     struct fcc_hil_fcc_ack_t fcc_ack;
     struct fcc_hil_msl_elev_cmd_t msl_elev_cmd;
+    struct fcc_hil_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     struct fcc_hil_msl_rate_gyro_t msl_rate_gyro;
     struct fcc_hil_msl_accelerometer_t msl_accelerometer;
     struct fcc_hil_cdrw_aoa_t cdrw_aoa;
@@ -423,11 +489,26 @@ typedef union {
     struct fcc_hil_fcc_e2_e_faults_t fcc_e2_e_faults;
     struct fcc_hil_fcc_reject_counts_t fcc_reject_counts;
     struct fcc_hil_fcc_bus_counts_t fcc_bus_counts;
+    struct fcc_hil_fcc_sec_counts_t fcc_sec_counts;
+    struct fcc_hil_fcc_sec_session_t fcc_sec_session;
+    struct fcc_hil_fcc_status_auth_t fcc_status_auth;
     struct fcc_hil_sim_event_t sim_event;
     struct fcc_hil_rig_ping_t rig_ping;
     struct fcc_hil_rig_pong_t rig_pong;
 } fcc_bus_raw_t;
 
 extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
+
+/* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
+ * SecOC_Pdus); firmware/bus/fcc_secoc.h. */
+#define FCC_SECOC_N_AUTH 4u
+#define FCC_SECOC_MAX_PDUS 7u
+typedef struct {
+    fcc_msg_t auth;       /* the authenticator frame */
+    uint16_t data_id;     /* SecOC data ID in the MAC input */
+    uint8_t n_pdus;       /* frames authenticated, concatenated in this order */
+    fcc_msg_t pdus[FCC_SECOC_MAX_PDUS];
+} fcc_secoc_desc_t;
+extern const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH];
 
 #endif /* FCC_BUS_MSGS_H */

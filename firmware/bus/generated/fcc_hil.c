@@ -57,6 +57,14 @@ static inline uint8_t pack_left_shift_u32(
     return (uint8_t)((uint8_t)(value << shift) & mask);
 }
 
+static inline uint8_t pack_left_shift_u64(
+    uint64_t value,
+    uint8_t shift,
+    uint8_t mask)
+{
+    return (uint8_t)((uint8_t)(value << shift) & mask);
+}
+
 static inline uint8_t pack_right_shift_u16(
     uint16_t value,
     uint8_t shift,
@@ -67,6 +75,14 @@ static inline uint8_t pack_right_shift_u16(
 
 static inline uint8_t pack_right_shift_u32(
     uint32_t value,
+    uint8_t shift,
+    uint8_t mask)
+{
+    return (uint8_t)((uint8_t)(value >> shift) & mask);
+}
+
+static inline uint8_t pack_right_shift_u64(
+    uint64_t value,
     uint8_t shift,
     uint8_t mask)
 {
@@ -87,6 +103,14 @@ static inline uint32_t unpack_left_shift_u32(
     uint8_t mask)
 {
     return (uint32_t)((uint32_t)(value & mask) << shift);
+}
+
+static inline uint64_t unpack_left_shift_u64(
+    uint8_t value,
+    uint8_t shift,
+    uint8_t mask)
+{
+    return (uint64_t)((uint64_t)(value & mask) << shift);
 }
 
 static inline uint8_t unpack_right_shift_u8(
@@ -111,6 +135,14 @@ static inline uint32_t unpack_right_shift_u32(
     uint8_t mask)
 {
     return (uint32_t)((uint32_t)(value & mask) >> shift);
+}
+
+static inline uint64_t unpack_right_shift_u64(
+    uint8_t value,
+    uint8_t shift,
+    uint8_t mask)
+{
+    return (uint64_t)((uint64_t)(value & mask) >> shift);
 }
 
 int fcc_hil_sim_control_pack(
@@ -186,12 +218,12 @@ bool fcc_hil_sim_control_counter_is_in_phys_range(double value)
 
 bool fcc_hil_sim_control_command_is_in_range(uint8_t value)
 {
-    return (value <= 2u);
+    return (value <= 5u);
 }
 
 bool fcc_hil_sim_control_command_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 2.0));
+    return ((value >= 0.0) && (value <= 5.0));
 }
 
 bool fcc_hil_sim_control_lqg_period_is_in_range(uint16_t value)
@@ -212,6 +244,81 @@ bool fcc_hil_sim_control_da_bits_is_in_range(uint8_t value)
 bool fcc_hil_sim_control_da_bits_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 16.0));
+}
+
+int fcc_hil_sim_control_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sim_control_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_sim_control_auth_unpack(
+    struct fcc_hil_sim_control_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_sim_control_auth_init(struct fcc_hil_sim_control_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_sim_control_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_sim_control_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_sim_control_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_sim_control_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_sim_control_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_sim_tick_pack(
@@ -307,6 +414,81 @@ bool fcc_hil_sim_tick_step_is_in_range(uint32_t value)
 bool fcc_hil_sim_tick_step_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 4294967295.0));
+}
+
+int fcc_hil_sim_tick_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sim_tick_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_sim_tick_auth_unpack(
+    struct fcc_hil_sim_tick_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_sim_tick_auth_init(struct fcc_hil_sim_tick_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_sim_tick_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_sim_tick_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_sim_tick_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_sim_tick_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_sim_tick_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_fcc_ack_pack(
@@ -567,6 +749,81 @@ bool fcc_hil_msl_elev_cmd_da_bits_is_in_range(uint8_t value)
 bool fcc_hil_msl_elev_cmd_da_bits_is_in_phys_range(double value)
 {
     return ((value >= 1.0) && (value <= 16.0));
+}
+
+int fcc_hil_msl_elev_cmd_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_msl_elev_cmd_auth_unpack(
+    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_msl_elev_cmd_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_msl_rate_gyro_pack(
@@ -2695,7 +2952,8 @@ int fcc_hil_fcc_status_pack(
     dst_p[0] |= pack_left_shift_u8(src_p->e2e_fault, 5u, 0x20u);
     dst_p[0] |= pack_left_shift_u8(src_p->overrun, 6u, 0x40u);
     dst_p[0] |= pack_left_shift_u8(src_p->config_rejected, 7u, 0x80u);
-    dst_p[1] |= pack_left_shift_u8(src_p->overruns, 0u, 0xffu);
+    dst_p[1] |= pack_left_shift_u8(src_p->overruns, 0u, 0x3fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->op_mode, 6u, 0xc0u);
     dst_p[2] |= pack_left_shift_u16(src_p->cdrw_steps, 0u, 0xffu);
     dst_p[3] |= pack_right_shift_u16(src_p->cdrw_steps, 8u, 0xffu);
     dst_p[4] |= pack_left_shift_u16(src_p->msl_steps, 0u, 0xffu);
@@ -2722,7 +2980,8 @@ int fcc_hil_fcc_status_unpack(
     dst_p->e2e_fault = unpack_right_shift_u8(src_p[0], 5u, 0x20u);
     dst_p->overrun = unpack_right_shift_u8(src_p[0], 6u, 0x40u);
     dst_p->config_rejected = unpack_right_shift_u8(src_p[0], 7u, 0x80u);
-    dst_p->overruns = unpack_right_shift_u8(src_p[1], 0u, 0xffu);
+    dst_p->overruns = unpack_right_shift_u8(src_p[1], 0u, 0x3fu);
+    dst_p->op_mode = unpack_right_shift_u8(src_p[1], 6u, 0xc0u);
     dst_p->cdrw_steps = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
     dst_p->cdrw_steps |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
     dst_p->msl_steps = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
@@ -2814,14 +3073,22 @@ bool fcc_hil_fcc_status_config_rejected_is_in_phys_range(double value)
 
 bool fcc_hil_fcc_status_overruns_is_in_range(uint8_t value)
 {
-    (void)value;
-
-    return (true);
+    return (value <= 63u);
 }
 
 bool fcc_hil_fcc_status_overruns_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 255.0));
+    return ((value >= 0.0) && (value <= 63.0));
+}
+
+bool fcc_hil_fcc_status_op_mode_is_in_range(uint8_t value)
+{
+    return (value <= 2u);
+}
+
+bool fcc_hil_fcc_status_op_mode_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 2.0));
 }
 
 bool fcc_hil_fcc_status_cdrw_steps_is_in_range(uint16_t value)
@@ -3246,6 +3513,259 @@ bool fcc_hil_fcc_bus_counts_tx_retries_is_in_range(uint16_t value)
 bool fcc_hil_fcc_bus_counts_tx_retries_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 65535.0));
+}
+
+int fcc_hil_fcc_sec_counts_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sec_counts_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->mac_failed, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->mac_failed, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u16(src_p->freshness_failed, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u16(src_p->freshness_failed, 8u, 0xffu);
+    dst_p[4] |= pack_left_shift_u16(src_p->unpaired, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u16(src_p->unpaired, 8u, 0xffu);
+    dst_p[6] |= pack_left_shift_u16(src_p->mode_refused, 0u, 0xffu);
+    dst_p[7] |= pack_right_shift_u16(src_p->mode_refused, 8u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_sec_counts_unpack(
+    struct fcc_hil_fcc_sec_counts_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->mac_failed = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->mac_failed |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->freshness_failed = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
+    dst_p->freshness_failed |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
+    dst_p->unpaired = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
+    dst_p->unpaired |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
+    dst_p->mode_refused = unpack_right_shift_u16(src_p[6], 0u, 0xffu);
+    dst_p->mode_refused |= unpack_left_shift_u16(src_p[7], 8u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_sec_counts_init(struct fcc_hil_fcc_sec_counts_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_sec_counts_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_sec_counts_mac_failed_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_counts_mac_failed_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sec_counts_freshness_failed_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_counts_freshness_failed_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sec_counts_unpaired_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_counts_unpaired_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sec_counts_mode_refused_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_counts_mode_refused_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+int fcc_hil_fcc_sec_session_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sec_session_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u32(src_p->trip, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u32(src_p->trip, 8u, 0xffu);
+    dst_p[2] |= pack_right_shift_u32(src_p->trip, 16u, 0xffu);
+    dst_p[3] |= pack_right_shift_u32(src_p->trip, 24u, 0xffu);
+    dst_p[4] |= pack_left_shift_u32(src_p->verified, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(src_p->verified, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(src_p->verified, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(src_p->verified, 24u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_sec_session_unpack(
+    struct fcc_hil_fcc_sec_session_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->trip = unpack_right_shift_u32(src_p[0], 0u, 0xffu);
+    dst_p->trip |= unpack_left_shift_u32(src_p[1], 8u, 0xffu);
+    dst_p->trip |= unpack_left_shift_u32(src_p[2], 16u, 0xffu);
+    dst_p->trip |= unpack_left_shift_u32(src_p[3], 24u, 0xffu);
+    dst_p->verified = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    dst_p->verified |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    dst_p->verified |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    dst_p->verified |= unpack_left_shift_u32(src_p[7], 24u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_sec_session_init(struct fcc_hil_fcc_sec_session_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_sec_session_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_sec_session_trip_is_in_range(uint32_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_session_trip_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 4294967295.0));
+}
+
+bool fcc_hil_fcc_sec_session_verified_is_in_range(uint32_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sec_session_verified_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 4294967295.0));
+}
+
+int fcc_hil_fcc_status_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_status_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_status_auth_unpack(
+    struct fcc_hil_fcc_status_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_status_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_sim_event_pack(

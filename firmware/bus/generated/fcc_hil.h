@@ -46,9 +46,12 @@ extern "C" {
 
 /* Frame ids. */
 #define FCC_HIL_SIM_CONTROL_FRAME_ID (0x10u)
+#define FCC_HIL_SIM_CONTROL_AUTH_FRAME_ID (0x11u)
 #define FCC_HIL_SIM_TICK_FRAME_ID (0x20u)
+#define FCC_HIL_SIM_TICK_AUTH_FRAME_ID (0x21u)
 #define FCC_HIL_FCC_ACK_FRAME_ID (0x28u)
 #define FCC_HIL_MSL_ELEV_CMD_FRAME_ID (0x30u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_FRAME_ID (0x31u)
 #define FCC_HIL_MSL_RATE_GYRO_FRAME_ID (0x40u)
 #define FCC_HIL_MSL_ACCELEROMETER_FRAME_ID (0x41u)
 #define FCC_HIL_CDRW_AOA_FRAME_ID (0x50u)
@@ -72,15 +75,21 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_FRAME_ID (0x702u)
 #define FCC_HIL_FCC_REJECT_COUNTS_FRAME_ID (0x703u)
 #define FCC_HIL_FCC_BUS_COUNTS_FRAME_ID (0x704u)
+#define FCC_HIL_FCC_SEC_COUNTS_FRAME_ID (0x706u)
+#define FCC_HIL_FCC_SEC_SESSION_FRAME_ID (0x707u)
+#define FCC_HIL_FCC_STATUS_AUTH_FRAME_ID (0x708u)
 #define FCC_HIL_SIM_EVENT_FRAME_ID (0x710u)
 #define FCC_HIL_RIG_PING_FRAME_ID (0x7f0u)
 #define FCC_HIL_RIG_PONG_FRAME_ID (0x7f1u)
 
 /* Frame lengths in bytes. */
 #define FCC_HIL_SIM_CONTROL_LENGTH (8u)
+#define FCC_HIL_SIM_CONTROL_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_TICK_LENGTH (8u)
+#define FCC_HIL_SIM_TICK_AUTH_LENGTH (8u)
 #define FCC_HIL_FCC_ACK_LENGTH (8u)
 #define FCC_HIL_MSL_ELEV_CMD_LENGTH (8u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_LENGTH (8u)
 #define FCC_HIL_MSL_RATE_GYRO_LENGTH (8u)
 #define FCC_HIL_MSL_ACCELEROMETER_LENGTH (8u)
 #define FCC_HIL_CDRW_AOA_LENGTH (8u)
@@ -104,15 +113,21 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_LENGTH (8u)
 #define FCC_HIL_FCC_REJECT_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_BUS_COUNTS_LENGTH (8u)
+#define FCC_HIL_FCC_SEC_COUNTS_LENGTH (8u)
+#define FCC_HIL_FCC_SEC_SESSION_LENGTH (8u)
+#define FCC_HIL_FCC_STATUS_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_EVENT_LENGTH (8u)
 #define FCC_HIL_RIG_PING_LENGTH (8u)
 #define FCC_HIL_RIG_PONG_LENGTH (8u)
 
 /* Extended or standard frame types. */
 #define FCC_HIL_SIM_CONTROL_IS_EXTENDED (0)
+#define FCC_HIL_SIM_CONTROL_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_TICK_IS_EXTENDED (0)
+#define FCC_HIL_SIM_TICK_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_FCC_ACK_IS_EXTENDED (0)
 #define FCC_HIL_MSL_ELEV_CMD_IS_EXTENDED (0)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_MSL_RATE_GYRO_IS_EXTENDED (0)
 #define FCC_HIL_MSL_ACCELEROMETER_IS_EXTENDED (0)
 #define FCC_HIL_CDRW_AOA_IS_EXTENDED (0)
@@ -136,14 +151,19 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_REJECT_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_BUS_COUNTS_IS_EXTENDED (0)
+#define FCC_HIL_FCC_SEC_COUNTS_IS_EXTENDED (0)
+#define FCC_HIL_FCC_SEC_SESSION_IS_EXTENDED (0)
+#define FCC_HIL_FCC_STATUS_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_EVENT_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PING_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PONG_IS_EXTENDED (0)
 
 /* Frame cycle times in milliseconds. */
 #define FCC_HIL_SIM_TICK_CYCLE_TIME_MS (20u)
+#define FCC_HIL_SIM_TICK_AUTH_CYCLE_TIME_MS (20u)
 #define FCC_HIL_FCC_ACK_CYCLE_TIME_MS (20u)
 #define FCC_HIL_MSL_ELEV_CMD_CYCLE_TIME_MS (50u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_CYCLE_TIME_MS (50u)
 #define FCC_HIL_MSL_RATE_GYRO_CYCLE_TIME_MS (50u)
 #define FCC_HIL_MSL_ACCELEROMETER_CYCLE_TIME_MS (50u)
 #define FCC_HIL_CDRW_AOA_CYCLE_TIME_MS (20u)
@@ -167,11 +187,17 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_REJECT_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_BUS_COUNTS_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_SEC_COUNTS_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_SEC_SESSION_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_STATUS_AUTH_CYCLE_TIME_MS (100u)
 
 /* Signal choices. */
 #define FCC_HIL_SIM_CONTROL_COMMAND_NONE_CHOICE (0u)
 #define FCC_HIL_SIM_CONTROL_COMMAND_SHUTDOWN_CHOICE (1u)
 #define FCC_HIL_SIM_CONTROL_COMMAND_RESET_CHOICE (2u)
+#define FCC_HIL_SIM_CONTROL_COMMAND_FLIGHT_CHOICE (3u)
+#define FCC_HIL_SIM_CONTROL_COMMAND_GROUND_CHOICE (4u)
+#define FCC_HIL_SIM_CONTROL_COMMAND_MAINTENANCE_CHOICE (5u)
 
 #define FCC_HIL_SIM_TICK_APP_CDRW_SID_CHOICE (0u)
 #define FCC_HIL_SIM_TICK_APP_MISSILE_LQG_CHOICE (1u)
@@ -181,6 +207,10 @@ extern "C" {
 
 #define FCC_HIL_FCC_STATUS_MODE_LOCKSTEP_CHOICE (0u)
 #define FCC_HIL_FCC_STATUS_MODE_REALTIME_CHOICE (1u)
+
+#define FCC_HIL_FCC_STATUS_OP_MODE_GROUND_CHOICE (0u)
+#define FCC_HIL_FCC_STATUS_OP_MODE_FLIGHT_CHOICE (1u)
+#define FCC_HIL_FCC_STATUS_OP_MODE_MAINTENANCE_CHOICE (2u)
 
 #define FCC_HIL_SIM_EVENT_KIND_NONE_CHOICE (0u)
 #define FCC_HIL_SIM_EVENT_KIND_SPIKE_CHOICE (1u)
@@ -204,9 +234,12 @@ extern "C" {
 
 /* Frame Names. */
 #define FCC_HIL_SIM_CONTROL_NAME "SIM_CONTROL"
+#define FCC_HIL_SIM_CONTROL_AUTH_NAME "SIM_CONTROL_AUTH"
 #define FCC_HIL_SIM_TICK_NAME "SIM_TICK"
+#define FCC_HIL_SIM_TICK_AUTH_NAME "SIM_TICK_AUTH"
 #define FCC_HIL_FCC_ACK_NAME "FCC_ACK"
 #define FCC_HIL_MSL_ELEV_CMD_NAME "MSL_ELEV_CMD"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_NAME "MSL_ELEV_CMD_AUTH"
 #define FCC_HIL_MSL_RATE_GYRO_NAME "MSL_RATE_GYRO"
 #define FCC_HIL_MSL_ACCELEROMETER_NAME "MSL_ACCELEROMETER"
 #define FCC_HIL_CDRW_AOA_NAME "CDRW_AOA"
@@ -230,6 +263,9 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_NAME "FCC_E2E_FAULTS"
 #define FCC_HIL_FCC_REJECT_COUNTS_NAME "FCC_REJECT_COUNTS"
 #define FCC_HIL_FCC_BUS_COUNTS_NAME "FCC_BUS_COUNTS"
+#define FCC_HIL_FCC_SEC_COUNTS_NAME "FCC_SEC_COUNTS"
+#define FCC_HIL_FCC_SEC_SESSION_NAME "FCC_SEC_SESSION"
+#define FCC_HIL_FCC_STATUS_AUTH_NAME "FCC_STATUS_AUTH"
 #define FCC_HIL_SIM_EVENT_NAME "SIM_EVENT"
 #define FCC_HIL_RIG_PING_NAME "RIG_PING"
 #define FCC_HIL_RIG_PONG_NAME "RIG_PONG"
@@ -240,10 +276,14 @@ extern "C" {
 #define FCC_HIL_SIM_CONTROL_COMMAND_NAME "command"
 #define FCC_HIL_SIM_CONTROL_LQG_PERIOD_NAME "lqg_period"
 #define FCC_HIL_SIM_CONTROL_DA_BITS_NAME "da_bits"
+#define FCC_HIL_SIM_CONTROL_AUTH_FV_NAME "fv"
+#define FCC_HIL_SIM_CONTROL_AUTH_MAC_NAME "mac"
 #define FCC_HIL_SIM_TICK_CRC_NAME "crc"
 #define FCC_HIL_SIM_TICK_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_TICK_APP_NAME "app"
 #define FCC_HIL_SIM_TICK_STEP_NAME "step"
+#define FCC_HIL_SIM_TICK_AUTH_FV_NAME "fv"
+#define FCC_HIL_SIM_TICK_AUTH_MAC_NAME "mac"
 #define FCC_HIL_FCC_ACK_CRC_NAME "crc"
 #define FCC_HIL_FCC_ACK_COUNTER_NAME "counter"
 #define FCC_HIL_FCC_ACK_APP_NAME "app"
@@ -257,6 +297,8 @@ extern "C" {
 #define FCC_HIL_MSL_ELEV_CMD_STEP_NAME "step"
 #define FCC_HIL_MSL_ELEV_CMD_DA_CODE_NAME "da_code"
 #define FCC_HIL_MSL_ELEV_CMD_DA_BITS_NAME "da_bits"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_FV_NAME "fv"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_MAC_NAME "mac"
 #define FCC_HIL_MSL_RATE_GYRO_CRC_NAME "crc"
 #define FCC_HIL_MSL_RATE_GYRO_COUNTER_NAME "counter"
 #define FCC_HIL_MSL_RATE_GYRO_STEP_NAME "step"
@@ -343,6 +385,7 @@ extern "C" {
 #define FCC_HIL_FCC_STATUS_OVERRUN_NAME "overrun"
 #define FCC_HIL_FCC_STATUS_CONFIG_REJECTED_NAME "config_rejected"
 #define FCC_HIL_FCC_STATUS_OVERRUNS_NAME "overruns"
+#define FCC_HIL_FCC_STATUS_OP_MODE_NAME "op_mode"
 #define FCC_HIL_FCC_STATUS_CDRW_STEPS_NAME "cdrw_steps"
 #define FCC_HIL_FCC_STATUS_MSL_STEPS_NAME "msl_steps"
 #define FCC_HIL_FCC_STATUS_WORST_STEP_US_NAME "worst_step_us"
@@ -361,6 +404,14 @@ extern "C" {
 #define FCC_HIL_FCC_BUS_COUNTS_RX_OVERFLOWS_NAME "rx_overflows"
 #define FCC_HIL_FCC_BUS_COUNTS_TX_DROPPED_NAME "tx_dropped"
 #define FCC_HIL_FCC_BUS_COUNTS_TX_RETRIES_NAME "tx_retries"
+#define FCC_HIL_FCC_SEC_COUNTS_MAC_FAILED_NAME "mac_failed"
+#define FCC_HIL_FCC_SEC_COUNTS_FRESHNESS_FAILED_NAME "freshness_failed"
+#define FCC_HIL_FCC_SEC_COUNTS_UNPAIRED_NAME "unpaired"
+#define FCC_HIL_FCC_SEC_COUNTS_MODE_REFUSED_NAME "mode_refused"
+#define FCC_HIL_FCC_SEC_SESSION_TRIP_NAME "trip"
+#define FCC_HIL_FCC_SEC_SESSION_VERIFIED_NAME "verified"
+#define FCC_HIL_FCC_STATUS_AUTH_FV_NAME "fv"
+#define FCC_HIL_FCC_STATUS_AUTH_MAC_NAME "mac"
 #define FCC_HIL_SIM_EVENT_CRC_NAME "crc"
 #define FCC_HIL_SIM_EVENT_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_EVENT_ACTIVE_NAME "active"
@@ -401,9 +452,9 @@ struct fcc_hil_sim_control_t {
     uint8_t counter;
 
     /**
-     * 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state.
+     * 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state, 3 enter FLIGHT, 4 enter GROUND (end of flight), 5 enter MAINTENANCE. Accepted only when authenticated and allowed in the current mode (firmware/app/README.md, Modes).
      *
-     * Range: 0..2 (0..2 -)
+     * Range: 0..5 (0..5 -)
      * Scale: 1
      * Offset: 0
      */
@@ -426,6 +477,33 @@ struct fcc_hil_sim_control_t {
      * Offset: 0
      */
     uint8_t da_bits;
+};
+
+/**
+ * Signals in message SIM_CONTROL_AUTH.
+ *
+ * SecOC authenticator of SIM_CONTROL: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_sim_control_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -471,6 +549,33 @@ struct fcc_hil_sim_tick_t {
      * Offset: 0
      */
     uint32_t step;
+};
+
+/**
+ * Signals in message SIM_TICK_AUTH.
+ *
+ * SecOC authenticator of SIM_TICK: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_sim_tick_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -606,6 +711,33 @@ struct fcc_hil_msl_elev_cmd_t {
      * Offset: 0
      */
     uint8_t da_bits;
+};
+
+/**
+ * Signals in message MSL_ELEV_CMD_AUTH.
+ *
+ * SecOC authenticator of MSL_ELEV_CMD: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_msl_elev_cmd_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -1546,11 +1678,20 @@ struct fcc_hil_fcc_status_t {
     /**
      * Number of step overruns since start (wraps).
      *
-     * Range: 0..255 (0..255 -)
+     * Range: 0..63 (0..63 -)
      * Scale: 1
      * Offset: 0
      */
     uint8_t overruns;
+
+    /**
+     * Operating mode: 0 GROUND (standby), 1 FLIGHT, 2 MAINTENANCE.
+     *
+     * Range: 0..2 (0..2 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t op_mode;
 
     /**
      * CDRW steps run since start (wraps).
@@ -1749,6 +1890,105 @@ struct fcc_hil_fcc_bus_counts_t {
      * Offset: 0
      */
     uint16_t tx_retries;
+};
+
+/**
+ * Signals in message FCC_SEC_COUNTS.
+ *
+ * FCC authentication and mode counters since start (wrap).
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_sec_counts_t {
+    /**
+     * Authenticators received whose MAC matched no pending secured frame (forgeries, frames of another session or key).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t mac_failed;
+
+    /**
+     * Authenticators whose freshness value was not newer than the last accepted one or beyond the acceptance window (replays).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t freshness_failed;
+
+    /**
+     * Secured frames dropped without a valid authenticator (evicted or superseded).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t unpaired;
+
+    /**
+     * Authenticated commands refused in the current mode (for example RESET, SHUTDOWN or a new LQG design in flight, a tick on the ground).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t mode_refused;
+};
+
+/**
+ * Signals in message FCC_SEC_SESSION.
+ *
+ * FCC authentication session.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_sec_session_t {
+    /**
+     * Trip counter: the high 32 bits of every freshness value of this fcc process, drawn at start (never 0). The simulator uses it for the frames it authenticates.
+     *
+     * Range: 0..4294967295 (0..4294967295 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t trip;
+
+    /**
+     * Secured frames received, authenticated and accepted since start.
+     *
+     * Range: 0..4294967295 (0..4294967295 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t verified;
+};
+
+/**
+ * Signals in message FCC_STATUS_AUTH.
+ *
+ * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_status_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -2034,6 +2274,87 @@ bool fcc_hil_sim_control_da_bits_is_in_range(uint8_t value);
 bool fcc_hil_sim_control_da_bits_is_in_phys_range(double value);
 
 /**
+ * Pack message SIM_CONTROL_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_sim_control_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sim_control_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message SIM_CONTROL_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_sim_control_auth_unpack(
+    struct fcc_hil_sim_control_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from SIM_CONTROL_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_sim_control_auth_init(struct fcc_hil_sim_control_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_control_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_control_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_control_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_control_auth_mac_is_in_phys_range(double value);
+
+/**
  * Pack message SIM_TICK.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -2157,6 +2478,87 @@ bool fcc_hil_sim_tick_step_is_in_range(uint32_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_sim_tick_step_is_in_phys_range(double value);
+
+/**
+ * Pack message SIM_TICK_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_sim_tick_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sim_tick_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message SIM_TICK_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_sim_tick_auth_unpack(
+    struct fcc_hil_sim_tick_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from SIM_TICK_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_sim_tick_auth_init(struct fcc_hil_sim_tick_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_tick_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_tick_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_tick_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sim_tick_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message FCC_ACK.
@@ -2517,6 +2919,87 @@ bool fcc_hil_msl_elev_cmd_da_bits_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_msl_elev_cmd_da_bits_is_in_phys_range(double value);
+
+/**
+ * Pack message MSL_ELEV_CMD_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_msl_elev_cmd_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message MSL_ELEV_CMD_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_msl_elev_cmd_auth_unpack(
+    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from MSL_ELEV_CMD_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message MSL_RATE_GYRO.
@@ -5120,6 +5603,28 @@ bool fcc_hil_fcc_status_overruns_is_in_phys_range(double value);
  *
  * @return true if in range, false otherwise.
  */
+bool fcc_hil_fcc_status_op_mode_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_op_mode_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
 bool fcc_hil_fcc_status_cdrw_steps_is_in_range(uint16_t value);
 
 /**
@@ -5656,6 +6161,293 @@ bool fcc_hil_fcc_bus_counts_tx_retries_is_in_range(uint16_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_fcc_bus_counts_tx_retries_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_SEC_COUNTS.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_sec_counts_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sec_counts_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_SEC_COUNTS.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_sec_counts_unpack(
+    struct fcc_hil_fcc_sec_counts_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_SEC_COUNTS.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_sec_counts_init(struct fcc_hil_fcc_sec_counts_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_mac_failed_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_mac_failed_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_freshness_failed_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_freshness_failed_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_unpaired_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_unpaired_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_mode_refused_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_counts_mode_refused_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_SEC_SESSION.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_sec_session_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sec_session_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_SEC_SESSION.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_sec_session_unpack(
+    struct fcc_hil_fcc_sec_session_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_SEC_SESSION.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_sec_session_init(struct fcc_hil_fcc_sec_session_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_session_trip_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_session_trip_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_session_verified_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sec_session_verified_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_STATUS_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_status_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_status_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_STATUS_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_status_auth_unpack(
+    struct fcc_hil_fcc_status_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_STATUS_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message SIM_EVENT.

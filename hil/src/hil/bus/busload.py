@@ -87,7 +87,7 @@ def default_rates(message_names: Iterable[str], cycle_ms: dict[str, int], *,
     rates: dict[str, float] = {}
     missile_hz = 1.0 / missile_period_s
     for name in message_names:
-        if name in ("SIM_TICK", "FCC_ACK"):
+        if name in ("SIM_TICK", "SIM_TICK_AUTH", "FCC_ACK"):
             rates[name] = cdrw_hz + missile_hz
         elif not cycle_ms.get(name):
             rates[name] = 0.0

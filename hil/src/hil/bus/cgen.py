@@ -133,6 +133,17 @@ def generate_header(spec: dbc.BusSpec, db_name: str) -> str:
         out.append(f"    {n.raw} {n.snake};")
     out.append("} fcc_bus_raw_t;\n")
     out.append("extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];\n")
+    auths = [m for m in spec.messages if m.is_authenticator]
+    width = max(len(m.secoc_pdus) for m in auths) if auths else 1
+    out.append("/* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,")
+    out.append(" * SecOC_Pdus); firmware/bus/fcc_secoc.h. */")
+    out.append(f"#define FCC_SECOC_N_AUTH {len(auths)}u")
+    out.append(f"#define FCC_SECOC_MAX_PDUS {width}u")
+    out.append("typedef struct {\n    fcc_msg_t auth;       /* the authenticator frame */\n"
+               "    uint16_t data_id;     /* SecOC data ID in the MAC input */\n"
+               "    uint8_t n_pdus;       /* frames authenticated, concatenated in this order */\n"
+               "    fcc_msg_t pdus[FCC_SECOC_MAX_PDUS];\n} fcc_secoc_desc_t;")
+    out.append("extern const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH];\n")
     out.append("#endif /* FCC_BUS_MSGS_H */")
     return "\n".join(out) + "\n"
 
@@ -169,6 +180,13 @@ def generate_source(spec: dbc.BusSpec, db_name: str) -> str:
             f"{_node_mask(spec.nodes, m.receivers)}, "
             f"(uint8_t)(sizeof sig_{n.snake} / sizeof sig_{n.snake}[0]), sig_{n.snake}, "
             f"unpack_{n.snake}, pack_{n.snake}}},")
+    out.append("};\n")
+    out.append("const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {")
+    for m in spec.messages:
+        if m.is_authenticator:
+            pdus = ", ".join(_Names(db_name, spec.by_name(p)).enum for p in m.secoc_pdus)
+            out.append(f"    {{{_Names(db_name, m).enum}, 0x{m.secoc_data_id:04X}u, "
+                       f"{len(m.secoc_pdus)}u, {{{pdus}}}}},")
     out.append("};")
     return "\n".join(out) + "\n"
 

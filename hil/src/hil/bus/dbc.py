@@ -72,6 +72,12 @@ class MessageSpec:
     receivers: tuple[str, ...]
     signals: tuple[SignalSpec, ...]
     message: Message
+    secoc_data_id: int = 0               # authenticator frames: the SecOC data ID of the MAC
+    secoc_pdus: tuple[str, ...] = ()     # authenticator frames: the frames it authenticates
+
+    @property
+    def is_authenticator(self) -> bool:
+        return self.secoc_data_id != 0
 
     @property
     def protected(self) -> bool:
@@ -86,6 +92,11 @@ class MessageSpec:
 def _attr(message: Message, name: str, default: int) -> int:
     attrs = message.dbc.attributes if message.dbc else {}
     return int(attrs[name].value) if name in attrs else default
+
+
+def _str_attr(message: Message, name: str) -> str:
+    attrs = message.dbc.attributes if message.dbc else {}
+    return str(attrs[name].value) if name in attrs else ""
 
 
 def _inv_scale(sig: Signal) -> int:
@@ -120,7 +131,9 @@ def _message_spec(msg: Message) -> MessageSpec:
         cycle_ms=int(msg.cycle_time or 0), data_id=data_id,
         max_delta_counter=_attr(msg, "E2E_MaxDeltaCounter", DEFAULT_MAX_DELTA_COUNTER),
         senders=tuple(msg.senders), receivers=tuple(receivers),
-        signals=tuple(_signal_spec(s) for s in msg.signals), message=msg)
+        signals=tuple(_signal_spec(s) for s in msg.signals), message=msg,
+        secoc_data_id=_attr(msg, "SecOC_DataID", 0),
+        secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()))
 
 
 class BusSpec:
@@ -175,4 +188,8 @@ def _load(path: Path) -> BusSpec:
     for m in messages:
         if m.length != 8 or m.message.is_extended_frame or m.frame_id > 0x7FF:
             raise ValueError(f"{m.name}: only 8-byte frames with 11-bit IDs are supported")
+    names = {m.name for m in messages}
+    for m in messages:
+        if m.is_authenticator and (not m.secoc_pdus or not set(m.secoc_pdus) <= names):
+            raise ValueError(f"{m.name}: SecOC_Pdus must name the frames it authenticates")
     return BusSpec(path, db, messages)

@@ -1,0 +1,126 @@
+/*
+ * fcc_aes.c -- AES-128 encryption after FIPS-197 (see fcc_aes.h).
+ *
+ * Byte-oriented: the state is 16 bytes in column order (byte 4c + r is row r
+ * of column c), as in the standard's input/output mapping.
+ */
+#include "fcc_aes.h"
+
+#include <string.h>
+
+/* FIPS-197 Figure 7: SubBytes, the multiplicative inverse in GF(2^8) followed
+ * by the affine map. */
+static const uint8_t k_sbox[256] = {
+    0x63, 0x7c, 0x77, 0x7b, 0xf2, 0x6b, 0x6f, 0xc5, 0x30, 0x01, 0x67, 0x2b, 0xfe, 0xd7, 0xab, 0x76,
+    0xca, 0x82, 0xc9, 0x7d, 0xfa, 0x59, 0x47, 0xf0, 0xad, 0xd4, 0xa2, 0xaf, 0x9c, 0xa4, 0x72, 0xc0,
+    0xb7, 0xfd, 0x93, 0x26, 0x36, 0x3f, 0xf7, 0xcc, 0x34, 0xa5, 0xe5, 0xf1, 0x71, 0xd8, 0x31, 0x15,
+    0x04, 0xc7, 0x23, 0xc3, 0x18, 0x96, 0x05, 0x9a, 0x07, 0x12, 0x80, 0xe2, 0xeb, 0x27, 0xb2, 0x75,
+    0x09, 0x83, 0x2c, 0x1a, 0x1b, 0x6e, 0x5a, 0xa0, 0x52, 0x3b, 0xd6, 0xb3, 0x29, 0xe3, 0x2f, 0x84,
+    0x53, 0xd1, 0x00, 0xed, 0x20, 0xfc, 0xb1, 0x5b, 0x6a, 0xcb, 0xbe, 0x39, 0x4a, 0x4c, 0x58, 0xcf,
+    0xd0, 0xef, 0xaa, 0xfb, 0x43, 0x4d, 0x33, 0x85, 0x45, 0xf9, 0x02, 0x7f, 0x50, 0x3c, 0x9f, 0xa8,
+    0x51, 0xa3, 0x40, 0x8f, 0x92, 0x9d, 0x38, 0xf5, 0xbc, 0xb6, 0xda, 0x21, 0x10, 0xff, 0xf3, 0xd2,
+    0xcd, 0x0c, 0x13, 0xec, 0x5f, 0x97, 0x44, 0x17, 0xc4, 0xa7, 0x7e, 0x3d, 0x64, 0x5d, 0x19, 0x73,
+    0x60, 0x81, 0x4f, 0xdc, 0x22, 0x2a, 0x90, 0x88, 0x46, 0xee, 0xb8, 0x14, 0xde, 0x5e, 0x0b, 0xdb,
+    0xe0, 0x32, 0x3a, 0x0a, 0x49, 0x06, 0x24, 0x5c, 0xc2, 0xd3, 0xac, 0x62, 0x91, 0x95, 0xe4, 0x79,
+    0xe7, 0xc8, 0x37, 0x6d, 0x8d, 0xd5, 0x4e, 0xa9, 0x6c, 0x56, 0xf4, 0xea, 0x65, 0x7a, 0xae, 0x08,
+    0xba, 0x78, 0x25, 0x2e, 0x1c, 0xa6, 0xb4, 0xc6, 0xe8, 0xdd, 0x74, 0x1f, 0x4b, 0xbd, 0x8b, 0x8a,
+    0x70, 0x3e, 0xb5, 0x66, 0x48, 0x03, 0xf6, 0x0e, 0x61, 0x35, 0x57, 0xb9, 0x86, 0xc1, 0x1d, 0x9e,
+    0xe1, 0xf8, 0x98, 0x11, 0x69, 0xd9, 0x8e, 0x94, 0x9b, 0x1e, 0x87, 0xe9, 0xce, 0x55, 0x28, 0xdf,
+    0x8c, 0xa1, 0x89, 0x0d, 0xbf, 0xe6, 0x42, 0x68, 0x41, 0x99, 0x2d, 0x0f, 0xb0, 0x54, 0xbb, 0x16};
+
+/* Multiplication by x in GF(2^8) mod x^8 + x^4 + x^3 + x + 1, without a
+ * data-dependent branch. */
+static uint8_t xtime(uint8_t b)
+{
+    const uint8_t hi = (uint8_t)(b >> 7);
+    return (uint8_t)((uint8_t)(b << 1) ^ (uint8_t)(0x1Bu * hi));
+}
+
+fcc_status_t fcc_aes128_init(fcc_aes128_t *aes, const uint8_t key[FCC_AES128_KEY])
+{
+    if (aes == NULL || key == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memcpy(aes->rk, key, FCC_AES128_KEY);
+    uint8_t rcon = 0x01u;
+    /* Words w[4..43]; w[i] = w[i-4] ^ (i % 4 == 0 ? SubWord(RotWord(w[i-1])) ^ Rcon : w[i-1]). */
+    for (unsigned int i = 4u; i < 4u * (FCC_AES128_ROUNDS + 1u); ++i) {
+        uint8_t t[4];
+        memcpy(t, &aes->rk[4u * (i - 1u)], 4u);
+        if (i % 4u == 0u) {
+            const uint8_t t0 = t[0];
+            t[0] = (uint8_t)(k_sbox[t[1]] ^ rcon);
+            t[1] = k_sbox[t[2]];
+            t[2] = k_sbox[t[3]];
+            t[3] = k_sbox[t0];
+            rcon = xtime(rcon);
+        }
+        for (unsigned int j = 0u; j < 4u; ++j) {
+            aes->rk[4u * i + j] = (uint8_t)(aes->rk[4u * (i - 4u) + j] ^ t[j]);
+        }
+    }
+    return FCC_OK;
+}
+
+static void add_round_key(uint8_t s[FCC_AES_BLOCK], const uint8_t *rk)
+{
+    for (unsigned int i = 0u; i < FCC_AES_BLOCK; ++i) {
+        s[i] = (uint8_t)(s[i] ^ rk[i]);
+    }
+}
+
+/* SubBytes and ShiftRows together: row r of the result is row r rotated left by r. */
+static void sub_shift(uint8_t s[FCC_AES_BLOCK])
+{
+    uint8_t t[FCC_AES_BLOCK];
+    for (unsigned int c = 0u; c < 4u; ++c) {
+        for (unsigned int r = 0u; r < 4u; ++r) {
+            t[4u * c + r] = k_sbox[s[4u * ((c + r) % 4u) + r]];
+        }
+    }
+    memcpy(s, t, sizeof t);
+}
+
+/* MixColumns: each column times {03}x^3 + {01}x^2 + {01}x + {02}. */
+static void mix_columns(uint8_t s[FCC_AES_BLOCK])
+{
+    for (unsigned int c = 0u; c < 4u; ++c) {
+        uint8_t *col = &s[4u * c];
+        const uint8_t a0 = col[0], a1 = col[1], a2 = col[2], a3 = col[3];
+        const uint8_t all = (uint8_t)(a0 ^ a1 ^ a2 ^ a3);
+        col[0] = (uint8_t)(a0 ^ all ^ xtime((uint8_t)(a0 ^ a1)));
+        col[1] = (uint8_t)(a1 ^ all ^ xtime((uint8_t)(a1 ^ a2)));
+        col[2] = (uint8_t)(a2 ^ all ^ xtime((uint8_t)(a2 ^ a3)));
+        col[3] = (uint8_t)(a3 ^ all ^ xtime((uint8_t)(a3 ^ a0)));
+    }
+}
+
+fcc_status_t fcc_aes128_encrypt(const fcc_aes128_t *aes, const uint8_t in[FCC_AES_BLOCK],
+                                uint8_t out[FCC_AES_BLOCK])
+{
+    if (aes == NULL || in == NULL || out == NULL) {
+        return FCC_ERR_ARG;
+    }
+    uint8_t s[FCC_AES_BLOCK];
+    memcpy(s, in, sizeof s);
+    add_round_key(s, aes->rk);
+    for (unsigned int round = 1u; round < FCC_AES128_ROUNDS; ++round) {
+        sub_shift(s);
+        mix_columns(s);
+        add_round_key(s, &aes->rk[FCC_AES_BLOCK * round]);
+    }
+    sub_shift(s);
+    add_round_key(s, &aes->rk[FCC_AES_BLOCK * FCC_AES128_ROUNDS]);
+    memcpy(out, s, sizeof s);
+    return FCC_OK;
+}
+
+void fcc_aes128_wipe(fcc_aes128_t *aes)
+{
+    if (aes != NULL) {
+        volatile uint8_t *p = aes->rk;
+        for (size_t i = 0u; i < sizeof aes->rk; ++i) {
+            p[i] = 0u;
+        }
+    }
+}

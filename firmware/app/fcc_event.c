@@ -14,6 +14,7 @@ const char *fcc_event_class_str(fcc_event_class_t cls)
         "config rejected",     "reset",              "transmit failed",
         "transmit refused",    "step error",         "overrun",
         "interface down",      "interface up",       "bus errors",
+        "authentication failed", "command refused in this mode", "mode",
     };
     if ((unsigned int)cls >= (unsigned int)FCC_EV_COUNT) {
         return "unknown event";

@@ -36,6 +36,9 @@ typedef enum {
     FCC_EV_IFACE_DOWN,       /* port: the interface stopped working */
     FCC_EV_IFACE_UP,         /* port: the interface works again */
     FCC_EV_BUS_ERROR,        /* port: CAN error frames / receive overflows */
+    FCC_EV_AUTH_FAILED,      /* SecOC: authenticator refused (value = fcc_secoc_verdict_t) */
+    FCC_EV_MODE_REFUSED,     /* authenticated command not allowed in this mode (value = command) */
+    FCC_EV_MODE_CHANGED,     /* operating mode changed (value = new fcc_op_mode_t) */
     FCC_EV_COUNT
 } fcc_event_class_t;
 

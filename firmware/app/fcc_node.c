@@ -98,7 +98,8 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
         port->can.recv == NULL || port->now_us == NULL) {
         return FCC_ERR_ARG;
     }
-    if (cfg->mode != FCC_MODE_LOCKSTEP && cfg->mode != FCC_MODE_REALTIME) {
+    if ((cfg->mode != FCC_MODE_LOCKSTEP && cfg->mode != FCC_MODE_REALTIME) ||
+        cfg->security.trip == 0u) {
         return FCC_ERR_ARG;
     }
     memset(node->app, 0, sizeof node->app);
@@ -110,7 +111,13 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     node->config_rejected = false;
     node->e2e_fault_flag = false;
     node->overrun_flag = false;
-    fcc_status_t st = fcc_bus_init(&node->bus, FCC_BUS_NODE_FCC);
+    node->op_mode = FCC_OP_GROUND;
+    fcc_status_t st = fcc_secoc_init(&node->sec, cfg->security.key, cfg->security.trip);
+    /* The key lives in the SecOC state only (expanded); the copy in cfg is wiped. */
+    memset(node->cfg.security.key, 0, sizeof node->cfg.security.key);
+    if (st == FCC_OK) {
+        st = fcc_bus_init(&node->bus, FCC_BUS_NODE_FCC);
+    }
     if (st == FCC_OK) {
         st = fcc_app_sid_init(&node->sid, &cfg->sid);
     }
@@ -201,6 +208,11 @@ static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
         emit(node, FCC_EV_TICK_IGNORED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
         return;
     }
+    if (node->op_mode != FCC_OP_FLIGHT) {
+        ++node->cnt.mode_refused; /* the applications run in FLIGHT only */
+        emit(node, FCC_EV_MODE_REFUSED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
+        return;
+    }
     if (a->have_last && k == a->last_step) {
         ++a->ticks_repeated;
         emit(node, FCC_EV_TICK_REPEATED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
@@ -225,12 +237,51 @@ static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
     (void)fcc_node_run_step(node, app, k);
 }
 
+/* Is the command (or a new design, `design`) allowed in the current mode?
+ * The table is in README.md ("Modes"). */
+static bool allowed(fcc_op_mode_t mode, uint32_t command, bool design)
+{
+    const bool on_ground = mode != FCC_OP_FLIGHT;
+    if (design && !on_ground) {
+        return false;
+    }
+    switch (command) {
+    case FCC_MSG_SIM_CONTROL_COMMAND_NONE:
+    case FCC_MSG_SIM_CONTROL_COMMAND_GROUND:
+        return true;
+    case FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT:
+        return mode != FCC_OP_MAINTENANCE;
+    case FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE:
+    case FCC_MSG_SIM_CONTROL_COMMAND_RESET:
+    case FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN:
+        return on_ground;
+    default:
+        return false;
+    }
+}
+
+static void set_mode(fcc_node_t *node, fcc_op_mode_t mode)
+{
+    if (node->op_mode != mode) {
+        node->op_mode = mode;
+        ++node->cnt.mode_changes;
+        emit(node, FCC_EV_MODE_CHANGED, FCC_N_APPS, FCC_MSG_SIM_CONTROL_ID, (int32_t)mode);
+    }
+}
+
+/* Applied in this order: reset, design, mode change, shutdown. */
 static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
 {
+    const bool design = c->lqg_period != FCC_R(0.0) || c->da_bits != 0u;
+    if (!allowed(node->op_mode, c->command, design)) {
+        ++node->cnt.mode_refused;
+        emit(node, FCC_EV_MODE_REFUSED, FCC_N_APPS, FCC_MSG_SIM_CONTROL_ID, (int32_t)c->command);
+        return;
+    }
     if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_RESET) {
         (void)fcc_node_reset(node);
     }
-    if (c->lqg_period != FCC_R(0.0) || c->da_bits != 0u) {
+    if (design) {
         const fcc_status_t st = fcc_app_msl_request(&node->msl, c->lqg_period, c->da_bits);
         if (st == FCC_OK) {
             ++node->cnt.configs_accepted;
@@ -241,17 +292,20 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
             emit(node, FCC_EV_CONFIG_REJECTED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID, st);
         }
     }
-    if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN) {
+    if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT) {
+        set_mode(node, FCC_OP_FLIGHT);
+    } else if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_GROUND) {
+        set_mode(node, FCC_OP_GROUND);
+    } else if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE) {
+        set_mode(node, FCC_OP_MAINTENANCE);
+    } else if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN) {
         node->shutdown = true;
     }
 }
 
-void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
+/* A frame that passed authentication (or needs none): checks, then dispatch. */
+static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
 {
-    if (node == NULL || frame == NULL) {
-        return;
-    }
-    ++node->cnt.rx_frames;
     fcc_bus_rx_msg_t m;
     if (fcc_bus_receive(&node->bus, frame, &m) != FCC_OK) {
         on_rejected(node, frame, &m);
@@ -280,6 +334,35 @@ void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
     default:
         break; /* RIG_PING: answered by can_echo, not by the flight computer */
     }
+}
+
+void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
+{
+    if (node == NULL || frame == NULL) {
+        return;
+    }
+    ++node->cnt.rx_frames;
+    fcc_msg_t msg;
+    uint32_t a;
+    const bool known = fcc_bus_find(frame->id, &msg) == FCC_OK &&
+                       (node->bus.consumes & MSG_BIT(msg)) != 0u && frame->dlc == 8u;
+    if (known && fcc_secoc_secured_index(msg, &a)) {
+        /* Held until its authenticator comes; E2E and range checks after that. */
+        (void)fcc_secoc_hold(&node->sec, a, frame->data);
+        return;
+    }
+    if (known && fcc_secoc_auth_index(msg, &a)) {
+        fcc_can_frame_t pdu = *frame;
+        const fcc_secoc_verdict_t v = fcc_secoc_verify(&node->sec, a, frame->data, pdu.data);
+        if (v != FCC_SECOC_VERIFIED) {
+            emit(node, FCC_EV_AUTH_FAILED, FCC_N_APPS, frame->id, (int32_t)v);
+            return;
+        }
+        pdu.id = fcc_bus_msg_table[fcc_secoc_table[a].pdus[0]].id;
+        dispatch(node, &pdu);
+        return;
+    }
+    dispatch(node, frame);
 }
 
 fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n)
@@ -377,7 +460,17 @@ static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool
     if (fcc_app_msl_encode(&res, &node->bus, frames, &n) != FCC_OK) {
         emit(node, FCC_EV_TX_REFUSED, FCC_APP_MSL, FCC_MSG_MSL_ELEV_CMD_ID, (int32_t)n);
     }
-    send_frames(node, frames, n, FCC_APP_MSL);
+    for (uint32_t i = 0u; i < n; ++i) {
+        send_frame(node, &frames[i], FCC_APP_MSL);
+        uint32_t a;
+        fcc_msg_t msg;
+        if (fcc_bus_find(frames[i].id, &msg) == FCC_OK && fcc_secoc_secured_index(msg, &a)) {
+            fcc_can_frame_t auth; /* the command's authenticator follows it */
+            if (fcc_secoc_protect(&node->sec, a, frames[i].data, 8u, &auth) == FCC_OK) {
+                send_frame(node, &auth, FCC_APP_MSL);
+            }
+        }
+    }
     if (res.switched) {
         ++node->cnt.configs_applied;
         node->config_rejected = false;
@@ -393,6 +486,9 @@ fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k)
 {
     if (node == NULL || app >= FCC_N_APPS) {
         return FCC_ERR_ARG;
+    }
+    if (node->op_mode != FCC_OP_FLIGHT) {
+        return FCC_ERR_AGAIN; /* GROUND and MAINTENANCE: the applications are idle */
     }
     fcc_node_app_t *a = &node->app[app];
     const bool lockstep = node->cfg.mode == FCC_MODE_LOCKSTEP;
@@ -449,6 +545,7 @@ static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fc
     const uint32_t worst = (c->worst_exec_us > m->worst_exec_us) ? c->worst_exec_us
                                                                  : m->worst_exec_us;
     s->mode = (uint8_t)node->cfg.mode;
+    s->op_mode = (uint8_t)node->op_mode;
     s->cdrw_degraded = c->last_degraded;
     s->msl_degraded = m->last_degraded;
     s->sensor_stale = bc->stale_now > 0u;
@@ -491,14 +588,30 @@ static void fill_counts(const fcc_bus_counters_t *bc, const fcc_can_port_counter
     }
 }
 
+static void fill_security(const fcc_node_t *node, fcc_msg_t msg, fcc_msg_data_t *d)
+{
+    const fcc_secoc_counters_t *s = &node->sec.cnt;
+    if (msg == FCC_MSG_FCC_SEC_COUNTS) {
+        d->fcc_sec_counts.mac_failed = wrap16(s->mac_failed);
+        d->fcc_sec_counts.freshness_failed = wrap16(s->freshness_failed);
+        d->fcc_sec_counts.unpaired = wrap16(s->unpaired);
+        d->fcc_sec_counts.mode_refused = wrap16(node->cnt.mode_refused);
+    } else {
+        d->fcc_sec_session.trip = node->sec.trip;
+        d->fcc_sec_session.verified = s->verified;
+    }
+}
+
 fcc_status_t fcc_node_send_status(fcc_node_t *node)
 {
     if (node == NULL) {
         return FCC_ERR_ARG;
     }
-    static const fcc_msg_t k_msgs[5] = {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS,
-                                        FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS,
-                                        FCC_MSG_FCC_BUS_COUNTS};
+    uint32_t ai;
+    if (!fcc_secoc_auth_index(FCC_MSG_FCC_STATUS_AUTH, &ai)) {
+        return FCC_ERR_ARG;
+    }
+    const fcc_secoc_desc_t *group = &fcc_secoc_table[ai];
     fcc_bus_counters_t bc;
     fcc_can_port_counters_t pc;
     memset(&pc, 0, sizeof pc);
@@ -507,21 +620,29 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
         (void)node->port.can.counters(node->port.can.ctx, &pc);
     }
     fcc_status_t first = FCC_OK;
-    for (unsigned int i = 0u; i < 5u; ++i) {
+    fcc_can_frame_t frames[FCC_SECOC_MAX_PDUS + 1u];
+    uint8_t pdu[FCC_SECOC_PDU_BYTES];
+    memset(frames, 0, sizeof frames);
+    for (unsigned int i = 0u; i < group->n_pdus; ++i) {
+        const fcc_msg_t msg = group->pdus[i];
         fcc_msg_data_t d;
         memset(&d, 0, sizeof d);
-        if (k_msgs[i] == FCC_MSG_FCC_STATUS) {
+        if (msg == FCC_MSG_FCC_STATUS) {
             fill_status(node, &bc, &d);
+        } else if (msg == FCC_MSG_FCC_SEC_COUNTS || msg == FCC_MSG_FCC_SEC_SESSION) {
+            fill_security(node, msg, &d);
         } else {
-            fill_counts(&bc, &pc, k_msgs[i], &d);
+            fill_counts(&bc, &pc, msg, &d);
         }
-        fcc_can_frame_t f;
-        const fcc_status_t st = fcc_bus_encode(&node->bus, k_msgs[i], &d, &f);
-        if (st == FCC_OK) {
-            send_frame(node, &f, FCC_N_APPS);
-        } else if (first == FCC_OK) {
-            first = st;
-        }
+        const fcc_status_t st = fcc_bus_encode(&node->bus, msg, &d, &frames[i]);
+        first = (first == FCC_OK) ? st : first;
+        memcpy(&pdu[8u * i], frames[i].data, 8u);
+    }
+    const fcc_status_t st = fcc_secoc_protect(&node->sec, ai, pdu, 8u * group->n_pdus,
+                                              &frames[group->n_pdus]);
+    first = (first == FCC_OK) ? st : first;
+    if (first == FCC_OK) { /* all or nothing: a partial heartbeat would not verify */
+        send_frames(node, frames, group->n_pdus + 1u, FCC_N_APPS);
     }
     node->e2e_fault_flag = false;
     node->overrun_flag = false;
@@ -552,6 +673,11 @@ void fcc_node_report(fcc_node_t *node, fcc_event_class_t cls, int32_t value)
 bool fcc_node_shutdown_requested(const fcc_node_t *node)
 {
     return node != NULL && node->shutdown;
+}
+
+fcc_op_mode_t fcc_node_op_mode(const fcc_node_t *node)
+{
+    return (node != NULL) ? node->op_mode : FCC_OP_GROUND;
 }
 
 uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app)

@@ -7,6 +7,7 @@
  * same way:
  *
  *     static fcc_node_t node;                        ~100 kB: keep it static
+ *     cfg.security = {key, trip};                    key file, random trip
  *     fcc_node_init(&node, &cfg, &port);             designs the LQG (start-up)
  *     fcc_node_send_status(&node);                   "I am listening"
  *     loop:
@@ -29,6 +30,7 @@
 #include "fcc_app_sid.h"
 #include "fcc_bus.h"
 #include "fcc_port.h"
+#include "fcc_secoc.h"
 #include "fcc_types.h"
 
 /* Application numbers: the values of SIM_TICK.app / FCC_ACK.app. */
@@ -44,8 +46,22 @@ typedef enum {
     FCC_MODE_REALTIME = 1  /* steps on the port's clock (FCC_STATUS.mode 1) */
 } fcc_mode_t;
 
+/* Operating modes (FCC_STATUS.op_mode; firmware/app/README.md, "Modes"). */
+typedef enum {
+    FCC_OP_GROUND = 0,      /* standby: applications idle; reset, design, shutdown allowed */
+    FCC_OP_FLIGHT = 1,      /* applications run; only GROUND is accepted */
+    FCC_OP_MAINTENANCE = 2  /* applications idle; reset, design, shutdown; leave via GROUND */
+} fcc_op_mode_t;
+
+/* Key and session of the SecOC-style authentication (fcc_secoc.h). */
+typedef struct {
+    uint8_t key[FCC_SECOC_KEY_BYTES];
+    uint32_t trip; /* high half of every freshness value: drawn at start, never 0 */
+} fcc_node_security_t;
+
 typedef struct {
     fcc_mode_t mode;
+    fcc_node_security_t security; /* required: fcc_node_init refuses trip 0 */
     bool app_enabled[FCC_N_APPS];
     uint16_t stale_limit;
     fcc_app_sid_config_t sid;
@@ -80,12 +96,16 @@ typedef struct {
     uint32_t configs_rejected; /* requests refused or designs failed */
     uint32_t status_sent;      /* heartbeats */
     uint32_t oracle_events;    /* good SIM_EVENT frames */
+    uint32_t mode_refused;     /* authenticated commands and ticks refused in the current mode */
+    uint32_t mode_changes;
 } fcc_node_counters_t;
 
 typedef struct {
     fcc_node_config_t cfg;
     fcc_port_t port;
     fcc_bus_t bus;
+    fcc_secoc_t sec;
+    fcc_op_mode_t op_mode;
     fcc_app_sid_t sid;
     fcc_app_msl_t msl;
     fcc_node_app_t app[FCC_N_APPS];
@@ -121,7 +141,8 @@ void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame);
 fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n);
 
 /* Run step k of app now and send its outputs (then FCC_ACK in lockstep).
- * Realtime uses it at each deadline; lockstep calls it from the tick. */
+ * Realtime uses it at each deadline; lockstep calls it from the tick.
+ * FCC_ERR_AGAIN (nothing run) outside FLIGHT. */
 fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
 
 /* Idle-time work: one slice of a pending LQG redesign (fcc_app_msl_background).
@@ -129,8 +150,9 @@ fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
  * control steps), FCC_ERR_AGAIN when there was nothing to do. */
 fcc_status_t fcc_node_background(fcc_node_t *node);
 
-/* The five heartbeat frames (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS,
- * FCC_REJECT_COUNTS, FCC_BUS_COUNTS); clears the since-last-heartbeat flags. */
+/* The heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS,
+ * FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, then their authenticator
+ * FCC_STATUS_AUTH); clears the since-last-heartbeat flags. */
 fcc_status_t fcc_node_send_status(fcc_node_t *node);
 
 /* Realtime: `missed` periods of app were skipped because a step started late. */
@@ -140,6 +162,8 @@ void fcc_node_note_overrun(fcc_node_t *node, uint32_t app, uint32_t missed, uint
 void fcc_node_report(fcc_node_t *node, fcc_event_class_t cls, int32_t value);
 
 bool fcc_node_shutdown_requested(const fcc_node_t *node);
+
+fcc_op_mode_t fcc_node_op_mode(const fcc_node_t *node);
 
 /* ---- realtime schedule (fcc_node_rt.c): the same for every main ---------------- */
 

@@ -44,10 +44,18 @@ uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
         const uint32_t a = k_order[i];
         jitter_us[a] = UINT64_MAX;
         const uint64_t now = node->port.now_us(node->port.clock_ctx);
-        if (node->cfg.app_enabled[a] && now >= rt[a].deadline) {
-            jitter_us[a] = release(node, &rt[a], a, now);
-            ++ran;
+        if (!node->cfg.app_enabled[a] || now < rt[a].deadline) {
+            continue;
         }
+        if (node->op_mode != FCC_OP_FLIGHT) {
+            /* On the ground the grid goes on and nothing steps: no overrun, no jitter. */
+            const uint64_t periods = (now - rt[a].deadline) / rt[a].period_us + 1u;
+            rt[a].k += (uint32_t)periods;
+            rt[a].deadline += periods * rt[a].period_us;
+            continue;
+        }
+        jitter_us[a] = release(node, &rt[a], a, now);
+        ++ran;
     }
     return ran;
 }

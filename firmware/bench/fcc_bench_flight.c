@@ -9,8 +9,39 @@
 #include "fcc_mat.h" /* FCC_TRY */
 #include "fcc_node.h"
 
-fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim)
+static const uint8_t k_bench_key[FCC_SECOC_KEY_BYTES] = {0, 1, 2,  3,  4,  5,  6,  7,
+                                                          8, 9, 10, 11, 12, 13, 14, 15};
+
+void fcc_bench_security(fcc_node_config_t *cfg)
 {
+    memcpy(cfg->security.key, k_bench_key, sizeof k_bench_key);
+    cfg->security.trip = FCC_BENCH_TRIP;
+}
+
+/* The authenticator of the secured frame *pdu, into *out. */
+static fcc_status_t authenticate(fcc_secoc_t *sec, const fcc_can_frame_t *pdu, fcc_can_frame_t *out)
+{
+    fcc_msg_t msg;
+    uint32_t a;
+    FCC_TRY(fcc_bus_find(pdu->id, &msg));
+    if (!fcc_secoc_secured_index(msg, &a)) {
+        return FCC_ERR_ARG;
+    }
+    return fcc_secoc_protect(sec, a, pdu->data, 8u, out);
+}
+
+fcc_status_t fcc_bench_flight_frames(fcc_bus_t *sim, fcc_secoc_t *sec, fcc_can_frame_t f[2])
+{
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.sim_control.command = FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT;
+    FCC_TRY(fcc_bus_encode(sim, FCC_MSG_SIM_CONTROL, &d, &f[0]));
+    return authenticate(sec, &f[0], &f[1]);
+}
+
+fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim, fcc_secoc_t *sec)
+{
+    FCC_TRY(fcc_secoc_init(sec, k_bench_key, FCC_BENCH_TRIP));
     uint64_t produces = 0u;
     uint64_t consumes = 0u;
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
@@ -23,7 +54,7 @@ fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim)
     return fcc_bus_init_masks(sim, consumes, produces);
 }
 
-fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, uint32_t k, bool oracle_fault,
+fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, fcc_secoc_t *sec, uint32_t k, bool oracle_fault,
                                    fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n)
 {
     const double t = 0.02 * (double)k;
@@ -58,12 +89,13 @@ fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, uint32_t k, bool oracle_fault
     memset(&d, 0, sizeof d);
     d.sim_tick.app = FCC_APP_CDRW;
     d.sim_tick.step = k;
-    FCC_TRY(fcc_bus_encode(sim, FCC_MSG_SIM_TICK, &d, &f[i++]));
-    *n = i;
+    FCC_TRY(fcc_bus_encode(sim, FCC_MSG_SIM_TICK, &d, &f[i]));
+    FCC_TRY(authenticate(sec, &f[i], &f[i + 1u]));
+    *n = i + 2u;
     return FCC_OK;
 }
 
-fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, uint32_t k,
+fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, fcc_secoc_t *sec, uint32_t k,
                                       fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n)
 {
     fcc_msg_data_t d;
@@ -79,6 +111,7 @@ fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, uint32_t k,
     d.sim_tick.app = FCC_APP_MSL;
     d.sim_tick.step = k;
     FCC_TRY(fcc_bus_encode(sim, FCC_MSG_SIM_TICK, &d, &f[2]));
-    *n = 3u;
+    FCC_TRY(authenticate(sec, &f[2], &f[3]));
+    *n = 4u;
     return FCC_OK;
 }

@@ -13,19 +13,29 @@
 
 #include "fcc_bus.h"
 #include "fcc_can.h"
+#include "fcc_node.h"
+#include "fcc_secoc.h"
 
-#define FCC_BENCH_MAX_FRAMES 5u
+#define FCC_BENCH_MAX_FRAMES 6u
+#define FCC_BENCH_TRIP 0xBE4Cu
 
-/* The simulator's side of the bus: it sends what fcc consumes. */
-fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim);
+/* The node's key (the published test key) and trip. */
+void fcc_bench_security(fcc_node_config_t *cfg);
+
+/* The simulator's side of the bus: it sends what fcc consumes, and authenticates
+ * its commands with the bench key and trip (fresh counters: call with each new node). */
+fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim, fcc_secoc_t *sec);
+
+/* SIM_CONTROL(FLIGHT) and its authenticator, in f[0], f[1]. */
+fcc_status_t fcc_bench_flight_frames(fcc_bus_t *sim, fcc_secoc_t *sec, fcc_can_frame_t f[2]);
 
 /* Step k of the CDRW: alpha, q, delta_e, (with oracle_fault: a SIM_EVENT
- * saying a fault is active), then SIM_TICK(0, k).  *n frames in f. */
-fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, uint32_t k, bool oracle_fault,
+ * saying a fault is active), then SIM_TICK(0, k) and its authenticator.  *n frames in f. */
+fcc_status_t fcc_bench_cdrw_frames(fcc_bus_t *sim, fcc_secoc_t *sec, uint32_t k, bool oracle_fault,
                                    fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n);
 
-/* Step k of the missile: gyro, accelerometer, SIM_TICK(1, k). */
-fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, uint32_t k,
+/* Step k of the missile: gyro, accelerometer, SIM_TICK(1, k) and its authenticator. */
+fcc_status_t fcc_bench_missile_frames(fcc_bus_t *sim, fcc_secoc_t *sec, uint32_t k,
                                       fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n);
 
 #endif /* FCC_BENCH_FLIGHT_H */

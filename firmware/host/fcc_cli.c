@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "fcc_keyfile.h"
 #include "fcc_opt.h"
 #include "fcc_opt_sid.h"
 
@@ -20,6 +21,10 @@ void fcc_cli_usage(FILE *out)
         "The flight computer on a CAN bus: CDRW identification (MLS + KF/ZKF/AZKF, 50 Hz) and\n"
         "the missile LQG autopilot (period T, N-bit D/A). Protocol: firmware/app/README.md.\n"
         "\n"
+        "  --key-file PATH               required: the AES-128 key of the bus authentication,\n"
+        "                                one line of 32 hex digits (dbc/README.md)\n"
+        "  --trip N                      the high half of every freshness value, 1..4294967295,\n"
+        "                                chosen by the launcher (the rig); default: random\n"
         "  --iface NAME                  CAN interface (vcan0)\n"
         "  --mode lockstep|realtime      step on SIM_TICK, or on the clock (lockstep)\n"
         "  --apps LIST                   cdrw,missile | cdrw | missile (cdrw,missile)\n"
@@ -107,6 +112,12 @@ static fcc_opt_result_t apply_run(fcc_cli_t *c, const char *name, const char *va
     fcc_opt_result_t r = FCC_OPT_NOT_MINE;
     if (strcmp(name, "--iface") == 0) {
         r = get_iface(val, &c->iface, err, len);
+    } else if (strcmp(name, "--trip") == 0) {
+        r = fcc_opt_uint(name, val, 1u, 0xFFFFFFFFuL, &u, err, len);
+        c->trip = (r == FCC_OPT_DONE) ? (uint32_t)u : c->trip;
+    } else if (strcmp(name, "--key-file") == 0) {
+        c->key_file = val;
+        r = (val == NULL) ? FCC_OPT_NEED_VALUE : FCC_OPT_DONE;
     } else if (strcmp(name, "--mode") == 0) {
         r = fcc_opt_choice(name, val, modes, 2, &i, err, len);
         c->node.mode = (r == FCC_OPT_DONE) ? mode_of[i] : c->node.mode;
@@ -206,5 +217,12 @@ int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_l
         }
     }
     fcc_opt_sid_end(&p.sid);
-    return check(cli, err, err_len);
+    if (check(cli, err, err_len) != 0) {
+        return -1;
+    }
+    if (cli->key_file == NULL) {
+        return fcc_opt_fail(err, err_len, "--key-file PATH is required: the AES-128 key that "
+                            "authenticates commands on the bus (tests: tests/keys/secoc_test.key)");
+    }
+    return fcc_keyfile_read(cli->key_file, cli->node.security.key, err, err_len);
 }

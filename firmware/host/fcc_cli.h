@@ -23,6 +23,8 @@ typedef struct {
     double duration_s;        /* --duration: 0 = until a signal or a shutdown frame */
     double status_rate_hz;    /* --status-rate (10); 0 = only at start and exit */
     int rt_priority;          /* --rt-priority: SCHED_FIFO priority, 0 = normal scheduling */
+    const char *key_file;     /* --key-file (required): read into node.security.key */
+    uint32_t trip;            /* --trip: the session's trip from the launcher; 0 = draw one */
 } fcc_cli_t;
 
 /* 0: parsed and checked; 1: --help was asked (usage printed to out);

@@ -25,6 +25,7 @@
 #include "fcc_cli.h"
 #include "fcc_hist.h"
 #include "fcc_hostport.h"
+#include "fcc_keyfile.h"
 #include "fcc_node.h"
 #include "fcc_report.h"
 
@@ -273,6 +274,13 @@ static void print_summary(const host_t *h)
             (unsigned long)n->cnt.resets, (unsigned long)n->cnt.configs_accepted,
             (unsigned long)n->cnt.configs_applied, (unsigned long)n->cnt.configs_rejected,
             (unsigned long)n->cnt.status_sent, (unsigned long)n->cnt.oracle_events);
+    static const char *const k_modes[] = {"ground", "flight", "maintenance"};
+    fprintf(stderr, "fcc summary: security mode=%s verified=%lu mac_failed=%lu "
+            "freshness_failed=%lu unpaired=%lu mode_refused=%lu mode_changes=%lu\n",
+            k_modes[(unsigned int)fcc_node_op_mode(n) % 3u], (unsigned long)n->sec.cnt.verified,
+            (unsigned long)n->sec.cnt.mac_failed, (unsigned long)n->sec.cnt.freshness_failed,
+            (unsigned long)n->sec.cnt.unpaired, (unsigned long)n->cnt.mode_refused,
+            (unsigned long)n->cnt.mode_changes);
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
         print_hist("exec_us", k_app_names[a], &h->exec[a]);
     }
@@ -323,12 +331,23 @@ static int start(host_t *h)
      * singular, a design that fails for these variances) is a command-line
      * error, whatever the bus. */
     const fcc_port_t port = fcc_hostport_port(&h->hp);
+    h->cli.node.security.trip = (h->cli.trip != 0u) ? h->cli.trip : fcc_keyfile_random_trip();
+    if (h->cli.node.security.trip == 0u) {
+        fprintf(stderr, "fcc: no random trip counter: getrandom failed: %s\n", strerror(errno));
+        return 1;
+    }
+    const bool test_key = fcc_keyfile_is_test_key(h->cli.node.security.key);
     const fcc_status_t st = fcc_node_init(&h->node, &h->cli.node, &port);
+    memset(h->cli.node.security.key, 0, sizeof h->cli.node.security.key);
     if (st != FCC_OK) {
         fprintf(stderr, "fcc: configuration refused by the firmware: %s (identification "
                 "generators --p0/--e/--f, or no LQG design for T = %g s with these variances)\n",
                 fcc_status_str(st), (double)h->cli.node.msl.period);
         return 2;
+    }
+    if (test_key) {
+        fprintf(stderr, "fcc: WARNING: --key-file holds the published test key: the bus is not "
+                "protected (tests only)\n");
     }
     if (fcc_hostport_open(&h->hp) != FCC_OK) {
         fprintf(stderr, "fcc: cannot open CAN interface '%s': it does not exist, is down, or "

@@ -70,6 +70,18 @@ static void detail(const fcc_event_t *ev, char *buf, size_t len)
     case FCC_EV_BUS_ERROR:
         (void)snprintf(buf, len, "%ld new", (long)ev->value);
         break;
+    case FCC_EV_AUTH_FAILED:
+        (void)snprintf(buf, len, "%s", (ev->value == 1) ? "freshness (replay or beyond the window)"
+                                       : (ev->value == 2) ? "MAC matches no held frame"
+                                                          : "no frame to authenticate");
+        break;
+    case FCC_EV_MODE_REFUSED:
+        (void)snprintf(buf, len, "command %ld refused", (long)ev->value);
+        break;
+    case FCC_EV_MODE_CHANGED:
+        (void)snprintf(buf, len, "now %s", (ev->value == 1) ? "FLIGHT"
+                                          : (ev->value == 2) ? "MAINTENANCE" : "GROUND");
+        break;
     case FCC_EV_IFACE_DOWN:
         (void)snprintf(buf, len, "socket closed, probing every 0.5 s; the applications run on "
                        "prediction");

@@ -29,6 +29,7 @@
 
 static fcc_node_t g_node;
 static fcc_bus_t g_sim;
+static fcc_secoc_t g_sec; /* the simulator's authenticators */
 static fcc_can_frame_t g_frames[MAX_STEPS][FCC_BENCH_MAX_FRAMES];
 static uint32_t g_nframes[MAX_STEPS];
 static uint32_t g_sent;
@@ -67,14 +68,38 @@ void fcc_bench_measured_step(fcc_node_t *node, const fcc_can_frame_t *frames, ui
     }
 }
 
+/* The measured region of `fcc_step_bench mac N`: one authenticator computed. */
+void fcc_bench_measured_mac(fcc_secoc_t *sec, const fcc_can_frame_t *pdu, fcc_can_frame_t *out)
+    __attribute__((noinline));
+void fcc_bench_measured_mac(fcc_secoc_t *sec, const fcc_can_frame_t *pdu, fcc_can_frame_t *out)
+{
+    uint32_t a = 0u;
+    (void)fcc_secoc_secured_index(FCC_MSG_SIM_TICK, &a);
+    (void)fcc_secoc_protect(sec, a, pdu->data, 8u, out);
+}
+
 int main(int argc, char **argv)
 {
     const bool cdrw = argc == 3 && strcmp(argv[1], "cdrw") == 0;
     const bool missile = argc == 3 && strcmp(argv[1], "missile") == 0;
+    const bool mac = argc == 3 && strcmp(argv[1], "mac") == 0;
     const long steps = (argc == 3) ? strtol(argv[2], NULL, 10) : 0;
-    if ((!cdrw && !missile) || steps <= 0 || steps > (long)MAX_STEPS) {
-        fprintf(stderr, "usage: fcc_step_bench cdrw|missile STEPS (1..%u)\n", MAX_STEPS);
+    if ((!cdrw && !missile && !mac) || steps <= 0 || steps > (long)MAX_STEPS) {
+        fprintf(stderr, "usage: fcc_step_bench cdrw|missile|mac STEPS (1..%u)\n", MAX_STEPS);
         return 2;
+    }
+    fcc_status_t st = fcc_bench_sim_init(&g_sim, &g_sec);
+    if (mac && st == FCC_OK) { /* STEPS authenticators of a SIM_TICK frame */
+        fcc_can_frame_t pdu, auth;
+        memset(&pdu, 0, sizeof pdu);
+        pdu.id = FCC_MSG_SIM_TICK_ID;
+        pdu.dlc = 8u;
+        for (long i = 0; i < steps; ++i) {
+            pdu.data[2] = (uint8_t)i;
+            fcc_bench_measured_mac(&g_sec, &pdu, &auth);
+        }
+        printf("app=mac frames=%ld\n", steps);
+        return 0;
     }
     fcc_node_config_t cfg;
     fcc_port_t port;
@@ -82,14 +107,21 @@ int main(int argc, char **argv)
     port.can.send = mem_send;
     port.can.recv = mem_recv;
     port.now_us = mono_us;
-    if (fcc_node_config_default(&cfg) != FCC_OK || fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
+    if (fcc_node_config_default(&cfg) != FCC_OK) {
+        return 1;
+    }
+    fcc_bench_security(&cfg);
+    if (st != FCC_OK || fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
         fprintf(stderr, "fcc_step_bench: node start-up failed\n");
         return 1;
     }
-    fcc_status_t st = fcc_bench_sim_init(&g_sim);
+    fcc_can_frame_t flight[2]; /* into FLIGHT: an authenticated SIM_CONTROL */
+    st = fcc_bench_flight_frames(&g_sim, &g_sec, flight);
+    fcc_node_handle_frame(&g_node, &flight[0]);
+    fcc_node_handle_frame(&g_node, &flight[1]);
     for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
-        st = cdrw ? fcc_bench_cdrw_frames(&g_sim, k, false, g_frames[k], &g_nframes[k])
-                  : fcc_bench_missile_frames(&g_sim, k, g_frames[k], &g_nframes[k]);
+        st = cdrw ? fcc_bench_cdrw_frames(&g_sim, &g_sec, k, false, g_frames[k], &g_nframes[k])
+                  : fcc_bench_missile_frames(&g_sim, &g_sec, k, g_frames[k], &g_nframes[k]);
     }
     if (st != FCC_OK) {
         fprintf(stderr, "fcc_step_bench: cannot encode the flight's frames: %s\n", fcc_status_str(st));

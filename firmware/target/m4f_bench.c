@@ -29,6 +29,7 @@
 
 static fcc_node_t g_node;
 static fcc_bus_t g_sim;
+static fcc_secoc_t g_sec; /* the simulator's authenticators */
 static uint32_t g_sent;
 
 static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
@@ -110,10 +111,18 @@ static void start_node(fcc_fdet_mode_t detector)
         fail("default configuration");
     }
     cfg.sid.base.azkf.det.mode = detector;
+    fcc_bench_security(&cfg);
     const uint64_t t0 = mps2_ticks();
     if (fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
         fail("node start-up");
     }
+    fcc_can_frame_t flight[2]; /* fresh simulator counters, then FLIGHT */
+    if (fcc_bench_sim_init(&g_sim, &g_sec) != FCC_OK ||
+        fcc_bench_flight_frames(&g_sim, &g_sec, flight) != FCC_OK) {
+        fail("simulator bus");
+    }
+    fcc_node_handle_frame(&g_node, &flight[0]);
+    fcc_node_handle_frame(&g_node, &flight[1]);
     static bool reported;
     if (!reported) {
         reported = true;
@@ -142,7 +151,7 @@ static void bench_cdrw(bool fault_held, uint32_t first, uint32_t last, const cha
     for (uint32_t k = 0u; k <= last; ++k) {
         fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES];
         uint32_t n = 0u;
-        if (fcc_bench_cdrw_frames(&g_sim, k, fault_held && k >= 20u, f, &n) != FCC_OK) {
+        if (fcc_bench_cdrw_frames(&g_sim, &g_sec, k, fault_held && k >= 20u, f, &n) != FCC_OK) {
             fail("cdrw frames");
         }
         const uint64_t insns = measured_step(f, n);
@@ -167,7 +176,7 @@ static void bench_missile(uint32_t steps)
     for (uint32_t k = 0u; k < steps; ++k) {
         fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES];
         uint32_t n = 0u;
-        if (fcc_bench_missile_frames(&g_sim, k, f, &n) != FCC_OK) {
+        if (fcc_bench_missile_frames(&g_sim, &g_sec, k, f, &n) != FCC_OK) {
             fail("missile frames");
         }
         stat_add(&s, k, measured_step(f, n));
@@ -222,9 +231,6 @@ static void calibrate(void)
 int main(void)
 {
     mps2_board_init();
-    if (fcc_bench_sim_init(&g_sim) != FCC_OK) {
-        fail("simulator bus");
-    }
     calibrate();
     bench_cdrw(false, 20u, 349u, "cdrw_normal");
     bench_cdrw(true, 40u, 349u, "cdrw_fault");

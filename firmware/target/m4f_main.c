@@ -215,6 +215,14 @@ static void configure(image_t *img)
         mps2_log("fcc: boot configuration record applied\n");
     }
     img->status_period_us = (rate > 0.0f) ? (uint64_t)(1e6f / rate) : 0u;
+    /* Bus authentication (dbc/README.md): this PIL image carries the published test key
+     * (tests/keys/secoc_test.key) and a fixed trip, because the emulated board has neither a
+     * protected key store nor entropy nor persistent flash.  A flight image takes its key
+     * from a provisioned, read-protected sector and its trip from a TRNG or a boot counter. */
+    for (uint32_t i = 0u; i < FCC_SECOC_KEY_BYTES; ++i) {
+        img->cfg.security.key[i] = (uint8_t)i;
+    }
+    img->cfg.security.trip = 0x4D344631u; /* "M4F1" */
 }
 
 static void start(image_t *img)

@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <cmocka.h>
 
 #include "fcc_types.h"
@@ -40,6 +41,21 @@ static inline void fcc_assert_close_at(double actual, double expected, double re
 #define fcc_assert_close(actual, expected, rel, abs_tol)                                         \
     fcc_assert_close_at((double)(actual), (double)(expected), (rel), (abs_tol), #actual,         \
                         __FILE__, __LINE__)
+
+/* Hex digits into bytes, up to max bytes, stopping at the first non-pair ("-": none). */
+static inline size_t fcc_test_hex(const char *s, uint8_t *out, size_t max)
+{
+    size_t n = 0u;
+    if (s[0] == '-' && s[1] == '\0') {
+        return 0u;
+    }
+    while (s[0] != '\0' && s[1] != '\0' && s[0] != ' ' && s[0] != '\n' && n < max) {
+        const char b[3] = {s[0], s[1], '\0'};
+        out[n++] = (uint8_t)strtoul(b, NULL, 16);
+        s += 2;
+    }
+    return n;
+}
 
 #define fcc_assert_ok(expr) assert_int_equal((expr), FCC_OK)
 

@@ -15,13 +15,24 @@ static fcc_node_t g_node;
 static mem_port_t g_mem;
 static fcc_sid_t g_ref_sid[3];
 
+static void run(void);
+
+/* A node with the test key, in FLIGHT (an authenticated SIM_CONTROL FLIGHT). */
 static void start(const fcc_node_config_t *cfg)
 {
     fcc_port_t port;
     mem_init(&g_mem, &port);
-    fcc_node_config_t def;
-    fcc_assert_ok(fcc_node_config_default(&def));
-    fcc_assert_ok(fcc_node_init(&g_node, cfg != NULL ? cfg : &def, &port));
+    fcc_node_config_t c;
+    if (cfg != NULL) {
+        c = *cfg;
+    } else {
+        fcc_assert_ok(fcc_node_config_default(&c));
+    }
+    mem_secure(&c);
+    fcc_assert_ok(fcc_node_init(&g_node, &c, &port));
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
+    run();
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
 }
 
 static void run(void)
@@ -171,6 +182,14 @@ static void ref_design(double period, uint8_t bits, fcc_lqg_ctrl_t *ctrl, const 
     fcc_assert_ok(fcc_lqg_ctrl_init(ctrl, &d, bits, x0));
 }
 
+/* A new design between flights: GROUND, the request, FLIGHT again. */
+static void on_ground(double period, uint8_t bits)
+{
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_NONE, period, bits);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
+}
+
 /* One missile step through the node; returns the index of its command frame. */
 static long msl_step(uint32_t k, bool gyro, bool accel)
 {
@@ -183,10 +202,11 @@ static long msl_step(uint32_t k, bool gyro, bool accel)
     }
     mem_push_tick(&g_mem, FCC_APP_MSL, k);
     run();
-    assert_int_equal(g_mem.tx_n - first, 3u);
+    assert_int_equal(g_mem.tx_n - first, 4u);
     assert_int_equal(g_mem.tx[first].id, FCC_MSG_MSL_ELEV_CMD_ID);
-    assert_int_equal(g_mem.tx[first + 1u].id, FCC_MSG_MSL_STATE_EST_ID);
-    assert_int_equal(g_mem.tx[first + 2u].id, FCC_MSG_FCC_ACK_ID);
+    assert_int_equal(g_mem.tx[first + 1u].id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
+    assert_int_equal(g_mem.tx[first + 2u].id, FCC_MSG_MSL_STATE_EST_ID);
+    assert_int_equal(g_mem.tx[first + 3u].id, FCC_MSG_FCC_ACK_ID);
     return (long)first;
 }
 
@@ -203,7 +223,7 @@ static void test_missile_commands_match_the_lqg(void **state)
         fcc_lqg_output_t out;
         fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
         const fcc_msg_data_t cmd = mem_decode_tx(&g_mem, i);
-        const fcc_msg_data_t est = mem_decode_tx(&g_mem, i + 1);
+        const fcc_msg_data_t est = mem_decode_tx(&g_mem, i + 2);
         assert_int_equal(cmd.msl_elev_cmd.da_code, out.code);
         assert_int_equal(cmd.msl_elev_cmd.da_bits, 8u);
         assert_int_equal(cmd.msl_elev_cmd.step, k);
@@ -388,7 +408,7 @@ static void test_redesign_is_switched_in_between_steps(void **state)
     fcc_lqg_output_t out;
     for (uint32_t k = 0u; k < 6u; ++k) {
         if (k == 3u) { /* new period before the tick of step 3 */
-            mem_push_control(&g_mem, 0u, 0.1, 0u);
+            on_ground(0.1, 0u);
             fcc_real_t x[3];
             memcpy(x, ref.x_pred, sizeof x);
             ref_design(0.1, 8u, &ref, x); /* the estimate carries over */
@@ -403,13 +423,13 @@ static void test_redesign_is_switched_in_between_steps(void **state)
     assert_int_equal(g_mem.ev_count[FCC_EV_CONFIG_APPLIED], 1u);
     assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 100000u);
     /* bits only: no new discretisation, the next command is 12-bit */
-    mem_push_control(&g_mem, 0u, 0.0, 12u);
+    on_ground(0.0, 12u);
     long i = msl_step(6u, true, true);
     assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 12u);
     fcc_assert_close(fcc_app_msl_period(&g_node.msl), 0.1, 1e-6, 0.0);
     /* refused: T below 0.02 s, N = 1; the design in use stays */
-    mem_push_control(&g_mem, 0u, 0.01, 0u);
-    mem_push_control(&g_mem, 0u, 0.0, 1u);
+    on_ground(0.01, 0u);
+    on_ground(0.0, 1u);
     i = msl_step(7u, true, true);
     assert_int_equal(g_node.cnt.configs_rejected, 2u);
     assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 12u);
@@ -419,7 +439,7 @@ static void test_redesign_is_switched_in_between_steps(void **state)
     assert_true(mem_decode_tx(&g_mem, (long)first).fcc_status.config_rejected);
     /* a design that fails (impossible plant) keeps the old one too */
     g_node.msl.cfg.plant.gyro_var = FCC_R(-1.0);
-    mem_push_control(&g_mem, 0u, 0.2, 0u);
+    on_ground(0.2, 0u);
     i = msl_step(8u, true, true);
     assert_int_equal(g_node.msl.designs_failed, 1u);
     assert_int_equal(g_node.cnt.configs_rejected, 3u);
@@ -432,8 +452,8 @@ static void test_pending_requests_merge(void **state)
     (void)state;
     start(NULL);
     /* two requests before one step: period from the first, bits from the second */
-    mem_push_control(&g_mem, 0u, 0.2, 0u);
-    mem_push_control(&g_mem, 0u, 0.0, 6u);
+    on_ground(0.2, 0u);
+    on_ground(0.0, 6u);
     const long i = msl_step(0u, true, true);
     assert_int_equal(mem_decode_tx(&g_mem, i).msl_elev_cmd.da_bits, 6u);
     assert_int_equal(fcc_node_app_period_us(&g_node, FCC_APP_MSL), 200000u);
@@ -474,8 +494,15 @@ static void test_reset_and_shutdown(void **state)
     }
     (void)first0;
     mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_RESET, 0.0, 0u);
+    run(); /* not in flight */
+    assert_int_equal(g_node.cnt.resets, 0u);
+    assert_int_equal(g_node.cnt.mode_refused, 1u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_RESET, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
     run();
     assert_int_equal(g_node.cnt.resets, 1u);
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
     /* a new flight from step 0; the simulator restarted its alive counters too */
     fcc_assert_ok(fcc_bus_init_masks(&g_mem.sim, g_mem.sim.consumes, g_mem.sim.produces));
     for (uint32_t k = 0u; k < 2u; ++k) {
@@ -496,8 +523,75 @@ static void test_reset_and_shutdown(void **state)
     assert_int_equal(bc.e2e[FCC_E2E_WRONG_SEQUENCE], 0u);
     assert_false(fcc_node_shutdown_requested(&g_node));
     mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN, 0.0, 0u);
+    run(); /* not in flight */
+    assert_false(fcc_node_shutdown_requested(&g_node));
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN, 0.0, 0u);
     run();
     assert_true(fcc_node_shutdown_requested(&g_node));
+}
+
+static void test_modes_and_authentication(void **state)
+{
+    (void)state;
+    start(NULL);
+    /* In flight: design, RESET, SHUTDOWN, MAINTENANCE refused and counted. */
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_NONE, 0.3, 2u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_RESET, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE, 0.0, 0u);
+    run();
+    assert_int_equal(g_node.cnt.mode_refused, 4u);
+    assert_int_equal(g_node.cnt.resets, 0u);
+    assert_int_equal(g_node.cnt.configs_accepted, 0u);
+    assert_false(fcc_node_shutdown_requested(&g_node));
+    assert_int_equal(g_mem.ev_count[FCC_EV_MODE_REFUSED], 4u);
+    /* Unauthenticated (no authenticator, or a forged one): never acted on. */
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    d.sim_control.command = FCC_MSG_SIM_CONTROL_COMMAND_GROUND;
+    fcc_can_frame_t f;
+    fcc_assert_ok(fcc_bus_encode(&g_mem.sim, FCC_MSG_SIM_CONTROL, &d, &f));
+    mem_push_raw(&g_mem, f.id, f.data, 8u);
+    const uint8_t forged[8] = {(uint8_t)(g_mem.sec.chan[0].counter + 1u), 0, 1, 2, 3, 4, 5, 6};
+    mem_push_raw(&g_mem, FCC_MSG_SIM_CONTROL_AUTH_ID, forged, 8u);
+    run();
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
+    assert_int_equal(g_node.sec.cnt.mac_failed, 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_AUTH_FAILED], 1u);
+    /* A replayed genuine pair: freshness fails. */
+    const size_t n0 = g_mem.rx_n;
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    const fcc_can_frame_t pdu = g_mem.rx[n0], auth = g_mem.rx[n0 + 1u];
+    run();
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_GROUND);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
+    run();
+    mem_push_raw(&g_mem, pdu.id, pdu.data, 8u);
+    mem_push_raw(&g_mem, auth.id, auth.data, 8u);
+    run();
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
+    assert_int_equal(g_node.sec.cnt.freshness_failed, 1u);
+    /* Ticks on the ground are refused; maintenance allows a design, not FLIGHT. */
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_NONE, 0.1, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
+    run();
+    assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_MAINTENANCE);
+    assert_int_equal(g_node.cnt.configs_accepted, 1u);
+    const size_t tx0 = g_mem.tx_n;
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
+    run();
+    assert_int_equal(g_mem.tx_n, tx0); /* no ACK */
+    assert_int_equal(g_node.cnt.mode_refused, 6u);
+    const size_t first = g_mem.tx_n;
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first).fcc_status.op_mode, FCC_OP_MAINTENANCE);
+    const fcc_msg_data_t sc = mem_decode_tx(&g_mem, (long)first + 5);
+    assert_int_equal(sc.fcc_sec_counts.mode_refused, 6u);
+    assert_int_equal(sc.fcc_sec_counts.mac_failed, 1u);
+    assert_int_equal(sc.fcc_sec_counts.freshness_failed, 1u);
 }
 
 static void test_oracle_fault_flag(void **state)
@@ -557,10 +651,12 @@ static void test_heartbeat_frames(void **state)
     (void)msl_step(0u, true, false); /* no accelerometer: held? never seen -> stale */
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_int_equal(g_mem.tx_n - first, 5u);
-    for (unsigned int i = 0u; i < 5u; ++i) {
-        assert_int_equal(g_mem.tx[first + i].id, 0x700u + i);
+    assert_int_equal(g_mem.tx_n - first, 8u);
+    static const uint32_t ids[8] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u, 0x706u, 0x707u, 0x708u};
+    for (unsigned int i = 0u; i < 8u; ++i) {
+        assert_int_equal(g_mem.tx[first + i].id, ids[i]);
     }
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 6).fcc_sec_session.trip, MEM_TRIP);
     const fcc_msg_data_t s = mem_decode_tx(&g_mem, (long)first);
     assert_int_equal(s.fcc_status.mode, FCC_MODE_LOCKSTEP);
     assert_int_equal(s.fcc_status.cdrw_steps, 3u);
@@ -573,15 +669,15 @@ static void test_heartbeat_frames(void **state)
     const fcc_msg_data_t c = mem_decode_tx(&g_mem, (long)first + 1);
     const fcc_msg_data_t f = mem_decode_tx(&g_mem, (long)first + 2);
     const fcc_msg_data_t b = mem_decode_tx(&g_mem, (long)first + 4);
-    /* 9 CDRW sensor frames (1 bad) + 3 ticks + 1 gyro + 1 tick = 13 OK */
-    assert_int_equal(c.fcc_e2_e_counts.ok, 13u);
+    /* FLIGHT + 9 CDRW sensor frames (1 bad) + 3 ticks + 1 gyro + 1 tick = 14 OK */
+    assert_int_equal(c.fcc_e2_e_counts.ok, 14u);
     assert_int_equal(f.fcc_e2_e_faults.error, 1u);
     assert_int_equal(f.fcc_e2_e_faults.no_new_data, 1u);
     assert_int_equal(f.fcc_e2_e_faults.stale_now, 1u);
     assert_int_equal(b.fcc_bus_counts.bus_errors, 7u);
     /* the since-last-heartbeat flag is cleared */
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_false(mem_decode_tx(&g_mem, (long)first + 5).fcc_status.e2e_fault);
+    assert_false(mem_decode_tx(&g_mem, (long)first + 8).fcc_status.e2e_fault);
 }
 
 static void test_realtime_mode_and_disabled_app(void **state)
@@ -602,14 +698,14 @@ static void test_realtime_mode_and_disabled_app(void **state)
     mem_push_accel(&g_mem, 17u, 10.0);
     run();
     fcc_assert_ok(fcc_node_run_step(&g_node, FCC_APP_MSL, 0u));
-    assert_int_equal(g_mem.tx_n, 2u); /* command and estimate, no ACK */
+    assert_int_equal(g_mem.tx_n, 3u); /* command, its authenticator and estimate, no ACK */
     assert_false(mem_decode_tx(&g_mem, 0).msl_elev_cmd.degraded);
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_int_equal(mem_decode_tx(&g_mem, 2).fcc_status.mode, FCC_MODE_REALTIME);
+    assert_int_equal(mem_decode_tx(&g_mem, 3).fcc_status.mode, FCC_MODE_REALTIME);
     fcc_node_note_overrun(&g_node, FCC_APP_MSL, 2u, 5u);
     assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 2u);
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 7);
+    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 11);
     assert_true(s.fcc_status.overrun);
     assert_int_equal(s.fcc_status.overruns, 2u);
 }
@@ -624,11 +720,11 @@ static void test_transmit_failures_are_counted(void **state)
     mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
     run();
     assert_int_equal(g_node.app[FCC_APP_MSL].steps, 1u);
-    assert_int_equal(g_node.cnt.tx_failed, 3u);
-    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 3u);
+    assert_int_equal(g_node.cnt.tx_failed, 4u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 4u);
     g_mem.fail_send = false;
     (void)msl_step(1u, true, true);
-    assert_int_equal(g_node.cnt.tx_frames, 3u);
+    assert_int_equal(g_node.cnt.tx_frames, 4u);
 }
 
 /* ---- garbage at full rate ----------------------------------------------------------- */
@@ -736,6 +832,7 @@ int main(void)
         cmocka_unit_test(test_reset_and_shutdown),
         cmocka_unit_test(test_oracle_fault_flag),
         cmocka_unit_test(test_heartbeat_frames),
+        cmocka_unit_test(test_modes_and_authentication),
         cmocka_unit_test(test_realtime_mode_and_disabled_app),
         cmocka_unit_test(test_transmit_failures_are_counted),
         cmocka_unit_test(test_garbage_never_crashes_nor_sends_nan),

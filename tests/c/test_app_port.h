@@ -16,6 +16,8 @@
 #include "fcc_node.h"
 
 #define MEM_RX_MAX 1024u
+#define MEM_TRIP 0x7E57u /* the node's trip in these tests */
+static const uint8_t k_mem_key[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
 #define MEM_TX_MAX 8192u
 
 typedef struct {
@@ -30,6 +32,7 @@ typedef struct {
     uint32_t ev_count[FCC_EV_COUNT];
     fcc_event_t last_ev[FCC_EV_COUNT];
     fcc_bus_t sim;         /* the simulator's frame layer */
+    fcc_secoc_t sec;       /* the simulator's authenticators (test key, MEM_TRIP) */
 } mem_port_t;
 
 static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
@@ -103,6 +106,14 @@ static void mem_init(mem_port_t *p, fcc_port_t *port)
         }
     }
     (void)fcc_bus_init_masks(&p->sim, consumes, produces);
+    (void)fcc_secoc_init(&p->sec, k_mem_key, MEM_TRIP);
+}
+
+/* A node configuration with the test key and trip. */
+static void mem_secure(fcc_node_config_t *cfg)
+{
+    memcpy(cfg->security.key, k_mem_key, sizeof k_mem_key);
+    cfg->security.trip = MEM_TRIP;
 }
 
 /* Queue raw bytes as they are (fault injection). */
@@ -121,8 +132,15 @@ static fcc_status_t mem_push(mem_port_t *p, fcc_msg_t msg, const fcc_msg_data_t 
 {
     fcc_can_frame_t f;
     const fcc_status_t st = fcc_bus_encode(&p->sim, msg, d, &f);
+    uint32_t a;
     if (st == FCC_OK) {
         mem_push_raw(p, f.id, f.data, f.dlc);
+        if (fcc_secoc_secured_index(msg, &a)) { /* its authenticator right after it */
+            fcc_can_frame_t auth;
+            if (fcc_secoc_protect(&p->sec, a, f.data, 8u, &auth) == FCC_OK) {
+                mem_push_raw(p, auth.id, auth.data, auth.dlc);
+            }
+        }
     }
     return st;
 }

@@ -14,24 +14,10 @@
 
 #define VEC_DIR FCC_SOURCE_DIR "/tests/vectors/crypto/"
 
-static size_t hex(const char *s, uint8_t *out, size_t max)
-{
-    size_t n = 0u;
-    if (strcmp(s, "-") == 0) {
-        return 0u;
-    }
-    while (s[0] != '\0' && s[1] != '\0' && s[0] != ' ' && s[0] != '\n' && n < max) {
-        const char b[3] = {s[0], s[1], '\0'};
-        out[n++] = (uint8_t)strtoul(b, NULL, 16);
-        s += 2;
-    }
-    return n;
-}
-
 static void assert_hex(const uint8_t *got, const char *want_hex)
 {
     uint8_t want[64];
-    const size_t n = hex(want_hex, want, sizeof want);
+    const size_t n = fcc_test_hex(want_hex, want, sizeof want);
     assert_memory_equal(got, want, n);
 }
 
@@ -41,16 +27,16 @@ static void test_aes_fips197(void **state)
     uint8_t key[16], pt[16], ct[16];
     fcc_aes128_t aes;
     /* Appendix B: the cipher example. */
-    hex("2b7e151628aed2a6abf7158809cf4f3c", key, 16);
-    hex("3243f6a8885a308d313198a2e0370734", pt, 16);
+    fcc_test_hex("2b7e151628aed2a6abf7158809cf4f3c", key, 16);
+    fcc_test_hex("3243f6a8885a308d313198a2e0370734", pt, 16);
     fcc_assert_ok(fcc_aes128_init(&aes, key));
     /* Appendix A.1: the last round key of the expansion. */
     assert_hex(&aes.rk[160], "d014f9a8c9ee2589e13f0cc8b6630ca6");
     fcc_assert_ok(fcc_aes128_encrypt(&aes, pt, ct));
     assert_hex(ct, "3925841d02dc09fbdc118597196a0b32");
     /* Appendix C.1: AES-128. */
-    hex("000102030405060708090a0b0c0d0e0f", key, 16);
-    hex("00112233445566778899aabbccddeeff", pt, 16);
+    fcc_test_hex("000102030405060708090a0b0c0d0e0f", key, 16);
+    fcc_test_hex("00112233445566778899aabbccddeeff", pt, 16);
     fcc_assert_ok(fcc_aes128_init(&aes, key));
     fcc_assert_ok(fcc_aes128_encrypt(&aes, pt, pt)); /* in place */
     assert_hex(pt, "69c4e0d86a7b0430d8cdb78070b4c55a");
@@ -66,8 +52,8 @@ static void test_cmac_sp800_38b(void **state)
 {
     (void)state;
     uint8_t key[16], msg[64], tag[16];
-    hex("2b7e151628aed2a6abf7158809cf4f3c", key, 16);
-    hex("6bc1bee22e409f96e93d7e117393172aae2d8a571e03ac9c9eb76fac45af8e51"
+    fcc_test_hex("2b7e151628aed2a6abf7158809cf4f3c", key, 16);
+    fcc_test_hex("6bc1bee22e409f96e93d7e117393172aae2d8a571e03ac9c9eb76fac45af8e51"
         "30c81c46a35ce411e5fbc1191a0a52eff69f2445df4f9b17ad2b417be66c3710", msg, 64);
     fcc_cmac_t c;
     fcc_assert_ok(fcc_cmac_init(&c, key));
@@ -108,8 +94,8 @@ static void test_against_cryptography(void **state)
         char k[40], m[256], t[40];
         assert_int_equal(sscanf(line, "%39s %255s %39s", k, m, t), 3);
         uint8_t key[16], msg[128], tag[16];
-        hex(k, key, 16);
-        const size_t len = hex(m, msg, sizeof msg);
+        fcc_test_hex(k, key, 16);
+        const size_t len = fcc_test_hex(m, msg, sizeof msg);
         fcc_cmac_t c;
         fcc_assert_ok(fcc_cmac_init(&c, key));
         fcc_assert_ok(fcc_cmac_compute(&c, msg, len, tag));
@@ -128,8 +114,8 @@ static void test_against_cryptography(void **state)
         char k[40], p[40], e[40];
         assert_int_equal(sscanf(line, "%39s %39s %39s", k, p, e), 3);
         uint8_t key[16], pt[16], ct[16];
-        hex(k, key, 16);
-        hex(p, pt, 16);
+        fcc_test_hex(k, key, 16);
+        fcc_test_hex(p, pt, 16);
         fcc_aes128_t aes;
         fcc_assert_ok(fcc_aes128_init(&aes, key));
         fcc_assert_ok(fcc_aes128_encrypt(&aes, pt, ct));

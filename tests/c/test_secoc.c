@@ -14,17 +14,6 @@
 
 static const uint8_t k_key[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
 
-static size_t hex(const char *s, uint8_t *out, size_t max)
-{
-    size_t n = 0u;
-    while (s[0] != '\0' && s[1] != '\0' && n < max) {
-        const char b[3] = {s[0], s[1], '\0'};
-        out[n++] = (uint8_t)strtoul(b, NULL, 16);
-        s += 2;
-    }
-    return n;
-}
-
 static uint32_t index_of(uint16_t data_id)
 {
     for (uint32_t i = 0u; i < FCC_SECOC_N_AUTH; ++i) {
@@ -51,9 +40,9 @@ static void test_vectors(void **state)
         unsigned int data_id, trip, counter;
         assert_int_equal(sscanf(line, "%39s %x %159s %x %x %39s", k, &data_id, p, &trip, &counter, a), 6);
         uint8_t key[16], pdu[64], want[8];
-        hex(k, key, 16);
-        const size_t len = hex(p, pdu, sizeof pdu);
-        hex(a, want, 8);
+        fcc_test_hex(k, key, 16);
+        const size_t len = fcc_test_hex(p, pdu, sizeof pdu);
+        fcc_test_hex(a, want, 8);
         static fcc_secoc_t sec;
         fcc_assert_ok(fcc_secoc_init(&sec, key, trip));
         const uint32_t i = index_of((uint16_t)data_id);

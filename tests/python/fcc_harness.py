@@ -14,10 +14,12 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from hil.bus import SIM_NODES, Decoded
+from hil.bus import SIM_NODES, Decoded, load
 from hil.bus.node import BusNode
+from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
 
-STATUS_IDS = frozenset(range(0x700, 0x705))
+STATUS_IDS = frozenset((*range(0x700, 0x705), 0x706, 0x707))
+COMMAND_SHUTDOWN, COMMAND_RESET, COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_MAINTENANCE = 1, 2, 3, 4, 5
 CDRW, MISSILE = 0, 1
 _SUMMARY = re.compile(r"^fcc summary: (\S+)(?: (\S+))? (.*)$")
 
@@ -50,8 +52,12 @@ class Fcc:
         self.stderr_path = self.workdir / "fcc.stderr"
 
     def start(self) -> Fcc:
+        """Started with the published test key unless args name a --key-file."""
+        args = list(self.args)
+        if "--key-file" not in args:
+            args = ["--key-file", str(TEST_KEY_FILE), *args]
         self._err = open(self.stderr_path, "wb")  # noqa: SIM115 -- closed in stop()
-        self.proc = subprocess.Popen([str(self.binary), *self.args], stdout=subprocess.DEVNULL,
+        self.proc = subprocess.Popen([str(self.binary), *args], stdout=subprocess.DEVNULL,
                                      stderr=self._err)
         return self
 
@@ -94,14 +100,34 @@ class Fcc:
 
 
 class Sim:
-    """The simulator's side: sends sensor frames and ticks, collects fcc's answers."""
+    """The simulator's side: sends sensor frames and ticks (commands authenticated with the
+    test key), collects fcc's answers (secured ones only once authenticated).  `endpoint`
+    carries the freshness state over to a second simulator process on the same fcc."""
 
-    def __init__(self, channel: str = "vcan0") -> None:
+    def __init__(self, channel: str = "vcan0", endpoint: Endpoint | None = None) -> None:
         self.node = BusNode(channel, SIM_NODES)
+        self.sec = endpoint or Endpoint(load(), read_key_file(TEST_KEY_FILE), SIM_NODES)
         self.status: dict[str, dict[str, float | int]] = {}
+        self._held: dict[int, list[Decoded]] = {}
 
     def close(self) -> None:
         self.node.close()
+
+    def send(self, name: str, values: dict) -> None:
+        """Encode, send, and follow with the authenticator when the message is secured."""
+        frame_id, data = self.node.encode(name, values)
+        for fid, d in self.sec.protect(frame_id, data):
+            assert self.node.send_raw(fid, d)
+
+    def attach(self, timeout: float = 5.0, flight: bool = True) -> None:
+        """Learn fcc's trip from its first authenticated heartbeat, then (flight) put it in FLIGHT."""
+        deadline = time.monotonic() + timeout
+        while self.sec.trip is None and time.monotonic() < deadline:
+            for _ in self._frames(0.05):
+                pass
+        assert self.sec.trip is not None, "no authenticated heartbeat from fcc"
+        if flight:
+            self.control(COMMAND_FLIGHT)
 
     # -- sending
     def cdrw(self, k: int, alpha: float, q: float, de: float, skip: Iterable[str] = ()) -> None:
@@ -109,23 +135,22 @@ class Sim:
                   "CDRW_ELEVATOR": {"delta_e": de}}
         for name, values in frames.items():
             if name not in skip:
-                assert self.node.send(name, {"step": k & 0xFFFF, **values})
+                self.send(name, {"step": k & 0xFFFF, **values})
 
     def missile(self, k: int, q_g: float, n_a: float, skip: Iterable[str] = ()) -> None:
         if "MSL_RATE_GYRO" not in skip:
-            assert self.node.send("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g})
+            self.send("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g})
         if "MSL_ACCELEROMETER" not in skip:
-            assert self.node.send("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a})
+            self.send("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a})
 
     def tick(self, app: int, k: int) -> None:
-        assert self.node.send("SIM_TICK", {"app": app, "step": k})
+        self.send("SIM_TICK", {"app": app, "step": k})
 
     def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
-        assert self.node.send("SIM_CONTROL", {"command": command, "lqg_period": period,
-                                              "da_bits": bits})
+        self.send("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})
 
     def event(self, oracle_fault: bool, k: int, kind: int = 1, target: int = 0x050) -> None:
-        assert self.node.send("SIM_EVENT", {"active": int(oracle_fault), "oracle_fault":
+        self.send("SIM_EVENT", {"active": int(oracle_fault), "oracle_fault":
                                             int(oracle_fault), "fault_id": 0, "kind": kind,
                                             "target_id": target, "step": k & 0xFFFF})
 
@@ -135,15 +160,30 @@ class Sim:
             self.status[d.name] = d.values
 
     def _frames(self, seconds: float) -> Iterator[Decoded]:
-        """Every frame received for `seconds` (status frames also recorded in self.status)."""
+        """Every frame received for `seconds`, secured ones once authenticated (status frames
+        also recorded in self.status)."""
         deadline = time.monotonic() + seconds
         while (left := deadline - time.monotonic()) > 0:
-            d = self.node.recv(left)
-            if d is None:
+            got = self.node.recv(left)
+            if got is None:
                 return
-            if d.frame_id in STATUS_IDS:
-                self._keep_status(d)
-            yield d
+            for fid, data in self.sec.receive(got.frame_id, got.data):
+                d = got if fid == got.frame_id else self._take(fid, data)
+                if d is None:
+                    continue
+                if d.frame_id in STATUS_IDS:
+                    self._keep_status(d)
+                yield d
+            if self.sec.is_secured(got.frame_id):
+                self._held.setdefault(got.frame_id, []).append(got)
+                del self._held[got.frame_id][:-8]
+
+    def _take(self, frame_id: int, data: bytes) -> Decoded | None:
+        """The held Decoded of a secured frame that has just been authenticated."""
+        for d in reversed(self._held.get(frame_id, [])):
+            if d.data == data:
+                return d
+        return None
 
     def until_ack(self, app: int, k: int, timeout: float = 2.0) -> tuple[list[Decoded], Decoded]:
         """Frames fcc sent before FCC_ACK(app, k) (status frames kept aside), and the ACK."""

@@ -14,13 +14,42 @@ from pathlib import Path
 import pytest
 
 from conftest import build_dir
+from hil.bus.secoc import TEST_KEY_FILE
 
 HEAP = ("malloc", "calloc", "realloc", "free", "_malloc_r", "_free_r", "_calloc_r",
         "_realloc_r", "aligned_alloc", "posix_memalign")
 
 
-def run(binary: Path, *args: str) -> subprocess.CompletedProcess[str]:
+def run(binary: Path, *args: str, key: bool = True) -> subprocess.CompletedProcess[str]:
+    """Run a program; fcc gets the published test key unless key=False or --help."""
+    if key and binary.name == "fcc" and "--help" not in args:
+        args = ("--key-file", str(TEST_KEY_FILE), *args)
     return subprocess.run([str(binary), *args], capture_output=True, text=True, timeout=10)
+
+
+@pytest.mark.parametrize("key_text, words", [
+    (None, "--key-file PATH is required"),
+    ("0011\n", "one line of 32 hex digits"),
+    ("00112233445566778899aabbccddeeff\n00112233445566778899aabbccddeeff\n", "one line"),
+    ("zz112233445566778899aabbccddeeff\n", "one line"),
+])
+def test_key_file_required_and_checked(bin_path, tmp_path, key_text, words):
+    args: tuple[str, ...] = ("--iface", "nosuch7")
+    if key_text is not None:
+        (tmp_path / "k").write_text(key_text)
+        args = ("--key-file", str(tmp_path / "k"), *args)
+    r = run(bin_path("fcc"), *args, key=False)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("fcc: ") and words in lines[0], r.stderr
+
+
+def test_test_key_is_announced(bin_path, tmp_path):
+    r = run(bin_path("fcc"), "--iface", "nosuch7")
+    assert r.returncode == 1 and "WARNING: --key-file holds the published test key" in r.stderr
+    (tmp_path / "k").write_text("# a real key\n" + "5a" * 16 + "\n")
+    r = run(bin_path("fcc"), "--key-file", str(tmp_path / "k"), "--iface", "nosuch7", key=False)
+    assert r.returncode == 1 and "WARNING" not in r.stderr
 
 
 def test_help(bin_path):
@@ -134,8 +163,10 @@ def test_both_programs_refuse_a_bad_identification_option_in_the_same_words(bin_
     assert len(fcc.stderr.strip().splitlines()) == 1 and args[0].split("=")[0] in fcc.stderr
 
 
-def test_missing_interface_at_start_up(bin_path):
-    r = run(bin_path("fcc"), "--iface", "nosuch7", "--duration", "1")
+def test_missing_interface_at_start_up(bin_path, tmp_path):
+    (tmp_path / "k").write_text("5a" * 16 + "\n")   # not the test key: no warning line
+    r = run(bin_path("fcc"), "--key-file", str(tmp_path / "k"), "--iface", "nosuch7",
+            "--duration", "1", key=False)
     assert r.returncode == 1
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "cannot open CAN interface 'nosuch7'" in lines[0]

@@ -15,7 +15,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from fcc_harness import CDRW, MISSILE, Fcc, Sim, flight, missile_sensors, parse_summary
+from fcc_harness import (CDRW, COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, COMMAND_SHUTDOWN, MISSILE,
+                         Fcc, Sim, flight, missile_sensors, parse_summary)
 
 pytestmark = pytest.mark.vcan
 
@@ -32,6 +33,7 @@ def run_fcc(bin_path, tmp_path):
         fcc = Fcc(bin_path("fcc"), ("--iface", "vcan0", *args), tmp_path).start()
         fcc.wait_ready()
         started.append((fcc, sim))
+        sim.attach()                # fcc's trip from its heartbeat, then FLIGHT
         return fcc, sim
 
     yield _start
@@ -41,7 +43,8 @@ def run_fcc(bin_path, tmp_path):
 
 
 def shutdown(fcc: Fcc, sim: Sim) -> dict[str, dict[str, float]]:
-    sim.control(command=1)
+    sim.control(command=COMMAND_GROUND)     # SHUTDOWN is refused in flight
+    sim.control(command=COMMAND_SHUTDOWN)
     assert fcc.wait() == 0, fcc.stderr()
     return parse_summary(fcc.stderr())
 
@@ -166,15 +169,23 @@ def test_redesign_between_steps_and_rejected_requests(run_fcc):
     for k in range(3):
         frames, _ = sim.step_missile(k, *missile_sensors(k))
         assert frames["MSL_ELEV_CMD"]["da_bits"] == 8
-    sim.control(period=0.1, bits=12)
+    sim.control(period=0.3, bits=2)   # in flight: refused, whatever the values
     frames, _ = sim.step_missile(3, *missile_sensors(3))
+    assert frames["MSL_ELEV_CMD"]["da_bits"] == 8
+    sim.control(COMMAND_GROUND)       # designs are accepted on the ground
+    sim.control(period=0.1, bits=12)
+    sim.control(COMMAND_FLIGHT)
+    frames, _ = sim.step_missile(4, *missile_sensors(4))
     assert frames["MSL_ELEV_CMD"]["da_bits"] == 12
+    sim.control(COMMAND_GROUND)
     sim.control(period=0.01)          # below 0.02 s: refused
     sim.control(bits=1)               # refused
-    frames, _ = sim.step_missile(4, *missile_sensors(4))
+    sim.control(COMMAND_FLIGHT)
+    frames, _ = sim.step_missile(5, *missile_sensors(5))
     assert frames["MSL_ELEV_CMD"]["da_bits"] == 12
     sim.quiet(0.25)                   # two heartbeats at 10 Hz
     assert sim.status["FCC_STATUS"]["config_rejected"] == 1
+    assert sim.status["FCC_SEC_COUNTS"]["mode_refused"] == 1
     summary = shutdown(fcc, sim)
     assert summary["lqg"]["period_s"] == pytest.approx(0.1)
     assert summary["lqg"]["bits"] == 12
@@ -276,9 +287,13 @@ def test_faulty_frames_degrade_count_and_recover(run_fcc):
 def test_reset_flies_the_same_flight_again(run_fcc):
     fcc, sim = run_fcc("--apps", "cdrw")
     first = [sim.step_cdrw(k, *flight(k))[0]["SID_AZKF_STATE"] for k in range(30)]
-    sim.control(command=2)
+    sim.control(command=COMMAND_GROUND)
+    sim.control(command=COMMAND_RESET)
     sim.close()
-    sim2 = Sim()  # a new simulator process: its alive counters restart at 0
+    # a new simulator process: its alive counters restart at 0; its freshness counters go on
+    # (the freshness state belongs to the session with this fcc, not to a process)
+    sim2 = Sim(endpoint=sim.sec)
+    sim2.control(command=COMMAND_FLIGHT)
     try:
         again = [sim2.step_cdrw(k, *flight(k))[0]["SID_AZKF_STATE"] for k in range(30)]
         assert again == first
@@ -302,7 +317,7 @@ def test_garbage_at_full_rate(run_fcc, bin_path):
                 fid = int(rng.choice(consumed)) if rng.random() < 0.5 else int(rng.integers(0x080, 0x7FF))
                 if fid in (0x100, 0x110, 0x111, 0x112, 0x113, 0x120, 0x121, 0x122, 0x123,
                            0x130, 0x131, 0x132, 0x133, 0x700, 0x701, 0x702, 0x703, 0x704,
-                           0x710, 0x7F1):
+                           0x706, 0x707, 0x708, 0x710, 0x7F1):
                     fid = 0x555
                 dlc = int(rng.integers(0, 9))
                 msg = can.Message(arbitration_id=fid, data=rng.integers(0, 256, dlc, dtype=np.uint8)
@@ -335,7 +350,9 @@ def test_sigterm_flushes_the_status_and_prints_counters(run_fcc):
     sim.quiet(0.3)
     assert sim.status["FCC_STATUS"]["cdrw_steps"] == 1   # the last heartbeat reached the bus
     assert set(sim.status) == {"FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS",
-                               "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS"}
+                               "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS", "FCC_SEC_COUNTS",
+                               "FCC_SEC_SESSION"}
     summary = parse_summary(fcc.stderr())
     assert "stopping (SIGTERM)" in fcc.stderr()
-    assert summary["cdrw"]["steps"] == 1 and summary["e2e"]["ok"] == 4
+    # SIM_CONTROL(FLIGHT), 3 sensor frames, 1 tick
+    assert summary["cdrw"]["steps"] == 1 and summary["e2e"]["ok"] == 5

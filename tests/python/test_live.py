@@ -20,7 +20,7 @@ def test_view_shows_values_flags_and_counters():
     view.add(*sim.encode("CDRW_ELEVATOR", {"delta_e": -0.05, "step": 49}), t + 0.98)
     view.add(*fcc.encode("SID_AZKF_STATE", {"alpha_hat": 0.1201, "q_hat": -0.05, "order": 1000,
                                             "fault": 1, "degraded": 0, "step": 49}), t + 1.0)
-    view.add(*fcc.encode("FCC_STATUS", {"mode": 1, "cdrw_degraded": 0, "msl_degraded": 0,
+    view.add(*fcc.encode("FCC_STATUS", {"mode": 1, "op_mode": 1, "cdrw_degraded": 0, "msl_degraded": 0,
                                         "sensor_stale": 1, "e2e_fault": 1, "overrun": 0,
                                         "config_rejected": 0, "overruns": 2, "cdrw_steps": 50,
                                         "msl_steps": 0, "worst_step_us": 40}), t + 1.0)

@@ -19,8 +19,9 @@ from pathlib import Path
 import pytest
 from fcc_harness import flight, missile_sensors
 
-from hil.bus import SIM_NODES
+from hil.bus import SIM_NODES, load
 from hil.bus.codec import Decoded, FrameCodec
+from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
 from hil.pil import qemu
 from hil.pil.bootcfg import BootConfig
 
@@ -28,7 +29,7 @@ pytestmark = pytest.mark.skipif(qemu.available() is None,
                                 reason="qemu-system-arm is not installed (scripts/setup installs it)")
 
 REPO = Path(__file__).resolve().parents[2]
-STATUS = range(0x700, 0x705)
+STATUS = (*range(0x700, 0x705), 0x706, 0x707)
 FILTER_PREFIX = {"azkf": "SID_AZKF", "zkf": "SID_ZKF", "kf": "SID_KF"}
 TIMEOUT = 20.0  # generous: a loaded 2-core machine, TCG
 
@@ -47,18 +48,25 @@ def elf() -> Path:
 
 
 class Sim:
-    """The simulator's side over the SLCAN link."""
+    """The simulator's side over the SLCAN link (commands authenticated with the image's key,
+    the published test key; its secured frames taken only once authenticated)."""
 
     def __init__(self, link: qemu.SlcanLink) -> None:
         self.link = link
         self.codec = FrameCodec(nodes=SIM_NODES)
+        self.sec = Endpoint(load(), read_key_file(TEST_KEY_FILE), SIM_NODES)
         self.status: dict[str, dict] = {}
 
     def send(self, name: str, values: dict) -> None:
-        self.link.send(*self.codec.encode(name, values))
+        for fid, data in self.sec.protect(*self.codec.encode(name, values)):
+            self.link.send(fid, data)
+
+    def _authentic(self, timeout: float):
+        for frame_id, data in self.link.frames(timeout):
+            yield from self.sec.receive(frame_id, data)
 
     def frames(self, timeout: float):
-        for frame_id, data in self.link.frames(timeout):
+        for frame_id, data in self._authentic(timeout):
             d = self.codec.decode(frame_id, data)
             if frame_id in STATUS:
                 if d.ok and d.name is not None:
@@ -81,11 +89,11 @@ class Sim:
     def wait_status(self) -> dict[str, dict]:
         """The next complete heartbeat (the five status frames); other frames dropped."""
         self.status.clear()
-        for frame_id, data in self.link.frames(TIMEOUT):
+        for frame_id, data in self._authentic(TIMEOUT):
             d = self.codec.decode(frame_id, data)
             if frame_id in STATUS and d.ok and d.name is not None:
                 self.status[d.name] = d.values
-                if len(self.status) == 5:
+                if len(self.status) == len(STATUS):
                     return self.status
         raise AssertionError(f"no complete heartbeat within {TIMEOUT} s: {self.status}")
 
@@ -110,8 +118,9 @@ def test_lockstep_flight_bad_input_and_shutdown(elf, tmp_path, bin_path):
     with qemu.Board(elf, tmp_path) as board:
         link = board.link()
         sim = Sim(link)
-        status = sim.wait_status()  # the heartbeat on open: "listening"
-        assert status["FCC_STATUS"]["mode"] == 0
+        status = sim.wait_status()  # the heartbeat on open: "listening", authenticated
+        assert status["FCC_STATUS"]["mode"] == 0 and status["FCC_STATUS"]["op_mode"] == 0
+        sim.send("SIM_CONTROL", {"command": 3, "lqg_period": 0, "da_bits": 0})  # FLIGHT
         assert link.command(b"V") == b"V0110"
         assert link.command(b"S4") == b"\a"  # no bitrate change while open
 
@@ -124,7 +133,7 @@ def test_lockstep_flight_bad_input_and_shutdown(elf, tmp_path, bin_path):
             outputs.append(frames)
         for k in range(5):
             frames, ack = sim.missile_step(k)
-            assert list(frames) == ["MSL_ELEV_CMD", "MSL_STATE_EST"]
+            assert list(frames) == ["MSL_ELEV_CMD", "MSL_STATE_EST"]  # the command authenticated
             assert frames["MSL_ELEV_CMD"]["step"] == k and frames["MSL_ELEV_CMD"]["da_bits"] == 8
 
         # garbage on the line: every bad line answered BEL and counted, the flight goes on
@@ -137,6 +146,9 @@ def test_lockstep_flight_bad_input_and_shutdown(elf, tmp_path, bin_path):
         assert bus["bus_errors"] == 1 + 4  # S4 above + four bad lines (the T frame is only ignored)
         assert link.answers.count(b"\a") >= 4
 
+        sim.send("SIM_CONTROL", {"command": 1, "lqg_period": 0, "da_bits": 0})  # refused in flight
+        assert sim.wait_status()["FCC_SEC_COUNTS"]["mode_refused"] == 1
+        sim.send("SIM_CONTROL", {"command": 4, "lqg_period": 0, "da_bits": 0})  # GROUND
         sim.send("SIM_CONTROL", {"command": 1, "lqg_period": 0, "da_bits": 0})
         assert board.exit_status(TIMEOUT) == 0
         log = board.log()
@@ -167,6 +179,7 @@ def test_boot_record_realtime(elf, tmp_path):
     with qemu.Board(elf, tmp_path, config=config, lockstep=False) as board:
         sim = Sim(board.link())
         assert sim.wait_status()["FCC_STATUS"]["mode"] == 1
+        sim.send("SIM_CONTROL", {"command": 3, "lqg_period": 0, "da_bits": 0})  # FLIGHT
         commands = []
         for d in sim.frames(TIMEOUT):
             if d.name == "MSL_ELEV_CMD":

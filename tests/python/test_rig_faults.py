@@ -27,7 +27,8 @@ def test_no_fault_all_ok(tmp_path):
     o = fly(tmp_path, scenario(CDRW_1S))
     e2e, rej, fl = counters(o)
     assert o.summary["firmware"]["steps"]["cdrw"] == 51
-    assert e2e["ok"] == 3 * 51 + 51 + 2        # sensors, ticks, the reset and shutdown frames
+    # sensors, ticks, and SIM_CONTROL: reset, flight, ground, ground + shutdown at the end
+    assert e2e["ok"] == 3 * 51 + 51 + 5
     assert sum(v for k, v in e2e.items() if k != "ok") == 0 and sum(rej.values()) == 0
     assert fl["missing_steps"] == fl["unanswered_steps"] == fl["degraded_steps"] == 0
 

@@ -18,7 +18,7 @@ from hil.rig.apps import CdrwDriver
 from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
-from hil.rig.session import COMMAND_RESET, FccDied, FccTimeout, RigSession
+from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, FccDied, FccTimeout, RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
@@ -147,6 +147,7 @@ def test_fcc_hanging_mid_run_times_out(tmp_path):
         runner = LockstepRunner(rig, timeout=0.5)
         d = CdrwDriver(sc, rig.codec)
         rig.control(COMMAND_RESET)
+        rig.control(COMMAND_FLIGHT)
         for _ in range(5):
             runner.step(d)
         os.kill(rig.fcc.pid, signal.SIGSTOP)
@@ -167,6 +168,7 @@ def test_fcc_killed_mid_run(tmp_path):
             runner = LockstepRunner(rig, timeout=2.0)
             d = CdrwDriver(sc, rig.codec)
             rig.control(COMMAND_RESET)
+            rig.control(COMMAND_FLIGHT)
             for _ in range(10):
                 runner.step(d)
             os.kill(rig.fcc.pid, signal.SIGKILL)

@@ -148,6 +148,9 @@ def _add_common(p: argparse.ArgumentParser, out_default: str) -> None:
                    help="CDRW: the estimate fcc reports per step: paper (KF after y_k, ZKF/AZKF "
                    "before, default), prior (all before y_k) or posterior (all after); the "
                    "summary has Table 4/5 both ways in any case")
+    p.add_argument("--key-file", type=Path, metavar="PATH",
+                   help="AES-128 key of the bus authentication, shared with fcc (one line of 32 hex "
+                        "digits); default: a random key for each session")
     p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
     p.add_argument("--log-format", choices=("log", "asc", "blf"), default="log",
                    help="bus log format: candump -L (bus.log, default), Vector ASC or BLF (python-can); "
@@ -298,11 +301,18 @@ def _config(args: argparse.Namespace, stage: Path):
     if args.target == "qemu-m4f" and args.interface != "socketcan":
         raise UsageError("--target qemu-m4f: the image's serial line is routed to a SocketCAN "
                          "interface (slcand, can-gw): use --interface socketcan")
+    if args.key_file is not None:
+        from .bus.secoc import KeyFileError, read_key_file
+        try:
+            read_key_file(args.key_file)
+        except KeyFileError as e:
+            raise UsageError(f"--key-file: {e}") from None
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
-                     target=args.target, interface=args.interface, bitrate=args.bitrate)
+                     target=args.target, interface=args.interface, bitrate=args.bitrate,
+                     key_file=args.key_file)
 
 
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:

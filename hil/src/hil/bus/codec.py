@@ -44,6 +44,7 @@ class Decoded:
     e2e: E2EStatus
     values: dict[str, Value] | None
     timestamp: float = 0.0
+    data: bytes = b""       # the frame's bytes (BusNode fills it in)
 
     @property
     def ok(self) -> bool:

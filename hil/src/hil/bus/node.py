@@ -75,6 +75,7 @@ class BusNode:
         with self._lock:
             decoded = self.codec.decode(msg.arbitration_id, bytes(msg.data), msg.timestamp,
                                         extended=foreign)
+        decoded.data = bytes(msg.data)
         if self._on_frame is not None:
             self._on_frame(decoded)
         else:
@@ -102,10 +103,15 @@ class BusNode:
             return self.codec.end_period(name)
 
     # -- transmit side
+    def encode(self, name: str, values: Mapping[str, Value], *,
+               saturate: bool = False) -> tuple[int, bytes]:
+        """Encode (E2E-protected, next alive counter) without sending."""
+        with self._lock:
+            return self.codec.encode(name, values, saturate=saturate)
+
     def send(self, name: str, values: Mapping[str, Value], *, saturate: bool = False) -> bool:
         """Encode (E2E-protected) and send; False if the frame was dropped after retries."""
-        with self._lock:
-            frame_id, data = self.codec.encode(name, values, saturate=saturate)
+        frame_id, data = self.encode(name, values, saturate=saturate)
         return self.send_raw(frame_id, data)
 
     def send_raw(self, frame_id: int, data: bytes, *, extended: bool = False) -> bool:

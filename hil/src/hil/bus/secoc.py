@@ -159,3 +159,136 @@ class Receiver:
                 return Verdict.VERIFIED, pdu
         self.counters.mac_failed += 1
         return Verdict.MAC_FAILED, None
+
+
+@dataclass
+class GroupReceiver(Receiver):
+    """A secured PDU of several frames (fcc's heartbeat): the latest copy of each is held and
+    the authenticator covers their concatenation in DBC order."""
+
+    pdu_ids: tuple[int, ...] = ()
+    latest: dict[int, bytes] = field(default_factory=dict)
+
+    def hold_frame(self, frame_id: int, data: bytes) -> None:
+        self.latest[frame_id] = bytes(data)
+
+    def verify_group(self, auth: bytes) -> tuple[Verdict, list[tuple[int, bytes]]]:
+        frames = [(i, self.latest[i]) for i in self.pdu_ids if i in self.latest]
+        self.latest = {}
+        if len(frames) != len(self.pdu_ids):
+            self.counters.mac_failed += 1
+            return Verdict.NO_PDU, []
+        self.held = deque([b"".join(d for _, d in frames)])
+        verdict, _ = self.verify(auth)
+        self.held.clear()
+        return verdict, frames if verdict is Verdict.VERIFIED else []
+
+
+class Endpoint:
+    """The simulator's end of the authentication with one fcc process: an authenticator for
+    every secured frame it sends, and verification of every secured frame fcc sends.
+
+    The trip is fcc's (FCC_SEC_SESSION); until it is known (``trip is None``) the first
+    heartbeat that verifies with the trip it carries fixes it for the session."""
+
+    def __init__(self, spec: object, key: bytes, own_node_names: tuple[str, ...]) -> None:
+        from .dbc import BusSpec
+        assert isinstance(spec, BusSpec)
+        self.spec = spec
+        self.key = key
+        self.trip: int | None = None
+        self._send: dict[int, tuple[int, int]] = {}   # secured frame id -> (auth id, data id)
+        self._senders: dict[int, Sender] = {}
+        self._rx_single: dict[int, tuple[int, int]] = {}  # secured id / auth id -> auth id
+        self._receivers: dict[int, Receiver] = {}         # by auth id
+        self._group_of: dict[int, int] = {}               # member id -> auth id
+        self.session_id = spec.by_name("FCC_SEC_SESSION").frame_id
+        for m in spec.messages:
+            if not m.is_authenticator:
+                continue
+            pdus = tuple(spec.by_name(p).frame_id for p in m.secoc_pdus)
+            ours = any(s in own_node_names for s in m.senders)
+            if ours:
+                self._send[pdus[0]] = (m.frame_id, m.secoc_data_id)
+            elif len(pdus) == 1:
+                self._rx_single[pdus[0]] = m.frame_id
+                self._receivers[m.frame_id] = Receiver(key, m.secoc_data_id, 0)
+            else:
+                for p in pdus:
+                    self._group_of[p] = m.frame_id
+                self._receivers[m.frame_id] = GroupReceiver(key, m.secoc_data_id, 0, pdu_ids=pdus)
+
+    @property
+    def auth_ids(self) -> tuple[int, ...]:
+        """Identifiers of the authenticators fcc sends (for the receive filter)."""
+        return tuple(self._receivers)
+
+    def counters(self) -> dict[str, int]:
+        total = Counters()
+        for r in self._receivers.values():
+            for k, v in r.counters.as_dict().items():
+                setattr(total, k, getattr(total, k) + v)
+        return total.as_dict()
+
+    def set_trip(self, trip: int) -> None:
+        self.trip = trip
+        for r in self._receivers.values():
+            r.trip = trip
+        for s in self._senders.values():
+            s.trip = trip
+
+    # -- sending
+    def protect(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
+        """The frame, followed by its authenticator when it is a secured 8-byte frame."""
+        out = [(frame_id, bytes(data))]
+        if frame_id in self._send and len(data) == 8:
+            if self.trip is None:
+                raise RuntimeError("SecOC: fcc's trip is not known yet (no verified heartbeat)")
+            auth_id, data_id = self._send[frame_id]
+            s = self._senders.setdefault(frame_id, Sender(self.key, data_id, self.trip))
+            out.append((auth_id, s.protect(bytes(data))))
+        return out
+
+    # -- receiving
+    def is_secured(self, frame_id: int) -> bool:
+        """A frame fcc sends that counts only once its authenticator verified."""
+        return frame_id in self._rx_single or frame_id in self._group_of
+
+    def receive(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
+        """What to act on: unsecured frames as they are, secured frames only once their
+        authenticator verified (then the secured frame(s), not the authenticator)."""
+        if frame_id in self._rx_single:
+            if len(data) == 8:
+                self._receivers[self._rx_single[frame_id]].hold(data)
+            return []
+        if frame_id in self._group_of:
+            r = self._receivers[self._group_of[frame_id]]
+            assert isinstance(r, GroupReceiver)
+            if len(data) == 8:
+                r.hold_frame(frame_id, data)
+            return []
+        r = self._receivers.get(frame_id)
+        if r is None:
+            return [(frame_id, bytes(data))]
+        if len(data) != 8:
+            r.counters.mac_failed += 1
+            return []
+        if isinstance(r, GroupReceiver):
+            if self.trip is None:   # the first heartbeat: try the trip it carries
+                session = r.latest.get(self.session_id)
+                if session is None:
+                    r.latest = {}
+                    return []
+                r.trip = int.from_bytes(session[:4], "little")
+            verdict, frames = r.verify_group(data)
+            if verdict is Verdict.VERIFIED and self.trip is None:
+                self.set_trip(r.trip)
+            elif verdict is not Verdict.VERIFIED and self.trip is None:
+                r.trip = 0
+            return frames
+        if self.trip is None:
+            r.counters.mac_failed += 1
+            return []
+        verdict, pdu = r.verify(data)
+        pdu_id = next(p for p, a in self._rx_single.items() if a == frame_id)
+        return [(pdu_id, pdu)] if verdict is Verdict.VERIFIED and pdu is not None else []

@@ -96,7 +96,8 @@ class LockstepRunner:
             ticks += more
         frames += ticks
         for f in frames:
-            link.send_raw(pack_frame(f.frame_id, f.data))
+            for fid, data in self.rig.secure(f.frame_id, f.data):
+                link.send_raw(pack_frame(fid, data))
         io = self._await_ack(d.app, k, answer_expected, lambda: self._resend_tick(d, t, tick))
         d.end_step(io)
         self.steps += 1
@@ -110,7 +111,8 @@ class LockstepRunner:
         assert link is not None
         for f in d.injector.infrastructure(t, "SIM_TICK", tick):
             self.rig.fcc_accepts_tick(f.data, d.app, d.k)  # keep the mirror of fcc's receiver
-            link.send_raw(pack_frame(f.frame_id, f.data))
+            for fid, data in self.rig.secure(f.frame_id, f.data):
+                link.send_raw(pack_frame(fid, data))
         self.resent_ticks += 1
 
     def _await_ack(self, app: int, k: int, expected: bool,
@@ -142,6 +144,9 @@ class LockstepRunner:
                     continue
             n += 1
             frame_id, data = got
+            if frame_id >= 0x700:
+                rig.note_frame(frame_id, data)
+                continue
             if frame_id == self.ack_id:
                 dec = rig.codec.decode(frame_id, data)
                 if dec.ok and dec.values is not None and int(dec.values["app"]) == app \
@@ -151,10 +156,7 @@ class LockstepRunner:
                     self.exec_us[app].append(int(dec.values["exec_us"]))
                     return io
                 continue  # a repeated ACK of an earlier tick
-            if frame_id >= 0x700:
-                rig.note_frame(frame_id, data)
-                continue
-            io.frames.append(got)
+            io.frames.extend(rig.accept(frame_id, data))
 
 
 __all__ = ["DEFAULT_TIMEOUT_S", "FccDied", "FccTimeout", "LockstepRunner"]

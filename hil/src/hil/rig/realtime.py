@@ -146,9 +146,10 @@ class RealtimeRunner:
             if frame_id >= 0x700:
                 rig.note_frame(frame_id, data)
                 continue
-            app = 1 if frame_id in (0x030, 0x100) else 0
-            d = by_app.get(app)
-            io = open_io.get(id(d)) if d is not None else None
-            if io is not None:
-                io.frames.append(got)
-                io.arrivals.append(time.monotonic())
+            for fid, d_ in rig.accept(frame_id, data):
+                app = 1 if fid in (0x030, 0x100) else 0
+                d = by_app.get(app)
+                io = open_io.get(id(d)) if d is not None else None
+                if io is not None:
+                    io.frames.append((fid, d_))
+                    io.arrivals.append(time.monotonic())

@@ -7,6 +7,9 @@ FCC_ACK of the same step before it sends on.  fcc's frames between two acknowled
 compared with the recording's, frame by frame and signal by signal, except what depends on
 the wall clock: the heartbeat frames (0x700 and above) and FCC_ACK's exec_us (and so its CRC).
 The first difference is reported with its step, message, signal and both values.
+Authenticator frames are session-bound (key, fcc's trip): the recorded ones are dropped, the
+replay authenticates what it sends for the live fcc, and fcc's live authenticators are not
+compared (the frames they authenticate are).
 
 fcc runs with the recorded command line (run_info.json) and the extra --fcc-args; the
 firmware is the current one (--fcc, $FCC_HIL_FCC, the build), not the recorded path.
@@ -62,7 +65,7 @@ class Difference:
 
 
 def recorded_fcc_args(run_dir: Path) -> list[str]:
-    """fcc's options of the recorded run, without the interface."""
+    """fcc's options of the recorded run, without the interface, key file and trip."""
     info_path = run_dir / "run_info.json"
     try:
         info = json.loads(info_path.read_text())
@@ -77,7 +80,7 @@ def recorded_fcc_args(run_dir: Path) -> list[str]:
     for a in args:
         if skip:
             skip = False
-        elif a == "--iface":
+        elif a in ("--iface", "--key-file", "--trip"):   # this bus, this session's key and trip
             skip = True
         else:
             out.append(a)
@@ -92,7 +95,8 @@ def segments(frames: Iterator[LogFrame], spec: BusSpec) -> list[Segment]:
         if f.error or f.remote or f.extended or f.fd:
             continue
         msg = spec.by_id(f.frame_id)
-        if msg is None or (f.frame_id >= WALL_CLOCK_IDS and msg.name != "SIM_EVENT"):
+        if msg is None or (f.frame_id >= WALL_CLOCK_IDS and msg.name != "SIM_EVENT") \
+                or msg.is_authenticator:
             continue
         if SIM_SENDERS.intersection(msg.senders):
             out[-1].send.append((f.frame_id, f.data))
@@ -143,6 +147,7 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
     fcc_ids = {m.frame_id for m in spec.messages
                if not SIM_SENDERS.intersection(m.senders) and m.frame_id < WALL_CLOCK_IDS}
     rig.fcc_ids = tuple(sorted(fcc_ids | set(rig.fcc_ids)))
+    auth_ids = {m.frame_id for m in spec.messages if m.is_authenticator}
     steps = 0
     with rig:
         link = rig.link
@@ -150,7 +155,8 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
         for seg in segs:
             live: list[tuple[int, bytes]] = []
             for fid, data in seg.send:
-                link.send_raw(pack_frame(fid, data))
+                for f, d in rig.secure(fid, data):
+                    link.send_raw(pack_frame(f, d))
             if seg.ack is None:      # the tail: fcc's last words after the shutdown
                 break
             app, k = seg.ack
@@ -167,6 +173,8 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
                 if got[0] >= WALL_CLOCK_IDS:
                     rig.note_frame(*got)
                     continue
+                if got[0] in auth_ids:
+                    continue
                 live.append(got)
                 if got[0] == spec.by_name("FCC_ACK").frame_id and ack_key(got[1]) == seg.ack:
                     break
@@ -176,6 +184,6 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
             steps += 1
         if rig.fcc is not None and rig.fcc.wait(5.0) is None:
             raise FccDied("fcc did not exit after the recorded shutdown command")
-        rest = [g for g in link.drain() if g[0] < WALL_CLOCK_IDS]
+        rest = [g for g in link.drain() if g[0] < WALL_CLOCK_IDS and g[0] not in auth_ids]
         diff = compare(spec, "the end of the run", segs[-1].fcc, rest)
     return steps, diff

@@ -10,10 +10,17 @@ from .. import metrics
 from .session import StatusCounters
 
 
-def firmware_summary(status: StatusCounters) -> dict[str, Any]:
-    """fcc's heartbeat counters at exit (only what the inputs decide; gauges in run_info)."""
+def firmware_summary(status: StatusCounters, rig_security: dict[str, int] | None = None) -> dict[str, Any]:
+    """fcc's heartbeat counters at exit (only what the inputs decide; gauges in run_info), from
+    authenticated heartbeats only; `security` adds what the rig's own verification counted."""
     g = status.get
     return {
+        "security": {"fcc": {"mac_failed": g("FCC_SEC_COUNTS.mac_failed"),
+                             "freshness_failed": g("FCC_SEC_COUNTS.freshness_failed"),
+                             "unpaired": g("FCC_SEC_COUNTS.unpaired"),
+                             "mode_refused": g("FCC_SEC_COUNTS.mode_refused")},
+                     # refusals only: the count verified grows with the heartbeats (wall clock)
+                     "rig": {k: v for k, v in (rig_security or {}).items() if k != "verified"}},
         "steps": {"cdrw": g("FCC_STATUS.cdrw_steps"), "missile": g("FCC_STATUS.msl_steps")},
         "overruns": g("FCC_STATUS.overruns"),
         "e2e": {"ok": g("FCC_E2E_COUNTS.ok"), "repeated": g("FCC_E2E_COUNTS.repeated"),
@@ -102,4 +109,15 @@ def format_firmware(fw: dict[str, Any]) -> str:
             "rx overflows {13}").format(
         fw["steps"]["cdrw"], fw["steps"]["missile"], fw["overruns"], e["ok"], e["repeated"],
         e["ok_some_lost"], e["wrong_sequence"], e["error"], e["no_new_data"], r["unknown_id"],
-        r["wrong_dlc"], r["out_of_range"], b["bus_errors"], b["rx_overflows"])
+        r["wrong_dlc"], r["out_of_range"], b["bus_errors"], b["rx_overflows"]) + _format_security(fw)
+
+
+def _format_security(fw: dict[str, Any]) -> str:
+    sec = fw.get("security")
+    if not isinstance(sec, dict) or not isinstance(sec.get("fcc"), dict):
+        return ""
+    f, r = sec["fcc"], sec.get("rig") or {}
+    return ("\n  authentication: fcc refused mac {0} freshness {1} unpaired {2}, mode refusals {3}; "
+            "rig verified {4}, refused mac {5} freshness {6}").format(
+        f.get("mac_failed"), f.get("freshness_failed"), f.get("unpaired"), f.get("mode_refused"),
+        r.get("verified"), r.get("mac_failed"), r.get("freshness_failed"))

@@ -43,7 +43,7 @@ from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_r
 from . import rowtables
 from .report import firmware_summary, summary_tables
 from .rundir import atomic_write_text, published_path
-from .session import COMMAND_RESET, RigError, RigSession
+from .session import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession
 from .simtime import finish_bus_log
 from .targets import TARGETS
 
@@ -70,6 +70,7 @@ class RigConfig:
     target: str = "host"
     interface: str = "socketcan"
     bitrate: int | None = None
+    key_file: Path | None = None   # None: a random key for each session
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -116,7 +117,7 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig) -> Ri
     """The rig session of a command: its target, its bus, the device's configuration."""
     return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
                       target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
-                      mode=cfg.mode, answer_timeout=cfg.timeout)
+                      mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file)
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
@@ -139,17 +140,23 @@ def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFla
 
 def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
          runner: Any = None, period: float = 0.0, bits: int = 0) -> Any:
-    """One flight: SIM_CONTROL reset (and a new LQG design when period/bits are given; it is
-    also the flight boundary in bus.log), then the steps."""
+    """One flight, fcc on the ground before and after it: SIM_CONTROL reset (and a new LQG
+    design when period/bits are given; it is also the flight boundary in bus.log), FLIGHT,
+    the steps, GROUND (fcc accepts resets and designs on the ground only)."""
     rig.control(COMMAND_RESET, period, bits)
-    if cfg.mode == "lockstep":
-        r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
-        r.fly(drivers)
-        return r
-    from .realtime import RealtimeRunner
-    rt = runner or RealtimeRunner(rig, progress=bar.update)
-    rt.fly(drivers)
-    return rt
+    rig.control(COMMAND_FLIGHT)
+    try:
+        if cfg.mode == "lockstep":
+            r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
+            r.fly(drivers)
+            return r
+        from .realtime import RealtimeRunner
+        rt = runner or RealtimeRunner(rig, progress=bar.update)
+        rt.fly(drivers)
+        return rt
+    finally:
+        if rig.fcc is not None and rig.fcc.poll() is None and rig.link is not None:
+            rig.control(COMMAND_GROUND)
 
 
 def count_babbled(log: Path, drivers: Sequence[AppDriver]) -> None:
@@ -188,6 +195,7 @@ def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
         "python": platform.python_version(), "heartbeats": st.heartbeats,
         "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
         "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
+        "secured_frames_verified": rig.security.counters()["verified"],
         "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
                  "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
     }
@@ -294,7 +302,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     if cfg.mode == "realtime":
         count_babbled(out / "bus.log", drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
-                               "firmware": firmware_summary(rig.status)}
+                               "firmware": firmware_summary(rig.status, rig.security.counters())}
     fault_log = []
     for d in drivers:
         if isinstance(d, CdrwDriver):
@@ -462,7 +470,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log")))]
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
-    summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status), cfg.mode)
+    summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status, rig.security.counters()), cfg.mode)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods([scenario]))
 
@@ -535,7 +543,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
                 mdrivers.append(d)
         rig.shutdown()
     results = [missile_result(d, reference=cfg.mode == "lockstep") for d in mdrivers]
-    summary = write_sweep(out, scenario, periods, results, firmware_summary(rig.status), cfg.mode)
+    summary = write_sweep(out, scenario, periods, results, firmware_summary(rig.status, rig.security.counters()), cfg.mode)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
     return _finish(cfg, out, summary, step_periods([first]))
 

@@ -12,6 +12,9 @@ bus.log and fcc.log.
 from __future__ import annotations
 
 import re
+import secrets
+import shutil
+import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -20,15 +23,20 @@ from pathlib import Path
 from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
+from ..bus.secoc import TEST_KEY_FILE, Endpoint, KeyFileError, read_key_file, write_key_file
 from .link import CanLink, LinkError, LinkRecorder, pack_frame
 from .processes import Candump
 from .targets import Device, start_device
 
 STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
-                 "FCC_BUS_COUNTS")
+                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION")
 COMMAND_SHUTDOWN = 1
 COMMAND_RESET = 2
+COMMAND_FLIGHT = 3
+COMMAND_GROUND = 4
 STARTUP_TIMEOUT_S = 10.0
+#: the trip of the Cortex-M4F PIL image (firmware/target/m4f_main.c: no entropy on the board)
+PIL_TRIP = 0x4D344631
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
@@ -81,7 +89,8 @@ class StatusCounters:
         for sig in msg.signals:
             raw = int(vals[sig.name])
             key = f"{msg.name}.{sig.name}"
-            if sig.length == 1 or sig.name in ("mode", "stale_now", "worst_step_us"):
+            if sig.length == 1 or sig.name in ("mode", "op_mode", "stale_now", "worst_step_us",
+                                               "trip"):
                 self.values[key] = raw          # flags and gauges: not counters
                 continue
             prev = self._last_raw.get(key)
@@ -112,11 +121,12 @@ class RigSession:
                  fcc_binary: Path | None = None, spec: BusSpec | None = None,
                  record: bool = True, target: str = "host", interface: str = "socketcan",
                  bitrate: int | None = None, mode: str | None = None,
-                 answer_timeout: float = 2.0) -> None:
+                 answer_timeout: float = 2.0, key_file: Path | None = None) -> None:
         """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
         recorder is candump on SocketCAN, the link's own log writer otherwise); target: the
         device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
-        qemu-m4f: the ELF image; default: the build's)."""
+        qemu-m4f: the ELF image; default: the build's); key_file: the bus key (default: a
+        random one for this session; the qemu-m4f image has the published test key)."""
         self.run_dir = Path(run_dir)
         self.iface = iface
         self.interface = interface
@@ -132,10 +142,38 @@ class RigSession:
         # command and estimate, the heartbeat.  The identification outputs (12 frames per
         # CDRW step) are read back from bus.log after the run: the recorder gets every frame
         # anyway, and in the UML guest every frame received costs a slow system call.
-        self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_STATE_EST", "RIG_PONG", *STATUS_FRAMES)
+        self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
+                         *STATUS_FRAMES, "FCC_STATUS_AUTH")
         self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
         self.fcc_binary = fcc_binary
+        # The bus key: the user's file, or a fresh random key for this session only (a file
+        # readable by its owner, handed to fcc, deleted when the session closes); the PIL
+        # image carries the published test key and a fixed trip (firmware/target/README.md).
+        self._key_dir: Path | None = None
+        if target == "qemu-m4f":
+            key_file = TEST_KEY_FILE
+        if key_file is None:
+            self._key_dir = Path(tempfile.mkdtemp(prefix="hil-key-"))
+            key_file = self._key_dir / "session.key"
+            key = write_key_file(key_file)
+        else:
+            try:
+                key = read_key_file(key_file)
+            except KeyFileError as e:
+                raise RigError(str(e)) from None
+        self.security = Endpoint(self.spec, key, SIM_NODES)
         self.fcc_args = list(fcc_args)
+        if target == "host":
+            # The rig launches fcc, so it chooses fcc's trip (the high half of every freshness
+            # value) and knows it from the start: a heartbeat recorded in another session, even
+            # under the same key, never verifies (dbc/README.md, "Authentication").
+            self.security.set_trip(secrets.randbits(32) or 1)
+            self.fcc_args = ["--key-file", str(key_file), "--trip", str(self.security.trip),
+                             *self.fcc_args]
+        elif target == "qemu-m4f":
+            self.security.set_trip(PIL_TRIP)
+        # external: the trip of its first heartbeat that verifies under the key (trust on
+        # first use; a replayed old heartbeat then is a denial, never a spoof)
         self.record = record
         self.link: CanLink | None = None
         self.candump: Candump | LinkRecorder | None = None
@@ -208,11 +246,10 @@ class RigSession:
         self.candump = LinkRecorder(self.link)
 
     def _wait_listening(self) -> None:
-        """Until the device's first FCC_STATUS: it has opened its socket and listens (an
-        external device: its next heartbeat), in the run's mode."""
+        """Until the device's first authenticated heartbeat: it has opened its socket, listens,
+        shares our key (and trip), in the run's mode (an external device: its next heartbeat)."""
         assert self.link is not None and self.fcc is not None
         dev = self.fcc
-        status = self.spec.by_name("FCC_STATUS")
         timeout = dev.startup_timeout if dev.owned else self.answer_timeout
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -222,22 +259,32 @@ class RigSession:
                     raise RigError(f"{dev.label} stopped at start-up ({dev.describe_exit()})")
                 continue
             self.note_frame(*got)
-            if got[0] == status.frame_id and len(got[1]) == 8:
-                mode = int(status.message.decode(got[1], decode_choices=False)["mode"])
+            if self.status_frames:
+                mode = int(self.status.last.get("FCC_STATUS", {}).get("mode", 0))
                 if self.mode is not None and mode != MODE_CODES[self.mode]:
                     raise RigError(f"{dev.label} runs in {MODE_NAMES.get(mode, mode)} mode, "
                                    f"the run is {self.mode}")
                 return
         if not dev.owned:
-            raise RigError(f"nothing answered on {self.iface} within {timeout:g} s (no FCC_STATUS "
-                           f"heartbeat): is the device under test running, connected and at "
-                           f"the bus's bitrate?")
-        raise FccTimeout(f"{dev.label} did not send its first FCC_STATUS within {timeout:g} s")
+            raise RigError(f"nothing answered on {self.iface} within {timeout:g} s (no authenticated "
+                           f"heartbeat): is the device under test running, connected, at the bus's "
+                           f"bitrate and with the same --key-file?")
+        raise FccTimeout(f"{dev.label} did not send an authenticated heartbeat within {timeout:g} s "
+                         f"(a key different from fcc's?)")
+
+    def accept(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
+        """fcc's frames to act on: secured ones only after their authenticator verified."""
+        return self.security.receive(frame_id, data)
 
     def note_frame(self, frame_id: int, data: bytes) -> None:
-        """Keep heartbeat frames (decoded after the run, off the hot path)."""
-        if frame_id >= 0x700:
-            self.status_frames.append((frame_id, data))
+        """Keep authenticated heartbeat frames (decoded after the run, off the hot path)."""
+        for fid, d in self.accept(frame_id, data):
+            if fid >= 0x700:
+                self.status_frames.append((fid, d))
+
+    def secure(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
+        """A frame to send, followed by its authenticator when it commands or configures."""
+        return self.security.protect(frame_id, data)
 
     @property
     def status(self) -> StatusCounters:
@@ -248,10 +295,12 @@ class RigSession:
     def send_message(self, name: str, values: Mapping[str, float | int]) -> None:
         assert self.link is not None
         frame_id, data = self.codec.encode(name, values)
-        self.link.send_raw(pack_frame(frame_id, data))
+        for fid, d in self.secure(frame_id, data):
+            self.link.send_raw(pack_frame(fid, d))
 
     def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
-        """SIM_CONTROL: 0 none / 1 shutdown / 2 reset; a new LQG period and/or D/A bits."""
+        """SIM_CONTROL: 0 none / 1 shutdown / 2 reset / 3 flight / 4 ground; a new LQG period
+        and/or D/A bits (fcc accepts reset, designs and shutdown on the ground only)."""
         self.send_message("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})
         if command == COMMAND_RESET:  # fcc resynchronises its E2E receivers on a reset
             self.tick_rx.reset()
@@ -280,6 +329,7 @@ class RigSession:
             self._next_heartbeat(timeout)
             return 0
         if self.fcc.poll() is None:
+            self.control(COMMAND_GROUND)
             self.control(COMMAND_SHUTDOWN)
             deadline = time.monotonic() + timeout
             while self.fcc.poll() is None and time.monotonic() < deadline:
@@ -343,6 +393,9 @@ class RigSession:
         self.log_complete = candump.stop(marker)
 
     def _close_link(self) -> None:
+        if self._key_dir is not None:
+            shutil.rmtree(self._key_dir, ignore_errors=True)
+            self._key_dir = None
         if self.link is not None:
             self.link_stats = {"tx_frames": self.link.tx_frames, "rx_frames": self.link.rx_frames,
                                "tx_retries": self.link.tx_retries, "tx_dropped": self.link.tx_dropped}

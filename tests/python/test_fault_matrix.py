@@ -35,8 +35,9 @@ ACK_ID = 0x028
 
 
 def base_ok(steps: int, f: int) -> int:
-    """Fault-free E2E OK: every sensor frame, every tick, the reset and shutdown commands."""
-    return f * steps + steps + 2
+    """Fault-free E2E OK: every sensor frame, every tick, and the session's five authenticated
+    SIM_CONTROL commands (reset, flight, ground at the end of the flight, ground + shutdown)."""
+    return f * steps + steps + 5
 
 
 #: kind -> (spec template, expected counters given (steps, F, injected counts));
@@ -128,7 +129,7 @@ def test_fault_class(tmp_path, kind):
         _, steps, f, *_ = AIRCRAFT[a]
         for c, v in CASES[kind][1](steps, f, injected[a]).items():
             want[c] += v
-    want["ok"] -= 2          # one reset and one shutdown command, not one pair per aircraft
+    want["ok"] -= 5          # one session's five SIM_CONTROL commands, not five per aircraft
     want["ok"] += info.get("resent_ticks", 0)  # a tick resent under load is one more OK
     if kind == "silence":
         # SIM_EVENT is one message with one alive counter for both aircraft: the CDRW's

@@ -44,7 +44,7 @@ def fly_campaign_flight(scenario: Scenario, index: int, fault_start: float, cfg:
         raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected 1")
     done = FlightDone(campaign_flight(index, fault_start, cdrw_result(rig.spec, rec, flights[0]),
                                       fcc_args([scenario], cfg)),
-                      firmware_summary(rig.status))
+                      firmware_summary(rig.status, rig.security.counters()))
     if not keep:
         shutil.rmtree(out, ignore_errors=True)
     return done
@@ -62,7 +62,7 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
         with progress_bar(0, False, "") as bar:
             _fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
         rig.shutdown()
-    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status))
+    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status, rig.security.counters()))
     shutil.rmtree(out, ignore_errors=True)
     return done
 

@@ -33,6 +33,9 @@ import scipy.integrate
 import scipy.linalg as sl
 
 PERIODS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5)
+#: (T, d): the delay-aware design (fcc --lqg-delay, lqg_design --delay): the rig's 2.5 ms
+#: actuation instant at the three real-time periods, and half a period
+DELAYED = ((0.1, 0.0025), (0.05, 0.0025), (0.02, 0.0025), (0.05, 0.025), (0.1, 0.09))
 REPO = Path(__file__).resolve().parents[1]
 OUT_DIR = REPO / "tests" / "vectors" / "lqg"
 JSON_NAME = "lqg_reference.json"
@@ -154,6 +157,41 @@ def design(t: float) -> dict[str, Any]:
     }
 
 
+def delayed_design(t: float, delay: float) -> dict[str, Any]:
+    """The LQR on [x; u_{k-1}] (hil.plants.missile_runs.delayed_lqr, scipy's DARE), checked
+    against python-control's dlqr on the same augmented system, and Gamma0 + Gamma1 against
+    Gamma (together they are the whole period's input)."""
+    from hil.plants.missile_runs import delayed_lqr
+    gam0, gam1, k, k_u, pa = delayed_lqr(t, delay)
+    phi, gam = zoh(F, G, t)
+    err = np.abs(gam0 + gam1 - gam[:, 0]).max() / np.abs(gam).max()
+    if err > 1e-12:
+        raise AssertionError(f"T={t}, d={delay}: Gamma0 + Gamma1 != Gamma ({err:.2e})")
+    a = np.block([[phi, gam1[:, None]], [np.zeros((1, 4))]])
+    b = np.vstack([gam0[:, None], [[1.0]]])
+    # the augmented cost rebuilt here; python-control's K on it must equal scipy's
+    from hil.plants.missile_runs import discrete_cost
+    def block(tau: float) -> Matrix:
+        q11, q12, q22 = discrete_cost(tau)
+        return np.block([[q11, q12[:, None]], [q12[None, :], np.array([[q22]])]])
+    phi_d, gam_d = zoh(F, G, delay)
+    sm = np.zeros((4, 5))
+    sm[:3, :3], sm[:3, 3:4], sm[3, 4] = phi_d, gam_d, 1.0
+    qa = np.zeros((5, 5))
+    qa[:4, :4] = block(delay)
+    qa += sm.T @ block(t - delay) @ sm
+    qa = (qa + qa.T) / 2
+    k_ctl, _, _ = control.dlqr(a, b, qa[:4, :4], qa[4:, 4:], qa[:4, 4:])
+    ka = np.concatenate([k, [k_u]])
+    err = np.abs(ka - np.asarray(k_ctl)[0]).max() / np.abs(ka).max()
+    if err > 1e-9:
+        raise AssertionError(f"T={t}, d={delay}: scipy and python-control differ on K: {err:.2e}")
+    return {"T": t, "delay": delay, "Gamma0": gam0.tolist(), "Gamma1": gam1.tolist(),
+            "K": k.tolist(), "K_u": [k_u], "Pa": pa.tolist(),
+            "Qa11": qa[:4, :4].tolist(), "Qa12": qa[:4, 4].tolist(), "Qa22": [float(qa[4, 4])],
+            "closed_loop_poles": sorted_poles(np.linalg.eigvals(a - b @ ka[None, :]))[:3]}
+
+
 def linalg_cases() -> dict[str, Any]:
     """Hard cases for the core, with scipy's answers."""
     rng = np.random.default_rng(20240611)
@@ -194,6 +232,7 @@ def reference() -> dict[str, Any]:
         "plant": {"F": F.tolist(), "G": G.tolist(), "f": W_GUST.tolist(), "A": WX.tolist(),
                   "B": WU.tolist(), "H": H.tolist(), "R": R.tolist()},
         "cases": [design(t) for t in PERIODS],
+        "delayed": [delayed_design(t, d) for t, d in DELAYED],
         "linalg": linalg_cases(),
     }
 
@@ -237,6 +276,16 @@ def render_header(ref: dict[str, Any]) -> str:
         fields = ",\n     ".join(_arr(_flat(case[k])) for k in keys)
         lines.append("    {%r,\n     %s}," % (float(case["T"]), fields))
     lines += ["};", "#define LQG_VECTOR_COUNT %d" % len(ref["cases"]), ""]
+    lines += ["/* The delay-aware design: the LQR on [x; u_{k-1}]. */", "typedef struct {",
+              "    double t, delay;",
+              "    double gamma0[3], gamma1[3], k[3], k_u[1], pa[16], qa11[16], qa12[4], qa22[1];",
+              "    double cl_poles[6];", "} lqg_delayed_vector_t;", "",
+              "static const lqg_delayed_vector_t lqg_delayed_vectors[] = {"]
+    dkeys = ("Gamma0", "Gamma1", "K", "K_u", "Pa", "Qa11", "Qa12", "Qa22", "closed_loop_poles")
+    for case in ref["delayed"]:
+        fields = ",\n     ".join(_arr(_flat(case[k])) for k in dkeys)
+        lines.append("    {%r, %r,\n     %s}," % (float(case["T"]), float(case["delay"]), fields))
+    lines += ["};", "#define LQG_DELAYED_VECTOR_COUNT %d" % len(ref["delayed"]), ""]
     d = ref["linalg"]["dare"]
     lines += ["/* A 4-state, 2-input DARE with cross term (scipy solve_discrete_are). */"]
     for key, name in (("A", "a"), ("B", "b"), ("Q", "q"), ("R", "r"), ("S", "s"), ("X", "x")):

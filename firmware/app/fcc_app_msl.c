@@ -32,12 +32,14 @@ static fcc_status_t design_into(fcc_app_msl_t *app, unsigned int s, fcc_real_t p
 {
     const fcc_app_msl_slot_t *cur = &app->slot[app->active];
     fcc_app_msl_slot_t *dst = &app->slot[s];
-    if (s != app->active && cur->period == period && cur->design.t == period) {
+    if (s != app->active && cur->period == period && cur->design.t == period &&
+        cur->design.delay == app->cfg.delay) {
         /* Only N changes: the gains do not depend on the converter. */
         dst->design = cur->design;
     } else {
         const fcc_status_t st =
-            fcc_lqg_design(&app->cfg.plant, period, app->cfg.solver, &dst->design, &app->ws);
+            fcc_lqg_design_delayed(&app->cfg.plant, period, (double)app->cfg.delay,
+                                   app->cfg.solver, &dst->design, &app->ws);
         if (st != FCC_OK) {
             return st;
         }
@@ -61,6 +63,7 @@ static fcc_status_t switch_to(fcc_app_msl_t *app, unsigned int s, const fcc_real
         return st;
     }
     next.updates = app->ctrl.updates;
+    next.u_prev = app->ctrl.u_prev; /* the command still acting on the plant */
     next.predictions = app->ctrl.predictions;
     app->ctrl = next;
     app->active = (uint8_t)s;
@@ -72,7 +75,8 @@ fcc_status_t fcc_app_msl_init(fcc_app_msl_t *app, const fcc_app_msl_config_t *cf
     if (app == NULL || cfg == NULL) {
         return FCC_ERR_ARG;
     }
-    if (!fcc_app_msl_valid(cfg->period, cfg->bits)) {
+    if (!fcc_app_msl_valid(cfg->period, cfg->bits) || !FCC_IS_FINITE(cfg->delay) ||
+        cfg->delay < FCC_R(0.0) || cfg->delay >= cfg->period) {
         return FCC_ERR_RANGE;
     }
     memset(&app->ctrl, 0, sizeof app->ctrl);
@@ -135,7 +139,7 @@ fcc_status_t fcc_app_msl_request(fcc_app_msl_t *app, fcc_real_t period, uint8_t 
     const uint8_t base_n = pending ? app->want_bits : cur->bits;
     const fcc_real_t t = (period == FCC_R(0.0)) ? base_t : period;
     const uint8_t n = (bits == 0u) ? base_n : bits;
-    if (!fcc_app_msl_valid(t, n)) {
+    if (!fcc_app_msl_valid(t, n) || app->cfg.delay >= t) {
         return FCC_ERR_RANGE;
     }
     app->want_period = t;
@@ -170,12 +174,13 @@ fcc_status_t fcc_app_msl_background(fcc_app_msl_t *app)
     const unsigned int spare = 1u - app->active;
     const fcc_app_msl_slot_t *cur = &app->slot[app->active];
     fcc_status_t st = FCC_OK;
-    if (!app->designing && cur->period == app->want_period && cur->design.t == app->want_period) {
+    if (!app->designing && cur->period == app->want_period && cur->design.t == app->want_period &&
+        cur->design.delay == app->cfg.delay) {
         st = design_into(app, spare, app->want_period, app->want_bits); /* N only: a copy */
     } else {
         if (!app->designing) {
-            st = fcc_lqg_design_begin(&app->cfg.plant, (double)app->want_period, app->cfg.solver,
-                                      &app->ws);
+            st = fcc_lqg_design_begin_delayed(&app->cfg.plant, (double)app->want_period,
+                                              (double)app->cfg.delay, app->cfg.solver, &app->ws);
             if (st != FCC_OK) {
                 return design_failed(app, st);
             }

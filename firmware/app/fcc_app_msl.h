@@ -36,6 +36,10 @@
 #define FCC_APP_MSL_T_MAX FCC_R(0.3)
 #define FCC_APP_MSL_DEFAULT_T FCC_R(0.05)
 #define FCC_APP_MSL_DEFAULT_BITS 8u
+/* `--lqg-delay auto` in realtime: the command of the sample at t_k acts at the
+ * actuation instant t_k + 5 ms of the time-triggered schedule (README.md,
+ * "Real time"); in lockstep auto is 0 (the command acts at the sample). */
+#define FCC_APP_MSL_RT_DELAY FCC_R(0.005)
 
 typedef enum {
     FCC_APP_MSL_IN_GYRO = 0,
@@ -48,6 +52,7 @@ typedef struct {
     fcc_lqg_solver_t solver; /* which Riccati solution is used (both are checked) */
     fcc_real_t period;       /* T, s */
     uint8_t bits;            /* N */
+    fcc_real_t delay;        /* known input delay d the LQG is designed for, 0 <= d < T */
 } fcc_app_msl_config_t;
 
 /* One half of the double buffer. */
@@ -98,7 +103,8 @@ typedef struct {
 /* The paper's plant, T = 0.05 s, 8 bits, Hamiltonian solver. */
 fcc_status_t fcc_app_msl_config_default(fcc_app_msl_config_t *cfg);
 
-/* True for 0.02 <= T <= 0.3 and 2 <= bits <= 16. */
+/* True for 0.02 <= T <= 0.3 and 2 <= bits <= 16 (the delay is checked
+ * against T by the design: 0 <= d < T). */
 bool fcc_app_msl_valid(fcc_real_t period, uint8_t bits);
 
 /* Designs the initial LQG (blocking: this is start-up) and starts the

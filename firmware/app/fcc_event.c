@@ -15,6 +15,7 @@ const char *fcc_event_class_str(fcc_event_class_t cls)
         "transmit refused",    "step error",         "overrun",
         "interface down",      "interface up",       "bus errors",
         "authentication failed", "command refused in this mode", "mode",
+        "time sync state",     "time sync input refused",
     };
     if ((unsigned int)cls >= (unsigned int)FCC_EV_COUNT) {
         return "unknown event";

@@ -39,6 +39,8 @@ typedef enum {
     FCC_EV_AUTH_FAILED,      /* SecOC: authenticator refused (value = fcc_secoc_verdict_t) */
     FCC_EV_MODE_REFUSED,     /* authenticated command not allowed in this mode (value = command) */
     FCC_EV_MODE_CHANGED,     /* operating mode changed (value = new fcc_op_mode_t) */
+    FCC_EV_SYNC_STATE,       /* time sync changed state (value = fcc_tsync_state_t) */
+    FCC_EV_SYNC_REJECTED,    /* a time-sync input was refused (value = refusals so far) */
     FCC_EV_COUNT
 } fcc_event_class_t;
 

@@ -115,6 +115,15 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     fcc_status_t st = fcc_secoc_init(&node->sec, cfg->security.key, cfg->security.trip);
     /* The key lives in the SecOC state only (expanded); the copy in cfg is wiped. */
     memset(node->cfg.security.key, 0, sizeof node->cfg.security.key);
+    fcc_tsync_config_t tcfg;
+    if (st == FCC_OK) {
+        st = fcc_tsync_config_default(&tcfg);
+    }
+    if (st == FCC_OK) {
+        st = fcc_tsync_init(&node->tsync, &tcfg);
+    }
+    node->tsync_reported = FCC_TSYNC_FREE_RUN;
+    node->tsync_rejected_reported = 0u;
     if (st == FCC_OK) {
         st = fcc_bus_init(&node->bus, FCC_BUS_NODE_FCC);
     }
@@ -331,6 +340,20 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
         node->oracle_fault = m.data.sim_event.oracle_fault;
         ++node->cnt.oracle_events;
         break;
+    case FCC_MSG_TSYNC_SYNC: {
+        const fcc_msg_tsync_sync_t *s = &m.data.tsync_sync;
+        /* the receive stamp is on the port's clock; a port without one: now */
+        const uint64_t t = (frame->t_us != 0u) ? frame->t_us : now_us(node);
+        (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec, t);
+        (void)fcc_node_sync_poll(node);
+        break;
+    }
+    case FCC_MSG_TSYNC_FOLLOW_UP: {
+        const fcc_msg_tsync_follow_up_t *f = &m.data.tsync_follow_up;
+        (void)fcc_tsync_on_follow_up(&node->tsync, f->master, f->seq, f->sec_carry, f->ns);
+        (void)fcc_node_sync_poll(node);
+        break;
+    }
     default:
         break; /* RIG_PING: answered by can_echo, not by the flight computer */
     }
@@ -644,10 +667,74 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
     if (first == FCC_OK) { /* all or nothing: a partial heartbeat would not verify */
         send_frames(node, frames, group->n_pdus + 1u, FCC_N_APPS);
     }
+    const fcc_status_t sync_st = fcc_node_send_sync_status(node);
+    first = (first != FCC_OK) ? first : sync_st;
     node->e2e_fault_flag = false;
     node->overrun_flag = false;
     ++node->cnt.status_sent;
     return first;
+}
+
+/* ---- time sync ---------------------------------------------------------------- */
+
+fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node)
+{
+    if (node == NULL) {
+        return FCC_TSYNC_FREE_RUN;
+    }
+    const fcc_tsync_state_t st = fcc_tsync_poll(&node->tsync, now_us(node));
+    if (st != node->tsync_reported) {
+        node->tsync_reported = st;
+        emit(node, FCC_EV_SYNC_STATE, FCC_N_APPS, FCC_EV_NO_MSG, (int32_t)st);
+    }
+    const uint32_t rej = fcc_tsync_rejected(&node->tsync);
+    if (rej != node->tsync_rejected_reported) {
+        node->tsync_rejected_reported = rej;
+        emit(node, FCC_EV_SYNC_REJECTED, FCC_N_APPS, FCC_MSG_TSYNC_SYNC_ID,
+             (int32_t)(rej & 0x7FFFFFFFu));
+    }
+    return st;
+}
+
+fcc_status_t fcc_node_send_sync_status(fcc_node_t *node)
+{
+    if (node == NULL) {
+        return FCC_ERR_ARG;
+    }
+    const fcc_tsync_t *ts = &node->tsync;
+    fcc_msg_data_t d;
+    memset(&d, 0, sizeof d);
+    fcc_msg_fcc_sync_status_t *s = &d.fcc_sync_status;
+    s->state = (uint8_t)ts->state;
+    s->master = ts->have_master ? ts->master : 0u;
+    s->offset_us = (int16_t)((ts->last_residual_us > INT16_MAX)   ? INT16_MAX
+                             : (ts->last_residual_us < INT16_MIN) ? INT16_MIN
+                                                                  : ts->last_residual_us);
+    s->rate_ppm = (fcc_real_t)ts->rate_ppb * FCC_R(1e-3);
+    s->syncs = (uint8_t)(ts->cnt.samples & 0xFFu);
+    s->rejected = (uint8_t)(fcc_tsync_rejected(ts) & 0xFFu);
+    s->losses = (uint8_t)(ts->cnt.losses & 0xFFu);
+    fcc_can_frame_t f;
+    const fcc_status_t st = fcc_bus_encode_sat(&node->bus, FCC_MSG_FCC_SYNC_STATUS, &d, &f);
+    if (st == FCC_OK) {
+        send_frame(node, &f, FCC_N_APPS);
+    }
+    return st;
+}
+
+bool fcc_node_inputs_since(const fcc_node_t *node, uint32_t app, uint64_t since_us)
+{
+    if (node == NULL || app >= FCC_N_APPS) {
+        return false;
+    }
+    const uint32_t n = (app == FCC_APP_CDRW) ? FCC_APP_SID_N_INPUTS : FCC_APP_MSL_N_INPUTS;
+    for (uint32_t i = 0u; i < n; ++i) {
+        const fcc_sensor_t *s = (app == FCC_APP_CDRW) ? &node->sid.in[i] : &node->msl.in[i];
+        if (s->n_pending == 0u || s->pending[s->n_pending - 1u].t_us < since_us) {
+            return false;
+        }
+    }
+    return true;
 }
 
 /* ---- host hooks --------------------------------------------------------------- */

@@ -31,6 +31,7 @@
 #include "fcc_bus.h"
 #include "fcc_port.h"
 #include "fcc_secoc.h"
+#include "fcc_tsync.h"
 #include "fcc_types.h"
 
 /* Application numbers: the values of SIM_TICK.app / FCC_ACK.app. */
@@ -115,6 +116,9 @@ typedef struct {
     bool config_rejected;  /* the last request was refused (FCC_STATUS flag) */
     bool e2e_fault_flag;   /* ERROR / WRONG_SEQUENCE since the last heartbeat */
     bool overrun_flag;     /* overrun since the last heartbeat */
+    fcc_tsync_t tsync;     /* time base of the bus's time master (TSYNC_*) */
+    fcc_tsync_state_t tsync_reported; /* last state reported as an event */
+    uint32_t tsync_rejected_reported;
 } fcc_node_t;
 
 /* Lockstep, both applications, stale limit 1, the applications' defaults. */
@@ -155,6 +159,17 @@ fcc_status_t fcc_node_background(fcc_node_t *node);
  * FCC_STATUS_AUTH); clears the since-last-heartbeat flags. */
 fcc_status_t fcc_node_send_status(fcc_node_t *node);
 
+/* Time sync timeouts (missing follow-up, loss of sync, release) and state
+ * events; call at least once per sync interval (the hosts call it every loop). */
+fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node);
+
+/* FCC_SYNC_STATUS (sent by fcc_node_send_status with the heartbeat). */
+fcc_status_t fcc_node_send_sync_status(fcc_node_t *node);
+
+/* Realtime, synchronised schedule: every input of app has a good frame
+ * received at or after since_us (the port's clock) waiting for the next step. */
+bool fcc_node_inputs_since(const fcc_node_t *node, uint32_t app, uint64_t since_us);
+
 /* Realtime: `missed` periods of app were skipped because a step started late. */
 void fcc_node_note_overrun(fcc_node_t *node, uint32_t app, uint32_t missed, uint32_t k);
 
@@ -167,22 +182,36 @@ fcc_op_mode_t fcc_node_op_mode(const fcc_node_t *node);
 
 /* ---- realtime schedule (fcc_node_rt.c): the same for every main ---------------- */
 
-/* One application's absolute deadlines t0 + k T on the port's clock. */
+/* One application's absolute deadlines t0 + k T on the port's clock (free-run),
+ * or, while the time sync has the master's time (fcc_tsync_has_time), the
+ * master's sampling instants t_n = n T: step n is released as soon as every
+ * input has a frame stamped at or after t_n - FCC_NODE_RT_GUARD_US, at the
+ * latest at t_n + the window (the autopilot: FCC_NODE_RT_WINDOW_US, its command
+ * must leave before the actuation instant; the identification: T / 2). */
+#define FCC_NODE_RT_GUARD_US 500u
+#define FCC_NODE_RT_WINDOW_US 3500u
+
 typedef struct {
     uint64_t deadline;  /* next release, port microseconds */
     uint32_t period_us;
     uint32_t k;         /* step index of that release */
+    bool synced;        /* following the master's sampling instants */
+    uint64_t n;         /* synced: index of the next instant, t_n = n period (master us) */
+    uint64_t instant;   /* synced: port time of t_n */
+    uint64_t last_instant; /* synced: port time of the instant of the last step run */
+    uint32_t aligns;    /* times the schedule (re)aligned to a master */
 } fcc_node_rt_t;
 
 /* First deadlines one period after start_us. */
 void fcc_node_rt_start(const fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS], uint64_t start_us);
 
-/* Runs each enabled application whose deadline has come, the autopilot first.
- * A step that starts a whole period late skips the missed periods (counted as
- * overruns, no catch-up burst); one that ends after its next deadline is an
- * overrun; the deadline then advances by the period, which a redesign may have
- * changed.  jitter_us[a]: start - deadline of each step run (UINT64_MAX: app a
- * did not run).  Returns how many steps ran. */
+/* Runs each enabled application whose deadline has come (synchronised: whose
+ * inputs are in or whose window is over), the autopilot first.  A step that
+ * starts a whole period late skips the missed periods (counted as overruns, no
+ * catch-up burst); one that ends after its next deadline is an overrun; the
+ * deadline then advances by the period, which a redesign may have changed.
+ * jitter_us[a]: start - deadline (synchronised: start - sampling instant) of
+ * each step run (UINT64_MAX: app a did not run).  Returns how many steps ran. */
 uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
                              uint64_t jitter_us[FCC_N_APPS]);
 

@@ -39,6 +39,8 @@ void fcc_cli_usage(FILE *out)
         "missile autopilot:\n"
         "  --lqg-period T                sampling period, s, %g..%g (0.05)\n"
         "  --lqg-bits N                  D/A word length, %u..%u (8)\n"
+        "  --lqg-delay auto|D            design for an input delay of D s, 0 <= D < T (auto:\n"
+        "                                0 in lockstep, the 5 ms actuation instant in realtime)\n"
         "  --gyro-var V                  rate-gyro noise variance, rad^2/s^2 (0.8)\n"
         "  --accel-var V                 accelerometer noise variance, ft^2/s^4 (0.8)\n"
         "  --solver hamiltonian|doubling  Riccati solution used (both are computed and\n"
@@ -162,6 +164,23 @@ static fcc_opt_result_t apply_msl(fcc_app_msl_config_t *m, const char *name, con
     return r;
 }
 
+/* --lqg-delay auto|SECONDS (auto: resolved by the mode in fcc_cli_parse). */
+static fcc_opt_result_t apply_delay(fcc_cli_t *c, const char *name, const char *val, char *err,
+                                    size_t len)
+{
+    if (strcmp(name, "--lqg-delay") != 0) {
+        return FCC_OPT_NOT_MINE;
+    }
+    if (val == NULL) {
+        return FCC_OPT_NEED_VALUE;
+    }
+    c->lqg_delay_auto = strcmp(val, "auto") == 0;
+    if (c->lqg_delay_auto) {
+        return FCC_OPT_DONE;
+    }
+    return fcc_opt_real(name, val, 0.0, (double)FCC_APP_MSL_T_MAX, &c->node.msl.delay, err, len);
+}
+
 /* fcc's own options, then the identification options shared with sid_replay. */
 static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char *err,
                               size_t len)
@@ -172,14 +191,24 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
         r = apply_msl(&p->cli->node.msl, name, val, err, len);
     }
     if (r == FCC_OPT_NOT_MINE) {
+        r = apply_delay(p->cli, name, val, err, len);
+    }
+    if (r == FCC_OPT_NOT_MINE) {
         r = fcc_opt_sid_apply(&p->sid, name, val, err, len);
     }
     return r;
 }
 
 /* Cross-field checks the per-option parsers cannot do. */
-static int check(const fcc_cli_t *c, char *err, size_t len)
+static int check(fcc_cli_t *c, char *err, size_t len)
 {
+    if (c->lqg_delay_auto) {
+        c->node.msl.delay = (c->node.mode == FCC_MODE_REALTIME) ? FCC_APP_MSL_RT_DELAY : FCC_R(0.0);
+    }
+    if (!(c->node.msl.delay < c->node.msl.period)) {
+        return fcc_opt_fail(err, len, "--lqg-delay %g s must be shorter than the period %g s",
+                            (double)c->node.msl.delay, (double)c->node.msl.period);
+    }
     for (int f = 0; f < 3; ++f) {
         fcc_sid_config_t s = c->node.sid.base;
         s.filter = (fcc_sid_filter_t)f;
@@ -200,6 +229,7 @@ int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_l
     if (fcc_node_config_default(&cli->node) != FCC_OK) {
         return fcc_opt_fail(err, err_len, "internal error: default configuration");
     }
+    cli->lqg_delay_auto = true;
     parse_t p = {cli, {NULL, false, false}};
     fcc_opt_sid_begin(&p.sid, &cli->node.sid.base);
     for (int i = 1; i < argc; ++i) {

@@ -25,6 +25,7 @@ typedef struct {
     int rt_priority;          /* --rt-priority: SCHED_FIFO priority, 0 = normal scheduling */
     const char *key_file;     /* --key-file (required): read into node.security.key */
     uint32_t trip;            /* --trip: the session's trip from the launcher; 0 = draw one */
+    bool lqg_delay_auto;      /* --lqg-delay auto (the default): node.msl.delay set by the mode */
 } fcc_cli_t;
 
 /* 0: parsed and checked; 1: --help was asked (usage printed to out);

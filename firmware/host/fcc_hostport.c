@@ -26,10 +26,6 @@ uint64_t fcc_host_monotonic_us(void)
     return clock_us(CLOCK_MONOTONIC);
 }
 
-uint64_t fcc_host_realtime_us(void)
-{
-    return clock_us(CLOCK_REALTIME);
-}
 
 static void report(const fcc_hostport_t *hp, fcc_event_class_t cls, int32_t value)
 {
@@ -170,7 +166,7 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     }
     const fcc_status_t st = fcc_socketcan_send(&hp->sc, frame);
     if (st == FCC_OK && frame->id == hp->cmd_id) {
-        hp->cmd_sent_real_us = fcc_host_realtime_us();
+        hp->cmd_sent_us = fcc_host_monotonic_us();
         ++hp->cmd_sends;
     }
     if (st == FCC_ERR_IO) {

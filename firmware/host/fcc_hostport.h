@@ -11,9 +11,10 @@
  * Counters of closed sockets are carried over, so the heartbeat never goes
  * backwards.
  *
- * It also stamps the send of each MSL_ELEV_CMD with CLOCK_REALTIME, the clock
- * of the kernel's receive time stamps (SO_TIMESTAMPNS), for the latency
- * measurement sensor frame received -> command sent.
+ * It also stamps the send of each MSL_ELEV_CMD with CLOCK_MONOTONIC, the clock
+ * of the receive time stamps (the kernel's SO_TIMESTAMPNS, moved to
+ * CLOCK_MONOTONIC by fcc_socketcan), for the data age sensor frame received ->
+ * command sent.
  */
 #ifndef FCC_HOSTPORT_H
 #define FCC_HOSTPORT_H
@@ -35,14 +36,13 @@ typedef struct {
     uint32_t downs;                   /* times the interface was lost */
     uint32_t reopens;                 /* times it came back */
     uint32_t cmd_id;                  /* identifier whose send is stamped */
-    uint64_t cmd_sent_real_us;        /* CLOCK_REALTIME after the last such send */
+    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC after the last such send */
     uint32_t cmd_sends;               /* sends stamped so far */
     void (*event)(void *ctx, const fcc_event_t *ev);
     void *event_ctx;
 } fcc_hostport_t;
 
 uint64_t fcc_host_monotonic_us(void);
-uint64_t fcc_host_realtime_us(void);
 
 /* Prepares hp for interface ifname without opening it (sends fail, receive
  * is empty until fcc_hostport_open).  event/event_ctx receive interface

@@ -7,7 +7,8 @@
  * delays), and a signalfd for SIGINT/SIGTERM (no asynchronous handler, so no
  * race with the wait).  Frames are handed to the node one by one, in arrival
  * order; in lockstep the node steps on SIM_TICK inside that call; in realtime
- * the loop releases each application's step at its deadline.
+ * the loop releases each application's step at its deadline (fcc_node_rt:
+ * the master's sampling instants while a time master is followed).
  */
 #define _GNU_SOURCE 1 /* signalfd, timerfd, sigprocmask */
 
@@ -50,6 +51,9 @@ typedef struct {
     fcc_hist_t exec[FCC_N_APPS];
     fcc_hist_t jitter[FCC_N_APPS];
     fcc_hist_t latency; /* missile: newest sensor frame received -> command sent */
+    fcc_hist_t delay;   /* missile, synced: sampling instant -> command sent */
+    fcc_hist_t sync_offset; /* |sync residual| per sample used */
+    uint32_t seen_sync_samples;
     const char *stop_reason;
 } host_t;
 
@@ -74,9 +78,19 @@ static void measure_steps(host_t *h)
         const fcc_app_msl_result_t *r = &h->node.msl.last;
         const bool fresh = r->input_state[FCC_APP_MSL_IN_GYRO] == FCC_SENSOR_OK &&
                            r->input_state[FCC_APP_MSL_IN_ACCEL] == FCC_SENSOR_OK;
-        if (fresh && r->newest_rx_us != 0u && h->hp.cmd_sent_real_us >= r->newest_rx_us) {
-            fcc_hist_add(&h->latency, h->hp.cmd_sent_real_us - r->newest_rx_us);
+        if (fresh && r->newest_rx_us != 0u && h->hp.cmd_sent_us >= r->newest_rx_us) {
+            fcc_hist_add(&h->latency, h->hp.cmd_sent_us - r->newest_rx_us);
         }
+        const fcc_node_rt_t *rt = &h->rt[FCC_APP_MSL];
+        if (rt->synced && h->hp.cmd_sent_us >= rt->last_instant) {
+            fcc_hist_add(&h->delay, h->hp.cmd_sent_us - rt->last_instant);
+        }
+    }
+    const fcc_tsync_t *ts = &h->node.tsync;
+    if (ts->cnt.samples != h->seen_sync_samples) {
+        h->seen_sync_samples = ts->cnt.samples;
+        const int32_t e = ts->last_residual_us;
+        fcc_hist_add(&h->sync_offset, (uint64_t)((e < 0) ? -(int64_t)e : (int64_t)e));
     }
 }
 
@@ -185,6 +199,8 @@ static bool loop_once(host_t *h)
     now = fcc_host_monotonic_us();
     send_status_if_due(h, now);
     (void)fcc_hostport_service(&h->hp, now);
+    (void)fcc_node_sync_poll(&h->node);
+    measure_steps(h);
     while (fcc_node_background(&h->node) == FCC_OK) { /* idle time: a pending LQG redesign, */
     }                                                  /* all its slices (36 us on the host) */
     if (fcc_node_shutdown_requested(&h->node)) {
@@ -290,6 +306,20 @@ static void print_summary(const host_t *h)
         }
     }
     print_hist("latency_us", "missile", &h->latency);
+    const fcc_tsync_t *ts = &n->tsync;
+    const fcc_tsync_counters_t *tc = &ts->cnt;
+    fprintf(stderr, "fcc summary: sync state=%u master=%u rate_ppm=%.3f syncs=%lu samples=%lu "
+            "missing_fup=%lu orphan_fup=%lu repeated_seq=%lu past=%lu future=%lu backwards=%lu "
+            "jumps=%lu foreign=%lu losses=%lu recoveries=%lu releases=%lu aligns=%lu\n",
+            (unsigned)ts->state, (unsigned)ts->master, (double)ts->rate_ppb * 1e-3,
+            (unsigned long)tc->syncs, (unsigned long)tc->samples, (unsigned long)tc->missing_fup,
+            (unsigned long)tc->orphan_fup, (unsigned long)tc->repeated_seq,
+            (unsigned long)tc->past, (unsigned long)tc->future, (unsigned long)tc->backwards,
+            (unsigned long)tc->jumps, (unsigned long)tc->foreign, (unsigned long)tc->losses,
+            (unsigned long)tc->recoveries, (unsigned long)tc->releases,
+            (unsigned long)(h->rt[FCC_APP_MSL].aligns + h->rt[FCC_APP_CDRW].aligns));
+    print_hist("sync_offset_us", "abs", &h->sync_offset);
+    print_hist("delay_us", "missile", &h->delay);
     char events[512];
     fcc_report_totals(&h->report, events, sizeof events);
     fprintf(stderr, "fcc summary: events %s\n", events[0] != '\0' ? events : "none");
@@ -371,6 +401,8 @@ static int start(host_t *h)
         fcc_hist_init(&h->jitter[a]);
     }
     fcc_hist_init(&h->latency);
+    fcc_hist_init(&h->delay);
+    fcc_hist_init(&h->sync_offset);
     (void)fcc_node_send_status(&h->node); /* "listening" */
     fprintf(stderr, "fcc: ready on %s, %s, apps %s%s%s, LQG T = %.4f s N = %u, stale limit %u\n",
             h->cli.iface, h->cli.node.mode == FCC_MODE_LOCKSTEP ? "lockstep" : "realtime",

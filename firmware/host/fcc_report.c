@@ -89,6 +89,16 @@ static void detail(const fcc_event_t *ev, char *buf, size_t len)
     case FCC_EV_IFACE_UP:
         (void)snprintf(buf, len, "socket reopened");
         break;
+    case FCC_EV_SYNC_STATE: {
+        static const char *const states[4] = {"free-run (own clock)", "locking", "locked",
+                                              "holdover (sync lost, degraded)"};
+        (void)snprintf(buf, len, "%s",
+                       (ev->value >= 0 && ev->value < 4) ? states[ev->value] : "?");
+        break;
+    }
+    case FCC_EV_SYNC_REJECTED:
+        (void)snprintf(buf, len, "%ld refused so far", (long)ev->value);
+        break;
     default:
         buf[0] = '\0';
         break;

@@ -22,9 +22,10 @@
  *
  * Filter (the seed's form, steady-state gains):
  *   update    x^_k   = xbar_k + L (y_k - H xbar_k)
- *   command   u_k    = sat(-K x^_k, +-0.4 rad) -> D/A code -> u_applied
- *   propagate xbar_k+1 = Phi x^_k + Gamma u_applied      (the command the
- *             actuator really got: quantised and saturated)
+ *   command   u_k    = sat(-K x^_k - K_u u_{k-1}, +-0.4 rad) -> D/A code -> u_applied
+ *   propagate xbar_k+1 = Phi x^_k + Gamma0 u_applied + Gamma1 u_{k-1}
+ *             (the commands the actuator really got: quantised and
+ *             saturated; K_u = Gamma1 = 0 without a delay)
  * L = M H^T (H M H^T + R)^-1 with M the a-priori covariance
  * (M = Phi P+ Phi^T + Q_d, P+ = (I - L H) M).
  */
@@ -37,6 +38,8 @@
 #define FCC_LQG_NX 3
 #define FCC_LQG_NU 1
 #define FCC_LQG_NY 2
+/* The delay-augmented state z = [x; u_{k-1}]. */
+#define FCC_LQG_NA (FCC_LQG_NX + FCC_LQG_NU)
 
 /* Elevator authority, rad. */
 #define FCC_LQG_U_MAX FCC_R(0.4)
@@ -81,29 +84,63 @@ typedef struct {
     uint16_t iterations; /* doubling steps */
 } fcc_lqg_riccati_t;
 
+/*
+ * A known input delay d (0 <= d < T): the command computed from the sample at
+ * t_k acts on the plant from t_k + d (computation + transport).  Over
+ * [t_k, t_k+1) the plant sees u_{k-1} for d seconds, then u_k, so the
+ * standard delayed-input ZOH discretisation (Franklin, Powell & Workman,
+ * "Digital Control of Dynamic Systems", sec. 4.3.4) splits Gamma:
+ *   x_k+1 = Phi x_k + Gamma1 u_{k-1} + Gamma0 u_k,
+ *   Gamma0 = int_0^{T-d} e^{F s} ds G,  Gamma1 = e^{F (T-d)} int_0^d e^{F s} ds G,
+ * and the LQR is designed for the augmented state z = [x; u_{k-1}]:
+ *   z_k+1 = [[Phi, Gamma1], [0, 0]] z_k + [Gamma0; I] u_k,
+ * with the continuous cost integrated over both parts of the period:
+ *   [z; u]^T Qa [z; u],  Qa = blkdiag(Q(d), 0) + S^T Q(T-d) S,
+ * Q(tau) = [[Q11, Q12], [Q12^T, Q22]](tau) of fcc_c2d_cost over tau, and S
+ * mapping [x_k; u_{k-1}; u_k] to [x(t_k + d); u_k] = [[Phi(d), Gamma(d), 0],
+ * [0, 0, I]].  The command is u_k = -K x^_k - K_u u_{k-1}.
+ * The paper's Hamiltonian method needs Phia - Gammaa Q22^-1 Q12^T invertible;
+ * for the augmented system it never is (its last row is the delay state's
+ * zero dynamics: condition numbers >= 1e17 measured at T = 0.02-0.1 s), so
+ * the augmented LQR is solved by doubling alone (its residual is checked,
+ * and tests/vectors/lqg holds scipy's solution).  The Kalman filter needs
+ * no augmentation (u_{k-1} is known exactly): its design is the same for
+ * every d, by both solvers; only its prediction uses Gamma0 and Gamma1.
+ * d = 0 is exactly the undelayed design (Gamma1 = 0, K_u = 0).
+ */
+
 /* Everything the design produced (row-major arrays, converted to fcc_real_t). */
 typedef struct {
     fcc_real_t t;
+    fcc_real_t delay;        /* d, s (0: no delay) */
     fcc_lqg_solver_t solver; /* which solver's X is reported (both are checked) */
     fcc_real_t phi[FCC_LQG_NX * FCC_LQG_NX];
-    fcc_real_t gamma[FCC_LQG_NX * FCC_LQG_NU];
+    fcc_real_t gamma[FCC_LQG_NX * FCC_LQG_NU];  /* Gamma0 (Gamma when d = 0) */
+    fcc_real_t gamma1[FCC_LQG_NX * FCC_LQG_NU]; /* Gamma1 (0 when d = 0) */
+    fcc_real_t k_u;                             /* K_u (0 when d = 0) */
+    /* d > 0: the augmented cost and Riccati solution (zero when d = 0) */
+    fcc_real_t qa11[FCC_LQG_NA * FCC_LQG_NA];
+    fcc_real_t qa12[FCC_LQG_NA];
+    fcc_real_t qa22;
+    fcc_real_t pa[FCC_LQG_NA * FCC_LQG_NA];
     fcc_real_t qd[FCC_LQG_NX * FCC_LQG_NX];
     fcc_real_t q11[FCC_LQG_NX * FCC_LQG_NX];
     fcc_real_t q12[FCC_LQG_NX * FCC_LQG_NU];
     fcc_real_t q22[FCC_LQG_NU * FCC_LQG_NU];
     fcc_real_t h[FCC_LQG_NY * FCC_LQG_NX];
     fcc_real_t r[FCC_LQG_NY * FCC_LQG_NY];
-    fcc_real_t p[FCC_LQG_NX * FCC_LQG_NX];      /* LQR Riccati solution */
+    fcc_real_t p[FCC_LQG_NX * FCC_LQG_NX];      /* LQR Riccati solution (d > 0: x block of pa) */
     fcc_real_t k[FCC_LQG_NU * FCC_LQG_NX];      /* u = -K x^ */
     fcc_real_t m[FCC_LQG_NX * FCC_LQG_NX];      /* a-priori estimation covariance */
     fcc_real_t p_post[FCC_LQG_NX * FCC_LQG_NX]; /* a-posteriori covariance (I - L H) M */
     fcc_real_t l[FCC_LQG_NX * FCC_LQG_NY];      /* filter gain, update form */
     /* Poles, sorted by decreasing modulus (then decreasing imaginary part). */
-    fcc_real_t cl_re[FCC_LQG_NX]; /* eig(Phi - Gamma K) */
+    fcc_real_t cl_re[FCC_LQG_NX]; /* eig(Phi - Gamma K); d > 0: the NX largest of the
+                                     augmented loop (the fourth is the delay state's) */
     fcc_real_t cl_im[FCC_LQG_NX];
     fcc_real_t est_re[FCC_LQG_NX]; /* eig(Phi - Phi L H) = eig((I - L H) Phi) */
     fcc_real_t est_im[FCC_LQG_NX];
-    fcc_lqg_riccati_t lqr;
+    fcc_lqg_riccati_t lqr; /* d > 0: doubling only (disagreement 0, rcond_u1 0) */
     fcc_lqg_riccati_t kf;
 } fcc_lqg_design_t;
 
@@ -124,6 +161,12 @@ typedef struct {
     double l[FCC_LQG_NX * FCC_LQG_NY];
     double cl_re[FCC_LQG_NX], cl_im[FCC_LQG_NX];
     double est_re[FCC_LQG_NX], est_im[FCC_LQG_NX];
+    double gamma1[FCC_LQG_NX * FCC_LQG_NU];
+    double k_u;
+    double qa11[FCC_LQG_NA * FCC_LQG_NA];
+    double qa12[FCC_LQG_NA];
+    double qa22;
+    double pa[FCC_LQG_NA * FCC_LQG_NA];
 } fcc_lqg_design64_t;
 
 /* Scratch of the design (~9 KB; the two phases share storage). */
@@ -146,6 +189,15 @@ typedef struct {
     fcc_dare_info_t first;        /* the first solver's report, kept for the second slice */
     fcc_lqg_riccati_t lqr;
     fcc_lqg_riccati_t kf;
+    double delay;                 /* d of the design in progress */
+    /* delay: the augmented system, cost blocks and map S, its closed loop */
+    double aug_a[FCC_LQG_NA * FCC_LQG_NA];
+    double aug_b[FCC_LQG_NA];
+    double aug_k[FCC_LQG_NA];
+    double aug_w[(FCC_LQG_NA + 1) * (FCC_LQG_NA + 1)];
+    double aug_s[FCC_LQG_NA * (FCC_LQG_NA + 1)];
+    double aug_t[(FCC_LQG_NA + 1) * (FCC_LQG_NA + 1)];
+    double aug_re[FCC_LQG_NA], aug_im[FCC_LQG_NA];
 } fcc_lqg_ws_t;
 
 /* The design runs in this many slices (fcc_lqg_design_slice), each a bounded
@@ -179,6 +231,15 @@ fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solv
 fcc_status_t fcc_lqg_design_begin(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
                                   fcc_lqg_ws_t *ws);
 fcc_status_t fcc_lqg_design_slice(fcc_lqg_ws_t *ws, fcc_lqg_design_t *out);
+
+/* The same for a known input delay d (see above): FCC_ERR_RANGE unless
+ * 0 <= d < T, FCC_ERR_ARG for a non-finite d.  d = 0 is fcc_lqg_design();
+ * with d > 0 the LQR slices run delay_blocks + the augmented doubling. */
+fcc_status_t fcc_lqg_design_delayed(const fcc_lqg_plant_t *plant, double t, double delay,
+                                    fcc_lqg_solver_t solver, fcc_lqg_design_t *out,
+                                    fcc_lqg_ws_t *ws);
+fcc_status_t fcc_lqg_design_begin_delayed(const fcc_lqg_plant_t *plant, double t, double delay,
+                                          fcc_lqg_solver_t solver, fcc_lqg_ws_t *ws);
 
 /* ---- D/A converter ------------------------------------------------------------ */
 
@@ -214,12 +275,15 @@ typedef struct {
 
 typedef struct {
     fcc_real_t phi[FCC_LQG_NX * FCC_LQG_NX];
-    fcc_real_t gamma[FCC_LQG_NX];
+    fcc_real_t gamma[FCC_LQG_NX];  /* Gamma0 */
+    fcc_real_t gamma1[FCC_LQG_NX]; /* Gamma1 */
     fcc_real_t k[FCC_LQG_NX];
+    fcc_real_t k_u;
     fcc_real_t l[FCC_LQG_NX * FCC_LQG_NY];
     fcc_real_t h[FCC_LQG_NY * FCC_LQG_NX];
     fcc_lqg_dac_t dac;
     fcc_real_t x_pred[FCC_LQG_NX]; /* xbar for the next sample */
+    fcc_real_t u_prev;             /* u_{k-1} as applied (0 after a reset) */
     uint32_t updates;              /* steps with a measurement */
     uint32_t predictions;          /* prediction-only steps */
 } fcc_lqg_ctrl_t;

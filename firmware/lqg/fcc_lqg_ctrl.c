@@ -88,6 +88,7 @@ fcc_status_t fcc_lqg_ctrl_reset(fcc_lqg_ctrl_t *c, const fcc_real_t x0[FCC_LQG_N
     for (unsigned i = 0; i < NX; ++i) {
         c->x_pred[i] = (x0 != NULL) ? x0[i] : FCC_R(0.0);
     }
+    c->u_prev = FCC_R(0.0);
     return FCC_OK;
 }
 
@@ -98,7 +99,8 @@ fcc_status_t fcc_lqg_ctrl_init(fcc_lqg_ctrl_t *c, const fcc_lqg_design_t *d, uin
         return FCC_ERR_ARG;
     }
     if (!finite_vec(d->phi, NX * NX) || !finite_vec(d->gamma, NX) || !finite_vec(d->k, NX) ||
-        !finite_vec(d->l, NX * NY) || !finite_vec(d->h, NY * NX)) {
+        !finite_vec(d->l, NX * NY) || !finite_vec(d->h, NY * NX) ||
+        !finite_vec(d->gamma1, NX) || !FCC_IS_FINITE(d->k_u)) {
         return FCC_ERR_NOT_FINITE;
     }
     if (x0 != NULL && !finite_vec(x0, NX)) {
@@ -111,8 +113,10 @@ fcc_status_t fcc_lqg_ctrl_init(fcc_lqg_ctrl_t *c, const fcc_lqg_design_t *d, uin
     }
     for (unsigned i = 0; i < NX; ++i) {
         c->gamma[i] = d->gamma[i];
+        c->gamma1[i] = d->gamma1[i];
         c->k[i] = d->k[i];
     }
+    c->k_u = d->k_u;
     for (unsigned i = 0; i < NX * NY; ++i) {
         c->l[i] = d->l[i];
         c->h[i] = d->h[i];
@@ -128,7 +132,7 @@ static fcc_status_t command_and_propagate(fcc_lqg_ctrl_t *c, const fcc_real_t x_
                                           bool measured, fcc_lqg_output_t *out)
 {
     fcc_lqg_output_t o;
-    o.u_cmd = FCC_R(0.0);
+    o.u_cmd = -c->k_u * c->u_prev;
     for (unsigned i = 0; i < NX; ++i) {
         o.x_hat[i] = x_hat[i];
         o.u_cmd -= c->k[i] * x_hat[i];
@@ -139,7 +143,7 @@ static fcc_status_t command_and_propagate(fcc_lqg_ctrl_t *c, const fcc_real_t x_
     FCC_TRY(fcc_lqg_dac_convert(&c->dac, o.u_sat, &o.code, &o.u_applied));
     fcc_real_t next[NX];
     for (unsigned i = 0; i < NX; ++i) {
-        next[i] = c->gamma[i] * o.u_applied;
+        next[i] = c->gamma[i] * o.u_applied + c->gamma1[i] * c->u_prev;
         for (unsigned j = 0; j < NX; ++j) {
             next[i] += c->phi[i * NX + j] * x_hat[j];
         }
@@ -150,6 +154,7 @@ static fcc_status_t command_and_propagate(fcc_lqg_ctrl_t *c, const fcc_real_t x_
     for (unsigned i = 0; i < NX; ++i) {
         c->x_pred[i] = next[i];
     }
+    c->u_prev = o.u_applied;
     if (measured) {
         ++c->updates;
     } else {

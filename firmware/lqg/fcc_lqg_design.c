@@ -1,9 +1,13 @@
 /* fcc_lqg_design.c -- the sampled-data LQG design of SPEC section 3. */
 #include "fcc_lqg.h"
 
+#include <string.h>
+
 #define NX FCC_LQG_NX
 #define NU FCC_LQG_NU
 #define NY FCC_LQG_NY
+#define NA FCC_LQG_NA
+#define NW (NA + NU) /* [x; u_{k-1}; u_k] */
 
 fcc_status_t fcc_lqg_plant_default(fcc_lqg_plant_t *plant)
 {
@@ -262,6 +266,140 @@ static fcc_status_t design_kf(fcc_lqg_ws_t *ws, bool second)
     return fcc_mat64_symmetrize(&pp);
 }
 
+/* w(r0.., c0..) += [[q11, q12], [q12^T, q22]] over tau, the cost of one hold
+ * interval of length tau for [x; u] at its start. */
+static fcc_status_t add_cost_block(plant64_t *pl, double tau, double *w, unsigned ld,
+                                   fcc_lqg_ws_t *ws)
+{
+    double q11[NX * NX];
+    double q12[NX * NU];
+    double q22[NU * NU];
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, pl->f);
+    const fcc_mat64_t g = FCC_MAT64(NX, NU, pl->g);
+    const fcc_mat64_t wx = FCC_MAT64(NX, NX, pl->wx);
+    const fcc_mat64_t wu = FCC_MAT64(NU, NU, pl->wu);
+    fcc_mat64_t m11 = FCC_MAT64(NX, NX, q11);
+    fcc_mat64_t m12 = FCC_MAT64(NX, NU, q12);
+    fcc_mat64_t m22 = FCC_MAT64(NU, NU, q22);
+    FCC_TRY(fcc_c2d_cost(&f, &g, &wx, &wu, tau, &m11, &m12, &m22, &ws->u.c2d));
+    for (unsigned i = 0; i < NX; ++i) {
+        for (unsigned j = 0; j < NX; ++j) {
+            w[i * ld + j] += q11[i * NX + j];
+        }
+        w[i * ld + NX] += q12[i];
+        w[NX * ld + i] += q12[i];
+    }
+    w[NX * ld + NX] += q22[0];
+    return FCC_OK;
+}
+
+/* Gamma0, Gamma1 and the augmented cost Qa (NW x NW) for delay d. */
+static fcc_status_t delay_blocks(plant64_t *pl, double t, double delay,
+                                 fcc_lqg_design64_t *d, fcc_lqg_ws_t *ws)
+{
+    double phi_d[NX * NX];
+    double gam_d[NX * NU];
+    double phi_r[NX * NX]; /* Phi(T - d) */
+    const fcc_mat64_t f = FCC_MAT64(NX, NX, pl->f);
+    const fcc_mat64_t g = FCC_MAT64(NX, NU, pl->g);
+    fcc_mat64_t mphi_d = FCC_MAT64(NX, NX, phi_d);
+    fcc_mat64_t mgam_d = FCC_MAT64(NX, NU, gam_d);
+    fcc_mat64_t mphi_r = FCC_MAT64(NX, NX, phi_r);
+    fcc_mat64_t mgam0 = FCC_MAT64(NX, NU, d->gamma);
+    fcc_mat64_t mgam1 = FCC_MAT64(NX, NU, d->gamma1);
+    FCC_TRY(fcc_c2d_zoh(&f, &g, delay, &mphi_d, &mgam_d, &ws->u.c2d));
+    FCC_TRY(fcc_c2d_zoh(&f, &g, t - delay, &mphi_r, &mgam0, &ws->u.c2d));
+    FCC_TRY(fcc_mat64_mul(&mphi_r, &mgam_d, &mgam1));
+    /* Qa = blkdiag(Q(d), 0) + S^T Q(T - d) S, S = [[Phi(d), Gamma(d), 0], [0, 0, I]] */
+    double *qa = ws->aug_w;   /* NW x NW */
+    double *qr = ws->aug_t;   /* Q(T - d), NA x NA (leading block of an NW buffer) */
+    double *sm = ws->aug_s;   /* S, NA x NW */
+    for (unsigned i = 0; i < NW * NW; ++i) {
+        qa[i] = 0.0;
+        qr[i] = 0.0;
+    }
+    for (unsigned i = 0; i < NA * NW; ++i) {
+        sm[i] = 0.0;
+    }
+    FCC_TRY(add_cost_block(pl, delay, qa, NW, ws));
+    FCC_TRY(add_cost_block(pl, t - delay, qr, NA, ws));
+    for (unsigned i = 0; i < NX; ++i) {
+        for (unsigned j = 0; j < NX; ++j) {
+            sm[i * NW + j] = phi_d[i * NX + j];
+        }
+        sm[i * NW + NX] = gam_d[i];
+    }
+    sm[NX * NW + NA] = 1.0;
+    for (unsigned i = 0; i < NW; ++i) {
+        for (unsigned j = 0; j < NW; ++j) {
+            double acc = 0.0;
+            for (unsigned a = 0; a < NA; ++a) {
+                for (unsigned b = 0; b < NA; ++b) {
+                    acc += sm[a * NW + i] * qr[a * NA + b] * sm[b * NW + j];
+                }
+            }
+            qa[i * NW + j] += acc;
+        }
+    }
+    for (unsigned i = 0; i < NA; ++i) {
+        for (unsigned j = 0; j < NA; ++j) {
+            d->qa11[i * NA + j] = 0.5 * (qa[i * NW + j] + qa[j * NW + i]);
+        }
+        d->qa12[i] = qa[i * NW + NA];
+    }
+    d->qa22 = qa[NA * NW + NA];
+    return FCC_OK;
+}
+
+/* The augmented LQR by doubling (see fcc_lqg.h for why not the Hamiltonian). */
+static fcc_status_t design_lqr_delayed(fcc_lqg_design64_t *d, fcc_lqg_riccati_t *rep,
+                                       fcc_lqg_ws_t *ws)
+{
+    double *a = ws->aug_a;
+    for (unsigned i = 0; i < NA * NA; ++i) {
+        a[i] = 0.0;
+    }
+    for (unsigned i = 0; i < NX; ++i) {
+        for (unsigned j = 0; j < NX; ++j) {
+            a[i * NA + j] = d->phi[i * NX + j];
+        }
+        a[i * NA + NX] = d->gamma1[i];
+        ws->aug_b[i] = d->gamma[i];
+    }
+    ws->aug_b[NX] = 1.0;
+    const fcc_mat64_t ma = FCC_MAT64(NA, NA, a);
+    const fcc_mat64_t mb = FCC_MAT64(NA, NU, ws->aug_b);
+    const fcc_mat64_t q11 = FCC_MAT64(NA, NA, d->qa11);
+    const fcc_mat64_t q12 = FCC_MAT64(NA, NU, d->qa12);
+    const fcc_mat64_t q22 = FCC_MAT64(NU, NU, &d->qa22);
+    const fcc_dare_problem_t p = {&ma, &mb, &q11, &q22, &q12};
+    fcc_mat64_t x = FCC_MAT64(NA, NA, d->pa);
+    fcc_mat64_t k = FCC_MAT64(NU, NA, ws->aug_k);
+    fcc_dare_info_t info = {0U, 0.0, 0.0, 0.0};
+    FCC_TRY(fcc_dare_doubling(&p, &x, &info, &ws->u.dare));
+    FCC_TRY(fcc_dare_gain(&p, &x, &k, &ws->u.dare));
+    for (unsigned i = 0; i < NX; ++i) {
+        d->k[i] = ws->aug_k[i];
+        for (unsigned j = 0; j < NX; ++j) {
+            d->p[i * NX + j] = d->pa[i * NA + j];
+        }
+    }
+    d->k_u = ws->aug_k[NX];
+    rep->residual = info.residual;
+    rep->disagreement = 0.0;
+    rep->iterations = info.iterations;
+    rep->rcond_u1 = 0.0;
+    /* closed loop of the augmented system: a - b k */
+    double acl[NA * NA];
+    for (unsigned i = 0; i < NA; ++i) {
+        for (unsigned j = 0; j < NA; ++j) {
+            acl[i * NA + j] = a[i * NA + j] - ws->aug_b[i] * ws->aug_k[j];
+        }
+    }
+    const fcc_mat64_t mcl = FCC_MAT64(NA, NA, acl);
+    return fcc_mat64_eig(&mcl, ws->aug_re, ws->aug_im, NULL, &ws->u.dare.eig);
+}
+
 /* Sort eigenvalues by decreasing modulus, then decreasing imaginary part. */
 static void sort_poles(double *re, double *im, unsigned n)
 {
@@ -284,7 +422,7 @@ static void sort_poles(double *re, double *im, unsigned n)
     }
 }
 
-static fcc_status_t poles(fcc_lqg_design64_t *d, fcc_lqg_ws_t *ws)
+static fcc_status_t poles(fcc_lqg_design64_t *d, bool delayed, fcc_lqg_ws_t *ws)
 {
     const fcc_mat64_t phi = FCC_MAT64(NX, NX, d->phi);
     const fcc_mat64_t gamma = FCC_MAT64(NX, NU, d->gamma);
@@ -294,9 +432,18 @@ static fcc_status_t poles(fcc_lqg_design64_t *d, fcc_lqg_ws_t *ws)
     fcc_mat64_t t1 = FCC_MAT64(NX, NX, ws->tmp);
     fcc_mat64_t t2 = FCC_MAT64(NX, NX, ws->x_alt);
     fcc_mat64_t acl = FCC_MAT64(NX, NX, ws->a_t);
-    FCC_TRY(fcc_mat64_mul(&gamma, &k, &t1));
-    FCC_TRY(fcc_mat64_sub(&phi, &t1, &acl));
-    FCC_TRY(fcc_mat64_eig(&acl, d->cl_re, d->cl_im, NULL, &ws->u.dare.eig));
+    if (delayed) {
+        /* the augmented loop's poles (design_lqr_delayed), the NX largest */
+        sort_poles(ws->aug_re, ws->aug_im, NA);
+        for (unsigned i = 0; i < NX; ++i) {
+            d->cl_re[i] = ws->aug_re[i];
+            d->cl_im[i] = ws->aug_im[i];
+        }
+    } else {
+        FCC_TRY(fcc_mat64_mul(&gamma, &k, &t1));
+        FCC_TRY(fcc_mat64_sub(&phi, &t1, &acl));
+        FCC_TRY(fcc_mat64_eig(&acl, d->cl_re, d->cl_im, NULL, &ws->u.dare.eig));
+    }
     FCC_TRY(fcc_mat64_mul(&l, &h, &t1));
     FCC_TRY(fcc_mat64_mul(&phi, &t1, &t2));
     FCC_TRY(fcc_mat64_sub(&phi, &t2, &acl));
@@ -333,17 +480,37 @@ static void export_design(const fcc_lqg_design64_t *d, fcc_lqg_design_t *out)
     narrow(out->cl_im, d->cl_im, NX);
     narrow(out->est_re, d->est_re, NX);
     narrow(out->est_im, d->est_im, NX);
+    narrow(out->gamma1, d->gamma1, NX * NU);
+    narrow(out->qa11, d->qa11, NA * NA);
+    narrow(out->qa12, d->qa12, NA);
+    narrow(out->pa, d->pa, NA * NA);
+    out->k_u = (fcc_real_t)d->k_u;
+    out->qa22 = (fcc_real_t)d->qa22;
 }
 
 fcc_status_t fcc_lqg_design_begin(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
                                   fcc_lqg_ws_t *ws)
+{
+    return fcc_lqg_design_begin_delayed(plant, t, 0.0, solver, ws);
+}
+
+fcc_status_t fcc_lqg_design_begin_delayed(const fcc_lqg_plant_t *plant, double t, double delay,
+                                          fcc_lqg_solver_t solver, fcc_lqg_ws_t *ws)
 {
     if (plant == NULL || ws == NULL) {
         return FCC_ERR_ARG;
     }
     ws->slice = FCC_LQG_DESIGN_SLICES;
     FCC_TRY(check_inputs(plant, t, solver));
+    if (!FCC_IS_FINITE(delay)) {
+        return FCC_ERR_ARG;
+    }
+    if (delay < 0.0 || delay >= t) {
+        return FCC_ERR_RANGE;
+    }
+    ws->delay = delay;
     fcc_lqg_design64_t *d = &ws->d;
+    memset(d, 0, sizeof *d);
     for (unsigned i = 0; i < NY * NX; ++i) {
         d->h[i] = (double)plant->h[i];
     }
@@ -370,14 +537,22 @@ static fcc_status_t run_slice(fcc_lqg_ws_t *ws, unsigned slice, fcc_lqg_design_t
     case 2U:
         return discretise_cost(ws);
     case 3U:
+        if (ws->delay > 0.0) { /* the augmented LQR: blocks + doubling (fcc_lqg.h) */
+            plant64_t p;
+            plant64(ws->plant, &p);
+            FCC_TRY(delay_blocks(&p, ws->t, ws->delay, &ws->d, ws));
+            return design_lqr_delayed(&ws->d, &ws->lqr, ws);
+        }
+        return design_lqr(ws, false);
     case 4U:
-        return design_lqr(ws, slice == 4U);
+        return (ws->delay > 0.0) ? FCC_OK : design_lqr(ws, true);
     case 5U:
     case 6U:
         return design_kf(ws, slice == 6U);
     default:
-        FCC_TRY(poles(&ws->d, ws));
+        FCC_TRY(poles(&ws->d, ws->delay > 0.0, ws));
         out->t = (fcc_real_t)ws->t;
+        out->delay = (fcc_real_t)ws->delay;
         out->solver = ws->solver;
         out->lqr = ws->lqr;
         out->kf = ws->kf;
@@ -404,10 +579,17 @@ fcc_status_t fcc_lqg_design_slice(fcc_lqg_ws_t *ws, fcc_lqg_design_t *out)
 fcc_status_t fcc_lqg_design(const fcc_lqg_plant_t *plant, double t, fcc_lqg_solver_t solver,
                             fcc_lqg_design_t *out, fcc_lqg_ws_t *ws)
 {
+    return fcc_lqg_design_delayed(plant, t, 0.0, solver, out, ws);
+}
+
+fcc_status_t fcc_lqg_design_delayed(const fcc_lqg_plant_t *plant, double t, double delay,
+                                    fcc_lqg_solver_t solver, fcc_lqg_design_t *out,
+                                    fcc_lqg_ws_t *ws)
+{
     if (out == NULL) {
         return FCC_ERR_ARG;
     }
-    FCC_TRY(fcc_lqg_design_begin(plant, t, solver, ws));
+    FCC_TRY(fcc_lqg_design_begin_delayed(plant, t, delay, solver, ws));
     fcc_status_t st = FCC_ERR_AGAIN;
     for (unsigned i = 0; i < FCC_LQG_DESIGN_SLICES && st == FCC_ERR_AGAIN; ++i) {
         st = fcc_lqg_design_slice(ws, out);

@@ -260,6 +260,7 @@ static uint64_t min_u64(uint64_t a, uint64_t b)
 static uint64_t loop_once(image_t *img)
 {
     (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
+    (void)fcc_node_sync_poll(&img->node); /* time sync timeouts: loss of sync, holdover */
     uint64_t now = mps2_now_us();
     if (fcc_slcan_dev_take_opened(&img->link)) {
         (void)fcc_node_send_status(&img->node); /* "listening" */

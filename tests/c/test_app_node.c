@@ -651,9 +651,10 @@ static void test_heartbeat_frames(void **state)
     (void)msl_step(0u, true, false); /* no accelerometer: held? never seen -> stale */
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_int_equal(g_mem.tx_n - first, 8u);
-    static const uint32_t ids[8] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u, 0x706u, 0x707u, 0x708u};
-    for (unsigned int i = 0u; i < 8u; ++i) {
+    assert_int_equal(g_mem.tx_n - first, 9u); /* + FCC_SYNC_STATUS (0x705) after the heartbeat */
+    static const uint32_t ids[9] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u,
+                                    0x706u, 0x707u, 0x708u, 0x705u};
+    for (unsigned int i = 0u; i < 9u; ++i) {
         assert_int_equal(g_mem.tx[first + i].id, ids[i]);
     }
     assert_int_equal(mem_decode_tx(&g_mem, (long)first + 6).fcc_sec_session.trip, MEM_TRIP);
@@ -677,7 +678,7 @@ static void test_heartbeat_frames(void **state)
     assert_int_equal(b.fcc_bus_counts.bus_errors, 7u);
     /* the since-last-heartbeat flag is cleared */
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_false(mem_decode_tx(&g_mem, (long)first + 8).fcc_status.e2e_fault);
+    assert_false(mem_decode_tx(&g_mem, (long)first + 9).fcc_status.e2e_fault);
 }
 
 static void test_realtime_mode_and_disabled_app(void **state)
@@ -705,7 +706,7 @@ static void test_realtime_mode_and_disabled_app(void **state)
     fcc_node_note_overrun(&g_node, FCC_APP_MSL, 2u, 5u);
     assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 2u);
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 11);
+    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 12);
     assert_true(s.fcc_status.overrun);
     assert_int_equal(s.fcc_status.overruns, 2u);
 }

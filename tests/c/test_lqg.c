@@ -278,6 +278,69 @@ static void design_matches_scipy(void **state)
     }
 }
 
+/* The delay-aware design (fcc_lqg.h): Gamma0/Gamma1 and the LQR on [x; u_k-1]
+ * against scipy, the Kalman part unchanged, the controller's delayed
+ * prediction, and the refusals of a delay outside [0, T). */
+static void delayed_design_matches_scipy(void **state)
+{
+    (void)state;
+    fcc_lqg_plant_t plant;
+    fcc_assert_ok(fcc_lqg_plant_default(&plant));
+    for (int c = 0; c < LQG_DELAYED_VECTOR_COUNT; ++c) {
+        const lqg_delayed_vector_t *v = &lqg_delayed_vectors[c];
+        print_message("T = %g s, d = %g s\n", v->t, v->delay);
+        fcc_lqg_design_t d;
+        fcc_lqg_design_t d0;
+        fcc_assert_ok(fcc_lqg_design_delayed(&plant, v->t, v->delay, FCC_LQG_SOLVER_HAMILTONIAN,
+                                             &d, &g_ws));
+        fcc_assert_ok(fcc_lqg_design(&plant, v->t, FCC_LQG_SOLVER_HAMILTONIAN, &d0, &g_ws));
+        fcc_assert_close(d.delay, v->delay, FCC_TEST_TOL(0, 1e-7), 0);
+        fcc_assert_reals_close(d.gamma, v->gamma0, 3, DESIGN_TOL, "Gamma0");
+        fcc_assert_reals_close(d.gamma1, v->gamma1, 3, DESIGN_TOL, "Gamma1");
+        fcc_assert_reals_close(d.k, v->k, 3, DESIGN_TOL, "K");
+        fcc_assert_reals_close(&d.k_u, v->k_u, 1, DESIGN_TOL, "K_u");
+        fcc_assert_reals_close(d.pa, v->pa, 16, DESIGN_TOL, "Pa");
+        fcc_assert_reals_close(d.qa11, v->qa11, 16, DESIGN_TOL, "Qa11");
+        fcc_assert_reals_close(d.qa12, v->qa12, 4, DESIGN_TOL, "Qa12");
+        fcc_assert_reals_close(&d.qa22, v->qa22, 1, DESIGN_TOL, "Qa22");
+        assert_poles(d.cl_re, d.cl_im, v->cl_poles, "closed-loop pole");
+        assert_true(d.lqr.residual < 1e-12 && d.lqr.iterations > 0);
+        /* the filter does not depend on the delay */
+        for (int i = 0; i < 6; ++i) {
+            assert_true(d.l[i] == d0.l[i]);
+        }
+        assert_true(d.kf.disagreement <= 1e-10);
+        /* one controller step: u = -K x^ - K_u u_prev, xbar+ = Phi x^ + G0 u + G1 u_prev */
+        fcc_lqg_ctrl_t ctl;
+        fcc_lqg_output_t out;
+        const fcc_real_t x0[3] = {FCC_R(0.05), FCC_R(0.002), FCC_R(1.0)};
+        fcc_assert_ok(fcc_lqg_ctrl_init(&ctl, &d, 16u, x0));
+        ctl.u_prev = FCC_R(0.01);
+        fcc_assert_ok(fcc_lqg_ctrl_predict(&ctl, &out));
+        fcc_real_t u = -d.k_u * FCC_R(0.01);
+        for (int i = 0; i < 3; ++i) {
+            u -= d.k[i] * x0[i];
+        }
+        fcc_assert_close(out.u_cmd, u, FCC_TEST_TOL(1e-12, 1e-5), 0);
+        for (int i = 0; i < 3; ++i) {
+            fcc_real_t next = d.gamma[i] * out.u_applied + d.gamma1[i] * FCC_R(0.01);
+            for (int j = 0; j < 3; ++j) {
+                next += d.phi[i * 3 + j] * x0[j];
+            }
+            fcc_assert_close(ctl.x_pred[i], next, FCC_TEST_TOL(1e-12, 1e-5), 0);
+        }
+        assert_true(ctl.u_prev == out.u_applied);
+    }
+    fcc_lqg_design_t d;
+    const fcc_lqg_solver_t h = FCC_LQG_SOLVER_HAMILTONIAN;
+    assert_int_equal(fcc_lqg_design_delayed(&plant, 0.1, -1e-6, h, &d, &g_ws), FCC_ERR_RANGE);
+    assert_int_equal(fcc_lqg_design_delayed(&plant, 0.1, 0.1, h, &d, &g_ws), FCC_ERR_RANGE);
+    assert_int_equal(fcc_lqg_design_delayed(&plant, 0.1, NAN, h, &d, &g_ws), FCC_ERR_ARG);
+    /* d = 0 is the undelayed design, by both solvers */
+    fcc_assert_ok(fcc_lqg_design_delayed(&plant, 0.1, 0.0, h, &d, &g_ws));
+    assert_true(d.k_u == FCC_R(0.0) && d.gamma1[0] == FCC_R(0.0) && d.lqr.rcond_u1 > 0);
+}
+
 static void design_refuses_bad_input(void **state)
 {
     (void)state;
@@ -547,6 +610,7 @@ int main(void)
         cmocka_unit_test(dare_four_states_cross_term),
         cmocka_unit_test(dare_refuses_bad_problems),
         cmocka_unit_test(design_matches_scipy),
+        cmocka_unit_test(delayed_design_matches_scipy),
         cmocka_unit_test(design_refuses_bad_input),
         cmocka_unit_test(dac_quantizes_as_specified),
         cmocka_unit_test_setup(ctrl_step_is_the_seed_filter, design_setup),

@@ -120,16 +120,16 @@ def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]
 
 def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
     frames, pct = _load_pct(spec, 0.05)
-    assert frames == pytest.approx(1140)   # 1020 + 120 SecOC authenticator and security frames
-    assert pct == pytest.approx(30.78)
+    assert frames == pytest.approx(1170)   # 1020 + 120 SecOC/security + 30 time sync
+    assert pct == pytest.approx(31.59)
     assert pct < 40.0
     frames_fast, pct_fast = _load_pct(spec, 0.02)
-    assert frames_fast == pytest.approx(1380)
+    assert frames_fast == pytest.approx(1410)
     assert pct_fast < 40.0
     readme = (DBC.parent / "README.md").read_text()
     assert f"**{pct:.1f} %**" in readme
     assert f"**{pct_fast:.1f} %**" in readme
-    assert re.search(r"\*\*1140\*\*", readme)
+    assert re.search(r"\*\*1170\*\*", readme)
 
 
 def test_secoc_attributes(spec: dbc.BusSpec) -> None:

@@ -200,4 +200,4 @@ def test_no_heap_in_the_cortex_m4f_image(repo):
     assert not symbols & (set(HEAP) | {"_sbrk", "sbrk"})
     # and the image really holds both applications
     assert {"fcc_node_run_step", "fcc_app_sid_step", "fcc_app_msl_step", "fcc_sid_step",
-            "fcc_lqg_design", "fcc_lqg_ctrl_step"} <= symbols
+            "fcc_lqg_design_delayed", "fcc_lqg_ctrl_step"} <= symbols

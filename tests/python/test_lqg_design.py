@@ -103,6 +103,28 @@ def test_design_matches_scipy(tool: Path, tol: float, period: float, solver: str
         assert max(abs(complex(re, im)) for re, im in out[key]) < 1.0
 
 
+@pytest.mark.parametrize("case", REFERENCE["delayed"], ids=lambda c: f"T{c['T']}-d{c['delay']}")
+def test_delayed_design_matches_scipy(tool: Path, tol: float, case: dict[str, Any]) -> None:
+    """lqg_design --delay: Gamma0/Gamma1 and the LQR on [x; u_k-1] as scipy computes them."""
+    out = design(tool, "--period", repr(case["T"]), "--delay", repr(case["delay"]))
+    assert out["delay"] == pytest.approx(case["delay"], rel=1e-7)
+    pairs = (("Gamma", "Gamma0"), ("Gamma1", "Gamma1"), ("K", "K"), ("Pa", "Pa"),
+             ("Qa11", "Qa11"), ("Qa12", "Qa12"), ("Qa22", "Qa22"))
+    for got, ref in pairs:
+        err = matrix_rel_err(np.ravel(out[got]), np.ravel(case[ref]))
+        assert err <= tol, f"{got}: matrix-relative error {err:.2e} > {tol:.0e}"
+    assert out["K_u"] == pytest.approx(case["K_u"][0], rel=tol)
+    assert spectrum_err(out["closed_loop_poles"], case["closed_loop_poles"]) <= tol
+    # the filter is the undelayed one
+    assert matrix_rel_err(out["L"], CASES[case["T"]]["L"]) <= tol
+
+
+def test_delay_out_of_range_is_refused(tool: Path) -> None:
+    proc = run_tool(tool, "--period", "0.05", "--delay", "0.05")
+    assert proc.returncode != 0 and proc.stdout == ""
+    assert proc.stderr.startswith("lqg_design: design failed") and len(proc.stderr.splitlines()) == 1
+
+
 def test_gains_follow_noise_variances(tool: Path, tol: float) -> None:
     """Non-default sensor noise: the filter gain still matches scipy."""
     import scipy.linalg as sl

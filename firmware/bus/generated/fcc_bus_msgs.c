@@ -8,6 +8,40 @@
 
 #include "fcc_bus_msgs.h"
 
+static const fcc_bus_signal_desc_t sig_tsync_sync[] = {
+    {"master", (uint16_t)offsetof(fcc_msg_tsync_sync_t, master), (uint16_t)offsetof(struct fcc_hil_tsync_sync_t, master), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(15)},
+    {"seq", (uint16_t)offsetof(fcc_msg_tsync_sync_t, seq), (uint16_t)offsetof(struct fcc_hil_tsync_sync_t, seq), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"interval_ms", (uint16_t)offsetof(fcc_msg_tsync_sync_t, interval_ms), (uint16_t)offsetof(struct fcc_hil_tsync_sync_t, interval_ms), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(1), INT64_C(255)},
+    {"sec", (uint16_t)offsetof(fcc_msg_tsync_sync_t, sec), (uint16_t)offsetof(struct fcc_hil_tsync_sync_t, sec), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(4294967295)},
+};
+
+static int unpack_tsync_sync(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_tsync_sync_unpack(raw, data, 8u);
+}
+
+static int pack_tsync_sync(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_tsync_sync_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_tsync_follow_up[] = {
+    {"master", (uint16_t)offsetof(fcc_msg_tsync_follow_up_t, master), (uint16_t)offsetof(struct fcc_hil_tsync_follow_up_t, master), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(15)},
+    {"seq", (uint16_t)offsetof(fcc_msg_tsync_follow_up_t, seq), (uint16_t)offsetof(struct fcc_hil_tsync_follow_up_t, seq), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"sec_carry", (uint16_t)offsetof(fcc_msg_tsync_follow_up_t, sec_carry), (uint16_t)offsetof(struct fcc_hil_tsync_follow_up_t, sec_carry), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
+    {"ns", (uint16_t)offsetof(fcc_msg_tsync_follow_up_t, ns), (uint16_t)offsetof(struct fcc_hil_tsync_follow_up_t, ns), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(999999999)},
+};
+
+static int unpack_tsync_follow_up(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_tsync_follow_up_unpack(raw, data, 8u);
+}
+
+static int pack_tsync_follow_up(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_tsync_follow_up_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_sim_control[] = {
     {"command", (uint16_t)offsetof(fcc_msg_sim_control_t, command), (uint16_t)offsetof(struct fcc_hil_sim_control_t, command), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(5)},
     {"lqg_period", (uint16_t)offsetof(fcc_msg_sim_control_t, lqg_period), (uint16_t)offsetof(struct fcc_hil_sim_control_t, lqg_period), FCC_FIELD_REAL, FCC_FIELD_U16, FCC_R(10000.0), INT64_C(0), INT64_C(3000)},
@@ -513,6 +547,26 @@ static int pack_fcc_bus_counts(uint8_t data[8], const void *raw)
     return fcc_hil_fcc_bus_counts_pack(data, raw, 8u);
 }
 
+static const fcc_bus_signal_desc_t sig_fcc_sync_status[] = {
+    {"state", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, state), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, state), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(3)},
+    {"master", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, master), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, master), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(15)},
+    {"offset_us", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, offset_us), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, offset_us), FCC_FIELD_I16, FCC_FIELD_I16, FCC_R(1.0), INT64_C(-32768), INT64_C(32767)},
+    {"rate_ppm", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, rate_ppm), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, rate_ppm), FCC_FIELD_REAL, FCC_FIELD_I16, FCC_R(100.0), INT64_C(-32768), INT64_C(32767)},
+    {"syncs", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, syncs), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, syncs), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"rejected", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, rejected), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, rejected), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"losses", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, losses), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, losses), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+};
+
+static int unpack_fcc_sync_status(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_sync_status_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_sync_status(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_sync_status_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_fcc_sec_counts[] = {
     {"mac_failed", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, mac_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, mac_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"freshness_failed", (uint16_t)offsetof(fcc_msg_fcc_sec_counts_t, freshness_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sec_counts_t, freshness_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
@@ -610,6 +664,8 @@ static int pack_rig_pong(uint8_t data[8], const void *raw)
 }
 
 const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
+    {"TSYNC_SYNC", 0x001u, 0x1001u, 3u, 100u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_tsync_sync / sizeof sig_tsync_sync[0]), sig_tsync_sync, unpack_tsync_sync, pack_tsync_sync},
+    {"TSYNC_FOLLOW_UP", 0x002u, 0x1002u, 3u, 100u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_tsync_follow_up / sizeof sig_tsync_follow_up[0]), sig_tsync_follow_up, unpack_tsync_follow_up, pack_tsync_follow_up},
     {"SIM_CONTROL", 0x010u, 0x1010u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control / sizeof sig_sim_control[0]), sig_sim_control, unpack_sim_control, pack_sim_control},
     {"SIM_CONTROL_AUTH", 0x011u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control_auth / sizeof sig_sim_control_auth[0]), sig_sim_control_auth, unpack_sim_control_auth, pack_sim_control_auth},
     {"SIM_TICK", 0x020u, 0x1020u, 3u, 20u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_tick / sizeof sig_sim_tick[0]), sig_sim_tick, unpack_sim_tick, pack_sim_tick},
@@ -640,6 +696,7 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"FCC_E2E_FAULTS", 0x702u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_e2_e_faults / sizeof sig_fcc_e2_e_faults[0]), sig_fcc_e2_e_faults, unpack_fcc_e2_e_faults, pack_fcc_e2_e_faults},
     {"FCC_REJECT_COUNTS", 0x703u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_reject_counts / sizeof sig_fcc_reject_counts[0]), sig_fcc_reject_counts, unpack_fcc_reject_counts, pack_fcc_reject_counts},
     {"FCC_BUS_COUNTS", 0x704u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_bus_counts / sizeof sig_fcc_bus_counts[0]), sig_fcc_bus_counts, unpack_fcc_bus_counts, pack_fcc_bus_counts},
+    {"FCC_SYNC_STATUS", 0x705u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sync_status / sizeof sig_fcc_sync_status[0]), sig_fcc_sync_status, unpack_fcc_sync_status, pack_fcc_sync_status},
     {"FCC_SEC_COUNTS", 0x706u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_counts / sizeof sig_fcc_sec_counts[0]), sig_fcc_sec_counts, unpack_fcc_sec_counts, pack_fcc_sec_counts},
     {"FCC_SEC_SESSION", 0x707u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_session / sizeof sig_fcc_sec_session[0]), sig_fcc_sec_session, unpack_fcc_sec_session, pack_fcc_sec_session},
     {"FCC_STATUS_AUTH", 0x708u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status_auth / sizeof sig_fcc_status_auth[0]), sig_fcc_status_auth, unpack_fcc_status_auth, pack_fcc_status_auth},

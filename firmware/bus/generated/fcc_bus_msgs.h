@@ -26,46 +26,51 @@
 
 /* Messages: index in fcc_bus_msg_table[] (sorted by CAN identifier). */
 typedef enum {
-    FCC_MSG_SIM_CONTROL = 0, /* 0x010 */
-    FCC_MSG_SIM_CONTROL_AUTH = 1, /* 0x011 */
-    FCC_MSG_SIM_TICK = 2, /* 0x020 */
-    FCC_MSG_SIM_TICK_AUTH = 3, /* 0x021 */
-    FCC_MSG_FCC_ACK = 4, /* 0x028 */
-    FCC_MSG_MSL_ELEV_CMD = 5, /* 0x030 */
-    FCC_MSG_MSL_ELEV_CMD_AUTH = 6, /* 0x031 */
-    FCC_MSG_MSL_RATE_GYRO = 7, /* 0x040 */
-    FCC_MSG_MSL_ACCELEROMETER = 8, /* 0x041 */
-    FCC_MSG_CDRW_AOA = 9, /* 0x050 */
-    FCC_MSG_CDRW_PITCH_RATE = 10, /* 0x051 */
-    FCC_MSG_CDRW_ELEVATOR = 11, /* 0x052 */
-    FCC_MSG_MSL_STATE_EST = 12, /* 0x100 */
-    FCC_MSG_SID_AZKF_STATE = 13, /* 0x110 */
-    FCC_MSG_SID_AZKF_BOUNDS = 14, /* 0x111 */
-    FCC_MSG_SID_AZKF_MODEL_A = 15, /* 0x112 */
-    FCC_MSG_SID_AZKF_MODEL_B = 16, /* 0x113 */
-    FCC_MSG_SID_ZKF_STATE = 17, /* 0x120 */
-    FCC_MSG_SID_ZKF_BOUNDS = 18, /* 0x121 */
-    FCC_MSG_SID_ZKF_MODEL_A = 19, /* 0x122 */
-    FCC_MSG_SID_ZKF_MODEL_B = 20, /* 0x123 */
-    FCC_MSG_SID_KF_STATE = 21, /* 0x130 */
-    FCC_MSG_SID_KF_BOUNDS = 22, /* 0x131 */
-    FCC_MSG_SID_KF_MODEL_A = 23, /* 0x132 */
-    FCC_MSG_SID_KF_MODEL_B = 24, /* 0x133 */
-    FCC_MSG_FCC_STATUS = 25, /* 0x700 */
-    FCC_MSG_FCC_E2E_COUNTS = 26, /* 0x701 */
-    FCC_MSG_FCC_E2E_FAULTS = 27, /* 0x702 */
-    FCC_MSG_FCC_REJECT_COUNTS = 28, /* 0x703 */
-    FCC_MSG_FCC_BUS_COUNTS = 29, /* 0x704 */
-    FCC_MSG_FCC_SEC_COUNTS = 30, /* 0x706 */
-    FCC_MSG_FCC_SEC_SESSION = 31, /* 0x707 */
-    FCC_MSG_FCC_STATUS_AUTH = 32, /* 0x708 */
-    FCC_MSG_SIM_EVENT = 33, /* 0x710 */
-    FCC_MSG_RIG_PING = 34, /* 0x7F0 */
-    FCC_MSG_RIG_PONG = 35, /* 0x7F1 */
+    FCC_MSG_TSYNC_SYNC = 0, /* 0x001 */
+    FCC_MSG_TSYNC_FOLLOW_UP = 1, /* 0x002 */
+    FCC_MSG_SIM_CONTROL = 2, /* 0x010 */
+    FCC_MSG_SIM_CONTROL_AUTH = 3, /* 0x011 */
+    FCC_MSG_SIM_TICK = 4, /* 0x020 */
+    FCC_MSG_SIM_TICK_AUTH = 5, /* 0x021 */
+    FCC_MSG_FCC_ACK = 6, /* 0x028 */
+    FCC_MSG_MSL_ELEV_CMD = 7, /* 0x030 */
+    FCC_MSG_MSL_ELEV_CMD_AUTH = 8, /* 0x031 */
+    FCC_MSG_MSL_RATE_GYRO = 9, /* 0x040 */
+    FCC_MSG_MSL_ACCELEROMETER = 10, /* 0x041 */
+    FCC_MSG_CDRW_AOA = 11, /* 0x050 */
+    FCC_MSG_CDRW_PITCH_RATE = 12, /* 0x051 */
+    FCC_MSG_CDRW_ELEVATOR = 13, /* 0x052 */
+    FCC_MSG_MSL_STATE_EST = 14, /* 0x100 */
+    FCC_MSG_SID_AZKF_STATE = 15, /* 0x110 */
+    FCC_MSG_SID_AZKF_BOUNDS = 16, /* 0x111 */
+    FCC_MSG_SID_AZKF_MODEL_A = 17, /* 0x112 */
+    FCC_MSG_SID_AZKF_MODEL_B = 18, /* 0x113 */
+    FCC_MSG_SID_ZKF_STATE = 19, /* 0x120 */
+    FCC_MSG_SID_ZKF_BOUNDS = 20, /* 0x121 */
+    FCC_MSG_SID_ZKF_MODEL_A = 21, /* 0x122 */
+    FCC_MSG_SID_ZKF_MODEL_B = 22, /* 0x123 */
+    FCC_MSG_SID_KF_STATE = 23, /* 0x130 */
+    FCC_MSG_SID_KF_BOUNDS = 24, /* 0x131 */
+    FCC_MSG_SID_KF_MODEL_A = 25, /* 0x132 */
+    FCC_MSG_SID_KF_MODEL_B = 26, /* 0x133 */
+    FCC_MSG_FCC_STATUS = 27, /* 0x700 */
+    FCC_MSG_FCC_E2E_COUNTS = 28, /* 0x701 */
+    FCC_MSG_FCC_E2E_FAULTS = 29, /* 0x702 */
+    FCC_MSG_FCC_REJECT_COUNTS = 30, /* 0x703 */
+    FCC_MSG_FCC_BUS_COUNTS = 31, /* 0x704 */
+    FCC_MSG_FCC_SYNC_STATUS = 32, /* 0x705 */
+    FCC_MSG_FCC_SEC_COUNTS = 33, /* 0x706 */
+    FCC_MSG_FCC_SEC_SESSION = 34, /* 0x707 */
+    FCC_MSG_FCC_STATUS_AUTH = 35, /* 0x708 */
+    FCC_MSG_SIM_EVENT = 36, /* 0x710 */
+    FCC_MSG_RIG_PING = 37, /* 0x7F0 */
+    FCC_MSG_RIG_PONG = 38, /* 0x7F1 */
     FCC_MSG_COUNT
 } fcc_msg_t;
 
 /* CAN identifiers. */
+#define FCC_MSG_TSYNC_SYNC_ID 0x001u
+#define FCC_MSG_TSYNC_FOLLOW_UP_ID 0x002u
 #define FCC_MSG_SIM_CONTROL_ID 0x010u
 #define FCC_MSG_SIM_CONTROL_AUTH_ID 0x011u
 #define FCC_MSG_SIM_TICK_ID 0x020u
@@ -96,6 +101,7 @@ typedef enum {
 #define FCC_MSG_FCC_E2E_FAULTS_ID 0x702u
 #define FCC_MSG_FCC_REJECT_COUNTS_ID 0x703u
 #define FCC_MSG_FCC_BUS_COUNTS_ID 0x704u
+#define FCC_MSG_FCC_SYNC_STATUS_ID 0x705u
 #define FCC_MSG_FCC_SEC_COUNTS_ID 0x706u
 #define FCC_MSG_FCC_SEC_SESSION_ID 0x707u
 #define FCC_MSG_FCC_STATUS_AUTH_ID 0x708u
@@ -140,6 +146,22 @@ typedef enum {
 #define FCC_MSG_SIM_EVENT_KIND_SILENCE 18u
 
 /* Physical values of each message (crc and counter are the frame layer's). */
+/* TSYNC_SYNC (0x001, 100 ms, SIM -> FCC, E2E data ID 0x1001): Time synchronisation, first half (CANopen SYNC / AUTOSAR CAN time sync style): the time master (the simulator) sends it every interval_ms; its precise transmit time follows in TSYNC_FOLLOW_UP with the same seq. See firmware/app/README.md, Time synchronisation. */
+typedef struct {
+    uint8_t master; /* [0, 15]. Identifier of the time master (0 to 15); a slave follows one master and counts the others. */
+    uint8_t seq; /* [0, 255]. Sync sequence number, +1 modulo 256 per SYNC; the FOLLOW_UP repeats it. */
+    uint8_t interval_ms; /* [1, 255] ms. The master's sync period in ms (the slave's loss-of-sync timeout is 3 intervals). */
+    uint32_t sec; /* [0, 4294967295] s. Whole seconds of the master time when the SYNC was queued (coarse part). */
+} fcc_msg_tsync_sync_t;
+
+/* TSYNC_FOLLOW_UP (0x002, 100 ms, SIM -> FCC, E2E data ID 0x1002): Time synchronisation, second half: the master time at which the SYNC of the same seq actually left (its transmit time stamp, taken after the frame was on the bus). */
+typedef struct {
+    uint8_t master; /* [0, 15]. Identifier of the time master (as in its SYNC). */
+    uint8_t seq; /* [0, 255]. Sequence number of the SYNC this follows up. */
+    bool sec_carry; /* [0, 1]. 1 when the transmit time is in the second after SYNC.sec. */
+    uint32_t ns; /* [0, 999999999] ns. Nanoseconds within that second of the SYNC's transmit time. */
+} fcc_msg_tsync_follow_up_t;
+
 /* SIM_CONTROL (0x010, event, SIM -> FCC, E2E data ID 0x1010): Run-time configuration and commands from the simulator to the FCC. Sent on demand. A field at 0 keeps the current setting. */
 typedef struct {
     uint8_t command; /* [0, 5]. 0 none, 1 shut the FCC down cleanly, 2 reset both applications to their initial state, 3 enter FLIGHT, 4 enter GROUND (end of flight), 5 enter MAINTENANCE. Accepted only when authenticated and allowed in the current mode (firmware/app/README.md, Modes). */
@@ -375,6 +397,17 @@ typedef struct {
     uint16_t tx_retries; /* [0, 65535]. Transmit retries after ENOBUFS or EAGAIN. */
 } fcc_msg_fcc_bus_counts_t;
 
+/* FCC_SYNC_STATUS (0x705, 100 ms, FCC -> SIM): Time synchronisation status of the FCC (the slave), with the heartbeat. */
+typedef struct {
+    uint8_t state; /* [0, 3]. 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (sync lost: free-run on the last estimate, degraded). */
+    uint8_t master; /* [0, 15]. Time master followed. */
+    int16_t offset_us; /* [-32768, 32767] us. Last sync residual: master time of the SYNC minus the slave's estimate of it, saturated. */
+    fcc_real_t rate_ppm; /* [-327.68, 327.67] ppm, LSB 0.01. Estimated rate of the master clock relative to the slave's, ppm. */
+    uint8_t syncs; /* [0, 255]. SYNC/FOLLOW_UP pairs used, modulo 256. */
+    uint8_t rejected; /* [0, 255]. Sync inputs refused (past/future outlier, missing or orphan follow-up, foreign master, repeated sequence), modulo 256. */
+    uint8_t losses; /* [0, 255]. Losses of sync (no usable sync for 3 intervals), modulo 256. */
+} fcc_msg_fcc_sync_status_t;
+
 /* FCC_SEC_COUNTS (0x706, 100 ms, FCC -> SIM): FCC authentication and mode counters since start (wrap). */
 typedef struct {
     uint16_t mac_failed; /* [0, 65535]. Authenticators received whose MAC matched no pending secured frame (forgeries, frames of another session or key). */
@@ -419,6 +452,8 @@ typedef struct {
 
 /* Any message, physical values. */
 typedef union {
+    fcc_msg_tsync_sync_t tsync_sync;
+    fcc_msg_tsync_follow_up_t tsync_follow_up;
     fcc_msg_sim_control_t sim_control;
     fcc_msg_sim_control_auth_t sim_control_auth;
     fcc_msg_sim_tick_t sim_tick;
@@ -449,6 +484,7 @@ typedef union {
     fcc_msg_fcc_e2_e_faults_t fcc_e2_e_faults;
     fcc_msg_fcc_reject_counts_t fcc_reject_counts;
     fcc_msg_fcc_bus_counts_t fcc_bus_counts;
+    fcc_msg_fcc_sync_status_t fcc_sync_status;
     fcc_msg_fcc_sec_counts_t fcc_sec_counts;
     fcc_msg_fcc_sec_session_t fcc_sec_session;
     fcc_msg_fcc_status_auth_t fcc_status_auth;
@@ -459,6 +495,8 @@ typedef union {
 
 /* Any message, cantools raw struct (frame-layer scratch). */
 typedef union {
+    struct fcc_hil_tsync_sync_t tsync_sync;
+    struct fcc_hil_tsync_follow_up_t tsync_follow_up;
     struct fcc_hil_sim_control_t sim_control;
     struct fcc_hil_sim_control_auth_t sim_control_auth;
     struct fcc_hil_sim_tick_t sim_tick;
@@ -489,6 +527,7 @@ typedef union {
     struct fcc_hil_fcc_e2_e_faults_t fcc_e2_e_faults;
     struct fcc_hil_fcc_reject_counts_t fcc_reject_counts;
     struct fcc_hil_fcc_bus_counts_t fcc_bus_counts;
+    struct fcc_hil_fcc_sync_status_t fcc_sync_status;
     struct fcc_hil_fcc_sec_counts_t fcc_sec_counts;
     struct fcc_hil_fcc_sec_session_t fcc_sec_session;
     struct fcc_hil_fcc_status_auth_t fcc_status_auth;

@@ -145,6 +145,246 @@ static inline uint64_t unpack_right_shift_u64(
     return (uint64_t)((uint64_t)(value & mask) >> shift);
 }
 
+int fcc_hil_tsync_sync_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_sync_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
+    dst_p[1] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->master, 4u, 0xf0u);
+    dst_p[2] |= pack_left_shift_u8(src_p->seq, 0u, 0xffu);
+    dst_p[3] |= pack_left_shift_u8(src_p->interval_ms, 0u, 0xffu);
+    dst_p[4] |= pack_left_shift_u32(src_p->sec, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(src_p->sec, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(src_p->sec, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(src_p->sec, 24u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_tsync_sync_unpack(
+    struct fcc_hil_tsync_sync_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->crc = unpack_right_shift_u8(src_p[0], 0u, 0xffu);
+    dst_p->counter = unpack_right_shift_u8(src_p[1], 0u, 0x0fu);
+    dst_p->master = unpack_right_shift_u8(src_p[1], 4u, 0xf0u);
+    dst_p->seq = unpack_right_shift_u8(src_p[2], 0u, 0xffu);
+    dst_p->interval_ms = unpack_right_shift_u8(src_p[3], 0u, 0xffu);
+    dst_p->sec = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    dst_p->sec |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    dst_p->sec |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    dst_p->sec |= unpack_left_shift_u32(src_p[7], 24u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_tsync_sync_init(struct fcc_hil_tsync_sync_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_tsync_sync_t));
+
+    return 0;
+}
+
+bool fcc_hil_tsync_sync_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_sync_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_tsync_sync_counter_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool fcc_hil_tsync_sync_counter_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool fcc_hil_tsync_sync_master_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool fcc_hil_tsync_sync_master_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool fcc_hil_tsync_sync_seq_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_sync_seq_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_tsync_sync_interval_ms_is_in_range(uint8_t value)
+{
+    return (value >= 1u);
+}
+
+bool fcc_hil_tsync_sync_interval_ms_is_in_phys_range(double value)
+{
+    return ((value >= 1.0) && (value <= 255.0));
+}
+
+bool fcc_hil_tsync_sync_sec_is_in_range(uint32_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_sync_sec_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 4294967295.0));
+}
+
+int fcc_hil_tsync_follow_up_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_follow_up_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->crc, 0u, 0xffu);
+    dst_p[1] |= pack_left_shift_u8(src_p->counter, 0u, 0x0fu);
+    dst_p[1] |= pack_left_shift_u8(src_p->master, 4u, 0xf0u);
+    dst_p[2] |= pack_left_shift_u8(src_p->seq, 0u, 0xffu);
+    dst_p[3] |= pack_left_shift_u8(src_p->sec_carry, 0u, 0x01u);
+    dst_p[4] |= pack_left_shift_u32(src_p->ns, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u32(src_p->ns, 8u, 0xffu);
+    dst_p[6] |= pack_right_shift_u32(src_p->ns, 16u, 0xffu);
+    dst_p[7] |= pack_right_shift_u32(src_p->ns, 24u, 0x3fu);
+
+    return (8);
+}
+
+int fcc_hil_tsync_follow_up_unpack(
+    struct fcc_hil_tsync_follow_up_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->crc = unpack_right_shift_u8(src_p[0], 0u, 0xffu);
+    dst_p->counter = unpack_right_shift_u8(src_p[1], 0u, 0x0fu);
+    dst_p->master = unpack_right_shift_u8(src_p[1], 4u, 0xf0u);
+    dst_p->seq = unpack_right_shift_u8(src_p[2], 0u, 0xffu);
+    dst_p->sec_carry = unpack_right_shift_u8(src_p[3], 0u, 0x01u);
+    dst_p->ns = unpack_right_shift_u32(src_p[4], 0u, 0xffu);
+    dst_p->ns |= unpack_left_shift_u32(src_p[5], 8u, 0xffu);
+    dst_p->ns |= unpack_left_shift_u32(src_p[6], 16u, 0xffu);
+    dst_p->ns |= unpack_left_shift_u32(src_p[7], 24u, 0x3fu);
+
+    return (0);
+}
+
+int fcc_hil_tsync_follow_up_init(struct fcc_hil_tsync_follow_up_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_tsync_follow_up_t));
+
+    return 0;
+}
+
+bool fcc_hil_tsync_follow_up_crc_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_follow_up_crc_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_tsync_follow_up_counter_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool fcc_hil_tsync_follow_up_counter_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool fcc_hil_tsync_follow_up_master_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool fcc_hil_tsync_follow_up_master_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool fcc_hil_tsync_follow_up_seq_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_follow_up_seq_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_tsync_follow_up_sec_carry_is_in_range(uint8_t value)
+{
+    return (value <= 1u);
+}
+
+bool fcc_hil_tsync_follow_up_sec_carry_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 1.0));
+}
+
+bool fcc_hil_tsync_follow_up_ns_is_in_range(uint32_t value)
+{
+    return (value <= 999999999u);
+}
+
+bool fcc_hil_tsync_follow_up_ns_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 999999999.0));
+}
+
 int fcc_hil_sim_control_pack(
     uint8_t *dst_p,
     const struct fcc_hil_sim_control_t *src_p,
@@ -3513,6 +3753,151 @@ bool fcc_hil_fcc_bus_counts_tx_retries_is_in_range(uint16_t value)
 bool fcc_hil_fcc_bus_counts_tx_retries_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 65535.0));
+}
+
+int fcc_hil_fcc_sync_status_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sync_status_t *src_p,
+    size_t size)
+{
+    uint16_t offset_us;
+    uint16_t rate_ppm;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u8(src_p->state, 0u, 0x07u);
+    dst_p[0] |= pack_left_shift_u8(src_p->master, 3u, 0x78u);
+    offset_us = (uint16_t)src_p->offset_us;
+    dst_p[1] |= pack_left_shift_u16(offset_us, 0u, 0xffu);
+    dst_p[2] |= pack_right_shift_u16(offset_us, 8u, 0xffu);
+    rate_ppm = (uint16_t)src_p->rate_ppm;
+    dst_p[3] |= pack_left_shift_u16(rate_ppm, 0u, 0xffu);
+    dst_p[4] |= pack_right_shift_u16(rate_ppm, 8u, 0xffu);
+    dst_p[5] |= pack_left_shift_u8(src_p->syncs, 0u, 0xffu);
+    dst_p[6] |= pack_left_shift_u8(src_p->rejected, 0u, 0xffu);
+    dst_p[7] |= pack_left_shift_u8(src_p->losses, 0u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_sync_status_unpack(
+    struct fcc_hil_fcc_sync_status_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    uint16_t offset_us;
+    uint16_t rate_ppm;
+
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->state = unpack_right_shift_u8(src_p[0], 0u, 0x07u);
+    dst_p->master = unpack_right_shift_u8(src_p[0], 3u, 0x78u);
+    offset_us = unpack_right_shift_u16(src_p[1], 0u, 0xffu);
+    offset_us |= unpack_left_shift_u16(src_p[2], 8u, 0xffu);
+    dst_p->offset_us = (int16_t)offset_us;
+    rate_ppm = unpack_right_shift_u16(src_p[3], 0u, 0xffu);
+    rate_ppm |= unpack_left_shift_u16(src_p[4], 8u, 0xffu);
+    dst_p->rate_ppm = (int16_t)rate_ppm;
+    dst_p->syncs = unpack_right_shift_u8(src_p[5], 0u, 0xffu);
+    dst_p->rejected = unpack_right_shift_u8(src_p[6], 0u, 0xffu);
+    dst_p->losses = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_sync_status_init(struct fcc_hil_fcc_sync_status_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_sync_status_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_sync_status_state_is_in_range(uint8_t value)
+{
+    return (value <= 3u);
+}
+
+bool fcc_hil_fcc_sync_status_state_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 3.0));
+}
+
+bool fcc_hil_fcc_sync_status_master_is_in_range(uint8_t value)
+{
+    return (value <= 15u);
+}
+
+bool fcc_hil_fcc_sync_status_master_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 15.0));
+}
+
+bool fcc_hil_fcc_sync_status_offset_us_is_in_range(int16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_status_offset_us_is_in_phys_range(double value)
+{
+    return ((value >= -32768.0) && (value <= 32767.0));
+}
+
+bool fcc_hil_fcc_sync_status_rate_ppm_is_in_range(int16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_status_rate_ppm_is_in_phys_range(double value)
+{
+    return ((value >= -327.68) && (value <= 327.67));
+}
+
+bool fcc_hil_fcc_sync_status_syncs_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_status_syncs_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_fcc_sync_status_rejected_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_status_rejected_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_fcc_sync_status_losses_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_status_losses_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int fcc_hil_fcc_sec_counts_pack(

@@ -45,6 +45,8 @@ extern "C" {
 #endif
 
 /* Frame ids. */
+#define FCC_HIL_TSYNC_SYNC_FRAME_ID (0x01u)
+#define FCC_HIL_TSYNC_FOLLOW_UP_FRAME_ID (0x02u)
 #define FCC_HIL_SIM_CONTROL_FRAME_ID (0x10u)
 #define FCC_HIL_SIM_CONTROL_AUTH_FRAME_ID (0x11u)
 #define FCC_HIL_SIM_TICK_FRAME_ID (0x20u)
@@ -75,6 +77,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_FRAME_ID (0x702u)
 #define FCC_HIL_FCC_REJECT_COUNTS_FRAME_ID (0x703u)
 #define FCC_HIL_FCC_BUS_COUNTS_FRAME_ID (0x704u)
+#define FCC_HIL_FCC_SYNC_STATUS_FRAME_ID (0x705u)
 #define FCC_HIL_FCC_SEC_COUNTS_FRAME_ID (0x706u)
 #define FCC_HIL_FCC_SEC_SESSION_FRAME_ID (0x707u)
 #define FCC_HIL_FCC_STATUS_AUTH_FRAME_ID (0x708u)
@@ -83,6 +86,8 @@ extern "C" {
 #define FCC_HIL_RIG_PONG_FRAME_ID (0x7f1u)
 
 /* Frame lengths in bytes. */
+#define FCC_HIL_TSYNC_SYNC_LENGTH (8u)
+#define FCC_HIL_TSYNC_FOLLOW_UP_LENGTH (8u)
 #define FCC_HIL_SIM_CONTROL_LENGTH (8u)
 #define FCC_HIL_SIM_CONTROL_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_TICK_LENGTH (8u)
@@ -113,6 +118,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_LENGTH (8u)
 #define FCC_HIL_FCC_REJECT_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_BUS_COUNTS_LENGTH (8u)
+#define FCC_HIL_FCC_SYNC_STATUS_LENGTH (8u)
 #define FCC_HIL_FCC_SEC_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_SEC_SESSION_LENGTH (8u)
 #define FCC_HIL_FCC_STATUS_AUTH_LENGTH (8u)
@@ -121,6 +127,8 @@ extern "C" {
 #define FCC_HIL_RIG_PONG_LENGTH (8u)
 
 /* Extended or standard frame types. */
+#define FCC_HIL_TSYNC_SYNC_IS_EXTENDED (0)
+#define FCC_HIL_TSYNC_FOLLOW_UP_IS_EXTENDED (0)
 #define FCC_HIL_SIM_CONTROL_IS_EXTENDED (0)
 #define FCC_HIL_SIM_CONTROL_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_TICK_IS_EXTENDED (0)
@@ -151,6 +159,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_REJECT_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_BUS_COUNTS_IS_EXTENDED (0)
+#define FCC_HIL_FCC_SYNC_STATUS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SEC_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SEC_SESSION_IS_EXTENDED (0)
 #define FCC_HIL_FCC_STATUS_AUTH_IS_EXTENDED (0)
@@ -159,6 +168,8 @@ extern "C" {
 #define FCC_HIL_RIG_PONG_IS_EXTENDED (0)
 
 /* Frame cycle times in milliseconds. */
+#define FCC_HIL_TSYNC_SYNC_CYCLE_TIME_MS (100u)
+#define FCC_HIL_TSYNC_FOLLOW_UP_CYCLE_TIME_MS (100u)
 #define FCC_HIL_SIM_TICK_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SIM_TICK_AUTH_CYCLE_TIME_MS (20u)
 #define FCC_HIL_FCC_ACK_CYCLE_TIME_MS (20u)
@@ -187,6 +198,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_REJECT_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_BUS_COUNTS_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_SYNC_STATUS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SEC_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SEC_SESSION_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_STATUS_AUTH_CYCLE_TIME_MS (100u)
@@ -233,6 +245,8 @@ extern "C" {
 #define FCC_HIL_SIM_EVENT_KIND_SILENCE_CHOICE (18u)
 
 /* Frame Names. */
+#define FCC_HIL_TSYNC_SYNC_NAME "TSYNC_SYNC"
+#define FCC_HIL_TSYNC_FOLLOW_UP_NAME "TSYNC_FOLLOW_UP"
 #define FCC_HIL_SIM_CONTROL_NAME "SIM_CONTROL"
 #define FCC_HIL_SIM_CONTROL_AUTH_NAME "SIM_CONTROL_AUTH"
 #define FCC_HIL_SIM_TICK_NAME "SIM_TICK"
@@ -263,6 +277,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_NAME "FCC_E2E_FAULTS"
 #define FCC_HIL_FCC_REJECT_COUNTS_NAME "FCC_REJECT_COUNTS"
 #define FCC_HIL_FCC_BUS_COUNTS_NAME "FCC_BUS_COUNTS"
+#define FCC_HIL_FCC_SYNC_STATUS_NAME "FCC_SYNC_STATUS"
 #define FCC_HIL_FCC_SEC_COUNTS_NAME "FCC_SEC_COUNTS"
 #define FCC_HIL_FCC_SEC_SESSION_NAME "FCC_SEC_SESSION"
 #define FCC_HIL_FCC_STATUS_AUTH_NAME "FCC_STATUS_AUTH"
@@ -271,6 +286,18 @@ extern "C" {
 #define FCC_HIL_RIG_PONG_NAME "RIG_PONG"
 
 /* Signal Names. */
+#define FCC_HIL_TSYNC_SYNC_CRC_NAME "crc"
+#define FCC_HIL_TSYNC_SYNC_COUNTER_NAME "counter"
+#define FCC_HIL_TSYNC_SYNC_MASTER_NAME "master"
+#define FCC_HIL_TSYNC_SYNC_SEQ_NAME "seq"
+#define FCC_HIL_TSYNC_SYNC_INTERVAL_MS_NAME "interval_ms"
+#define FCC_HIL_TSYNC_SYNC_SEC_NAME "sec"
+#define FCC_HIL_TSYNC_FOLLOW_UP_CRC_NAME "crc"
+#define FCC_HIL_TSYNC_FOLLOW_UP_COUNTER_NAME "counter"
+#define FCC_HIL_TSYNC_FOLLOW_UP_MASTER_NAME "master"
+#define FCC_HIL_TSYNC_FOLLOW_UP_SEQ_NAME "seq"
+#define FCC_HIL_TSYNC_FOLLOW_UP_SEC_CARRY_NAME "sec_carry"
+#define FCC_HIL_TSYNC_FOLLOW_UP_NS_NAME "ns"
 #define FCC_HIL_SIM_CONTROL_CRC_NAME "crc"
 #define FCC_HIL_SIM_CONTROL_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_CONTROL_COMMAND_NAME "command"
@@ -404,6 +431,13 @@ extern "C" {
 #define FCC_HIL_FCC_BUS_COUNTS_RX_OVERFLOWS_NAME "rx_overflows"
 #define FCC_HIL_FCC_BUS_COUNTS_TX_DROPPED_NAME "tx_dropped"
 #define FCC_HIL_FCC_BUS_COUNTS_TX_RETRIES_NAME "tx_retries"
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_NAME "state"
+#define FCC_HIL_FCC_SYNC_STATUS_MASTER_NAME "master"
+#define FCC_HIL_FCC_SYNC_STATUS_OFFSET_US_NAME "offset_us"
+#define FCC_HIL_FCC_SYNC_STATUS_RATE_PPM_NAME "rate_ppm"
+#define FCC_HIL_FCC_SYNC_STATUS_SYNCS_NAME "syncs"
+#define FCC_HIL_FCC_SYNC_STATUS_REJECTED_NAME "rejected"
+#define FCC_HIL_FCC_SYNC_STATUS_LOSSES_NAME "losses"
 #define FCC_HIL_FCC_SEC_COUNTS_MAC_FAILED_NAME "mac_failed"
 #define FCC_HIL_FCC_SEC_COUNTS_FRESHNESS_FAILED_NAME "freshness_failed"
 #define FCC_HIL_FCC_SEC_COUNTS_UNPAIRED_NAME "unpaired"
@@ -424,6 +458,132 @@ extern "C" {
 #define FCC_HIL_RIG_PING_T_SEND_US_NAME "t_send_us"
 #define FCC_HIL_RIG_PONG_SEQ_NAME "seq"
 #define FCC_HIL_RIG_PONG_T_SEND_US_NAME "t_send_us"
+
+/**
+ * Signals in message TSYNC_SYNC.
+ *
+ * Time synchronisation, first half (CANopen SYNC / AUTOSAR CAN time sync style): the time master (the simulator) sends it every interval_ms; its precise transmit time follows in TSYNC_FOLLOW_UP with the same seq. See firmware/app/README.md, Time synchronisation.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_tsync_sync_t {
+    /**
+     * E2E CRC-8 SAE J1850 over E2E_DataID (low, high) and bytes 1 to 7.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
+
+    /**
+     * E2E alive counter, +1 modulo 16 per frame sent.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * Identifier of the time master (0 to 15); a slave follows one master and counts the others.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t master;
+
+    /**
+     * Sync sequence number, +1 modulo 256 per SYNC; the FOLLOW_UP repeats it.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t seq;
+
+    /**
+     * The master's sync period in ms (the slave's loss-of-sync timeout is 3 intervals).
+     *
+     * Range: 1..255 (1..255 ms)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t interval_ms;
+
+    /**
+     * Whole seconds of the master time when the SYNC was queued (coarse part).
+     *
+     * Range: 0..4294967295 (0..4294967295 s)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t sec;
+};
+
+/**
+ * Signals in message TSYNC_FOLLOW_UP.
+ *
+ * Time synchronisation, second half: the master time at which the SYNC of the same seq actually left (its transmit time stamp, taken after the frame was on the bus).
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_tsync_follow_up_t {
+    /**
+     * E2E CRC-8 SAE J1850 over E2E_DataID (low, high) and bytes 1 to 7.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t crc;
+
+    /**
+     * E2E alive counter, +1 modulo 16 per frame sent.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t counter;
+
+    /**
+     * Identifier of the time master (as in its SYNC).
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t master;
+
+    /**
+     * Sequence number of the SYNC this follows up.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t seq;
+
+    /**
+     * 1 when the transmit time is in the second after SYNC.sec.
+     *
+     * Range: 0..1 (0..1 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t sec_carry;
+
+    /**
+     * Nanoseconds within that second of the SYNC's transmit time.
+     *
+     * Range: 0..999999999 (0..999999999 ns)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint32_t ns;
+};
 
 /**
  * Signals in message SIM_CONTROL.
@@ -1893,6 +2053,78 @@ struct fcc_hil_fcc_bus_counts_t {
 };
 
 /**
+ * Signals in message FCC_SYNC_STATUS.
+ *
+ * Time synchronisation status of the FCC (the slave), with the heartbeat.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_sync_status_t {
+    /**
+     * 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (sync lost: free-run on the last estimate, degraded).
+     *
+     * Range: 0..3 (0..3 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t state;
+
+    /**
+     * Time master followed.
+     *
+     * Range: 0..15 (0..15 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t master;
+
+    /**
+     * Last sync residual: master time of the SYNC minus the slave's estimate of it, saturated.
+     *
+     * Range: -32768..32767 (-32768..32767 us)
+     * Scale: 1
+     * Offset: 0
+     */
+    int16_t offset_us;
+
+    /**
+     * Estimated rate of the master clock relative to the slave's, ppm.
+     *
+     * Range: -32768..32767 (-327.68..327.67 ppm)
+     * Scale: 0.01
+     * Offset: 0
+     */
+    int16_t rate_ppm;
+
+    /**
+     * SYNC/FOLLOW_UP pairs used, modulo 256.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t syncs;
+
+    /**
+     * Sync inputs refused (past/future outlier, missing or orphan follow-up, foreign master, repeated sequence), modulo 256.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t rejected;
+
+    /**
+     * Losses of sync (no usable sync for 3 intervals), modulo 256.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t losses;
+};
+
+/**
  * Signals in message FCC_SEC_COUNTS.
  *
  * FCC authentication and mode counters since start (wrap).
@@ -2125,6 +2357,344 @@ struct fcc_hil_rig_pong_t {
      */
     uint32_t t_send_us;
 };
+
+/**
+ * Pack message TSYNC_SYNC.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_tsync_sync_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_sync_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TSYNC_SYNC.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_tsync_sync_unpack(
+    struct fcc_hil_tsync_sync_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TSYNC_SYNC.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_tsync_sync_init(struct fcc_hil_tsync_sync_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_crc_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_master_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_master_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_seq_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_seq_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_interval_ms_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_interval_ms_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_sec_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_sync_sec_is_in_phys_range(double value);
+
+/**
+ * Pack message TSYNC_FOLLOW_UP.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_tsync_follow_up_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_follow_up_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TSYNC_FOLLOW_UP.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_tsync_follow_up_unpack(
+    struct fcc_hil_tsync_follow_up_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TSYNC_FOLLOW_UP.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_tsync_follow_up_init(struct fcc_hil_tsync_follow_up_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_crc_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_crc_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_counter_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_counter_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_master_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_master_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_seq_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_seq_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_sec_carry_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_sec_carry_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_ns_is_in_range(uint32_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_follow_up_ns_is_in_phys_range(double value);
 
 /**
  * Pack message SIM_CONTROL.
@@ -6161,6 +6731,197 @@ bool fcc_hil_fcc_bus_counts_tx_retries_is_in_range(uint16_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_fcc_bus_counts_tx_retries_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_SYNC_STATUS.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_sync_status_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sync_status_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_SYNC_STATUS.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_sync_status_unpack(
+    struct fcc_hil_fcc_sync_status_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_SYNC_STATUS.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_sync_status_init(struct fcc_hil_fcc_sync_status_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_state_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_state_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_master_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_master_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_offset_us_is_in_range(int16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_offset_us_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_rate_ppm_is_in_range(int16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_rate_ppm_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_syncs_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_syncs_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_rejected_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_rejected_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_losses_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_status_losses_is_in_phys_range(double value);
 
 /**
  * Pack message FCC_SEC_COUNTS.

@@ -37,6 +37,32 @@ static uint64_t timespec_us(const struct timespec *ts)
     return (uint64_t)ts->tv_sec * 1000000u + (uint64_t)ts->tv_nsec / 1000u;
 }
 
+/* The kernel stamps frames with CLOCK_REALTIME; the port's clock (now_us, the
+ * schedule, the time sync) is CLOCK_MONOTONIC.  The difference of the two is
+ * read as the tightest of 5 monotonic-realtime-monotonic brackets (a reading
+ * interrupted between two clock reads would add its delay to every stamp),
+ * renewed every second to follow NTP slewing. */
+static uint64_t realtime_to_monotonic(fcc_socketcan_t *s, uint64_t rt_us)
+{
+    const uint64_t now = monotonic_us();
+    if (s->rt_offset_at_us == 0u || now - s->rt_offset_at_us > 1000000u) {
+        uint64_t best = UINT64_MAX;
+        for (int i = 0; i < 5; ++i) {
+            struct timespec rt;
+            const uint64_t m0 = monotonic_us();
+            (void)clock_gettime(CLOCK_REALTIME, &rt);
+            const uint64_t m1 = monotonic_us();
+            if (m1 - m0 < best) {
+                best = m1 - m0;
+                s->rt_minus_mono_us = (int64_t)timespec_us(&rt) - (int64_t)(m0 + (m1 - m0) / 2u);
+            }
+        }
+        s->rt_offset_at_us = now;
+    }
+    const int64_t mono = (int64_t)rt_us - s->rt_minus_mono_us;
+    return (mono > 0) ? (uint64_t)mono : 1u;
+}
+
 static fcc_status_t set_opt(int fd, int level, int name, const void *val, socklen_t len)
 {
     return (setsockopt(fd, level, name, val, len) == 0) ? FCC_OK : FCC_ERR_IO;
@@ -138,7 +164,7 @@ static void read_cmsgs(fcc_socketcan_t *s, struct msghdr *mh, uint64_t *t_us)
         if (c->cmsg_type == SO_TIMESTAMPNS) {
             struct timespec ts;
             memcpy(&ts, CMSG_DATA(c), sizeof ts);
-            *t_us = timespec_us(&ts);
+            *t_us = realtime_to_monotonic(s, timespec_us(&ts));
         } else if (c->cmsg_type == SO_RXQ_OVFL) {
             uint32_t drops;
             memcpy(&drops, CMSG_DATA(c), sizeof drops);

@@ -4,7 +4,7 @@
  * Implements the port interface of firmware/bus/fcc_can.h on a raw CAN socket:
  *  - open an interface by name, non-blocking;
  *  - receive filters: exact match on the standard identifiers a node consumes;
- *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS);
+ *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC);
  *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
  *    the frame is dropped and counted -- the program never stops on it;
  *  - error frames (CAN_RAW_ERR_FILTER) and kernel receive-queue overflows
@@ -28,6 +28,10 @@ typedef struct {
     uint32_t send_budget_us;      /* bounded retry time of one send */
     uint32_t kernel_drops;        /* last SO_RXQ_OVFL value seen (cumulative in the kernel) */
     fcc_can_port_counters_t cnt;
+    /* CLOCK_REALTIME - CLOCK_MONOTONIC (us), to move the kernel's stamps to the port's clock:
+     * the tightest of a few bracketed readings, renewed every second (0: not yet) */
+    int64_t rt_minus_mono_us;
+    uint64_t rt_offset_at_us;
 } fcc_socketcan_t;
 
 /* Open interface ifname (e.g. "vcan0"): FCC_ERR_IO when it does not exist or

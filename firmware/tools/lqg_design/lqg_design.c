@@ -28,13 +28,14 @@ typedef struct {
     double accel_var;
     fcc_lqg_solver_t solver;
     unsigned long repeat;
+    double delay;
 } options_t;
 
 static void usage(FILE *out)
 {
     fprintf(out,
             "usage: " PROG " --period T [--bits N] [--gyro-var V] [--accel-var V]\n"
-            "                  [--solver hamiltonian|doubling] [--repeat N]\n"
+            "                  [--solver hamiltonian|doubling] [--delay D] [--repeat N]\n"
             "Design the seed-2 missile LQG autopilot for sampling period T (s) with the\n"
             "firmware's own numerics and print one JSON object (matrices row-major).\n"
             "  --period T       sampling period, %g <= T <= %g s (required)\n"
@@ -44,6 +45,9 @@ static void usage(FILE *out)
             "  --solver S       Riccati solution reported: hamiltonian (the paper's\n"
             "                   eigenvector method, default) or doubling; both always run\n"
             "                   and must agree\n"
+            "  --delay D        design for a known input delay of D s, 0 <= D < T (default\n"
+            "                   0): Gamma split into Gamma0/Gamma1, the LQR on [x; u_k-1]\n"
+            "                   (solved by doubling; see fcc_lqg.h)\n"
             "  --repeat N       run the design N times (timing aid; prints once)\n"
             "  --help           this text\n",
             FCC_LQG_T_MIN, FCC_LQG_T_MAX, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX);
@@ -65,6 +69,9 @@ static fcc_opt_result_t apply_option(void *ctx, const char *name, const char *va
 {
     static const char *const solvers[] = {"hamiltonian", "doubling"};
     options_t *o = ctx;
+    if (strcmp(name, "--delay") == 0) {
+        return fcc_opt_double(name, val, 0.0, FCC_LQG_T_MAX, &o->delay, err, err_len);
+    }
     if (strcmp(name, "--period") == 0) {
         o->have_period = true;
         return fcc_opt_double(name, val, FCC_LQG_T_MIN, FCC_LQG_T_MAX, &o->period, err, err_len);
@@ -159,9 +166,11 @@ static void put_riccati(const char *key, const fcc_lqg_riccati_t *r, bool last)
 
 static void print_design(const fcc_lqg_design_t *d, const fcc_lqg_dac_t *dac)
 {
-    enum { NX = FCC_LQG_NX, NU = FCC_LQG_NU, NY = FCC_LQG_NY };
+    enum { NX = FCC_LQG_NX, NU = FCC_LQG_NU, NY = FCC_LQG_NY, NA = FCC_LQG_NA };
     printf("{\n  \"T\": ");
     put_num((double)d->t);
+    printf(",\n  \"delay\": ");
+    put_num((double)d->delay);
     printf(",\n  \"real\": \"%s\",\n", sizeof(fcc_real_t) == sizeof(float) ? "float" : "double");
     printf("  \"solver\": \"%s\",\n",
            d->solver == FCC_LQG_SOLVER_HAMILTONIAN ? "hamiltonian" : "doubling");
@@ -171,6 +180,7 @@ static void print_design(const fcc_lqg_design_t *d, const fcc_lqg_dac_t *dac)
            (long)dac->code_max);
     put_matrix("Phi", d->phi, NX, NX);
     put_matrix("Gamma", d->gamma, NX, NU);
+    put_matrix("Gamma1", d->gamma1, NX, NU);
     put_matrix("Qd", d->qd, NX, NX);
     put_matrix("Q11", d->q11, NX, NX);
     put_matrix("Q12", d->q12, NX, NU);
@@ -178,6 +188,15 @@ static void print_design(const fcc_lqg_design_t *d, const fcc_lqg_dac_t *dac)
     put_matrix("H", d->h, NY, NX);
     put_matrix("R", d->r, NY, NY);
     put_matrix("K", d->k, NU, NX);
+    printf("  \"K_u\": ");
+    put_num((double)d->k_u);
+    printf(",\n");
+    if (d->delay > 0) {
+        put_matrix("Qa11", d->qa11, NA, NA);
+        put_matrix("Qa12", d->qa12, NA, NU);
+        put_matrix("Qa22", &d->qa22, NU, NU);
+        put_matrix("Pa", d->pa, NA, NA);
+    }
     put_matrix("P", d->p, NX, NX);
     put_matrix("M", d->m, NX, NX);
     put_matrix("P_post", d->p_post, NX, NX);
@@ -193,7 +212,7 @@ static void print_design(const fcc_lqg_design_t *d, const fcc_lqg_dac_t *dac)
 
 int main(int argc, char **argv)
 {
-    options_t o = {0.0, false, 8, 0.8, 0.8, FCC_LQG_SOLVER_HAMILTONIAN, 1};
+    options_t o = {0.0, false, 8, 0.8, 0.8, FCC_LQG_SOLVER_HAMILTONIAN, 1, 0.0};
     int rc = parse_args(argc, argv, &o);
     if (rc != 0) {
         return (rc == 1) ? 0 : 2;
@@ -207,11 +226,11 @@ int main(int argc, char **argv)
     plant.accel_var = (fcc_real_t)o.accel_var;
     fcc_status_t st = fcc_lqg_dac_init(&dac, (uint8_t)o.bits);
     for (unsigned long i = 0; i < o.repeat && st == FCC_OK; ++i) {
-        st = fcc_lqg_design(&plant, o.period, o.solver, &design, &ws);
+        st = fcc_lqg_design_delayed(&plant, o.period, o.delay, o.solver, &design, &ws);
     }
     if (st != FCC_OK) {
-        fprintf(stderr, PROG ": design failed for T = %g s: %s (status %d)\n", o.period,
-                fcc_status_str(st), (int)st);
+        fprintf(stderr, PROG ": design failed for T = %g s, delay %g s: %s (status %d)\n",
+                o.period, o.delay, fcc_status_str(st), (int)st);
         return 1;
     }
     print_design(&design, &dac);

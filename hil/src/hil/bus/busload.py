@@ -81,8 +81,9 @@ def default_rates(message_names: Iterable[str], cycle_ms: dict[str, int], *,
     """Frames per second of each cyclic message at the rig's default rates.
 
     SIM_TICK and FCC_ACK run once per step of each application; MSL_* frames once
-    per missile period; FCC_* status frames at status_hz; the other cyclic frames
-    (CDRW sensors and identification outputs) at cdrw_hz.  Event frames: 0.
+    per missile period; FCC_* status frames at status_hz; TSYNC_* (time sync) at their
+    own GenMsgCycleTime; the other cyclic frames (CDRW sensors and identification
+    outputs) at cdrw_hz.  Event frames: 0.
     """
     rates: dict[str, float] = {}
     missile_hz = 1.0 / missile_period_s
@@ -93,6 +94,8 @@ def default_rates(message_names: Iterable[str], cycle_ms: dict[str, int], *,
             rates[name] = 0.0
         elif name.startswith("MSL_"):
             rates[name] = missile_hz
+        elif name.startswith("TSYNC_"):
+            rates[name] = 1000.0 / cycle_ms[name]
         elif name.startswith("FCC_"):
             rates[name] = status_hz
         else:

@@ -185,6 +185,11 @@ class _DiscreteCache:
 _CACHE = _DiscreteCache()
 
 
+def discrete_substep(h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(Phi, Gamma, noise factor) of one sub-step of length h, computed once and cached."""
+    return _CACHE.get(h)
+
+
 class MissilePlant:
     """The missile airframe with its gust; owns the true state and its own noise stream.
 

@@ -10,6 +10,9 @@ can be cross-checked offline.  Conventions (the firmware must use the same to co
   x_bar_{k+1} = Phi x_hat_k + Gamma * (code_k * LSB)  (the command actually applied);
 * x_bar_0 = 0 (nothing known before the first reading); a reading that is NaN (dropout)
   skips the update (x_hat_k = x_bar_k).
+* with a known input delay d (0 <= d < T; ``design_lqg(..., delay=d)``) code_k acts from
+  t_k + d: u_k = -K x_hat_k - K_u u_{k-1}, x_bar_{k+1} = Phi x_hat_k + Gamma0 u_k + Gamma1 u_{k-1}
+  (the delayed-input ZOH discretisation and the LQR on [x; u_{k-1}], firmware/lqg/fcc_lqg.h).
 
 Discrete design for period T (SPEC section 3): Phi, Gamma by ZOH, Q_d by Van Loan, and the
 continuous cost turned into the discrete cost with cross term (Q11, Q12, Q22, as MATLAB's
@@ -51,6 +54,10 @@ class LqgDesign:
     M: np.ndarray       # 3x3, steady a-priori error covariance (before the reading)
     L: np.ndarray       # 3x2, filter gain
     Z: np.ndarray       # 3x3, steady a-posteriori error covariance
+    delay: float = 0.0  # d, s: the command acts from t_k + d
+    Gamma1: np.ndarray = field(default_factory=lambda: np.zeros(3))  # delayed part of the input
+    K_u: float = 0.0    # gain on u_{k-1}
+    Pa: np.ndarray | None = None  # 4x4 augmented Riccati solution (d > 0)
 
     @property
     def H(self) -> np.ndarray:
@@ -76,11 +83,45 @@ def discrete_cost(T: float, A: np.ndarray = COST_A, B: float = COST_B) -> tuple[
     return w[:n, :n], w[:n, n].copy(), float(w[n, n])
 
 
+def delayed_lqr(T: float, delay: float, A: np.ndarray = COST_A, B: float = COST_B
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, np.ndarray]:
+    """The LQR for an input delay 0 < d < T on z = [x; u_{k-1}]: Gamma0, Gamma1, K (3), K_u
+    and the augmented Riccati solution (4x4), scipy's DARE on
+    z+ = [[Phi, Gamma1], [0, 0]] z + [Gamma0; 1] u with the cost of both hold intervals,
+    [z; u]^T (blkdiag(Q(d), 0) + S^T Q(T-d) S) [z; u], S = [[Phi(d), Gamma(d), 0], [0, 0, 1]]."""
+    n = 3
+    phi = missile.zoh(missile.F, missile.G, T)[0]
+    phi_d, gam_d = missile.zoh(missile.F, missile.G, delay)
+    phi_r, gam0 = missile.zoh(missile.F, missile.G, T - delay)
+    gam1 = phi_r @ gam_d
+
+    def block(tau: float) -> np.ndarray:
+        q11, q12, q22 = discrete_cost(tau, A, B)
+        return np.block([[q11, q12[:, None]], [q12[None, :], np.array([[q22]])]])
+
+    s = np.zeros((n + 1, n + 2))
+    s[:n, :n], s[:n, n:n + 1], s[n, n + 1] = phi_d, gam_d, 1.0
+    qa = np.zeros((n + 2, n + 2))
+    qa[:n + 1, :n + 1] = block(delay)
+    qa += s.T @ block(T - delay) @ s
+    qa = 0.5 * (qa + qa.T)
+    a = np.zeros((n + 1, n + 1))
+    a[:n, :n], a[:n, n:] = phi, gam1
+    b = np.vstack([gam0, [[1.0]]])
+    q11, q12, q22 = qa[:n + 1, :n + 1], qa[:n + 1, n + 1:], qa[n + 1:, n + 1:]
+    pa = solve_discrete_are(a, b, q11, q22, s=q12)
+    ka = np.linalg.solve(q22 + b.T @ pa @ b, b.T @ pa @ a + q12.T)[0]
+    return gam0[:, 0], gam1[:, 0], ka[:n], float(ka[n]), pa
+
+
 def design_lqg(T: float, sensors: MissileSensorOptions = MissileSensorOptions(),
-               A: np.ndarray = COST_A, B: float = COST_B) -> LqgDesign:
-    """Steady-state discrete LQG for period T (scipy's DARE solver)."""
+               A: np.ndarray = COST_A, B: float = COST_B, delay: float = 0.0) -> LqgDesign:
+    """Steady-state discrete LQG for period T (scipy's DARE solver); with delay > 0 the
+    command acts from t_k + delay (delayed_lqr; the Kalman gain does not change)."""
     if not T > 0.0:
         raise ValueError(f"lqg: period must be > 0, got {T}")
+    if not 0.0 <= delay < T:
+        raise ValueError(f"lqg: the delay must be in [0, T), got {delay} for T = {T}")
     phi, gam = missile.zoh(missile.F, missile.G, T)
     gam = gam[:, 0]
     qd = missile.van_loan_noise(missile.F, missile.f, T)
@@ -94,8 +135,13 @@ def design_lqg(T: float, sensors: MissileSensorOptions = MissileSensorOptions(),
     m = 0.5 * (m + m.T)
     lg = m @ h.T @ np.linalg.inv(h @ m @ h.T + r)
     z = (np.eye(3) - lg @ h) @ m
-    return LqgDesign(T=T, Phi=phi, Gamma=gam, Qd=qd, Q11=q11, Q12=q12, Q22=q22, R=r, K=k,
-                     P=p, M=m, L=lg, Z=0.5 * (z + z.T))
+    if delay == 0.0:
+        return LqgDesign(T=T, Phi=phi, Gamma=gam, Qd=qd, Q11=q11, Q12=q12, Q22=q22, R=r, K=k,
+                         P=p, M=m, L=lg, Z=0.5 * (z + z.T))
+    gam0, gam1, k, k_u, pa = delayed_lqr(T, delay, A, B)
+    return LqgDesign(T=T, Phi=phi, Gamma=gam0, Qd=qd, Q11=q11, Q12=q12, Q22=q22, R=r, K=k,
+                     P=pa[:3, :3], M=m, L=lg, Z=0.5 * (z + z.T), delay=delay, Gamma1=gam1,
+                     K_u=k_u, Pa=pa)
 
 
 class LqgReference:
@@ -106,6 +152,7 @@ class LqgReference:
         self.dac = dac
         self.x_bar = np.zeros(3)
         self.x_hat = np.zeros(3)
+        self.u_prev = 0.0  # u_{k-1} as applied (delay-aware design)
 
     def update(self, y: np.ndarray) -> int:
         """One period: take the readings (q_g, n_a), return the D/A code to apply."""
@@ -114,8 +161,10 @@ class LqgReference:
             self.x_hat = self.x_bar + d.L @ (y - missile.H @ self.x_bar)
         else:
             self.x_hat = self.x_bar.copy()
-        code = self.dac.code(float(-d.K @ self.x_hat))
-        self.x_bar = d.Phi @ self.x_hat + d.Gamma * self.dac.value(code)
+        code = self.dac.code(float(-d.K @ self.x_hat) - d.K_u * self.u_prev)
+        u = self.dac.value(code)
+        self.x_bar = d.Phi @ self.x_hat + d.Gamma * u + d.Gamma1 * self.u_prev
+        self.u_prev = u
         return code
 
 
@@ -153,6 +202,9 @@ class MissileSimulation:
         #: False when the period is off the 2.5 ms grid (its gust is then not shared)
         self.common_time_base = missile.common_time_base(self.period, po.substeps)
         self.dac = DAConverter(self.lqg.bits)
+        # the sub-step matrices now (scipy is imported on first use, seconds in the UML guest:
+        # never inside a realtime flight's first step)
+        missile.discrete_substep(self.period / self.n_sub)
         self.plant = MissilePlant(scenario.seed, q0=po.q0, alpha0=po.alpha0, gust0=po.gust0,
                                   gust_scale=po.gust_scale)
         self.sensors = MissileSensors(scenario.seed, scenario.sensors)  # type: ignore[arg-type]
@@ -163,10 +215,24 @@ class MissileSimulation:
         self.n_periods = max(1, int(math.ceil(scenario.duration / self.period - 1e-9)))
         self.k = 0
         self._sampled = False
+        #: the code acting at the end of the last period (what a delayed command replaces)
+        self.last_code = 0
 
     @property
     def done(self) -> bool:
         return self.k >= self.n_periods
+
+    def delay_substeps(self, delay: float) -> int:
+        """Whole sub-steps before a command delayed by `delay` s acts (rounded up)."""
+        h = self.period / self.n_sub
+        return min(self.n_sub, int(math.ceil(delay / h - 1e-9)))
+
+    def advance_delayed(self, code: int, delay: float) -> np.ndarray:
+        """advance(code) with the code acting from t_k + delay (the previous code before)."""
+        m = self.delay_substeps(delay)
+        if m == 0 or code == self.last_code:
+            return self.advance(code)
+        return self.advance_substeps([self.last_code] * m + [code] * (self.n_sub - m))
 
     def sample(self) -> MissileSample:
         if self.done:
@@ -189,6 +255,7 @@ class MissileSimulation:
         self.plant.step_code(code, self.dac, self.period, self.n_sub)
         self._sampled = False
         self.k += 1
+        self.last_code = code
         return self.plant.last_substeps
 
     def advance_substeps(self, codes: "list[int]") -> np.ndarray:
@@ -208,6 +275,7 @@ class MissileSimulation:
         self.plant.last_substeps = trace
         self._sampled = False
         self.k += 1
+        self.last_code = codes[-1]
         return trace
 
 
@@ -247,16 +315,18 @@ def rms_over(t_fine: np.ndarray, x_fine: np.ndarray, duration: float) -> tuple[f
 
 
 def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | None = None,
-                     received: Callable[[np.ndarray], np.ndarray] | None = None) -> MissileRun:
+                     received: Callable[[np.ndarray], np.ndarray] | None = None,
+                     delay: float = 0.0) -> MissileRun:
     """Fly a missile scenario offline; closed loop with the scipy LQG reference unless the
     scenario (or the closed_loop argument) says open loop (elevator code 0 throughout).
     received maps a measurement [q_g, n_a] to what the autopilot gets (e.g. the bus's
     resolution), so that the reference sees the same numbers as the firmware: a command
-    that lands near a half-LSB tie of the D/A otherwise rounds the other way."""
+    that lands near a half-LSB tie of the D/A otherwise rounds the other way.  delay: each
+    command acts from t_k + delay and the reference is designed for it."""
     sc = scenario if scenario is not None else load_default_scenario("missile")
     sim = MissileSimulation(sc)
     cl = sim.lqg.closed_loop if closed_loop is None else closed_loop
-    design = design_lqg(sim.period, sc.sensors) if cl else None  # type: ignore[arg-type]
+    design = design_lqg(sim.period, sc.sensors, delay=delay) if cl else None  # type: ignore[arg-type]
     ctrl = LqgReference(design, sim.dac) if design is not None else None
     n, ns = sim.n_periods, sim.n_sub
     t = np.empty(n)
@@ -274,7 +344,7 @@ def simulate_missile(scenario: Scenario | None = None, *, closed_loop: bool | No
         if ctrl is not None:
             code[k] = ctrl.update(y[k] if received is None else received(y[k]))
             xh[k] = ctrl.x_hat
-        trace = sim.advance(int(code[k]))
+        trace = sim.advance_delayed(int(code[k]), delay)
         x_fine[k * ns: (k + 1) * ns + 1] = trace
     t_fine = np.arange(n * ns + 1) * (sim.period / ns)
     return MissileRun(period=sim.period, bits=sim.lqg.bits if cl else None, closed_loop=cl, t=t,

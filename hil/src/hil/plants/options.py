@@ -81,6 +81,13 @@ class MissilePlantOptions:
     # plant integrates on the common 2.5 ms base (T = 0.1 s: 40), see missile.substeps_for
 
 
+#: realtime: the actuation instant of the time-triggered schedule, t_k + 5 ms (two steps of
+#: the plant's common 2.5 ms base; fcc's FCC_APP_MSL_RT_DELAY): room for 3.5 ms of simulator
+#: lateness in the loaded UML guest; the delay-aware LQG loses 0.1-1.2 % RMS q to it (60 s,
+#: T = 0.1-0.02 s, measured offline with simulate_missile)
+RT_ACTUATION_DELAY = 0.005
+
+
 @dataclass(frozen=True, kw_only=True)
 class LqgOptions:
     """[lqg] of a missile scenario: sampling period and D/A word length."""
@@ -88,3 +95,17 @@ class LqgOptions:
     period: float = spec(0.1, ge=0.005, le=1.0)   # s (seed 2 studies 0.05, 0.1, 0.2)
     bits: int = spec(8, ge=2, le=16)              # D/A word length
     closed_loop: bool = spec(True)                # false: open loop (elevator code 0)
+    # the command of the sample at t_k acts from t_k + delay (s, < period); "auto": 0 in
+    # lockstep, RT_ACTUATION_DELAY in realtime; fcc designs its LQG for it (--lqg-delay)
+    delay: float | str = spec("auto", ge=0.0, le=1.0, choices=("auto",))
+
+    def __post_init__(self) -> None:
+        if isinstance(self.delay, float) and not self.delay < self.period:
+            raise ValueError(f"field 'delay': {self.delay} s must be shorter than the period "
+                             f"{self.period} s")
+
+    def resolved_delay(self, realtime: bool) -> float:
+        """The delay in seconds for a lockstep or a realtime run."""
+        if isinstance(self.delay, float):
+            return self.delay
+        return RT_ACTUATION_DELAY if realtime else 0.0

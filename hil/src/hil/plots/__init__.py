@@ -5,7 +5,8 @@
 
 cdrw.csv (or a campaign's cdrw_run0.csv) → Figs. 5-10 of seed 1; campaign.csv → each flight's
 errors against its fault time; summary.json missile.runs → Fig. 3 of seed 2;
-missile_T*_fine.csv → the time responses (Figs. 4-6) at each period.
+missile_T*_fine.csv → the time responses (Figs. 4-6) at each period; realtime_timing.csv → the
+histograms of a realtime run's timing.
 """
 from __future__ import annotations
 
@@ -63,6 +64,10 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
         written.append(missile.fig_time_response(T, curves, run_dir, elevator, subtitle))
+    from ..rig import timing
+    if (run_dir / timing.CSV_NAME).is_file():
+        from . import realtime
+        written.append(realtime.fig_realtime_timing(timing.read_csv(run_dir / timing.CSV_NAME), run_dir))
     return written
 
 

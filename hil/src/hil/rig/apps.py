@@ -123,6 +123,11 @@ class AppDriver:
     def end_step(self, io: StepIO) -> None:
         raise NotImplementedError
 
+    def complete(self, io: StepIO) -> bool:
+        """Realtime: everything fcc sends for this period has arrived (end_step may run before
+        the deadline).  False: wait for the deadline."""
+        return False
+
 
 # ---------------------------------------------------------------------------------------------
 class CdrwDriver(AppDriver):
@@ -200,7 +205,10 @@ class MissileDriver(AppDriver):
         self.x_fine = np.empty((n * ns + 1, 3))
         self.cmd_missing = 0
         self.cmd_bad = 0
-        self._last_code = 0
+        self.cmd_late = 0
+        #: each command acts from t_k + delay (time-triggered actuator; fcc --lqg-delay)
+        assert scenario.lqg is not None
+        self.delay = scenario.lqg.resolved_delay(realtime)
 
     def frames_for_step(self) -> list[TxFrame]:
         k = self.k
@@ -218,6 +226,13 @@ class MissileDriver(AppDriver):
                 frame, field_name = SIGNAL_FRAMES[sig]
                 msgs.append((frame, {"step": step, field_name: v}))
         return self.injector.outgoing(s.t, msgs)
+
+    def complete(self, io: StepIO) -> bool:
+        """The command and the estimate of this period are in: the command acts from the
+        actuation instant (or from its arrival when it came later), nothing else can change
+        the period's integration."""
+        ids = {fid for fid, _ in io.frames}
+        return io.t0 is not None and self._cmd.frame_id in ids and self._est.frame_id in ids
 
     def _commands(self, k: int, io: StepIO) -> list[tuple[float, int]]:
         """The usable D/A codes among fcc's frames (E2E-checked by the simulator's codec), with
@@ -252,20 +267,23 @@ class MissileDriver(AppDriver):
         if not codes:
             self.cmd_missing += 1
         ns = self.sim.n_sub
-        if io.t0 is None:  # lockstep: the command of step k, held over the period
-            code = codes[-1][1] if codes else self._last_code
-            trace = self.sim.advance(code)
-        else:  # realtime: each command acts from the first sub-step after it arrived
+        last = self.sim.last_code
+        if io.t0 is None:  # lockstep: the command of step k, from t_k + delay to the next one
+            code = codes[-1][1] if codes else last
+            trace = self.sim.advance_delayed(code, self.delay)
+        else:  # realtime: each command acts at the actuation instant t_k + delay, or from
+            # the first sub-step after it arrived when it came later (counted as late)
             h = self.period / ns
-            per_sub, code, i = [], self._last_code, 0
+            m = self.sim.delay_substeps(self.delay)
+            self.cmd_late += sum(1 for a, _ in codes if a > io.t0 + m * h)
+            per_sub, code, i = [], last, 0
             for j in range(ns):
-                while i < len(codes) and codes[i][0] <= io.t0 + j * h:
+                while j >= m and i < len(codes) and codes[i][0] <= io.t0 + j * h:
                     code = codes[i][1]
                     i += 1
                 per_sub.append(code)
             code = codes[-1][1] if codes else code
             trace = self.sim.advance_substeps(per_sub)
         self.code[k] = code
-        self._last_code = code
         self.x_fine[k * ns: (k + 1) * ns + 1] = trace
         self.k += 1

@@ -62,6 +62,8 @@ class MissileResult:
     stationary: dict[str, float] = field(default_factory=dict)
     commands_missing: int = 0
     commands_rejected: int = 0
+    commands_late: int = 0      # realtime: arrived after the actuation instant t_k + delay
+    delay: float = 0.0          # s: each command acts from t_k + delay (the LQG's design delay)
     unanswered_steps: int = 0
     faults: list[str] = field(default_factory=list)
     events: list[dict[str, Any]] = field(default_factory=list)
@@ -77,6 +79,7 @@ class MissileResult:
         if self.closed_loop:
             entry.update({"reference": self.reference, "commands_missing": self.commands_missing,
                           "commands_rejected": self.commands_rejected,
+                          "commands_late": self.commands_late, "delay": self.delay,
                           "unanswered_steps": self.unanswered_steps, "faults": self.faults,
                           "fault_events": self.events, "frames_injected": self.injected})
         return entry
@@ -180,7 +183,7 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
     if reference:
         # the scipy LQG of hil.plants.missile_runs on the same plant, gust and noise draws,
         # fed the measurements as fcc decodes them from the bus
-        r = simulate_missile(d.scenario, closed_loop=True, received=_as_received)
+        r = simulate_missile(d.scenario, closed_loop=True, received=_as_received, delay=d.delay)
         same = r.code[: d.n_steps] == d.code
         mismatch = np.flatnonzero(~same)
         ref = {"rms_q": r.rms_q, "rms_alpha": r.rms_alpha, "code_agreement": float(np.mean(same)),
@@ -191,7 +194,7 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
                          period=d.period, bits=d.bits, closed_loop=True, series=s, fine=fine,
                          rms_q=rq, rms_alpha=ra, reference=ref,
                          stationary={"rms_q": sq, "rms_alpha": sa}, commands_missing=d.cmd_missing,
-                         commands_rejected=d.cmd_bad,
+                         commands_rejected=d.cmd_bad, commands_late=d.cmd_late, delay=d.delay,
                          unanswered_steps=int(d.n_steps - d.acked.sum()),
                          faults=[f.describe() for f in d.scenario.faults], events=_events(d),
                          injected=dict(d.injector.counts))

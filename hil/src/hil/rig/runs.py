@@ -50,6 +50,9 @@ from .targets import TARGETS
 MODES = ("lockstep", "realtime")
 #: scripts/with-vcan: a file of commands to run on the host after the guest (defer_plots)
 AFTER_ENV = "WITH_VCAN_AFTER"
+#: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
+#: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
+FCC_RT_PRIORITY = 50
 #: the LQG periods fcc accepts (firmware/app/README.md)
 FCC_PERIOD_RANGE = (0.02, 0.3)
 
@@ -105,11 +108,15 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
         if sc.aircraft == "missile":
             assert sc.lqg is not None
             check_missile(sc)
+            delay = sc.lqg.resolved_delay(cfg.mode == "realtime")
             args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
+                     "--lqg-delay", f"{delay:.6g}",
                      "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
                      "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
     if cfg.rows != "paper":
         args += ["--rows", cfg.rows]
+    if cfg.mode == "realtime":  # as on a flight computer (refused without privilege: one line)
+        args += ["--rt-priority", str(FCC_RT_PRIORITY)]
     return args + list(cfg.fcc_args)
 
 
@@ -313,15 +320,19 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
             fault_log.append(("cdrw     ", res.events))
         else:
             assert isinstance(d, MissileDriver)
-            mres = missile_result(d, reference=cfg.mode == "lockstep")
+            mres = missile_result(d)  # realtime too: the reference flies with the same delay
             ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
             _write_missile(out, mres)
             _write_missile(out, ol)
             summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
             fault_log.append(("missile  ", mres.events))
     _write_fault_log(out, fault_log)
+    extra = None
+    if cfg.mode == "realtime" and any(isinstance(d, MissileDriver) for d in drivers):
+        extra = {"realtime": _realtime_timing(out, rig, [d for d in drivers if isinstance(d, MissileDriver)][0])}
+        summary["realtime"] = extra["realtime"]
     write_json(out / "summary.json", summary)
-    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0))
+    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0, extra))
     return _finish(cfg, out, summary, step_periods(scenarios))
 
 
@@ -336,6 +347,22 @@ def is_paper_scenario(sc: Scenario) -> bool:
     return sc.aircraft == "cdrw" and sc.seed == ref.seed and sc.duration == ref.duration \
         and sc.plant == ref.plant and sc.sensors == ref.sensors \
         and [f.describe() for f in sc.faults] == [f.describe() for f in ref.faults]
+
+
+def _realtime_timing(out: Path, rig: RigSession, d: MissileDriver) -> dict[str, Any]:
+    """Offset, jitter and data age of a realtime missile flight (hil.rig.timing), and the
+    samples behind them in realtime_timing.csv (the histograms)."""
+    from . import timing
+    t = timing.bus_timing(out / "bus.log", rig.spec, d.period)
+    timing.write_csv(out / timing.CSV_NAME, t)
+    log = out / "fcc.log"
+    rep = timing.summarise(t, log.read_text(errors="replace") if log.is_file() else "")
+    st = rig.status
+    rep["sync_status"] = {k.split(".", 1)[1]: v for k, v in st.values.items()
+                          if k.startswith("FCC_SYNC_STATUS.")}
+    rep["delay_s"] = d.delay
+    rep["commands_late"] = d.cmd_late
+    return rep
 
 
 def campaign_fault_times(scenario: Scenario, runs: int, seed: int,

@@ -27,9 +27,13 @@ from ..bus.secoc import TEST_KEY_FILE, Endpoint, KeyFileError, read_key_file, wr
 from .link import CanLink, LinkError, LinkRecorder, pack_frame
 from .processes import Candump
 from .targets import Device, start_device
+from .timesync import TimeMaster
 
 STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
-                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION")
+                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS")
+#: heartbeat signals that are states or gauges, not wrapping counters
+GAUGES = ("mode", "op_mode", "stale_now", "worst_step_us", "trip", "state", "master", "offset_us",
+          "rate_ppm")
 COMMAND_SHUTDOWN = 1
 COMMAND_RESET = 2
 COMMAND_FLIGHT = 3
@@ -87,12 +91,11 @@ class StatusCounters:
         if msg.name == "FCC_STATUS":
             self.heartbeats += 1
         for sig in msg.signals:
-            raw = int(vals[sig.name])
             key = f"{msg.name}.{sig.name}"
-            if sig.length == 1 or sig.name in ("mode", "op_mode", "stale_now", "worst_step_us",
-                                               "trip"):
-                self.values[key] = raw          # flags and gauges: not counters
+            if sig.length == 1 or sig.name in GAUGES:
+                self.values[key] = vals[sig.name]  # flags and gauges: not counters
                 continue
+            raw = int(vals[sig.name])
             prev = self._last_raw.get(key)
             mod = 1 << sig.length
             self.values[key] = self.values.get(key, 0) + (raw if prev is None else (raw - prev) % mod)
@@ -187,6 +190,9 @@ class RigSession:
         self.tick_rx = E2EReceiver(tick.data_id, tick.max_delta_counter)
         self.fcc_exit: int | None = None
         self.t_start = 0.0
+        #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
+        self.time_master: TimeMaster | None = None
+        self.time_master_stats: dict[str, int] = {}
 
     @staticmethod
     def dbc_frames() -> tuple:
@@ -366,9 +372,13 @@ class RigSession:
         return False
 
     def close(self) -> None:
-        """Stop fcc, then the recorder (bus.log is moved into place on every path, also when
-        the interface is gone), then close the socket."""
+        """Stop the time master and fcc, then the recorder (bus.log is moved into place on
+        every path, also when the interface is gone), then close the socket."""
         try:
+            if self.time_master is not None:
+                self.time_master.stop()
+                self.time_master_stats = self.time_master.stats()
+                self.time_master = None
             if self.fcc is not None:
                 self.fcc.stop(grace=0.0)
                 if self.fcc_exit is None:

@@ -1,0 +1,159 @@
+"""The simulator as the bus's time master: TSYNC_SYNC + TSYNC_FOLLOW_UP (dbc/fcc_hil.dbc), in the
+manner of CANopen SYNC / AUTOSAR CAN time synchronisation; fcc follows it (firmware/timesync).
+
+Master time = microseconds of CLOCK_MONOTONIC since the master's epoch (when it was created):
+the clock the realtime runner's deadlines are on, so step k of a flight that starts at master
+time t0 is sampled at exactly t0 + k T in master time.  Every interval the master queues a SYNC
+(sequence number, whole seconds), reads the frame's own loopback echo with its kernel receive
+stamp -- the time the frame was on the bus (vcan echoes it at once, a real controller on
+transmit completion) -- and sends the FOLLOW_UP with that precise time.  It runs in a thread
+for the whole realtime session, so fcc stays locked between flights too.
+"""
+from __future__ import annotations
+
+import math
+import select
+import socket
+import struct
+import threading
+import time
+
+from ..bus import FrameCodec
+
+#: sync period (s); fcc's loss-of-sync timeout is 3 intervals
+SYNC_INTERVAL_S = 0.1
+#: the SYNC goes out this far after each interval boundary (between the steps of every period
+#: on the 2.5 ms grid: periods are multiples of 2.5 ms, this is 1.25 ms off it)
+SYNC_PHASE_S = 0.00125
+MASTER_ID = 1
+#: SO_TIMESTAMPNS on Linux (the socket module does not always export it)
+SO_TIMESTAMPNS = getattr(socket, "SO_TIMESTAMPNS", 35)
+_CAN_FRAME = struct.Struct("=IB3x8s")
+
+
+class TimeMaster:
+    """Publishes the master time on one interface until stop()."""
+
+    def __init__(self, iface: str, codec: FrameCodec, *, master_id: int = MASTER_ID,
+                 interval_s: float = SYNC_INTERVAL_S) -> None:
+        self.codec = codec
+        self.master_id = master_id
+        self.interval_s = interval_s
+        self.epoch = time.monotonic()
+        self._sync = codec.spec.by_name("TSYNC_SYNC")
+        self.sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+        self.sock.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_RECV_OWN_MSGS, 1)
+        self.sock.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_FILTER,
+                             struct.pack("=II", self._sync.frame_id, 0x7FF))
+        self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
+        self.sock.bind((iface,))
+        self._rt_minus_mono = 0.0
+        self._rt_at = -1e9
+        self.seq = 0
+        self.sent = 0
+        self.no_echo = 0
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    # -- time base
+    def master_us(self, mono: float | None = None) -> int:
+        """Master time (us) of a CLOCK_MONOTONIC reading (now by default)."""
+        return int(round(((time.monotonic() if mono is None else mono) - self.epoch) * 1e6))
+
+    def monotonic(self, master_us: int) -> float:
+        return self.epoch + master_us * 1e-6
+
+    def aligned_start(self, lead_s: float, periods_s: list[float]) -> float:
+        """CLOCK_MONOTONIC of the first master instant at least lead_s ahead on which every
+        period's grid starts (a multiple of the periods' least common multiple)."""
+        grid = math.lcm(*(max(1, int(round(p * 1e6))) for p in periods_s))
+        first = -(-(self.master_us() + int(lead_s * 1e6)) // grid) * grid
+        return self.monotonic(first)
+
+    # -- one sync
+    def _realtime_to_monotonic(self, rt: float) -> float:
+        """The kernel stamps on CLOCK_REALTIME: the offset to CLOCK_MONOTONIC is the tightest
+        of 5 bracketed readings (a preempted reading would shift every stamp), renewed every
+        second."""
+        now = time.monotonic()
+        if now - self._rt_at > 1.0:
+            best = math.inf
+            for _ in range(5):
+                m0 = time.monotonic()
+                r = time.time()
+                m1 = time.monotonic()
+                if m1 - m0 < best:
+                    best, self._rt_minus_mono = m1 - m0, r - 0.5 * (m0 + m1)
+            self._rt_at = now
+        return rt - self._rt_minus_mono
+
+    def _echo_stamp(self, sent: bytes, timeout_s: float) -> float | None:
+        """CLOCK_MONOTONIC at which our own SYNC `sent` was on the bus (its echo's kernel
+        stamp).  Echoes of earlier frames (one whose echo was never read) are skipped: the
+        bytes must be the ones just sent (sequence number and E2E counter in them)."""
+        end = time.monotonic() + timeout_s
+        while (left := end - time.monotonic()) > 0:
+            if not select.select([self.sock], [], [], left)[0]:
+                return None
+            raw, anc, flags, _ = self.sock.recvmsg(_CAN_FRAME.size, socket.CMSG_SPACE(16))
+            if not flags & socket.MSG_CONFIRM or raw != sent:
+                continue  # another node's SYNC (a second master), or an old echo
+            for level, kind, data in anc:
+                if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS and len(data) >= 16:
+                    sec, nsec = struct.unpack("=qq", data[:16])
+                    return self._realtime_to_monotonic(sec + nsec * 1e-9)
+        return None
+
+    def send_sync(self) -> bool:
+        """One SYNC and its FOLLOW_UP; False when the echo did not come (no FOLLOW_UP)."""
+        seq = self.seq
+        self.seq = (self.seq + 1) & 0xFF
+        sec = self.master_us() // 1_000_000
+        fid, data = self.codec.encode("TSYNC_SYNC", {
+            "master": self.master_id, "seq": seq, "interval_ms": int(round(self.interval_s * 1e3)),
+            "sec": sec})
+        raw = _CAN_FRAME.pack(fid, len(data), bytes(data))
+        self.sock.send(raw)
+        self.sent += 1
+        tx = self._echo_stamp(raw, 0.05)
+        if tx is None:
+            self.no_echo += 1
+            return False
+        m = self.master_us(tx)
+        carry = m // 1_000_000 - sec
+        if carry not in (0, 1):
+            self.no_echo += 1
+            return False
+        fid, data = self.codec.encode("TSYNC_FOLLOW_UP", {
+            "master": self.master_id, "seq": seq, "sec_carry": carry,
+            "ns": (m % 1_000_000) * 1000})
+        self.sock.send(_CAN_FRAME.pack(fid, len(data), bytes(data)))
+        return True
+
+    # -- the thread
+    def start(self) -> None:
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="time-master", daemon=True)
+            self._thread.start()
+
+    def _run(self) -> None:
+        interval_us = int(round(self.interval_s * 1e6))
+        phase_us = int(round(SYNC_PHASE_S * 1e6))
+        while not self._stop.is_set():
+            nxt = (self.master_us() // interval_us + 1) * interval_us + phase_us
+            if self._stop.wait(max(0.0, self.monotonic(nxt) - time.monotonic())):
+                break
+            try:
+                self.send_sync()
+            except OSError:
+                self.no_echo += 1  # interface gone: fcc will go to holdover and count it
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(2.0)
+            self._thread = None
+        self.sock.close()
+
+    def stats(self) -> dict[str, int]:
+        return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo}

@@ -91,8 +91,7 @@ def test_fcc_locks_and_survives_bad_sync_input(bin_path, tmp_path):
     # (counted by fcc: its status frames may reach this socket late on a loaded machine)
     assert sync["losses"] >= 1 and sync["recoveries"] >= 1 and sync["jumps"] == 0
     assert sync["master"] == 1 and sync["samples"] >= 30
-    assert s["sync_offset_us abs"]["p50"] < 1000
-    assert s["delay_us missile"]["n"] > 0           # steps ran on the master's instants
+    assert s["sync_offset_us abs"]["p50"] < 1000   # (on the ground: no steps, sync only)
 
 
 def master_frame(fid: int, data: bytes) -> bytes:

@@ -254,7 +254,7 @@ static void test_missing_sensor_held_then_stale_then_recovered(void **state)
     assert_false(g_node.msl.last.measured);
     assert_int_equal(g_node.msl.last.input_state[FCC_APP_MSL_IN_GYRO], FCC_SENSOR_STALE);
     assert_int_equal(g_mem.ev_count[FCC_EV_SENSOR_STALE], 1u);
-    assert_true(mem_decode_tx(&g_mem, i + 2).fcc_ack.degraded);
+    assert_true(mem_decode_tx(&g_mem, i + 3).fcc_ack.degraded);
     i = msl_step(3u, true, true);
     assert_false(mem_decode_tx(&g_mem, i).msl_elev_cmd.degraded);
     assert_int_equal(g_mem.ev_count[FCC_EV_SENSOR_RECOVERED], 1u);

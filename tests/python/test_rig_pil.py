@@ -23,7 +23,7 @@ from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.qemu import build_image
 from hil.rig.runs import RigConfig, fcc_args
-from hil.rig.session import COMMAND_RESET, FccDied, FccTimeout, RigSession
+from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, FccDied, FccTimeout, RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
 
 pytestmark = [pytest.mark.vcan,
@@ -87,6 +87,7 @@ def test_link_loss_slcand_killed(tmp_path, image):
             runner = LockstepRunner(rig, timeout=TIMEOUT)
             d = CdrwDriver(sc, rig.codec)
             rig.control(COMMAND_RESET)
+            rig.control(COMMAND_FLIGHT)  # ticks run only in flight mode
             for _ in range(5):
                 runner.step(d)
             os.kill(rig.fcc.slcand.pid, signal.SIGKILL)  # type: ignore[union-attr]
@@ -103,6 +104,7 @@ def test_link_loss_uart_stops(tmp_path, image):
         runner = LockstepRunner(rig, timeout=3.0)
         d = CdrwDriver(sc, rig.codec)
         rig.control(COMMAND_RESET)
+        rig.control(COMMAND_FLIGHT)
         for _ in range(3):
             runner.step(d)
         os.kill(rig.fcc.qemu.pid, signal.SIGSTOP)       # type: ignore[union-attr]

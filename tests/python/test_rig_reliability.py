@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import main
 from hil.rig import lockstep
 from hil.rig.rundir import FAILED
@@ -124,7 +125,8 @@ def test_killing_the_rig_leaves_no_process_behind(tmp_path):
 
 
 def test_a_leftover_fcc_on_the_bus_is_detected(tmp_path, capsys):
-    fcc = subprocess.Popen([str(build_dir() / "bin" / "fcc"), "--iface", "vcan0"],
+    fcc = subprocess.Popen([str(build_dir() / "bin" / "fcc"), "--iface", "vcan0",
+                            "--key-file", str(TEST_KEY_FILE)],
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         time.sleep(0.3)

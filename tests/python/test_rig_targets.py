@@ -14,6 +14,7 @@ import time
 
 import pytest
 
+from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import TARGET_CHOICES, main
 from hil.rig.link import CanLink
 from hil.rig.qemu import PilError, boot_options
@@ -77,10 +78,10 @@ def test_external_hand_started_fcc_same_table4_as_host(capsys, tmp_path, bin_pat
     info = json.loads((tmp_path / "host" / "run_info.json").read_text())
     assert info["target"] == "host"
     fcc = subprocess.Popen([str(bin_path("fcc")), "--iface", "vcan0", "--mode", "lockstep",
-                            "--apps", "cdrw"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         rc, out_ext, err = cli(capsys, "run", "cdrw", "--target", "external", "--quiet", "--no-plots",
-                               "--out", str(tmp_path / "ext"))
+                               "--key-file", str(TEST_KEY_FILE), "--out", str(tmp_path / "ext"))
         assert rc == 0, err
         assert fcc.poll() is None           # the rig did not stop a device it does not own
     finally:
@@ -94,16 +95,16 @@ def test_external_hand_started_fcc_same_table4_as_host(capsys, tmp_path, bin_pat
     assert out_ext.split("fcc counters")[0] == out_host.split("fcc counters")[0]
     info = json.loads((tmp_path / "ext" / "run_info.json").read_text())
     assert info["target"] == "external" and info["fcc_exit"] is None
-    assert info["fcc_command"] == "fcc --iface vcan0 --mode lockstep --apps cdrw"
+    assert info["fcc_command"].startswith("fcc --iface vcan0 --mode lockstep --apps cdrw")
 
 
 @pytest.mark.vcan
 def test_external_wrong_mode_is_one_line(capsys, tmp_path, bin_path):
     fcc = subprocess.Popen([str(bin_path("fcc")), "--iface", "vcan0", "--mode", "realtime",
-                            "--apps", "cdrw"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         rc, _, err = cli(capsys, "run", "cdrw", "--target", "external", "--quiet", "--no-plots",
-                         "--out", str(tmp_path / "o"))
+                         "--key-file", str(TEST_KEY_FILE), "--out", str(tmp_path / "o"))
     finally:
         fcc.terminate()
         fcc.wait(10)

@@ -92,6 +92,8 @@ def build_image(build: Path | None = None) -> Path:
 #: the fcc options the boot configuration record carries (firmware/target/README.md)
 BOOT_OPTIONS = ("--mode", "--apps", "--stale-limit", "--status-rate", "--lqg-period", "--lqg-bits",
                 "--gyro-var", "--accel-var", "--detector", "--fault-policy")
+#: taken only at its value 0 (lockstep's resolved delay): the image has no delayed-input design
+NO_DELAY_OPTION = "--lqg-delay"
 
 
 def boot_options(fcc_args: Sequence[str]) -> dict[str, str]:
@@ -100,14 +102,27 @@ def boot_options(fcc_args: Sequence[str]) -> dict[str, str]:
     opts: dict[str, str] = {}
     it = iter(fcc_args)
     for opt in it:
-        if opt not in BOOT_OPTIONS:
+        if opt not in BOOT_OPTIONS and opt != NO_DELAY_OPTION:
             raise PilError(f"the M4F image takes no {opt} (its boot configuration has "
                            f"{', '.join(BOOT_OPTIONS)})")
         val = next(it, None)
         if val is None:
             raise PilError(f"{opt} needs a value")
+        if opt == NO_DELAY_OPTION:
+            check_no_delay(val)
+            continue
         opts[opt] = val
     return opts
+
+
+def check_no_delay(val: str) -> None:
+    """The image designs its LQG without an actuation delay: only --lqg-delay 0 fits it."""
+    try:
+        if float(val) == 0.0:
+            return
+    except ValueError:
+        pass
+    raise PilError(f"the M4F image designs without an actuation delay: --lqg-delay must be 0, not {val}")
 
 
 def boot_record(fcc_args: Sequence[str]) -> BootConfig:

@@ -201,6 +201,17 @@ class Sim:
         """Everything received for a while (status frames recorded too)."""
         return list(self._frames(seconds))
 
+    def drain(self, idle: float = 0.3, limit: float = 10.0) -> list[Decoded]:
+        """Everything still queued: received until the bus has been idle for `idle` seconds."""
+        got: list[Decoded] = []
+        deadline = time.monotonic() + limit
+        while time.monotonic() < deadline:
+            more = list(self._frames(idle))
+            if not more:
+                break
+            got += more
+        return got
+
     def step_cdrw(self, k: int, alpha: float, q: float, de: float,
                   skip: Iterable[str] = ()) -> tuple[dict[str, dict], Decoded]:
         self.cdrw(k, alpha, q, de, skip)

@@ -12,6 +12,7 @@ a frame it gives up on; send_raw() bypasses the codec for fault injection.
 from __future__ import annotations
 
 import queue
+import socket
 import threading
 import time
 from collections.abc import Callable, Iterable, Mapping
@@ -24,6 +25,18 @@ from .codec import Decoded, FrameCodec, Value
 
 SEND_RETRY_S = 0.05      # give a full transmit queue this long before dropping
 SEND_RETRY_SLEEP_S = 0.0005
+RECEIVE_BUFFER_BYTES = 4 << 20   # ~1 s of a full bus: a Python reader stalled by the guest loses nothing
+
+
+def enlarge_receive_buffer(sock: socket.socket, nbytes: int) -> None:
+    """Ask the kernel for an nbytes receive queue: SO_RCVBUFFORCE needs CAP_NET_ADMIN (root in
+    the UML guest); without it SO_RCVBUF, which the kernel caps at net.core.rmem_max."""
+    for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, opt, nbytes)
+            return
+        except OSError:
+            continue
 
 
 @dataclass
@@ -63,6 +76,9 @@ class BusNode:
                             "extended": False} for n in sorted(self.codec.consumes)]
         self.bus = can.Bus(interface=interface, channel=channel, can_filters=can_filters,
                            receive_own_messages=receive_own_messages)
+        raw = getattr(self.bus, "socket", None)
+        if isinstance(raw, socket.socket):
+            enlarge_receive_buffer(raw, RECEIVE_BUFFER_BYTES)
         self.notifier = can.Notifier(self.bus, [_Listener(self)], timeout=0.1)
 
     # -- receive side (Notifier thread)

@@ -28,6 +28,7 @@ from typing import TextIO
 import can
 
 from ..bus.candump import format_line
+from ..bus.node import enlarge_receive_buffer
 
 #: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
 CAN_FRAME = struct.Struct("=IB3x8s")
@@ -90,12 +91,7 @@ class CanLink:
         self.writer: TextIO | None = None
         self.sock: socket.socket = self.bus.socket
         self.sock.setblocking(True)
-        for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):
-            try:  # FORCE needs CAP_NET_ADMIN (root in the UML guest); else capped by rmem_max
-                self.sock.setsockopt(socket.SOL_SOCKET, opt, rcvbuf)
-                break
-            except OSError:
-                continue
+        enlarge_receive_buffer(self.sock, rcvbuf)
         self._slice = -1.0
         self.set_slice(RECV_SLICE_S)
         self._poll = select.poll()

@@ -90,6 +90,7 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
     const uint8_t policy = rec[26];
     const double gyro_var = get_f64(&rec[28]);
     const double accel_var = get_f64(&rec[36]);
+    const double delay = get_f64(&rec[44]);
     if (mode > 1u) {
         return fail(field, "mode", FCC_ERR_RANGE);
     }
@@ -118,12 +119,18 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
     if (!in_range(accel_var, VAR_MIN, VAR_MAX)) {
         return fail(field, "accel_var", FCC_ERR_RANGE);
     }
+    /* as fcc_cli's --lqg-delay D: 0 <= D < T, compared in fcc_real_t (zero bytes: no delay,
+     * the meaning of these bytes in records written before the field existed) */
+    if (!in_range(delay, 0.0, (double)FCC_APP_MSL_T_MAX) || !((fcc_real_t)delay < (fcc_real_t)period)) {
+        return fail(field, "lqg_delay", FCC_ERR_RANGE);
+    }
     cfg->mode = (mode == 1u) ? FCC_MODE_REALTIME : FCC_MODE_LOCKSTEP;
     cfg->app_enabled[FCC_APP_CDRW] = (apps & 1u) != 0u;
     cfg->app_enabled[FCC_APP_MSL] = (apps & 2u) != 0u;
     cfg->stale_limit = stale;
     cfg->msl.period = (fcc_real_t)period;
     cfg->msl.bits = bits;
+    cfg->msl.delay = (fcc_real_t)delay;
     cfg->msl.plant.gyro_var = (fcc_real_t)gyro_var;
     cfg->msl.plant.accel_var = (fcc_real_t)accel_var;
     cfg->sid.base.azkf.det.mode = (fcc_fdet_mode_t)detector;

@@ -44,7 +44,7 @@ static void seal(uint8_t rec[FCC_BOOTCFG_SIZE])
 }
 
 /* Realtime, missile only, stale limit 3, 20 Hz, T = 0.1 s, 12 bits, oracle,
- * skip, variances 0.5 / 2.0. */
+ * skip, variances 0.5 / 2.0, input delay 5 ms. */
 static void record(uint8_t rec[FCC_BOOTCFG_SIZE])
 {
     memset(rec, 0, FCC_BOOTCFG_SIZE);
@@ -61,6 +61,7 @@ static void record(uint8_t rec[FCC_BOOTCFG_SIZE])
     rec[26] = 1u;
     put_f64(&rec[28], 0.5);
     put_f64(&rec[36], 2.0);
+    put_f64(&rec[44], 0.005);
     seal(rec);
 }
 
@@ -94,6 +95,24 @@ static void test_record_applied(void **state)
     assert_int_equal(cfg.sid.base.azkf.policy, FCC_AZKF_POLICY_SKIP);
     assert_true(cfg.msl.plant.gyro_var == (fcc_real_t)0.5);
     assert_true(cfg.msl.plant.accel_var == (fcc_real_t)2.0);
+    assert_true(cfg.msl.delay == (fcc_real_t)0.005);
+}
+
+/* Zero delay bytes (records written before the field existed) mean no delay. */
+static void test_zero_delay_bytes_mean_no_delay(void **state)
+{
+    (void)state;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    record(rec);
+    memset(&rec[44], 0, 8u);
+    seal(rec);
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    cfg.msl.delay = FCC_R(0.001);
+    float rate = 10.0f;
+    const char *field = NULL;
+    fcc_assert_ok(fcc_bootcfg_apply(rec, &cfg, &rate, &field));
+    assert_true(cfg.msl.delay == FCC_R(0.0));
 }
 
 static void test_refusals_change_nothing(void **state)
@@ -122,6 +141,9 @@ static void test_refusals_change_nothing(void **state)
         {35u, 0xFFu, true, FCC_ERR_RANGE, "gyro_var"},    /* 0.5 -> -2^1023 */
         {43u, 0x80u, true, FCC_ERR_RANGE, "accel_var"},   /* 2.0 -> -0.0 */
         {15u, 0xFFu, true, FCC_ERR_RANGE, "status_rate"}, /* NaN */
+        {51u, 0xBFu, true, FCC_ERR_RANGE, "lqg_delay"},   /* 0.005 -> negative */
+        {50u, 0xBCu, true, FCC_ERR_RANGE, "lqg_delay"},   /* 0.005 -> 0.11125: not < T = 0.1 */
+        {51u, 0x40u, true, FCC_ERR_RANGE, "lqg_delay"},   /* 0.005 -> 327.68 */
     };
     for (size_t i = 0u; i < sizeof cases / sizeof cases[0]; ++i) {
         uint8_t rec[FCC_BOOTCFG_SIZE];
@@ -163,6 +185,7 @@ int main(void)
         cmocka_unit_test(test_crc32_check_value),
         cmocka_unit_test(test_record_applied),
         cmocka_unit_test(test_refusals_change_nothing),
+        cmocka_unit_test(test_zero_delay_bytes_mean_no_delay),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -176,7 +176,7 @@ def test_lockstep_flight_bad_input_and_shutdown(elf, tmp_path, bin_path):
 
 
 def test_boot_record_realtime(elf, tmp_path):
-    config = BootConfig(mode="realtime", apps=("missile",), lqg_period=0.1, lqg_bits=12)
+    config = BootConfig(mode="realtime", apps=("missile",), lqg_period=0.1, lqg_bits=12, lqg_delay=0.005)
     with qemu.Board(elf, tmp_path, config=config, lockstep=False) as board:
         sim = Sim(board.link())
         assert sim.wait_status()["FCC_STATUS"]["mode"] == 1
@@ -196,7 +196,8 @@ def test_boot_record_realtime(elf, tmp_path):
 def test_corrupt_boot_record_is_refused(elf, tmp_path):
     good = BootConfig().encode()
     for name, record in [("crc", good[:20] + bytes([good[20] ^ 1]) + good[21:]),
-                         ("lqg_bits", BootConfig(lqg_bits=17).encode())]:
+                         ("lqg_bits", BootConfig(lqg_bits=17).encode()),
+                         ("lqg_delay", BootConfig(lqg_period=0.05, lqg_delay=0.05).encode())]:
         path = tmp_path / f"{name}.bin"
         path.write_bytes(record)
         cmd = qemu.command(elf, log=tmp_path / f"{name}.log", bootcfg_file=path)

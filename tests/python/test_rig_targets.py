@@ -9,15 +9,19 @@ flight as the raw-socket path with candump.
 from __future__ import annotations
 
 import json
+import struct
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import TARGET_CHOICES, main
+from hil.faults.scenario import load_default_scenario
 from hil.rig.link import CanLink
-from hil.rig.qemu import PilError, boot_options
+from hil.rig.qemu import PilError, boot_options, boot_record
+from hil.rig.runs import RigConfig, fcc_args
 from hil.rig.targets import TARGETS
 from rig_helpers import CDRW_1S, cli, fly, scenario
 from test_cli import one_line
@@ -66,6 +70,21 @@ def test_boot_options_refuse_what_the_image_does_not_take():
         boot_options(["--window", "50"])
     with pytest.raises(PilError, match="--lqg-bits needs a value"):
         boot_options(["--lqg-bits"])
+
+
+@pytest.mark.parametrize("mode", ["lockstep", "realtime"])
+def test_boot_record_carries_the_rigs_lqg_delay(mode):
+    """The image gets the delay the rig resolved for the run, as the host fcc does on its
+    command line (lockstep 0, realtime RT_ACTUATION_DELAY), in bytes 44-51 of its record."""
+    sc = load_default_scenario("missile")
+    args = fcc_args([sc], RigConfig(Path("unused"), mode=mode, target="qemu-m4f"))
+    delay = sc.lqg.resolved_delay(mode == "realtime")
+    assert args[args.index("--lqg-delay") + 1] == f"{delay:.6g}"
+    rec = boot_record(args)
+    assert rec.lqg_delay == delay and rec.mode == mode
+    assert struct.unpack_from("<d", rec.encode(), 44)[0] == delay
+    with pytest.raises(PilError, match="not auto"):
+        boot_record(["--lqg-delay", "auto"])
 
 
 # ---- on vcan0 -------------------------------------------------------------------------------

@@ -19,7 +19,7 @@ MODES = {"lockstep": 0, "realtime": 1}
 APPS = {"cdrw": 1, "missile": 2}
 DETECTORS = {"zonotope": 0, "oracle": 1, "off": 2}
 POLICIES = {"order": 0, "skip": 1}
-_LAYOUT = struct.Struct("<4sHHBBHfdBBBBdd16s")
+_LAYOUT = struct.Struct("<4sHHBBHfdBBBBddd8s")
 
 
 @dataclass(frozen=True)
@@ -36,6 +36,7 @@ class BootConfig:
     fault_policy: str = "order"
     gyro_var: float = 0.8
     accel_var: float = 0.8
+    lqg_delay: float = 0.0      # s, 0 <= d < lqg_period (--lqg-delay D; bytes 44-51, zero before)
 
     def encode(self) -> bytes:
         """The 64-byte record, CRC-32 included."""
@@ -45,7 +46,7 @@ class BootConfig:
         body = _LAYOUT.pack(b"FCCB", VERSION, SIZE, MODES[self.mode], mask, self.stale_limit,
                             self.status_rate, self.lqg_period, self.lqg_bits,
                             DETECTORS[self.detector], POLICIES[self.fault_policy], 0,
-                            self.gyro_var, self.accel_var, bytes(16))
+                            self.gyro_var, self.accel_var, self.lqg_delay, bytes(8))
         return body + struct.pack("<I", zlib.crc32(body))
 
     def write(self, path: Path) -> Path:

@@ -91,9 +91,7 @@ def build_image(build: Path | None = None) -> Path:
 
 #: the fcc options the boot configuration record carries (firmware/target/README.md)
 BOOT_OPTIONS = ("--mode", "--apps", "--stale-limit", "--status-rate", "--lqg-period", "--lqg-bits",
-                "--gyro-var", "--accel-var", "--detector", "--fault-policy")
-#: taken only at its value 0 (lockstep's resolved delay): the image has no delayed-input design
-NO_DELAY_OPTION = "--lqg-delay"
+                "--lqg-delay", "--gyro-var", "--accel-var", "--detector", "--fault-policy")
 
 
 def boot_options(fcc_args: Sequence[str]) -> dict[str, str]:
@@ -102,27 +100,14 @@ def boot_options(fcc_args: Sequence[str]) -> dict[str, str]:
     opts: dict[str, str] = {}
     it = iter(fcc_args)
     for opt in it:
-        if opt not in BOOT_OPTIONS and opt != NO_DELAY_OPTION:
+        if opt not in BOOT_OPTIONS:
             raise PilError(f"the M4F image takes no {opt} (its boot configuration has "
                            f"{', '.join(BOOT_OPTIONS)})")
         val = next(it, None)
         if val is None:
             raise PilError(f"{opt} needs a value")
-        if opt == NO_DELAY_OPTION:
-            check_no_delay(val)
-            continue
         opts[opt] = val
     return opts
-
-
-def check_no_delay(val: str) -> None:
-    """The image designs its LQG without an actuation delay: only --lqg-delay 0 fits it."""
-    try:
-        if float(val) == 0.0:
-            return
-    except ValueError:
-        pass
-    raise PilError(f"the M4F image designs without an actuation delay: --lqg-delay must be 0, not {val}")
 
 
 def boot_record(fcc_args: Sequence[str]) -> BootConfig:
@@ -136,7 +121,10 @@ def boot_record(fcc_args: Sequence[str]) -> BootConfig:
                 fields[name] = tuple(a for a in val.split(",") if a)
             elif name in ("stale_limit", "lqg_bits"):
                 fields[name] = int(val)
-            elif name in ("status_rate", "lqg_period", "gyro_var", "accel_var"):
+            elif name == "lqg_delay" and val == "auto":
+                raise PilError("the M4F image takes --lqg-delay in seconds, not auto (the rig "
+                               "gives it the delay it resolved for the run)")
+            elif name in ("status_rate", "lqg_period", "lqg_delay", "gyro_var", "accel_var"):
                 fields[name] = float(val)
             else:
                 fields[name] = val

@@ -115,8 +115,9 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
                      "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
     if cfg.rows != "paper":
         args += ["--rows", cfg.rows]
-    if cfg.mode == "realtime":  # as on a flight computer (refused without privilege: one line)
-        args += ["--rt-priority", str(FCC_RT_PRIORITY)]
+    if cfg.mode == "realtime" and cfg.target == "host":  # as on a flight computer (refused
+        args += ["--rt-priority", str(FCC_RT_PRIORITY)]   # without privilege: one line); the
+        # image has no scheduler to ask (firmware/target/README.md: not applicable)
     return args + list(cfg.fcc_args)
 
 

@@ -26,9 +26,9 @@ pytestmark = pytest.mark.vcan
 
 N = 10
 AIRCRAFT = {
-    #          scenario   steps F  fault window       a signal  a frame         its signal
-    "cdrw": (CDRW_1S, 51, 3, "start=0.2,duration=0.2", "alpha", "CDRW_AOA", "alpha"),
-    "missile": (MISSILE_2S, 40, 2, "start=0.5,duration=0.5", "q_g", "MSL_RATE_GYRO", "q_g"),
+    #          scenario   steps F  fault window       a signal  a frame         its signal  2 steps
+    "cdrw": (CDRW_1S, 51, 3, "start=0.2,duration=0.2", "alpha", "CDRW_AOA", "alpha", 0.04),
+    "missile": (MISSILE_2S, 40, 2, "start=0.5,duration=0.5", "q_g", "MSL_RATE_GYRO", "q_g", 0.1),
 }
 SIM_IDS = {0x010, 0x011, 0x020, 0x021, 0x050, 0x051, 0x052, 0x040, 0x041, 0x710, 0x7F0}  # + authenticators
 ACK_ID = 0x028
@@ -71,6 +71,12 @@ CASES: dict[str, tuple[str, Expect]] = {
     "counter_freeze": ("counter_freeze:frame={frame},{w}",  # 1st frozen = its own counter
                        lambda s, f, i: {"ok": base_ok(s, f) + 2 - N, "repeated": N - 1,
                                         "wrong_sequence": 1}),
+    # a replay: step k sends step k-2's frame, counter and CRC as they were (age = 2 steps).
+    # Step 10 goes back 1 (delta 15: WRONG_SEQUENCE; the receiver takes the old counter as
+    # its last), steps 11-19 then run on by 1 each (OK: a 4-bit alive counter cannot tell a
+    # replay two steps old from fresh data), step 20's own frame skips 2 (OK_SOME_LOST)
+    "replay": ("replay:frame={frame},{w},age={age}",
+               lambda s, f, i: {"ok": base_ok(s, f) + 2 - 2, "wrong_sequence": 1, "ok_some_lost": 1}),
     "counter_jump": ("counter_jump:frame={frame},{w},jump=5",  # into and out of the jump
                      lambda s, f, i: {"ok": base_ok(s, f) + 2 - 2, "wrong_sequence": 2}),
     "wrong_dlc": ("wrong_dlc:frame={frame},{w},dlc=4",  # refused before E2E (so E2E sees
@@ -90,8 +96,8 @@ COUNTERS = ("ok", "repeated", "ok_some_lost", "wrong_sequence", "error", "no_new
 
 
 def spec_for(kind: str, aircraft: str) -> str:
-    _, _, _, w, sig, frame, fsig = AIRCRAFT[aircraft]
-    return CASES[kind][0].format(w=w, sig=sig, frame=frame, fsig=fsig)
+    _, _, _, w, sig, frame, fsig, age = AIRCRAFT[aircraft]
+    return CASES[kind][0].format(w=w, sig=sig, frame=frame, fsig=fsig, age=age)
 
 
 def fly_cell(tmp_path: Path, kind: str) -> tuple[dict, dict[str, dict], dict]:
@@ -129,6 +135,8 @@ def test_fault_class(tmp_path, kind):
         _, steps, f, *_ = AIRCRAFT[a]
         for c, v in CASES[kind][1](steps, f, injected[a]).items():
             want[c] += v
+        if kind == "replay":
+            assert injected[a]["replayed"] == N, (a, injected[a])
     want["ok"] -= 5          # one session's five SIM_CONTROL commands, not five per aircraft
     want["ok"] += info.get("resent_ticks", 0)  # a tick resent under load is one more OK
     if kind == "silence":

@@ -400,11 +400,26 @@ class CampaignFlight:
     replay_check: dict[str, Any] | None = None
 
 
+def _flag_value(args: Sequence[str], flag: str) -> str | None:
+    """The value of the last `flag VALUE` in a command line (None: not given)."""
+    value = None
+    for i, a in enumerate(args[:-1]):
+        if a == flag:
+            value = args[i + 1]
+    return value
+
+
 def campaign_flight(index: int, fault_start: float, res: CdrwResult,
                     fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
     """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
     flew and with which identification options, for the symmetric tables."""
     from ..bus import load as load_spec
+    lost = res.missing_steps - res.unanswered_steps
+    if lost > 0 and _flag_value(fcc_arg_list, "--mode") != "realtime":
+        # in lockstep every answered step has its estimates on the bus: a gap is the
+        # recorder's, and Table 5 would average the flight over the steps that are left
+        raise RigError(f"bus.log: campaign flight {index} lacks fcc's estimates of {lost} answered "
+                       f"steps (the recorder lost frames); the flight is not evaluated")
     flown, sid_args = rowtables.sid_options(fcc_arg_list)
     modes, check = rowtables.symmetric_tables(load_spec(), res.series, res.dt, flown, sid_args)
     return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,

@@ -19,6 +19,7 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -31,6 +32,17 @@ ARTEFACTS = ("summary.json", "campaign.csv", "faults.log", "cdrw_run0.csv")
 
 needs_rig = pytest.mark.skipif(shutil.which("linux.uml") is None and not Path("/sys/class/net/vcan0").exists(),
                                 reason="needs user-mode-linux or a kernel with vcan")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def rig_dir(tmp_path_factory) -> Iterator[Path]:
+    """Every rig of this module keeps its files (hil-rig-PID: requests, answers, the flights a
+    failure leaves behind) under pytest's tmp dir, not in /tmp: $HIL_RIG_DIR, which
+    hil.parallel.guest.rig_root reads and the Dask workers and guests inherit."""
+    rigs = tmp_path_factory.mktemp("rigs")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("HIL_RIG_DIR", str(rigs))
+        yield rigs
 
 
 def campaign(out: Path, *extra: str) -> tuple[int, str]:
@@ -115,7 +127,7 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
 
 
 @needs_rig
-def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
+def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
     """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
     campaign stops with one line and exit 1."""
     rc = main(["campaign", "cdrw", "--runs", "1", "--seed", "1", "--out", str(tmp_path), "--quiet",
@@ -123,6 +135,8 @@ def test_failing_flight_is_retried_then_reported(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1
     assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
+    # the failed flights' files stay for a look, in the module's rig dir (not in /tmp)
+    assert any(rig_dir.glob("hil-rig-*/flights/flight-*/fcc.log"))
 
 
 @needs_rig

@@ -21,6 +21,7 @@ from pathlib import Path
 
 from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
 
+from hil.bus import load
 from hil.bus.secoc import authenticator, cmac
 
 REPO = Path(__file__).resolve().parents[1]
@@ -49,10 +50,12 @@ def generate(out_dir: Path) -> list[Path]:
         lines.append(f"{key.hex()} {block.hex()} {(enc.update(block) + enc.finalize()).hex()}\n")
     (out_dir / "aes_random.txt").write_text("".join(lines))
     lines = [HEADER, "# key data_id pdu trip counter authenticator\n"]
+    # every authenticator of the DBC, its secured bytes as long as its group (8 bytes a frame)
+    pdu_bytes = {m.secoc_data_id: 8 * len(m.secoc_pdus) for m in load().messages if m.secoc_pdus}
     for i in range(60):
         key = _rand(rng, 16)
-        data_id = rng.choice((0x2010, 0x2020, 0x2030, 0x2700))
-        pdu = _rand(rng, 56 if data_id == 0x2700 else 8)
+        data_id = rng.choice(sorted(pdu_bytes))
+        pdu = _rand(rng, pdu_bytes[data_id])
         trip = rng.getrandbits(32) or 1
         counter = rng.choice((1, 2, 0xFFFF, 0x10000, rng.getrandbits(32) or 1))
         auth = authenticator(key, data_id, pdu, trip, counter)

@@ -625,6 +625,20 @@ static void fill_security(const fcc_node_t *node, fcc_msg_t msg, fcc_msg_data_t 
     }
 }
 
+static void fill_sync(const fcc_tsync_t *ts, fcc_msg_data_t *d)
+{
+    fcc_msg_fcc_sync_status_t *s = &d->fcc_sync_status;
+    s->state = (uint8_t)ts->state;
+    s->master = ts->have_master ? ts->master : 0u;
+    s->offset_us = (int16_t)((ts->last_residual_us > INT16_MAX)   ? INT16_MAX
+                             : (ts->last_residual_us < INT16_MIN) ? INT16_MIN
+                                                                  : ts->last_residual_us);
+    s->rate_ppm = (fcc_real_t)ts->rate_ppb * FCC_R(1e-3);
+    s->syncs = (uint8_t)(ts->cnt.samples & 0xFFu);
+    s->rejected = (uint8_t)(fcc_tsync_rejected(ts) & 0xFFu);
+    s->losses = (uint8_t)(ts->cnt.losses & 0xFFu);
+}
+
 fcc_status_t fcc_node_send_status(fcc_node_t *node)
 {
     if (node == NULL) {
@@ -654,10 +668,15 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
             fill_status(node, &bc, &d);
         } else if (msg == FCC_MSG_FCC_SEC_COUNTS || msg == FCC_MSG_FCC_SEC_SESSION) {
             fill_security(node, msg, &d);
+        } else if (msg == FCC_MSG_FCC_SYNC_STATUS) {
+            fill_sync(&node->tsync, &d);
         } else {
             fill_counts(&bc, &pc, msg, &d);
         }
-        const fcc_status_t st = fcc_bus_encode(&node->bus, msg, &d, &frames[i]);
+        /* the sync status saturates (offset and rate are gauges that may leave their range) */
+        const fcc_status_t st = (msg == FCC_MSG_FCC_SYNC_STATUS)
+                                    ? fcc_bus_encode_sat(&node->bus, msg, &d, &frames[i])
+                                    : fcc_bus_encode(&node->bus, msg, &d, &frames[i]);
         first = (first == FCC_OK) ? st : first;
         memcpy(&pdu[8u * i], frames[i].data, 8u);
     }
@@ -667,8 +686,6 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
     if (first == FCC_OK) { /* all or nothing: a partial heartbeat would not verify */
         send_frames(node, frames, group->n_pdus + 1u, FCC_N_APPS);
     }
-    const fcc_status_t sync_st = fcc_node_send_sync_status(node);
-    first = (first != FCC_OK) ? first : sync_st;
     node->e2e_fault_flag = false;
     node->overrun_flag = false;
     ++node->cnt.status_sent;
@@ -692,32 +709,6 @@ fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node)
         node->tsync_rejected_reported = rej;
         emit(node, FCC_EV_SYNC_REJECTED, FCC_N_APPS, FCC_MSG_TSYNC_SYNC_ID,
              (int32_t)(rej & 0x7FFFFFFFu));
-    }
-    return st;
-}
-
-fcc_status_t fcc_node_send_sync_status(fcc_node_t *node)
-{
-    if (node == NULL) {
-        return FCC_ERR_ARG;
-    }
-    const fcc_tsync_t *ts = &node->tsync;
-    fcc_msg_data_t d;
-    memset(&d, 0, sizeof d);
-    fcc_msg_fcc_sync_status_t *s = &d.fcc_sync_status;
-    s->state = (uint8_t)ts->state;
-    s->master = ts->have_master ? ts->master : 0u;
-    s->offset_us = (int16_t)((ts->last_residual_us > INT16_MAX)   ? INT16_MAX
-                             : (ts->last_residual_us < INT16_MIN) ? INT16_MIN
-                                                                  : ts->last_residual_us);
-    s->rate_ppm = (fcc_real_t)ts->rate_ppb * FCC_R(1e-3);
-    s->syncs = (uint8_t)(ts->cnt.samples & 0xFFu);
-    s->rejected = (uint8_t)(fcc_tsync_rejected(ts) & 0xFFu);
-    s->losses = (uint8_t)(ts->cnt.losses & 0xFFu);
-    fcc_can_frame_t f;
-    const fcc_status_t st = fcc_bus_encode_sat(&node->bus, FCC_MSG_FCC_SYNC_STATUS, &d, &f);
-    if (st == FCC_OK) {
-        send_frame(node, &f, FCC_N_APPS);
     }
     return st;
 }

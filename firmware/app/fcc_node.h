@@ -154,17 +154,15 @@ fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
  * control steps), FCC_ERR_AGAIN when there was nothing to do. */
 fcc_status_t fcc_node_background(fcc_node_t *node);
 
-/* The heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS,
- * FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, then their authenticator
- * FCC_STATUS_AUTH); clears the since-last-heartbeat flags. */
+/* The heartbeat: the frames of FCC_STATUS_AUTH's SecOC group in the DBC's order
+ * (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS,
+ * FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION), then that authenticator;
+ * clears the since-last-heartbeat flags. */
 fcc_status_t fcc_node_send_status(fcc_node_t *node);
 
 /* Time sync timeouts (missing follow-up, loss of sync, release) and state
  * events; call at least once per sync interval (the hosts call it every loop). */
 fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node);
-
-/* FCC_SYNC_STATUS (sent by fcc_node_send_status with the heartbeat). */
-fcc_status_t fcc_node_send_sync_status(fcc_node_t *node);
 
 /* Realtime, synchronised schedule: every input of app has a good frame
  * received at or after since_us (the port's clock) waiting for the next step. */

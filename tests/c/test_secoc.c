@@ -70,8 +70,9 @@ static void test_table_matches_dbc(void **state)
     assert_false(fcc_secoc_secured_index(FCC_MSG_CDRW_AOA, &i));
     assert_false(fcc_secoc_secured_index(FCC_MSG_FCC_STATUS, &i)); /* a group, not single */
     assert_true(fcc_secoc_auth_index(FCC_MSG_FCC_STATUS_AUTH, &i));
-    assert_int_equal(fcc_secoc_table[i].n_pdus, 7u);
+    assert_int_equal(fcc_secoc_table[i].n_pdus, 8u);
     assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_FCC_STATUS);
+    assert_int_equal(fcc_secoc_table[i].pdus[5], FCC_MSG_FCC_SYNC_STATUS); /* the time sync status too */
 }
 
 /* Sender and receiver with one key and trip: a tick and its authenticator. */

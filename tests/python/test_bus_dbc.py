@@ -139,7 +139,7 @@ def test_secoc_attributes(spec: dbc.BusSpec) -> None:
     covered = {p for m in auths.values() for p in m.secoc_pdus}
     assert covered >= {"SIM_CONTROL", "SIM_TICK", "MSL_ELEV_CMD", "FCC_STATUS", "FCC_E2E_COUNTS",
                        "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS", "FCC_SEC_COUNTS",
-                       "FCC_SEC_SESSION"}
+                       "FCC_SEC_SESSION", "FCC_SYNC_STATUS"}
     assert len({m.secoc_data_id for m in auths.values()}) == len(auths)
     for m in auths.values():
         sigs = {s.name: (s.start, s.length) for s in m.signals}

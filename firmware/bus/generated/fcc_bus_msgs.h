@@ -397,7 +397,7 @@ typedef struct {
     uint16_t tx_retries; /* [0, 65535]. Transmit retries after ENOBUFS or EAGAIN. */
 } fcc_msg_fcc_bus_counts_t;
 
-/* FCC_SYNC_STATUS (0x705, 100 ms, FCC -> SIM): Time synchronisation status of the FCC (the slave), with the heartbeat. */
+/* FCC_SYNC_STATUS (0x705, 100 ms, FCC -> SIM): Time synchronisation status of the FCC (the slave): part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. */
 typedef struct {
     uint8_t state; /* [0, 3]. 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (sync lost: free-run on the last estimate, degraded). */
     uint8_t master; /* [0, 15]. Time master followed. */
@@ -422,7 +422,7 @@ typedef struct {
     uint32_t verified; /* [0, 4294967295]. Secured frames received, authenticated and accepted since start. */
 } fcc_msg_fcc_sec_session_t;
 
-/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
 typedef struct {
     uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
     uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
@@ -541,7 +541,7 @@ extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
 /* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
  * SecOC_Pdus); firmware/bus/fcc_secoc.h. */
 #define FCC_SECOC_N_AUTH 4u
-#define FCC_SECOC_MAX_PDUS 7u
+#define FCC_SECOC_MAX_PDUS 8u
 typedef struct {
     fcc_msg_t auth;       /* the authenticator frame */
     uint16_t data_id;     /* SecOC data ID in the MAC input */

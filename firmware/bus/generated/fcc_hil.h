@@ -2055,7 +2055,7 @@ struct fcc_hil_fcc_bus_counts_t {
 /**
  * Signals in message FCC_SYNC_STATUS.
  *
- * Time synchronisation status of the FCC (the slave), with the heartbeat.
+ * Time synchronisation status of the FCC (the slave): part of the heartbeat, authenticated with it by FCC_STATUS_AUTH.
  *
  * All signal values are as on the CAN bus.
  */
@@ -2199,7 +2199,7 @@ struct fcc_hil_fcc_sec_session_t {
 /**
  * Signals in message FCC_STATUS_AUTH.
  *
- * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
  *
  * All signal values are as on the CAN bus.
  */

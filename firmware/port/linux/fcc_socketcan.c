@@ -41,11 +41,15 @@ static uint64_t timespec_us(const struct timespec *ts)
  * schedule, the time sync) is CLOCK_MONOTONIC.  The difference of the two is
  * read as the tightest of 5 monotonic-realtime-monotonic brackets (a reading
  * interrupted between two clock reads would add its delay to every stamp),
- * renewed every second to follow NTP slewing. */
+ * renewed when the stamps have moved on by more than a second (to follow NTP
+ * slewing; a step of the realtime clock either way renews it too).  Judged by
+ * the stamps themselves, not by a clock read per frame: under User-Mode Linux
+ * every clock read is a system call. */
 static uint64_t realtime_to_monotonic(fcc_socketcan_t *s, uint64_t rt_us)
 {
-    const uint64_t now = monotonic_us();
-    if (s->rt_offset_at_us == 0u || now - s->rt_offset_at_us > 1000000u) {
+    const uint64_t since = (rt_us > s->rt_offset_at_us) ? rt_us - s->rt_offset_at_us
+                                                        : s->rt_offset_at_us - rt_us;
+    if (s->rt_offset_at_us == 0u || since > 1000000u) {
         uint64_t best = UINT64_MAX;
         for (int i = 0; i < 5; ++i) {
             struct timespec rt;
@@ -57,7 +61,7 @@ static uint64_t realtime_to_monotonic(fcc_socketcan_t *s, uint64_t rt_us)
                 s->rt_minus_mono_us = (int64_t)timespec_us(&rt) - (int64_t)(m0 + (m1 - m0) / 2u);
             }
         }
-        s->rt_offset_at_us = now;
+        s->rt_offset_at_us = (rt_us != 0u) ? rt_us : 1u;
     }
     const int64_t mono = (int64_t)rt_us - s->rt_minus_mono_us;
     return (mono > 0) ? (uint64_t)mono : 1u;
@@ -251,7 +255,8 @@ fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame
     cf.can_id = frame->id;
     cf.len = frame->dlc;
     memcpy(cf.data, frame->data, frame->dlc);
-    const uint64_t deadline = monotonic_us() + s->send_budget_us;
+    uint64_t deadline = 0u; /* read only once a write failed: a clock read is a system
+                               call under User-Mode Linux, and most writes succeed */
     for (;;) {
         const ssize_t n = write(s->fd, &cf, sizeof cf);
         if (n == (ssize_t)sizeof cf) {
@@ -261,7 +266,11 @@ fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame
         if (n >= 0 || (errno != ENOBUFS && errno != EAGAIN && errno != EINTR)) {
             return FCC_ERR_IO;
         }
-        if (monotonic_us() >= deadline) {
+        const uint64_t now = monotonic_us();
+        if (deadline == 0u) {
+            deadline = now + s->send_budget_us;
+        }
+        if (now >= deadline) {
             ++s->cnt.tx_dropped;
             return FCC_ERR_AGAIN;
         }

@@ -31,7 +31,7 @@ typedef struct {
     /* CLOCK_REALTIME - CLOCK_MONOTONIC (us), to move the kernel's stamps to the port's clock:
      * the tightest of a few bracketed readings, renewed every second (0: not yet) */
     int64_t rt_minus_mono_us;
-    uint64_t rt_offset_at_us;
+    uint64_t rt_offset_at_us;     /* the realtime stamp it was read at (0: not yet) */
 } fcc_socketcan_t;
 
 /* Open interface ifname (e.g. "vcan0"): FCC_ERR_IO when it does not exist or

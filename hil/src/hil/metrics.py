@@ -116,7 +116,7 @@ def t_interval(samples: Sequence[float], level: float = 0.95) -> tuple[float, fl
     """(mean, half width, sample standard deviation) of a Student-t interval of the mean.
 
     The half width is t(1 - (1 - level)/2, n - 1) * s / sqrt(n); NaN for fewer than 2 samples."""
-    from scipy import stats
+    from scipy.special import stdtrit  # = scipy.stats.t.ppf, without importing scipy.stats (~1 s)
 
     x = np.asarray(samples, dtype=float)
     if x.ndim != 1 or x.size == 0:
@@ -127,7 +127,7 @@ def t_interval(samples: Sequence[float], level: float = 0.95) -> tuple[float, fl
     if x.size < 2:
         return mean, math.nan, math.nan
     s = float(np.std(x, ddof=1))
-    t = float(stats.t.ppf(1.0 - (1.0 - level) / 2.0, x.size - 1))
+    t = float(stdtrit(x.size - 1, 1.0 - (1.0 - level) / 2.0))
     return mean, t * s / math.sqrt(x.size), s
 
 

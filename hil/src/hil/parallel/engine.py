@@ -32,11 +32,16 @@ ALLOWED_FAILURES = 1
 
 @dataclass
 class Flight:
-    """fn(*args, cfg) in a rig, cfg.out_dir and cfg.iface being the rig's own."""
+    """One task: fn(*args, cfg) in a rig, cfg.out_dir and cfg.iface being the rig's own;
+    then, when given, post(value, *post_args, cfg) on the worker, outside the rig.  `count`:
+    how many flights the task flies (one rig session may fly several: a campaign chunk)."""
 
     index: int
     fn: Callable[..., Any]
     args: tuple[Any, ...]
+    count: int = 1
+    post: Callable[..., Any] | None = None
+    post_args: tuple[Any, ...] = ()
 
 
 @dataclass
@@ -90,9 +95,11 @@ def fly_on_rig(flight: Flight, cfg: RigConfig, flight_timeout: float) -> Done:
             if not rig.alive():
                 rig.start()
                 t0 = time.perf_counter()   # the boot is not the flight's
-        fcfg = dataclasses.replace(cfg, out_dir=rig.work_dir(f"flight-{flight.index:06d}"),
+        fcfg = dataclasses.replace(cfg, out_dir=rig.work_dir(f"task-{flight.index:06d}"),
                                    iface=rig.iface, progress=False, plots=False)
         value, rig_s = rig.call(flight.fn, *flight.args, fcfg)
+        if flight.post is not None:
+            value = flight.post(value, *flight.post_args, cfg)
     except Exception as e:  # noqa: BLE001 - one line, with the worker, for the coordinator
         msg = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise FlightFailed(f"{type(e).__name__}: {msg} (worker {worker}, host {socket.gethostname()})",
@@ -174,27 +181,29 @@ class Cluster:
             others = [w for w in self.workers() if w != avoid]
             if avoid is not None and others:
                 kw = {"workers": others, "allow_other_workers": False}
-            fut = self.client.submit(fly_on_rig, fl, cfg, flight_timeout, pure=False,
+            fut = self.client.submit(fly_on_rig, fl, cfg, flight_timeout * fl.count, pure=False,
                                      key=f"hil-flight-{fl.index}-{attempt}-{os.urandom(4).hex()}", **kw)
             meta[fut] = (fl, attempt)
             return fut
 
         per_worker: Counter[str] = Counter()
         rig_s = task_s = 0.0
-        finished_at: list[float] = []
+        finished_at: list[tuple[float, int]] = []   # (seconds, flights done by then)
         retries = 0
+        n = 0
         ac = as_completed([submit(fl, 0) for fl in flights])
-        with progress_bar(len(flights), progress, desc, unit="flight") as bar:
+        with progress_bar(sum(fl.count for fl in flights), progress, desc, unit="flight") as bar:
             for fut in ac:
                 fl, attempt = meta.pop(fut)
                 if fut.status == "finished":
                     done: Done = fut.result()
                     res.values[fl.index] = done.value
-                    per_worker[done.worker] += 1
+                    per_worker[done.worker] += fl.count
                     rig_s += done.rig_s
                     task_s += done.task_s
-                    finished_at.append(time.perf_counter() - t0)
-                    bar.update(1)
+                    n += fl.count
+                    finished_at.append((time.perf_counter() - t0, n))
+                    bar.update(fl.count)
                     continue
                 exc = fut.exception()
                 if attempt == 0 and not isinstance(exc, KilledWorker):
@@ -205,15 +214,16 @@ class Cluster:
                     continue
                 what = "its worker died twice" if isinstance(exc, KilledWorker) else str(exc)
                 res.failed[fl.index] = what
-                bar.update(1)
+                bar.update(fl.count)
         wall = time.perf_counter() - t0
-        n = len(res.values)
-        # steady state: after as many flights as workers (every rig has booted by then)
+        # steady state: after as many tasks as workers (every rig has booted by then)
         k = len(per_worker)
-        steady = ((n - k) / (finished_at[-1] - finished_at[k - 1])
-                  if k >= 1 and n > k and finished_at[-1] > finished_at[k - 1] else None)
+        steady = None
+        if k >= 1 and len(finished_at) > k and finished_at[-1][0] > finished_at[k - 1][0]:
+            steady = (n - finished_at[k - 1][1]) / (finished_at[-1][0] - finished_at[k - 1][0])
         res.info = {"engine": "dask.distributed", "scheduler": self.address,
                     "workers": len(per_worker), "flights_by_worker": dict(sorted(per_worker.items())),
+                    "tasks": len(flights), "flights_per_task": max((fl.count for fl in flights), default=0),
                     "cluster_start_s": self.start_s, "flights_wall_s": wall,
                     "flights_per_s": n / wall if wall > 0 else None,
                     "steady_flights_per_s": steady,

@@ -1,10 +1,12 @@
-"""One flight inside one rig -- a campaign's CDRW flight or a sweep's missile flight -- in a
-session of its own (candump, fcc, the simulator's socket), so its result depends on nothing
-but its inputs: not on which worker flies it, nor on the flights that worker flew before."""
+"""Flights inside one rig: a chunk of a campaign's CDRW flights, or a sweep's missile flight,
+in a session of its own (candump, fcc, the simulator's socket; fcc reset between the
+flights of a chunk as in the sequential campaign), so a result depends on nothing but its
+inputs: not on which worker flies it, nor on what that worker flew before."""
 from __future__ import annotations
 
 import dataclasses
 import shutil
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -20,34 +22,59 @@ from ..rig.session import RigError, RigSession
 
 @dataclasses.dataclass
 class FlightDone:
-    """What a rig sends back for one flight."""
+    """What a rig sends back for one flight (a sweep point)."""
 
-    flight: Any                  # CampaignFlight or MissileResult
+    flight: Any                  # MissileResult
     firmware: dict[str, Any]     # fcc's counters over this flight's session
 
 
-def fly_campaign_flight(scenario: Scenario, index: int, fault_start: float, cfg: RigConfig,
-                        keep: bool = False) -> FlightDone:
-    """Flight `index` of a campaign, its faults moved to `fault_start`, in a fresh session in
-    cfg.out_dir (removed afterwards unless `keep`; kept when the flight fails)."""
+@dataclasses.dataclass
+class SessionDone:
+    """What a rig sends back for a chunk of campaign flights flown in one session: each
+    flight's result (index, fault start, CdrwResult; later its CampaignFlight) and fcc's
+    counters over the session."""
+
+    flights: list[tuple[int, float, Any]]
+    firmware: dict[str, Any]
+
+
+def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]], cfg: RigConfig,
+                         keep: bool = False) -> SessionDone:
+    """Campaign flights (index, fault start) one after the other in one fresh session in
+    cfg.out_dir, fcc reset between them as in the sequential campaign (so each result
+    depends only on its inputs); the directory is removed afterwards unless `keep` (kept when
+    the session fails).  Returns the rig's share: fcc's outputs joined with the simulation
+    (the symmetric tables are made by the caller, off the rig: campaign_flights)."""
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    records = []
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary) as rig:
-        d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
-        with progress_bar(d.n_steps, False, "") as bar:
-            _fly(rig, [d], cfg, bar)
-        rec = cdrw_record(d)
+        runner = None
+        for _, fault_start in flights:
+            d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
+            with progress_bar(d.n_steps, False, "") as bar:
+                runner = _fly(rig, [d], cfg, bar, runner)
+            records.append(cdrw_record(d))
         rig.shutdown()
     _require_log(rig)
-    flights = split_flights(out / "bus.log")
-    if len(flights) != 1:
-        raise RigError(f"{out / 'bus.log'}: {len(flights)} flights recorded, expected 1")
-    done = FlightDone(campaign_flight(index, fault_start, cdrw_result(rig.spec, rec, flights[0]),
-                                      fcc_args([scenario], cfg)),
-                      firmware_summary(rig.status, rig.security.counters()))
+    logs = split_flights(out / "bus.log")
+    if len(logs) != len(flights):
+        raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
+    done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))
+                        for (i, t), rec, fl in zip(flights, records, logs)],
+                       firmware_summary(rig.status, rig.security.counters()))
     if not keep:
         shutil.rmtree(out, ignore_errors=True)
     return done
+
+
+def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
+    """A session's flights as Table 5 needs them (CampaignFlight: the symmetric tables by
+    sid_replay, three runs of it per flight -- on the worker, where starting a process is
+    cheap, not inside the rig's guest)."""
+    args = fcc_args([scenario], cfg)
+    return SessionDone([(i, t, campaign_flight(i, t, res, args)) for i, t, res in done.flights],
+                       done.firmware)
 
 
 def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
@@ -73,4 +100,5 @@ def add_counters(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
             for k, v in a.items()}
 
 
-__all__ = ["CampaignFlight", "FlightDone", "add_counters", "fly_campaign_flight", "fly_sweep_point"]
+__all__ = ["CampaignFlight", "FlightDone", "SessionDone", "add_counters", "campaign_flights",
+           "fly_campaign_flights", "fly_sweep_point"]

@@ -20,7 +20,24 @@ from ..rig.session import RigError
 from ..rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points, write_campaign,
                         write_sweep)
 from .engine import Cluster, Flight
-from .flights import add_counters, fly_campaign_flight, fly_sweep_point
+from .flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
+
+
+#: most flights one rig session flies in a row (fcc reset between them, as in the sequential
+#: campaign): the session's start and end (recorder, fcc, its first heartbeat, shutdown) are
+#: paid once per chunk of flights, not once per flight
+SESSION_FLIGHTS_MAX = 25
+#: at least this many sessions, so that a few rigs share a small campaign
+SESSIONS_MIN = 4
+
+
+def session_chunks(runs: int) -> list[range]:
+    """The campaign's flights in consecutive chunks, one rig session each (at least
+    SESSIONS_MIN of them, at most SESSION_FLIGHTS_MAX flights in one).  A function of the
+    number of flights only -- never of the workers -- so that every count of workers flies
+    the same sessions and writes the same summary.json (fcc's counters add up per session)."""
+    size = max(1, min(SESSION_FLIGHTS_MAX, -(-runs // SESSIONS_MIN)))
+    return [range(i, min(i + size, runs)) for i in range(0, runs, size)]
 
 
 def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConfig, *,
@@ -34,17 +51,21 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
         raise ValueError(f"--runs must be >= 1, got {runs}")
     out = Path(cfg.out_dir)
     starts = campaign_fault_times(scenario, runs, seed)
-    flights = [Flight(i, fly_campaign_flight, (scenario, i, float(t))) for i, t in enumerate(starts)]
+    chunks = session_chunks(runs)
+    tasks = [Flight(c, fly_campaign_flights, (scenario, [(i, float(starts[i])) for i in chunk]),
+                    count=len(chunk), post=campaign_flights, post_args=(scenario,))
+             for c, chunk in enumerate(chunks)]
     t0 = time.perf_counter()
     with Cluster(workers, scheduler) as cluster:
-        res = cluster.run(flights, cfg, progress=cfg.progress, desc="hil campaign")
-    done = [res.values[i] for i in sorted(res.values)]
-    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
+        res = cluster.run(tasks, cfg, progress=cfg.progress, desc="hil campaign")
+    done = [res.values[c] for c in sorted(res.values)]
+    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[c]}
+              for c in sorted(res.failed) for i in chunks[c]]
     if not done:
         raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
-    firmware = functools.reduce(add_counters, [d.firmware for d in done]) if done else {}
-    summary = write_campaign(out, scenario, seed, runs, [d.flight for d in done], firmware, cfg.mode,
-                             failed)
+    firmware = functools.reduce(add_counters, [d.firmware for d in done])
+    summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
+                             firmware, cfg.mode, failed)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
     return _finish(cfg, out, summary, None)

@@ -148,3 +148,47 @@ def test_secoc_attributes(spec: dbc.BusSpec) -> None:
         assert m.senders == first.senders
         assert m.frame_id > max(spec.by_name(p).frame_id for p in m.secoc_pdus)
         assert not (0x001 <= m.frame_id <= 0x00F) and m.frame_id != 0x705   # issue 11's IDs
+
+
+# ---- the digest (data/fcc_hil.spec.json) and the packing that replaces cantools' at run time
+def test_digest_is_the_parsed_dbc() -> None:
+    """load() of the DBC takes the digest (no cantools import) and gets exactly what parsing
+    the DBC with cantools gives."""
+    code = ("import sys; from hil.bus import dbc; s = dbc.load(); "
+            "print(len(s.messages), 'cantools' in sys.modules, 'can' in sys.modules)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert r.stdout.split()[1:] == ["False", "False"], r.stdout
+    digested = dbc._from_spec_file(DBC)
+    assert digested is not None, "the digest does not match dbc/fcc_hil.dbc: run dbc/generate"
+    parsed = dbc._parsed(DBC)
+    assert digested.messages == parsed.messages
+    assert (digested.nodes, digested.baudrate) == (parsed.nodes, parsed.baudrate)
+
+
+def test_a_changed_dbc_is_parsed_not_taken_from_the_digest(tmp_path: Path) -> None:
+    text = DBC.read_text().replace('BA_ "GenMsgCycleTime" BO_ 32 20;', 'BA_ "GenMsgCycleTime" BO_ 32 40;')
+    assert text != DBC.read_text()
+    edited = tmp_path / "edited.dbc"
+    edited.write_text(text)
+    assert dbc._from_spec_file(edited) is None
+    assert dbc.load(edited).by_name("SIM_TICK").cycle_ms == 40
+    assert dbc.load(DBC).by_name("SIM_TICK").cycle_ms == 20
+
+
+def test_packing_equals_cantools(spec: dbc.BusSpec) -> None:
+    """MessageSpec's encode/decode give cantools' bytes and values (physical values of the
+    same type), on random frames of every message."""
+    import random
+    rng = random.Random(14)
+    for m in spec.messages:
+        cm = m.message
+        for _ in range(100):
+            data = bytes(rng.randrange(256) for _ in range(8))
+            raw = m.decode_raw(data)
+            assert raw == cm.decode(data, decode_choices=False, scaling=False), m.name
+            phys = m.decode(data)
+            want = cm.decode(data, decode_choices=False)
+            assert phys == want and all(type(phys[k]) is type(want[k]) for k in want), m.name
+            assert m.encode_raw(raw) == bytes(cm.encode(raw, scaling=False, strict=False)), m.name
+    with pytest.raises(ValueError, match="does not fit"):
+        spec.by_name("SIM_TICK").encode_raw({s.name: 1 << 20 for s in spec.by_name("SIM_TICK").signals})

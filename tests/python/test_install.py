@@ -21,6 +21,7 @@ from hil.bus import dbc
 from hil.rig import paths
 print(json.dumps({"pkg": hil.__file__, "dbc": str(dbc.default_path()),
                   "dbc_text": dbc.default_path().read_text(), "messages": len(dbc.load().messages),
+                  "digested": "cantools" not in sys.modules,
                   "fcc": str(paths.fcc_binary()), "repo": str(paths.REPO)}))
 """
 
@@ -57,6 +58,7 @@ def test_wheel_runs_outside_the_tree(tmp_path: Path) -> None:
     assert got["repo"] == "None"                       # no source tree behind it
     assert got["dbc_text"] == (REPO / "dbc" / "fcc_hil.dbc").read_text()
     assert got["messages"] == len(dbc.load().messages)
+    assert got["digested"], "the wheel's DBC was parsed by cantools: data/fcc_hil.spec.json missing?"
     assert got["fcc"] == str(fcc.resolve())
     v = subprocess.run([sys.executable, "-m", "hil.cli", "--version"], capture_output=True, text=True,
                        cwd=tmp_path, env=env, timeout=120)

@@ -42,7 +42,7 @@ class BusView:
         self.frames += 1
         if msg is None or len(data) != msg.length:
             return
-        vals = dict(msg.message.decode(data, decode_choices=False))
+        vals = msg.decode(data)
         self.values[msg.name] = vals
         self.arrivals[msg.name].append(t)
         if msg.name == "SIM_EVENT":

@@ -102,12 +102,11 @@ def pack(msg: dbc.MessageSpec, values: Mapping[str, Value], *,
     unknown = set(values) - {s.name for s in msg.data_signals}
     if unknown:
         raise EncodeError(f"{msg.name}: no signal(s) {sorted(unknown)}")
-    data = msg.message.encode(raw, scaling=False, strict=False)
-    return bytes(data), clamped
+    return msg.encode_raw(raw), clamped
 
 
 def unpack_raw(msg: dbc.MessageSpec, data: bytes) -> dict[str, int]:
-    return dict(msg.message.decode(bytes(data), decode_choices=False, scaling=False))
+    return msg.decode_raw(bytes(data))
 
 
 def decode_values(msg: dbc.MessageSpec, data: bytes) -> dict[str, Value] | None:

@@ -4,24 +4,39 @@ Everything that both codecs must agree on (the raw range of each signal, the
 E2E data ID, the maximum counter delta, which signals are integers) is derived
 here, once, from dbc/fcc_hil.dbc.  The C glue generator (hil.bus.cgen) and the
 Python codec (hil.bus.codec) both call these functions.
+
+Start-up: cantools (and the python-can it imports) costs more to import than a lockstep
+flight takes in the UML guest, so the packaged DBC's specification is also kept digested in
+``data/fcc_hil.spec.json`` (written by dbc/generate: ``python -m hil.bus.digest``).  ``load()``
+uses it when the DBC's bytes are the ones it was made from (length and CRC-32 recorded in
+it); any other DBC, or a DBC edited since, is parsed by cantools.  Frames are packed and
+unpacked here (little-endian integer signals only, checked when parsing); the cantools
+``Message`` of a message (``MessageSpec.message``: comments, cantools' own codec) is parsed
+on first use.
 """
 from __future__ import annotations
 
+import json
 import math
 import os
-from dataclasses import dataclass
-from functools import lru_cache
+import zlib
+from dataclasses import asdict, dataclass
+from functools import cached_property, lru_cache
 from pathlib import Path
-
-import cantools
-from cantools.database.can import Database, Message, Signal
+from typing import TYPE_CHECKING, Any
 
 from ..rounding import round_half_away
 from .e2e import DEFAULT_MAX_DELTA_COUNTER
 
+if TYPE_CHECKING:
+    from cantools.database.can import Database, Message, Signal
+
 #: the DBC shipped with the package (in the source tree a link to dbc/fcc_hil.dbc, the one
 #: source; a wheel holds a copy, tests/python/test_install.py checks it equals the source)
 PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
+#: the packaged DBC digested (dbc/generate writes it from dbc/fcc_hil.dbc)
+PACKAGED_SPEC = PACKAGED_DBC.with_name("fcc_hil.spec.json")
+SPEC_FORMAT = 1
 DEFAULT_DBC = PACKAGED_DBC
 DBC_ENV = "FCC_HIL_DBC"
 _dbc_override: Path | None = None
@@ -59,6 +74,22 @@ class SignalSpec:
     def to_phys(self, raw: int) -> float | int:
         return raw if self.is_integer else raw / self.inv_scale
 
+    def scaled(self, raw: int) -> float | int:
+        """The DBC's physical value of a raw one (raw * scale + offset, as cantools decodes)."""
+        return raw if self.is_integer else raw * self.scale + self.offset
+
+    def unpack(self, bits: int) -> int:
+        """This signal's raw value in the frame's bytes read as one little-endian integer."""
+        v = (bits >> self.start) & ((1 << self.length) - 1)
+        return v - (1 << self.length) if self.signed and v >> (self.length - 1) else v
+
+    def pack(self, raw: int) -> int:
+        """raw in place in the frame's little-endian integer (raw must fit the signal)."""
+        lo = -(1 << (self.length - 1)) if self.signed else 0
+        if not lo <= raw < lo + (1 << self.length):
+            raise ValueError(f"{self.name}: raw value {raw} does not fit {self.length} bits")
+        return (raw & ((1 << self.length) - 1)) << self.start
+
 
 @dataclass(frozen=True)
 class MessageSpec:
@@ -71,9 +102,42 @@ class MessageSpec:
     senders: tuple[str, ...]
     receivers: tuple[str, ...]
     signals: tuple[SignalSpec, ...]
-    message: Message
     secoc_data_id: int = 0               # authenticator frames: the SecOC data ID of the MAC
     secoc_pdus: tuple[str, ...] = ()     # authenticator frames: the frames it authenticates
+    dbc_path: Path | None = None         # where .message is parsed from
+
+    @property
+    def message(self) -> Message:
+        """cantools' Message (parsed on first use: comments, cantools' codec)."""
+        if self.dbc_path is None:
+            raise ValueError(f"{self.name}: no DBC to parse")
+        return _parse(self.dbc_path).get_message_by_name(self.name)
+
+    def encode_raw(self, raw: dict[str, int]) -> bytes:
+        """Raw values of every signal -> the 8 bytes."""
+        bits = 0
+        for s in self.signals:
+            bits |= s.pack(int(raw[s.name]))
+        return bits.to_bytes(self.length, "little")
+
+    def decode_raw(self, data: bytes) -> dict[str, int]:
+        """The frame's bytes -> every signal's raw value."""
+        if len(data) != self.length:
+            raise ValueError(f"{self.name}: {len(data)} bytes, expected {self.length}")
+        bits = int.from_bytes(data, "little")
+        return {s.name: s.unpack(bits) for s in self.signals}
+
+    def decode(self, data: bytes) -> dict[str, float | int]:
+        """The frame's bytes -> every signal's physical value (as cantools' decode)."""
+        raw = self.decode_raw(data)
+        return {s.name: s.scaled(raw[s.name]) for s in self.signals}
+
+    def encode(self, values: dict[str, int]) -> bytes:
+        """Integer signals' values -> the 8 bytes (scaled signals go through the codec)."""
+        for s in self.signals:
+            if not s.is_integer:
+                raise ValueError(f"{self.name}: {s.name} is scaled: encode through hil.bus.codec")
+        return self.encode_raw(values)
 
     @property
     def is_authenticator(self) -> bool:
@@ -83,7 +147,7 @@ class MessageSpec:
     def protected(self) -> bool:
         return self.data_id != 0
 
-    @property
+    @cached_property
     def data_signals(self) -> tuple[SignalSpec, ...]:
         """The signals an application reads and writes (all but crc and counter)."""
         return tuple(s for s in self.signals if not (self.protected and s.name in E2E_SIGNALS))
@@ -120,7 +184,7 @@ def _signal_spec(sig: Signal) -> SignalSpec:
                       inv, lo, hi, sig.unit or "")
 
 
-def _message_spec(msg: Message) -> MessageSpec:
+def _message_spec(msg: Message, path: Path) -> MessageSpec:
     names = {s.name for s in msg.signals}
     data_id = _attr(msg, "E2E_DataID", 0)
     if data_id and not set(E2E_SIGNALS) <= names:
@@ -131,21 +195,20 @@ def _message_spec(msg: Message) -> MessageSpec:
         cycle_ms=int(msg.cycle_time or 0), data_id=data_id,
         max_delta_counter=_attr(msg, "E2E_MaxDeltaCounter", DEFAULT_MAX_DELTA_COUNTER),
         senders=tuple(msg.senders), receivers=tuple(receivers),
-        signals=tuple(_signal_spec(s) for s in msg.signals), message=msg,
+        signals=tuple(_signal_spec(s) for s in msg.signals),
         secoc_data_id=_attr(msg, "SecOC_DataID", 0),
-        secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()))
+        secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()), dbc_path=path)
 
 
 class BusSpec:
     """The loaded DBC: messages sorted by identifier, nodes, bit rate."""
 
-    def __init__(self, path: Path, db: Database, messages: tuple[MessageSpec, ...]) -> None:
+    def __init__(self, path: Path, messages: tuple[MessageSpec, ...], nodes: tuple[str, ...],
+                 baudrate: int) -> None:
         self.path = path
-        self.db = db
         self.messages = messages
-        self.nodes: tuple[str, ...] = tuple(n.name for n in db.nodes)
-        bus = db.buses[0] if db.buses else None
-        self.baudrate: int = int(bus.baudrate) if bus and bus.baudrate else 500_000
+        self.nodes = nodes
+        self.baudrate = baudrate
         self._by_id = {m.frame_id: m for m in messages}
         self._by_name = {m.name: m for m in messages}
 
@@ -157,6 +220,11 @@ class BusSpec:
             return self._by_name[name]
         except KeyError:
             raise KeyError(f"no message {name!r} in {self.path.name}") from None
+
+    @property
+    def db(self) -> Database:
+        """cantools' Database of the DBC (parsed on first use)."""
+        return _parse(self.path)
 
 
 def set_default(path: Path | None) -> None:
@@ -183,8 +251,13 @@ def load(path: str | Path | None = None) -> BusSpec:
 def _load(path: Path) -> BusSpec:
     if not path.is_file():
         raise FileNotFoundError(f"DBC file {path} does not exist")
-    db = cantools.database.load_file(str(path), strict=True)
-    messages = tuple(sorted((_message_spec(m) for m in db.messages), key=lambda m: m.frame_id))
+    return _from_spec_file(path) or _parsed(path)
+
+
+def _parsed(path: Path) -> BusSpec:
+    """The BusSpec of the DBC parsed by cantools, checked."""
+    db = _parse(path)
+    messages = tuple(sorted((_message_spec(m, path) for m in db.messages), key=lambda m: m.frame_id))
     for m in messages:
         if m.length != 8 or m.message.is_extended_frame or m.frame_id > 0x7FF:
             raise ValueError(f"{m.name}: only 8-byte frames with 11-bit IDs are supported")
@@ -192,4 +265,51 @@ def _load(path: Path) -> BusSpec:
     for m in messages:
         if m.is_authenticator and (not m.secoc_pdus or not set(m.secoc_pdus) <= names):
             raise ValueError(f"{m.name}: SecOC_Pdus must name the frames it authenticates")
-    return BusSpec(path, db, messages)
+    bus = db.buses[0] if db.buses else None
+    return BusSpec(path, messages, tuple(n.name for n in db.nodes),
+                   int(bus.baudrate) if bus and bus.baudrate else 500_000)
+
+
+@lru_cache(maxsize=8)
+def _parse(path: Path) -> Database:
+    import cantools  # slow to import (python-can with it): only when the DBC must be parsed
+    return cantools.database.load_file(str(path), strict=True)
+
+
+# ---- the digested specification (data/fcc_hil.spec.json) --------------------------------
+def _fingerprint(data: bytes) -> str:
+    """Which DBC a digest was made from: its length and CRC-32 (a check against editing the
+    DBC and not running dbc/generate, not against tampering)."""
+    return f"{len(data)}:{zlib.crc32(data):08x}"
+
+
+def spec_document(spec: BusSpec) -> dict[str, Any]:
+    """The JSON document of a loaded DBC's specification (the digest dbc/generate writes)."""
+    return {"format": SPEC_FORMAT, "dbc": _fingerprint(spec.path.read_bytes()),
+            "nodes": list(spec.nodes), "baudrate": spec.baudrate,
+            "messages": [{k: v for k, v in asdict(m).items() if k != "dbc_path"}
+                         for m in spec.messages]}
+
+
+def _from_spec_file(path: Path, spec_file: Path | None = None) -> BusSpec | None:
+    """The BusSpec of path from the digest, when the digest was made from these bytes."""
+    try:
+        doc = json.loads((spec_file or PACKAGED_SPEC).read_text(encoding="utf-8"))
+        if doc.get("format") != SPEC_FORMAT or doc.get("dbc") != _fingerprint(path.read_bytes()):
+            return None
+        messages = tuple(MessageSpec(**{**m, "senders": tuple(m["senders"]),
+                                        "receivers": tuple(m["receivers"]),
+                                        "secoc_pdus": tuple(m["secoc_pdus"]),
+                                        "signals": tuple(SignalSpec(**s) for s in m["signals"])},
+                                     dbc_path=path)
+                         for m in doc["messages"])
+        return BusSpec(path, messages, tuple(doc["nodes"]), int(doc["baudrate"]))
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def write_spec_file(dbc_path: Path, out: Path) -> None:
+    """Digest dbc_path (parsed by cantools) into out (JSON, deterministic bytes)."""
+    spec = _parsed(Path(dbc_path))  # parsed, never copied from an older digest
+    out.write_text(json.dumps(spec_document(spec), indent=1, sort_keys=True) + "\n", encoding="utf-8")
+

@@ -22,21 +22,11 @@ import can
 
 from . import dbc
 from .codec import Decoded, FrameCodec, Value
+from .rawcan import enlarge_receive_buffer
 
 SEND_RETRY_S = 0.05      # give a full transmit queue this long before dropping
 SEND_RETRY_SLEEP_S = 0.0005
 RECEIVE_BUFFER_BYTES = 4 << 20   # ~1 s of a full bus: a Python reader stalled by the guest loses nothing
-
-
-def enlarge_receive_buffer(sock: socket.socket, nbytes: int) -> None:
-    """Ask the kernel for an nbytes receive queue: SO_RCVBUFFORCE needs CAP_NET_ADMIN (root in
-    the UML guest); without it SO_RCVBUF, which the kernel caps at net.core.rmem_max."""
-    for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):
-        try:
-            sock.setsockopt(socket.SOL_SOCKET, opt, nbytes)
-            return
-        except OSError:
-            continue
 
 
 @dataclass

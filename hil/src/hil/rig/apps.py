@@ -241,7 +241,7 @@ class MissileDriver(AppDriver):
         dac = self.sim.dac
         for i, (frame_id, data) in enumerate(io.frames):
             if frame_id == self._est.frame_id and len(data) == 8:
-                v = self._est.message.decode(data, decode_choices=False)
+                v = self._est.decode(data)
                 if self.realtime or (int(v["step"]) & 0xFF) == (k & 0xFF):
                     self.x_hat[k] = (v["q_hat"], v["alpha_t_hat"], v["w_g_hat"])
                 continue

@@ -116,7 +116,7 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
             if fid not in ids or len(data) != 8:
                 continue
             flt, msg = ids[fid]
-            vals = msg.message.decode(data, decode_choices=False)  # type: ignore[attr-defined]
+            vals = msg.decode(data)  # type: ignore[attr-defined]
             if "step" in vals and check_step:
                 if int(vals["step"]) != (k & 0xFFF):
                     mismatched += 1

@@ -1,12 +1,13 @@
-"""The simulator's CAN socket: python-can opens and configures it, the lockstep hot path
-reads and writes raw SocketCAN frames on it.
+"""The simulator's CAN socket: on SocketCAN a raw CAN_RAW socket (hil.bus.rawcan), on any
+other interface python-can's bus.
 
 Why not ``bus.send(can.Message)`` / ``bus.recv()``: in the User-Mode Linux guest every system
 call is slow, and python-can's receive path costs a ``select()`` plus a ``recvmsg()`` per
 frame.  Here a receive is one blocking ``recv()`` bounded by ``SO_RCVTIMEO`` (a short slice,
 so that the caller can notice a dead firmware or a deadline between slices), and a send is one
-``send()`` of a pre-packed ``struct can_frame``.  The socket is still python-can's
-(filters, loopback and error-frame settings are python-can's own code).
+``send()`` of a pre-packed ``struct can_frame``.  The socket is opened with the standard
+library (python-can alone costs about a second to import in the guest), with the settings
+python-can's SocketCAN bus would give it (hil.bus.rawcan).
 
 Any other python-can interface (``interface="pcan"``, ``"slcan"``, ``"kvaser"`` ...) goes through
 python-can's own ``send()``/``recv()``; there the link is also the bus recorder (no candump
@@ -23,12 +24,13 @@ import struct
 import time
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TextIO
-
-import can
+from typing import TYPE_CHECKING, TextIO
 
 from ..bus.candump import format_line
-from ..bus.node import enlarge_receive_buffer
+from ..bus.rawcan import enlarge_receive_buffer, open_raw
+
+if TYPE_CHECKING:
+    import can
 
 #: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
 CAN_FRAME = struct.Struct("=IB3x8s")
@@ -54,7 +56,7 @@ def pack_frame(frame_id: int, data: bytes) -> bytes:
 
 
 class CanLink:
-    """One raw CAN socket on an interface, opened through python-can."""
+    """One CAN socket on an interface: raw SocketCAN, or python-can's bus of another interface."""
 
     #: python-can interfaces driven through the raw socket (the others: python-can's send/recv)
     RAW_INTERFACES = frozenset({"socketcan"})
@@ -80,17 +82,13 @@ class CanLink:
             return
         if log_path is not None:
             raise ValueError("on SocketCAN the recorder is candump, not the link")
-        filters = None if frame_ids is None else [
-            {"can_id": i, "can_mask": 0x7FF, "extended": False} for i in sorted(set(frame_ids))]
         try:
-            self.bus = can.Bus(interface="socketcan", channel=channel, can_filters=filters,
-                               receive_own_messages=False, ignore_rx_error_frames=True)
-        except (OSError, can.CanError) as e:
+            self.sock: socket.socket = open_raw(channel, frame_ids)
+        except OSError as e:
             raise LinkError(f"cannot open CAN interface {channel!r}: {e}") from None
         self._generic = False
         self.writer: TextIO | None = None
-        self.sock: socket.socket = self.bus.socket
-        self.sock.setblocking(True)
+        self.bus: can.BusABC | None = None
         enlarge_receive_buffer(self.sock, rcvbuf)
         self._slice = -1.0
         self.set_slice(RECV_SLICE_S)
@@ -99,6 +97,7 @@ class CanLink:
 
     def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
                       log_path: Path | None) -> None:
+        import can  # only the other interfaces need python-can (slow to import)
         kwargs = {} if bitrate is None else {"bitrate": bitrate}
         try:
             self.bus = can.Bus(interface=self.interface, channel=self.channel,
@@ -120,6 +119,7 @@ class CanLink:
                                           msg.is_extended_id) + "\n")
 
     def _send_generic(self, frame_id: int, data: bytes) -> bool:
+        import can
         msg = can.Message(arbitration_id=frame_id, data=data, is_extended_id=frame_id > 0x7FF,
                           channel=self.channel)
         try:
@@ -135,6 +135,7 @@ class CanLink:
 
     def _recv_generic(self, timeout: float) -> tuple[int, bytes] | None:
         """The next wanted frame within timeout s (every frame received is logged)."""
+        import can
         deadline = time.monotonic() + timeout
         while True:
             try:
@@ -238,7 +239,10 @@ class CanLink:
             self.writer.close()
             self.writer = None
         try:
-            self.bus.shutdown()
+            if self.bus is None:
+                self.sock.close()
+            else:
+                self.bus.shutdown()
         except Exception:  # noqa: BLE001 - closing twice or after the interface vanished
             pass
 

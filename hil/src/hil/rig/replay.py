@@ -126,8 +126,8 @@ def compare(spec: BusSpec, where: str, rec: Sequence[tuple[int, bytes]],
         msg = spec.by_id(r[0])
         assert msg is not None
         skip = SKIP_SIGNALS.get(msg.name, ())
-        dr = msg.message.decode(r[1], decode_choices=False)
-        dv = msg.message.decode(v[1], decode_choices=False)
+        dr = msg.decode(r[1])
+        dv = msg.decode(v[1])
         for sig in msg.signals:
             if sig.name not in skip and dr[sig.name] != dv[sig.name]:
                 return Difference(where, msg.name, sig.name, dr[sig.name], dv[sig.name])

@@ -86,7 +86,7 @@ class StatusCounters:
         msg = spec.by_id(frame_id)
         if msg is None or msg.name not in STATUS_FRAMES or len(data) != 8:
             return
-        vals = msg.message.decode(data, decode_choices=False)
+        vals = msg.decode(data)
         self.last[msg.name] = dict(vals)
         if msg.name == "FCC_STATUS":
             self.heartbeats += 1
@@ -393,7 +393,7 @@ class RigSession:
         marker = None
         if self.link is not None:  # the end marker: candump has seen everything before it
             ping = self.spec.by_name("RIG_PING")
-            data = ping.message.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
+            data = ping.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
             try:
                 if self.link.send(ping.frame_id, data):
                     marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()

@@ -37,9 +37,9 @@ _FCC_HIST = re.compile(r"^fcc summary: (\w+) (\w+) n=(\d+) p50=(\d+) p99=(\d+) m
 
 def bus_timing(log: Path, spec: BusSpec, period: float) -> dict[str, np.ndarray]:
     """Per-sample timing (us) of the missile at `period` from a bus log (see module doc)."""
-    sync = spec.by_name("TSYNC_SYNC").message
-    fup = spec.by_name("TSYNC_FOLLOW_UP").message
-    status = spec.by_name("FCC_SYNC_STATUS").message
+    sync = spec.by_name("TSYNC_SYNC")
+    fup = spec.by_name("TSYNC_FOLLOW_UP")
+    status = spec.by_name("FCC_SYNC_STATUS")
     sync_t: dict[int, tuple[float, int]] = {}
     offsets: list[float] = []
     sensors: list[float] = []
@@ -48,10 +48,10 @@ def bus_timing(log: Path, spec: BusSpec, period: float) -> dict[str, np.ndarray]
     last_sensor = None
     for f in read_log(log):
         if f.frame_id == SYNC_ID and len(f.data) == 8:
-            v = sync.decode(f.data, decode_choices=False)
+            v = sync.decode(f.data)
             sync_t[int(v["seq"])] = (f.timestamp, int(v["sec"]))
         elif f.frame_id == FOLLOW_UP_ID and len(f.data) == 8:
-            v = fup.decode(f.data, decode_choices=False)
+            v = fup.decode(f.data)
             got = sync_t.pop(int(v["seq"]), None)
             if got is not None:
                 master = (got[1] + int(v["sec_carry"])) * 1e6 + int(v["ns"]) / 1e3
@@ -62,7 +62,7 @@ def bus_timing(log: Path, spec: BusSpec, period: float) -> dict[str, np.ndarray]
         elif f.frame_id == CMD_ID and last_sensor is not None:
             cmds.append((f.timestamp, last_sensor))
         elif f.frame_id == SYNC_STATUS_ID and len(f.data) == 8:
-            v = status.decode(f.data, decode_choices=False)
+            v = status.decode(f.data)
             if int(v["state"]) != 0:
                 sync_offset.append(float(v["offset_us"]))
     out = {k: np.empty(0) for k in KINDS}

@@ -7,11 +7,17 @@ cdrw.csv (or a campaign's cdrw_run0.csv) → Figs. 5-10 of seed 1; campaign.csv 
 errors against its fault time; summary.json missile.runs → Fig. 3 of seed 2;
 missile_T*_fine.csv → the time responses (Figs. 4-6) at each period; realtime_timing.csv → the
 histograms of a realtime run's timing.
+
+The figures are independent: on a machine with several CPUs they are drawn by forked workers
+(matplotlib imported once, before the fork), the same PNG bytes as one after the other.
 """
 from __future__ import annotations
 
 import json
+import os
 import re
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +27,36 @@ from ..rig.output import read_csv
 _FINE = re.compile(r"^missile_T(?P<T>\d+\.\d+)_(?P<b>open|b\d+)_fine\.csv$")
 
 
+#: at most this many drawing processes
+MAX_WORKERS = 4
+Figure = Callable[[], "Path | None"]
+
+
 def plot_run_dir(run_dir: Path) -> list[Path]:
+    """Every figure the run directory has data for, drawn; the PNGs written, in order."""
+    return [p for p in draw(figures(Path(run_dir))) if p is not None]
+
+
+def _call(fig: Figure) -> Path | None:
+    return fig()
+
+
+def draw(figs: list[Figure]) -> list[Path | None]:
+    """Each figure drawn (in forked workers when there are several CPUs), results in order."""
+    workers = min(len(figs), os.cpu_count() or 1, MAX_WORKERS)
+    if workers < 2:
+        return [f() for f in figs]
+    import multiprocessing
+
+    with multiprocessing.get_context("fork").Pool(workers) as pool:
+        return pool.map(_call, figs, chunksize=1)
+
+
+def figures(run_dir: Path) -> list[Figure]:
+    """The figures of a run directory, not yet drawn (the data read, matplotlib imported)."""
     from . import cdrw, missile  # matplotlib is imported only when drawing
 
-    run_dir = Path(run_dir)
-    written: list[Path] = []
+    written: list[Figure] = []
     for name in ("cdrw.csv", "cdrw_run0.csv"):
         if (run_dir / name).is_file():
             note = ""
@@ -36,20 +67,17 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
             written += cdrw.all_figures(read_csv(run_dir / name), run_dir, note)
             break
     if (run_dir / "campaign.csv").is_file():
-        written.append(cdrw.campaign_figure(read_csv(run_dir / "campaign.csv"), run_dir))
+        written.append(partial(cdrw.campaign_figure, read_csv(run_dir / "campaign.csv"), run_dir))
     summary_path = run_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
     if (run_dir / "fig3.json").is_file():
-        p = missile.fig3_covariance(json.loads((run_dir / "fig3.json").read_text()), run_dir)
-        if p is not None:
-            written.append(p)
+        written.append(partial(missile.fig3_covariance, json.loads((run_dir / "fig3.json").read_text()),
+                               run_dir))
     if summary_path.is_file():
         runs = summary.get("missile", {}).get("runs", [])
         periods = {r["period"] for r in runs}
         if len(periods) > 1 and not summary.get("responses"):  # a 3 s response is no RMS
-            p = missile.fig3_rms(runs, run_dir)
-            if p is not None:
-                written.append(p)
+            written.append(partial(missile.fig3_rms, runs, run_dir))
     by_period: dict[float, dict[int | None, dict[str, np.ndarray]]] = {}
     for f in sorted(run_dir.glob("missile_T*_fine.csv")):
         m = _FINE.match(f.name)
@@ -63,12 +91,13 @@ def plot_run_dir(run_dir: Path) -> list[Path]:
     for T, curves in sorted(by_period.items(), reverse=True):
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
-        written.append(missile.fig_time_response(T, curves, run_dir, elevator, subtitle))
+        written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle))
     from ..rig import timing
     if (run_dir / timing.CSV_NAME).is_file():
         from . import realtime
-        written.append(realtime.fig_realtime_timing(timing.read_csv(run_dir / timing.CSV_NAME), run_dir))
+        written.append(partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME),
+                               run_dir))
     return written
 
 
-__all__ = ["plot_run_dir"]
+__all__ = ["draw", "figures", "plot_run_dir"]

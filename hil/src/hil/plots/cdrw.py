@@ -5,6 +5,8 @@ rad and rad/s.  The fault interval (sensor fault active) is shaded in every figu
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -159,11 +161,12 @@ def fig10_bounds(s: Series, out: Path) -> Path:
     return save(fig, out / "fig10_bounds.png")
 
 
-def all_figures(s: Series, out: Path, note: str = "") -> list[Path]:
-    """Figs. 5-10; note (e.g. which campaign flight) goes under every title."""
+def all_figures(s: Series, out: Path, note: str = "") -> list[Callable[[], Path]]:
+    """Figs. 5-10, to draw (hil.plots.draw); note (e.g. which campaign flight) goes under
+    every title."""
     s = {**s, NOTE_KEY: note} if note else s  # type: ignore[dict-item]
-    return [fig5_alpha_q(s, out), fig6_model(s, out), fig7_rho(s, out), fig8_estimates(s, out),
-            fig9_gains(s, out), fig10_bounds(s, out)]
+    return [partial(f, s, out) for f in (fig5_alpha_q, fig6_model, fig7_rho, fig8_estimates,
+                                         fig9_gains, fig10_bounds)]
 
 
 def campaign_figure(c: Series, out: Path) -> Path:

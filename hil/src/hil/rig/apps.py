@@ -82,6 +82,8 @@ class AppDriver:
 
     app: int = -1
     name: str = ""
+    #: the simulation depends on fcc's outputs (realtime hands its next step over only after)
+    closed_loop: bool = False
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, period: float, n_steps: int,
                  star_frames: tuple[str, ...], realtime: bool = False,
@@ -181,6 +183,7 @@ class MissileDriver(AppDriver):
 
     app = APP_MISSILE
     name = "missile"
+    closed_loop = True
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:

@@ -18,6 +18,7 @@ in the order the rig saw them, and the receive filter is applied in Python after
 from __future__ import annotations
 
 import errno
+import math
 import select
 import socket
 import struct
@@ -44,6 +45,40 @@ RECV_SLICE_S = 0.05
 SEND_RETRY_S = 0.05
 
 _TIMEVAL = struct.Struct("@ll")
+#: SO_TIMESTAMPNS on Linux (the socket module does not always export it)
+SO_TIMESTAMPNS = getattr(socket, "SO_TIMESTAMPNS", 35)
+_TIMESPEC = struct.Struct("=qq")
+
+
+class MonotonicStamps:
+    """SocketCAN's receive stamps (CLOCK_REALTIME) on CLOCK_MONOTONIC, the rig's clock: the
+    offset is the tightest of 5 bracketed readings (a preempted reading would shift every
+    stamp), renewed every second."""
+
+    def __init__(self) -> None:
+        self._rt_minus_mono = 0.0
+        self._at = -math.inf
+
+    def monotonic(self, realtime: float) -> float:
+        now = time.monotonic()
+        if now - self._at > 1.0:
+            best = math.inf
+            for _ in range(5):
+                m0 = time.monotonic()
+                r = time.time()
+                m1 = time.monotonic()
+                if m1 - m0 < best:
+                    best, self._rt_minus_mono = m1 - m0, r - 0.5 * (m0 + m1)
+            self._at = now
+        return realtime - self._rt_minus_mono
+
+    def of(self, ancdata: list[tuple[int, int, bytes]]) -> float | None:
+        """CLOCK_MONOTONIC of a recvmsg()'s SO_TIMESTAMPNS stamp (None: none there)."""
+        for level, kind, data in ancdata:
+            if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS and len(data) >= _TIMESPEC.size:
+                sec, nsec = _TIMESPEC.unpack_from(data)
+                return self.monotonic(sec + nsec * 1e-9)
+        return None
 
 
 class LinkError(RuntimeError):
@@ -94,6 +129,7 @@ class CanLink:
         self.set_slice(RECV_SLICE_S)
         self._poll = select.poll()
         self._poll.register(self.sock, select.POLLIN)
+        self._stamps: MonotonicStamps | None = None
 
     def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
                       log_path: Path | None) -> None:
@@ -222,6 +258,30 @@ class CanLink:
         if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
             return None
         return self._recv_once(socket.MSG_DONTWAIT)
+
+    def recv_stamped(self, timeout: float) -> tuple[int, bytes, float] | None:
+        """Like recv_wait, with the time the frame was on the bus: its kernel receive stamp
+        on CLOCK_MONOTONIC (python-can's interfaces: when it was read)."""
+        if self._generic:
+            got = self._recv_generic(timeout)
+            return None if got is None else (*got, time.monotonic())
+        if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
+            return None
+        if self._stamps is None:
+            self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)  # python-can's own too
+            self._stamps = MonotonicStamps()
+        try:
+            raw, anc, _, _ = self.sock.recvmsg(CAN_MTU, socket.CMSG_SPACE(_TIMESPEC.size),
+                                               socket.MSG_DONTWAIT)
+        except (BlockingIOError, InterruptedError):
+            return None
+        except OSError as e:
+            raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
+        at = self._stamps.of(anc)
+        can_id, dlc, data = CAN_FRAME.unpack(raw)
+        self.rx_frames += 1
+        fid = can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF
+        return fid, data[:dlc], time.monotonic() if at is None else at
 
     def drain(self) -> list[tuple[int, bytes]]:
         """Every frame already queued, without waiting."""

@@ -2,25 +2,30 @@
 
 fcc runs with --mode realtime (no ticks).  The simulator is the bus's time master
 (hil.rig.timesync: SYNC + FOLLOW_UP every 0.1 s, for the whole session) and fcc samples and
-commands on the master's instants (firmware/timesync, firmware/app/fcc_node_rt.c).  The
-simulator keeps absolute deadlines t0 + k*period per application (no drift: a late step does
-not shift the next one), t0 on every period's grid of the master time; the first flight waits
-(at most SYNC_WAIT_S) until fcc reports LOCKED in FCC_SYNC_STATUS.
+commands on the master's instants (firmware/timesync, firmware/app/fcc_node_rt.c).  Step k of
+an application is sampled at the instant t0 + k*period, t0 on every period's grid of the master
+time; the first flight waits (at most SYNC_WAIT_S) until fcc reports LOCKED in FCC_SYNC_STATUS.
 
-At deadline k it sends step k's sensor frames (sampled before, see below).  The missile's
-command acts at the actuation instant t_k + delay (from its arrival when it came later:
-counted late).  As soon as period k's command and estimate are in, the period is integrated
-and step k+1 sampled, so that at the next deadline only the sending is left; without them the
-period is closed at the next deadline with the previous code held.  fcc numbers its missile
-steps by the master's instants, so each command and estimate goes to the period of its step
-field (one that comes before the simulator opened that period is kept for it, one for a
-period already integrated is counted in sim_stale_frames); without that numbering (fcc not
-synchronised) a frame goes to the period in progress by its arrival.  A late step is counted
-and run at once; nothing waits for fcc.
+The sensors sample at the instant; the simulator is not the clock.  The plant is known one
+step ahead: once period k-1 is closed, y_k is computed and step k's frames are handed over to
+the time-triggered transmitter (hil.txsched), which puts them on the bus at t_k whenever the
+simulator itself runs.  A step handed over after its instant is counted (sim_late_steps) and
+goes out at once; the hand-over slack (instant minus hand-over time) is reported.
+
+The missile's command acts at the actuation instant t_k + delay, or from the time it was on
+the bus (its kernel receive stamp) when that was later (counted late).  As soon as period k's
+command and estimate are in, the period is integrated and step k+1 handed over; without them
+the period is closed PREP_S before the next instant with the previous code held (a command
+that comes after that is counted in sim_stale_frames).  fcc numbers its missile steps by the
+master's instants, so each command and estimate goes to the period of its step field (one
+that comes before the simulator opened that period is kept for it); without that numbering
+(fcc not synchronised) a frame goes to the period in progress by its arrival.  The CDRW flies
+open loop: its step k+1 is handed over half a period before its instant.
 
 Frame delays are quantised to the sender's period (a delayed frame goes out with the first
 step whose time has reached its due time).  A babbling-node flood is a real second node:
-``cangen`` on the interface, started and stopped at the fault's times.
+``cangen`` on the interface, started and stopped at the fault's times (when the step that
+starts or ends it is handed over: up to one period early).
 """
 from __future__ import annotations
 
@@ -31,13 +36,17 @@ from collections.abc import Callable, Sequence
 
 from ..faults import Flood
 from .apps import AppDriver, StepIO
-from .link import pack_frame
+from ..txsched import TimedSender
 from .processes import spawn
 from .session import RigError, RigSession
 from .timesync import TimeMaster
 
-#: a step that starts this late (s) counts as late
-LATE_S = 0.002
+#: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
+#: before the next instant: the integration, the next sample and the hand-over take
+#: milliseconds in the loaded UML guest
+PREP_S = 0.004
+#: the transmitter's SCHED_FIFO priority where allowed (fcc's, hil.rig.runs.FCC_RT_PRIORITY)
+TX_RT_PRIORITY = 50
 #: the first deadline is at least this far after fly() is called
 LEAD_S = 0.05
 #: the first flight waits this long at most for fcc to lock to the time master
@@ -75,80 +84,96 @@ class RealtimeRunner:
         self.rig = session
         self.progress = progress
         self.late_steps = 0
-        self.worst_late_s = 0.0
-        self.lateness: list[float] = []
+        self.slack_ms: list[float] = []
         self.steps = 0
         self.wall_s = 0.0
         self.rx_frames = 0
         self.lock_wait_s = 0.0
         self.stale_frames = 0
-        self._prepared: dict[int, list] = {}
+        self._open: dict[int, StepIO | None] = {}
+        self._next: dict[int, int] = {}
 
     def timing(self) -> dict[str, object]:
-        lat = sorted(self.lateness)
-        pct = (lambda p: 1e3 * lat[min(len(lat) - 1, int(p * len(lat)))]) if lat else (lambda p: None)
+        s = sorted(self.slack_ms)
+        pct = (lambda p: round(s[min(len(s) - 1, int(p * len(s)))], 3)) if s else (lambda p: None)
         tm = self.rig.time_master
         return {"realtime_wall_s": self.wall_s, "realtime_steps": self.steps,
                 "sim_late_steps": self.late_steps, "sync_lock_wait_s": self.lock_wait_s,
                 "sim_stale_frames": self.stale_frames,
                 "time_master": tm.stats() if tm is not None else self.rig.time_master_stats,
-                "sim_step_lateness_ms": {"p50": pct(0.5), "p99": pct(0.99), "max": pct(1.0)},
-                "rx_frames": self.rx_frames}
+                "sim_handover_slack_ms": {"min": pct(0.0), "p1": pct(0.01), "p50": pct(0.5)},
+                "transmitter": self.rig.transmitter_stats, "rx_frames": self.rx_frames}
 
     def fly(self, drivers: Sequence[AppDriver]) -> None:
-        rig, link = self.rig, self.rig.link
-        assert link is not None
-        master = self._time_master()
-        t_begin = time.perf_counter()
-        t0 = master.aligned_start(LEAD_S, [d.period for d in drivers])
-        # per driver: the StepIO of the period in progress (None before step 0)
-        open_io: dict[int, StepIO | None] = {id(d): None for d in drivers}
-        self._prepared = {}
-        # fcc numbers its steps by the master's sampling instants: instant n0 + k is step k
-        self._n0 = {id(d): int(round(master.master_us(t0) / (d.period * 1e6))) for d in drivers}
-        self._open_k: dict[int, int] = {}
-        self._ahead: dict[int, dict[int, list[tuple[tuple[int, bytes], float]]]] = {
-            id(d): {} for d in drivers}
-        ends = {id(d): d.n_steps for d in drivers}   # deadline index of the final integration
-        idx = {id(d): 0 for d in drivers}            # next deadline index per driver
-        babblers: dict[tuple[int, int], Babbler] = {}
+        rig = self.rig
+        assert rig.link is not None
+        master = self.prepare()
+        assert rig.transmitter is not None
+        self._sender = rig.transmitter
         try:
+            t_begin = time.perf_counter()
+            self._t0 = master.aligned_start(LEAD_S, [d.period for d in drivers])
+            # fcc numbers its steps by the master's sampling instants: instant n0 + k is step k
+            self._n0 = {id(d): int(round(master.master_us(self._t0) / (d.period * 1e6)))
+                        for d in drivers}
+            self._open_k: dict[int, int] = {}
+            self._ahead: dict[int, dict[int, list[tuple[tuple[int, bytes], float]]]] = {
+                id(d): {} for d in drivers}
+            self._open = {id(d): None for d in drivers}
+            self._next = {id(d): 0 for d in drivers}
+            self._babblers: dict[tuple[int, int], Babbler] = {}
+            for d in drivers:
+                self._hand_over(d)
             while True:
-                pending = [d for d in drivers if idx[id(d)] <= ends[id(d)]]
-                if not pending:
+                due = [(self._cutoff(d), d) for d in drivers if self._open[id(d)] is not None]
+                if not due:
                     break
-                d = min(pending, key=lambda d: (idx[id(d)] * d.period, d.app))
-                j = idx[id(d)]
-                deadline = t0 + j * d.period
-                self._listen(deadline, drivers, open_io)
+                self._listen(min(c for c, _ in due), drivers)
                 now = time.monotonic()
-                late = max(0.0, now - deadline)
-                self.lateness.append(late)
-                if late > LATE_S:
-                    self.late_steps += 1
-                io = open_io[id(d)]
-                if io is not None:
-                    self._close(d, io)
-                    open_io[id(d)] = None
-                if j < d.n_steps:
-                    self._babble(d, j * d.period, babblers)
-                    frames = self._prepared.pop(id(d), None)
-                    for f in (frames if frames is not None else d.frames_for_step()):
-                        link.send_raw(pack_frame(f.frame_id, f.data))
-                    io = StepIO(acked=False, t0=deadline)
-                    open_io[id(d)] = io
-                    self._open_k[id(d)] = j
-                    for got, at in self._ahead[id(d)].pop(j, []):  # fcc answered before we asked
-                        io.frames.append(got)
-                        io.arrivals.append(at)
-                    if io.frames and self._close_early(d, io):
-                        open_io[id(d)] = None
-                idx[id(d)] = j + 1
-                rig.check_alive(f"during realtime step {j} of app {d.name}")
+                for d in drivers:   # (periods closed while listening are not the same ones)
+                    io = self._open[id(d)]
+                    if io is not None and now >= self._cutoff(d):   # without all of fcc's answer
+                        self._close(d, io)
+                        self._hand_over(d)
+                rig.check_alive("during a realtime flight")
         finally:
-            for b in babblers.values():
+            for b in self._babblers.values():
                 b.stop()
-            self.wall_s += time.perf_counter() - t_begin
+            self.wall_s += time.perf_counter() - t_begin if "t_begin" in locals() else 0.0
+
+    def _instant(self, d: AppDriver, j: int) -> float:
+        return self._t0 + j * d.period
+
+    def _cutoff(self, d: AppDriver) -> float:
+        """When the period in progress is closed at the latest: before the next instant by
+        the time the next step needs to be handed over (closed loop), by half a period for
+        an open-loop aircraft (its frames do not depend on fcc)."""
+        lead = min(PREP_S, d.period / 4) if d.closed_loop else d.period / 2
+        return self._instant(d, self._next[id(d)]) - lead
+
+    def _hand_over(self, d: AppDriver) -> None:
+        """Step j's readings to the transmitter, to leave at instant j; its period opens."""
+        j = self._next[id(d)]
+        self._open[id(d)] = None
+        if j >= d.n_steps:
+            return
+        instant = self._instant(d, j)
+        self._babble(d, j * d.period)
+        frames = d.frames_for_step()
+        slack = instant - time.monotonic()
+        self._sender.send_at([(f.frame_id, f.data) for f in frames], instant)
+        self.slack_ms.append(1e3 * slack)
+        if slack <= 0.0:
+            self.late_steps += 1
+        io = StepIO(acked=False, t0=instant)
+        self._open[id(d)] = io
+        self._open_k[id(d)] = j
+        self._next[id(d)] = j + 1
+        for got, at in self._ahead[id(d)].pop(j, []):  # fcc answered before we opened it
+            io.frames.append(got)
+            io.arrivals.append(at)
+        if io.frames:
+            self._close_early(d, io)
 
     def _step_of(self, d: AppDriver, frame_id: int, data: bytes) -> int | None:
         """The simulator's step a missile output belongs to, from its step field (fcc counts
@@ -168,37 +193,41 @@ class RealtimeRunner:
         return cur + diff if abs(diff) <= 4 else None
 
     def _close(self, d: AppDriver, io: StepIO) -> None:
+        self._open[id(d)] = None
         d.end_step(io)
         self.steps += 1
         if self.progress is not None:
             self.progress(1)
 
-    def _close_early(self, d: AppDriver, io: StepIO) -> bool:
-        """Integrate d's period as soon as everything that acts on it has arrived, and sample
-        the next step's readings now, so that at the deadline only the sending is left (in the
-        loaded UML guest the integration takes milliseconds; done at the deadline it delayed
-        every sensor frame by as much)."""
-        if not d.complete(io):
-            return False
-        self._close(d, io)
-        if not d.done:
-            self._prepared[id(d)] = d.frames_for_step()
-        return True
+    def _close_early(self, d: AppDriver, io: StepIO) -> None:
+        """Integrate d's period as soon as everything that acts on it has arrived and hand
+        the next step over at once: the more slack before its instant, the better."""
+        if d.complete(io):
+            self._close(d, io)
+            self._hand_over(d)
 
-    def _time_master(self) -> TimeMaster:
-        """The session's time master, started (and fcc locked to it) on the first flight."""
+    def prepare(self) -> TimeMaster:
+        """The session's realtime infrastructure, started by the first flight while fcc is
+        still on the ground: the time master (fcc locked to it, at most SYNC_WAIT_S) and the
+        time-triggered transmitter."""
         rig = self.rig
         if rig.time_master is None:
             assert rig.link is not None
             rig.time_master = TimeMaster(rig.iface, rig.codec)
             rig.time_master.start()
-            end = time.monotonic() + SYNC_WAIT_S
-            while time.monotonic() < end and self.sync_state() != SYNC_LOCKED:
+            t = time.monotonic()
+            rig.transmitter = TimedSender(rig.iface, rt_priority=TX_RT_PRIORITY)
+            end = t + SYNC_WAIT_S
+            status = rig.spec.by_name("FCC_SYNC_STATUS")
+            state = self.sync_state()
+            while time.monotonic() < end and state != SYNC_LOCKED:
                 got = rig.link.recv_wait(0.05)
                 if got is not None:
                     rig.note_frame(*got)
+                    if got[0] == status.frame_id and len(got[1]) == 8:  # only this one decoded
+                        state = int(status.message.decode(got[1], decode_choices=False)["state"])
                 rig.check_alive("while locking to the time master")
-            self.lock_wait_s = SYNC_WAIT_S - max(0.0, end - time.monotonic())
+            self.lock_wait_s = time.monotonic() - t
         return rig.time_master
 
     def sync_state(self) -> int | None:
@@ -206,7 +235,8 @@ class RealtimeRunner:
         v = self.rig.status.last.get("FCC_SYNC_STATUS")
         return None if v is None else int(v["state"])
 
-    def _babble(self, d: AppDriver, t: float, babblers: dict[tuple[int, int], Babbler]) -> None:
+    def _babble(self, d: AppDriver, t: float) -> None:
+        babblers = self._babblers
         for i, f in enumerate(d.injector.faults):
             if not isinstance(f, Flood):
                 continue
@@ -216,10 +246,9 @@ class RealtimeRunner:
             elif not f.active(t) and key in babblers:
                 babblers.pop(key).stop()
 
-    def _listen(self, until: float, drivers: Sequence[AppDriver],
-                open_io: dict[int, StepIO | None]) -> None:
-        """Receive fcc's frames until the deadline; each goes to the period in progress of
-        its application."""
+    def _listen(self, until: float, drivers: Sequence[AppDriver]) -> None:
+        """Receive fcc's frames until `until`; each goes to the period it belongs to, at the
+        time it was on the bus (its kernel receive stamp)."""
         rig, link = self.rig, self.rig.link
         assert link is not None
         by_app = {d.app: d for d in drivers}
@@ -227,28 +256,23 @@ class RealtimeRunner:
             left = until - time.monotonic()
             if left <= 0:
                 return
-            if left < 0.001:  # poll() counts whole milliseconds: sleep the rest, never spin
-                time.sleep(left)
-                return
-            got = link.recv_wait(min(left, 0.05))
+            got = link.recv_stamped(min(left, 0.05))
             if got is None:
                 continue
             self.rx_frames += 1
-            frame_id, data = got
+            frame_id, data, at = got
             if frame_id >= 0x700:
                 rig.note_frame(frame_id, data)
                 continue
             for fid, data_ in rig.accept(frame_id, data):  # authenticated frames only
-                self._file(fid, data_, by_app, open_io)
+                self._file(fid, data_, at, by_app)
 
-    def _file(self, frame_id: int, data: bytes, by_app: dict[int, AppDriver],
-              open_io: dict[int, StepIO | None]) -> None:
+    def _file(self, frame_id: int, data: bytes, at: float, by_app: dict[int, AppDriver]) -> None:
         """One of fcc's outputs into the period it belongs to (see the module doc)."""
         d = by_app.get(1 if frame_id in (0x030, 0x100) else 0)
         if d is None:
             return
         got = (frame_id, data)
-        at = time.monotonic()
         k, cur = self._step_of(d, frame_id, data), self._open_k.get(id(d))
         if k is not None and cur is not None and k > cur:
             self._ahead[id(d)].setdefault(k, []).append((got, at))
@@ -256,10 +280,9 @@ class RealtimeRunner:
         if k is not None and cur is not None and k < cur:
             self.stale_frames += 1   # for a period already integrated
             return
-        io = open_io.get(id(d))
+        io = self._open.get(id(d))
         if io is None:
             return
         io.frames.append(got)
         io.arrivals.append(at)
-        if self._close_early(d, io):
-            open_io[id(d)] = None
+        self._close_early(d, io)

@@ -23,6 +23,7 @@ from pathlib import Path
 from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
+from ..txsched import TimedSender
 from ..bus.secoc import TEST_KEY_FILE, Endpoint, KeyFileError, read_key_file, write_key_file
 from .link import CanLink, LinkError, LinkRecorder, pack_frame
 from .processes import Candump
@@ -193,6 +194,9 @@ class RigSession:
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
         self.time_master_stats: dict[str, int] = {}
+        #: realtime: the simulator's time-triggered transmitter (hil.txsched), with the master
+        self.transmitter: TimedSender | None = None
+        self.transmitter_stats: dict[str, object] = {}
 
     @staticmethod
     def dbc_frames() -> tuple:
@@ -375,6 +379,9 @@ class RigSession:
         """Stop the time master and fcc, then the recorder (bus.log is moved into place on
         every path, also when the interface is gone), then close the socket."""
         try:
+            if self.transmitter is not None:
+                self.transmitter_stats = self.transmitter.close()
+                self.transmitter = None
             if self.time_master is not None:
                 self.time_master.stop()
                 self.time_master_stats = self.time_master.stats()

@@ -19,6 +19,7 @@ import threading
 import time
 
 from ..bus import FrameCodec
+from .link import CAN_FRAME, SO_TIMESTAMPNS, MonotonicStamps
 
 #: sync period (s); fcc's loss-of-sync timeout is 3 intervals
 SYNC_INTERVAL_S = 0.1
@@ -26,9 +27,6 @@ SYNC_INTERVAL_S = 0.1
 #: on the 2.5 ms grid: periods are multiples of 2.5 ms, this is 1.25 ms off it)
 SYNC_PHASE_S = 0.00125
 MASTER_ID = 1
-#: SO_TIMESTAMPNS on Linux (the socket module does not always export it)
-SO_TIMESTAMPNS = getattr(socket, "SO_TIMESTAMPNS", 35)
-_CAN_FRAME = struct.Struct("=IB3x8s")
 
 
 class TimeMaster:
@@ -47,8 +45,7 @@ class TimeMaster:
                              struct.pack("=II", self._sync.frame_id, 0x7FF))
         self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
         self.sock.bind((iface,))
-        self._rt_minus_mono = 0.0
-        self._rt_at = -1e9
+        self._stamps = MonotonicStamps()
         self.seq = 0
         self.sent = 0
         self.no_echo = 0
@@ -71,22 +68,6 @@ class TimeMaster:
         return self.monotonic(first)
 
     # -- one sync
-    def _realtime_to_monotonic(self, rt: float) -> float:
-        """The kernel stamps on CLOCK_REALTIME: the offset to CLOCK_MONOTONIC is the tightest
-        of 5 bracketed readings (a preempted reading would shift every stamp), renewed every
-        second."""
-        now = time.monotonic()
-        if now - self._rt_at > 1.0:
-            best = math.inf
-            for _ in range(5):
-                m0 = time.monotonic()
-                r = time.time()
-                m1 = time.monotonic()
-                if m1 - m0 < best:
-                    best, self._rt_minus_mono = m1 - m0, r - 0.5 * (m0 + m1)
-            self._rt_at = now
-        return rt - self._rt_minus_mono
-
     def _echo_stamp(self, sent: bytes, timeout_s: float) -> float | None:
         """CLOCK_MONOTONIC at which our own SYNC `sent` was on the bus (its echo's kernel
         stamp).  Echoes of earlier frames (one whose echo was never read) are skipped: the
@@ -95,13 +76,10 @@ class TimeMaster:
         while (left := end - time.monotonic()) > 0:
             if not select.select([self.sock], [], [], left)[0]:
                 return None
-            raw, anc, flags, _ = self.sock.recvmsg(_CAN_FRAME.size, socket.CMSG_SPACE(16))
+            raw, anc, flags, _ = self.sock.recvmsg(CAN_FRAME.size, socket.CMSG_SPACE(16))
             if not flags & socket.MSG_CONFIRM or raw != sent:
                 continue  # another node's SYNC (a second master), or an old echo
-            for level, kind, data in anc:
-                if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS and len(data) >= 16:
-                    sec, nsec = struct.unpack("=qq", data[:16])
-                    return self._realtime_to_monotonic(sec + nsec * 1e-9)
+            return self._stamps.of(anc)
         return None
 
     def send_sync(self) -> bool:
@@ -112,7 +90,7 @@ class TimeMaster:
         fid, data = self.codec.encode("TSYNC_SYNC", {
             "master": self.master_id, "seq": seq, "interval_ms": int(round(self.interval_s * 1e3)),
             "sec": sec})
-        raw = _CAN_FRAME.pack(fid, len(data), bytes(data))
+        raw = CAN_FRAME.pack(fid, len(data), bytes(data))
         self.sock.send(raw)
         self.sent += 1
         tx = self._echo_stamp(raw, 0.05)
@@ -127,7 +105,7 @@ class TimeMaster:
         fid, data = self.codec.encode("TSYNC_FOLLOW_UP", {
             "master": self.master_id, "seq": seq, "sec_carry": carry,
             "ns": (m % 1_000_000) * 1000})
-        self.sock.send(_CAN_FRAME.pack(fid, len(data), bytes(data)))
+        self.sock.send(CAN_FRAME.pack(fid, len(data), bytes(data)))
         return True
 
     # -- the thread

@@ -52,6 +52,8 @@ LEAD_S = 0.05
 #: the first flight waits this long at most for fcc to lock to the time master
 SYNC_WAIT_S = 3.0
 SYNC_LOCKED = 2
+#: fcc's time-sync states in which it counts its steps by the master's instants
+SYNC_HAS_TIME = (1, 2, 3)   # LOCKING, LOCKED, HOLDOVER
 
 
 class Babbler:
@@ -92,6 +94,7 @@ class RealtimeRunner:
         self.stale_frames = 0
         self._open: dict[int, StepIO | None] = {}
         self._next: dict[int, int] = {}
+        self._by_step = False
 
     def timing(self) -> dict[str, object]:
         s = sorted(self.slack_ms)
@@ -110,8 +113,8 @@ class RealtimeRunner:
         master = self.prepare()
         assert rig.transmitter is not None
         self._sender = rig.transmitter
+        t_begin = time.perf_counter()
         try:
-            t_begin = time.perf_counter()
             self._t0 = master.aligned_start(LEAD_S, [d.period for d in drivers])
             # fcc numbers its steps by the master's sampling instants: instant n0 + k is step k
             self._n0 = {id(d): int(round(master.master_us(self._t0) / (d.period * 1e6)))
@@ -122,6 +125,7 @@ class RealtimeRunner:
             self._open = {id(d): None for d in drivers}
             self._next = {id(d): 0 for d in drivers}
             self._babblers: dict[tuple[int, int], Babbler] = {}
+            self._by_step = self.sync_state() in SYNC_HAS_TIME
             for d in drivers:
                 self._hand_over(d)
             while True:
@@ -139,7 +143,7 @@ class RealtimeRunner:
         finally:
             for b in self._babblers.values():
                 b.stop()
-            self.wall_s += time.perf_counter() - t_begin if "t_begin" in locals() else 0.0
+            self.wall_s += time.perf_counter() - t_begin
 
     def _instant(self, d: AppDriver, j: int) -> float:
         return self._t0 + j * d.period
@@ -176,11 +180,14 @@ class RealtimeRunner:
             self._close_early(d, io)
 
     def _step_of(self, d: AppDriver, frame_id: int, data: bytes) -> int | None:
-        """The simulator's step a missile output belongs to, from its step field (fcc counts
-        the master's sampling instants); None when it is not one within 4 steps of the open
-        period (fcc not synchronised: the frame goes to the open period, by arrival)."""
+        """The simulator's step a missile output belongs to, from its step field: fcc counts
+        the master's sampling instants when it has the master's time (when the flight
+        began); otherwise None (the frame goes to the period in progress, by arrival).  An
+        output from a step long past is that step's, never the open period's: applied to the
+        open period, a backlog after a stall of the simulator acted as a delay of several
+        periods for the rest of the flight (measured: the loop diverged)."""
         cur = self._open_k.get(id(d))
-        if cur is None or len(data) != 8:
+        if cur is None or len(data) != 8 or not self._by_step:
             return None
         if frame_id == 0x030:
             raw, mod = int.from_bytes(data[2:4], "little"), 1 << 16   # MSL_ELEV_CMD.step
@@ -189,8 +196,7 @@ class RealtimeRunner:
         else:
             return None
         diff = (raw - self._n0[id(d)] - cur) % mod
-        diff = diff - mod if diff >= mod // 2 else diff
-        return cur + diff if abs(diff) <= 4 else None
+        return cur + (diff - mod if diff >= mod // 2 else diff)
 
     def _close(self, d: AppDriver, io: StepIO) -> None:
         self._open[id(d)] = None
@@ -223,9 +229,11 @@ class RealtimeRunner:
             while time.monotonic() < end and state != SYNC_LOCKED:
                 got = rig.link.recv_wait(0.05)
                 if got is not None:
-                    rig.note_frame(*got)
-                    if got[0] == status.frame_id and len(got[1]) == 8:  # only this one decoded
-                        state = int(status.message.decode(got[1], decode_choices=False)["state"])
+                    n = len(rig.status_frames)
+                    rig.note_frame(*got)   # authenticated heartbeat frames are appended
+                    for fid, data in rig.status_frames[n:]:   # only this one decoded
+                        if fid == status.frame_id:
+                            state = int(status.message.decode(data, decode_choices=False)["state"])
                 rig.check_alive("while locking to the time master")
             self.lock_wait_s = time.monotonic() - t
         return rig.time_master
@@ -247,17 +255,17 @@ class RealtimeRunner:
                 babblers.pop(key).stop()
 
     def _listen(self, until: float, drivers: Sequence[AppDriver]) -> None:
-        """Receive fcc's frames until `until`; each goes to the period it belongs to, at the
-        time it was on the bus (its kernel receive stamp)."""
+        """Receive fcc's frames until `until` and all that is queued; each goes to the period
+        it belongs to, at the time it was on the bus (its kernel receive stamp)."""
         rig, link = self.rig, self.rig.link
         assert link is not None
         by_app = {d.app: d for d in drivers}
-        while True:
-            left = until - time.monotonic()
-            if left <= 0:
-                return
-            got = link.recv_stamped(min(left, 0.05))
+        while True:   # what is queued is read even after `until`: a late simulator must
+            left = until - time.monotonic()   # not take a command on time for a missing one
+            got = link.recv_stamped(min(max(left, 0.0), 0.05))
             if got is None:
+                if left <= 0:
+                    return
                 continue
             self.rx_frames += 1
             frame_id, data, at = got

@@ -62,6 +62,9 @@ def missile_rows(periods: list[float], seconds: float, out: Path) -> list[dict[s
             "delay_p99_us": fcc.get("delay_us missile", {}).get("p99"),
             "jitter_p99_us": fcc.get("jitter_us missile", {}).get("p99"),
             "sync_offset_p99_us": fcc.get("sync_offset_us abs", {}).get("p99"),
+            "sim_late_steps": timing.get("simulator", {}).get("late_steps"),
+            "tx_late_p99_ms": timing.get("simulator", {}).get("transmitter", {})
+                                    .get("send_lateness_ms", {}).get("p99"),
             "dir": str(out / f"realtime_T{T}"),
         })
     return rows
@@ -81,7 +84,7 @@ def report(rows: list[dict[str, Any]], cdrw: dict[str, Any] | None) -> tuple[str
              f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; the UML guest's own)",
              f"  {'T':>5} {'RMS q lock d0':>13} {'lock d':>8} {'realtime':>9} {'rt/lock':>8} "
              f"{'rt/d0':>7} {'missing':>7} {'late':>5} {'codes=':>7} {'age p50':>8} {'age p99':>8} "
-             f"{'delay p99':>9} {'sync p99':>8}"]
+             f"{'delay p99':>9} {'sync p99':>8} {'sim late':>8} {'tx p99 ms':>9}"]
     for r in rows:
         good = (abs(r["ratio"] - 1.0) <= RMS_TOL and r["missing"] == 0 and r["age_p99_us"] is not None
                 and r["age_p99_us"] <= AGE_P99_US)
@@ -90,10 +93,12 @@ def report(rows: list[dict[str, Any]], cdrw: dict[str, Any] | None) -> tuple[str
                      f"{r['rms_q_realtime']:>9.5f} {r['ratio']:>8.4f} {r['ratio_d0']:>7.4f} "
                      f"{r['missing']:>7} {r['late']:>5} {r['code_agreement'] or 0:>7.3f} "
                      f"{r['age_p50_us'] or 0:>8} {r['age_p99_us'] or 0:>8} {r['delay_p99_us'] or 0:>9} "
-                     f"{r['sync_offset_p99_us'] or 0:>8}  {'ok' if good else 'MISSED'}")
+                     f"{r['sync_offset_p99_us'] or 0:>8} {r['sim_late_steps'] or 0:>8} "
+                     f"{r['tx_late_p99_ms'] or 0:>9}  {'ok' if good else 'MISSED'}")
     lines.append(f"  (d = {RT_ACTUATION_DELAY * 1e3:g} ms; targets: |rt/lock - 1| <= {RMS_TOL:.0%}, "
-                 f"0 missing, fcc data age p99 <= {AGE_P99_US:g} us; times in us; figures in each "
-                 "realtime_T*/realtime_timing.png)")
+                 f"0 missing, fcc data age p99 <= {AGE_P99_US:g} us; times in us; sim late: steps "
+                 "handed to the transmitter after their instant; tx p99: its send lateness; figures "
+                 "in each realtime_T*/realtime_timing.png)")
     if cdrw is not None:
         good = cdrw["worst_rel_diff"] <= RMS_TOL
         ok &= good

@@ -332,7 +332,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     _write_fault_log(out, fault_log)
     extra = None
     if cfg.mode == "realtime" and any(isinstance(d, MissileDriver) for d in drivers):
-        extra = {"realtime": _realtime_timing(out, rig, [d for d in drivers if isinstance(d, MissileDriver)][0])}
+        extra = {"realtime": _realtime_timing(out, rig, [d for d in drivers if isinstance(d, MissileDriver)][0],
+                                              runner)}
         summary["realtime"] = extra["realtime"]
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0, extra))
@@ -352,9 +353,10 @@ def is_paper_scenario(sc: Scenario) -> bool:
         and [f.describe() for f in sc.faults] == [f.describe() for f in ref.faults]
 
 
-def _realtime_timing(out: Path, rig: RigSession, d: MissileDriver) -> dict[str, Any]:
+def _realtime_timing(out: Path, rig: RigSession, d: MissileDriver, runner: Any) -> dict[str, Any]:
     """Offset, jitter and data age of a realtime missile flight (hil.rig.timing), and the
-    samples behind them in realtime_timing.csv (the histograms)."""
+    samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
+    slack and its transmitter's send lateness."""
     from . import timing
     t = timing.bus_timing(out / "bus.log", rig.spec, d.period)
     timing.write_csv(out / timing.CSV_NAME, t)
@@ -365,6 +367,10 @@ def _realtime_timing(out: Path, rig: RigSession, d: MissileDriver) -> dict[str, 
                           if k.startswith("FCC_SYNC_STATUS.")}
     rep["delay_s"] = d.delay
     rep["commands_late"] = d.cmd_late
+    t = runner.timing()
+    rep["simulator"] = {"late_steps": t["sim_late_steps"], "steps": t["realtime_steps"],
+                        "handover_slack_ms": t["sim_handover_slack_ms"],
+                        "stale_frames": t["sim_stale_frames"], "transmitter": rig.transmitter_stats}
     return rep
 
 

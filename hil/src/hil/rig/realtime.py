@@ -38,16 +38,17 @@ from ..faults import Flood
 from .apps import AppDriver, StepIO
 from ..txsched import TimedSender
 from .processes import spawn
-from .session import RigError, RigSession
+from .session import COMMAND_FLIGHT, RigError, RigSession
 from .timesync import TimeMaster
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
 #: before the next instant: the integration, the next sample and the hand-over take
 #: milliseconds in the loaded UML guest
 PREP_S = 0.004
-#: the transmitter's SCHED_FIFO priority where allowed (fcc's, hil.rig.runs.FCC_RT_PRIORITY)
-TX_RT_PRIORITY = 50
-#: the first deadline is at least this far after fly() is called
+#: the transmitter's SCHED_FIFO priority where allowed: above fcc's (hil.rig.runs.FCC_RT_PRIORITY),
+#: so that a step of fcc's never delays a sample
+TX_RT_PRIORITY = 51
+#: the first sampling instant is at least this far after fly() is called
 LEAD_S = 0.05
 #: the first flight waits this long at most for fcc to lock to the time master
 SYNC_WAIT_S = 3.0
@@ -126,6 +127,11 @@ class RealtimeRunner:
             self._next = {id(d): 0 for d in drivers}
             self._babblers: dict[tuple[int, int], Babbler] = {}
             self._by_step = self.sync_state() in SYNC_HAS_TIME
+            # FLIGHT (fcc locked on the ground, prepare()) half the shortest period before the
+            # first instant: fcc's first step is the flight's step 0, as in lockstep
+            self._sender.send_at(rig.message_frames("SIM_CONTROL", {
+                "command": COMMAND_FLIGHT, "lqg_period": 0.0, "da_bits": 0}),
+                self._t0 - min(d.period for d in drivers) / 2)
             for d in drivers:
                 self._hand_over(d)
             while True:

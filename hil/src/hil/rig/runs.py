@@ -152,18 +152,16 @@ def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any
     design when period/bits are given; it is also the flight boundary in bus.log), FLIGHT,
     the steps, GROUND (fcc accepts resets and designs on the ground only)."""
     rig.control(COMMAND_RESET, period, bits)
-    if cfg.mode == "realtime":   # on the ground: fcc locks to the time master first
-        from .realtime import RealtimeRunner
-        runner = runner or RealtimeRunner(rig, progress=bar.update)
-        runner.prepare()
-    rig.control(COMMAND_FLIGHT)
     try:
         if cfg.mode == "lockstep":
+            rig.control(COMMAND_FLIGHT)
             r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
             r.fly(drivers)
             return r
-        runner.fly(drivers)
-        return runner
+        from .realtime import RealtimeRunner
+        rt = runner or RealtimeRunner(rig, progress=bar.update)
+        rt.fly(drivers)   # FLIGHT goes out just before the first sampling instant
+        return rt
     finally:
         if rig.fcc is not None and rig.fcc.poll() is None and rig.link is not None:
             rig.control(COMMAND_GROUND)

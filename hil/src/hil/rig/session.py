@@ -302,10 +302,15 @@ class RigSession:
         return StatusCounters.from_frames(self.spec, self.status_frames)
 
     # -- sending
+    def message_frames(self, name: str, values: Mapping[str, float | int]) -> list[tuple[int, bytes]]:
+        """One message of the simulator as it goes on the bus: E2E-protected, followed by its
+        authenticator when it commands or configures."""
+        frame_id, data = self.codec.encode(name, values)
+        return self.secure(frame_id, data)
+
     def send_message(self, name: str, values: Mapping[str, float | int]) -> None:
         assert self.link is not None
-        frame_id, data = self.codec.encode(name, values)
-        for fid, d in self.secure(frame_id, data):
+        for fid, d in self.message_frames(name, values):
             self.link.send_raw(pack_frame(fid, d))
 
     def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:

@@ -30,13 +30,32 @@ static fcc_status_t authenticate(fcc_secoc_t *sec, const fcc_can_frame_t *pdu, f
     return fcc_secoc_protect(sec, a, pdu->data, 8u, out);
 }
 
-fcc_status_t fcc_bench_flight_frames(fcc_bus_t *sim, fcc_secoc_t *sec, fcc_can_frame_t f[2])
+static fcc_status_t no_frame(void *ctx, fcc_can_frame_t *frame)
 {
+    (void)ctx;
+    (void)frame;
+    return FCC_ERR_AGAIN;
+}
+
+fcc_port_t fcc_bench_port(fcc_status_t (*send)(void *ctx, const fcc_can_frame_t *frame),
+                          uint64_t (*now_us)(void *ctx))
+{
+    const fcc_port_t port = {.can = {.send = send, .recv = no_frame}, .now_us = now_us};
+    return port;
+}
+
+fcc_status_t fcc_bench_take_off(fcc_node_t *node, fcc_bus_t *sim, fcc_secoc_t *sec)
+{
+    FCC_TRY(fcc_bench_sim_init(sim, sec));
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
     d.sim_control.command = FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT;
+    fcc_can_frame_t f[2];
     FCC_TRY(fcc_bus_encode(sim, FCC_MSG_SIM_CONTROL, &d, &f[0]));
-    return authenticate(sec, &f[0], &f[1]);
+    FCC_TRY(authenticate(sec, &f[0], &f[1]));
+    fcc_node_handle_frame(node, &f[0]);
+    fcc_node_handle_frame(node, &f[1]);
+    return (fcc_node_op_mode(node) == FCC_OP_FLIGHT) ? FCC_OK : FCC_ERR_RANGE;
 }
 
 fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim, fcc_secoc_t *sec)

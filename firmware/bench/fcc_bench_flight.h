@@ -14,6 +14,7 @@
 #include "fcc_bus.h"
 #include "fcc_can.h"
 #include "fcc_node.h"
+#include "fcc_port.h"
 #include "fcc_secoc.h"
 
 #define FCC_BENCH_MAX_FRAMES 6u
@@ -26,8 +27,15 @@ void fcc_bench_security(fcc_node_config_t *cfg);
  * its commands with the bench key and trip (fresh counters: call with each new node). */
 fcc_status_t fcc_bench_sim_init(fcc_bus_t *sim, fcc_secoc_t *sec);
 
-/* SIM_CONTROL(FLIGHT) and its authenticator, in f[0], f[1]. */
-fcc_status_t fcc_bench_flight_frames(fcc_bus_t *sim, fcc_secoc_t *sec, fcc_can_frame_t f[2]);
+/* The port of a bench node: sent frames go to send, nothing is ever received,
+ * the clock is now_us (no counters, no events). */
+fcc_port_t fcc_bench_port(fcc_status_t (*send)(void *ctx, const fcc_can_frame_t *frame),
+                          uint64_t (*now_us)(void *ctx));
+
+/* A node just started with fcc_bench_security's key: the simulator's side made
+ * fresh (fcc_bench_sim_init), then its authenticated SIM_CONTROL(FLIGHT) handed
+ * to the node (steps run only in FLIGHT); FCC_ERR_RANGE when it refused FLIGHT. */
+fcc_status_t fcc_bench_take_off(fcc_node_t *node, fcc_bus_t *sim, fcc_secoc_t *sec);
 
 /* Step k of the CDRW: alpha, q, delta_e, (with oracle_fault: a SIM_EVENT
  * saying a fault is active), then SIM_TICK(0, k) and its authenticator.  *n frames in f. */

@@ -207,15 +207,11 @@ static uint64_t port_now(void *ctx)
 
 fcc_port_t fcc_hostport_port(fcc_hostport_t *hp)
 {
-    fcc_port_t p;
-    memset(&p, 0, sizeof p);
-    p.can.ctx = hp;
-    p.can.send = port_send;
-    p.can.recv = port_recv;
-    p.can.counters = port_counters;
-    p.now_us = port_now;
-    p.clock_ctx = NULL;
-    p.event = hp->event;
-    p.event_ctx = hp->event_ctx;
+    const fcc_port_t p = {
+        .can = {.ctx = hp, .send = port_send, .recv = port_recv, .counters = port_counters},
+        .now_us = port_now,
+        .event = hp->event,
+        .event_ctx = hp->event_ctx,
+    };
     return p;
 }

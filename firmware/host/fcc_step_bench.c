@@ -42,13 +42,6 @@ static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
     return FCC_OK;
 }
 
-static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
-{
-    (void)ctx;
-    (void)f;
-    return FCC_ERR_AGAIN;
-}
-
 static uint64_t mono_us(void *ctx)
 {
     (void)ctx;
@@ -102,23 +95,16 @@ int main(int argc, char **argv)
         return 0;
     }
     fcc_node_config_t cfg;
-    fcc_port_t port;
-    memset(&port, 0, sizeof port);
-    port.can.send = mem_send;
-    port.can.recv = mem_recv;
-    port.now_us = mono_us;
+    const fcc_port_t port = fcc_bench_port(mem_send, mono_us);
     if (fcc_node_config_default(&cfg) != FCC_OK) {
         return 1;
     }
     fcc_bench_security(&cfg);
-    if (st != FCC_OK || fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
+    if (st != FCC_OK || fcc_node_init(&g_node, &cfg, &port) != FCC_OK ||
+        fcc_bench_take_off(&g_node, &g_sim, &g_sec) != FCC_OK) {
         fprintf(stderr, "fcc_step_bench: node start-up failed\n");
         return 1;
     }
-    fcc_can_frame_t flight[2]; /* into FLIGHT: an authenticated SIM_CONTROL */
-    st = fcc_bench_flight_frames(&g_sim, &g_sec, flight);
-    fcc_node_handle_frame(&g_node, &flight[0]);
-    fcc_node_handle_frame(&g_node, &flight[1]);
     for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
         st = cdrw ? fcc_bench_cdrw_frames(&g_sim, &g_sec, k, false, g_frames[k], &g_nframes[k])
                   : fcc_bench_missile_frames(&g_sim, &g_sec, k, g_frames[k], &g_nframes[k]);

@@ -18,7 +18,6 @@
  */
 #include <stdbool.h>
 #include <stdint.h>
-#include <string.h>
 
 #include "fcc_bench_flight.h"
 #include "fcc_node.h"
@@ -40,13 +39,6 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     const fcc_status_t st = fcc_slcan_encode(frame, false, line, sizeof line, &n);
     g_sent += (st == FCC_OK) ? 1u : 0u;
     return st;
-}
-
-static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
-{
-    (void)ctx;
-    (void)frame;
-    return FCC_ERR_AGAIN;
 }
 
 static uint64_t port_now(void *ctx)
@@ -102,11 +94,7 @@ static void fail(const char *what)
 static void start_node(fcc_fdet_mode_t detector)
 {
     fcc_node_config_t cfg;
-    fcc_port_t port;
-    memset(&port, 0, sizeof port);
-    port.can.send = port_send;
-    port.can.recv = port_recv;
-    port.now_us = port_now;
+    const fcc_port_t port = fcc_bench_port(port_send, port_now);
     if (fcc_node_config_default(&cfg) != FCC_OK) {
         fail("default configuration");
     }
@@ -116,13 +104,9 @@ static void start_node(fcc_fdet_mode_t detector)
     if (fcc_node_init(&g_node, &cfg, &port) != FCC_OK) {
         fail("node start-up");
     }
-    fcc_can_frame_t flight[2]; /* fresh simulator counters, then FLIGHT */
-    if (fcc_bench_sim_init(&g_sim, &g_sec) != FCC_OK ||
-        fcc_bench_flight_frames(&g_sim, &g_sec, flight) != FCC_OK) {
+    if (fcc_bench_take_off(&g_node, &g_sim, &g_sec) != FCC_OK) { /* fresh simulator, FLIGHT */
         fail("simulator bus");
     }
-    fcc_node_handle_frame(&g_node, &flight[0]);
-    fcc_node_handle_frame(&g_node, &flight[1]);
     static bool reported;
     if (!reported) {
         reported = true;

@@ -133,56 +133,77 @@ static void port_event(void *ctx, const fcc_event_t *ev)
 
 /* ---- start, loop, stop ------------------------------------------------------------------ */
 
-static void summary_app(const char *name, const fcc_node_app_t *a)
+typedef struct {
+    const char *key;
+    uint64_t value;
+} kv_t;
+
+#define N_KV(a) (sizeof(a) / sizeof((a)[0]))
+
+/* "fcc summary: WHAT key=value ..." (the host fcc's exit summary, on the log UART). */
+static void summary_line(const char *what, const kv_t *kv, size_t n)
 {
     mps2_log("fcc summary: ");
-    mps2_log(name);
-    log_kv("steps", a->steps);
-    log_kv("degraded", a->degraded_steps);
-    log_kv("errors", a->step_errors);
-    log_kv("ticks_lost", a->ticks_lost);
-    log_kv("ticks_repeated", a->ticks_repeated);
-    log_kv("ticks_behind", a->ticks_behind);
-    log_kv("ticks_ignored", a->ticks_ignored);
-    log_kv("overruns", a->overruns);
-    log_kv("worst_exec_us", a->worst_exec_us);
+    mps2_log(what);
+    for (size_t i = 0u; i < n; ++i) {
+        log_kv(kv[i].key, kv[i].value);
+    }
     mps2_log("\n");
+}
+
+static void summary_app(const char *name, const fcc_node_app_t *a)
+{
+    const kv_t kv[] = {
+        {"steps", a->steps},
+        {"degraded", a->degraded_steps},
+        {"errors", a->step_errors},
+        {"ticks_lost", a->ticks_lost},
+        {"ticks_repeated", a->ticks_repeated},
+        {"ticks_behind", a->ticks_behind},
+        {"ticks_ignored", a->ticks_ignored},
+        {"overruns", a->overruns},
+        {"worst_exec_us", a->worst_exec_us},
+    };
+    summary_line(name, kv, N_KV(kv));
 }
 
 static void summary(const image_t *img)
 {
     summary_app("cdrw", &img->node.app[FCC_APP_CDRW]);
     summary_app("missile", &img->node.app[FCC_APP_MSL]);
-    mps2_log("fcc summary: lqg");
-    log_kv("period_us", fcc_node_app_period_us(&img->node, FCC_APP_MSL));
-    log_kv("bits", fcc_app_msl_bits(&img->node.msl));
-    log_kv("designs_applied", img->node.msl.designs_applied);
-    log_kv("designs_failed", img->node.msl.designs_failed);
-    mps2_log("\n");
+    const kv_t lqg[] = {
+        {"period_us", fcc_node_app_period_us(&img->node, FCC_APP_MSL)},
+        {"bits", fcc_app_msl_bits(&img->node.msl)},
+        {"designs_applied", img->node.msl.designs_applied},
+        {"designs_failed", img->node.msl.designs_failed},
+    };
+    summary_line("lqg", lqg, N_KV(lqg));
     const fcc_slcan_counters_t *s = &img->link.cnt;
-    mps2_log("fcc summary: slcan");
-    log_kv("lines", s->lines);
-    log_kv("frames_rx", s->frames_rx);
-    log_kv("frames_tx", s->frames_tx);
-    log_kv("line_errors", s->line_errors);
-    log_kv("overlong", s->overlong);
-    log_kv("noise", s->noise);
-    log_kv("ignored", s->ignored);
-    log_kv("tx_refused", s->tx_refused);
-    log_kv("replies_lost", s->replies_lost);
-    mps2_log("\n");
+    const kv_t slcan[] = {
+        {"lines", s->lines},
+        {"frames_rx", s->frames_rx},
+        {"frames_tx", s->frames_tx},
+        {"line_errors", s->line_errors},
+        {"overlong", s->overlong},
+        {"noise", s->noise},
+        {"ignored", s->ignored},
+        {"tx_refused", s->tx_refused},
+        {"replies_lost", s->replies_lost},
+    };
+    summary_line("slcan", slcan, N_KV(slcan));
     mps2_counters_t b;
     mps2_counters(&b);
-    mps2_log("fcc summary: board");
-    log_kv("rx_bytes", b.rx_bytes);
-    log_kv("rx_overflows", b.rx_overflows);
-    log_kv("tx_bytes", b.tx_bytes);
-    log_kv("tx_refused", b.tx_refused);
-    log_kv("stack_used", mps2_stack_used());
-    log_kv("design_slice_worst_us", img->slice_worst_us);
-    log_kv("design_slices_forced", img->slices_forced);
-    log_kv("uptime_us", mps2_now_us());
-    mps2_log("\n");
+    const kv_t board[] = {
+        {"rx_bytes", b.rx_bytes},
+        {"rx_overflows", b.rx_overflows},
+        {"tx_bytes", b.tx_bytes},
+        {"tx_refused", b.tx_refused},
+        {"stack_used", mps2_stack_used()},
+        {"design_slice_worst_us", img->slice_worst_us},
+        {"design_slices_forced", img->slices_forced},
+        {"uptime_us", mps2_now_us()},
+    };
+    summary_line("board", board, N_KV(board));
 }
 
 static void refuse(const char *what, const char *detail)
@@ -231,15 +252,12 @@ static void start(image_t *img)
     if (fcc_slcan_dev_init(&img->link, mps2_link_write, NULL, "V0110", "NFCC1") != FCC_OK) {
         refuse("SLCAN device refused its set-up", "");
     }
-    fcc_port_t port;
-    memset(&port, 0, sizeof port);
-    port.can.ctx = img;
-    port.can.send = port_send;
-    port.can.recv = port_recv;
-    port.can.counters = port_counters;
-    port.now_us = port_now;
-    port.event = port_event;
-    port.event_ctx = img;
+    const fcc_port_t port = {
+        .can = {.ctx = img, .send = port_send, .recv = port_recv, .counters = port_counters},
+        .now_us = port_now,
+        .event = port_event,
+        .event_ctx = img,
+    };
     if (fcc_node_init(&img->node, &img->cfg, &port) != FCC_OK) {
         refuse("configuration refused by the applications (LQG design failed?)", "");
     }

@@ -59,6 +59,31 @@ static inline size_t fcc_test_hex(const char *s, uint8_t *out, size_t max)
 
 #define fcc_assert_ok(expr) assert_int_equal((expr), FCC_OK)
 
+/* A test vector file (tests/vectors/...): each(line, ctx) for every line that is
+ * not a '#' comment, then the number of such lines must be `expected` (a file
+ * that shrank fails).  A file that cannot be opened fails the test. */
+typedef void (*fcc_test_line_fn)(const char *line, void *ctx);
+
+static inline void fcc_test_vector_file(const char *path, unsigned int expected,
+                                        fcc_test_line_fn each, void *ctx)
+{
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        fail_msg("cannot open %s", path);
+        return;
+    }
+    char line[512];
+    unsigned int n = 0u;
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (line[0] != '#') {
+            each(line, ctx);
+            ++n;
+        }
+    }
+    (void)fclose(f);
+    assert_int_equal(n, expected);
+}
+
 /* Matrix-relative comparison: every entry of actual within rel * max|expected|
  * (a matrix's small entries carry the absolute error of its large ones).  The
  * actual values are read through a getter so that one routine serves arrays of

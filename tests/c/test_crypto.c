@@ -80,50 +80,49 @@ static void test_cmac_sp800_38b(void **state)
     assert_int_equal(fcc_cmac_compute(&c, NULL, 3u, tag), FCC_ERR_ARG);
 }
 
+/* A line "KEY INPUT EXPECTED" of cmac_random.txt or aes_random.txt (hex; an input
+ * "-" is empty): the key and the input bytes, the expected value's hex in want; the
+ * input's length. */
+static size_t vector_fields(const char *line, uint8_t key[16], uint8_t *in, size_t in_max,
+                            char want[40])
+{
+    char k[40], m[256];
+    assert_int_equal(sscanf(line, "%39s %255s %39s", k, m, want), 3);
+    fcc_test_hex(k, key, 16);
+    return fcc_test_hex(m, in, in_max);
+}
+
+/* A line of cmac_random.txt: key, message, its AES-128-CMAC. */
+static void cmac_line(const char *line, void *ctx)
+{
+    (void)ctx;
+    uint8_t key[16], msg[128], tag[16];
+    char want[40];
+    const size_t len = vector_fields(line, key, msg, sizeof msg, want);
+    fcc_cmac_t c;
+    fcc_assert_ok(fcc_cmac_init(&c, key));
+    fcc_assert_ok(fcc_cmac_compute(&c, msg, len, tag));
+    assert_hex(tag, want);
+}
+
+/* A line of aes_random.txt: key, plaintext block, its AES-128 encryption. */
+static void aes_line(const char *line, void *ctx)
+{
+    (void)ctx;
+    uint8_t key[16], pt[16], ct[16];
+    char want[40];
+    assert_int_equal(vector_fields(line, key, pt, sizeof pt, want), 16u);
+    fcc_aes128_t aes;
+    fcc_assert_ok(fcc_aes128_init(&aes, key));
+    fcc_assert_ok(fcc_aes128_encrypt(&aes, pt, ct));
+    assert_hex(ct, want);
+}
+
 static void test_against_cryptography(void **state)
 {
     (void)state;
-    FILE *f = fopen(VEC_DIR "cmac_random.txt", "r");
-    assert_non_null(f);
-    char line[512];
-    unsigned int n = 0u;
-    while (fgets(line, sizeof line, f) != NULL) {
-        if (line[0] == '#') {
-            continue;
-        }
-        char k[40], m[256], t[40];
-        assert_int_equal(sscanf(line, "%39s %255s %39s", k, m, t), 3);
-        uint8_t key[16], msg[128], tag[16];
-        fcc_test_hex(k, key, 16);
-        const size_t len = fcc_test_hex(m, msg, sizeof msg);
-        fcc_cmac_t c;
-        fcc_assert_ok(fcc_cmac_init(&c, key));
-        fcc_assert_ok(fcc_cmac_compute(&c, msg, len, tag));
-        assert_hex(tag, t);
-        ++n;
-    }
-    fclose(f);
-    assert_int_equal(n, 200u);
-    f = fopen(VEC_DIR "aes_random.txt", "r");
-    assert_non_null(f);
-    n = 0u;
-    while (fgets(line, sizeof line, f) != NULL) {
-        if (line[0] == '#') {
-            continue;
-        }
-        char k[40], p[40], e[40];
-        assert_int_equal(sscanf(line, "%39s %39s %39s", k, p, e), 3);
-        uint8_t key[16], pt[16], ct[16];
-        fcc_test_hex(k, key, 16);
-        fcc_test_hex(p, pt, 16);
-        fcc_aes128_t aes;
-        fcc_assert_ok(fcc_aes128_init(&aes, key));
-        fcc_assert_ok(fcc_aes128_encrypt(&aes, pt, ct));
-        assert_hex(ct, e);
-        ++n;
-    }
-    fclose(f);
-    assert_int_equal(n, 100u);
+    fcc_test_vector_file(VEC_DIR "cmac_random.txt", 200u, cmac_line, NULL);
+    fcc_test_vector_file(VEC_DIR "aes_random.txt", 100u, aes_line, NULL);
 }
 
 int main(void)

@@ -65,6 +65,14 @@ static void expect_line(line_t *l, const char *want)
     l->n = 0u;
 }
 
+/* A device opened ('O', answered CR) on a fresh line. */
+static void dev_open(fcc_slcan_dev_t *dev, line_t *l)
+{
+    dev_start(dev, l);
+    assert_int_equal(FEED(dev, "O\r", NULL), 0);
+    expect_line(l, "\r");
+}
+
 static void test_parse_frames(void **state)
 {
     (void)state;
@@ -229,9 +237,7 @@ static void test_device_garbage(void **state)
     (void)state;
     fcc_slcan_dev_t dev;
     line_t l;
-    dev_start(&dev, &l);
-    assert_int_equal(FEED(&dev, "O\r", NULL), 0);
-    expect_line(&l, "\r");
+    dev_open(&dev, &l);
     /* garbled lines */
     assert_int_equal(FEED(&dev, "t12\rxyz\rt0102AAB\r", NULL), 0);
     expect_line(&l, "\a\a\a");
@@ -272,9 +278,7 @@ static void test_device_writer_full(void **state)
     (void)state;
     fcc_slcan_dev_t dev;
     line_t l;
-    dev_start(&dev, &l);
-    assert_int_equal(FEED(&dev, "O\r", NULL), 0);
-    expect_line(&l, "\r");
+    dev_open(&dev, &l);
     l.room = 10u; /* room for one short frame, not for a second */
     const fcc_can_frame_t out = {0x701u, 2u, {1, 2}, 0u};
     assert_int_equal(fcc_slcan_dev_send(&dev, &out), FCC_OK);
@@ -300,8 +304,7 @@ static void test_device_random_bytes(void **state)
     (void)state;
     fcc_slcan_dev_t dev;
     line_t l;
-    dev_start(&dev, &l);
-    assert_int_equal(FEED(&dev, "O\r", NULL), 0);
+    dev_open(&dev, &l);
     uint32_t x = 2463534242u;
     uint32_t frames = 0u;
     for (uint32_t i = 0u; i < 200000u; ++i) {

@@ -66,6 +66,25 @@ static int64_t error_at(const fcc_tsync_t *ts, const master_t *m, uint64_t l)
     return (int64_t)est - (int64_t)master_at(m, l);
 }
 
+/* The estimate of the master's time at local time l is within +-tol us. */
+static void assert_error_within(const fcc_tsync_t *ts, const master_t *m, uint64_t l, int64_t tol)
+{
+    const int64_t e = error_at(ts, m, l);
+    if (e > tol || e < -tol) {
+        fail_msg("estimate off by %lld us at local %llu us (bound %lld)", (long long)e,
+                 (unsigned long long)l, (long long)tol);
+    }
+}
+
+/* n intervals without any sync from local time *l on, polled at each. */
+static void quiet(fcc_tsync_t *ts, uint64_t *l, int n)
+{
+    for (int i = 0; i < n; ++i) {
+        *l += INTERVAL_US;
+        (void)fcc_tsync_poll(ts, *l);
+    }
+}
+
 static void config_is_checked(void **state)
 {
     (void)state;
@@ -103,8 +122,7 @@ static void servo_follows_offset_and_rate(void **state)
      * steps of 10 ppm / 16 and settles within a few ppm (0.4 us per interval) */
     assert_true(g_ts.rate_ppb > 95000 && g_ts.rate_ppb < 105000);
     /* between two syncs and one interval ahead the estimate holds */
-    assert_true(error_at(&g_ts, &m, l + INTERVAL_US / 2u) <= 3 &&
-                error_at(&g_ts, &m, l + INTERVAL_US / 2u) >= -3);
+    assert_error_within(&g_ts, &m, l + INTERVAL_US / 2u, 3);
     uint64_t master = 0u;
     uint64_t back = 0u;
     fcc_assert_ok(fcc_tsync_to_master(&g_ts, l + 777u, &master));
@@ -129,8 +147,7 @@ static void servo_filters_jitter(void **state)
         fcc_assert_ok(pair(&g_ts, &m, (uint64_t)((int64_t)l + jitter), master_at(&m, l)));
     }
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
-    const int64_t e = error_at(&g_ts, &m, l);
-    assert_true(e < 40 && e > -40);
+    assert_error_within(&g_ts, &m, l, 39);
     assert_int_equal(fcc_tsync_rejected(&g_ts), 0u);
 }
 
@@ -150,8 +167,7 @@ static void outliers_are_refused(void **state)
     assert_int_equal(pair(&g_ts, &m, l, master_at(&m, l) + 2000000u), FCC_ERR_AGAIN);
     assert_int_equal(g_ts.cnt.future, 1u);
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
-    const int64_t e = error_at(&g_ts, &m, l);
-    assert_true(e <= 1 && e >= -1);
+    assert_error_within(&g_ts, &m, l, 1);
     run(&g_ts, &m, &l, 3);
     assert_int_equal(g_ts.cnt.jumps, 0u);
     assert_int_equal(fcc_tsync_rejected(&g_ts), 2u);
@@ -178,8 +194,7 @@ static void master_clock_jump_is_followed(void **state)
         assert_int_equal(g_ts.state, FCC_TSYNC_LOCKING);
         run(&g_ts, &m, &l, 5);
         assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
-        const int64_t e = error_at(&g_ts, &m, l);
-        assert_true(e <= 2 && e >= -2);
+        assert_error_within(&g_ts, &m, l, 2);
         if (dir == 1) {
             assert_true(g_ts.cnt.backwards >= 1u && g_ts.cnt.past == 3u);
         } else {
@@ -237,13 +252,9 @@ static void second_master_is_ignored(void **state)
     assert_int_equal(g_ts.cnt.foreign, 40u);
     assert_int_equal(g_ts.master, 1u);
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
-    const int64_t e = error_at(&g_ts, &a, l);
-    assert_true(e <= 1 && e >= -1);
+    assert_error_within(&g_ts, &a, l, 1);
     /* master 1 disappears: holdover, then release, then master 2 is followed */
-    for (int i = 0; i < 60; ++i) {
-        l += INTERVAL_US;
-        (void)fcc_tsync_poll(&g_ts, l);
-    }
+    quiet(&g_ts, &l, 60);
     assert_int_equal(g_ts.state, FCC_TSYNC_FREE_RUN);
     assert_int_equal(g_ts.cnt.releases, 1u);
     run(&g_ts, &b, &l, 5);
@@ -261,15 +272,11 @@ static void loss_and_recovery(void **state)
     uint64_t l = 0u;
     run(&g_ts, &m, &l, 30);
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
-    for (int i = 0; i < 10; ++i) {
-        l += INTERVAL_US;
-        (void)fcc_tsync_poll(&g_ts, l);
-    }
+    quiet(&g_ts, &l, 10);
     assert_int_equal(g_ts.state, FCC_TSYNC_HOLDOVER);
     assert_int_equal(g_ts.cnt.losses, 1u);
     assert_true(fcc_tsync_has_time(&g_ts)); /* free-runs on the last estimate */
-    const int64_t drift = error_at(&g_ts, &m, l);
-    assert_true(drift <= 20 && drift >= -20); /* 1 s at a well-estimated rate */
+    assert_error_within(&g_ts, &m, l, 20); /* 1 s at a well-estimated rate */
     run(&g_ts, &m, &l, 1);
     assert_int_equal(g_ts.cnt.recoveries, 1u);
     run(&g_ts, &m, &l, 4);

@@ -6,7 +6,10 @@ from typing import Any
 
 from hil.bus import load
 from hil.faults import Scenario, loads_scenario, with_extra_faults
+from hil.rig.apps import CdrwDriver
+from hil.rig.lockstep import LockstepRunner
 from hil.rig.runs import Outcome, RigConfig, run_flight
+from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, RigSession
 
 FRAMES = {m.name for m in load().messages}
 
@@ -33,6 +36,19 @@ def fly(out: Path, *scenarios: Scenario, **cfg: Any) -> Outcome:
     cfg.setdefault("progress", False)
     cfg.setdefault("plots", False)
     return run_flight(list(scenarios), RigConfig(out_dir=out, **cfg))
+
+
+def airborne(rig: RigSession, sc: Scenario, steps: int, timeout: float) -> tuple[LockstepRunner, CdrwDriver]:
+    """A CDRW flight flown by hand in an open session (for the tests that break the device in
+    flight): RESET, FLIGHT (ticks run only in flight), `steps` lockstep steps; the runner and
+    driver to go on with."""
+    runner = LockstepRunner(rig, timeout=timeout)
+    d = CdrwDriver(sc, rig.codec)
+    rig.control(COMMAND_RESET)
+    rig.control(COMMAND_FLIGHT)
+    for _ in range(steps):
+        runner.step(d)
+    return runner, d
 
 
 def cli(capsys: Any, *argv: str) -> tuple[int, str, str]:

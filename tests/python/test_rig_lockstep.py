@@ -14,12 +14,10 @@ from hil import metrics
 from hil.bus import diag, load
 from hil.bus.logio import read_frames
 from hil.faults import load_default_scenario, with_fault_start
-from hil.rig.apps import CdrwDriver
-from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
-from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, FccDied, FccTimeout, RigSession
-from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
+from hil.rig.session import FccDied, FccTimeout, RigSession
+from rig_helpers import CDRW_1S, MISSILE_2S, airborne, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
 
@@ -144,12 +142,7 @@ def test_fcc_not_answering_times_out(tmp_path, capsys):
 def test_fcc_hanging_mid_run_times_out(tmp_path):
     sc = scenario(CDRW_1S)
     with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
-        runner = LockstepRunner(rig, timeout=0.5)
-        d = CdrwDriver(sc, rig.codec)
-        rig.control(COMMAND_RESET)
-        rig.control(COMMAND_FLIGHT)
-        for _ in range(5):
-            runner.step(d)
+        runner, d = airborne(rig, sc, 5, timeout=0.5)
         os.kill(rig.fcc.pid, signal.SIGSTOP)
         try:
             t0 = time.monotonic()
@@ -165,12 +158,7 @@ def test_fcc_killed_mid_run(tmp_path):
     sc = scenario(CDRW_1S)
     with pytest.raises(FccDied, match=r"fcc died during step 10 of app cdrw \(killed by SIGKILL"):
         with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
-            runner = LockstepRunner(rig, timeout=2.0)
-            d = CdrwDriver(sc, rig.codec)
-            rig.control(COMMAND_RESET)
-            rig.control(COMMAND_FLIGHT)
-            for _ in range(10):
-                runner.step(d)
+            runner, d = airborne(rig, sc, 10, timeout=2.0)
             os.kill(rig.fcc.pid, signal.SIGKILL)
             runner.step(d)
     log = (tmp_path / "bus.log").read_text()

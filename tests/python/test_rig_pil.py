@@ -18,13 +18,11 @@ import numpy as np
 import pytest
 
 from hil.pil import qemu as pil_qemu
-from hil.rig.apps import CdrwDriver
-from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.qemu import build_image
 from hil.rig.runs import RigConfig, fcc_args
-from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, FccDied, FccTimeout, RigSession
-from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
+from hil.rig.session import FccDied, FccTimeout, RigSession
+from rig_helpers import CDRW_1S, MISSILE_2S, airborne, fly, scenario
 
 pytestmark = [pytest.mark.vcan,
               pytest.mark.skipif(pil_qemu.available() is None, reason="qemu-system-arm is not installed")]
@@ -84,12 +82,7 @@ def test_link_loss_slcand_killed(tmp_path, image):
     with pytest.raises(FccDied, match=r"the M4F image died during step 5 of app cdrw "
                                       r"\(serial link lost: (slcand killed by SIGKILL|interface slc\d+ gone)\)"):
         with _session(tmp_path, image) as rig:
-            runner = LockstepRunner(rig, timeout=TIMEOUT)
-            d = CdrwDriver(sc, rig.codec)
-            rig.control(COMMAND_RESET)
-            rig.control(COMMAND_FLIGHT)  # ticks run only in flight mode
-            for _ in range(5):
-                runner.step(d)
+            runner, d = airborne(rig, sc, 5, timeout=TIMEOUT)
             os.kill(rig.fcc.slcand.pid, signal.SIGKILL)  # type: ignore[union-attr]
             rig.fcc.slcand.wait(10)                      # type: ignore[union-attr]  # its tty closed
             runner.step(d)
@@ -101,12 +94,7 @@ def test_link_loss_uart_stops(tmp_path, image):
     """QEMU frozen (the UART stops answering): the lockstep timeout, one line, no hang."""
     sc = scenario(CDRW_1S)
     with _session(tmp_path, image) as rig:
-        runner = LockstepRunner(rig, timeout=3.0)
-        d = CdrwDriver(sc, rig.codec)
-        rig.control(COMMAND_RESET)
-        rig.control(COMMAND_FLIGHT)
-        for _ in range(3):
-            runner.step(d)
+        runner, d = airborne(rig, sc, 3, timeout=3.0)
         os.kill(rig.fcc.qemu.pid, signal.SIGSTOP)       # type: ignore[union-attr]
         t0 = time.monotonic()
         with pytest.raises(FccTimeout, match="the M4F image did not answer step 3 of app cdrw within 3 s"):

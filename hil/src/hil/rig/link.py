@@ -205,17 +205,8 @@ class CanLink:
         if self._generic:
             can_id, dlc, data = CAN_FRAME.unpack(raw)
             return self._send_generic(can_id & 0x1FFFFFFF, data[:dlc])
-        try:
-            self.sock.send(raw)
-            self.tx_frames += 1
-            return True
-        except OSError as e:
-            if e.errno not in (errno.ENOBUFS, errno.EAGAIN):
-                raise LinkError(f"{self.channel}: cannot send: {e.strerror}") from None
-        deadline = time.monotonic() + SEND_RETRY_S
-        while time.monotonic() < deadline:
-            self.tx_retries += 1
-            time.sleep(0.0005)
+        deadline: float | None = None   # set at the first full queue: retries for SEND_RETRY_S
+        while True:
             try:
                 self.sock.send(raw)
                 self.tx_frames += 1
@@ -223,8 +214,14 @@ class CanLink:
             except OSError as e:
                 if e.errno not in (errno.ENOBUFS, errno.EAGAIN):
                     raise LinkError(f"{self.channel}: cannot send: {e.strerror}") from None
-        self.tx_dropped += 1
-        return False
+            now = time.monotonic()
+            if deadline is None:
+                deadline = now + SEND_RETRY_S
+            elif now >= deadline:
+                self.tx_dropped += 1
+                return False
+            self.tx_retries += 1
+            time.sleep(0.0005)
 
     def send(self, frame_id: int, data: bytes) -> bool:
         return self.send_raw(CAN_FRAME.pack(frame_id, len(data), bytes(data)))

@@ -104,7 +104,7 @@ def scaling(runs: int, rounds: int) -> int:
         ("2 workers, whole command (median)", f"{m2:.3f} flights/s", "", ""),
         ("  ratio 2 / 1 workers, whole command", f"{m2 / m1:.2f} x", "", ""),
         ("  per round", ", ".join(f"{b / a:.2f}" for a, b in zip(rates["1"], rates["2"])), "", ""),
-        ("1 worker, steady state (after each rig's first flight)", f"{s1:.3f} flights/s", "", ""),
+        ("1 worker, steady state (after each rig's first chunk of flights)", f"{s1:.3f} flights/s", "", ""),
         ("2 workers, steady state", f"{s2:.3f} flights/s", "", ""),
         ("  ratio 2 / 1 workers, steady state", f"{s2 / s1:.2f} x", f">= {SPEEDUP_TARGET} x", verdict),
         ("one flight inside a rig (session, flight, results)", f"{rs:.3f} s", "", ""),

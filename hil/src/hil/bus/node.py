@@ -26,7 +26,6 @@ from .rawcan import enlarge_receive_buffer
 
 SEND_RETRY_S = 0.05      # give a full transmit queue this long before dropping
 SEND_RETRY_SLEEP_S = 0.0005
-RECEIVE_BUFFER_BYTES = 4 << 20   # ~1 s of a full bus: a Python reader stalled by the guest loses nothing
 
 
 @dataclass
@@ -68,7 +67,7 @@ class BusNode:
                            receive_own_messages=receive_own_messages)
         raw = getattr(self.bus, "socket", None)
         if isinstance(raw, socket.socket):
-            enlarge_receive_buffer(raw, RECEIVE_BUFFER_BYTES)
+            enlarge_receive_buffer(raw)
         self.notifier = can.Notifier(self.bus, [_Listener(self)], timeout=0.1)
 
     # -- receive side (Notifier thread)

@@ -34,7 +34,10 @@ def open_raw(channel: str, frame_ids: Iterable[int] | None = None) -> socket.soc
     return sock
 
 
-def enlarge_receive_buffer(sock: socket.socket, nbytes: int) -> None:
+RECEIVE_BUFFER_BYTES = 4 << 20   # ~1 s of a full bus: a Python reader stalled by the guest loses nothing
+
+
+def enlarge_receive_buffer(sock: socket.socket, nbytes: int = RECEIVE_BUFFER_BYTES) -> None:
     """Ask the kernel for an nbytes receive queue: SO_RCVBUFFORCE needs CAP_NET_ADMIN (root in
     the UML guest); without it SO_RCVBUF, which the kernel caps at net.core.rmem_max."""
     for opt in (getattr(socket, "SO_RCVBUFFORCE", 33), socket.SO_RCVBUF):

@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from ..bus.candump import format_line
-from ..bus.rawcan import enlarge_receive_buffer, open_raw
+from ..bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
 
 if TYPE_CHECKING:
     import can
@@ -102,7 +102,7 @@ class CanLink:
         return interface in cls.RAW_INTERFACES
 
     def __init__(self, channel: str, frame_ids: Iterable[int] | None = None,
-                 rcvbuf: int = 4 << 20, *, interface: str = "socketcan",
+                 rcvbuf: int = RECEIVE_BUFFER_BYTES, *, interface: str = "socketcan",
                  bitrate: int | None = None, log_path: Path | None = None) -> None:
         """frame_ids: the identifiers to receive (kernel filters); None: every frame.
         interface/bitrate: python-can's; log_path: record the bus (not with socketcan)."""

@@ -196,14 +196,23 @@ static fcc_status_t sample(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_u
     return FCC_OK;
 }
 
+/* A second time master on the bus: its frames are counted and ignored while ours is followed. */
+static bool from_foreign_master(fcc_tsync_t *ts, uint8_t master)
+{
+    if (ts->have_master && master != ts->master) {
+        ++ts->cnt.foreign;
+        return true;
+    }
+    return false;
+}
+
 fcc_status_t fcc_tsync_on_sync(fcc_tsync_t *ts, uint8_t master, uint8_t seq, uint8_t interval_ms,
                                uint32_t sec, uint64_t local_us)
 {
     if (ts == NULL) {
         return FCC_ERR_ARG;
     }
-    if (ts->have_master && master != ts->master) {
-        ++ts->cnt.foreign;
+    if (from_foreign_master(ts, master)) {
         return FCC_ERR_AGAIN;
     }
     if (!ts->have_master) {
@@ -236,8 +245,7 @@ fcc_status_t fcc_tsync_on_follow_up(fcc_tsync_t *ts, uint8_t master, uint8_t seq
     if (ts == NULL) {
         return FCC_ERR_ARG;
     }
-    if (ts->have_master && master != ts->master) {
-        ++ts->cnt.foreign;
+    if (from_foreign_master(ts, master)) {
         return FCC_ERR_AGAIN;
     }
     if (!ts->pending || seq != ts->pend_seq || ns >= 1000000000u) {

@@ -2,11 +2,13 @@
 
 ``FccProcess`` starts ``fcc`` with the run's flags, its stdout and stderr going to
 ``fcc.log`` in the run directory (that file keeps the firmware's event lines and its final
-counter block).  ``Candump`` records the whole bus (``candump -l``, the ``-L`` log format) into ``bus.log``.
+counter block).  A ``BusRecorder`` records the whole bus in the candump log format into
+``bus.log``: ``Candump`` (``candump -l``) or ``Canrec`` (firmware/tools/canrec, the same lines,
+frames read in batches), chosen per session (``RECORDERS``).
 Both are stopped politely (shutdown frame / SIGINT), then firmly; neither outlives the run,
 not even a killed rig: every child runs in its own process group (a Ctrl-C on the terminal
 reaches the rig, which stops them in order) with a parent-death signal (Linux
-PR_SET_PDEATHSIG = SIGKILL), so ``kill -9`` of hil takes fcc, candump and cangen with it.
+PR_SET_PDEATHSIG = SIGKILL), so ``kill -9`` of hil takes fcc, the recorder and cangen with it.
 """
 from __future__ import annotations
 
@@ -37,10 +39,19 @@ def _die_with_parent(parent: int) -> Callable[[], None] | None:
     return preexec
 
 
-def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
-    """subprocess.Popen for a rig child: own process group, killed when the rig dies."""
-    return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),
-                            **kw)
+def spawn(cmd: Sequence[str], idle: bool = False, **kw: Any) -> subprocess.Popen:
+    """subprocess.Popen for a rig child: own process group, killed when the rig dies; idle:
+    scheduled SCHED_IDLE (it runs when nothing else of the machine wants to)."""
+    die = _die_with_parent(os.getpid())
+
+    def preexec() -> None:
+        if die is not None:
+            die()
+        if idle:
+            os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
+
+    return subprocess.Popen(list(cmd), process_group=0,
+                            preexec_fn=preexec if die is not None or idle else None, **kw)
 
 
 class ProcessError(RuntimeError):
@@ -118,43 +129,70 @@ class FccProcess:
         return rc
 
 
-class Candump:
-    """The whole bus, absolute timestamps, candump log format (the ``candump -L`` format).
+class BusRecorder:
+    """The whole bus into bus.log, absolute timestamps, in the candump log format (``candump
+    -L``), by a recorder program; the subclasses say which program and how it is started.
 
-    Run as ``candump -l`` in a private directory, then renamed to bus.log: the log file is
-    block-buffered, whereas ``-L`` on stdout flushes once per frame -- a system call per frame
-    that in the UML guest made the recorder the busiest process of a lockstep run.  The same
-    format is written either way.  Because the recorder may lag behind the bus (frames queued
-    in its socket), it is stopped only once it has gone back to waiting with an empty queue
-    after an end marker was sent; the log is then checked to end with that marker.
+    The program writes into a private directory next to bus.log (its file is block-buffered),
+    which is renamed to bus.log when it stops.  Because the recorder may lag behind the bus
+    (frames queued in its socket), it is stopped only once it has gone back to waiting with an
+    empty queue after an end marker was sent; the log is then checked to end with that marker.
+    Its own messages go to a file in that directory (a pipe nobody reads could fill and stop
+    it); the last line is its error.
     """
 
+    #: the program (on $PATH, or a built tool)
+    name = "recorder"
     #: socket receive buffer: a lagging recorder must not lose frames
     RCVBUF = 16 << 20
+    #: the exit status that says frames were lost (None: the program cannot tell)
+    LOST_EXIT: int | None = None
 
-    def __init__(self, iface: str, log_path: Path) -> None:
-        exe = shutil.which("candump")
-        if exe is None:
-            raise ProcessError("candump not found: install can-utils (scripts/setup does)")
+    def __init__(self, iface: str, log_path: Path, idle: bool = False) -> None:
+        """idle: run it as SCHED_IDLE (it then reads when fcc and the simulator wait, a
+        whole step's frames at a time)."""
+        self.iface = iface
         self.log_path = log_path
-        self._dir = log_path.parent / f".candump-{os.getpid()}"
+        self._dir = log_path.parent / f".{self.name}-{os.getpid()}"
         self._dir.mkdir(parents=True, exist_ok=True)
-        for old in self._dir.glob("candump-*.log"):
+        for old in self._dir.iterdir():
             old.unlink()
-        self.proc = spawn([exe, "-l", "-r", str(self.RCVBUF), iface], cwd=self._dir,
-                          stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                          stderr=subprocess.PIPE)
+        self._err_path = self._dir / "stderr"
+        with open(self._err_path, "wb") as err:
+            self.proc = spawn(self.command(self._executable(), iface), cwd=self._dir,
+                              stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
+                              idle=idle)
+        #: after stop(): what the recorder said when it failed ("" when it exited 0)
+        self._error: str | None = None
+
+    def _executable(self) -> str:
+        raise NotImplementedError
+
+    def command(self, exe: str, iface: str) -> list[str]:
+        """The command line, run in the private directory."""
+        raise NotImplementedError
+
+    def _file(self) -> Path | None:
+        """The log the program wrote in the private directory."""
+        raise NotImplementedError
+
+    @property
+    def label(self) -> str:
+        return f"{self.name} on {self.iface}"
+
+    @property
+    def pid(self) -> int:
+        return self.proc.pid
 
     def alive(self) -> bool:
         return self.proc.poll() is None
 
     def error(self) -> str:
-        """candump's own complaint after it died."""
-        try:
-            err = self.proc.stderr.read().decode(errors="replace").strip() if self.proc.stderr else ""
-        except (OSError, ValueError):
-            err = ""
-        return err.splitlines()[-1] if err else f"exit status {self.proc.returncode}"
+        """The recorder's own complaint (its last line on stderr), or its exit status; after
+        stop(), "" when it exited 0."""
+        if self._error is not None:
+            return self._error
+        return _last_line(self._err_path) or f"exit status {self.proc.returncode}"
 
     def _state(self) -> str:
         try:
@@ -164,8 +202,9 @@ class Candump:
             return "?"
 
     def wait_idle(self, timeout: float, polls: int = 3, gap: float = 0.003) -> bool:
-        """Until candump sleeps (in select(): its socket queue is empty) for `polls` looks in a
-        row.  At start this means it listens; after a frame was sent, that it has read it."""
+        """Until the recorder sleeps (waiting for frames: its socket queue is empty) for
+        `polls` looks in a row.  At start this means it listens; after a frame was sent, that
+        it has read it."""
         deadline = time.monotonic() + timeout
         seen = 0
         while time.monotonic() < deadline and self.alive():
@@ -175,34 +214,28 @@ class Candump:
             time.sleep(gap)
         return False
 
-    def _file(self) -> Path | None:
-        files = sorted(self._dir.glob("candump-*.log"))
-        return files[-1] if files else None
-
     def stop(self, marker: bytes | None = None, timeout: float = 10.0) -> bool:
         """Stop recording and move the log to log_path.  marker: the log text of a frame just
-        sent (e.g. b"7F0#FFFFFFFF00000000"); True when the log is known to end with it."""
+        sent (e.g. b"7F0#FFFFFFFF00000000"); True when the log is known to end with it and the
+        recorder lost no frame."""
         if marker is not None and self.alive():
             self.wait_idle(timeout)
         if self.alive():
-            self.proc.send_signal(signal.SIGINT)   # candump leaves its loop and closes the file
+            self.proc.send_signal(signal.SIGINT)   # it leaves its loop and closes the file
             try:
                 self.proc.wait(2.0)
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
-        if self.proc.stderr:
-            self.proc.stderr.close()
+        self._error = self.error() if self.proc.returncode != 0 else ""
+        lost = self.LOST_EXIT is not None and self.proc.returncode == self.LOST_EXIT
         f = self._file()
         if f is not None:
             os.replace(f, self.log_path)
         elif not self.log_path.exists():
             self.log_path.write_bytes(b"")
-        try:
-            self._dir.rmdir()
-        except OSError:
-            pass
-        return marker is not None and f is not None and self._ends_with(marker)
+        shutil.rmtree(self._dir, ignore_errors=True)
+        return marker is not None and f is not None and not lost and self._ends_with(marker)
 
     def _ends_with(self, marker: bytes, tail: int = 1 << 16) -> bool:
         """The marker is the last frame of the log -- or, when a device the rig does not stop
@@ -213,3 +246,51 @@ class Candump:
                 return any(ln.endswith(marker) for ln in fh.read().splitlines()[1:])
         except OSError:
             return False
+
+
+class Candump(BusRecorder):
+    """``candump -l``: the recorder users know (``hil run``, the demo).  Two system calls and a
+    wake-up per frame.  (Not ``-L`` on stdout: that flushes once per frame -- in the UML guest
+    a system call per frame more.)"""
+
+    name = "candump"
+
+    def _executable(self) -> str:
+        exe = shutil.which("candump")
+        if exe is None:
+            raise ProcessError("candump not found: install can-utils (scripts/setup does)")
+        return exe
+
+    def command(self, exe: str, iface: str) -> list[str]:
+        return [exe, "-l", "-r", str(self.RCVBUF), iface]
+
+    def _file(self) -> Path | None:
+        files = sorted(self._dir.glob("candump-*.log"))
+        return files[-1] if files else None
+
+
+class Canrec(BusRecorder):
+    """``canrec`` (firmware/tools/canrec): the same lines as candump -l, a batch of frames per
+    system call (recvmmsg), exit 3 when the kernel dropped a frame (the campaigns' recorder)."""
+
+    name = "canrec"
+    LOST_EXIT = 3
+    LOG_NAME = "canrec.log"
+
+    def _executable(self) -> str:
+        from .paths import ToolNotFound, tool
+        try:
+            return str(tool("canrec"))
+        except ToolNotFound as e:
+            raise ProcessError(str(e)) from None
+
+    def command(self, exe: str, iface: str) -> list[str]:
+        return [exe, "-r", str(self.RCVBUF), "-o", self.LOG_NAME, iface]
+
+    def _file(self) -> Path | None:
+        f = self._dir / self.LOG_NAME
+        return f if f.exists() else None
+
+
+#: the recorders a SocketCAN session can use, by name (hil campaign --recorder)
+RECORDERS: dict[str, type[BusRecorder]] = {"candump": Candump, "canrec": Canrec}

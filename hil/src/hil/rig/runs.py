@@ -74,6 +74,10 @@ class RigConfig:
     interface: str = "socketcan"
     bitrate: int | None = None
     key_file: Path | None = None   # None: a random key for each session
+    #: the bus recorder of a SocketCAN session (hil.rig.processes.RECORDERS), and whether it
+    #: runs SCHED_IDLE
+    recorder: str = "candump"
+    recorder_idle: bool = False
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -125,7 +129,8 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig) -> Ri
     """The rig session of a command: its target, its bus, the device's configuration."""
     return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
                       target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
-                      mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file)
+                      mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file,
+                      recorder=cfg.recorder, recorder_idle=cfg.recorder_idle)
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
@@ -189,8 +194,9 @@ def count_babbled(log: Path, drivers: Sequence[AppDriver]) -> None:
 
 def _require_log(rig: RigSession) -> None:
     if not rig.log_complete:
-        raise RigError(f"bus.log: the recorder did not catch up with the bus; "
-                       f"fcc's outputs are read from that log, so the run is not evaluated")
+        why = rig.recorder_error or "the recorder did not catch up with the bus"
+        raise RigError(f"bus.log: {why}; fcc's outputs are read from that log, so the run is "
+                       f"not evaluated")
 
 
 def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,

@@ -26,7 +26,7 @@ from ..bus.dbc import BusSpec
 from ..txsched import TimedSender
 from ..bus.secoc import TEST_KEY_FILE, Endpoint, KeyFileError, read_key_file, write_key_file
 from .link import CanLink, LinkError, LinkRecorder, pack_frame
-from .processes import Candump
+from .processes import RECORDERS, BusRecorder
 from .targets import Device, start_device
 from .timesync import TimeMaster
 
@@ -125,9 +125,11 @@ class RigSession:
                  fcc_binary: Path | None = None, spec: BusSpec | None = None,
                  record: bool = True, target: str = "host", interface: str = "socketcan",
                  bitrate: int | None = None, mode: str | None = None,
-                 answer_timeout: float = 2.0, key_file: Path | None = None) -> None:
+                 answer_timeout: float = 2.0, key_file: Path | None = None,
+                 recorder: str = "candump", recorder_idle: bool = False) -> None:
         """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
-        recorder is candump on SocketCAN, the link's own log writer otherwise); target: the
+        recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS),
+        SCHED_IDLE when recorder_idle; the link's own log writer otherwise); target: the
         device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
         qemu-m4f: the ELF image; default: the build's); key_file: the bus key (default: a
         random one for this session; the qemu-m4f image has the published test key)."""
@@ -179,8 +181,14 @@ class RigSession:
         # external: the trip of its first heartbeat that verifies under the key (trust on
         # first use; a replayed old heartbeat then is a denial, never a spoof)
         self.record = record
+        if recorder not in RECORDERS:
+            raise ValueError(f"recorder must be one of {', '.join(RECORDERS)}, not {recorder!r}")
+        self.recorder = recorder
+        self.recorder_idle = recorder_idle
         self.link: CanLink | None = None
-        self.candump: Candump | LinkRecorder | None = None
+        self.candump: BusRecorder | LinkRecorder | None = None
+        #: why bus.log is incomplete, when the recorder said so (e.g. frames it lost)
+        self.recorder_error = ""
         self.fcc: Device | None = None
         self.status_frames: list[tuple[int, bytes]] = []
         self.link_stats: dict[str, int] = {}
@@ -229,11 +237,12 @@ class RigSession:
         self.close()
 
     def _start_candump(self) -> None:
-        self.candump = Candump(self.iface, self.run_dir / "bus.log")
-        if not self.candump.wait_idle(STARTUP_TIMEOUT_S):
-            if not self.candump.alive():
-                raise RigError(f"candump -l {self.iface} stopped: {self.candump.error()}")
-            raise RigError(f"candump did not start listening within {STARTUP_TIMEOUT_S:g} s")
+        rec = RECORDERS[self.recorder](self.iface, self.run_dir / "bus.log", self.recorder_idle)
+        self.candump = rec
+        if not rec.wait_idle(STARTUP_TIMEOUT_S):
+            if not rec.alive():
+                raise RigError(f"{rec.label} stopped: {rec.error()}")
+            raise RigError(f"{rec.label} did not start listening within {STARTUP_TIMEOUT_S:g} s")
 
     def _check_bus_idle(self, until: float) -> None:
         """No other fcc may be on the bus: its commands and acknowledgements would mix with
@@ -413,6 +422,8 @@ class RigSession:
                 marker = None
         candump, self.candump = self.candump, None
         self.log_complete = candump.stop(marker)
+        if not self.log_complete and isinstance(candump, BusRecorder):
+            self.recorder_error = candump.error()
 
     def _close_link(self) -> None:
         if self._key_dir is not None:

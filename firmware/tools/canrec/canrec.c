@@ -1,0 +1,343 @@
+/*
+ * canrec -- record a SocketCAN interface in the candump log format, a batch
+ * of frames per system call.
+ *
+ *   canrec [-o FILE] [-r BYTES] [-b N] [-n N] IFACE
+ *
+ * The lines are candump -l's (canrec_log.h): the kernel's receive time of
+ * every frame (SO_TIMESTAMP), the interface, the frame.  Where candump makes
+ * two system calls and one wake-up per frame (select, recvmsg), canrec waits
+ * in recvmmsg(MSG_WAITFORONE) and takes everything queued, up to -b frames,
+ * in that one call; the log goes out in 64 KiB blocks (stdout: once per
+ * batch).  On a User-Mode Linux guest, where a system call costs tens of
+ * microseconds, that is the recorder's whole cost (README, Performance).
+ *
+ * The kernel's drop counter (SO_RXQ_OVFL, and SO_MEMINFO at the end) tells
+ * whether a frame was lost because the receive queue was full: one line on
+ * stderr when it happens, exit 3 at the end.  SIGINT/SIGTERM: the frames
+ * read so far are written, the file closed, exit 0 (or 3).
+ *
+ * Exit: 0 recorded; 1 socket or file error; 2 bad command line; 3 frames lost.
+ * Host tool (Linux), static storage only.
+ */
+#define _GNU_SOURCE
+
+#include <errno.h>
+#include <fcntl.h>
+#include <net/if.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <linux/sock_diag.h>
+
+#include "canrec_log.h"
+#include "canrec_opts.h"
+
+#define EXIT_IO 1
+#define EXIT_USAGE 2
+#define EXIT_LOST 3
+
+/* Output block: written when the next line might not fit. */
+#define OUT_BLOCK (64u * 1024u)
+/* A blocked receive returns this often to look at the stop flag (a signal
+ * between the look and the call would otherwise wait for the next frame). */
+#define RCV_TIMEOUT_US 200000
+
+typedef union {
+    char buf[CMSG_SPACE(sizeof(struct timeval)) + CMSG_SPACE(sizeof(uint32_t))];
+    size_t align; /* a cmsghdr's alignment (its first member is a size_t) */
+} control_t;
+
+/* The recorder's state: one instance, owned by main(). */
+typedef struct {
+    const canrec_opts_t *o;
+    int sock;
+    int out_fd;
+    bool flush_each_batch;
+    uint64_t frames;
+    uint32_t drops_seen;      /* the kernel's counter as last read */
+    uint64_t drops;           /* frames lost since the start */
+    size_t out_len;
+    char out[OUT_BLOCK];
+    struct mmsghdr msgs[CANREC_BATCH_MAX];
+    struct iovec iov[CANREC_BATCH_MAX];
+    struct canfd_frame frames_in[CANREC_BATCH_MAX];
+    control_t control[CANREC_BATCH_MAX];
+} recorder_t;
+
+static recorder_t g_rec;
+static volatile sig_atomic_t g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+static int fail(const char *what, const char *iface, int err)
+{
+    fprintf(stderr, "canrec: %s%s%s: %s\n", what, iface ? " " : "", iface ? iface : "",
+            strerror(err));
+    return EXIT_IO;
+}
+
+static int write_all(int fd, const char *p, size_t n)
+{
+    while (n > 0u) {
+        const ssize_t w = write(fd, p, n);
+        if (w < 0) {
+            if (errno == EINTR) {
+                continue;
+            }
+            return -1;
+        }
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+static int flush_out(recorder_t *r)
+{
+    if (r->out_len == 0u) {
+        return 0;
+    }
+    const int rc = write_all(r->out_fd, r->out, r->out_len);
+    r->out_len = 0u;
+    return rc;
+}
+
+/* The socket: every frame of the interface (CAN FD too, when it has them),
+ * receive timestamps, the drop counter, the receive buffer asked for. */
+static int open_socket(recorder_t *r)
+{
+    const canrec_opts_t *o = r->o;
+    const unsigned idx = if_nametoindex(o->iface);
+    if (idx == 0u) {
+        return fail("no CAN interface", o->iface, errno);
+    }
+    r->sock = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+    if (r->sock < 0) {
+        return fail("cannot open a CAN socket for", o->iface, errno);
+    }
+    const int on = 1;
+    /* as candump: FD frames when the interface has them, classic otherwise */
+    (void)setsockopt(r->sock, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on);
+    if (setsockopt(r->sock, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) < 0) {
+        return fail("cannot have receive timestamps (SO_TIMESTAMP) on", o->iface, errno);
+    }
+    if (setsockopt(r->sock, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) < 0) {
+        return fail("cannot count dropped frames (SO_RXQ_OVFL) on", o->iface, errno);
+    }
+    const struct timeval tmo = {0, RCV_TIMEOUT_US};
+    if (setsockopt(r->sock, SOL_SOCKET, SO_RCVTIMEO, &tmo, sizeof tmo) < 0) {
+        return fail("cannot set the receive timeout on", o->iface, errno);
+    }
+    if (o->rcvbuf != 0u) {
+        const int want = (int)o->rcvbuf;
+        /* beyond net.core.rmem_max with CAP_NET_ADMIN, else up to it */
+        if (setsockopt(r->sock, SOL_SOCKET, SO_RCVBUFFORCE, &want, sizeof want) < 0 &&
+            setsockopt(r->sock, SOL_SOCKET, SO_RCVBUF, &want, sizeof want) < 0) {
+            return fail("cannot set the receive buffer on", o->iface, errno);
+        }
+        int got = 0;
+        socklen_t got_len = sizeof got;
+        if (getsockopt(r->sock, SOL_SOCKET, SO_RCVBUF, &got, &got_len) == 0 && got / 2 < want) {
+            fprintf(stderr, "canrec: note: the receive buffer of %s is %d bytes, not the %d "
+                    "asked (net.core.rmem_max)\n", o->iface, got / 2, want);
+        }
+    }
+    struct sockaddr_can addr;
+    memset(&addr, 0, sizeof addr);
+    addr.can_family = AF_CAN;
+    addr.can_ifindex = (int)idx;
+    if (bind(r->sock, (struct sockaddr *)&addr, sizeof addr) < 0) {
+        return fail("cannot bind to", o->iface, errno);
+    }
+    for (unsigned i = 0u; i < CANREC_BATCH_MAX; ++i) {
+        r->iov[i].iov_base = &r->frames_in[i];
+        r->iov[i].iov_len = sizeof r->frames_in[i];
+        r->msgs[i].msg_hdr.msg_iov = &r->iov[i];
+        r->msgs[i].msg_hdr.msg_iovlen = 1;
+        r->msgs[i].msg_hdr.msg_control = r->control[i].buf;
+    }
+    return 0;
+}
+
+/* The kernel's drop counter went from r->drops_seen to now: count, and say so. */
+static void note_drops(recorder_t *r, uint32_t now)
+{
+    const uint32_t lost = canrec_drops_since(r->drops_seen, now);
+    if (lost == 0u) {
+        return;
+    }
+    r->drops_seen = now;
+    r->drops += lost;
+    fprintf(stderr, "canrec: %s: %lu frame%s lost (receive queue full), %llu in all\n",
+            r->o->iface, (unsigned long)lost, lost == 1u ? "" : "s",
+            (unsigned long long)r->drops);
+}
+
+/* One received message: its line into the output block. */
+static int record(recorder_t *r, struct mmsghdr *m, const struct canfd_frame *f)
+{
+    bool fd;
+    if (m->msg_len == CANFD_MTU) {
+        fd = true;
+    } else if (m->msg_len == CAN_MTU) {
+        fd = false;
+    } else {
+        fprintf(stderr, "canrec: %s: a message of %u bytes is not a CAN frame\n", r->o->iface,
+                m->msg_len);
+        return EXIT_IO;
+    }
+    if ((m->msg_hdr.msg_flags & MSG_CTRUNC) != 0) {
+        fprintf(stderr, "canrec: %s: receive timestamp truncated\n", r->o->iface);
+        return EXIT_IO;
+    }
+    struct timeval tv = {0, 0};
+    for (struct cmsghdr *c = CMSG_FIRSTHDR(&m->msg_hdr); c != NULL;
+         c = CMSG_NXTHDR(&m->msg_hdr, c)) {
+        if (c->cmsg_level != SOL_SOCKET) {
+            continue;
+        }
+        if (c->cmsg_type == SO_TIMESTAMP) {
+            memcpy(&tv, CMSG_DATA(c), sizeof tv);
+        } else if (c->cmsg_type == SO_RXQ_OVFL) {
+            uint32_t now;
+            memcpy(&now, CMSG_DATA(c), sizeof now);
+            note_drops(r, now);
+        }
+    }
+    if (OUT_BLOCK - r->out_len < CANREC_LINE_MAX && flush_out(r) != 0) {
+        return fail("cannot write the log of", r->o->iface, errno);
+    }
+    const size_t n = canrec_log_line(r->out + r->out_len, OUT_BLOCK - r->out_len,
+                                     (int64_t)tv.tv_sec, (int64_t)tv.tv_usec, r->o->iface, f, fd);
+    if (n == 0u) {
+        fprintf(stderr, "canrec: %s: a frame with the receive time %lld.%06lld cannot be "
+                "written\n", r->o->iface, (long long)tv.tv_sec, (long long)tv.tv_usec);
+        return EXIT_IO;
+    }
+    r->out_len += n;
+    ++r->frames;
+    return 0;
+}
+
+/* Until a signal, -n frames, or an error. */
+static int record_loop(recorder_t *r)
+{
+    const unsigned batch = (unsigned)r->o->batch;
+    while (!g_stop) {
+        unsigned want = batch;
+        if (r->o->count != 0u && r->o->count - r->frames < want) {
+            want = (unsigned)(r->o->count - r->frames);
+        }
+        for (unsigned i = 0u; i < want; ++i) {
+            r->msgs[i].msg_hdr.msg_name = NULL;
+            r->msgs[i].msg_hdr.msg_namelen = 0;
+            r->msgs[i].msg_hdr.msg_controllen = sizeof r->control[i].buf;
+            r->msgs[i].msg_hdr.msg_flags = 0;
+        }
+        const int n = recvmmsg(r->sock, r->msgs, want, MSG_WAITFORONE, NULL);
+        if (n < 0) {
+            if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
+                continue;
+            }
+            return fail("cannot receive from", r->o->iface, errno);
+        }
+        for (int i = 0; i < n; ++i) {
+            const int rc = record(r, &r->msgs[i], &r->frames_in[i]);
+            if (rc != 0) {
+                return rc;
+            }
+        }
+        if (r->flush_each_batch && flush_out(r) != 0) {
+            return fail("cannot write the log of", r->o->iface, errno);
+        }
+        if (r->o->count != 0u && r->frames >= r->o->count) {
+            break;
+        }
+    }
+    return 0;
+}
+
+/* The drop counter as the kernel has it now (frames dropped after the last
+ * frame read carry no SO_RXQ_OVFL message); 0 when it cannot say. */
+static void final_drops(recorder_t *r)
+{
+#if defined(SO_MEMINFO)
+    uint32_t mem[SK_MEMINFO_VARS];
+    socklen_t len = sizeof mem;
+    memset(mem, 0, sizeof mem);
+    if (getsockopt(r->sock, SOL_SOCKET, SO_MEMINFO, mem, &len) == 0 &&
+        len > SK_MEMINFO_DROPS * sizeof mem[0]) {
+        note_drops(r, mem[SK_MEMINFO_DROPS]);
+    }
+#else
+    (void)r;
+#endif
+}
+
+int main(int argc, char **argv)
+{
+    canrec_opts_t o;
+    char err[256];
+    const int parsed = canrec_opts_parse(argc, argv, &o, stdout, err, sizeof err);
+    if (parsed != 0) {
+        if (parsed < 0) {
+            fprintf(stderr, "canrec: %s\n", err);
+            return EXIT_USAGE;
+        }
+        return 0;
+    }
+    recorder_t *r = &g_rec;
+    r->o = &o;
+    r->sock = -1;
+    r->out_fd = STDOUT_FILENO;
+    r->flush_each_batch = true;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;  /* no SA_RESTART: a blocked receive returns EINTR */
+    (void)sigemptyset(&sa.sa_mask);
+    (void)sigaction(SIGINT, &sa, NULL);
+    (void)sigaction(SIGTERM, &sa, NULL);
+    int rc = open_socket(r);
+    if (rc == 0 && o.output != NULL) {
+        r->out_fd = open(o.output, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        r->flush_each_batch = false;
+        if (r->out_fd < 0) {
+            rc = fail("cannot write", o.output, errno);
+        }
+    }
+    if (rc == 0) {
+        rc = record_loop(r);
+    }
+    if (r->sock >= 0) {
+        final_drops(r);
+    }
+    if (flush_out(r) != 0 && rc == 0) {
+        rc = fail("cannot write the log of", o.iface, errno);
+    }
+    if (r->out_fd != STDOUT_FILENO && r->out_fd >= 0 && close(r->out_fd) != 0 && rc == 0) {
+        rc = fail("cannot write", o.output, errno);
+    }
+    if (r->sock >= 0) {
+        (void)close(r->sock);
+    }
+    if (rc == 0 && r->drops > 0u) {
+        fprintf(stderr, "canrec: %s: %llu frame%s lost in all: the log is incomplete (a larger "
+                "-r, or a recorder that keeps up)\n", o.iface, (unsigned long long)r->drops,
+                r->drops == 1u ? "" : "s");
+        rc = EXIT_LOST;
+    }
+    return rc;
+}

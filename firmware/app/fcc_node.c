@@ -35,15 +35,30 @@ static uint64_t now_us(const fcc_node_t *node)
     return node->port.now_us(node->port.clock_ctx);
 }
 
-static void send_frame(fcc_node_t *node, const fcc_can_frame_t *frame, uint32_t app)
+/* What the port did with one frame (fcc_can_txq_done_fn): counted, a frame not
+ * sent reported -- when it happened, whether the port sends frame by frame or
+ * the node's queue went out in one batch. */
+static void frame_done(void *ctx, const fcc_can_frame_t *frame, uint8_t app, fcc_status_t st)
 {
-    const fcc_status_t st = node->port.can.send(node->port.can.ctx, frame);
+    fcc_node_t *node = ctx;
     if (st == FCC_OK) {
         ++node->cnt.tx_frames;
     } else {
         ++node->cnt.tx_failed;
         emit(node, FCC_EV_TX_FAILED, app, frame->id, st);
     }
+}
+
+static void send_frame(fcc_node_t *node, const fcc_can_frame_t *frame, uint32_t app)
+{
+    /* the outcome of every frame goes to frame_done() */
+    (void)fcc_can_txq_send(&node->txq, &node->port.can, frame, (uint8_t)app, frame_done, node);
+}
+
+/* The queued frames out (one send_many); each reported to frame_done(). */
+static void flush_tx(fcc_node_t *node)
+{
+    (void)fcc_can_txq_flush(&node->txq, &node->port.can, frame_done, node);
 }
 
 static void send_frames(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_t n, uint32_t app)
@@ -104,6 +119,7 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     }
     memset(node->app, 0, sizeof node->app);
     memset(&node->cnt, 0, sizeof node->cnt);
+    (void)fcc_can_txq_init(&node->txq); /* not NULL: cannot fail */
     node->cfg = *cfg;
     node->port = *port;
     node->oracle_fault = false;
@@ -359,11 +375,8 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
     }
 }
 
-void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
+static void handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
 {
-    if (node == NULL || frame == NULL) {
-        return;
-    }
     ++node->cnt.rx_frames;
     fcc_msg_t msg;
     uint32_t a;
@@ -386,6 +399,15 @@ void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
         return;
     }
     dispatch(node, frame);
+}
+
+void fcc_node_handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
+{
+    if (node == NULL || frame == NULL) {
+        return;
+    }
+    handle_frame(node, frame);
+    flush_tx(node); /* a repeated tick's ACK (a step has sent its own frames) */
 }
 
 fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n)
@@ -536,6 +558,7 @@ fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k)
     if (lockstep) {
         send_ack(node, app, k);
     }
+    flush_tx(node); /* the step's outputs (and ACK) leave together, right after the step */
     return st;
 }
 
@@ -685,6 +708,7 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
     first = (first == FCC_OK) ? st : first;
     if (first == FCC_OK) { /* all or nothing: a partial heartbeat would not verify */
         send_frames(node, frames, group->n_pdus + 1u, FCC_N_APPS);
+        flush_tx(node);
     }
     node->e2e_fault_flag = false;
     node->overrun_flag = false;

@@ -29,6 +29,7 @@
 #include "fcc_app_msl.h"
 #include "fcc_app_sid.h"
 #include "fcc_bus.h"
+#include "fcc_can_txq.h"
 #include "fcc_port.h"
 #include "fcc_secoc.h"
 #include "fcc_tsync.h"
@@ -104,6 +105,11 @@ typedef struct {
 typedef struct {
     fcc_node_config_t cfg;
     fcc_port_t port;
+    /* Frames of the current call waiting for the port's send_many (fcc_can_txq.h):
+     * flushed at the end of every call of this API that may send (handle_frame,
+     * poll, run_step, send_status), so a step's outputs and its FCC_ACK leave
+     * together and nothing waits in it between calls. */
+    fcc_can_txq_t txq;
     fcc_bus_t bus;
     fcc_secoc_t sec;
     fcc_op_mode_t op_mode;

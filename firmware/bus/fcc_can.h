@@ -39,12 +39,25 @@ typedef struct {
  * The port interface.  recv() never blocks: FCC_ERR_AGAIN when no frame is
  * waiting.  send() may retry for a bounded time; a frame it gives up on is
  * counted in tx_dropped and reported as FCC_ERR_AGAIN, never a crash.
+ *
+ * send_many() is optional (NULL: the core sends frame by frame).  It sends
+ * frames[0..n) in this order exactly as n calls of send() would -- the same
+ * bytes, the same bounded retry of each frame, the same counters -- in as few
+ * operating-system calls as it can (Linux: one sendmmsg), and writes the
+ * status send() would have returned for frame i to st[i].  An I/O error ends
+ * the batch: that frame and every later one get FCC_ERR_IO, not attempted.
+ * Returns FCC_OK when every st[i] is FCC_OK, else the first failing status;
+ * FCC_ERR_ARG (st[] untouched) for NULL arguments.  A port gives it when a
+ * system call costs more than the frames: the core then queues a step's
+ * frames (fcc_node.h) and hands them over at the end of the step.
  */
 typedef struct {
     void *ctx;
     fcc_status_t (*send)(void *ctx, const fcc_can_frame_t *frame);
     fcc_status_t (*recv)(void *ctx, fcc_can_frame_t *frame);
     fcc_status_t (*counters)(void *ctx, fcc_can_port_counters_t *out);
+    fcc_status_t (*send_many)(void *ctx, const fcc_can_frame_t *frames, uint32_t n,
+                              fcc_status_t *st);
 } fcc_can_port_t;
 
 #endif /* FCC_CAN_H */

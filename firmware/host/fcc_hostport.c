@@ -158,21 +158,40 @@ void fcc_hostport_close(fcc_hostport_t *hp)
 
 /* ---- the port table ------------------------------------------------------------ */
 
-static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+static fcc_status_t port_send_many(void *ctx, const fcc_can_frame_t *frames, uint32_t n,
+                                   fcc_status_t *st)
 {
     fcc_hostport_t *hp = ctx;
-    if (!hp->up) {
-        return FCC_ERR_IO;
+    if (frames == NULL || st == NULL) {
+        return FCC_ERR_ARG;
     }
-    const fcc_status_t st = fcc_socketcan_send(&hp->sc, frame);
-    if (st == FCC_OK && frame->id == hp->cmd_id) {
+    if (!hp->up) {
+        for (uint32_t i = 0u; i < n; ++i) {
+            st[i] = FCC_ERR_IO;
+        }
+        return (n > 0u) ? FCC_ERR_IO : FCC_OK;
+    }
+    const fcc_status_t first = fcc_socketcan_send_many(&hp->sc, frames, n, st);
+    bool cmd_sent = false;
+    bool io_error = false;
+    for (uint32_t i = 0u; i < n; ++i) {
+        cmd_sent = cmd_sent || (st[i] == FCC_OK && frames[i].id == hp->cmd_id);
+        io_error = io_error || st[i] == FCC_ERR_IO;
+    }
+    if (cmd_sent) { /* the batch has left: its command is on the bus */
         hp->cmd_sent_us = fcc_host_monotonic_us();
         ++hp->cmd_sends;
     }
-    if (st == FCC_ERR_IO) {
+    if (io_error) {
         fcc_hostport_lost(hp);
     }
-    return st;
+    return first;
+}
+
+static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+{
+    fcc_status_t st;
+    return port_send_many(ctx, frame, 1u, &st);
 }
 
 static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
@@ -208,7 +227,8 @@ static uint64_t port_now(void *ctx)
 fcc_port_t fcc_hostport_port(fcc_hostport_t *hp)
 {
     const fcc_port_t p = {
-        .can = {.ctx = hp, .send = port_send, .recv = port_recv, .counters = port_counters},
+        .can = {.ctx = hp, .send = port_send, .recv = port_recv, .counters = port_counters,
+                .send_many = port_send_many},
         .now_us = port_now,
         .event = hp->event,
         .event_ctx = hp->event_ctx,

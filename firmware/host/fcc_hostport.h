@@ -11,7 +11,9 @@
  * Counters of closed sockets are carried over, so the heartbeat never goes
  * backwards.
  *
- * It also stamps the send of each MSL_ELEV_CMD with CLOCK_MONOTONIC, the clock
+ * It sends a batch of frames (a step's outputs, the node's queue) with one
+ * sendmmsg (fcc_socketcan_send_many) and stamps the send of each MSL_ELEV_CMD
+ * -- right after the batch that carried it -- with CLOCK_MONOTONIC, the clock
  * of the receive time stamps (the kernel's SO_TIMESTAMPNS, moved to
  * CLOCK_MONOTONIC by fcc_socketcan), for the data age sensor frame received ->
  * command sent.
@@ -36,7 +38,7 @@ typedef struct {
     uint32_t downs;                   /* times the interface was lost */
     uint32_t reopens;                 /* times it came back */
     uint32_t cmd_id;                  /* identifier whose send is stamped */
-    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC after the last such send */
+    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC after the last batch with one */
     uint32_t cmd_sends;               /* sends stamped so far */
     void (*event)(void *ctx, const fcc_event_t *ev);
     void *event_ctx;

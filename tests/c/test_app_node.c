@@ -14,6 +14,7 @@
 static fcc_node_t g_node;
 static mem_port_t g_mem;
 static fcc_sid_t g_ref_sid[3];
+static bool g_batched; /* the port has send_many: the node queues and flushes */
 
 static void run(void);
 
@@ -22,6 +23,9 @@ static void start(const fcc_node_config_t *cfg)
 {
     fcc_port_t port;
     mem_init(&g_mem, &port);
+    if (g_batched) {
+        mem_batched(&port);
+    }
     fcc_node_config_t c;
     if (cfg != NULL) {
         c = *cfg;
@@ -39,6 +43,7 @@ static void run(void)
 {
     uint32_t n = 0u;
     fcc_assert_ok(fcc_node_poll(&g_node, 100000u, &n));
+    assert_int_equal(g_node.txq.n, 0u); /* nothing waits in the queue between calls */
 }
 
 /* A smooth pull-up: alpha, q, de at step k (rad, rad/s, rad). */
@@ -729,6 +734,124 @@ static void test_transmit_failures_are_counted(void **state)
     assert_int_equal(g_node.cnt.tx_frames, 4u);
 }
 
+/* ---- batched sends (a port with send_many) --------------------------------------- */
+
+static void test_batched_one_port_call_per_step(void **state)
+{
+    (void)state;
+    g_batched = true;
+    start(NULL);
+    const uint32_t before = g_mem.batches;
+    push_flight_step(0u);
+    run();
+    assert_int_equal(g_mem.batches - before, 1u); /* 12 outputs and the ACK together */
+    assert_int_equal(g_mem.batch_len[before], FCC_APP_SID_N_FRAMES + 1u);
+    assert_int_equal(g_mem.tx[g_mem.tx_n - 1u].id, FCC_MSG_FCC_ACK_ID);
+    (void)msl_step(0u, true, true);
+    assert_int_equal(g_mem.batches - before, 2u);
+    assert_int_equal(g_mem.batch_len[before + 1u], 4u); /* command, its MAC, estimate, ACK */
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u); /* repeated: its ACK alone, at once */
+    run();
+    assert_int_equal(g_mem.batches - before, 3u);
+    assert_int_equal(g_mem.batch_len[before + 2u], 1u);
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_int_equal(g_mem.batches - before, 4u);
+    assert_int_equal(g_mem.batch_len[before + 3u], 9u);
+    assert_int_equal(g_node.txq.n, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_tick(&g_mem, FCC_APP_CDRW, 5u); /* refused on the ground: nothing sent */
+    const uint32_t calls = g_mem.batches;
+    const size_t sent = g_mem.tx_n;
+    run();
+    assert_int_equal(g_mem.tx_n, sent);
+    assert_int_equal(g_mem.batches, calls); /* an empty queue costs no port call */
+    assert_int_equal(g_node.cnt.tx_frames, g_mem.tx_n);
+    assert_int_equal(g_node.cnt.tx_failed, 0u);
+}
+
+static void test_batched_failures_counted_per_frame(void **state)
+{
+    (void)state;
+    g_batched = true;
+    start(NULL);
+    g_mem.refuse_id = FCC_MSG_MSL_ELEV_CMD_ID;
+    g_mem.refuse_st = FCC_ERR_AGAIN; /* the port gave up on the command alone */
+    mem_push_gyro(&g_mem, 0u, 0.1);
+    mem_push_accel(&g_mem, 0u, 1.0);
+    mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
+    run();
+    assert_int_equal(g_mem.tx_n, 3u); /* the MAC, estimate and ACK after it still left */
+    assert_int_equal(g_mem.tx[0].id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
+    assert_int_equal(g_mem.tx[2].id, FCC_MSG_FCC_ACK_ID);
+    assert_int_equal(g_node.cnt.tx_failed, 1u);
+    assert_int_equal(g_node.cnt.tx_frames, 3u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 1u);
+    const fcc_event_t *ev = &g_mem.last_ev[FCC_EV_TX_FAILED];
+    assert_int_equal(ev->can_id, FCC_MSG_MSL_ELEV_CMD_ID);
+    assert_int_equal(ev->app, FCC_APP_MSL);
+    assert_int_equal(ev->step, 0u);
+    assert_int_equal(ev->value, FCC_ERR_AGAIN);
+    /* an I/O error ends the batch: every later frame of it is not sent, and counted */
+    g_mem.refuse_id = FCC_MSG_SID_AZKF_STATE_ID;
+    g_mem.refuse_st = FCC_ERR_IO;
+    push_flight_step(0u);
+    run();
+    assert_int_equal(g_mem.tx_n, 3u);
+    assert_int_equal(g_node.cnt.tx_failed, 1u + FCC_APP_SID_N_FRAMES + 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 1u + FCC_APP_SID_N_FRAMES + 1u);
+    assert_int_equal(g_mem.last_ev[FCC_EV_TX_FAILED].can_id, FCC_MSG_FCC_ACK_ID);
+    assert_int_equal(g_mem.last_ev[FCC_EV_TX_FAILED].app, FCC_APP_CDRW);
+}
+
+/* A scripted session: CDRW and missile steps, a repeated tick, heartbeats, a redesign. */
+static void fly_script(void)
+{
+    start(NULL);
+    for (uint32_t k = 0u; k < 30u; ++k) {
+        push_flight_step(k);
+        if (k % 3u == 0u) {
+            mem_push_gyro(&g_mem, k / 3u, gyro_at(k / 3u));
+            mem_push_accel(&g_mem, k / 3u, accel_at(k / 3u));
+            mem_push_tick(&g_mem, FCC_APP_MSL, k / 3u);
+        }
+        if (k == 10u) {
+            mem_push_tick(&g_mem, FCC_APP_CDRW, k);
+        }
+        run();
+        if (k % 10u == 9u) {
+            fcc_assert_ok(fcc_node_send_status(&g_node));
+        }
+    }
+    on_ground(0.1, 6u); /* a redesign, switched in at the next step */
+    run();
+    for (uint32_t k = 10u; k < 15u; ++k) {
+        (void)msl_step(k, true, true);
+    }
+    assert_int_equal(g_node.msl.designs_applied, 1u);
+}
+
+static void test_batched_frames_equal_frame_by_frame(void **state)
+{
+    (void)state;
+    static fcc_can_frame_t alone[MEM_TX_MAX];
+    g_batched = false;
+    fly_script();
+    const size_t n = g_mem.tx_n;
+    memcpy(alone, g_mem.tx, n * sizeof alone[0]);
+    assert_int_equal(g_mem.batches, 0u);
+    g_batched = true;
+    fly_script();
+    assert_true(n > 400u);
+    assert_int_equal(g_mem.tx_n, n);
+    assert_true(g_mem.batches < n / 4u);
+    for (size_t i = 0u; i < n; ++i) { /* the same frames in the same order (not the padding) */
+        assert_int_equal(g_mem.tx[i].id, alone[i].id);
+        assert_int_equal(g_mem.tx[i].dlc, alone[i].dlc);
+        assert_memory_equal(g_mem.tx[i].data, alone[i].data, sizeof alone[i].data);
+    }
+    assert_int_equal(g_node.cnt.tx_frames, n);
+}
+
 /* ---- garbage at full rate ----------------------------------------------------------- */
 
 static uint32_t lcg(uint32_t *s)
@@ -820,6 +943,20 @@ static void test_garbage_never_crashes_nor_sends_nan(void **state)
     assert_false(g_node.app[FCC_APP_CDRW].last_degraded);
 }
 
+static int per_frame(void **state)
+{
+    (void)state;
+    g_batched = false;
+    return 0;
+}
+
+static int batched(void **state)
+{
+    (void)state;
+    g_batched = true;
+    return 0;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -839,5 +976,15 @@ int main(void)
         cmocka_unit_test(test_transmit_failures_are_counted),
         cmocka_unit_test(test_garbage_never_crashes_nor_sends_nan),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest batch_tests[] = {
+        cmocka_unit_test(test_batched_one_port_call_per_step),
+        cmocka_unit_test(test_batched_failures_counted_per_frame),
+        cmocka_unit_test(test_batched_frames_equal_frame_by_frame),
+    };
+    /* every test twice: a port that sends frame by frame (the Cortex-M4F image), and
+     * one with send_many (Linux), through which the node queues and flushes */
+    int failed = cmocka_run_group_tests_name("frame by frame", tests, per_frame, NULL);
+    failed += cmocka_run_group_tests_name("batched", tests, batched, NULL);
+    failed += cmocka_run_group_tests_name("batches", batch_tests, batched, NULL);
+    return failed;
 }

@@ -29,6 +29,10 @@ typedef struct {
     uint64_t now_us;
     uint64_t step_us;      /* the clock advances this much per reading */
     bool fail_send;        /* the "interface" refuses every frame */
+    uint32_t refuse_id;    /* with refuse_st != FCC_OK: frames with this id are refused */
+    fcc_status_t refuse_st;
+    uint32_t batches;      /* send_many calls (a batched port: mem_batched) */
+    uint32_t batch_len[64]; /* frames in each of the first 64 */
     uint32_t ev_count[FCC_EV_COUNT];
     fcc_event_t last_ev[FCC_EV_COUNT];
     fcc_bus_t sim;         /* the simulator's frame layer */
@@ -41,10 +45,38 @@ static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
     if (p->fail_send) {
         return FCC_ERR_IO;
     }
+    if (p->refuse_st != FCC_OK && f->id == p->refuse_id) {
+        return p->refuse_st;
+    }
     if (p->tx_n < MEM_TX_MAX) {
         p->tx[p->tx_n++] = *f;
     }
     return FCC_OK;
+}
+
+/* send_many as fcc_can.h defines it: frame by frame, an I/O error ends the batch. */
+static fcc_status_t mem_send_many(void *ctx, const fcc_can_frame_t *f, uint32_t n,
+                                  fcc_status_t *st)
+{
+    mem_port_t *p = ctx;
+    if (p->batches < 64u) {
+        p->batch_len[p->batches] = n;
+    }
+    ++p->batches;
+    fcc_status_t first = FCC_OK;
+    bool io_error = false;
+    for (uint32_t i = 0u; i < n; ++i) {
+        st[i] = io_error ? FCC_ERR_IO : mem_send(ctx, &f[i]);
+        io_error = io_error || st[i] == FCC_ERR_IO;
+        first = (first == FCC_OK) ? st[i] : first;
+    }
+    return first;
+}
+
+/* The port hands whole batches to send_many (as the Linux port does). */
+static void mem_batched(fcc_port_t *port)
+{
+    port->can.send_many = mem_send_many;
 }
 
 static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)

@@ -1,11 +1,18 @@
 /*
  * test_socketcan.c -- the SocketCAN port's bad-input paths, which need no CAN
- * interface: a missing interface, bad names, bad filters, a closed port.  The
- * port's traffic is tested over vcan0 by tests/python/test_bus_vcan.py (can_echo).
+ * interface: a missing interface, bad names, bad filters, a closed port -- and
+ * the batched send (sendmmsg) on a datagram socket pair, the same system calls
+ * as on a CAN socket: order and bytes, a full queue retried then dropped, an
+ * I/O error ending the batch.  The port's traffic is tested over vcan0 by
+ * tests/python/test_bus_vcan.py (can_echo) and every vcan test of fcc.
  */
 #include "fcc_test.h"
 
 #include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <linux/can.h>
 
 #include "fcc_socketcan.h"
 
@@ -51,11 +58,160 @@ static void test_closed_port_refuses_everything(void **state)
     fcc_assert_ok(port.counters(port.ctx, &c));
 }
 
+static void test_send_many_bad_arguments(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    assert_int_equal(fcc_socketcan_open(&s, "nocan7"), FCC_ERR_IO);
+    fcc_can_frame_t f[2];
+    memset(f, 0, sizeof f);
+    fcc_status_t st[2] = {FCC_OK, FCC_OK};
+    assert_int_equal(fcc_socketcan_send_many(NULL, f, 2u, st), FCC_ERR_ARG);
+    assert_int_equal(fcc_socketcan_send_many(&s, NULL, 2u, st), FCC_ERR_ARG);
+    assert_int_equal(fcc_socketcan_send_many(&s, f, 2u, NULL), FCC_ERR_ARG);
+    assert_int_equal(st[0], FCC_OK); /* untouched */
+    fcc_assert_ok(fcc_socketcan_send_many(&s, NULL, 0u, NULL)); /* nothing to send */
+    /* a closed port: every frame refused */
+    assert_int_equal(fcc_socketcan_send_many(&s, f, 2u, st), FCC_ERR_ARG);
+    assert_int_equal(st[0], FCC_ERR_ARG);
+    assert_int_equal(st[1], FCC_ERR_ARG);
+    fcc_can_port_t port = fcc_socketcan_port(&s);
+    assert_int_equal(port.send_many(port.ctx, f, 2u, st), FCC_ERR_ARG);
+}
+
+/* A port whose socket is one end of a datagram socket pair; *peer: the other end. */
+static void pair_port(fcc_socketcan_t *s, int *peer, uint32_t budget_us)
+{
+    int sv[2];
+    assert_int_equal(socketpair(AF_UNIX, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, sv), 0);
+    memset(s, 0, sizeof *s);
+    s->fd = sv[0];
+    s->send_budget_us = budget_us;
+    *peer = sv[1];
+}
+
+static fcc_can_frame_t frame(uint32_t id, uint8_t dlc)
+{
+    fcc_can_frame_t f;
+    memset(&f, 0, sizeof f);
+    f.id = id;
+    f.dlc = dlc;
+    for (uint8_t i = 0u; i < dlc; ++i) {
+        f.data[i] = (uint8_t)(0xA0u + id + i);
+    }
+    return f;
+}
+
+static void test_send_many_in_order_as_can_frames(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 5000u);
+    fcc_can_frame_t f[8];
+    fcc_status_t st[8];
+    for (uint32_t i = 0u; i < 8u; ++i) {
+        f[i] = frame(0x100u + i, (uint8_t)(i % 9u));
+    }
+    f[3].id = 0x800u; /* not a standard identifier: refused, the others go */
+    assert_int_equal(fcc_socketcan_send_many(&s, f, 8u, st), FCC_ERR_ARG);
+    for (uint32_t i = 0u; i < 8u; ++i) {
+        assert_int_equal(st[i], (i == 3u) ? FCC_ERR_ARG : FCC_OK);
+    }
+    fcc_can_port_counters_t c;
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.tx_frames, 7u);
+    assert_int_equal(c.tx_retries, 0u);
+    for (uint32_t i = 0u; i < 8u; ++i) {
+        if (i == 3u) {
+            continue;
+        }
+        struct can_frame cf;
+        assert_int_equal(read(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+        assert_int_equal(cf.can_id, f[i].id);
+        assert_int_equal(cf.len, f[i].dlc);
+        assert_memory_equal(cf.data, f[i].data, f[i].dlc);
+    }
+    struct can_frame extra;
+    assert_true(read(peer, &extra, sizeof extra) < 0); /* nothing else */
+    /* the single send is the same path */
+    fcc_assert_ok(fcc_socketcan_send(&s, &f[0]));
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.tx_frames, 8u);
+    (void)close(peer);
+    fcc_socketcan_close(&s);
+}
+
+static void test_send_many_full_queue_retried_then_dropped(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 1000u);
+    const int small = 1; /* the kernel's minimum send buffer: a few frames */
+    assert_int_equal(setsockopt(s.fd, SOL_SOCKET, SO_SNDBUF, &small, sizeof small), 0);
+    /* the peer never reads: the queue fills, then every frame is retried for 1 ms and dropped */
+    enum { N = 40 };
+    fcc_can_frame_t f[N];
+    fcc_status_t st[N];
+    for (uint32_t i = 0u; i < N; ++i) {
+        f[i] = frame(i, 8u);
+    }
+    assert_int_equal(fcc_socketcan_send_many(&s, f, N, st), FCC_ERR_AGAIN);
+    uint32_t sent = 0u;
+    while (sent < N && st[sent] == FCC_OK) {
+        ++sent;
+    }
+    assert_true(sent > 0u && sent < N);
+    for (uint32_t i = sent; i < N; ++i) {
+        assert_int_equal(st[i], FCC_ERR_AGAIN);
+    }
+    fcc_can_port_counters_t c;
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.tx_frames, sent);
+    assert_int_equal(c.tx_dropped, N - sent);
+    assert_true(c.tx_retries >= N - sent);
+    for (uint32_t i = 0u; i < sent; ++i) { /* what went out, went out in order */
+        struct can_frame cf;
+        assert_int_equal(read(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+        assert_int_equal(cf.can_id, i);
+    }
+    /* room again: the next batch goes whole */
+    fcc_assert_ok(fcc_socketcan_send_many(&s, f, 2u, st));
+    (void)close(peer);
+    fcc_socketcan_close(&s);
+}
+
+static void test_send_many_io_error_ends_the_batch(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 1000u);
+    (void)close(peer); /* the other end is gone: not a full queue, an error */
+    fcc_can_frame_t f[3] = {frame(1u, 8u), frame(2u, 8u), frame(3u, 8u)};
+    fcc_status_t st[3];
+    assert_int_equal(fcc_socketcan_send_many(&s, f, 3u, st), FCC_ERR_IO);
+    for (uint32_t i = 0u; i < 3u; ++i) {
+        assert_int_equal(st[i], FCC_ERR_IO);
+    }
+    fcc_can_port_counters_t c;
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.tx_frames, 0u);
+    assert_int_equal(c.tx_dropped, 0u);
+    assert_int_equal(c.tx_retries, 0u);
+    fcc_socketcan_close(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_open_bad_names),
         cmocka_unit_test(test_closed_port_refuses_everything),
+        cmocka_unit_test(test_send_many_bad_arguments),
+        cmocka_unit_test(test_send_many_in_order_as_can_frames),
+        cmocka_unit_test(test_send_many_full_queue_retried_then_dropped),
+        cmocka_unit_test(test_send_many_io_error_ends_the_batch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

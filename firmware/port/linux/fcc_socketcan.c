@@ -1,13 +1,14 @@
 /*
  * fcc_socketcan.c -- SocketCAN raw-socket port.  See fcc_socketcan.h.
  */
-#define _DEFAULT_SOURCE 1 /* recvmsg, CMSG_*, clock_gettime under -std=c99 */
+#define _GNU_SOURCE 1 /* sendmmsg, recvmsg, CMSG_*, clock_gettime under -std=c99 */
 
 #include "fcc_socketcan.h"
 
 #include <errno.h>
 #include <net/if.h>
 #include <poll.h>
+#include <stdbool.h>
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
@@ -244,27 +245,73 @@ fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms)
     return (r > 0) ? FCC_OK : FCC_ERR_AGAIN;
 }
 
-fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame)
+static bool frame_sendable(const fcc_can_frame_t *frame)
 {
-    if (s == NULL || s->fd < 0 || frame == NULL || frame->id > CAN_SFF_MASK ||
-        frame->dlc > CAN_MAX_DLEN) {
-        return FCC_ERR_ARG;
-    }
-    struct can_frame cf;
-    memset(&cf, 0, sizeof cf);
-    cf.can_id = frame->id;
-    cf.len = frame->dlc;
-    memcpy(cf.data, frame->data, frame->dlc);
-    uint64_t deadline = 0u; /* read only once a write failed: a clock read is a system
-                               call under User-Mode Linux, and most writes succeed */
-    for (;;) {
-        const ssize_t n = write(s->fd, &cf, sizeof cf);
-        if (n == (ssize_t)sizeof cf) {
-            ++s->cnt.tx_frames;
-            return FCC_OK;
+    return frame->id <= CAN_SFF_MASK && frame->dlc <= CAN_MAX_DLEN;
+}
+
+/* The messages of one sendmmsg: the kernel's frames and their headers, and the
+ * index of each in the caller's array (frames it refused are not in it). */
+typedef struct {
+    struct can_frame cf[FCC_SOCKETCAN_MAX_BATCH];
+    struct iovec iov[FCC_SOCKETCAN_MAX_BATCH];
+    struct mmsghdr mm[FCC_SOCKETCAN_MAX_BATCH];
+    uint32_t index[FCC_SOCKETCAN_MAX_BATCH];
+    uint32_t n;
+} batch_t;
+
+static void batch_fill(batch_t *b, const fcc_can_frame_t *frames, uint32_t n, fcc_status_t *st)
+{
+    b->n = 0u;
+    for (uint32_t i = 0u; i < n; ++i) {
+        if (!frame_sendable(&frames[i])) {
+            st[i] = FCC_ERR_ARG;
+            continue;
         }
-        if (n >= 0 || (errno != ENOBUFS && errno != EAGAIN && errno != EINTR)) {
-            return FCC_ERR_IO;
+        const uint32_t m = b->n++;
+        memset(&b->cf[m], 0, sizeof b->cf[m]);
+        b->cf[m].can_id = frames[i].id;
+        b->cf[m].len = frames[i].dlc;
+        memcpy(b->cf[m].data, frames[i].data, frames[i].dlc);
+        b->iov[m].iov_base = &b->cf[m];
+        b->iov[m].iov_len = sizeof b->cf[m];
+        memset(&b->mm[m], 0, sizeof b->mm[m]);
+        b->mm[m].msg_hdr.msg_iov = &b->iov[m];
+        b->mm[m].msg_hdr.msg_iovlen = 1;
+        b->index[m] = i;
+    }
+}
+
+/* Sends a batch's messages in order, each with the bounded retry of a single
+ * send: a message refused with a full queue (ENOBUFS/EAGAIN/EINTR) is tried again
+ * (counted in tx_retries) until send_budget_us after its first refusal, then
+ * dropped (tx_dropped, FCC_ERR_AGAIN) and the next one goes.  The deadline is
+ * read only once a send failed: a clock read is a system call under User-Mode
+ * Linux, and most sends succeed.  False after an I/O error (that message and
+ * the later ones FCC_ERR_IO). */
+static bool batch_send(fcc_socketcan_t *s, batch_t *b, fcc_status_t *st)
+{
+    uint32_t next = 0u;
+    uint64_t deadline = 0u;
+    while (next < b->n) {
+        const int sent = sendmmsg(s->fd, &b->mm[next], b->n - next, 0);
+        const int err = (sent < 0) ? errno : 0;
+        uint32_t whole = 0u; /* messages the kernel took whole (a raw CAN socket: all it took) */
+        while ((int)whole < sent && b->mm[next + whole].msg_len == sizeof b->cf[0]) {
+            st[b->index[next + whole]] = FCC_OK;
+            ++s->cnt.tx_frames;
+            ++whole;
+        }
+        next += whole;
+        if (sent > 0 && (int)whole == sent) {
+            deadline = 0u; /* the next message has a budget of its own */
+            continue;
+        }
+        if (sent >= 0 || (err != ENOBUFS && err != EAGAIN && err != EINTR)) {
+            for (uint32_t j = next; j < b->n; ++j) {
+                st[b->index[j]] = FCC_ERR_IO;
+            }
+            return false;
         }
         const uint64_t now = monotonic_us();
         if (deadline == 0u) {
@@ -272,13 +319,51 @@ fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame
         }
         if (now >= deadline) {
             ++s->cnt.tx_dropped;
-            return FCC_ERR_AGAIN;
+            st[b->index[next]] = FCC_ERR_AGAIN;
+            ++next;
+            deadline = 0u;
+            continue;
         }
         ++s->cnt.tx_retries;
         /* ENOBUFS does not wake poll(): wait a short, bounded time either way. */
         struct pollfd p = {s->fd, POLLOUT, 0};
         (void)poll(&p, 1, 1);
     }
+    return true;
+}
+
+fcc_status_t fcc_socketcan_send_many(fcc_socketcan_t *s, const fcc_can_frame_t *frames,
+                                     uint32_t n, fcc_status_t *st)
+{
+    if (s == NULL || (n > 0u && (frames == NULL || st == NULL))) {
+        return FCC_ERR_ARG;
+    }
+    batch_t b;
+    bool io_ok = true;
+    for (uint32_t done = 0u; done < n;) {
+        const uint32_t chunk = (n - done < FCC_SOCKETCAN_MAX_BATCH) ? n - done
+                                                                    : FCC_SOCKETCAN_MAX_BATCH;
+        if (s->fd < 0 || !io_ok) { /* closed, or the interface failed earlier in this batch */
+            for (uint32_t i = done; i < done + chunk; ++i) {
+                st[i] = (s->fd < 0) ? FCC_ERR_ARG : FCC_ERR_IO;
+            }
+        } else {
+            batch_fill(&b, &frames[done], chunk, &st[done]);
+            io_ok = batch_send(s, &b, &st[done]);
+        }
+        done += chunk;
+    }
+    fcc_status_t first = FCC_OK;
+    for (uint32_t i = 0u; i < n && first == FCC_OK; ++i) {
+        first = st[i];
+    }
+    return first;
+}
+
+fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame)
+{
+    fcc_status_t st;
+    return fcc_socketcan_send_many(s, frame, 1u, &st);
 }
 
 fcc_status_t fcc_socketcan_counters(const fcc_socketcan_t *s, fcc_can_port_counters_t *out)
@@ -303,6 +388,12 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     return fcc_socketcan_send(ctx, frame);
 }
 
+static fcc_status_t port_send_many(void *ctx, const fcc_can_frame_t *frames, uint32_t n,
+                                   fcc_status_t *st)
+{
+    return fcc_socketcan_send_many(ctx, frames, n, st);
+}
+
 static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
 {
     return fcc_socketcan_recv(ctx, frame);
@@ -315,6 +406,6 @@ static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
 
 fcc_can_port_t fcc_socketcan_port(fcc_socketcan_t *s)
 {
-    fcc_can_port_t port = {s, port_send, port_recv, port_counters};
+    fcc_can_port_t port = {s, port_send, port_recv, port_counters, port_send_many};
     return port;
 }

@@ -7,6 +7,8 @@
  *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC);
  *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
  *    the frame is dropped and counted -- the program never stops on it;
+ *  - send many: the same, frames in order, up to FCC_SOCKETCAN_MAX_BATCH per
+ *    sendmmsg() (one system call for a whole step's outputs);
  *  - error frames (CAN_RAW_ERR_FILTER) and kernel receive-queue overflows
  *    (SO_RXQ_OVFL) are counted, not passed to the application.
  * The state is a caller-owned struct; no heap.
@@ -22,6 +24,7 @@
 
 #define FCC_SOCKETCAN_MAX_FILTERS 64u
 #define FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US 5000u
+#define FCC_SOCKETCAN_MAX_BATCH 32u /* frames per sendmmsg (larger batches: several) */
 
 typedef struct {
     int fd;                       /* -1 when closed */
@@ -58,6 +61,15 @@ fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms);
 /* Send one standard data frame (dlc <= 8).  FCC_ERR_AGAIN: dropped after the
  * bounded retry (counted in tx_dropped). */
 fcc_status_t fcc_socketcan_send(fcc_socketcan_t *s, const fcc_can_frame_t *frame);
+
+/* Send frames[0..n) in order, each exactly as fcc_socketcan_send would (its own
+ * bounded retry, the same counters), FCC_SOCKETCAN_MAX_BATCH per sendmmsg; the
+ * status of frame i in st[i] (FCC_ERR_ARG: not a sendable frame, or the port is
+ * closed).  An I/O error ends the batch: that frame and every later one
+ * FCC_ERR_IO, not attempted.  Returns the first status that is not FCC_OK, else
+ * FCC_OK; FCC_ERR_ARG with st[] untouched when s, or frames/st with n > 0, is NULL. */
+fcc_status_t fcc_socketcan_send_many(fcc_socketcan_t *s, const fcc_can_frame_t *frames,
+                                     uint32_t n, fcc_status_t *st);
 
 fcc_status_t fcc_socketcan_counters(const fcc_socketcan_t *s, fcc_can_port_counters_t *out);
 

@@ -165,7 +165,7 @@ def main(argv: list[str] | None = None) -> int:
                          f"{c.syscalls / c.steps:.2f}", "", ""))
     print_table(f"the bus recorder in a lockstep CDRW session ({a.flights} flights of 351 steps per "
                 f"session, median of {a.rounds} rounds, UML guest)", rows)
-    print(f"load average (1, 5, 15 min) before | after: {' | '.join(load)}")
+    print(f"the guest's load average (1, 5, 15 min) before | after: {' | '.join(load)}")
     return 0
 
 

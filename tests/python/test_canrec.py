@@ -136,6 +136,19 @@ def test_same_lines_as_candump_for_every_kind_of_frame(bin_path, tmp_path, reque
     assert all(re.fullmatch(rf"\(\d{{10}}\.\d{{6}}\) {iface} [0-9A-F#R]+", ln) for ln in b)
 
 
+@vcan
+def test_count_stops_after_n_frames_to_stdout(bin_path) -> None:
+    """-n N: exit 0 by itself after N frames; without -o the lines go to stdout."""
+    proc = subprocess.Popen([str(bin_path("canrec")), "-n", "2", "-b", "1", IFACE],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wait_listening(proc)
+    for f in ("0AA#01", "0AB#02", "0AC#03"):
+        subprocess.run(["cansend", IFACE, f], check=True)
+    out, err = proc.communicate(timeout=30)
+    assert proc.returncode == 0 and err == ""
+    assert [ln.split()[1:] for ln in out.splitlines()] == [[IFACE, "0AA#01"], [IFACE, "0AB#02"]]
+
+
 def end_marker() -> str:
     ping = load().by_name("RIG_PING")
     data = ping.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
@@ -144,12 +157,11 @@ def end_marker() -> str:
 
 @vcan
 def test_a_flight_recorded_by_candump_and_canrec_at_once_is_the_same_log(tmp_path) -> None:
-    """The rig flies a campaign session recorded by canrec (SCHED_IDLE, as campaigns do) while
-    candump, started before and stopped after, records the same bus: the logs are equal."""
+    """The rig flies a campaign session recorded by canrec (as campaigns do) while candump,
+    started before and stopped after, records the same bus: the logs are equal."""
     dump = Candump(IFACE, tmp_path / "candump.log")
     assert dump.wait_idle(10.0)
-    cfg = RigConfig(out_dir=tmp_path / "rig", progress=False, plots=False, recorder="canrec",
-                    recorder_idle=True)
+    cfg = RigConfig(out_dir=tmp_path / "rig", progress=False, plots=False, recorder="canrec")
     done = fly_campaign_flights(scenario(CDRW_1S), [(0, 0.5), (1, 0.3)], cfg, keep=True)
     assert len(done.flights) == 2
     marker = end_marker().encode()
@@ -210,18 +222,17 @@ def test_lost_frames_are_counted_reported_and_fail_the_log(tmp_path) -> None:
 
 
 # ---- the rig's choice -----------------------------------------------------------------------------
-@pytest.mark.parametrize("argv, recorder, idle", [
-    (["campaign", "cdrw"], "canrec", True),
-    (["campaign", "cdrw", "--recorder", "candump"], "candump", False),
-    (["campaign", "cdrw", "--recorder", "canrec", "--workers", "2"], "canrec", True),
-    (["run", "cdrw"], "candump", False),
-    (["demo"], "candump", False),
+@pytest.mark.parametrize("argv, recorder", [
+    (["campaign", "cdrw"], "canrec"),
+    (["campaign", "cdrw", "--recorder", "candump"], "candump"),
+    (["campaign", "cdrw", "--recorder", "canrec", "--workers", "2"], "canrec"),
+    (["run", "cdrw"], "candump"),
+    (["demo"], "candump"),
 ])
-def test_campaigns_record_with_canrec_and_runs_with_candump(tmp_path, argv, recorder, idle) -> None:
+def test_campaigns_record_with_canrec_and_runs_with_candump(tmp_path, argv, recorder) -> None:
     from hil.cli import _config, _parser
 
-    cfg = _config(_parser().parse_args(argv), tmp_path)
-    assert (cfg.recorder, cfg.recorder_idle) == (recorder, idle)
+    assert _config(_parser().parse_args(argv), tmp_path).recorder == recorder
 
 
 def test_an_unknown_recorder_is_one_line(capsys) -> None:

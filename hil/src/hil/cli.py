@@ -204,8 +204,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="extra fault (moved in time with the scenario's)")
     c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
                    help="the bus recorder of a SocketCAN rig: canrec (default; firmware/tools/canrec: "
-                        "candump's log lines, frames read in batches, run at SCHED_IDLE; far less "
-                        "CPU per flight in the UML guest) or candump (can-utils, as hil run)")
+                        "candump's log lines, frames read in batches: less CPU per flight in the UML "
+                        "guest) or candump (can-utils, as hil run)")
     _add_parallel(c)
     _add_common(c, "out/campaign-cdrw")
 
@@ -311,15 +311,12 @@ def _config(args: argparse.Namespace, stage: Path):
             read_key_file(args.key_file)
         except KeyFileError as e:
             raise UsageError(f"--key-file: {e}") from None
-    # canrec reads at idle priority, a whole step's frames at once (its time stamps are the
-    # kernel's, taken on arrival); candump as users run it
-    recorder = getattr(args, "recorder", "candump")
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
-                     key_file=args.key_file, recorder=recorder, recorder_idle=recorder == "canrec")
+                     key_file=args.key_file, recorder=getattr(args, "recorder", "candump"))
 
 
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:

@@ -49,7 +49,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     out.mkdir(parents=True, exist_ok=True)
     records = []
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder, recorder_idle=cfg.recorder_idle) as rig:
+                    recorder=cfg.recorder) as rig:
         runner = None
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
@@ -86,7 +86,7 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     lqg = scenario.lqg
     assert lqg is not None
     with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder, recorder_idle=cfg.recorder_idle) as rig:
+                    recorder=cfg.recorder) as rig:
         d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
         with progress_bar(0, False, "") as bar:
             _fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)

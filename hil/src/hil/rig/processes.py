@@ -39,19 +39,10 @@ def _die_with_parent(parent: int) -> Callable[[], None] | None:
     return preexec
 
 
-def spawn(cmd: Sequence[str], idle: bool = False, **kw: Any) -> subprocess.Popen:
-    """subprocess.Popen for a rig child: own process group, killed when the rig dies; idle:
-    scheduled SCHED_IDLE (it runs when nothing else of the machine wants to)."""
-    die = _die_with_parent(os.getpid())
-
-    def preexec() -> None:
-        if die is not None:
-            die()
-        if idle:
-            os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
-
-    return subprocess.Popen(list(cmd), process_group=0,
-                            preexec_fn=preexec if die is not None or idle else None, **kw)
+def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
+    """subprocess.Popen for a rig child: own process group, killed when the rig dies."""
+    return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),
+                            **kw)
 
 
 class ProcessError(RuntimeError):
@@ -148,9 +139,7 @@ class BusRecorder:
     #: the exit status that says frames were lost (None: the program cannot tell)
     LOST_EXIT: int | None = None
 
-    def __init__(self, iface: str, log_path: Path, idle: bool = False) -> None:
-        """idle: run it as SCHED_IDLE (it then reads when fcc and the simulator wait, a
-        whole step's frames at a time)."""
+    def __init__(self, iface: str, log_path: Path) -> None:
         self.iface = iface
         self.log_path = log_path
         self._dir = log_path.parent / f".{self.name}-{os.getpid()}"
@@ -160,8 +149,7 @@ class BusRecorder:
         self._err_path = self._dir / "stderr"
         with open(self._err_path, "wb") as err:
             self.proc = spawn(self.command(self._executable(), iface), cwd=self._dir,
-                              stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
-                              idle=idle)
+                              stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
         #: after stop(): what the recorder said when it failed ("" when it exited 0)
         self._error: str | None = None
 

@@ -1,6 +1,6 @@
 """The bus recorder's share of a lockstep flight (scripts/bench.d/recorder runs this inside
-scripts/with-vcan): candump against canrec, and canrec at SCHED_IDLE, side by side in one
-guest, the same CDRW flights in one session each, rounds alternated.
+scripts/with-vcan): candump against canrec side by side in one guest, the same CDRW flights
+in one session each, rounds alternated.
 
     python -m hil.rig.recbench [--flights 4] [--rounds 2] [--no-strace]
 
@@ -30,9 +30,7 @@ from .apps import CdrwDriver
 from .bench import print_table
 from .runs import RigConfig, _fly, open_session
 
-#: (label, recorder, SCHED_IDLE)
-VARIANTS = (("candump", "candump", False), ("canrec", "canrec", False),
-            ("canrec, SCHED_IDLE", "canrec", True))
+RECORDERS = ("candump", "canrec")
 _TICK = os.sysconf("SC_CLK_TCK")
 
 
@@ -66,10 +64,10 @@ class Sample:
     syscalls: int = 0
 
 
-def _session(out: Path, recorder: str, idle: bool, flights: int, strace: bool) -> Sample:
+def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
     """`flights` default CDRW flights in one rig session with this recorder."""
     sc = load_default_scenario("cdrw")
-    cfg = RigConfig(out_dir=out, progress=False, plots=False, recorder=recorder, recorder_idle=idle)
+    cfg = RigConfig(out_dir=out, progress=False, plots=False, recorder=recorder)
     s = Sample(flights=flights)
     with open_session(out, [sc], cfg) as rig:
         assert rig.candump is not None and rig.fcc is not None
@@ -128,24 +126,24 @@ def _strace_calls(path: Path) -> int:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="hil.rig.recbench")
     p.add_argument("--flights", type=int, default=4, help="default CDRW flights per session")
-    p.add_argument("--rounds", type=int, default=2, help="rounds of the three recorders, alternated")
+    p.add_argument("--rounds", type=int, default=2, help="rounds of the recorders, alternated")
     p.add_argument("--no-strace", action="store_true", help="no system call count (strace)")
     a = p.parse_args(argv)
     strace = not a.no_strace and shutil.which("strace") is not None
-    got: dict[str, list[Sample]] = {label: [] for label, _, _ in VARIANTS}
+    got: dict[str, list[Sample]] = {rec: [] for rec in RECORDERS}
     calls: dict[str, Sample] = {}
     load = [" ".join(f"{x:.1f}" for x in os.getloadavg())]
     with tempfile.TemporaryDirectory(prefix="bench-recorder.") as tmp:
         root = Path(tmp)
         for r in range(a.rounds):
-            for label, rec, idle in VARIANTS:
-                got[label].append(_session(root / f"{rec}-{idle}-{r}", rec, idle, a.flights, False))
+            for rec in RECORDERS:
+                got[rec].append(_session(root / f"{rec}-{r}", rec, a.flights, False))
         if strace:
-            for label, rec, idle in VARIANTS:
-                calls[label] = _session(root / f"strace-{rec}-{idle}", rec, idle, 1, True)
+            for rec in RECORDERS:
+                calls[rec] = _session(root / f"strace-{rec}", rec, 1, True)
     load.append(" ".join(f"{x:.1f}" for x in os.getloadavg()))
     rows = []
-    for label, _, _ in VARIANTS:
+    for label in RECORDERS:
         ss = got[label]
 
         def per_flight(attr: str) -> float:

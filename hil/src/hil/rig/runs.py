@@ -74,10 +74,8 @@ class RigConfig:
     interface: str = "socketcan"
     bitrate: int | None = None
     key_file: Path | None = None   # None: a random key for each session
-    #: the bus recorder of a SocketCAN session (hil.rig.processes.RECORDERS), and whether it
-    #: runs SCHED_IDLE
+    #: the bus recorder of a SocketCAN session (hil.rig.processes.RECORDERS)
     recorder: str = "candump"
-    recorder_idle: bool = False
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -130,7 +128,7 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig) -> Ri
     return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
                       target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
                       mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file,
-                      recorder=cfg.recorder, recorder_idle=cfg.recorder_idle)
+                      recorder=cfg.recorder)
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:

@@ -126,10 +126,10 @@ class RigSession:
                  record: bool = True, target: str = "host", interface: str = "socketcan",
                  bitrate: int | None = None, mode: str | None = None,
                  answer_timeout: float = 2.0, key_file: Path | None = None,
-                 recorder: str = "candump", recorder_idle: bool = False) -> None:
+                 recorder: str = "candump") -> None:
         """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
-        recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS),
-        SCHED_IDLE when recorder_idle; the link's own log writer otherwise); target: the
+        recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS);
+        the link's own log writer otherwise); target: the
         device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
         qemu-m4f: the ELF image; default: the build's); key_file: the bus key (default: a
         random one for this session; the qemu-m4f image has the published test key)."""
@@ -184,7 +184,6 @@ class RigSession:
         if recorder not in RECORDERS:
             raise ValueError(f"recorder must be one of {', '.join(RECORDERS)}, not {recorder!r}")
         self.recorder = recorder
-        self.recorder_idle = recorder_idle
         self.link: CanLink | None = None
         self.candump: BusRecorder | LinkRecorder | None = None
         #: why bus.log is incomplete, when the recorder said so (e.g. frames it lost)
@@ -237,7 +236,7 @@ class RigSession:
         self.close()
 
     def _start_candump(self) -> None:
-        rec = RECORDERS[self.recorder](self.iface, self.run_dir / "bus.log", self.recorder_idle)
+        rec = RECORDERS[self.recorder](self.iface, self.run_dir / "bus.log")
         self.candump = rec
         if not rec.wait_idle(STARTUP_TIMEOUT_S):
             if not rec.alive():

@@ -181,6 +181,20 @@ def test_same_input_same_output(tool: Path, flight: Flight) -> None:
     assert run(tool, flight.csv()).stdout == first
 
 
+@pytest.mark.parametrize("extra", [(), ("--filter", "azkf")])
+def test_all_rows_is_each_row_mode_in_one_run(tool: Path, flight: Flight, extra: tuple) -> None:
+    """--all-rows (one process instead of three: the rig's symmetric tables) prints exactly the
+    rows of --rows paper, prior and posterior, each filter named MODE/FILTER."""
+    every = read_rows(run(tool, flight.csv(), "--all-rows", *extra).stdout)
+    names = ("azkf",) if extra else ("kf", "zkf", "azkf")
+    assert sorted(every) == sorted(f"{m}/{f}" for m in ("paper", "prior", "posterior") for f in names)
+    for mode in ("paper", "prior", "posterior"):
+        alone = read_rows(run(tool, flight.csv(), "--rows", mode, *extra).stdout)
+        for f in names:
+            for col, values in alone[f].items():
+                np.testing.assert_array_equal(every[f"{mode}/{f}"][col], values, err_msg=f"{mode}/{f}.{col}")
+
+
 def test_no_nan_anywhere(tool: Path, flight: Flight) -> None:
     for policy in ("order", "skip"):
         out = read_rows(run(tool, flight.csv(), "--fault-policy", policy).stdout)
@@ -243,7 +257,7 @@ def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
     ("--f", "0"),                            # R = 0 is not invertible
     ("--margin", "-1"),
     ("--prior", "1,0,0,1,0,0,0"),            # 7 values: neither 6 nor 8
-    ("--max-fault", "-2"), ("--max-fault", "x"),
+    ("--max-fault", "-2"), ("--max-fault", "x"), ("--all-rows", "--mls-only"),
     ("--x0", "1e308,1e308"), ("--x0", "0,11"),   # beyond what the sensors can read
     ("--prior", "1e300,0,0,1,0,0"), ("--p0", "1e300"), ("--e", "1e30,1"),
 ])

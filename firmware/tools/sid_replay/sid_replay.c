@@ -14,6 +14,11 @@
 #include "sid_replay_opts.h"
 
 static const char *const filter_names[3] = {"kf", "zkf", "azkf"};
+/* --all-rows: a row's filter column reads MODE/FILTER, modes in fcc_sid_rows_t order */
+static const char *const all_rows_names[3][3] = {{"paper/kf", "paper/zkf", "paper/azkf"},
+                                                 {"prior/kf", "prior/zkf", "prior/azkf"},
+                                                 {"posterior/kf", "posterior/zkf",
+                                                  "posterior/azkf"}};
 
 #ifdef FCC_REAL_FLOAT
 #define REAL_FMT "%.9g"
@@ -22,7 +27,7 @@ static const char *const filter_names[3] = {"kf", "zkf", "azkf"};
 #endif
 
 static sid_flight_t flight;  /* static: up to SID_CSV_MAX_ROWS rows */
-static fcc_sid_t loops[3];
+static fcc_sid_t loops[3];  /* one per filter, reused for each row mode (pages already touched) */
 static fcc_mls_t mls_alone;
 static bool with_c; /* the c1,c2 columns are printed */
 
@@ -126,40 +131,67 @@ static int run_mls_only(const sid_opts_t *o)
     return 0;
 }
 
+/* The loop of filter i in row mode r (a configuration refused: one line, 1). */
+static int init_loop(const sid_opts_t *o, int r, int i)
+{
+    fcc_sid_config_t cfg = o->cfg;
+    cfg.filter = (fcc_sid_filter_t)i;
+    cfg.rows = (fcc_sid_rows_t)r;
+    const fcc_status_t st = fcc_sid_init(&loops[i], &cfg);
+    if (st != FCC_OK) {
+        const char *why = config_problem(&cfg);
+        fprintf(stderr, "sid_replay: invalid configuration: %s\n",
+                why != NULL ? why : fcc_status_str(st));
+        return 1;
+    }
+    return 0;
+}
+
+/* Row k of the loop of row mode r and filter i; a step that failed: one line, 1. */
+static int step_loop(const sid_opts_t *o, size_t k, int r, int i)
+{
+    fcc_sid_out_t out;
+    const fcc_status_t st =
+        fcc_sid_step(&loops[i], (fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k],
+                     (fcc_real_t)flight.de[k], flight.fault[k] != 0u, true, &out);
+    if (!out.stepped) { /* the filter did not step: its row would be stale, refuse */
+        fflush(stdout);
+        fprintf(stderr, "sid_replay: row %zu (t = %g): the %s step failed: %s\n", k + 1u,
+                flight.t[k], o->all_rows ? all_rows_names[r][i] : filter_names[i],
+                fcc_status_str(st));
+        return 1;
+    }
+    print_row(flight.t[k], o->all_rows ? all_rows_names[r][i] : filter_names[i], out.x_hat,
+              out.lo, out.hi, out.gain_norm, out.order, out.fault ? 1 : 0, &out.model, out.rho);
+    return 0;
+}
+
+/* Every selected filter in the configured row mode, or (--all-rows) in each of the three,
+ * one mode after the other. */
 static int run_filters(const sid_opts_t *o)
 {
-    for (int i = 0; i < 3; ++i) {
-        if (!o->run[i]) {
-            continue;
-        }
-        fcc_sid_config_t cfg = o->cfg;
-        cfg.filter = (fcc_sid_filter_t)i;
-        const fcc_status_t st = fcc_sid_init(&loops[i], &cfg);
-        if (st != FCC_OK) {
-            const char *why = config_problem(&cfg);
-            fprintf(stderr, "sid_replay: invalid configuration: %s\n",
-                    why != NULL ? why : fcc_status_str(st));
-            return 1;
+    const int r0 = o->all_rows ? 0 : (int)o->cfg.rows;
+    const int r1 = o->all_rows ? 2 : r0;
+    for (int r = r0; r <= r1; ++r) { /* every configuration is checked before any output */
+        for (int i = 0; i < 3; ++i) {
+            if (o->run[i] && init_loop(o, r, i) != 0) {
+                return 1;
+            }
         }
     }
     print_header();
-    for (size_t k = 0; k < flight.n; ++k) {
+    for (int r = r0; r <= r1; ++r) {
         for (int i = 0; i < 3; ++i) {
-            if (!o->run[i]) {
-                continue;
-            }
-            fcc_sid_out_t out;
-            const fcc_status_t st =
-                fcc_sid_step(&loops[i], (fcc_real_t)flight.alpha[k], (fcc_real_t)flight.q[k],
-                             (fcc_real_t)flight.de[k], flight.fault[k] != 0u, true, &out);
-            if (!out.stepped) { /* the filter did not step: its row would be stale, refuse */
-                fflush(stdout);
-                fprintf(stderr, "sid_replay: row %zu (t = %g): the %s step failed: %s\n",
-                        k + 1u, flight.t[k], filter_names[i], fcc_status_str(st));
+            if (o->run[i] && init_loop(o, r, i) != 0) {
                 return 1;
             }
-            print_row(flight.t[k], filter_names[i], out.x_hat, out.lo, out.hi, out.gain_norm,
-                      out.order, out.fault ? 1 : 0, &out.model, out.rho);
+        }
+        for (size_t k = 0; k < flight.n; ++k) {
+            for (int i = 0; i < 3; ++i) {
+                if (o->run[i] && step_loop(o, k, r, i) != 0) {
+                    return 1;
+                }
+            }
         }
     }
     return 0;

@@ -25,6 +25,8 @@ void sid_opts_usage(const char *prog)
            "  --filter kf|zkf|azkf|all      filters to run (all)\n"
            "  --mls-only                    input states are exact: print the MLS fit per step\n"
            "  --fixed-model a11,...,b2[,c1,c2]  MLS off: this model every step\n"
+           "  --all-rows                    every row mode (paper, prior, posterior) in one\n"
+           "                                pass; the filter column reads MODE/FILTER\n"
            "  --help                        this text\n",
            prog);
     fcc_opt_sid_usage(stdout);
@@ -53,6 +55,9 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
             o->cfg.mls_enabled = false;
         }
         return r;
+    }
+    if (strcmp(name, "--all-rows") == 0) {
+        return fcc_opt_flag(name, val, &o->all_rows, true, err, len);
     }
     if (strcmp(name, "--mls-only") == 0) {
         return fcc_opt_flag(name, val, &o->mls_only, true, err, len);
@@ -86,5 +91,8 @@ int sid_opts_parse(int argc, char **argv, sid_opts_t *o, char *err, size_t len)
         }
     }
     fcc_opt_sid_end(&p.sid);
+    if (o->all_rows && o->mls_only) {
+        return fcc_opt_fail(err, len, "--all-rows replays the filters: not with --mls-only");
+    }
     return 0;
 }

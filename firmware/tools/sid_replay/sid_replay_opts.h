@@ -17,6 +17,7 @@ typedef struct {
     bool run[3];             /* KF, ZKF, AZKF selected by --filter */
     bool mls_only;           /* --mls-only */
     bool fixed_model;        /* --fixed-model given */
+    bool all_rows;           /* --all-rows: every row mode in one pass */
     const char *input;       /* file name, or NULL / "-" for stdin */
     fcc_sid_config_t cfg;    /* shared by the three loops (filter set per loop) */
 } sid_opts_t;

@@ -4,7 +4,7 @@ with every filter's posterior (`--rows prior|posterior`), next to the rows fcc f
 fcc runs one row mode on the bus (`hil run --rows`, default "paper": KF after y_k,
 ZKF/AZKF before y_k, the paper's printed equations).  The other modes come from the
 firmware's own code offline: the flight's sensor readings, at the resolution fcc decodes
-them from their frames, replayed through `sid_replay --rows MODE` with the same
+them from their frames, replayed through `sid_replay --all-rows` with the same
 identification options.  The replay in fcc's own mode is compared with fcc's rows
 (`replay_check`: largest difference of the estimates, ~ the bus's 1e-5 rad resolution when
 the replay is faithful).
@@ -40,11 +40,18 @@ def _sid_option_names() -> frozenset[str]:
     return frozenset(re.findall(r"(--[a-z0-9][a-z0-9-]*)", text))
 
 
+#: the options hil.rig.runs.fcc_args writes besides --rows: none is an identification option,
+#: so a command line of these alone needs no look at sid_replay's usage (a process start)
+RIG_OPTIONS = frozenset({"--mode", "--apps", "--lqg-period", "--lqg-bits", "--lqg-delay",
+                         "--gyro-var", "--accel-var", "--rt-priority"})
+
+
 def sid_options(fcc_args: Sequence[str]) -> tuple[str, list[str]]:
     """(the row mode, the identification options) of an fcc command line: what a replay
     needs to run the same filters.  An option's value is the next word unless it starts
     with "--" (the options of fcc_opt_sid are `--name value` or flags)."""
-    names = _sid_option_names()
+    given = {a.partition("=")[0] for a in fcc_args if a.startswith("--")}
+    names = frozenset({"--rows"}) if given <= RIG_OPTIONS | {"--rows"} else _sid_option_names()
     rows, out = "paper", []
     i = 0
     while i < len(fcc_args):
@@ -72,20 +79,23 @@ def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
                      for v in values])
 
 
-def replay(spec: BusSpec, series: Mapping[str, np.ndarray], rows: str,
-           sid_args: Sequence[str] = ()) -> dict[str, dict[str, np.ndarray]]:
-    """sid_replay --rows `rows` on the flight's readings as fcc received them."""
-    if rows not in ROW_MODES:
-        raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {rows!r}")
+def replay(spec: BusSpec, series: Mapping[str, np.ndarray],
+           sid_args: Sequence[str] = ()) -> dict[str, dict[str, dict[str, np.ndarray]]]:
+    """{row mode: {filter: columns}}: `sid_replay --all-rows` on the flight's readings as fcc
+    received them (one process for the three modes: starting one costs ~0.1 s in the guest)."""
     csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
                   _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
                   [int(f) for f in series["fault"]])
-    cmd = [str(tool("sid_replay")), "--rows", rows, *sid_args]
+    cmd = [str(tool("sid_replay")), "--all-rows", *sid_args]
     r = subprocess.run(cmd, input=csv, capture_output=True, text=True, timeout=120)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["no message"])[0]
-        raise RuntimeError(f"sid_replay --rows {rows}: exit {r.returncode}: {msg}")
-    return read_rows(r.stdout)
+        raise RuntimeError(f"sid_replay --all-rows: exit {r.returncode}: {msg}")
+    out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
+    for name, cols in read_rows(r.stdout).items():
+        mode, _, filt = name.partition("/")
+        out[mode][filt] = cols
+    return out
 
 
 def mode_tables(series: Mapping[str, np.ndarray], est: Mapping[str, Mapping[str, np.ndarray]],
@@ -119,8 +129,10 @@ def symmetric_tables(spec: BusSpec, series: Mapping[str, np.ndarray], dt: float,
     refuses the flight (e.g. shorter than the MLS window) the tables are empty and
     replay_check says why ("not_computed")."""
     tables: dict[str, Any] = {}
+    if flown not in ROW_MODES:
+        raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {flown!r}")
     try:
-        replays = {m: replay(spec, series, m, sid_args) for m in dict.fromkeys((*SYMMETRIC, flown))}
+        replays = replay(spec, series, sid_args)
     except RuntimeError as e:
         return {}, {"rows": flown, "not_computed": str(e)}
     for mode in SYMMETRIC:

@@ -10,13 +10,13 @@ timestamps and their own step field.
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..bus.candump import read_log
+from ..bus.candump import LogFrame, read_log
 from ..bus.dbc import BusSpec
 from .apps import FILTERS, SID_PARTS, SID_PREFIX
 
@@ -46,18 +46,19 @@ def app_of(frame_id: int) -> int | None:
     return None
 
 
-def split_flights(path: Path) -> list[FlightFrames]:
-    """The flights of a bus log (segments that start with a SIM_CONTROL reset)."""
-    return list(iter_flights(path))
+def split_flights(log: Path | Iterable[LogFrame]) -> list[FlightFrames]:
+    """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
+    path or its frames already read."""
+    return list(iter_flights(log))
 
 
-def iter_flights(path: Path) -> Iterator[FlightFrames]:
+def iter_flights(log: Path | Iterable[LogFrame]) -> Iterator[FlightFrames]:
     """The flights of a bus log one by one (a campaign's log holds 100 of them)."""
     n = 0
     cur: FlightFrames | None = None
     tick: dict[int, int] = {}
     ticked: set[int] = set()
-    for f in read_log(path):
+    for f in read_log(log) if isinstance(log, Path) else log:
         if f.error or f.remote or f.extended or f.fd:
             continue
         fid, data = f.frame_id, f.data

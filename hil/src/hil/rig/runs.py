@@ -21,7 +21,7 @@ import platform
 import shlex
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -30,6 +30,7 @@ import numpy as np
 
 from .. import metrics
 from ..bus import load
+from ..bus.candump import LogFrame, read_log
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
 from ..progress import bar as progress_bar
@@ -123,12 +124,13 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
     return args + list(cfg.fcc_args)
 
 
-def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig) -> RigSession:
+def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
+                 prepare: Callable[[RigSession], object] | None = None) -> RigSession:
     """The rig session of a command: its target, its bus, the device's configuration."""
     return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
                       target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
                       mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file,
-                      recorder=cfg.recorder)
+                      recorder=cfg.recorder, prepare=prepare)
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
@@ -170,17 +172,16 @@ def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any
             rig.control(COMMAND_GROUND)
 
 
-def count_babbled(log: Path, drivers: Sequence[AppDriver]) -> None:
+def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
     """Realtime floods come from cangen, on its own: its frames are counted in the bus log
     (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
-    from ..bus.candump import read_log
     from ..faults import Flood
 
     ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
     if not ids:
         return
     seen = dict.fromkeys(ids, 0)
-    for fr in read_log(log):
+    for fr in log:
         if fr.frame_id in seen:
             seen[fr.frame_id] += 1
     for d in drivers:
@@ -275,9 +276,11 @@ def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
     return periods
 
 
-def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None) -> Outcome:
+def _finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None,
+            log: Sequence[LogFrame] | None = None) -> Outcome:
+    """The bus log finished (`log`: its frames when already read) and the report."""
     if periods is not None:   # None: no bus log in `out` (flights on several rigs, hil.parallel)
-        finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
+        finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate, log)
     return _report(cfg, out, summary)
 
 
@@ -303,16 +306,18 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         raise ValueError("one scenario per aircraft")
     check_memory(scenarios)
     t0 = time.perf_counter()
-    with open_session(out, scenarios, cfg) as rig:
-        oracle = OracleFlag()
-        drivers = [make_driver(sc, rig, cfg, oracle) for sc in scenarios]
+    oracle = OracleFlag()
+    with open_session(out, scenarios, cfg,
+                      lambda rig: [make_driver(sc, rig, cfg, oracle) for sc in scenarios]) as rig:
+        drivers: list[AppDriver] = rig.prepared  # type: ignore[assignment]
         with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
             runner = _fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
         rig.shutdown()
     _require_log(rig)
-    flights = split_flights(out / "bus.log")
+    log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
+    flights = split_flights(log)
     if cfg.mode == "realtime":
-        count_babbled(out / "bus.log", drivers)
+        count_babbled(log, drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(rig.status, rig.security.counters())}
     fault_log = []
@@ -339,7 +344,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         summary["realtime"] = extra["realtime"]
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0, extra))
-    return _finish(cfg, out, summary, step_periods(scenarios))
+    return _finish(cfg, out, summary, step_periods(scenarios), log)
 
 
 def is_paper_scenario(sc: Scenario) -> bool:

@@ -16,7 +16,7 @@ import secrets
 import shutil
 import tempfile
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -126,13 +126,16 @@ class RigSession:
                  record: bool = True, target: str = "host", interface: str = "socketcan",
                  bitrate: int | None = None, mode: str | None = None,
                  answer_timeout: float = 2.0, key_file: Path | None = None,
-                 recorder: str = "candump") -> None:
+                 recorder: str = "candump",
+                 prepare: Callable[[RigSession], object] | None = None) -> None:
         """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
         recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS);
         the link's own log writer otherwise); target: the
         device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
         qemu-m4f: the ELF image; default: the build's); key_file: the bus key (default: a
-        random one for this session; the qemu-m4f image has the published test key)."""
+        random one for this session; the qemu-m4f image has the published test key);
+        prepare: work for the time the bus is listened to before fcc starts (the flights'
+        precomputation: the listen is a wait otherwise), its result in ``self.prepared``."""
         self.run_dir = Path(run_dir)
         self.iface = iface
         self.interface = interface
@@ -184,6 +187,8 @@ class RigSession:
         if recorder not in RECORDERS:
             raise ValueError(f"recorder must be one of {', '.join(RECORDERS)}, not {recorder!r}")
         self.recorder = recorder
+        self._prepare = prepare
+        self.prepared: object = None
         self.link: CanLink | None = None
         self.candump: BusRecorder | LinkRecorder | None = None
         #: why bus.log is incomplete, when the recorder said so (e.g. frames it lost)
@@ -221,6 +226,8 @@ class RigSession:
             t_open = time.monotonic()
             if self.record:
                 self._start_candump() if socketcan else self._start_link_recorder()
+            if self._prepare is not None:  # frames meanwhile wait in the socket's queue
+                self.prepared = self._prepare(self)
             if self.target != "external":  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
             self.fcc = start_device(self.target, self.run_dir, self.fcc_args, self.iface,

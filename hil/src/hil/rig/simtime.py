@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -69,10 +69,11 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
 
 
 def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: str,
-                   baudrate: int) -> Path:
+                   baudrate: int, frames: Sequence[LogFrame] | None = None) -> Path:
     """The run's bus log as users read it: lockstep -> bus.<fmt> in simulated time and the
     recorder's wall-clock log renamed bus_wall.log; realtime -> bus.<fmt> in wall-clock time.
-    Returns the path of bus.<fmt>."""
+    `frames`: the recorder's log already read (else it is read here).  Returns the path of
+    bus.<fmt>."""
     if fmt not in RUN_FORMATS:
         raise ValueError(f"log format must be one of {', '.join(RUN_FORMATS)}, not {fmt!r}")
     raw = run_dir / "bus.log"
@@ -81,11 +82,11 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
         wall = run_dir / WALL_LOG
         os.replace(raw, wall)
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-        write_frames(tmp, simulated(read_log(wall), periods, baudrate))
+        write_frames(tmp, simulated(read_log(wall) if frames is None else frames, periods, baudrate))
         os.replace(tmp, out)
     elif fmt != "log":
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-        write_frames(tmp, read_log(raw))
+        write_frames(tmp, read_log(raw) if frames is None else frames)
         os.replace(tmp, out)
         raw.unlink()
     return out

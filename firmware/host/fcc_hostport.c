@@ -108,6 +108,11 @@ int fcc_hostport_fd(const fcc_hostport_t *hp)
     return (hp != NULL && hp->up) ? hp->sc.fd : -1;
 }
 
+bool fcc_hostport_pending(const fcc_hostport_t *hp)
+{
+    return hp != NULL && hp->up && fcc_socketcan_pending(&hp->sc);
+}
+
 void fcc_hostport_lost(fcc_hostport_t *hp)
 {
     if (hp == NULL || !hp->up) {

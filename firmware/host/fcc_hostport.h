@@ -62,6 +62,10 @@ fcc_port_t fcc_hostport_port(fcc_hostport_t *hp);
 /* The descriptor to wait on, -1 while the interface is down. */
 int fcc_hostport_fd(const fcc_hostport_t *hp);
 
+/* Frames already read from the descriptor (read ahead) wait for the node's
+ * receive: do not block on the descriptor while this is true. */
+bool fcc_hostport_pending(const fcc_hostport_t *hp);
+
 /* An I/O error was seen: close the socket and start probing. */
 void fcc_hostport_lost(fcc_hostport_t *hp);
 

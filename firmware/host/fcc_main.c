@@ -178,7 +178,9 @@ static bool loop_once(host_t *h)
     struct pollfd fds[3] = {{h->sig_fd, POLLIN, 0}, {h->timer_fd, POLLIN, 0},
                             {fcc_hostport_fd(&h->hp), POLLIN, 0}};
     const nfds_t nfds = (fds[2].fd >= 0) ? 3u : 2u;
-    if (poll(fds, nfds, -1) < 0 && errno != EINTR) {
+    /* frames read ahead by the port are not on the descriptor any more: no wait then */
+    const bool pending = fcc_hostport_pending(&h->hp);
+    if (poll(fds, nfds, pending ? 0 : -1) < 0 && errno != EINTR) {
         h->stop_reason = "poll failed";
         return false;
     }
@@ -192,7 +194,7 @@ static bool loop_once(host_t *h)
         uint64_t expirations;
         (void)read(h->timer_fd, &expirations, sizeof expirations);
     }
-    if (nfds == 3u && fds[2].revents != 0) {
+    if (nfds == 3u && (fds[2].revents != 0 || pending)) {
         handle_frames(h, FRAME_BUDGET);
     }
     rt_run_due(h);

@@ -1,9 +1,9 @@
 /*
  * test_socketcan.c -- the SocketCAN port's bad-input paths, which need no CAN
  * interface: a missing interface, bad names, bad filters, a closed port -- and
- * the batched send (sendmmsg) on a datagram socket pair, the same system calls
- * as on a CAN socket: order and bytes, a full queue retried then dropped, an
- * I/O error ending the batch.  The port's traffic is tested over vcan0 by
+ * the batched send (sendmmsg) and receive (recvmmsg) on a datagram socket pair,
+ * the same system calls as on a CAN socket: order and bytes, a full queue
+ * retried then dropped, an I/O error ending the batch, frames read ahead.  The port's traffic is tested over vcan0 by
  * tests/python/test_bus_vcan.py (can_echo) and every vcan test of fcc.
  */
 #include "fcc_test.h"
@@ -203,6 +203,66 @@ static void test_send_many_io_error_ends_the_batch(void **state)
     fcc_socketcan_close(&s);
 }
 
+static void test_recv_reads_ahead_in_arrival_order(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 1000u);
+    /* more than one recvmmsg's worth, with an error frame, an extended frame and a short
+     * message among them: counted and skipped, the others in order */
+    enum { N = FCC_SOCKETCAN_RX_BATCH + 5 };
+    for (uint32_t i = 0u; i < N; ++i) {
+        struct can_frame cf;
+        memset(&cf, 0, sizeof cf);
+        cf.can_id = 0x100u + i;
+        cf.len = 8u;
+        cf.data[0] = (uint8_t)i;
+        if (i == 3u) {
+            cf.can_id |= CAN_ERR_FLAG;
+        } else if (i == 7u) {
+            cf.can_id |= CAN_EFF_FLAG;
+        }
+        const size_t len = (i == 11u) ? 8u : sizeof cf;
+        assert_int_equal(write(peer, &cf, len), (ssize_t)len);
+    }
+    assert_false(fcc_socketcan_pending(&s));
+    fcc_can_frame_t f;
+    uint32_t got = 0u;
+    for (uint32_t i = 0u; i < N; ++i) {
+        if (i == 3u || i == 7u || i == 11u) {
+            continue;
+        }
+        fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+        assert_int_equal(f.id, 0x100u + i);
+        assert_int_equal(f.dlc, 8u);
+        assert_int_equal(f.data[0], i);
+        ++got;
+        if (got == 1u) { /* the rest of the first batch waits in the port, not the socket */
+            assert_true(fcc_socketcan_pending(&s));
+            fcc_assert_ok(fcc_socketcan_wait(&s, 0));
+        }
+    }
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
+    assert_false(fcc_socketcan_pending(&s));
+    fcc_can_port_counters_t c;
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.rx_frames, N - 3u);
+    assert_int_equal(c.bus_errors, 1u);
+    assert_int_equal(c.rx_ignored, 2u);
+    /* frames read ahead go with a closed socket */
+    struct can_frame cf;
+    memset(&cf, 0, sizeof cf);
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+    assert_true(fcc_socketcan_pending(&s));
+    fcc_socketcan_close(&s);
+    assert_false(fcc_socketcan_pending(&s));
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_ARG);
+    (void)close(peer);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -212,6 +272,7 @@ int main(void)
         cmocka_unit_test(test_send_many_in_order_as_can_frames),
         cmocka_unit_test(test_send_many_full_queue_retried_then_dropped),
         cmocka_unit_test(test_send_many_io_error_ends_the_batch),
+        cmocka_unit_test(test_recv_reads_ahead_in_arrival_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,7 @@
 /*
  * fcc_socketcan.c -- SocketCAN raw-socket port.  See fcc_socketcan.h.
  */
-#define _GNU_SOURCE 1 /* sendmmsg, recvmsg, CMSG_*, clock_gettime under -std=c99 */
+#define _GNU_SOURCE 1 /* sendmmsg, recvmmsg, CMSG_*, clock_gettime under -std=c99 */
 
 #include "fcc_socketcan.h"
 
@@ -179,44 +179,61 @@ static void read_cmsgs(fcc_socketcan_t *s, struct msghdr *mh, uint64_t *t_us)
     }
 }
 
-/* 1: a frame for the application, 0: consumed (error/foreign frame), <0: status. */
-static int recv_one(fcc_socketcan_t *s, fcc_can_frame_t *frame)
+/* One received message: a frame for the application into the read-ahead
+ * buffer, or an error frame / a frame the port cannot represent counted. */
+static void take_message(fcc_socketcan_t *s, const struct can_frame *cf, size_t len,
+                         struct msghdr *mh)
 {
-    struct can_frame cf;
-    struct iovec iov = {&cf, sizeof cf};
-    union {
+    uint64_t t_us;
+    read_cmsgs(s, mh, &t_us);
+    if ((cf->can_id & CAN_ERR_FLAG) != 0u) {
+        ++s->cnt.bus_errors;
+        return;
+    }
+    if (len != sizeof *cf || (cf->can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0u ||
+        cf->len > CAN_MAX_DLEN) {
+        ++s->cnt.rx_ignored;
+        return;
+    }
+    fcc_can_frame_t *frame = &s->rx[s->rx_n++];
+    frame->id = cf->can_id & CAN_SFF_MASK;
+    frame->dlc = cf->len;
+    memset(frame->data, 0, sizeof frame->data);
+    memcpy(frame->data, cf->data, cf->len);
+    frame->t_us = t_us;
+}
+
+/* Reads the waiting messages, up to FCC_SOCKETCAN_RX_BATCH, with one recvmmsg into
+ * the (empty) read-ahead buffer.  FCC_ERR_AGAIN when none is waiting. */
+static fcc_status_t read_ahead(fcc_socketcan_t *s)
+{
+    struct can_frame cf[FCC_SOCKETCAN_RX_BATCH];
+    struct iovec iov[FCC_SOCKETCAN_RX_BATCH];
+    union { /* control messages are aligned like size_t (cmsghdr's cmsg_len) */
         char buf[CMSG_SPACE(sizeof(struct timespec)) + CMSG_SPACE(sizeof(uint32_t))];
-        struct cmsghdr align;
-    } ctrl;
-    struct msghdr mh;
-    memset(&mh, 0, sizeof mh);
-    mh.msg_iov = &iov;
-    mh.msg_iovlen = 1;
-    mh.msg_control = ctrl.buf;
-    mh.msg_controllen = sizeof ctrl.buf;
-    const ssize_t n = recvmsg(s->fd, &mh, MSG_DONTWAIT);
+        size_t align;
+    } ctrl[FCC_SOCKETCAN_RX_BATCH];
+    struct mmsghdr mm[FCC_SOCKETCAN_RX_BATCH];
+    memset(mm, 0, sizeof mm);
+    for (uint32_t i = 0u; i < FCC_SOCKETCAN_RX_BATCH; ++i) {
+        iov[i].iov_base = &cf[i];
+        iov[i].iov_len = sizeof cf[i];
+        mm[i].msg_hdr.msg_iov = &iov[i];
+        mm[i].msg_hdr.msg_iovlen = 1;
+        mm[i].msg_hdr.msg_control = ctrl[i].buf;
+        mm[i].msg_hdr.msg_controllen = sizeof ctrl[i].buf;
+    }
+    const int n = recvmmsg(s->fd, mm, FCC_SOCKETCAN_RX_BATCH, MSG_DONTWAIT, NULL);
     if (n < 0) {
         return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? FCC_ERR_AGAIN
                                                                            : FCC_ERR_IO;
     }
-    uint64_t t_us;
-    read_cmsgs(s, &mh, &t_us);
-    if ((cf.can_id & CAN_ERR_FLAG) != 0u) {
-        ++s->cnt.bus_errors;
-        return 0;
+    s->rx_head = 0u;
+    s->rx_n = 0u;
+    for (int i = 0; i < n; ++i) {
+        take_message(s, &cf[i], mm[i].msg_len, &mm[i].msg_hdr);
     }
-    if ((size_t)n != sizeof cf || (cf.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0u ||
-        cf.len > CAN_MAX_DLEN) {
-        ++s->cnt.rx_ignored;
-        return 0;
-    }
-    frame->id = cf.can_id & CAN_SFF_MASK;
-    frame->dlc = cf.len;
-    memset(frame->data, 0, sizeof frame->data);
-    memcpy(frame->data, cf.data, cf.len);
-    frame->t_us = t_us;
-    ++s->cnt.rx_frames;
-    return 1;
+    return FCC_OK;
 }
 
 fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame)
@@ -224,18 +241,29 @@ fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame)
     if (s == NULL || s->fd < 0 || frame == NULL) {
         return FCC_ERR_ARG;
     }
-    for (;;) { /* skip error and foreign frames; the queue is finite */
-        const int r = recv_one(s, frame);
-        if (r != 0) {
-            return (r > 0) ? FCC_OK : (fcc_status_t)r;
+    while (s->rx_head == s->rx_n) { /* error and foreign frames skipped; the queue is finite */
+        const fcc_status_t st = read_ahead(s);
+        if (st != FCC_OK) {
+            return st;
         }
     }
+    *frame = s->rx[s->rx_head++];
+    ++s->cnt.rx_frames;
+    return FCC_OK;
+}
+
+bool fcc_socketcan_pending(const fcc_socketcan_t *s)
+{
+    return s != NULL && s->fd >= 0 && s->rx_head < s->rx_n;
 }
 
 fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms)
 {
     if (s == NULL || s->fd < 0) {
         return FCC_ERR_ARG;
+    }
+    if (s->rx_head < s->rx_n) { /* read ahead, not yet handed out */
+        return FCC_OK;
     }
     struct pollfd p = {s->fd, POLLIN, 0};
     const int r = poll(&p, 1, timeout_ms);
@@ -380,6 +408,8 @@ void fcc_socketcan_close(fcc_socketcan_t *s)
     if (s != NULL && s->fd >= 0) {
         (void)close(s->fd);
         s->fd = -1;
+        s->rx_head = 0u; /* frames read ahead from a closed socket are gone with it */
+        s->rx_n = 0u;
     }
 }
 

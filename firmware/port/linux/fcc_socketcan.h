@@ -4,7 +4,10 @@
  * Implements the port interface of firmware/bus/fcc_can.h on a raw CAN socket:
  *  - open an interface by name, non-blocking;
  *  - receive filters: exact match on the standard identifiers a node consumes;
- *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC);
+ *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC):
+ *    the waiting frames are read ahead, up to FCC_SOCKETCAN_RX_BATCH with one
+ *    recvmmsg(), and handed out one by one in arrival order (a caller that waits
+ *    on the descriptor asks fcc_socketcan_pending() first);
  *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
  *    the frame is dropped and counted -- the program never stops on it;
  *  - send many: the same, frames in order, up to FCC_SOCKETCAN_MAX_BATCH per
@@ -16,6 +19,7 @@
 #ifndef FCC_SOCKETCAN_H
 #define FCC_SOCKETCAN_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -25,6 +29,7 @@
 #define FCC_SOCKETCAN_MAX_FILTERS 64u
 #define FCC_SOCKETCAN_DEFAULT_SEND_BUDGET_US 5000u
 #define FCC_SOCKETCAN_MAX_BATCH 32u /* frames per sendmmsg (larger batches: several) */
+#define FCC_SOCKETCAN_RX_BATCH 16u  /* frames read ahead per recvmmsg */
 
 typedef struct {
     int fd;                       /* -1 when closed */
@@ -35,6 +40,9 @@ typedef struct {
      * the tightest of a few bracketed readings, renewed every second (0: not yet) */
     int64_t rt_minus_mono_us;
     uint64_t rt_offset_at_us;     /* the realtime stamp it was read at (0: not yet) */
+    fcc_can_frame_t rx[FCC_SOCKETCAN_RX_BATCH]; /* frames read ahead, in arrival order */
+    uint32_t rx_head;             /* the next one to hand out */
+    uint32_t rx_n;                /* how many were read */
 } fcc_socketcan_t;
 
 /* Open interface ifname (e.g. "vcan0"): FCC_ERR_IO when it does not exist or
@@ -52,10 +60,18 @@ fcc_status_t fcc_socketcan_set_rcvbuf(fcc_socketcan_t *s, int bytes);
 
 /* One frame if one is waiting (FCC_OK), FCC_ERR_AGAIN if none, FCC_ERR_IO on a
  * socket error.  Error frames and frames the port cannot represent (extended,
- * remote) are counted and skipped. */
+ * remote) are counted and skipped.  Frames are read ahead (one recvmmsg for all
+ * that wait, up to FCC_SOCKETCAN_RX_BATCH) and handed out one per call; rx_frames
+ * counts them as they are handed out. */
 fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame);
 
-/* Wait up to timeout_ms for a frame to read: FCC_OK readable, FCC_ERR_AGAIN timeout. */
+/* Frames read ahead and not yet handed out: the descriptor may not be readable
+ * although fcc_socketcan_recv() has a frame, so a caller about to wait on it
+ * must not block while this is true. */
+bool fcc_socketcan_pending(const fcc_socketcan_t *s);
+
+/* Wait up to timeout_ms for a frame to read (at once when one is read ahead):
+ * FCC_OK readable, FCC_ERR_AGAIN timeout. */
 fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms);
 
 /* Send one standard data frame (dlc <= 8).  FCC_ERR_AGAIN: dropped after the

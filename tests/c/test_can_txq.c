@@ -96,194 +96,173 @@ static fcc_can_frame_t frame(uint32_t id)
     return f;
 }
 
-static fcc_can_port_t port_of(rec_port_t *p, bool batched)
-{
-    memset(p, 0, sizeof *p);
+/* What every test starts from: a recording port (batched: with send_many), an
+ * empty queue, no reports. */
+typedef struct {
+    rec_port_t p;
     fcc_can_port_t port;
-    memset(&port, 0, sizeof port);
-    port.ctx = p;
-    port.send = rec_send;
-    port.send_many = batched ? rec_send_many : NULL;
-    return port;
+    fcc_can_txq_t q;
+    reports_t r;
+} fixture_t;
+
+static fixture_t t;
+
+static void fixture(fixture_t *f, bool batched)
+{
+    memset(f, 0, sizeof *f);
+    f->port.ctx = &f->p;
+    f->port.send = rec_send;
+    f->port.send_many = batched ? rec_send_many : NULL;
+    fcc_assert_ok(fcc_can_txq_init(&f->q));
 }
 
 static void test_frames_wait_for_the_flush_and_leave_in_order(void **state)
 {
     (void)state;
-    rec_port_t p;
-    const fcc_can_port_t port = port_of(&p, true);
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
-    fcc_assert_ok(fcc_can_txq_init(&q));
+    fixture(&t, true);
     for (uint32_t i = 0u; i < 13u; ++i) {
         const fcc_can_frame_t f = frame(0x100u + i);
-        fcc_assert_ok(fcc_can_txq_send(&q, &port, &f, (uint8_t)(i % 3u), on_done, &r));
+        fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, (uint8_t)(i % 3u), on_done, &t.r));
     }
-    assert_int_equal(p.many_calls + p.send_calls, 0u); /* nothing left yet */
-    assert_int_equal(r.n, 0u);
-    assert_int_equal(q.n, 13u);
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r));
-    assert_int_equal(p.many_calls, 1u); /* one call for the whole step */
-    assert_int_equal(p.many_len[0], 13u);
-    assert_int_equal(p.send_calls, 0u);
-    assert_int_equal(q.n, 0u);
-    assert_int_equal(p.n_sent, 13u);
-    assert_int_equal(r.n, 13u);
+    assert_int_equal(t.p.many_calls + t.p.send_calls, 0u); /* nothing left yet */
+    assert_int_equal(t.r.n, 0u);
+    assert_int_equal(t.q.n, 13u);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.p.many_calls, 1u); /* one call for the whole step */
+    assert_int_equal(t.p.many_len[0], 13u);
+    assert_int_equal(t.p.send_calls, 0u);
+    assert_int_equal(t.q.n, 0u);
+    assert_int_equal(t.p.n_sent, 13u);
+    assert_int_equal(t.r.n, 13u);
     for (uint32_t i = 0u; i < 13u; ++i) {
         const fcc_can_frame_t f = frame(0x100u + i);
-        assert_int_equal(p.sent[i].id, f.id); /* the same bytes, in order */
-        assert_int_equal(p.sent[i].dlc, f.dlc);
-        assert_memory_equal(p.sent[i].data, f.data, sizeof f.data);
-        assert_int_equal(r.id[i], 0x100u + i);
-        assert_int_equal(r.tag[i], i % 3u);
-        assert_int_equal(r.st[i], FCC_OK);
+        assert_int_equal(t.p.sent[i].id, f.id); /* the same bytes, in order */
+        assert_int_equal(t.p.sent[i].dlc, f.dlc);
+        assert_memory_equal(t.p.sent[i].data, f.data, sizeof f.data);
+        assert_int_equal(t.r.id[i], 0x100u + i);
+        assert_int_equal(t.r.tag[i], i % 3u);
+        assert_int_equal(t.r.st[i], FCC_OK);
     }
     /* an empty queue: no call at all */
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r));
-    assert_int_equal(p.many_calls, 1u);
-    assert_int_equal(r.n, 13u);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.p.many_calls, 1u);
+    assert_int_equal(t.r.n, 13u);
 }
 
 static void test_a_full_queue_is_flushed_before_the_next_frame(void **state)
 {
     (void)state;
-    rec_port_t p;
-    const fcc_can_port_t port = port_of(&p, true);
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
-    fcc_assert_ok(fcc_can_txq_init(&q));
+    fixture(&t, true);
     const uint32_t n = 2u * FCC_CAN_TXQ_LEN + 3u;
     for (uint32_t i = 0u; i < n; ++i) {
         const fcc_can_frame_t f = frame(0x200u + i);
-        fcc_assert_ok(fcc_can_txq_send(&q, &port, &f, 1u, on_done, &r));
-        assert_true(q.n >= 1u && q.n <= FCC_CAN_TXQ_LEN);
+        fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, 1u, on_done, &t.r));
+        assert_true(t.q.n >= 1u && t.q.n <= FCC_CAN_TXQ_LEN);
     }
-    assert_int_equal(p.many_calls, 2u);
-    assert_int_equal(p.many_len[0], FCC_CAN_TXQ_LEN);
-    assert_int_equal(p.many_len[1], FCC_CAN_TXQ_LEN);
-    assert_int_equal(q.n, 3u);
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r));
-    assert_int_equal(p.many_len[2], 3u);
-    assert_int_equal(p.n_sent, n);
-    assert_int_equal(r.n, n);
+    assert_int_equal(t.p.many_calls, 2u);
+    assert_int_equal(t.p.many_len[0], FCC_CAN_TXQ_LEN);
+    assert_int_equal(t.p.many_len[1], FCC_CAN_TXQ_LEN);
+    assert_int_equal(t.q.n, 3u);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.p.many_len[2], 3u);
+    assert_int_equal(t.p.n_sent, n);
+    assert_int_equal(t.r.n, n);
     for (uint32_t i = 0u; i < n; ++i) {
-        assert_int_equal(p.sent[i].id, 0x200u + i);
-        assert_int_equal(r.id[i], 0x200u + i);
+        assert_int_equal(t.p.sent[i].id, 0x200u + i);
+        assert_int_equal(t.r.id[i], 0x200u + i);
     }
 }
 
 static void test_each_frame_reported_with_the_ports_status(void **state)
 {
     (void)state;
-    rec_port_t p;
-    const fcc_can_port_t port = port_of(&p, true);
-    p.refuse_id = 0x302u;
-    p.refuse_st = FCC_ERR_AGAIN; /* dropped after the port's bounded retry */
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
-    fcc_assert_ok(fcc_can_txq_init(&q));
+    fixture(&t, true);
+    t.p.refuse_id = 0x302u;
+    t.p.refuse_st = FCC_ERR_AGAIN; /* dropped after the port's bounded retry */
     for (uint32_t i = 0u; i < 5u; ++i) {
         const fcc_can_frame_t f = frame(0x300u + i);
-        fcc_assert_ok(fcc_can_txq_send(&q, &port, &f, (uint8_t)i, on_done, &r));
+        fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, (uint8_t)i, on_done, &t.r));
     }
-    assert_int_equal(fcc_can_txq_flush(&q, &port, on_done, &r), FCC_ERR_AGAIN);
-    assert_int_equal(r.n, 5u);
+    assert_int_equal(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r), FCC_ERR_AGAIN);
+    assert_int_equal(t.r.n, 5u);
     for (uint32_t i = 0u; i < 5u; ++i) {
-        assert_int_equal(r.st[i], (i == 2u) ? FCC_ERR_AGAIN : FCC_OK);
-        assert_int_equal(r.tag[i], i);
+        assert_int_equal(t.r.st[i], (i == 2u) ? FCC_ERR_AGAIN : FCC_OK);
+        assert_int_equal(t.r.tag[i], i);
     }
-    assert_int_equal(p.n_sent, 4u); /* the frames after the dropped one still went */
-    assert_int_equal(p.sent[2].id, 0x303u);
+    assert_int_equal(t.p.n_sent, 4u); /* the frames after the dropped one still went */
+    assert_int_equal(t.p.sent[2].id, 0x303u);
 
     /* a port that reports nothing: every frame counts as not sent */
-    p.silent = true;
-    memset(&r, 0, sizeof r);
+    t.p.silent = true;
+    memset(&t.r, 0, sizeof t.r);
     const fcc_can_frame_t f = frame(0x310u);
-    fcc_assert_ok(fcc_can_txq_send(&q, &port, &f, 0u, on_done, &r));
-    fcc_assert_ok(fcc_can_txq_send(&q, &port, &f, 0u, on_done, &r));
-    assert_int_equal(fcc_can_txq_flush(&q, &port, on_done, &r), FCC_ERR_IO);
-    assert_int_equal(r.n, 2u);
-    assert_int_equal(r.st[0], FCC_ERR_IO);
-    assert_int_equal(r.st[1], FCC_ERR_IO);
-    assert_int_equal(q.n, 0u);
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, 0u, on_done, &t.r));
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, 0u, on_done, &t.r));
+    assert_int_equal(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r), FCC_ERR_IO);
+    assert_int_equal(t.r.n, 2u);
+    assert_int_equal(t.r.st[0], FCC_ERR_IO);
+    assert_int_equal(t.r.st[1], FCC_ERR_IO);
+    assert_int_equal(t.q.n, 0u);
 }
 
 static void test_a_report_may_send_again(void **state)
 {
     (void)state;
-    rec_port_t p;
-    const fcc_can_port_t port = port_of(&p, true);
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
-    r.resend_q = &q;
-    r.resend_port = &port;
-    fcc_assert_ok(fcc_can_txq_init(&q));
+    fixture(&t, true);
+    t.r.resend_q = &t.q;
+    t.r.resend_port = &t.port;
     const fcc_can_frame_t a = frame(0x400u);
     const fcc_can_frame_t b = frame(0x401u);
-    fcc_assert_ok(fcc_can_txq_send(&q, &port, &a, 0u, on_done, &r));
-    fcc_assert_ok(fcc_can_txq_send(&q, &port, &b, 0u, on_done, &r));
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r));
-    assert_int_equal(r.n, 2u);      /* both of the first batch reported ... */
-    assert_int_equal(q.n, 1u);      /* ... and the frame sent from a report waits for the next */
-    assert_int_equal(q.frame[0].id, 0x7FFu);
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r));
-    assert_int_equal(p.n_sent, 3u);
-    assert_int_equal(p.sent[2].id, 0x7FFu);
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &a, 0u, on_done, &t.r));
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &b, 0u, on_done, &t.r));
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.r.n, 2u);      /* both of the first batch reported ... */
+    assert_int_equal(t.q.n, 1u);      /* ... and the frame sent from a report waits for the next */
+    assert_int_equal(t.q.frame[0].id, 0x7FFu);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.p.n_sent, 3u);
+    assert_int_equal(t.p.sent[2].id, 0x7FFu);
 }
 
 static void test_a_port_without_send_many_sends_at_once(void **state)
 {
     (void)state;
-    rec_port_t p;
-    const fcc_can_port_t port = port_of(&p, false);
-    p.refuse_id = 0x501u;
-    p.refuse_st = FCC_ERR_IO;
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
-    fcc_assert_ok(fcc_can_txq_init(&q));
+    fixture(&t, false);
+    t.p.refuse_id = 0x501u;
+    t.p.refuse_st = FCC_ERR_IO;
     const fcc_can_frame_t a = frame(0x500u);
     const fcc_can_frame_t b = frame(0x501u);
-    fcc_assert_ok(fcc_can_txq_send(&q, &port, &a, 4u, on_done, &r));
-    assert_int_equal(p.send_calls, 1u);
-    assert_int_equal(r.n, 1u);
-    assert_int_equal(fcc_can_txq_send(&q, &port, &b, 5u, on_done, &r), FCC_ERR_IO);
-    assert_int_equal(r.n, 2u);
-    assert_int_equal(r.st[1], FCC_ERR_IO);
-    assert_int_equal(r.tag[1], 5u);
-    assert_int_equal(q.n, 0u);
-    fcc_assert_ok(fcc_can_txq_flush(&q, &port, on_done, &r)); /* nothing waits */
-    assert_int_equal(p.send_calls, 2u);
-    assert_int_equal(p.many_calls, 0u);
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &a, 4u, on_done, &t.r));
+    assert_int_equal(t.p.send_calls, 1u);
+    assert_int_equal(t.r.n, 1u);
+    assert_int_equal(fcc_can_txq_send(&t.q, &t.port, &b, 5u, on_done, &t.r), FCC_ERR_IO);
+    assert_int_equal(t.r.n, 2u);
+    assert_int_equal(t.r.st[1], FCC_ERR_IO);
+    assert_int_equal(t.r.tag[1], 5u);
+    assert_int_equal(t.q.n, 0u);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r)); /* nothing waits */
+    assert_int_equal(t.p.send_calls, 2u);
+    assert_int_equal(t.p.many_calls, 0u);
 }
 
 static void test_bad_arguments(void **state)
 {
     (void)state;
-    rec_port_t p;
-    fcc_can_port_t port = port_of(&p, true);
-    fcc_can_txq_t q;
-    reports_t r;
-    memset(&r, 0, sizeof r);
+    fixture(&t, true);
     const fcc_can_frame_t f = frame(0x600u);
     assert_int_equal(fcc_can_txq_init(NULL), FCC_ERR_ARG);
-    fcc_assert_ok(fcc_can_txq_init(&q));
-    assert_int_equal(fcc_can_txq_send(NULL, &port, &f, 0u, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_send(&q, NULL, &f, 0u, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_send(&q, &port, NULL, 0u, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_send(&q, &port, &f, 0u, NULL, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_flush(NULL, &port, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_flush(&q, NULL, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(fcc_can_txq_flush(&q, &port, NULL, &r), FCC_ERR_ARG);
-    port.send = NULL;
-    assert_int_equal(fcc_can_txq_send(&q, &port, &f, 0u, on_done, &r), FCC_ERR_ARG);
-    assert_int_equal(q.n, 0u);
-    assert_int_equal(r.n, 0u);
-    assert_int_equal(p.many_calls + p.send_calls, 0u);
+    assert_int_equal(fcc_can_txq_send(NULL, &t.port, &f, 0u, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_send(&t.q, NULL, &f, 0u, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_send(&t.q, &t.port, NULL, 0u, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_send(&t.q, &t.port, &f, 0u, NULL, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_flush(NULL, &t.port, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_flush(&t.q, NULL, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(fcc_can_txq_flush(&t.q, &t.port, NULL, &t.r), FCC_ERR_ARG);
+    t.port.send = NULL;
+    assert_int_equal(fcc_can_txq_send(&t.q, &t.port, &f, 0u, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(t.q.n, 0u);
+    assert_int_equal(t.r.n, 0u);
+    assert_int_equal(t.p.many_calls + t.p.send_calls, 0u);
 }
 
 int main(void)

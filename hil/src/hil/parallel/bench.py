@@ -1,7 +1,7 @@
 """Campaigns on several rigs (scripts/bench.d/parallel, scripts/bench.d/table5-1000), run
 from the host shell.
 
-    python -m hil.parallel.bench scaling [--runs 24] [--rounds 2]
+    python -m hil.parallel.bench scaling [--runs 24] [--rounds 2] [--recorder canrec|candump]
         flights/s of the same campaign with 1 and 2 workers, alternated in one run (target:
         2 workers >= 1.7x 1 worker on a 2-core machine), beside the sequential campaign in one
         guest; the engine's own cost per task (Dask round trip of a no-op), the rig hand-over
@@ -61,7 +61,7 @@ def _engine_cost(tasks: int = 2000) -> tuple[float, float]:
     return 1e3 * per, start
 
 
-def scaling(runs: int, rounds: int) -> int:
+def scaling(runs: int, rounds: int, recorder: str = "canrec") -> int:
     rates: dict[str, list[float]] = {"1": [], "2": []}
     steady: dict[str, list[float]] = {"1": [], "2": []}
     handover: list[float] = []
@@ -73,7 +73,7 @@ def scaling(runs: int, rounds: int) -> int:
         for r in range(rounds):
             for w in ("1", "2"):
                 out = root / f"w{w}-{r}"
-                wall, info = _campaign(out, runs, ["--workers", w])
+                wall, info = _campaign(out, runs, ["--workers", w, "--recorder", recorder])
                 p = info["parallel"]
                 rates[w].append(runs / wall)
                 steady[w].append(p["steady_flights_per_s"])
@@ -86,7 +86,7 @@ def scaling(runs: int, rounds: int) -> int:
                 elif csv != ref:
                     print("bench parallel: campaign.csv differs between worker counts", file=sys.stderr)
                     return 1
-        seq_wall, seq_info = _campaign(root / "seq", runs, [], guest=True)
+        seq_wall, seq_info = _campaign(root / "seq", runs, ["--recorder", recorder], guest=True)
         loads.append(_load())
         if (root / "seq" / "campaign.csv").read_bytes() != ref:
             print("bench parallel: the sequential campaign.csv differs", file=sys.stderr)
@@ -112,8 +112,8 @@ def scaling(runs: int, rounds: int) -> int:
         ("Dask per task (no-op, 2 workers, 2000 tasks)", f"{per_task_ms:.2f} ms", "", ""),
         ("Dask local cluster start (2 workers)", f"{start_s:.2f} s", "", ""),
     ]
-    print_table(f"campaign of {runs} flights (seed 3) from the host shell, {rounds} rounds of 1 and 2 "
-                f"workers alternated", rows)
+    print_table(f"campaign of {runs} flights (seed 3, recorder {recorder}) from the host shell, "
+                f"{rounds} rounds of 1 and 2 workers alternated", rows)
     print(f"load average (1, 5, 15 min) before, between and after: {' | '.join(loads)}")
     # N machines of 2 rigs: each rig flies one flight per (rig time + hand-over); the scheduler
     # hands out at most 1 / (its cost per task) tasks per second.
@@ -154,11 +154,13 @@ def main(argv: list[str] | None = None) -> int:
     s = sub.add_parser("scaling")
     s.add_argument("--runs", type=int, default=24)
     s.add_argument("--rounds", type=int, default=2)
+    s.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
+                   help="the campaigns' bus recorder (hil campaign --recorder)")
     t = sub.add_parser("table5")
     t.add_argument("--runs", type=int, default=1000)
     t.add_argument("--workers", type=int, default=2)
     a = p.parse_args(argv)
-    return scaling(a.runs, a.rounds) if a.what == "scaling" else table5(a.runs, a.workers)
+    return scaling(a.runs, a.rounds, a.recorder) if a.what == "scaling" else table5(a.runs, a.workers)
 
 
 if __name__ == "__main__":

@@ -71,7 +71,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
 
 def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
     """A session's flights as Table 5 needs them (CampaignFlight: the symmetric tables by
-    sid_replay, three runs of it per flight -- on the worker, where starting a process is
+    one `sid_replay --all-rows` per flight -- on the worker, where starting a process is
     cheap, not inside the rig's guest)."""
     args = fcc_args([scenario], cfg)
     return SessionDone([(i, t, campaign_flight(i, t, res, args)) for i, t, res in done.flights],

@@ -49,6 +49,13 @@ class ProcessError(RuntimeError):
     """A program could not be started or stopped (one line)."""
 
 
+def proc_stat(pid: int) -> list[bytes]:
+    """The fields of /proc/PID/stat after the command name (state first; proc(5) numbers
+    them from 3): the name, in parentheses, may itself hold spaces and parentheses."""
+    with open(f"/proc/{pid}/stat", "rb") as fh:
+        return fh.read().rsplit(b")", 1)[1].split()
+
+
 def _last_line(path: Path) -> str:
     try:
         lines = [ln.strip() for ln in path.read_text(errors="replace").splitlines() if ln.strip()]
@@ -184,8 +191,7 @@ class BusRecorder:
 
     def _state(self) -> str:
         try:
-            with open(f"/proc/{self.proc.pid}/stat", "rb") as fh:
-                return fh.read().rsplit(b")", 1)[1].split()[0].decode()
+            return proc_stat(self.proc.pid)[0].decode()
         except (OSError, IndexError):
             return "?"
 

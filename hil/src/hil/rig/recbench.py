@@ -28,16 +28,15 @@ from ..faults import load_default_scenario
 from ..progress import bar as progress_bar
 from .apps import CdrwDriver
 from .bench import print_table
+from .processes import RECORDERS, proc_stat
 from .runs import RigConfig, _fly, open_session
 
-RECORDERS = ("candump", "canrec")
 _TICK = os.sysconf("SC_CLK_TCK")
 
 
 def _cpu_s(pid: int) -> float:
-    """User + system CPU seconds of a process so far."""
-    with open(f"/proc/{pid}/stat", "rb") as fh:
-        fields = fh.read().rsplit(b")", 1)[1].split()
+    """User + system CPU seconds of a process so far (utime, stime: proc(5) fields 14, 15)."""
+    fields = proc_stat(pid)
     return (int(fields[11]) + int(fields[12])) / _TICK
 
 
@@ -70,8 +69,8 @@ def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
     cfg = RigConfig(out_dir=out, progress=False, plots=False, recorder=recorder)
     s = Sample(flights=flights)
     with open_session(out, [sc], cfg) as rig:
-        assert rig.candump is not None and rig.fcc is not None
-        rec_pid, fcc_pid = rig.candump.pid, rig.fcc.pid  # type: ignore[union-attr]
+        assert rig.bus_recorder is not None and rig.fcc is not None
+        rec_pid, fcc_pid = rig.bus_recorder.pid, rig.fcc.pid  # type: ignore[union-attr]
         tracer = None
         if strace:
             tracer = subprocess.Popen(["strace", "-c", "-q", "-o", str(out / "strace.txt"),
@@ -85,7 +84,7 @@ def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
             with progress_bar(d.n_steps, False, "") as bar:
                 runner = _fly(rig, [d], cfg, bar, runner)
             s.steps += d.n_steps
-        rig.candump.wait_idle(10.0)  # type: ignore[union-attr]  # it has read the last step
+        rig.bus_recorder.wait_idle(10.0)  # type: ignore[union-attr]  # it has read the last step
         s.wall_s = time.perf_counter() - t0
         s.recorder_s = _cpu_s(rec_pid) - c_rec
         s.fcc_s = _cpu_s(fcc_pid) - c_fcc

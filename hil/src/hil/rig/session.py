@@ -1,11 +1,11 @@
 """One rig session: the bus recorder, the firmware process and the simulator's socket.
 
-    with RigSession(run_dir, fcc_args=[...]) as rig:     # candump, then fcc, then "listening"
+    with RigSession(run_dir, fcc_args=[...]) as rig:     # recorder, then fcc, then "listening"
         ... lockstep or realtime flights (rig.link, rig.codec, rig.send_message) ...
         rig.shutdown()                                     # SIM_CONTROL shutdown, fcc exits 0
 
-Order matters: the socket is opened first (so fcc's first heartbeat is seen), then candump
-(its readiness is proven by a RIG_PING it has written to bus.log), then fcc (ready when its
+Order matters: the socket is opened first (so fcc's first heartbeat is seen), then the bus
+recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
 bus.log and fcc.log.
 """
@@ -119,7 +119,7 @@ def step_errors(fcc_log: Path) -> dict[str, int]:
 
 
 class RigSession:
-    """candump + fcc + the simulator's socket, for the duration of a ``with`` block."""
+    """Bus recorder + fcc + the simulator's socket, for the duration of a ``with`` block."""
 
     def __init__(self, run_dir: Path, fcc_args: Sequence[str], *, iface: str = "vcan0",
                  fcc_binary: Path | None = None, spec: BusSpec | None = None,
@@ -190,7 +190,7 @@ class RigSession:
         self._prepare = prepare
         self.prepared: object = None
         self.link: CanLink | None = None
-        self.candump: BusRecorder | LinkRecorder | None = None
+        self.bus_recorder: BusRecorder | LinkRecorder | None = None
         #: why bus.log is incomplete, when the recorder said so (e.g. frames it lost)
         self.recorder_error = ""
         self.fcc: Device | None = None
@@ -225,7 +225,7 @@ class RigSession:
                                 bitrate=self.bitrate, log_path=log)
             t_open = time.monotonic()
             if self.record:
-                self._start_candump() if socketcan else self._start_link_recorder()
+                self._start_recorder() if socketcan else self._start_link_recorder()
             if self._prepare is not None:  # frames meanwhile wait in the socket's queue
                 self.prepared = self._prepare(self)
             if self.target != "external":  # an external device is on the bus by design
@@ -242,9 +242,9 @@ class RigSession:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _start_candump(self) -> None:
+    def _start_recorder(self) -> None:
         rec = RECORDERS[self.recorder](self.iface, self.run_dir / "bus.log")
-        self.candump = rec
+        self.bus_recorder = rec
         if not rec.wait_idle(STARTUP_TIMEOUT_S):
             if not rec.alive():
                 raise RigError(f"{rec.label} stopped: {rec.error()}")
@@ -268,7 +268,7 @@ class RigSession:
 
     def _start_link_recorder(self) -> None:
         assert self.link is not None
-        self.candump = LinkRecorder(self.link)
+        self.bus_recorder = LinkRecorder(self.link)
 
     def _wait_listening(self) -> None:
         """Until the device's first authenticated heartbeat: it has opened its socket, listens,
@@ -415,10 +415,10 @@ class RigSession:
             self._close_link()
 
     def _stop_recorder(self) -> None:
-        if self.candump is None:
+        if self.bus_recorder is None:
             return
         marker = None
-        if self.link is not None:  # the end marker: candump has seen everything before it
+        if self.link is not None:  # the end marker: the recorder has seen everything before it
             ping = self.spec.by_name("RIG_PING")
             data = ping.encode({"seq": END_MARKER_SEQ, "t_send_us": 0})
             try:
@@ -426,10 +426,10 @@ class RigSession:
                     marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()
             except (OSError, LinkError):  # the interface is down: the log ends where it ends
                 marker = None
-        candump, self.candump = self.candump, None
-        self.log_complete = candump.stop(marker)
-        if not self.log_complete and isinstance(candump, BusRecorder):
-            self.recorder_error = candump.error()
+        recorder, self.bus_recorder = self.bus_recorder, None
+        self.log_complete = recorder.stop(marker)
+        if not self.log_complete and isinstance(recorder, BusRecorder):
+            self.recorder_error = recorder.error()
 
     def _close_link(self) -> None:
         if self._key_dir is not None:

@@ -95,6 +95,17 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
+class _VersionAction(argparse.Action):
+    """--version, looked up only when asked (importlib.metadata costs 0.1 s in the UML guest)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kw: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="show the version and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(f"{parser.prog} {_version()}")
+        parser.exit()
+
+
 def _add_paths(p: argparse.ArgumentParser) -> None:
     """--dbc and --fcc: where the bus contract and the firmware are (installed use)."""
     p.add_argument("--dbc", type=Path, metavar="PATH",
@@ -186,7 +197,7 @@ def _parallel(args: argparse.Namespace) -> dict[str, object] | None:
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
-    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
+    p.add_argument("--version", action=_VersionAction)
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
@@ -293,7 +304,7 @@ def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int
 
 
 def _config(args: argparse.Namespace, stage: Path):
-    from .rig.runs import RigConfig
+    from .rig.flight import RigConfig
 
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -339,7 +350,7 @@ def _staged(args: argparse.Namespace, out: Path, runner) -> list:
 
 # ---- commands -------------------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
-    from .rig.runs import run_flight
+    from .rig.flight import run_flight
 
     sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
     out = Path(str(args.out).replace("<aircraft>", args.aircraft))

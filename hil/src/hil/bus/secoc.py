@@ -17,12 +17,13 @@ The MAC is computed by the ``cryptography`` package (OpenSSL), independent of th
 from __future__ import annotations
 
 import enum
-import secrets
+import os
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from cryptography.hazmat.primitives.cmac import CMAC
+from cryptography.hazmat.primitives.constant_time import bytes_eq
 from cryptography.hazmat.primitives.ciphers import algorithms
 
 KEY_BYTES = 16
@@ -74,7 +75,7 @@ def read_key_file(path: str | Path) -> bytes:
 
 def write_key_file(path: Path, key: bytes | None = None) -> bytes:
     """Write a new random (or the given) key, readable by the owner only."""
-    key = key if key is not None else secrets.token_bytes(KEY_BYTES)
+    key = key if key is not None else os.urandom(KEY_BYTES)
     path.touch(mode=0o600, exist_ok=True)
     path.chmod(0o600)
     path.write_text("# AES-128 key of one rig session (SecOC-style bus authentication)\n"
@@ -150,7 +151,7 @@ class Receiver:
             return Verdict.NO_PDU, None
         fv = (self.trip << 32) | cand
         for i, pdu in enumerate(self.held):
-            if secrets.compare_digest(mac(self.key, self.data_id, pdu, fv), bytes(auth[2:8])):
+            if bytes_eq(mac(self.key, self.data_id, pdu, fv), bytes(auth[2:8])):
                 self.counters.unpaired += i
                 for _ in range(i + 1):
                     self.held.popleft()

@@ -8,7 +8,7 @@ import math
 import typing
 from typing import Any
 
-from ..sensors import SIGNALS
+from ..sensor_options import SIGNALS
 from .model import KINDS, Fault
 
 #: the unit of each field, by name (sensor values are in the signal's unit)

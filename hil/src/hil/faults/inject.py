@@ -14,10 +14,19 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from .model import Fault, SensorFault
+
+if TYPE_CHECKING:
+    import numpy as np
+
+
+def random_stream(seed: int, stream: int) -> np.random.Generator:
+    """numpy's generator of one named stream of a scenario seed (imported here, when a
+    stream is first needed: the rig's bus side runs without numpy, hil.offload)."""
+    import numpy as np
+    return np.random.default_rng([int(seed), stream])
 
 
 @dataclass(frozen=True)
@@ -71,7 +80,7 @@ class SensorFaultInjector:
     def __init__(self, faults: Iterable[Fault], seed: int) -> None:
         self.faults = tuple(f for f in faults if isinstance(f, SensorFault))
         self.timeline = FaultTimeline(self.faults)
-        self._rng = np.random.default_rng([int(seed), 0x6661])  # own stream: "fa"
+        self._rng = random_stream(seed, 0x6661)  # own stream: "fa"
         self._held: dict[int, float] = {}       # fault index -> reading held at its start
         self._last: dict[str, float] = {}       # signal -> last delivered reading
 

@@ -13,9 +13,10 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
-import numpy as np
+if TYPE_CHECKING:  # hints only: the rig's bus side imports the faults without numpy (hil.offload)
+    import numpy as np
 
 from .schema import spec
 

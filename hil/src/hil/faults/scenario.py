@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..sensors import SIGNALS, CdrwSensorOptions, MissileSensorOptions
+from ..sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from .model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from .schema import ScenarioError, build
 

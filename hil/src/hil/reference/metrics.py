@@ -23,8 +23,18 @@ def rows_to_arrays(rows: Iterable[Mapping[str, object]]) -> dict[str, dict[str, 
 
 
 def read_rows(text: str) -> dict[str, dict[str, np.ndarray]]:
-    """sid_replay output -> {filter: {column: array}} (numeric columns)."""
-    return rows_to_arrays(csv.DictReader(io.StringIO(text)))
+    """sid_replay output -> {filter: {column: array}} (numeric columns), as rows_to_arrays
+    gives it, but a filter's rows converted at once (a row at a time is 4x slower)."""
+    reader = csv.reader(io.StringIO(text))
+    header = next(reader, None)
+    if header is None:
+        return {}
+    col = header.index("filter")
+    names = [h for i, h in enumerate(header) if i != col]
+    rows: dict[str, list[list[str]]] = {}
+    for row in reader:
+        rows.setdefault(row[col], []).append(row[:col] + row[col + 1:])
+    return {f: dict(zip(names, np.array(r, dtype=float).T)) for f, r in rows.items()}
 
 
 def _estimate(est: Mapping[str, np.ndarray]) -> np.ndarray:

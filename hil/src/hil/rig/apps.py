@@ -19,15 +19,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..bus import FrameCodec
 from ..faults import FaultEvent, Scenario, SensorFault
 from ..faults.scenario import SENSOR_FRAMES
-from ..plants.cdrw_flight import CdrwSample, CdrwSimulation
-from ..plants.missile_runs import MissileSimulation
 from .inject import KIND_CODES, FrameInjector, TxFrame
+
+if TYPE_CHECKING:
+    from ..plants.cdrw_flight import CdrwSample
 
 APP_CDRW = 0
 APP_MISSILE = 1
@@ -100,6 +100,18 @@ class AppDriver:
         self.events: list[FaultEvent] = []
         self._fault_index = {id(f): i for i, f in enumerate(scenario.faults)}
 
+    def __getstate__(self) -> dict[str, object]:
+        """A driver crossing between the host and the guest (hil.offload) leaves its codec
+        behind: each side has its own (attach)."""
+        state = self.__dict__.copy()
+        state["codec"] = None
+        return state
+
+    def attach(self, codec: FrameCodec) -> None:
+        """This side's codec, after the driver has crossed."""
+        self.codec = codec
+        self.injector.attach(codec)
+
     @property
     def done(self) -> bool:
         return self.k >= self.n_steps
@@ -140,6 +152,7 @@ class CdrwDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
+        from ..plants.cdrw_flight import CdrwSimulation  # numpy: the host's side (hil.offload)
         self.sim = CdrwSimulation(scenario)
         super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
                          realtime, oracle)
@@ -147,9 +160,11 @@ class CdrwDriver(AppDriver):
         self.steps: list[StepIO] = []
         self._frames: list[list[TxFrame]] = []
         self._events: list[list[Message]] = []
+        self._fault_active: list[bool] = []
         for _ in range(self.n_steps):  # open loop: the flight does not depend on fcc
             s = self.sim.step()
             self.samples.append(s)
+            self._fault_active.append(bool(s.fault_active))
             events = list(s.events) + self.injector.update(s.t)
             # SIM_EVENT is encoded when sent: its alive counter is shared with the other app
             self._events.append(self._event_messages(s.k, events, s.fault_active))
@@ -165,9 +180,20 @@ class CdrwDriver(AppDriver):
                 msgs.append((frame, {"step": step, field_name: v}))
         return msgs
 
+    def __getstate__(self) -> dict[str, object]:
+        """The guest flies the frames; the simulation and its samples stay on the host, for
+        the evaluation (restore)."""
+        state = super().__getstate__()
+        state.update(sim=None, samples=[])
+        return state
+
+    def restore(self, full: CdrwDriver) -> None:
+        """The simulation and samples of the driver this one was pickled from."""
+        self.sim, self.samples = full.sim, full.samples
+
     def frames_for_step(self) -> list[TxFrame]:
         k = self.k
-        self.oracle.value = self.samples[k].fault_active
+        self.oracle.value = self._fault_active[k]
         if not self._events[k]:
             return self._frames[k]
         return self.injector.outgoing(k * self.period, self._events[k], extras=False) + self._frames[k]
@@ -187,6 +213,8 @@ class MissileDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
+        import numpy as np  # the missile's loop is closed through the bus: numpy flies too
+        from ..plants.missile_runs import MissileSimulation
         self.sim = MissileSimulation(scenario)
         super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES,
                          realtime, oracle)

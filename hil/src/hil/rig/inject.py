@@ -36,8 +36,7 @@ import math
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from ..bus import FrameCodec
 from ..bus.dbc import MessageSpec, SignalSpec
@@ -45,7 +44,11 @@ from ..bus.e2e import counter_of, protect
 from ..faults import (BadCrc, CounterFreeze, CounterJump, Fault, FaultEvent, FaultTimeline,
                       Flood, FrameDelay, FrameDuplicate, FrameLoss, FrameReplay, OutOfRange,
                       Silence, WrongDlc)
+from ..faults.inject import random_stream
 from ..faults.model import KINDS
+
+if TYPE_CHECKING:
+    import numpy as np
 
 #: SIM_EVENT.kind of each fault kind (0 = none): position in hil.faults.model.KINDS, from 1
 KIND_CODES: dict[str, int] = {k: i + 1 for i, k in enumerate(KINDS)}
@@ -106,7 +109,8 @@ class FrameInjector:
                                      f"message and signal = one of its data signals")
         self.star = frozenset(star_frames)
         self.timeline = FaultTimeline(self.faults)
-        self._rng = np.random.default_rng([int(seed), 0x6672])  # own stream: "fr"
+        self._seed = int(seed)
+        self._rng_made: np.random.Generator | None = None
         self._frozen: dict[int, int] = {}                 # fault index -> frozen counter
         self._history: dict[str, deque[tuple[float, bytes]]] = {}
         self._delayed: list[tuple[float, int, TxFrame]] = []   # (due, order, frame)
@@ -114,6 +118,23 @@ class FrameInjector:
         self._flood_sent: dict[int, int] = {}             # fault index -> frames so far
         self.counts = {"encoded": 0, "sent": 0, "dropped": 0, "flood": 0, "delayed": 0,
                        "duplicated": 0, "replayed": 0, "corrupted": 0}
+
+    def __getstate__(self) -> dict[str, object]:
+        state = self.__dict__.copy()
+        state.update(codec=None, spec=None)   # each side of hil.offload has its own (attach)
+        return state
+
+    def attach(self, codec: FrameCodec) -> None:
+        self.codec = codec
+        self.spec = codec.spec
+
+    @property
+    def _rng(self) -> np.random.Generator:
+        """The stream of the faults' probabilities ("fr"), made at the first draw: a flight
+        whose faults never draw flies without numpy (hil.offload)."""
+        if self._rng_made is None:
+            self._rng_made = random_stream(self._seed, 0x6672)
+        return self._rng_made
 
     @property
     def log(self) -> list[FaultEvent]:

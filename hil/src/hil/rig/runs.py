@@ -17,159 +17,39 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import platform
 import shlex
 import sys
 import time
-from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .. import metrics
+from .. import metrics, offload
 from ..bus import load
 from ..bus.candump import LogFrame, read_log
 from ..faults import Scenario, ScenarioError, with_fault_start
 from ..plants.options import LqgOptions
 from ..progress import bar as progress_bar
-from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+from .apps import AppDriver, CdrwDriver, MissileDriver
 from .budget import check_memory
 from .buslog import iter_flights, split_flights
-from .lockstep import LockstepRunner
+# (FCC_RT_PRIORITY, RigConfig, run_flight...: imported from here too, as before hil.rig.flight)
+from .flight import (FCC_RT_PRIORITY, Flown, Outcome, RigConfig, _fly, _require_log,  # noqa: F401
+                     _run_info, check_missile, fcc_args, open_session, run_flight)
 from .output import write_csv, write_json
 from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
                       missile_open_loop, missile_result)
 from . import rowtables
 from .report import firmware_summary, summary_tables
 from .rundir import atomic_write_text, published_path
-from .session import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession
+from .session import RigError, RigSession
 from .simtime import finish_bus_log
-from .targets import TARGETS
 
-MODES = ("lockstep", "realtime")
 #: scripts/with-vcan: a file of commands to run on the host after the guest (defer_plots)
 AFTER_ENV = "WITH_VCAN_AFTER"
-#: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
-#: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
-FCC_RT_PRIORITY = 50
-#: the LQG periods fcc accepts (firmware/app/README.md)
-FCC_PERIOD_RANGE = (0.02, 0.3)
-
-
-@dataclass
-class RigConfig:
-    out_dir: Path
-    iface: str = "vcan0"
-    mode: str = "lockstep"
-    timeout: float = 2.0
-    fcc_args: tuple[str, ...] = ()
-    rows: str = "paper"            # CDRW: which estimate fcc reports (fcc --rows)
-    progress: bool = True
-    plots: bool = True
-    fcc_binary: Path | None = None
-    log_format: str = "log"
-    #: the device under test (hil.rig.targets) and python-can's bus of the simulator
-    target: str = "host"
-    interface: str = "socketcan"
-    bitrate: int | None = None
-    key_file: Path | None = None   # None: a random key for each session
-    #: the bus recorder of a SocketCAN session (hil.rig.processes.RECORDERS)
-    recorder: str = "candump"
-
-    def __post_init__(self) -> None:
-        if self.mode not in MODES:
-            raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
-        if self.target not in TARGETS:
-            raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {self.target!r}")
-
-
-@dataclass
-class Outcome:
-    """What a command produced: the summary (as written) and the text tables to print."""
-
-    out_dir: Path
-    summary: dict[str, Any]
-    tables: list[str] = field(default_factory=list)
-
-
-# ---- session helpers ------------------------------------------------------------------------
-def check_missile(sc: Scenario) -> None:
-    lo, hi = FCC_PERIOD_RANGE
-    assert sc.lqg is not None
-    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
-        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
-                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
-
-
-def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
-    """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
-    names = list(apps) if apps else [sc.aircraft for sc in scenarios]
-    args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
-    for sc in scenarios:
-        if sc.aircraft == "missile":
-            assert sc.lqg is not None
-            check_missile(sc)
-            delay = sc.lqg.resolved_delay(cfg.mode == "realtime")
-            args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
-                     "--lqg-delay", f"{delay:.6g}",
-                     "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
-                     "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
-    if cfg.rows != "paper":
-        args += ["--rows", cfg.rows]
-    if cfg.mode == "realtime" and cfg.target == "host":  # as on a flight computer (refused
-        args += ["--rt-priority", str(FCC_RT_PRIORITY)]   # without privilege: one line); the
-        # image has no scheduler to ask (firmware/target/README.md: not applicable)
-    return args + list(cfg.fcc_args)
-
-
-def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
-                 prepare: Callable[[RigSession], object] | None = None) -> RigSession:
-    """The rig session of a command: its target, its bus, the device's configuration."""
-    return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                      target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
-                      mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file,
-                      recorder=cfg.recorder, prepare=prepare)
-
-
-def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
-    """(period, bits) for the first reset: a device not configured by its command line (the
-    emulated image, an external device) gets the missile's design through SIM_CONTROL."""
-    if rig.fcc is None or rig.fcc.configured_by_args:
-        return 0.0, 0
-    for sc in scenarios:
-        if sc.aircraft == "missile":
-            assert sc.lqg is not None
-            return sc.lqg.period, sc.lqg.bits
-    return 0.0, 0
-
-
-def make_driver(sc: Scenario, rig: RigSession, cfg: RigConfig, oracle: OracleFlag | None = None) -> AppDriver:
-    rt = cfg.mode == "realtime"
-    cls = CdrwDriver if sc.aircraft == "cdrw" else MissileDriver
-    return cls(sc, rig.codec, rt, oracle)
-
-
-def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
-         runner: Any = None, period: float = 0.0, bits: int = 0) -> Any:
-    """One flight, fcc on the ground before and after it: SIM_CONTROL reset (and a new LQG
-    design when period/bits are given; it is also the flight boundary in bus.log), FLIGHT,
-    the steps, GROUND (fcc accepts resets and designs on the ground only)."""
-    rig.control(COMMAND_RESET, period, bits)
-    try:
-        if cfg.mode == "lockstep":
-            rig.control(COMMAND_FLIGHT)
-            r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
-            r.fly(drivers)
-            return r
-        from .realtime import RealtimeRunner
-        rt = runner or RealtimeRunner(rig, progress=bar.update)
-        rt.fly(drivers)   # FLIGHT goes out just before the first sampling instant
-        return rt
-    finally:
-        if rig.fcc is not None and rig.fcc.poll() is None and rig.link is not None:
-            rig.control(COMMAND_GROUND)
 
 
 def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
@@ -189,34 +69,6 @@ def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None
         n = sum(seen.pop(i, 0) for i in mine)
         d.injector.counts["flood"] += n
         d.injector.counts["sent"] += n
-
-
-def _require_log(rig: RigSession) -> None:
-    if not rig.log_complete:
-        why = rig.recorder_error or "the recorder did not catch up with the bus"
-        raise RigError(f"bus.log: {why}; fcc's outputs are read from that log, so the run is "
-                       f"not evaluated")
-
-
-def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
-              extra: dict[str, Any] | None = None) -> dict[str, Any]:
-    st = rig.status
-    info: dict[str, Any] = {
-        "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
-        "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
-        "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
-        "python": platform.python_version(), "heartbeats": st.heartbeats,
-        "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
-        "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
-        "secured_frames_verified": rig.security.counters()["verified"],
-        "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
-                 "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
-    }
-    if runner is not None:
-        info.update(runner.timing())
-    if extra:
-        info.update(extra)
-    return info
 
 
 def _cdrw_block(res: CdrwResult, spec: Any, args: Sequence[str], paper: bool) -> dict[str, Any]:
@@ -299,33 +151,27 @@ def _report(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
 
 
 # ---- commands --------------------------------------------------------------------------------
-def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run") -> Outcome:
-    """One flight of one or both aircraft (interleaved in one fcc when both)."""
+def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str, flown: Flown) -> Outcome:
+    """A flight's results from its bus log and its drivers (hil.rig.flight.run_flight): the
+    CSVs, faults.log, summary.json, run_info.json, the finished bus log, the tables."""
     out = cfg.out_dir
-    if len({sc.aircraft for sc in scenarios}) != len(scenarios):
-        raise ValueError("one scenario per aircraft")
-    check_memory(scenarios)
-    t0 = time.perf_counter()
-    oracle = OracleFlag()
-    with open_session(out, scenarios, cfg,
-                      lambda rig: [make_driver(sc, rig, cfg, oracle) for sc in scenarios]) as rig:
-        drivers: list[AppDriver] = rig.prepared  # type: ignore[assignment]
-        with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
-            runner = _fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
-        rig.shutdown()
-    _require_log(rig)
+    drivers = flown.drivers
+    if flown.kept is not None:  # drivers that crossed from the host: their samples stayed here
+        for d, full in zip(drivers, offload.take(flown.kept)):
+            d.restore(full)
+    spec = load()
     log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
     flights = split_flights(log)
     if cfg.mode == "realtime":
         count_babbled(log, drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
-                               "firmware": firmware_summary(rig.status, rig.security.counters())}
+                               "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []
     for d in drivers:
         if isinstance(d, CdrwDriver):
-            res = cdrw_result(rig.spec, cdrw_record(d), flights[0])
+            res = cdrw_result(spec, cdrw_record(d), flights[0])
             _write_cdrw(out, res)
-            summary["cdrw"] = _cdrw_block(res, rig.spec, fcc_args(scenarios, cfg),
+            summary["cdrw"] = _cdrw_block(res, spec, fcc_args(scenarios, cfg),
                                           is_paper_scenario(d.scenario))
             fault_log.append(("cdrw     ", res.events))
         else:
@@ -337,13 +183,12 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
             summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
             fault_log.append(("missile  ", mres.events))
     _write_fault_log(out, fault_log)
-    extra = None
-    if cfg.mode == "realtime" and any(isinstance(d, MissileDriver) for d in drivers):
-        extra = {"realtime": _realtime_timing(out, rig, [d for d in drivers if isinstance(d, MissileDriver)][0],
-                                              runner)}
-        summary["realtime"] = extra["realtime"]
+    info = dict(flown.info)
+    missiles = [d for d in drivers if isinstance(d, MissileDriver)]
+    if cfg.mode == "realtime" and missiles:
+        info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
     write_json(out / "summary.json", summary)
-    write_json(out / "run_info.json", _run_info(rig, cfg, runner, time.perf_counter() - t0, extra))
+    write_json(out / "run_info.json", info)
     return _finish(cfg, out, summary, step_periods(scenarios), log)
 
 
@@ -360,24 +205,24 @@ def is_paper_scenario(sc: Scenario) -> bool:
         and [f.describe() for f in sc.faults] == [f.describe() for f in ref.faults]
 
 
-def _realtime_timing(out: Path, rig: RigSession, d: MissileDriver, runner: Any) -> dict[str, Any]:
+def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any]:
     """Offset, jitter and data age of a realtime missile flight (hil.rig.timing), and the
     samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
     slack and its transmitter's send lateness."""
     from . import timing
-    t = timing.bus_timing(out / "bus.log", rig.spec, d.period)
+    t = timing.bus_timing(out / "bus.log", load(), d.period)
     timing.write_csv(out / timing.CSV_NAME, t)
     log = out / "fcc.log"
     rep = timing.summarise(t, log.read_text(errors="replace") if log.is_file() else "")
-    st = rig.status
+    st = flown.status
     rep["sync_status"] = {k.split(".", 1)[1]: v for k, v in st.values.items()
                           if k.startswith("FCC_SYNC_STATUS.")}
     rep["delay_s"] = d.delay
     rep["commands_late"] = d.cmd_late
-    t = runner.timing()
+    t = flown.timing
     rep["simulator"] = {"late_steps": t["sim_late_steps"], "steps": t["realtime_steps"],
                         "handover_slack_ms": t["sim_handover_slack_ms"],
-                        "stale_frames": t["sim_stale_frames"], "transmitter": rig.transmitter_stats}
+                        "stale_frames": t["sim_stale_frames"], "transmitter": flown.transmitter}
     return rep
 
 

@@ -11,8 +11,8 @@ bus.log and fcc.log.
 """
 from __future__ import annotations
 
+import os
 import re
-import secrets
 import shutil
 import tempfile
 import time
@@ -176,7 +176,7 @@ class RigSession:
             # The rig launches fcc, so it chooses fcc's trip (the high half of every freshness
             # value) and knows it from the start: a heartbeat recorded in another session, even
             # under the same key, never verifies (dbc/README.md, "Authentication").
-            self.security.set_trip(secrets.randbits(32) or 1)
+            self.security.set_trip(int.from_bytes(os.urandom(4), "little") or 1)
             self.fcc_args = ["--key-file", str(key_file), "--trip", str(self.security.trip),
                              *self.fcc_args]
         elif target == "qemu-m4f":

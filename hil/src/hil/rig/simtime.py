@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import replace
 from pathlib import Path
 
 from ..bus.busload import worst_case_bits
@@ -65,7 +64,8 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
         if not (plain and WALL_PACED[0] <= f.frame_id <= WALL_PACED[1]):
             bits = 0 if (f.fd or f.error) else worst_case_bits(0 if f.remote else len(data), f.extended)
             bus_free = t + bits / baudrate
-        yield replace(f, timestamp=round(t, 6))
+        # (not dataclasses.replace: 4x slower, and a log has thousands of frames)
+        yield LogFrame(round(t, 6), f.channel, f.frame_id, data, f.extended, f.remote, f.error, f.fd)
 
 
 def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: str,

@@ -22,10 +22,6 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from cryptography.hazmat.primitives.cmac import CMAC
-from cryptography.hazmat.primitives.constant_time import bytes_eq
-from cryptography.hazmat.primitives.ciphers import algorithms
-
 KEY_BYTES = 16
 MAC_BYTES = 6
 FV_TRUNC_BITS = 16
@@ -39,8 +35,17 @@ class KeyFileError(ValueError):
     """A key file that cannot be used (one line for the user)."""
 
 
+def load_cmac() -> None:
+    """Import the CMAC (cryptography's library: 0.09 s in the UML guest, so the rig session
+    imports it while it listens to the bus, hil.rig.session; else the first MAC does)."""
+    from cryptography.hazmat.primitives import cmac as _cmac  # noqa: F401
+    from cryptography.hazmat.primitives.ciphers import algorithms as _algorithms  # noqa: F401
+
+
 def cmac(key: bytes, data: bytes) -> bytes:
     """The full 16-byte AES-128-CMAC of data."""
+    from cryptography.hazmat.primitives.ciphers import algorithms
+    from cryptography.hazmat.primitives.cmac import CMAC
     c = CMAC(algorithms.AES(key))
     c.update(data)
     return c.finalize()
@@ -49,6 +54,15 @@ def cmac(key: bytes, data: bytes) -> bytes:
 def mac(key: bytes, data_id: int, pdu: bytes, fv: int) -> bytes:
     """The truncated MAC: first MAC_BYTES of the CMAC over data ID | pdu | FV."""
     return cmac(key, data_id.to_bytes(2, "big") + bytes(pdu) + fv.to_bytes(8, "big"))[:MAC_BYTES]
+
+
+def same_mac(a: bytes, b: bytes) -> bool:
+    """a == b in a time that does not depend on where they differ (what hmac.compare_digest
+    does; hmac would load OpenSSL's libcrypto beside cryptography's own, 50 ms in the guest)."""
+    diff = len(a) ^ len(b)
+    for x, y in zip(a, b):
+        diff |= x ^ y
+    return diff == 0
 
 
 def authenticator(key: bytes, data_id: int, pdu: bytes, trip: int, counter: int) -> bytes:
@@ -151,7 +165,7 @@ class Receiver:
             return Verdict.NO_PDU, None
         fv = (self.trip << 32) | cand
         for i, pdu in enumerate(self.held):
-            if bytes_eq(mac(self.key, self.data_id, pdu, fv), bytes(auth[2:8])):
+            if same_mac(mac(self.key, self.data_id, pdu, fv), bytes(auth[2:8])):
                 self.counters.unpaired += i
                 for _ in range(i + 1):
                     self.held.popleft()

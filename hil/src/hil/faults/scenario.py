@@ -22,7 +22,6 @@ the file (or "command line"), the fault (its index and kind) and the field.
 from __future__ import annotations
 
 import dataclasses
-import importlib.resources
 import math
 import tomllib
 from collections.abc import Collection, Iterable, Mapping
@@ -33,6 +32,9 @@ from typing import TYPE_CHECKING, Any
 from ..sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from .model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from .schema import ScenarioError, build
+
+#: the embedded scenarios (package data, beside the packaged DBC)
+PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 if TYPE_CHECKING:  # imported lazily below: hil.plants.options itself uses hil.faults.schema
     from ..plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
@@ -257,8 +259,7 @@ def default_scenario_text(aircraft: str) -> str:
     """The embedded default scenario file of an aircraft, as text."""
     if aircraft not in AIRCRAFT:
         raise ScenarioError(f"no default scenario for aircraft {aircraft!r} (one of: {', '.join(AIRCRAFT)})")
-    res = importlib.resources.files("hil").joinpath("scenarios", f"{aircraft}_default.toml")
-    return res.read_text(encoding="utf-8")
+    return (PACKAGED_SCENARIOS / f"{aircraft}_default.toml").read_text(encoding="utf-8")
 
 
 def load_default_scenario(aircraft: str, known_frames: Collection[str] | None = None) -> Scenario:

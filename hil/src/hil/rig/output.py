@@ -20,11 +20,12 @@ import numpy as np
 from .rundir import atomic_write_text
 
 
-def _cell(v: Any) -> str:
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    x = float(v)
-    return "nan" if math.isnan(x) else repr(x)
+def _cells(column: np.ndarray) -> list[str]:
+    """A column's cells: integers as they are, everything else as floats at full precision
+    (a column at a time: a cell at a time is 3x slower)."""
+    if column.dtype.kind in "iu":
+        return [str(v) for v in column.tolist()]
+    return ["nan" if math.isnan(x) else repr(x) for x in map(float, column.tolist())]
 
 
 def write_csv(path: Path, columns: Mapping[str, np.ndarray]) -> Path:
@@ -37,8 +38,7 @@ def write_csv(path: Path, columns: Mapping[str, np.ndarray]) -> Path:
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(names)
-    for row in zip(*arrays):
-        w.writerow([_cell(v) for v in row])
+    w.writerows(zip(*(_cells(a) for a in arrays)))
     return atomic_write_text(path, buf.getvalue(), encoding="ascii")
 
 

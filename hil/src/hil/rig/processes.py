@@ -39,8 +39,18 @@ def _die_with_parent(parent: int) -> Callable[[], None] | None:
     return preexec
 
 
+#: util-linux's setpriv sets the parent-death signal and execs the command
+SETPRIV = shutil.which("setpriv")
+
+
 def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
-    """subprocess.Popen for a rig child: own process group, killed when the rig dies."""
+    """subprocess.Popen for a rig child: own process group, killed when the rig dies.
+
+    Through `setpriv --pdeathsig KILL` where it exists: a preexec_fn makes Python fork
+    instead of vfork, and in the UML guest forking the rig costs ~105 ms, vfork and the one
+    exec more ~55 ms (measured, 5 starts each)."""
+    if SETPRIV is not None and sys.platform.startswith("linux"):
+        return subprocess.Popen([SETPRIV, "--pdeathsig", "KILL", "--", *cmd], process_group=0, **kw)
     return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),
                             **kw)
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import re
 import subprocess
+import tempfile
 from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from typing import Any
@@ -79,23 +80,39 @@ def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
                      for v in values])
 
 
-def replay(spec: BusSpec, series: Mapping[str, np.ndarray],
-           sid_args: Sequence[str] = ()) -> dict[str, dict[str, dict[str, np.ndarray]]]:
-    """{row mode: {filter: columns}}: `sid_replay --all-rows` on the flight's readings as fcc
-    received them (one process for the three modes: starting one costs ~0.1 s in the guest)."""
-    csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
-                  _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
-                  [int(f) for f in series["fault"]])
-    cmd = [str(tool("sid_replay")), "--all-rows", *sid_args]
-    r = subprocess.run(cmd, input=csv, capture_output=True, text=True, timeout=120)
-    if r.returncode != 0:
-        msg = (r.stderr.strip().splitlines() or ["no message"])[0]
-        raise RuntimeError(f"sid_replay --all-rows: exit {r.returncode}: {msg}")
-    out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
-    for name, cols in read_rows(r.stdout).items():
-        mode, _, filt = name.partition("/")
-        out[mode][filt] = cols
-    return out
+class Replay:
+    """`sid_replay --all-rows` on the flight's readings as fcc received them (one process for
+    the three modes: starting one costs ~0.1 s in the guest), running while the caller does
+    other work; result() waits for it: {row mode: {filter: columns}}."""
+
+    def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
+                 sid_args: Sequence[str] = ()) -> None:
+        csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
+                      _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
+                      [int(f) for f in series["fault"]])
+        # files, not pipes: the output (~0.3 MB) would fill a pipe and stop sid_replay until read
+        self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()
+        self._input.write(csv.encode("ascii"))
+        self._input.seek(0)
+        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", *sid_args],
+                                      stdin=self._input, stdout=self._output, stderr=subprocess.PIPE)
+
+    def result(self) -> dict[str, dict[str, dict[str, np.ndarray]]]:
+        try:
+            _, err = self._proc.communicate(timeout=120)
+            self._output.seek(0)
+            text = self._output.read().decode("ascii")
+        finally:
+            self._input.close()
+            self._output.close()
+        if self._proc.returncode != 0:
+            msg = (err.decode(errors="replace").strip().splitlines() or ["no message"])[0]
+            raise RuntimeError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
+        out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
+        for name, cols in read_rows(text).items():
+            mode, _, filt = name.partition("/")
+            out[mode][filt] = cols
+        return out
 
 
 def mode_tables(series: Mapping[str, np.ndarray], est: Mapping[str, Mapping[str, np.ndarray]],
@@ -116,23 +133,25 @@ def mode_tables(series: Mapping[str, np.ndarray], est: Mapping[str, Mapping[str,
 
 
 def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray]]:
-    """fcc's own rows of a flight (the run's series) in replay()'s layout."""
+    """fcc's own rows of a flight (the run's series) in Replay.result()'s layout."""
     cols = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
     return {f: {c: np.asarray(series[f"{f}_{c}"]) for c in cols} for f in FILTERS}
 
 
 def symmetric_tables(spec: BusSpec, series: Mapping[str, np.ndarray], dt: float, flown: str,
-                     sid_args: Sequence[str] = ()) -> tuple[dict[str, Any], dict[str, float]]:
+                     sid_args: Sequence[str] = (), started: Replay | None = None
+                     ) -> tuple[dict[str, Any], dict[str, float]]:
     """({mode: mode_tables} for prior and posterior, replay_check).  The mode fcc flew is
     taken from fcc's rows; the others from the replay.  replay_check: the largest
     |replay - fcc| of the estimates in fcc's own mode (NaN rows left out).  When sid_replay
     refuses the flight (e.g. shorter than the MLS window) the tables are empty and
-    replay_check says why ("not_computed")."""
+    replay_check says why ("not_computed").  started: the Replay of this flight, when the
+    caller started it earlier."""
     tables: dict[str, Any] = {}
     if flown not in ROW_MODES:
         raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {flown!r}")
     try:
-        replays = replay(spec, series, sid_args)
+        replays = (started or Replay(spec, series, sid_args)).result()
     except RuntimeError as e:
         return {}, {"rows": flown, "not_computed": str(e)}
     for mode in SYMMETRIC:

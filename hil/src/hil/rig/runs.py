@@ -71,11 +71,13 @@ def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None
         d.injector.counts["sent"] += n
 
 
-def _cdrw_block(res: CdrwResult, spec: Any, args: Sequence[str], paper: bool) -> dict[str, Any]:
+def _cdrw_block(res: CdrwResult, spec: Any, args: Sequence[str], paper: bool,
+                replay: rowtables.Replay | None = None) -> dict[str, Any]:
     """summary.json's cdrw: Table 4 of the rows fcc flew (cdrw.rows), the bounds coverage,
-    both symmetric tables (cdrw.tables: prior, posterior) and the replay's check."""
+    both symmetric tables (cdrw.tables: prior, posterior) and the replay's check (replay:
+    this flight's, when already started)."""
     flown, sid_args = rowtables.sid_options(args)
-    tables, check = rowtables.symmetric_tables(spec, res.series, res.dt, flown, sid_args)
+    tables, check = rowtables.symmetric_tables(spec, res.series, res.dt, flown, sid_args, replay)
     return {"table4": res.table, "table4_truth": res.table_truth, "rows": flown,
             "coverage": res.coverage, "tables": tables, "replay_check": check,
             "paper_scenario": paper,
@@ -167,12 +169,15 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []
+    cdrw: tuple[CdrwResult, rowtables.Replay, bool] | None = None
     for d in drivers:
         if isinstance(d, CdrwDriver):
             res = cdrw_result(spec, cdrw_record(d), flights[0])
+            # sid_replay's symmetric tables run while the files are written
+            started = rowtables.Replay(spec, res.series, rowtables.sid_options(fcc_args(scenarios, cfg))[1])
+            cdrw = (res, started, is_paper_scenario(d.scenario))
+            summary["cdrw"] = None   # its place in summary.json; filled in below
             _write_cdrw(out, res)
-            summary["cdrw"] = _cdrw_block(res, spec, fcc_args(scenarios, cfg),
-                                          is_paper_scenario(d.scenario))
             fault_log.append(("cdrw     ", res.events))
         else:
             assert isinstance(d, MissileDriver)
@@ -187,9 +192,13 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     missiles = [d for d in drivers if isinstance(d, MissileDriver)]
     if cfg.mode == "realtime" and missiles:
         info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
+    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
+    if cdrw is not None:
+        res, started, paper = cdrw
+        summary["cdrw"] = _cdrw_block(res, spec, fcc_args(scenarios, cfg), paper, started)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
-    return _finish(cfg, out, summary, step_periods(scenarios), log)
+    return _report(cfg, out, summary)
 
 
 def is_paper_scenario(sc: Scenario) -> bool:

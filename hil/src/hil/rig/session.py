@@ -24,7 +24,8 @@ from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from ..bus.codec import decode_values
 from ..bus.dbc import BusSpec
 from ..txsched import TimedSender
-from ..bus.secoc import TEST_KEY_FILE, Endpoint, KeyFileError, read_key_file, write_key_file
+from ..bus.secoc import (TEST_KEY_FILE, Endpoint, KeyFileError, load_cmac, read_key_file,
+                         write_key_file)
 from .link import CanLink, LinkError, LinkRecorder, pack_frame
 from .processes import RECORDERS, BusRecorder
 from .targets import Device, start_device
@@ -226,7 +227,9 @@ class RigSession:
             t_open = time.monotonic()
             if self.record:
                 self._start_recorder() if socketcan else self._start_link_recorder()
-            if self._prepare is not None:  # frames meanwhile wait in the socket's queue
+            # work for the listen, a wait otherwise (frames meanwhile wait in the socket's queue)
+            load_cmac()
+            if self._prepare is not None:
                 self.prepared = self._prepare(self)
             if self.target != "external":  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)

@@ -5,18 +5,21 @@ Two halves, because with-vcan draws a run's figures on the host after the guest 
 
     python -m hil.rig.bench_start guest --keep DIR     (inside scripts/with-vcan)
         fresh interpreters as a user starts them: `python -c pass`, the imports of `hil run`,
-        `hil run cdrw --no-plots` and `hil run cdrw` (figures queued, not drawn); the runs'
-        times go to DIR/start.json, the last run with plots stays in DIR/run
+        `hil run cdrw --no-plots` and `hil run cdrw` (figures queued, not drawn), and for the
+        ratio `hil run cdrw --no-plots` without with-vcan's hil.offload server (all in the
+        guest), alternated round by round; the runs' times go to DIR/start.json, the last run
+        with plots stays in DIR/run
     python -m hil.rig.bench_start host DIR             (on the host, after the guest)
         times `hil report --plots-only DIR/run` (the drawing with-vcan does after the guest)
         and prints the table against the budget of issue 14: at most 1.5 s beyond the loop
         without plots, 5 s with plots (beyond the loop in the guest + drawing on the host).
 
-Where the time beyond the loop goes, from run_info.json's wall_s (the run from opening the
-rig session to its last result file): "session, driver, results" is wall_s minus the loop
-(candump and fcc start-up, the CDRW flight computed before its first tick, the results with
-sid_replay's symmetric tables); "interpreter, imports, CLI, bus log, exit" is the rest (Python's
-start, the imports, the scenario, the simulated-time bus log, the run directory, the exit).
+Where the time beyond the loop goes, from run_info.json's wall_s (the flight side: opening
+the rig session to the recorder's stop): "session" is wall_s minus the loop (the recorder's and
+fcc's start, the listen for another fcc, shutdown); "interpreter, imports, CLI, results, exit"
+is the rest (Python's start, the imports, the scenario, the results -- computed on the host by
+hil.offload when with-vcan runs its server, the guest waiting for them --, the run directory,
+the exit).
 """
 from __future__ import annotations
 
@@ -30,6 +33,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..offload import ENV as OFFLOAD_ENV
 from .bench import print_table
 from .runs import AFTER_ENV
 
@@ -54,16 +58,21 @@ def guest(keep: Path, runs: int) -> dict[str, object]:
         # figures queued in a file of our own (not drawn here, not handed to with-vcan)
         env = {**os.environ, AFTER_ENV: str(Path(tmp) / "after")}
         res["python_pass_s"] = [_timed([sys.executable, "-c", "pass"]) for _ in range(runs)]
-        res["imports_s"] = [_timed([sys.executable, "-c", "import hil.cli, hil.rig.runs"])
+        res["imports_s"] = [_timed([sys.executable, "-c", "import hil.cli, hil.rig.flight"])
                             for _ in range(runs)]
-        for kind, extra in (("no_plots", ["--no-plots"]), ("plots", [])):
-            rows = []
-            for i in range(runs):
+        # the server of hil.offload (with-vcan's) does the maths on the host; "guest_only" runs
+        # without it, for the side-by-side ratio; the kinds alternate, round by round
+        alone = {k: v for k, v in env.items() if k != OFFLOAD_ENV}
+        kinds = (("no_plots", ["--no-plots"], env), ("plots", [], env), ("guest_only", ["--no-plots"], alone))
+        rows: dict[str, list[dict[str, float]]] = {kind: [] for kind, _, _ in kinds}
+        for i in range(runs):
+            for kind, extra, kind_env in kinds:
                 out = keep / "run" if (kind == "plots" and i == runs - 1) else Path(tmp) / f"{kind}{i}"
-                total = _timed([*hil, "run", "cdrw", "--quiet", *extra, "--out", str(out)], env)
+                total = _timed([*hil, "run", "cdrw", "--quiet", *extra, "--out", str(out)], kind_env)
                 info = json.loads((out / "run_info.json").read_text())
-                rows.append({"total_s": total, "loop_s": info["lockstep_wall_s"], "wall_s": info["wall_s"]})
-            res[kind] = rows
+                rows[kind].append({"total_s": total, "loop_s": info["lockstep_wall_s"], "wall_s": info["wall_s"]})
+        res.update(rows)
+        res["offloaded"] = OFFLOAD_ENV in env
     keep.mkdir(parents=True, exist_ok=True)
     (keep / RESULTS).write_text(json.dumps(res, indent=1))
     return res
@@ -86,14 +95,20 @@ def report(keep: Path) -> list[tuple[str, str, str, str]]:
                      "ok" if beyond <= budget else "MISSED"))
         rows.append(("  whole command / lockstep loop",
                      f"{_med(runs, lambda r: r['total_s']):.2f} / {_med(runs, lambda r: r['loop_s']):.2f} s", "", ""))
-        rows.append(("  interpreter, imports, CLI, bus log, exit",
+        rows.append(("  interpreter, imports, CLI, results, exit",
                      f"{_med(runs, lambda r: r['total_s'] - r['wall_s']):.2f} s", "", ""))
-        rows.append(("  session, driver, results (wall_s - loop)",
+        rows.append(("  session (wall_s - loop)",
                      f"{_med(runs, lambda r: r['wall_s'] - r['loop_s']):.2f} s", "", ""))
         if host:
             rows.append(("  figures drawn on the host after the guest", f"{draw:.2f} s", "", ""))
+    if "guest_only" in res:
+        alone = res["guest_only"]
+        rows.append(("without the host's half (hil.offload): beyond the loop",
+                     f"{_med(alone, lambda r: r['total_s'] - r['loop_s']):.2f} s", "", ""))
+    rows.append(("the host's half (with-vcan's hil.offload server)",
+                 "used" if res.get("offloaded") else "NOT RUNNING", "", ""))
     rows.append(("python -c pass (guest)", f"{statistics.median(res['python_pass_s']):.2f} s", "", ""))
-    rows.append(("python -c 'import hil.cli, hil.rig.runs' (guest)",
+    rows.append(("python -c 'import hil.cli, hil.rig.flight' (guest)",
                  f"{statistics.median(res['imports_s']):.2f} s", "", ""))
     return rows
 

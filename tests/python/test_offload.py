@@ -85,11 +85,19 @@ def test_no_server_of_another_hil(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
         offload.call("hil.faults:load_default_scenario", "cdrw")
 
 
+def test_a_server_that_stopped_beating_is_not_used(server: Path) -> None:
+    os.utime(server / offload.READY, (time.time() - 2 * offload.STALE_S,) * 2)
+    assert offload.server_dir() is None
+    time.sleep(1.5 * offload.BEAT_S)                # it lives: its next beat says so
+    assert offload.server_dir() == server
+
+
 def test_the_server_stops_with_its_parent(tmp_path: Path) -> None:
     parent = subprocess.Popen(["sleep", "0.5"])
     proc = _serve(tmp_path, parent.pid)
     parent.wait()
     assert proc.wait(READY_TIMEOUT_S) == 0
+    assert not (tmp_path / offload.READY).exists()
 
 
 def _flown_frames(d: AppDriver, codec: FrameCodec) -> list[tuple[int, bytes]]:

@@ -26,6 +26,7 @@ import itertools
 import os
 import pickle
 import sys
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -36,6 +37,9 @@ READY = "ready"
 CALL_TIMEOUT_S = 900.0
 #: the server's and the caller's polling intervals
 POLL_S = 0.001
+#: the server touches DIR/ready this often; older than STALE_S, it is taken for dead
+BEAT_S = 1.0
+STALE_S = 10.0
 #: what the server imports before it says ready (the maths of a CDRW flight and its results)
 PRELOAD = ("hil.rig.runs", "hil.rig.results", "hil.rig.rowtables", "hil.plants.cdrw_flight",
            "hil.rig.simtime")
@@ -50,7 +54,7 @@ def _package_dir() -> str:
 
 
 def server_dir() -> Path | None:
-    """The directory of a ready server running this same hil (None: do the work here)."""
+    """The directory of a live, ready server running this same hil (None: do the work here)."""
     d = os.environ.get(ENV)
     if not d:
         return None
@@ -58,7 +62,15 @@ def server_dir() -> Path | None:
         ready = (Path(d) / READY).read_text(encoding="utf-8").strip()
     except OSError:
         return None
-    return Path(d) if ready == _package_dir() else None
+    return Path(d) if ready == _package_dir() and _alive(Path(d)) else None
+
+
+def _alive(d: Path) -> bool:
+    """The server has said it lives within STALE_S (the guest cannot see host processes)."""
+    try:
+        return time.time() - (d / READY).stat().st_mtime < STALE_S
+    except OSError:
+        return False
 
 
 _calls = itertools.count()
@@ -84,7 +96,7 @@ class Pending:
                 data = self.answer.read_bytes()
                 break
             except FileNotFoundError:
-                if time.monotonic() > deadline or not (self.dir / READY).exists():
+                if time.monotonic() > deadline or not _alive(self.dir):
                     raise OffloadError(f"hil.offload: the host's server did not answer "
                                        f"{self.func}") from None
                 time.sleep(POLL_S)
@@ -157,21 +169,37 @@ def _answer(d: Path, req: Path) -> None:
     tmp.rename(d / f"resp-{name}")
 
 
+def _beat(ready: Path, stop: threading.Event) -> None:
+    """Touch the ready file while the server lives, also during a long call."""
+    while not stop.wait(BEAT_S):
+        try:
+            os.utime(ready)
+        except OSError:
+            return
+
+
 def serve(d: Path, parent: int) -> None:
     """Answer calls in d until the parent (with-vcan) is gone or d is removed."""
     for m in PRELOAD:
         importlib.import_module(m)
-    (d / READY).write_text(_package_dir() + "\n", encoding="utf-8")
-    while d.is_dir():
-        reqs = sorted(p for p in d.iterdir() if p.name.startswith("req-"))
-        for req in reqs:
-            _answer(d, req)
-        if not reqs:
-            try:
-                os.kill(parent, 0)
-            except ProcessLookupError:
-                break
-            time.sleep(POLL_S)
+    ready = d / READY
+    ready.write_text(_package_dir() + "\n", encoding="utf-8")
+    stop = threading.Event()
+    threading.Thread(target=_beat, args=(ready, stop), daemon=True).start()
+    try:
+        while d.is_dir():
+            reqs = sorted(p for p in d.iterdir() if p.name.startswith("req-"))
+            for req in reqs:
+                _answer(d, req)
+            if not reqs:
+                try:
+                    os.kill(parent, 0)
+                except ProcessLookupError:
+                    break
+                time.sleep(POLL_S)
+    finally:
+        stop.set()
+        ready.unlink(missing_ok=True)
 
 
 def main(argv: list[str] | None = None) -> int:

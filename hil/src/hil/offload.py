@@ -33,7 +33,7 @@ from typing import Any
 
 ENV = "HIL_OFFLOAD_DIR"
 READY = "ready"
-#: how long a caller waits for an answer: a campaign's evaluation of many flights is long
+#: how long a caller waits for an answer (a long flight's evaluation; the server beats meanwhile)
 CALL_TIMEOUT_S = 900.0
 #: the server's and the caller's polling intervals
 POLL_S = 0.001

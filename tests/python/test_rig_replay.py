@@ -7,6 +7,8 @@ import re
 
 import pytest
 
+from hil.rig import rundir
+
 from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
@@ -30,6 +32,17 @@ def test_replay_identical_then_different(tmp_path, capsys):
     # a changed autopilot: the elevator command differs
     rc, out, _ = cli(capsys, "replay", str(tmp_path / "rec"), "--fcc-args", "--lqg-bits 6")
     assert rc == 1 and "MSL_" in out
+
+
+def test_a_replayed_run_stays_hils_own(tmp_path, capsys):
+    """replay writes RUN_DIR/replay/fcc.log; the run directory stays hil's own, so a new run may
+    replace it (README's order: run, replay, run again with a fault)."""
+    run = tmp_path / "run"
+    assert cli(capsys, "run", "cdrw", "--quiet", "--no-plots", "--out", str(run))[0] == 0
+    assert cli(capsys, "replay", str(run))[0] == 0
+    assert (run / "replay" / "fcc.log").is_file() and rundir.is_own_run(run)
+    rc, _, err = cli(capsys, "run", "cdrw", "--quiet", "--no-plots", "--out", str(run))
+    assert rc == 0, err
 
 
 def test_replay_refuses_what_it_cannot_replay(tmp_path, capsys):

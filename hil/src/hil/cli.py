@@ -498,6 +498,10 @@ def cmd_replay(args: argparse.Namespace) -> int:
         steps, diff = replay(args.dir, out, extra, args.iface, args.timeout)
     except ReplayError as e:
         raise UsageError(str(e)) from None
+    finally:
+        if out.resolve().is_relative_to(args.dir.resolve()):  # the run stays hil's own: a new
+            from .rig.rundir import note_written              # run may replace it
+            note_written(args.dir, [f for f in out.rglob("*") if f.is_file()])
     if diff is not None:
         print(f"replay of {args.dir}: DIFFERENT after {steps} identical steps; {diff}")
         return 1

@@ -174,15 +174,16 @@ def _fmt(x: object, spec: str) -> str:
 def render(rep: dict[str, object]) -> str:
     e2e_cols = ("OK", "REPEATED", "OK_SOME_LOST", "WRONG_SEQUENCE", "ERROR", "NO_NEW_DATA")
     short = ("ok", "rep", "lost", "wseq", "err", "nnd")
-    head = (f"{'message':<20}{'id':>6}{'count':>8}{'Hz':>9}{'exp':>6}{'T ms':>9}"
-            f"{'jit ms':>8}{'max ms':>8} " + "".join(f"{s:>6}" for s in short) + f"{'dlc':>5}{'rng':>5}")
+    # (a space before each time column: a wall-clock heartbeat's period runs to 4 digits)
+    head = (f"{'message':<20}{'id':>6}{'count':>8}{'Hz':>9}{'exp':>6} {'T ms':>9}"
+            f" {'jit ms':>8} {'max ms':>8} " + "".join(f"{s:>6}" for s in short) + f"{'dlc':>5}{'rng':>5}")
     lines = [head, "-" * len(head)]
     for m in rep["messages"]:  # type: ignore[union-attr]
         e2e = m["e2e"]
         lines.append(
             f"{m['name']:<20}{m['id']:>6}{m['count']:>8}{_fmt(m['rate_hz'], '.2f'):>9}"
-            f"{_fmt(m['expected_hz'], '.0f'):>6}{_fmt(m['period_ms'], '.3f'):>9}"
-            f"{_fmt(m['jitter_std_ms'], '.3f'):>8}{_fmt(m['jitter_max_ms'], '.3f'):>8} "
+            f"{_fmt(m['expected_hz'], '.0f'):>6} {_fmt(m['period_ms'], '.3f'):>9}"
+            f" {_fmt(m['jitter_std_ms'], '.3f'):>8} {_fmt(m['jitter_max_ms'], '.3f'):>8} "
             + "".join(f"{e2e[c]:>6}" for c in e2e_cols) + f"{m['wrong_dlc']:>5}{m['out_of_range']:>5}")
     unknown = rep["unknown_ids"]
     lines.append("-" * len(head))

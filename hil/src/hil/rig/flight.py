@@ -157,8 +157,7 @@ def _require_log(rig: RigSession) -> None:
                        f"not evaluated")
 
 
-def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
-              extra: dict[str, Any] | None = None) -> dict[str, Any]:
+def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dict[str, Any]:
     st = rig.status
     info: dict[str, Any] = {
         "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
@@ -173,8 +172,6 @@ def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
     }
     if runner is not None:
         info.update(runner.timing())
-    if extra:
-        info.update(extra)
     return info
 
 
@@ -182,12 +179,11 @@ def _run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float,
 class Flown:
     """A flight as the rig flew it, for its evaluation (which may run on the other side of
     hil.offload): the drivers after their last step, fcc's heartbeat counters, the rig's
-    verification counters, the runner's timing and run_info.json's facts."""
+    verification counters and run_info.json's facts (the runner's timing among them)."""
 
     drivers: list[AppDriver]
     status: StatusCounters
     security: dict[str, int]
-    timing: dict[str, Any]
     info: dict[str, Any]
     transmitter: dict[str, Any] = field(default_factory=dict)
     #: offload.keep's key of the host's drivers (with their samples), None: drivers are those
@@ -236,7 +232,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
             runner = _fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
         rig.shutdown()
     _require_log(rig)
-    flown = Flown(drivers, rig.status, rig.security.counters(), runner.timing(),
+    flown = Flown(drivers, rig.status, rig.security.counters(),
                   _run_info(rig, cfg, runner, time.perf_counter() - t0), rig.transmitter_stats, kept)
     if remote is not None:
         return offload.call("hil.rig.runs:evaluate_flight", scenarios, cfg, command, flown)

@@ -70,6 +70,8 @@ def sid_options(fcc_args: Sequence[str]) -> tuple[str, list[str]]:
             else:
                 out += [name] + ([value] if value is not None else [])
         i += 1
+    if rows not in ROW_MODES:
+        raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {rows!r}")
     return rows, out
 
 
@@ -138,20 +140,17 @@ def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray
     return {f: {c: np.asarray(series[f"{f}_{c}"]) for c in cols} for f in FILTERS}
 
 
-def symmetric_tables(spec: BusSpec, series: Mapping[str, np.ndarray], dt: float, flown: str,
-                     sid_args: Sequence[str] = (), started: Replay | None = None
-                     ) -> tuple[dict[str, Any], dict[str, float]]:
-    """({mode: mode_tables} for prior and posterior, replay_check).  The mode fcc flew is
-    taken from fcc's rows; the others from the replay.  replay_check: the largest
-    |replay - fcc| of the estimates in fcc's own mode (NaN rows left out).  When sid_replay
-    refuses the flight (e.g. shorter than the MLS window) the tables are empty and
-    replay_check says why ("not_computed").  started: the Replay of this flight, when the
-    caller started it earlier."""
+def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,
+                     replay: Replay) -> tuple[dict[str, Any], dict[str, float]]:
+    """({mode: mode_tables} for prior and posterior, replay_check), from the Replay of this
+    flight (started by the caller, so that it runs while the caller works on).  The mode fcc
+    flew (sid_options) is taken from fcc's rows; the others from the replay.  replay_check:
+    the largest |replay - fcc| of the estimates in fcc's own mode (NaN rows left out).  When
+    sid_replay refuses the flight (e.g. shorter than the MLS window) the tables are empty
+    and replay_check says why ("not_computed")."""
     tables: dict[str, Any] = {}
-    if flown not in ROW_MODES:
-        raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {flown!r}")
     try:
-        replays = (started or Replay(spec, series, sid_args)).result()
+        replays = replay.result()
     except RuntimeError as e:
         return {}, {"rows": flown, "not_computed": str(e)}
     for mode in SYMMETRIC:

@@ -71,13 +71,11 @@ def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None
         d.injector.counts["sent"] += n
 
 
-def _cdrw_block(res: CdrwResult, spec: Any, args: Sequence[str], paper: bool,
-                replay: rowtables.Replay | None = None) -> dict[str, Any]:
+def _cdrw_block(res: CdrwResult, flown: str, replay: rowtables.Replay, paper: bool) -> dict[str, Any]:
     """summary.json's cdrw: Table 4 of the rows fcc flew (cdrw.rows), the bounds coverage,
-    both symmetric tables (cdrw.tables: prior, posterior) and the replay's check (replay:
-    this flight's, when already started)."""
-    flown, sid_args = rowtables.sid_options(args)
-    tables, check = rowtables.symmetric_tables(spec, res.series, res.dt, flown, sid_args, replay)
+    both symmetric tables (cdrw.tables: prior, posterior, from this flight's replay) and the
+    replay's check."""
+    tables, check = rowtables.symmetric_tables(res.series, res.dt, flown, replay)
     return {"table4": res.table, "table4_truth": res.table_truth, "rows": flown,
             "coverage": res.coverage, "tables": tables, "replay_check": check,
             "paper_scenario": paper,
@@ -169,13 +167,14 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []
-    cdrw: tuple[CdrwResult, rowtables.Replay, bool] | None = None
+    cdrw: tuple[CdrwResult, str, rowtables.Replay, bool] | None = None
     for d in drivers:
         if isinstance(d, CdrwDriver):
             res = cdrw_result(spec, cdrw_record(d), flights[0])
+            flown_rows, sid_args = rowtables.sid_options(fcc_args(scenarios, cfg))
             # sid_replay's symmetric tables run while the files are written
-            started = rowtables.Replay(spec, res.series, rowtables.sid_options(fcc_args(scenarios, cfg))[1])
-            cdrw = (res, started, is_paper_scenario(d.scenario))
+            cdrw = (res, flown_rows, rowtables.Replay(spec, res.series, sid_args),
+                    is_paper_scenario(d.scenario))
             summary["cdrw"] = None   # its place in summary.json; filled in below
             _write_cdrw(out, res)
             fault_log.append(("cdrw     ", res.events))
@@ -194,8 +193,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
     finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
     if cdrw is not None:
-        res, started, paper = cdrw
-        summary["cdrw"] = _cdrw_block(res, spec, fcc_args(scenarios, cfg), paper, started)
+        summary["cdrw"] = _cdrw_block(*cdrw)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return _report(cfg, out, summary)
@@ -228,7 +226,7 @@ def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any
                           if k.startswith("FCC_SYNC_STATUS.")}
     rep["delay_s"] = d.delay
     rep["commands_late"] = d.cmd_late
-    t = flown.timing
+    t = flown.info   # (run_info.json's facts hold the runner's timing)
     rep["simulator"] = {"late_steps": t["sim_late_steps"], "steps": t["realtime_steps"],
                         "handover_slack_ms": t["sim_handover_slack_ms"],
                         "stale_frames": t["sim_stale_frames"], "transmitter": flown.transmitter}
@@ -290,7 +288,8 @@ def campaign_flight(index: int, fault_start: float, res: CdrwResult,
         raise RigError(f"bus.log: campaign flight {index} lacks fcc's estimates of {lost} answered "
                        f"steps (the recorder lost frames); the flight is not evaluated")
     flown, sid_args = rowtables.sid_options(fcc_arg_list)
-    modes, check = rowtables.symmetric_tables(load_spec(), res.series, res.dt, flown, sid_args)
+    modes, check = rowtables.symmetric_tables(res.series, res.dt, flown,
+                                              rowtables.Replay(load_spec(), res.series, sid_args))
     return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,
                           res.unanswered_steps, res.events, res.series if index == 0 else None,
                           res.coverage, flown, modes, check)

@@ -35,6 +35,9 @@ ID = {m.name: m.frame_id for m in SPEC.messages}
 #: a denial of service, which authentication does not claim to prevent); the flood goes 4x.
 MAX_FRAMES = 4000
 PAUSE_S = 0.002
+#: the flight starts only once the attacker has sent this many frames: its attack is certain
+#: to reach the flight however fast the flight runs
+FIRST_FRAMES = 8
 
 Frames = Iterator[tuple[int, bytes]]
 
@@ -133,6 +136,8 @@ class Attacker(threading.Thread):
         self.sent = 0
         self.recorded: list[tuple[int, bytes]] = []
         self.exhausted = threading.Event()
+        #: set once the attack is under way (FIRST_FRAMES sent, or all of them)
+        self.under_way = threading.Event()
 
     def _send(self, fid: int, data: bytes) -> None:
         try:
@@ -151,6 +156,8 @@ class Attacker(threading.Thread):
                 break
         while not self.stop.is_set():
             nxt = next(self.frames, None)
+            if self.sent >= FIRST_FRAMES or nxt is None:
+                self.under_way.set()
             if nxt is None:
                 self.exhausted.set()
                 if not self.replay_live:
@@ -193,8 +200,11 @@ def flight(out: Path, attack: Callable[[random.Random], Frames] | None = None,
     flight is over (it is stopped before the rig's shutdown, so that the recorder can close
     its log on the rig's end marker); with play_all, not before it has sent all its frames."""
     sc = scenario(MISSILE_2S)
-    shutdown = RigSession.shutdown
+    shutdown, control = RigSession.shutdown, RigSession.control
     with Attacker(attack or no_frames, replay_live, pause) as atk:
+        def control_once_attacked(rig: RigSession, *a: object, **kw: object) -> object:
+            atk.under_way.wait(30.0)
+            return control(rig, *a, **kw)
         def stop_then_shutdown(rig: RigSession, *a: object, **kw: object) -> int:
             if play_all:
                 atk.exhausted.wait(60.0)
@@ -202,10 +212,11 @@ def flight(out: Path, attack: Callable[[random.Random], Frames] | None = None,
             atk.join(10)
             return shutdown(rig, *a, **kw)
         RigSession.shutdown = stop_then_shutdown  # type: ignore[method-assign]
+        RigSession.control = control_once_attacked  # type: ignore[method-assign]
         try:
             outcome = fly(out, sc, key_file=TEST_KEY_FILE, mode=mode, timeout=10.0)
         finally:
-            RigSession.shutdown = shutdown  # type: ignore[method-assign]
+            RigSession.shutdown, RigSession.control = shutdown, control  # type: ignore[method-assign]
     summary = dict(outcome.summary)
     summary["_attack_frames"] = atk.sent
     return summary

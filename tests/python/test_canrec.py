@@ -226,10 +226,10 @@ def test_lost_frames_are_counted_reported_and_fail_the_log(tmp_path) -> None:
     (["campaign", "cdrw"], "canrec"),
     (["campaign", "cdrw", "--recorder", "candump"], "candump"),
     (["campaign", "cdrw", "--recorder", "canrec", "--workers", "2"], "canrec"),
-    (["run", "cdrw"], "candump"),
-    (["demo"], "candump"),
+    (["run", "cdrw"], "canrec"),
+    (["demo"], "canrec"),
 ])
-def test_campaigns_record_with_canrec_and_runs_with_candump(tmp_path, argv, recorder) -> None:
+def test_every_run_records_with_canrec_unless_told(tmp_path, argv, recorder) -> None:
     from hil.cli import _config, _parser
 
     assert _config(_parser().parse_args(argv), tmp_path).recorder == recorder

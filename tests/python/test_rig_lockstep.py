@@ -14,6 +14,7 @@ from hil import metrics
 from hil.bus import diag, load
 from hil.bus.logio import read_frames
 from hil.faults import load_default_scenario, with_fault_start
+from hil.rig.lockstep import LockstepRunner
 from hil.rig.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
 from hil.rig.session import FccDied, FccTimeout, RigSession
@@ -139,6 +140,7 @@ def test_fcc_not_answering_times_out(tmp_path, capsys):
     assert not (tmp_path / "o").exists() and (kept / "FAILED").exists()
 
 
+@pytest.mark.timing   # (the 0.5 s answer timeout must fire within 2 s)
 def test_fcc_hanging_mid_run_times_out(tmp_path):
     sc = scenario(CDRW_1S)
     with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
@@ -165,12 +167,21 @@ def test_fcc_killed_mid_run(tmp_path):
     assert log.count(" 020#") == 11 and log.rstrip().endswith("7F0#FFFFFFFF00000000")
 
 
-def test_fcc_exiting_mid_run_via_cli(tmp_path, capsys):
-    rc, _, err = cli(capsys, "run", "cdrw", "--fcc-args", "--duration 0.3", "--quiet", "--no-plots",
-                     "--out", str(tmp_path / "o"))
+def test_fcc_exiting_mid_run_via_cli(tmp_path, capsys, monkeypatch):
+    """fcc ends cleanly in the middle of a flight (SIGTERM: exit status 0, as after its
+    --duration) -- at step 50, whatever the machine's speed."""
+    step = LockstepRunner.step
+
+    def step_then_stop(self: LockstepRunner, d: object) -> object:
+        if self.steps == 50:
+            os.kill(self.rig.fcc.pid, signal.SIGTERM)
+            self.rig.fcc.wait(10)
+        return step(self, d)
+    monkeypatch.setattr(LockstepRunner, "step", step_then_stop)
+    rc, _, err = cli(capsys, "run", "cdrw", "--quiet", "--no-plots", "--out", str(tmp_path / "o"))
     assert rc == 4
     line = err.strip()
-    assert line.startswith("hil: fcc died during step ") and "(exit status 0" in line
+    assert line.startswith("hil: fcc died during step 50 ") and "(exit status 0" in line
     (kept,) = tmp_path.glob("o.failed-*")
     assert f"bus log and partial results kept in {kept}" in line
     assert (kept / "bus.log").stat().st_size > 0

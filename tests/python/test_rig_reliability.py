@@ -104,11 +104,11 @@ def test_killing_the_rig_leaves_no_process_behind(tmp_path):
         kids: list[int] = []
         while time.monotonic() < deadline:
             kids = children(hil.pid)
-            if {"fcc", "candump"} <= {comm(k) for k in kids}:
+            if {"fcc", "canrec"} <= {comm(k) for k in kids}:
                 break
             assert hil.poll() is None, hil.stderr.read().decode() if hil.stderr else ""
             time.sleep(0.05)
-        assert {"fcc", "candump"} <= {comm(k) for k in kids}, kids
+        assert {"fcc", "canrec"} <= {comm(k) for k in kids}, kids
         time.sleep(0.5)  # mid-flight
         hil.send_signal(signal.SIGKILL)
         hil.wait(10)

@@ -24,8 +24,11 @@ def test_frames_leave_at_their_instants_in_order():
     tx = TimedSender("vcan0")
     sent: list[tuple[float, int, bytes]] = []
     try:
+        # two frames per hand-over, the hand-overs 4 gaps apart by construction: their frames
+        # cannot interleave however fast or slow this loop runs
+        first = time.monotonic() + 0.01
         for k in range(20):
-            instant = time.monotonic() + 0.01
+            instant = first + k * 4 * GAP_S
             frames = [(0x040, bytes([k, 1])), (0x041, bytes([k, 2]))]
             tx.send_at(frames, instant)
             sent += [(instant + i * GAP_S, fid, data) for i, (fid, data) in enumerate(frames)]

@@ -22,12 +22,10 @@ a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.rig.
 from __future__ import annotations
 
 import argparse
-import atexit
 import math
 import os
 import shlex
 import sys
-import threading
 from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
@@ -218,7 +216,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
                    help="the bus recorder of a SocketCAN rig: canrec (default; firmware/tools/canrec: "
                         "candump's log lines, frames read in batches: less CPU per flight in the UML "
-                        "guest) or candump (can-utils, as hil run)")
+                        "guest; every run records with it) or candump (can-utils)")
     _add_parallel(c)
     _add_common(c, "out/campaign-cdrw")
 
@@ -304,7 +302,7 @@ def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int
 
 
 def _config(args: argparse.Namespace, stage: Path):
-    from .rig.flight import RigConfig
+    from .rig.runs import RigConfig
 
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -329,7 +327,7 @@ def _config(args: argparse.Namespace, stage: Path):
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
-                     key_file=args.key_file, recorder=getattr(args, "recorder", "candump"))
+                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
 
 
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:
@@ -350,7 +348,7 @@ def _staged(args: argparse.Namespace, out: Path, runner) -> list:
 
 # ---- commands -------------------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
-    from .rig.flight import run_flight
+    from .rig.runs import run_flight
 
     sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
     out = Path(str(args.out).replace("<aircraft>", args.aircraft))
@@ -609,22 +607,8 @@ def _fail(e: Exception) -> int:
 
 
 def entry() -> NoReturn:
-    """The `hil` program: main(), then the process ends without tearing the interpreter down.
-
-    A normal exit frees every object and module one by one; in the UML guest, where each page
-    the process gives back is work for the host, that took 0.35-0.45 s of a 4 s `hil run`.
-    Everything a run writes is closed by then (context managers), the exit handlers still run
-    and the standard streams are flushed, so nothing is lost.  Tests call main() instead."""
-    code = main()
-    if threading.active_count() > 1:   # a thread still works: the interpreter waits for it
-        sys.exit(code)
-    atexit._run_exitfuncs()            # what a normal exit would run (temporary dirs, logging)
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):
-            code = code or 1           # the output did not arrive: not a success
-    os._exit(code)
+    """The `hil` program (tests call main() instead)."""
+    sys.exit(main())
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """The [sensors] section of a scenario: noise options of both aircraft's sensors (the models
 that draw the noise are in hil.sensors).  Plain data, no numpy: the rig's bus side reads
-scenarios without it (hil.offload)."""
+scenarios without the noise models."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -229,7 +229,7 @@ class BusSpec:
 
 def set_default(path: Path | None) -> None:
     """The DBC given on the command line (--dbc): the default of every later load(), also
-    of the host's half of a flight (hil.offload passes the environment)."""
+    in the processes the rig starts (through the environment)."""
     global _dbc_override  # noqa: PLW0603 - one process-wide choice, made by the CLI
     _dbc_override = None if path is None else Path(path)
     if _dbc_override is not None:

@@ -23,8 +23,7 @@ if TYPE_CHECKING:
 
 
 def random_stream(seed: int, stream: int) -> np.random.Generator:
-    """numpy's generator of one named stream of a scenario seed (imported here, when a
-    stream is first needed: the rig's bus side runs without numpy, hil.offload)."""
+    """numpy's generator of one named stream of a scenario seed."""
     import numpy as np
     return np.random.default_rng([int(seed), stream])
 

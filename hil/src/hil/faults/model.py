@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
-if TYPE_CHECKING:  # hints only: the rig's bus side imports the faults without numpy (hil.offload)
+if TYPE_CHECKING:  # hints only
     import numpy as np
 
 from .schema import spec

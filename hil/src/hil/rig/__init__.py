@@ -15,6 +15,6 @@
 * rundir    -- atomic writes; the staged run directory (published when done, kept when failed)
 * bench     -- scripts/bench.d/rig
 
-Nothing is imported here: a lockstep CDRW flight in the UML guest imports no numpy
-(hil.offload), so each module is imported by name.
+Nothing is imported here: each module is imported by name (a command imports only what it
+uses).
 """

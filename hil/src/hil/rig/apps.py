@@ -100,18 +100,6 @@ class AppDriver:
         self.events: list[FaultEvent] = []
         self._fault_index = {id(f): i for i, f in enumerate(scenario.faults)}
 
-    def __getstate__(self) -> dict[str, object]:
-        """A driver crossing between the host and the guest (hil.offload) leaves its codec
-        behind: each side has its own (attach)."""
-        state = self.__dict__.copy()
-        state["codec"] = None
-        return state
-
-    def attach(self, codec: FrameCodec) -> None:
-        """This side's codec, after the driver has crossed."""
-        self.codec = codec
-        self.injector.attach(codec)
-
     @property
     def done(self) -> bool:
         return self.k >= self.n_steps
@@ -152,7 +140,7 @@ class CdrwDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
-        from ..plants.cdrw_flight import CdrwSimulation  # numpy: the host's side (hil.offload)
+        from ..plants.cdrw_flight import CdrwSimulation
         self.sim = CdrwSimulation(scenario)
         super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
                          realtime, oracle)
@@ -179,17 +167,6 @@ class CdrwDriver(AppDriver):
                 frame, field_name = SIGNAL_FRAMES[sig]
                 msgs.append((frame, {"step": step, field_name: v}))
         return msgs
-
-    def __getstate__(self) -> dict[str, object]:
-        """The guest flies the frames; the simulation and its samples stay on the host, for
-        the evaluation (restore)."""
-        state = super().__getstate__()
-        state.update(sim=None, samples=[])
-        return state
-
-    def restore(self, full: CdrwDriver) -> None:
-        """The simulation and samples of the driver this one was pickled from."""
-        self.sim, self.samples = full.sim, full.samples
 
     def frames_for_step(self) -> list[TxFrame]:
         k = self.k

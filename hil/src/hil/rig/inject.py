@@ -119,19 +119,9 @@ class FrameInjector:
         self.counts = {"encoded": 0, "sent": 0, "dropped": 0, "flood": 0, "delayed": 0,
                        "duplicated": 0, "replayed": 0, "corrupted": 0}
 
-    def __getstate__(self) -> dict[str, object]:
-        state = self.__dict__.copy()
-        state.update(codec=None, spec=None)   # each side of hil.offload has its own (attach)
-        return state
-
-    def attach(self, codec: FrameCodec) -> None:
-        self.codec = codec
-        self.spec = codec.spec
-
     @property
     def _rng(self) -> np.random.Generator:
-        """The stream of the faults' probabilities ("fr"), made at the first draw: a flight
-        whose faults never draw flies without numpy (hil.offload)."""
+        """The stream of the faults' probabilities ("fr"), made at the first draw."""
         if self._rng_made is None:
             self._rng_made = random_stream(self._seed, 0x6672)
         return self._rng_made

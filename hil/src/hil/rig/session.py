@@ -130,7 +130,7 @@ class RigSession:
                  record: bool = True, target: str = "host", interface: str = "socketcan",
                  bitrate: int | None = None, mode: str | None = None,
                  answer_timeout: float = 2.0, key_file: Path | None = None,
-                 recorder: str = "candump",
+                 recorder: str = "canrec",
                  prepare: Callable[[RigSession], object] | None = None) -> None:
         """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
         recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS);

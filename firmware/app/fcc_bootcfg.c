@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-/* The host command line's limits (firmware/host/fcc_cli.c). */
+/* The host command line's limits (firmware/port/linux/fcc_cli.c). */
 #define STALE_LIMIT_MAX 1000u
 #define STATUS_RATE_MAX 1000.0f
 #define VAR_MIN 1e-12

@@ -1,8 +1,8 @@
 /*
  * fcc_bootcfg.h -- the boot configuration record: what the host `fcc` takes
  * on its command line, for an image that has none (the Cortex-M4F board keeps
- * it in a configuration sector of its flash; firmware/target/README.md gives
- * the layout, hil/src/hil/pil/bootcfg.py writes it).
+ * it in a configuration sector of its flash; firmware/port/mps2_an386/README.md
+ * documents it for the rig, hil/src/hil/pil/bootcfg.py writes it).
  *
  * 64 bytes, little-endian, ending in a CRC-32 (IEEE, as zlib.crc32) of the
  * first 60.  Values are range-checked exactly as the host command line checks

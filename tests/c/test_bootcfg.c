@@ -1,8 +1,8 @@
 /*
  * test_bootcfg.c -- the boot configuration record (firmware/app/fcc_bootcfg.h):
  * the CRC-32 check value, a record laid out by hand from the table of
- * firmware/target/README.md, and every refusal (no record, version, length,
- * CRC, each field out of range) leaving the configuration untouched.
+ * firmware/port/mps2_an386/README.md, and every refusal (no record, version,
+ * length, CRC, each field out of range) leaving the configuration untouched.
  */
 #include "fcc_test.h"
 

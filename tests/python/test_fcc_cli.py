@@ -182,7 +182,7 @@ def test_no_heap_in_the_firmware_objects_and_the_fcc_image():
     core = build / "firmware" / "libfcc_core.a"
     port = build / "firmware" / "port" / "linux" / "libfcc_port_linux.a"
     cli = build / "firmware" / "cli" / "libfcc_cli_common.a"
-    host = sorted((build / "firmware" / "host").rglob("*.o"))
+    host = sorted((build / "firmware" / "port" / "linux").rglob("*.o"))
     assert core.exists() and port.exists() and cli.exists() and host, f"build {build} first"
     for path in (core, port, cli, *host):
         assert not undefined_symbols("nm", path) & set(HEAP), path

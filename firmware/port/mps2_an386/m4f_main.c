@@ -2,7 +2,7 @@
  * m4f_main.c -- the flight computer as it runs on the Cortex-M4F board
  * (QEMU mps2-an386): the same fcc_node as the Linux `fcc`, its CAN port an
  * SLCAN device on UART0, its clock the SysTick, its configuration the boot
- * record, its log UART1.  firmware/target/README.md is the interface.
+ * record, its log UART1.  README.md here is the interface.
  *
  *   boot:    defaults + boot record -> fcc_node_init (the LQG design runs here)
  *   closed:  answers SLCAN commands, sends nothing

@@ -1,8 +1,8 @@
 /*
  * fcc_slcan.h -- CAN frames over a serial line in the SLCAN (Lawicel ASCII)
  * protocol, the device side: what a USB-CAN adapter such as a CANable runs,
- * here the flight computer's link to Linux `slcand` (firmware/target/README.md
- * lists the subset and the answers).
+ * here the flight computer's link to Linux `slcand`
+ * (firmware/port/mps2_an386/README.md lists the subset and the answers).
  *
  * Three layers, each usable alone:
  *   fcc_slcan_parse()   one line (without its CR) -> a command or a frame

@@ -47,18 +47,6 @@
 #endif
 #define FCC_MAT_MAX_ELEMS (FCC_MAT_MAX_DIM * FCC_MAT_MAX_DIM)
 
-/* Propagate a failure: FCC_TRY(fcc_mat_mul(&a, &b, &c)); returns the status
- * from the enclosing function unless it is FCC_OK. */
-#ifndef FCC_TRY
-#define FCC_TRY(expr)                                                                             \
-    do {                                                                                          \
-        const fcc_status_t fcc_try_status_ = (expr);                                              \
-        if (fcc_try_status_ != FCC_OK) {                                                          \
-            return fcc_try_status_;                                                               \
-        }                                                                                         \
-    } while (0)
-#endif
-
 /* Element (i, j) of either flavour, without bounds checks (for code that has
  * already checked sizes): data[i*cols + j]. */
 #define FCC_MAT_AT(m, i, j) ((m)->data[(size_t)(i) * (m)->cols + (size_t)(j)])

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "fcc_types.h" /* FCC_TRY */
+
 #define NX FCC_LQG_NX
 #define NU FCC_LQG_NU
 #define NY FCC_LQG_NY

@@ -6,11 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-/* The host command line's limits (firmware/port/linux/fcc_cli.c). */
-#define STALE_LIMIT_MAX 1000u
-#define STATUS_RATE_MAX 1000.0f
-#define VAR_MIN 1e-12
-#define VAR_MAX 1e6
+#include "fcc_cfg_limits.h" /* the ranges, shared with the host command line */
 
 static uint16_t get_u16(const uint8_t *p)
 {
@@ -97,15 +93,18 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
     if (apps == 0u || apps > 3u) {
         return fail(field, "apps", FCC_ERR_RANGE);
     }
-    if (stale > STALE_LIMIT_MAX) {
+    if (stale > FCC_CFG_STALE_LIMIT_MAX) {
         return fail(field, "stale_limit", FCC_ERR_RANGE);
     }
-    if (!(isfinite(rate) && rate >= 0.0f && rate <= STATUS_RATE_MAX)) {
+    if (!in_range((double)rate, FCC_CFG_STATUS_RATE_MIN_HZ, FCC_CFG_STATUS_RATE_MAX_HZ)) {
         return fail(field, "status_rate", FCC_ERR_RANGE);
     }
-    if (!in_range(period, (double)FCC_APP_MSL_T_MIN, (double)FCC_APP_MSL_T_MAX) ||
+    if (bits < FCC_CFG_LQG_BITS_MIN || bits > FCC_CFG_LQG_BITS_MAX) {
+        return fail(field, "lqg_bits", FCC_ERR_RANGE);
+    }
+    if (!in_range(period, FCC_CFG_LQG_PERIOD_MIN_S, FCC_CFG_LQG_PERIOD_MAX_S) ||
         !fcc_app_msl_valid((fcc_real_t)period, bits)) {
-        return fail(field, (bits < 2u || bits > 16u) ? "lqg_bits" : "lqg_period", FCC_ERR_RANGE);
+        return fail(field, "lqg_period", FCC_ERR_RANGE);
     }
     if (detector > (uint8_t)FCC_FDET_OFF) {
         return fail(field, "detector", FCC_ERR_RANGE);
@@ -113,15 +112,16 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
     if (policy > (uint8_t)FCC_AZKF_POLICY_SKIP) {
         return fail(field, "fault_policy", FCC_ERR_RANGE);
     }
-    if (!in_range(gyro_var, VAR_MIN, VAR_MAX)) {
+    if (!in_range(gyro_var, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX)) {
         return fail(field, "gyro_var", FCC_ERR_RANGE);
     }
-    if (!in_range(accel_var, VAR_MIN, VAR_MAX)) {
+    if (!in_range(accel_var, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX)) {
         return fail(field, "accel_var", FCC_ERR_RANGE);
     }
     /* as fcc_cli's --lqg-delay D: 0 <= D < T, compared in fcc_real_t (zero bytes: no delay,
      * the meaning of these bytes in records written before the field existed) */
-    if (!in_range(delay, 0.0, (double)FCC_APP_MSL_T_MAX) || !((fcc_real_t)delay < (fcc_real_t)period)) {
+    if (!in_range(delay, FCC_CFG_LQG_DELAY_MIN_S, FCC_CFG_LQG_DELAY_MAX_S) ||
+        !((fcc_real_t)delay < (fcc_real_t)period)) {
         return fail(field, "lqg_delay", FCC_ERR_RANGE);
     }
     cfg->mode = (mode == 1u) ? FCC_MODE_REALTIME : FCC_MODE_LOCKSTEP;

@@ -6,9 +6,11 @@
  */
 #include "fcc_test.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "fcc_bootcfg.h"
+#include "fcc_cfg_limits.h"
 
 static void put16(uint8_t *p, uint16_t v)
 {
@@ -179,6 +181,76 @@ static void test_refusals_change_nothing(void **state)
     assert_int_equal(fcc_bootcfg_apply(NULL, &cfg, &rate, &field), FCC_ERR_ARG);
 }
 
+/* The record's status; *field named on a refusal. */
+static fcc_status_t apply(uint8_t rec[FCC_BOOTCFG_SIZE], const char **field)
+{
+    seal(rec);
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    float rate = 0.0f;
+    *field = NULL;
+    return fcc_bootcfg_apply(rec, &cfg, &rate, field);
+}
+
+/* Each range of fcc_cfg_limits.h (the host command line's too) at its edges:
+ * the limit itself accepted, the next value outside it refused. */
+static void test_limits_shared_with_the_command_line(void **state)
+{
+    (void)state;
+    static const struct {
+        unsigned offset;
+        double ok;
+        double bad;
+        const char *field;
+    } f64[] = {
+        {16u, FCC_CFG_LQG_PERIOD_MIN_S, 0.0, "lqg_period"},
+        {16u, FCC_CFG_LQG_PERIOD_MAX_S, 0.0, "lqg_period"},
+        {28u, FCC_CFG_NOISE_VAR_MIN, 0.0, "gyro_var"},
+        {28u, FCC_CFG_NOISE_VAR_MAX, 0.0, "gyro_var"},
+        {36u, FCC_CFG_NOISE_VAR_MIN, 0.0, "accel_var"},
+        {36u, FCC_CFG_NOISE_VAR_MAX, 0.0, "accel_var"},
+    };
+    const char *field = NULL;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    for (size_t i = 0u; i < sizeof f64 / sizeof f64[0]; ++i) {
+        const bool low = (i % 2u) == 0u;
+        record(rec);
+        put_f64(&rec[44], 0.0); /* no delay: any period may be tried */
+        put_f64(&rec[f64[i].offset], f64[i].ok);
+        if (apply(rec, &field) != FCC_OK) {
+            fail_msg("%s = %g refused (%s)", f64[i].field, f64[i].ok, field);
+        }
+        put_f64(&rec[f64[i].offset], nextafter(f64[i].ok, low ? -INFINITY : INFINITY));
+        assert_int_equal(apply(rec, &field), FCC_ERR_RANGE);
+        assert_string_equal(field, f64[i].field);
+    }
+    static const uint8_t bits[] = {FCC_CFG_LQG_BITS_MIN, FCC_CFG_LQG_BITS_MAX};
+    for (size_t i = 0u; i < 2u; ++i) {
+        record(rec);
+        rec[24] = bits[i];
+        fcc_assert_ok(apply(rec, &field));
+        rec[24] = (uint8_t)((i == 0u) ? bits[i] - 1u : bits[i] + 1u);
+        assert_int_equal(apply(rec, &field), FCC_ERR_RANGE);
+        assert_string_equal(field, "lqg_bits");
+    }
+    record(rec);
+    put16(&rec[10], FCC_CFG_STALE_LIMIT_MAX);
+    fcc_assert_ok(apply(rec, &field));
+    put16(&rec[10], FCC_CFG_STALE_LIMIT_MAX + 1u);
+    assert_int_equal(apply(rec, &field), FCC_ERR_RANGE);
+    assert_string_equal(field, "stale_limit");
+    static const float rates[] = {(float)FCC_CFG_STATUS_RATE_MIN_HZ,
+                                  (float)FCC_CFG_STATUS_RATE_MAX_HZ};
+    for (size_t i = 0u; i < 2u; ++i) {
+        record(rec);
+        put_f32(&rec[12], rates[i]);
+        fcc_assert_ok(apply(rec, &field));
+        put_f32(&rec[12], nextafterf(rates[i], (i == 0u) ? -INFINITY : INFINITY));
+        assert_int_equal(apply(rec, &field), FCC_ERR_RANGE);
+        assert_string_equal(field, "status_rate");
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -186,6 +258,7 @@ int main(void)
         cmocka_unit_test(test_record_applied),
         cmocka_unit_test(test_refusals_change_nothing),
         cmocka_unit_test(test_zero_delay_bytes_mean_no_delay),
+        cmocka_unit_test(test_limits_shared_with_the_command_line),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

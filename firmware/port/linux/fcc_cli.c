@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "fcc_cfg_limits.h"
 #include "fcc_keyfile.h"
 #include "fcc_opt.h"
 #include "fcc_opt_sid.h"
@@ -30,7 +31,7 @@ void fcc_cli_usage(FILE *out)
         "  --apps LIST                   cdrw,missile | cdrw | missile (cdrw,missile)\n"
         "  --duration S                  stop after S seconds (0: run until a signal or a\n"
         "                                shutdown frame)\n"
-        "  --status-rate HZ              heartbeat rate, 0 = only at start and exit (10)\n"
+        "  --status-rate HZ              heartbeat rate, 0 = only at start and exit (%g)\n"
         "  --rt-priority P               run under SCHED_FIFO priority P (1..99) with memory\n"
         "                                locked; 0 = normal scheduling (0)\n"
         "  --stale-limit N               missing frames bridged with the last value before a\n"
@@ -45,8 +46,8 @@ void fcc_cli_usage(FILE *out)
         "  --accel-var V                 accelerometer noise variance, ft^2/s^4 (0.8)\n"
         "  --solver hamiltonian|doubling  Riccati solution used (both are computed and\n"
         "                                compared)\n",
-        FCC_NODE_DEFAULT_STALE_LIMIT, (double)FCC_APP_MSL_T_MIN, (double)FCC_APP_MSL_T_MAX,
-        FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX);
+        FCC_CFG_STATUS_RATE_DEFAULT_HZ, FCC_NODE_DEFAULT_STALE_LIMIT, FCC_CFG_LQG_PERIOD_MIN_S,
+        FCC_CFG_LQG_PERIOD_MAX_S, FCC_CFG_LQG_BITS_MIN, FCC_CFG_LQG_BITS_MAX);
     fcc_opt_sid_usage(out);
     fprintf(out,
         "Exit: 0 after SIGINT/SIGTERM, --duration or a shutdown frame; 1 start-up failure\n"
@@ -128,12 +129,13 @@ static fcc_opt_result_t apply_run(fcc_cli_t *c, const char *name, const char *va
     } else if (strcmp(name, "--duration") == 0) {
         r = fcc_opt_double(name, val, 0.0, 1e7, &c->duration_s, err, len);
     } else if (strcmp(name, "--status-rate") == 0) {
-        r = fcc_opt_double(name, val, 0.0, 1000.0, &c->status_rate_hz, err, len);
+        r = fcc_opt_double(name, val, FCC_CFG_STATUS_RATE_MIN_HZ, FCC_CFG_STATUS_RATE_MAX_HZ,
+                           &c->status_rate_hz, err, len);
     } else if (strcmp(name, "--rt-priority") == 0) {
         r = fcc_opt_uint(name, val, 0u, 99u, &u, err, len);
         c->rt_priority = (r == FCC_OPT_DONE) ? (int)u : c->rt_priority;
     } else if (strcmp(name, "--stale-limit") == 0) {
-        r = fcc_opt_u16(name, val, 0u, 1000u, &c->node.stale_limit, err, len);
+        r = fcc_opt_u16(name, val, 0u, FCC_CFG_STALE_LIMIT_MAX, &c->node.stale_limit, err, len);
     }
     return r;
 }
@@ -148,15 +150,17 @@ static fcc_opt_result_t apply_msl(fcc_app_msl_config_t *m, const char *name, con
     unsigned long u = 0u;
     fcc_opt_result_t r = FCC_OPT_NOT_MINE;
     if (strcmp(name, "--lqg-period") == 0) {
-        r = fcc_opt_real(name, val, (double)FCC_APP_MSL_T_MIN, (double)FCC_APP_MSL_T_MAX,
+        r = fcc_opt_real(name, val, FCC_CFG_LQG_PERIOD_MIN_S, FCC_CFG_LQG_PERIOD_MAX_S,
                          &m->period, err, len);
     } else if (strcmp(name, "--lqg-bits") == 0) {
-        r = fcc_opt_uint(name, val, FCC_LQG_BITS_MIN, FCC_LQG_BITS_MAX, &u, err, len);
+        r = fcc_opt_uint(name, val, FCC_CFG_LQG_BITS_MIN, FCC_CFG_LQG_BITS_MAX, &u, err, len);
         m->bits = (r == FCC_OPT_DONE) ? (uint8_t)u : m->bits;
     } else if (strcmp(name, "--gyro-var") == 0) {
-        r = fcc_opt_real(name, val, 1e-12, 1e6, &m->plant.gyro_var, err, len);
+        r = fcc_opt_real(name, val, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX,
+                         &m->plant.gyro_var, err, len);
     } else if (strcmp(name, "--accel-var") == 0) {
-        r = fcc_opt_real(name, val, 1e-12, 1e6, &m->plant.accel_var, err, len);
+        r = fcc_opt_real(name, val, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX,
+                         &m->plant.accel_var, err, len);
     } else if (strcmp(name, "--solver") == 0) {
         r = fcc_opt_choice(name, val, solvers, 2, &i, err, len);
         m->solver = (r == FCC_OPT_DONE) ? solver_of[i] : m->solver;
@@ -178,7 +182,8 @@ static fcc_opt_result_t apply_delay(fcc_cli_t *c, const char *name, const char *
     if (c->lqg_delay_auto) {
         return FCC_OPT_DONE;
     }
-    return fcc_opt_real(name, val, 0.0, (double)FCC_APP_MSL_T_MAX, &c->node.msl.delay, err, len);
+    return fcc_opt_real(name, val, FCC_CFG_LQG_DELAY_MIN_S, FCC_CFG_LQG_DELAY_MAX_S,
+                        &c->node.msl.delay, err, len);
 }
 
 /* fcc's own options, then the identification options shared with sid_replay. */
@@ -225,7 +230,7 @@ int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_l
 {
     memset(cli, 0, sizeof *cli);
     cli->iface = "vcan0";
-    cli->status_rate_hz = 10.0;
+    cli->status_rate_hz = FCC_CFG_STATUS_RATE_DEFAULT_HZ;
     if (fcc_node_config_default(&cli->node) != FCC_OK) {
         return fcc_opt_fail(err, err_len, "internal error: default configuration");
     }

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "fcc_bootcfg.h"
+#include "fcc_cfg_limits.h"
 #include "fcc_node.h"
 #include "fcc_slcan.h"
 #include "mps2_board.h"
@@ -217,7 +218,7 @@ static void refuse(const char *what, const char *detail)
 
 static void configure(image_t *img)
 {
-    float rate = 10.0f;
+    float rate = (float)FCC_CFG_STATUS_RATE_DEFAULT_HZ;
     const char *field = NULL;
     uint8_t rec[FCC_BOOTCFG_SIZE];
     const volatile uint8_t *sector = mps2_bootcfg();

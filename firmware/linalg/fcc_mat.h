@@ -21,7 +21,7 @@
  * FCC_MAT_REAL as fcc_real_t / double.
  *
  * Why these algorithms: the autopilot designs itself on the target for the
- * sampling period it is given (SPEC section 3): Van Loan block exponentials
+ * sampling period it is given (firmware/lqg): Van Loan block exponentials
  * (expm up to 8x8), two Riccati solvers (eigenvectors of a 6x6 symplectic
  * matrix; doubling with LU solves), pole checks (eigenvalues), PBH rank
  * tests (singular values).  Sizes are tiny, so clarity and robustness win

@@ -1,4 +1,4 @@
-/* fcc_lqg_design.c -- the sampled-data LQG design of SPEC section 3. */
+/* fcc_lqg_design.c -- the sampled-data LQG design (fcc_lqg.h). */
 #include "fcc_lqg.h"
 
 #include <string.h>

@@ -10,24 +10,19 @@
 
 /* The layout tiles the record: each field starts where the one before ends,
  * the CRC ends the record (a failed check is a negative array size). */
-#define FOLLOWS(next, prev) (FCC_BOOTCFG_##next##_OFF == FCC_BOOTCFG_##prev##_OFF + FCC_BOOTCFG_##prev##_LEN)
-typedef char layout_tiles_the_record[(FCC_BOOTCFG_MAGIC_OFF == 0u && FOLLOWS(VERSION, MAGIC) &&
-                                      FOLLOWS(LENGTH, VERSION) && FOLLOWS(MODE, LENGTH) &&
-                                      FOLLOWS(APPS, MODE) && FOLLOWS(STALE_LIMIT, APPS) &&
-                                      FOLLOWS(STATUS_RATE, STALE_LIMIT) &&
-                                      FOLLOWS(LQG_PERIOD, STATUS_RATE) &&
-                                      FOLLOWS(LQG_BITS, LQG_PERIOD) &&
-                                      FOLLOWS(DETECTOR, LQG_BITS) &&
-                                      FOLLOWS(FAULT_POLICY, DETECTOR) &&
-                                      FOLLOWS(PAD, FAULT_POLICY) && FOLLOWS(GYRO_VAR, PAD) &&
-                                      FOLLOWS(ACCEL_VAR, GYRO_VAR) &&
-                                      FOLLOWS(LQG_DELAY, ACCEL_VAR) &&
-                                      FOLLOWS(RESERVED, LQG_DELAY) &&
-                                      FOLLOWS(CRC, RESERVED) &&
-                                      FCC_BOOTCFG_CRC_OFF + FCC_BOOTCFG_CRC_LEN == FCC_BOOTCFG_SIZE &&
-                                      sizeof FCC_BOOTCFG_MAGIC - 1u == FCC_BOOTCFG_MAGIC_LEN)
-                                         ? 1
-                                         : -1];
+#define FOLLOWS(next, prev)                                                                       \
+    (FCC_BOOTCFG_##next##_OFF == FCC_BOOTCFG_##prev##_OFF + FCC_BOOTCFG_##prev##_LEN)
+#define LAYOUT_OK                                                                                 \
+    (FCC_BOOTCFG_MAGIC_OFF == 0u && FOLLOWS(VERSION, MAGIC) && FOLLOWS(LENGTH, VERSION) &&        \
+     FOLLOWS(MODE, LENGTH) && FOLLOWS(APPS, MODE) && FOLLOWS(STALE_LIMIT, APPS) &&                \
+     FOLLOWS(STATUS_RATE, STALE_LIMIT) && FOLLOWS(LQG_PERIOD, STATUS_RATE) &&                     \
+     FOLLOWS(LQG_BITS, LQG_PERIOD) && FOLLOWS(DETECTOR, LQG_BITS) &&                              \
+     FOLLOWS(FAULT_POLICY, DETECTOR) && FOLLOWS(PAD, FAULT_POLICY) && FOLLOWS(GYRO_VAR, PAD) &&   \
+     FOLLOWS(ACCEL_VAR, GYRO_VAR) && FOLLOWS(LQG_DELAY, ACCEL_VAR) &&                             \
+     FOLLOWS(RESERVED, LQG_DELAY) && FOLLOWS(CRC, RESERVED) &&                                    \
+     FCC_BOOTCFG_CRC_OFF + FCC_BOOTCFG_CRC_LEN == FCC_BOOTCFG_SIZE &&                             \
+     sizeof FCC_BOOTCFG_MAGIC - 1u == FCC_BOOTCFG_MAGIC_LEN)
+typedef char layout_tiles_the_record[LAYOUT_OK ? 1 : -1];
 
 /* Field readers: the field's name gives its place, the reader's width must be
  * the field's size (a failed check is a negative array size). */

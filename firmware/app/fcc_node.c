@@ -138,6 +138,9 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     if (st == FCC_OK) {
         st = fcc_tsync_init(&node->tsync, &tcfg);
     }
+    if (st == FCC_OK) {
+        st = fcc_tsync_auth_init(&node->tsync_auth);
+    }
     node->tsync_reported = FCC_TSYNC_FREE_RUN;
     node->tsync_rejected_reported = 0u;
     if (st == FCC_OK) {
@@ -165,6 +168,9 @@ fcc_status_t fcc_node_reset(fcc_node_t *node)
         node->app[a].last_degraded = false;
     }
     node->oracle_fault = false;
+    /* A time master refused (or lost) may be followed again from here: only an
+     * authenticated RESET, only on the ground, forgets the time base. */
+    (void)fcc_tsync_rebase(&node->tsync);
     /* The simulator may restart its alive counters with a new flight. */
     for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
         if ((node->bus.consumes & MSG_BIT(i)) != 0u) {
@@ -357,10 +363,10 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
         ++node->cnt.oracle_events;
         break;
     case FCC_MSG_TSYNC_SYNC: {
+        /* authenticated (handle_tsync); t_us: its receive stamp, taken when it arrived */
         const fcc_msg_tsync_sync_t *s = &m.data.tsync_sync;
-        /* the receive stamp is on the port's clock; a port without one: now */
-        const uint64_t t = (frame->t_us != 0u) ? frame->t_us : now_us(node);
-        (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec, t);
+        (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec,
+                                frame->t_us);
         (void)fcc_node_sync_poll(node);
         break;
     }
@@ -375,6 +381,41 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
     }
 }
 
+/* The time master's frames: SYNC and FOLLOW_UP held until TSYNC_AUTH verifies
+ * a pair (fcc_tsync_auth.h), which then goes through the checks to the servo. */
+static void handle_tsync(fcc_node_t *node, fcc_msg_t msg, const fcc_can_frame_t *frame)
+{
+    if (msg == FCC_MSG_TSYNC_SYNC) {
+        /* the receive stamp is on the port's clock; a port without one: now */
+        const uint64_t t = (frame->t_us != 0u) ? frame->t_us : now_us(node);
+        (void)fcc_tsync_auth_hold_sync(&node->tsync_auth, frame->data, t);
+        return;
+    }
+    if (msg == FCC_MSG_TSYNC_FOLLOW_UP) {
+        (void)fcc_tsync_auth_hold_follow_up(&node->tsync_auth, frame->data);
+        return;
+    }
+    uint32_t a;
+    fcc_tsync_held_t sync;
+    fcc_can_frame_t fup = *frame;
+    const fcc_secoc_verdict_t v =
+        fcc_secoc_auth_index(msg, &a)
+            ? fcc_tsync_auth_verify(&node->tsync_auth, &node->sec, a, frame->data, &sync, fup.data)
+            : FCC_SECOC_NO_PDU;
+    if (v != FCC_SECOC_VERIFIED) {
+        emit(node, FCC_EV_AUTH_FAILED, FCC_N_APPS, frame->id, (int32_t)v);
+        (void)fcc_node_sync_poll(node);
+        return;
+    }
+    fcc_can_frame_t s = *frame;
+    s.id = FCC_MSG_TSYNC_SYNC_ID;
+    s.t_us = sync.t_us;
+    memcpy(s.data, sync.data, 8u);
+    fup.id = FCC_MSG_TSYNC_FOLLOW_UP_ID;
+    dispatch(node, &s);
+    dispatch(node, &fup);
+}
+
 static void handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
 {
     ++node->cnt.rx_frames;
@@ -382,6 +423,11 @@ static void handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
     uint32_t a;
     const bool known = fcc_bus_find(frame->id, &msg) == FCC_OK &&
                        (node->bus.consumes & MSG_BIT(msg)) != 0u && frame->dlc == 8u;
+    if (known && (msg == FCC_MSG_TSYNC_SYNC || msg == FCC_MSG_TSYNC_FOLLOW_UP ||
+                  msg == FCC_MSG_TSYNC_AUTH)) {
+        handle_tsync(node, msg, frame);
+        return;
+    }
     if (known && fcc_secoc_secured_index(msg, &a)) {
         /* Held until its authenticator comes; E2E and range checks after that. */
         (void)fcc_secoc_hold(&node->sec, a, frame->data);
@@ -648,8 +694,30 @@ static void fill_security(const fcc_node_t *node, fcc_msg_t msg, fcc_msg_data_t 
     }
 }
 
-static void fill_sync(const fcc_tsync_t *ts, fcc_msg_data_t *d)
+uint32_t fcc_node_sync_rejected(const fcc_node_t *node)
 {
+    if (node == NULL) {
+        return 0u;
+    }
+    const fcc_tsync_auth_counters_t *c = &node->tsync_auth.cnt;
+    return fcc_tsync_rejected(&node->tsync) + c->mac_failed + c->freshness_failed +
+           c->unauthenticated;
+}
+
+static void fill_sync_refusals(const fcc_node_t *node, fcc_msg_data_t *d)
+{
+    fcc_msg_fcc_sync_refusals_t *r = &d->fcc_sync_refusals;
+    const fcc_tsync_auth_counters_t *c = &node->tsync_auth.cnt;
+    r->mac_failed = wrap16(c->mac_failed);
+    r->freshness_failed = wrap16(c->freshness_failed);
+    r->unauthenticated = wrap16(c->unauthenticated);
+    r->step_refused = (uint8_t)(node->tsync.cnt.step_refused & 0xFFu);
+    r->rate_refused = (uint8_t)(node->tsync.cnt.rate_refused & 0xFFu);
+}
+
+static void fill_sync(const fcc_node_t *node, fcc_msg_data_t *d)
+{
+    const fcc_tsync_t *ts = &node->tsync;
     fcc_msg_fcc_sync_status_t *s = &d->fcc_sync_status;
     s->state = (uint8_t)ts->state;
     s->master = ts->have_master ? ts->master : 0u;
@@ -658,7 +726,7 @@ static void fill_sync(const fcc_tsync_t *ts, fcc_msg_data_t *d)
                                                                   : ts->last_residual_us);
     s->rate_ppm = (fcc_real_t)ts->rate_ppb * FCC_R(1e-3);
     s->syncs = (uint8_t)(ts->cnt.samples & 0xFFu);
-    s->rejected = (uint8_t)(fcc_tsync_rejected(ts) & 0xFFu);
+    s->rejected = (uint8_t)(fcc_node_sync_rejected(node) & 0xFFu);
     s->losses = (uint8_t)(ts->cnt.losses & 0xFFu);
 }
 
@@ -692,7 +760,9 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
         } else if (msg == FCC_MSG_FCC_SEC_COUNTS || msg == FCC_MSG_FCC_SEC_SESSION) {
             fill_security(node, msg, &d);
         } else if (msg == FCC_MSG_FCC_SYNC_STATUS) {
-            fill_sync(&node->tsync, &d);
+            fill_sync(node, &d);
+        } else if (msg == FCC_MSG_FCC_SYNC_REFUSALS) {
+            fill_sync_refusals(node, &d);
         } else {
             fill_counts(&bc, &pc, msg, &d);
         }
@@ -728,7 +798,7 @@ fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node)
         node->tsync_reported = st;
         emit(node, FCC_EV_SYNC_STATE, FCC_N_APPS, FCC_EV_NO_MSG, (int32_t)st);
     }
-    const uint32_t rej = fcc_tsync_rejected(&node->tsync);
+    const uint32_t rej = fcc_node_sync_rejected(node);
     if (rej != node->tsync_rejected_reported) {
         node->tsync_rejected_reported = rej;
         emit(node, FCC_EV_SYNC_REJECTED, FCC_N_APPS, FCC_MSG_TSYNC_SYNC_ID,

@@ -33,6 +33,7 @@
 #include "fcc_port.h"
 #include "fcc_secoc.h"
 #include "fcc_tsync.h"
+#include "fcc_tsync_auth.h"
 #include "fcc_types.h"
 
 /* Application numbers: the values of SIM_TICK.app / FCC_ACK.app. */
@@ -123,6 +124,7 @@ typedef struct {
     bool e2e_fault_flag;   /* ERROR / WRONG_SEQUENCE since the last heartbeat */
     bool overrun_flag;     /* overrun since the last heartbeat */
     fcc_tsync_t tsync;     /* time base of the bus's time master (TSYNC_*) */
+    fcc_tsync_auth_t tsync_auth; /* its SYNC / FOLLOW_UP held until TSYNC_AUTH verifies them */
     fcc_tsync_state_t tsync_reported; /* last state reported as an event */
     uint32_t tsync_rejected_reported;
 } fcc_node_t;
@@ -162,13 +164,18 @@ fcc_status_t fcc_node_background(fcc_node_t *node);
 
 /* The heartbeat: the frames of FCC_STATUS_AUTH's SecOC group in the DBC's order
  * (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS,
- * FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION), then that authenticator;
+ * FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION), then that
+ * authenticator;
  * clears the since-last-heartbeat flags. */
 fcc_status_t fcc_node_send_status(fcc_node_t *node);
 
 /* Time sync timeouts (missing follow-up, loss of sync, release) and state
  * events; call at least once per sync interval (the hosts call it every loop). */
 fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node);
+
+/* Every time-sync input refused: the servo's classes, implausible pairs, and
+ * frames refused by the authentication (FCC_SYNC_STATUS.rejected). */
+uint32_t fcc_node_sync_rejected(const fcc_node_t *node);
 
 /* Realtime, synchronised schedule: every input of app has a good frame
  * received at or after since_us (the port's clock) waiting for the next step. */

@@ -3,6 +3,7 @@
  * frames in to frames out, for scripts/bench.d/fcc.
  *
  *   fcc_step_bench cdrw|missile STEPS
+ *   fcc_step_bench tsync|tsync-forged|heartbeat N
  *
  * The node is the real one (firmware/app); its port is memory: the frames of
  * every step (sensor frames + SIM_TICK, E2E-protected by the real frame
@@ -14,6 +15,14 @@
  * The CDRW flight is a pull-up with a 0.1 s sensor spike at 4 s (the paper's
  * fault), so the AZKF switches to its large order for a while.
  * Also prints the wall time per step (informative; callgrind is the measure).
+ *
+ * tsync: N sync intervals of the time master, each its SYNC, FOLLOW_UP and
+ * TSYNC_AUTH (one authenticated pair through the checks to the servo) as the
+ * measured step; tsync-forged: the same behind a forger's SYNC + FOLLOW_UP of
+ * the same sequence number (valid E2E, pre-empting the master's counters), so
+ * every authenticator is tried against 4 pairs.  heartbeat: N heartbeats
+ * (fcc_node_send_status: encode 9 frames, one MAC over them) measured in
+ * fcc_bench_measured_heartbeat.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -33,6 +42,65 @@ static fcc_secoc_t g_sec; /* the simulator's authenticators */
 static fcc_can_frame_t g_frames[MAX_STEPS][FCC_BENCH_MAX_FRAMES];
 static uint32_t g_nframes[MAX_STEPS];
 static uint32_t g_sent;
+static uint64_t g_clock; /* tsync modes: the node's clock, set per interval */
+
+static uint64_t synth_us(void *ctx)
+{
+    (void)ctx;
+    return g_clock;
+}
+
+/* The measured region of `fcc_step_bench heartbeat N`. */
+void fcc_bench_measured_heartbeat(fcc_node_t *node) __attribute__((noinline));
+void fcc_bench_measured_heartbeat(fcc_node_t *node)
+{
+    (void)fcc_node_send_status(node);
+}
+
+#define TSYNC_INTERVAL_US 100000u
+#define TSYNC_OFFSET_US 5000000u
+
+/* Sync interval k: [forged SYNC, forged FOLLOW_UP,] SYNC, FOLLOW_UP, TSYNC_AUTH; the
+ * SYNC received at local 1 s + k interval, master time = local + 5 s. */
+static fcc_status_t tsync_frames(fcc_bus_t *sim, fcc_bus_t *forger, fcc_secoc_t *sec, uint32_t k,
+                                 fcc_can_frame_t f[FCC_BENCH_MAX_FRAMES], uint32_t *n)
+{
+    const uint64_t l = 1000000u + (uint64_t)k * TSYNC_INTERVAL_US;
+    *n = 0u;
+    for (int pass = (forger != NULL) ? 0 : 1; pass < 2; ++pass) {
+        fcc_bus_t *from = (pass == 0) ? forger : sim;
+        if (pass == 0) { /* the forger pre-empts the master's next alive counters */
+            forger->tx[FCC_MSG_TSYNC_SYNC] = sim->tx[FCC_MSG_TSYNC_SYNC];
+            forger->tx[FCC_MSG_TSYNC_FOLLOW_UP] = sim->tx[FCC_MSG_TSYNC_FOLLOW_UP];
+        }
+        const uint64_t m = l + TSYNC_OFFSET_US - ((pass == 0) ? 50000u : 0u);
+        fcc_msg_data_t d;
+        memset(&d, 0, sizeof d);
+        d.tsync_sync.master = 1u;
+        d.tsync_sync.seq = (uint8_t)k;
+        d.tsync_sync.interval_ms = (uint8_t)(TSYNC_INTERVAL_US / 1000u);
+        d.tsync_sync.sec = (uint32_t)(m / 1000000u);
+        FCC_TRY(fcc_bus_encode(from, FCC_MSG_TSYNC_SYNC, &d, &f[*n]));
+        f[*n].t_us = l - ((pass == 0) ? 10u : 0u);
+        ++*n;
+        memset(&d, 0, sizeof d);
+        d.tsync_follow_up.master = 1u;
+        d.tsync_follow_up.seq = (uint8_t)k;
+        d.tsync_follow_up.ns = (uint32_t)(m % 1000000u) * 1000u;
+        FCC_TRY(fcc_bus_encode(from, FCC_MSG_TSYNC_FOLLOW_UP, &d, &f[*n]));
+        ++*n;
+    }
+    uint32_t a = 0u;
+    if (!fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &a)) {
+        return FCC_ERR_ARG;
+    }
+    uint8_t pdu[16];
+    memcpy(pdu, f[*n - 2u].data, 8u);
+    memcpy(&pdu[8], f[*n - 1u].data, 8u);
+    FCC_TRY(fcc_secoc_protect(sec, a, pdu, 16u, &f[*n]));
+    ++*n;
+    return FCC_OK;
+}
 
 static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
 {
@@ -76,9 +144,14 @@ int main(int argc, char **argv)
     const bool cdrw = argc == 3 && strcmp(argv[1], "cdrw") == 0;
     const bool missile = argc == 3 && strcmp(argv[1], "missile") == 0;
     const bool mac = argc == 3 && strcmp(argv[1], "mac") == 0;
+    const bool forged = argc == 3 && strcmp(argv[1], "tsync-forged") == 0;
+    const bool tsync = forged || (argc == 3 && strcmp(argv[1], "tsync") == 0);
+    const bool heartbeat = argc == 3 && strcmp(argv[1], "heartbeat") == 0;
     const long steps = (argc == 3) ? strtol(argv[2], NULL, 10) : 0;
-    if ((!cdrw && !missile && !mac) || steps <= 0 || steps > (long)MAX_STEPS) {
-        fprintf(stderr, "usage: fcc_step_bench cdrw|missile|mac STEPS (1..%u)\n", MAX_STEPS);
+    if ((!cdrw && !missile && !mac && !tsync && !heartbeat) || steps <= 0 ||
+        steps > (long)MAX_STEPS) {
+        fprintf(stderr, "usage: fcc_step_bench cdrw|missile|mac|tsync|tsync-forged|heartbeat "
+                        "STEPS (1..%u)\n", MAX_STEPS);
         return 2;
     }
     fcc_status_t st = fcc_bench_sim_init(&g_sim, &g_sec);
@@ -95,7 +168,7 @@ int main(int argc, char **argv)
         return 0;
     }
     fcc_node_config_t cfg;
-    const fcc_port_t port = fcc_bench_port(mem_send, mono_us);
+    const fcc_port_t port = fcc_bench_port(mem_send, (tsync || heartbeat) ? synth_us : mono_us);
     if (fcc_node_config_default(&cfg) != FCC_OK) {
         return 1;
     }
@@ -104,6 +177,32 @@ int main(int argc, char **argv)
         fcc_bench_take_off(&g_node, &g_sim, &g_sec) != FCC_OK) {
         fprintf(stderr, "fcc_step_bench: node start-up failed\n");
         return 1;
+    }
+    if (heartbeat) {
+        for (long i = 0; i < steps; ++i) {
+            g_clock += 100000u;
+            fcc_bench_measured_heartbeat(&g_node);
+        }
+        printf("app=heartbeat n=%ld frames_sent=%lu\n", steps, (unsigned long)g_sent);
+        return 0;
+    }
+    if (tsync) {
+        static fcc_bus_t forger;
+        st = fcc_bus_init(&forger, FCC_BUS_NODE_SIM);
+        for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
+            st = tsync_frames(&g_sim, forged ? &forger : NULL, &g_sec, k, g_frames[k],
+                              &g_nframes[k]);
+        }
+        for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
+            g_clock = 1000000u + (uint64_t)k * TSYNC_INTERVAL_US + 50u;
+            fcc_bench_measured_step(&g_node, g_frames[k], g_nframes[k]);
+        }
+        const fcc_tsync_t *ts = &g_node.tsync;
+        printf("app=%s n=%ld samples=%lu state=%u unauthenticated=%lu rejected=%lu\n", argv[1],
+               steps, (unsigned long)ts->cnt.samples, (unsigned)ts->state,
+               (unsigned long)g_node.tsync_auth.cnt.unauthenticated,
+               (unsigned long)fcc_node_sync_rejected(&g_node));
+        return (st == FCC_OK && ts->cnt.samples == (uint32_t)steps) ? 0 : 1;
     }
     for (uint32_t k = 0u; k < (uint32_t)steps && st == FCC_OK; ++k) {
         st = cdrw ? fcc_bench_cdrw_frames(&g_sim, &g_sec, k, false, g_frames[k], &g_nframes[k])

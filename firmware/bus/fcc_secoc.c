@@ -120,6 +120,45 @@ fcc_status_t fcc_secoc_hold(fcc_secoc_t *sec, uint32_t index, const uint8_t data
     return FCC_OK;
 }
 
+/* The freshness value an authenticator stands for: the smallest counter above
+ * the last accepted one with its 16 low bits, within the window. */
+static bool fresh_counter(const fcc_secoc_chan_t *c, const uint8_t auth[8], uint32_t *counter)
+{
+    const uint32_t trunc = (uint32_t)auth[0] | ((uint32_t)auth[1] << 8);
+    uint64_t cand = ((uint64_t)c->counter & ~(uint64_t)TRUNC_MASK) | trunc;
+    if (cand <= c->counter) {
+        cand += (uint64_t)TRUNC_MASK + 1u;
+    }
+    if (cand - c->counter > FCC_SECOC_WINDOW || cand > UINT32_MAX) {
+        return false;
+    }
+    *counter = (uint32_t)cand;
+    return true;
+}
+
+/* Try every candidate (no early exit); the index of the first that matched, or n. */
+static uint32_t find_match(const fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                           const uint8_t *cand, uint32_t n, size_t len, uint32_t counter)
+{
+    const uint64_t fv = full_fv(sec->trip, counter);
+    const uint16_t data_id = fcc_secoc_table[index].data_id;
+    uint32_t match = n;
+    for (uint32_t i = 0u; i < n; ++i) {
+        uint8_t tag[FCC_SECOC_MAC_BYTES];
+        if (fcc_secoc_mac(&sec->cmac, data_id, &cand[i * len], len, fv, tag) != FCC_OK) {
+            continue;
+        }
+        uint8_t diff = 0u;
+        for (unsigned int b = 0u; b < FCC_SECOC_MAC_BYTES; ++b) {
+            diff = (uint8_t)(diff | (tag[b] ^ auth[2u + b]));
+        }
+        if (diff == 0u && match == n) {
+            match = i;
+        }
+    }
+    return match;
+}
+
 fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
                                      uint8_t out[8])
 {
@@ -127,13 +166,8 @@ fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uin
         return FCC_SECOC_NO_PDU;
     }
     fcc_secoc_chan_t *c = &sec->chan[index];
-    /* The smallest counter above the last accepted one with these low 16 bits. */
-    const uint32_t trunc = (uint32_t)auth[0] | ((uint32_t)auth[1] << 8);
-    uint64_t cand = ((uint64_t)c->counter & ~(uint64_t)TRUNC_MASK) | trunc;
-    if (cand <= c->counter) {
-        cand += (uint64_t)TRUNC_MASK + 1u;
-    }
-    if (cand - c->counter > FCC_SECOC_WINDOW || cand > UINT32_MAX) {
+    uint32_t counter = 0u;
+    if (!fresh_counter(c, auth, &counter)) {
         ++sec->cnt.freshness_failed;
         return FCC_SECOC_FRESHNESS_FAILED;
     }
@@ -141,31 +175,45 @@ fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uin
         ++sec->cnt.mac_failed;
         return FCC_SECOC_NO_PDU;
     }
-    const uint64_t fv = full_fv(sec->trip, (uint32_t)cand);
-    const uint16_t data_id = fcc_secoc_table[index].data_id;
-    /* Every held frame is tried (no early exit: the time does not tell which matched). */
-    uint32_t match = FCC_SECOC_CANDIDATES;
-    for (uint32_t i = 0u; i < c->n_held; ++i) {
-        uint8_t tag[FCC_SECOC_MAC_BYTES];
-        if (fcc_secoc_mac(&sec->cmac, data_id, c->held[i], 8u, fv, tag) != FCC_OK) {
-            continue;
-        }
-        uint8_t diff = 0u;
-        for (unsigned int b = 0u; b < FCC_SECOC_MAC_BYTES; ++b) {
-            diff = (uint8_t)(diff | (tag[b] ^ auth[2u + b]));
-        }
-        if (diff == 0u && match == FCC_SECOC_CANDIDATES) {
-            match = i;
-        }
-    }
-    if (match == FCC_SECOC_CANDIDATES) {
+    const uint32_t match = find_match(sec, index, auth, &c->held[0][0], c->n_held, 8u, counter);
+    if (match == c->n_held) {
         ++sec->cnt.mac_failed;
         return FCC_SECOC_MAC_FAILED;
     }
     memcpy(out, c->held[match], 8u);
     sec->cnt.unpaired += match; /* older held frames: never authenticated */
     drop_oldest(c, match + 1u);
-    c->counter = (uint32_t)cand;
+    c->counter = counter;
+    ++sec->cnt.verified;
+    return FCC_SECOC_VERIFIED;
+}
+
+fcc_secoc_verdict_t fcc_secoc_verify_pdus(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                                          const uint8_t *cand, uint32_t n, size_t len,
+                                          uint32_t *match)
+{
+    if (sec == NULL || auth == NULL || match == NULL || index >= FCC_SECOC_N_AUTH ||
+        n > FCC_SECOC_CANDIDATES || (n > 0u && cand == NULL) ||
+        len != 8u * fcc_secoc_table[index].n_pdus) {
+        return FCC_SECOC_NO_PDU;
+    }
+    fcc_secoc_chan_t *c = &sec->chan[index];
+    uint32_t counter = 0u;
+    if (!fresh_counter(c, auth, &counter)) {
+        ++sec->cnt.freshness_failed;
+        return FCC_SECOC_FRESHNESS_FAILED;
+    }
+    if (n == 0u) {
+        ++sec->cnt.mac_failed;
+        return FCC_SECOC_NO_PDU;
+    }
+    const uint32_t m = find_match(sec, index, auth, cand, n, len, counter);
+    if (m == n) {
+        ++sec->cnt.mac_failed;
+        return FCC_SECOC_MAC_FAILED;
+    }
+    *match = m;
+    c->counter = counter;
     ++sec->cnt.verified;
     return FCC_SECOC_VERIFIED;
 }

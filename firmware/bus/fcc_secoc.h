@@ -5,8 +5,8 @@
  * dbc/README.md ("Authentication"); hil/src/hil/bus/secoc.py is the same in
  * Python.  In short:
  *
- *   - a secured frame (SIM_CONTROL, SIM_TICK, MSL_ELEV_CMD, or the heartbeat
- *     group) is followed by its authenticator frame from the same sender (the
+ *   - a secured frame (SIM_CONTROL, SIM_TICK, MSL_ELEV_CMD), or group (the
+ *     heartbeat; the time master's SYNC + FOLLOW_UP), is followed by its authenticator frame from the same sender (the
  *     DBC's SecOC_Pdus / SecOC_DataID attributes, fcc_secoc_table);
  *   - freshness value FV = trip << 32 | message counter; the counter counts the
  *     authenticator frames of one secured PDU, from 1; trip is drawn by fcc at
@@ -101,6 +101,18 @@ fcc_status_t fcc_secoc_hold(fcc_secoc_t *sec, uint32_t index, const uint8_t data
  * genuine frame).  Counted in sec->cnt. */
 fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
                                      uint8_t out[8]);
+
+/* Receiver, a PDU of several frames that the caller holds itself (the time
+ * master's SYNC + FOLLOW_UP, which the time sync pairs with their receive
+ * stamps): the authenticator of PDU `index` is tried against each of the n
+ * candidate PDUs cand[i * len .. (i + 1) * len), n <= FCC_SECOC_CANDIDATES,
+ * len = 8 * n_pdus of the PDU -- every one tried (the time does not tell which
+ * matched).  VERIFIED: *match = the first candidate that verified and the
+ * counter moves on; otherwise nothing changes.  Counted in sec->cnt as by
+ * fcc_secoc_verify (NO_PDU for n = 0 counts as a MAC failure). */
+fcc_secoc_verdict_t fcc_secoc_verify_pdus(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                                          const uint8_t *cand, uint32_t n, size_t len,
+                                          uint32_t *match);
 
 /* The MAC input and tag, for tests and tools: tag = first 6 bytes of the CMAC
  * over data_id | pdu | fv. */

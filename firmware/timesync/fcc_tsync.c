@@ -18,7 +18,8 @@ fcc_status_t fcc_tsync_config_default(fcc_tsync_config_t *cfg)
     cfg->jump_count = 3u;
     cfg->loss_intervals = 3u;
     cfg->release_intervals = 50u;
-    cfg->max_rate_ppb = 500000;
+    cfg->max_rate_ppb = 200000;
+    cfg->max_step_us = 1000u;
     return FCC_OK;
 }
 
@@ -29,7 +30,8 @@ fcc_status_t fcc_tsync_init(fcc_tsync_t *ts, const fcc_tsync_config_t *cfg)
     }
     if (cfg->step_us == 0u || cfg->lock_us > cfg->step_us || cfg->lock_count == 0u ||
         cfg->jump_count == 0u || cfg->loss_intervals == 0u ||
-        cfg->release_intervals <= cfg->loss_intervals || cfg->max_rate_ppb <= 0) {
+        cfg->release_intervals <= cfg->loss_intervals || cfg->max_rate_ppb <= 0 ||
+        cfg->max_step_us == 0u) {
         return FCC_ERR_RANGE;
     }
     memset(ts, 0, sizeof *ts);
@@ -41,7 +43,9 @@ fcc_status_t fcc_tsync_init(fcc_tsync_t *ts, const fcc_tsync_config_t *cfg)
 
 bool fcc_tsync_has_time(const fcc_tsync_t *ts)
 {
-    return ts != NULL && ts->have_ref && ts->state != FCC_TSYNC_FREE_RUN;
+    return ts != NULL && ts->have_ref &&
+           (ts->state == FCC_TSYNC_LOCKING || ts->state == FCC_TSYNC_LOCKED ||
+            ts->state == FCC_TSYNC_HOLDOVER || ts->state == FCC_TSYNC_REFUSED);
 }
 
 /* d (1 + rate 1e-9) without overflow for |d| < 2^62 / max rate. */
@@ -93,7 +97,7 @@ uint32_t fcc_tsync_rejected(const fcc_tsync_t *ts)
     }
     const fcc_tsync_counters_t *c = &ts->cnt;
     return c->missing_fup + c->orphan_fup + c->repeated_seq + c->past + c->future +
-           c->backwards + c->foreign;
+           c->backwards + c->foreign + c->step_refused + c->rate_refused;
 }
 
 static int32_t sat32(int64_t v)
@@ -104,6 +108,60 @@ static int32_t sat32(int64_t v)
 static uint64_t abs64(int64_t v)
 {
     return (v < 0) ? (uint64_t)(-(v + 1)) + 1u : (uint64_t)v;
+}
+
+/* What a rate of rate_ppb accumulates over d microseconds (d < 2^62 / rate). */
+static uint64_t drift_us(uint64_t d, int32_t rate_ppb)
+{
+    const uint64_t r = (uint64_t)((rate_ppb < 0) ? -(int64_t)rate_ppb : rate_ppb);
+    return (d / PPB) * r + ((d % PPB) * r) / PPB;
+}
+
+/* The plausibility check of an authenticated pair against the own clock (see
+ * fcc_tsync.h); the first pair sets the reference.  Counts a refusal. */
+static bool plausible(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
+{
+    const int64_t dev = (int64_t)master_us - (int64_t)local_us;
+    const bool had_prev = ts->have_last_auth;
+    const int64_t prev = ts->last_auth_dev_us;
+    ts->have_last_auth = true;
+    ts->last_auth_dev_us = dev;
+    if (!ts->have_plaus) {
+        ts->have_plaus = true;
+        ts->plaus_local_us = local_us;
+        ts->plaus_dev_us = dev;
+        ts->refusing = false;
+        return true;
+    }
+    const uint64_t dl = (local_us > ts->plaus_local_us) ? local_us - ts->plaus_local_us : 0u;
+    if (abs64(dev - ts->plaus_dev_us) <= ts->cfg.max_step_us + drift_us(dl, ts->cfg.max_rate_ppb)) {
+        return true;
+    }
+    if (!ts->refusing) { /* a run of refusals begins: a jump, or a drift out of the bound */
+        ts->refusing = true;
+        ts->refusing_step = !had_prev || abs64(dev - prev) > ts->cfg.max_step_us;
+    }
+    if (ts->refusing_step) {
+        ++ts->cnt.step_refused;
+    } else {
+        ++ts->cnt.rate_refused;
+    }
+    return false;
+}
+
+/* An accepted sample moves the plausibility reference towards it, at most at
+ * the rate bound. */
+static void follow_reference(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
+{
+    const int64_t dev = (int64_t)master_us - (int64_t)local_us;
+    const uint64_t dl = (local_us > ts->plaus_local_us) ? local_us - ts->plaus_local_us : 0u;
+    const uint64_t lim = drift_us(dl, ts->cfg.max_rate_ppb);
+    const int64_t lim_s = (lim > (uint64_t)INT64_MAX) ? INT64_MAX : (int64_t)lim;
+    int64_t delta = dev - ts->plaus_dev_us;
+    delta = (delta > lim_s) ? lim_s : (delta < -lim_s) ? -lim_s : delta;
+    ts->plaus_dev_us += delta;
+    ts->plaus_local_us = (local_us > ts->plaus_local_us) ? local_us : ts->plaus_local_us;
+    ts->refusing = false;
 }
 
 /* (Re)start the estimate at the sample. */
@@ -121,6 +179,7 @@ static void restart(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
 static void accept(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
 {
     ++ts->cnt.samples;
+    follow_reference(ts, local_us, master_us);
     if (ts->state == FCC_TSYNC_HOLDOVER) {
         ++ts->cnt.recoveries;
         ts->state = FCC_TSYNC_LOCKING;
@@ -133,7 +192,22 @@ static void accept(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
 /* One (local, master) pair through the servo. */
 static fcc_status_t sample(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_us)
 {
-    if (!ts->have_ref || ts->state == FCC_TSYNC_FREE_RUN) {
+    if (!plausible(ts, local_us, master_us)) {
+        if (ts->state != FCC_TSYNC_REFUSED) {
+            /* the estimate goes on at the rate of the last quiet residual, not at one
+             * that the pairs leading up to the refusal may have pulled */
+            ts->rate_ppb = ts->quiet_rate_ppb;
+        }
+        ts->state = FCC_TSYNC_REFUSED; /* not followed; an estimate, if any, goes on */
+        ts->good_run = 0u;
+        ts->outlier_run = 0u;
+        return FCC_ERR_AGAIN;
+    }
+    if (ts->state == FCC_TSYNC_REFUSED) {
+        ++ts->cnt.recoveries;
+        ts->state = ts->have_ref ? FCC_TSYNC_LOCKING : FCC_TSYNC_FREE_RUN;
+    }
+    if (!ts->have_ref || ts->state == FCC_TSYNC_FREE_RUN || ts->state == FCC_TSYNC_LOST) {
         restart(ts, local_us, master_us);
         accept(ts, local_us, master_us);
         ts->good_run = 1u;
@@ -185,6 +259,7 @@ static fcc_status_t sample(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_u
     ts->ref_master_us = (uint64_t)(est + e / 2);
     ts->rate_ppb = (int32_t)rate;
     if (abs64(e) <= ts->cfg.lock_us) {
+        ts->quiet_rate_ppb = ts->rate_ppb;
         ts->good_run = (ts->good_run < 255u) ? (uint8_t)(ts->good_run + 1u) : ts->good_run;
     } else {
         ts->good_run = 0u;
@@ -257,6 +332,27 @@ fcc_status_t fcc_tsync_on_follow_up(fcc_tsync_t *ts, uint8_t master, uint8_t seq
     return sample(ts, ts->pend_local_us, m);
 }
 
+fcc_status_t fcc_tsync_rebase(fcc_tsync_t *ts)
+{
+    if (ts == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (ts->state != FCC_TSYNC_REFUSED && ts->state != FCC_TSYNC_LOST) {
+        return FCC_ERR_AGAIN;
+    }
+    ts->state = FCC_TSYNC_FREE_RUN;
+    ts->have_plaus = false;
+    ts->have_last_auth = false;
+    ts->refusing = false;
+    ts->have_ref = false;
+    ts->have_master = false;
+    ts->have_seq = false;
+    ts->pending = false;
+    ts->rate_ppb = 0;
+    ts->quiet_rate_ppb = 0;
+    return FCC_OK;
+}
+
 fcc_tsync_state_t fcc_tsync_poll(fcc_tsync_t *ts, uint64_t now_us)
 {
     if (ts == NULL) {
@@ -275,11 +371,12 @@ fcc_tsync_state_t fcc_tsync_poll(fcc_tsync_t *ts, uint64_t now_us)
     }
     if (ts->state == FCC_TSYNC_HOLDOVER && now_us > ts->last_good_local_us &&
         quiet > (uint64_t)ts->cfg.release_intervals * ts->interval_us) {
-        ts->state = FCC_TSYNC_FREE_RUN;
+        ts->state = FCC_TSYNC_LOST; /* the plausibility reference is kept */
         ts->have_master = false;
         ts->have_ref = false;
         ts->have_seq = false;
         ts->rate_ppb = 0;
+        ts->quiet_rate_ppb = 0;
         ++ts->cnt.releases;
     }
     return ts->state;

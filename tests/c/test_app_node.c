@@ -558,7 +558,9 @@ static void test_modes_and_authentication(void **state)
     fcc_can_frame_t f;
     fcc_assert_ok(fcc_bus_encode(&g_mem.sim, FCC_MSG_SIM_CONTROL, &d, &f));
     mem_push_raw(&g_mem, f.id, f.data, 8u);
-    const uint8_t forged[8] = {(uint8_t)(g_mem.sec.chan[0].counter + 1u), 0, 1, 2, 3, 4, 5, 6};
+    uint32_t ci = 0u;
+    assert_true(fcc_secoc_auth_index(FCC_MSG_SIM_CONTROL_AUTH, &ci));
+    const uint8_t forged[8] = {(uint8_t)(g_mem.sec.chan[ci].counter + 1u), 0, 1, 2, 3, 4, 5, 6};
     mem_push_raw(&g_mem, FCC_MSG_SIM_CONTROL_AUTH_ID, forged, 8u);
     run();
     assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
@@ -593,7 +595,7 @@ static void test_modes_and_authentication(void **state)
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
     assert_int_equal(mem_decode_tx(&g_mem, (long)first).fcc_status.op_mode, FCC_OP_MAINTENANCE);
-    const fcc_msg_data_t sc = mem_decode_tx(&g_mem, (long)first + 6); /* FCC_SEC_COUNTS */
+    const fcc_msg_data_t sc = mem_decode_tx(&g_mem, (long)first + 7); /* FCC_SEC_COUNTS */
     assert_int_equal(sc.fcc_sec_counts.mode_refused, 6u);
     assert_int_equal(sc.fcc_sec_counts.mac_failed, 1u);
     assert_int_equal(sc.fcc_sec_counts.freshness_failed, 1u);
@@ -656,14 +658,15 @@ static void test_heartbeat_frames(void **state)
     (void)msl_step(0u, true, false); /* no accelerometer: held? never seen -> stale */
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_int_equal(g_mem.tx_n - first, 9u); /* FCC_SYNC_STATUS inside the SecOC group */
-    static const uint32_t ids[9] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u,
-                                    0x705u, 0x706u, 0x707u, 0x708u};
-    for (unsigned int i = 0u; i < 9u; ++i) {
+    assert_int_equal(g_mem.tx_n - first, 10u); /* the time sync's status frames in the group */
+    static const uint32_t ids[10] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u,
+                                     0x705u, 0x709u, 0x706u, 0x707u, 0x708u};
+    for (unsigned int i = 0u; i < 10u; ++i) {
         assert_int_equal(g_mem.tx[first + i].id, ids[i]);
     }
     assert_int_equal(mem_decode_tx(&g_mem, (long)first + 5).fcc_sync_status.state, FCC_TSYNC_FREE_RUN);
-    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 7).fcc_sec_session.trip, MEM_TRIP);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 6).fcc_sync_refusals.mac_failed, 0u);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 8).fcc_sec_session.trip, MEM_TRIP);
     const fcc_msg_data_t s = mem_decode_tx(&g_mem, (long)first);
     assert_int_equal(s.fcc_status.mode, FCC_MODE_LOCKSTEP);
     assert_int_equal(s.fcc_status.cdrw_steps, 3u);
@@ -684,7 +687,121 @@ static void test_heartbeat_frames(void **state)
     assert_int_equal(b.fcc_bus_counts.bus_errors, 7u);
     /* the since-last-heartbeat flag is cleared */
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    assert_false(mem_decode_tx(&g_mem, (long)first + 9).fcc_status.e2e_fault);
+    assert_false(mem_decode_tx(&g_mem, (long)first + 10).fcc_status.e2e_fault);
+}
+
+/* One master SYNC (received at local l) + FOLLOW_UP for master time mt, E2E
+ * headers from `from` (the simulator's, or a forger's pre-empting counters);
+ * with its TSYNC_AUTH when `auth`. */
+static void push_sync_pair(fcc_bus_t *from, uint8_t seq, uint64_t l, uint64_t mt, bool auth)
+{
+    fcc_msg_data_t d;
+    fcc_can_frame_t s, f;
+    memset(&d, 0, sizeof d);
+    d.tsync_sync.master = 1u;
+    d.tsync_sync.seq = seq;
+    d.tsync_sync.interval_ms = 100u;
+    d.tsync_sync.sec = (uint32_t)(mt / 1000000u);
+    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_SYNC, &d, &s));
+    memset(&d, 0, sizeof d);
+    d.tsync_follow_up.master = 1u;
+    d.tsync_follow_up.seq = seq;
+    d.tsync_follow_up.ns = (uint32_t)(mt % 1000000u) * 1000u;
+    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_FOLLOW_UP, &d, &f));
+    g_mem.now_us = l;
+    mem_push_raw(&g_mem, s.id, s.data, 8u);
+    mem_push_raw(&g_mem, f.id, f.data, 8u);
+    if (auth) {
+        uint32_t a = 0u;
+        assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &a));
+        uint8_t pdu[16];
+        memcpy(pdu, s.data, 8u);
+        memcpy(&pdu[8], f.data, 8u);
+        fcc_can_frame_t af;
+        fcc_assert_ok(fcc_secoc_protect(&g_mem.sec, a, pdu, 16u, &af));
+        mem_push_raw(&g_mem, af.id, af.data, 8u);
+    }
+}
+
+/* The time master's pairs reach the servo only with their TSYNC_AUTH: the red
+ * team's forger (valid E2E, pre-empting the master's alive counters, no key)
+ * moves nothing and disturbs no E2E state; its frames are counted in
+ * FCC_SYNC_REFUSALS; an authenticated master that steps by 50 ms is refused
+ * (REFUSED) until an authenticated RESET on the ground. */
+static void test_time_sync_is_authenticated(void **state)
+{
+    (void)state;
+    start(NULL);
+    fcc_bus_t forger;
+    fcc_assert_ok(fcc_bus_init(&forger, FCC_BUS_NODE_SIM));
+    const uint64_t off = 3000000u; /* master = local + 3 s */
+    uint64_t l = 1000000u;
+    uint8_t seq = 0u;
+    for (int i = 0; i < 10; ++i, l += 100000u) {
+        push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+        run();
+    }
+    assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);
+    /* the forger: pairs of the next sequence number first, 50 ms behind, then the master's */
+    for (int i = 0; i < 10; ++i, l += 100000u) {
+        forger.tx[FCC_MSG_TSYNC_SYNC] = g_mem.sim.tx[FCC_MSG_TSYNC_SYNC];
+        forger.tx[FCC_MSG_TSYNC_FOLLOW_UP] = g_mem.sim.tx[FCC_MSG_TSYNC_FOLLOW_UP];
+        push_sync_pair(&forger, seq, l - 10u, l - 10u + off - 50000u, false);
+        push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+        run();
+    }
+    assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);
+    assert_int_equal(g_node.tsync.cnt.samples, 20u);
+    assert_int_equal(g_node.tsync_auth.cnt.unauthenticated, 20u); /* dropped when the pair verified */
+    assert_int_equal(g_node.tsync.cnt.step_refused + g_node.tsync.cnt.past, 0u);
+    fcc_bus_counters_t bc;
+    fcc_assert_ok(fcc_bus_get_counters(&g_node.bus, &bc));
+    assert_int_equal(bc.e2e[FCC_E2E_REPEATED] + bc.e2e[FCC_E2E_WRONG_SEQUENCE] +
+                         bc.e2e[FCC_E2E_ERROR], 0u);
+    /* a forged authenticator, and a replayed one */
+    const uint8_t forged[8] = {0x40u, 0u, 1u, 2u, 3u, 4u, 5u, 6u};
+    mem_push_raw(&g_mem, FCC_MSG_TSYNC_AUTH_ID, forged, 8u);
+    const size_t n0 = g_mem.rx_n;
+    push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+    const fcc_can_frame_t replay = g_mem.rx[n0 + 2u];
+    run();
+    mem_push_raw(&g_mem, replay.id, replay.data, 8u);
+    run();
+    l += 100000u;
+    assert_int_equal(g_node.tsync_auth.cnt.mac_failed, 1u);
+    assert_int_equal(g_node.tsync_auth.cnt.freshness_failed, 1u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_AUTH_FAILED], 2u);
+    /* the heartbeat says so */
+    const size_t first = g_mem.tx_n;
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    const fcc_msg_data_t r = mem_decode_tx(&g_mem, (long)first + 6);
+    assert_int_equal(r.fcc_sync_refusals.mac_failed, 1u);
+    assert_int_equal(r.fcc_sync_refusals.freshness_failed, 1u);
+    assert_int_equal(r.fcc_sync_refusals.unauthenticated, 20u);
+    const fcc_msg_data_t st = mem_decode_tx(&g_mem, (long)first + 5);
+    assert_int_equal(st.fcc_sync_status.state, FCC_TSYNC_LOCKED);
+    assert_int_equal(st.fcc_sync_status.rejected, 22u);
+    /* the (authenticated) master steps by -50 ms: refused, the estimate goes on */
+    for (int i = 0; i < 5; ++i, l += 100000u) {
+        push_sync_pair(&g_mem.sim, seq++, l, l + off - 50000u, true);
+        run();
+    }
+    assert_int_equal(g_node.tsync.state, FCC_TSYNC_REFUSED);
+    assert_int_equal(g_node.tsync.cnt.step_refused, 5u);
+    assert_true(fcc_tsync_has_time(&g_node.tsync));
+    uint64_t m = 0u;
+    fcc_assert_ok(fcc_tsync_to_master(&g_node.tsync, l, &m));
+    assert_true(m + 5u >= l + off && m <= l + off + 5u);
+    /* a RESET in flight is refused; on the ground it rebases: the new time base is followed */
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_RESET, 0.0, 0u);
+    run();
+    assert_int_equal(g_node.tsync.state, FCC_TSYNC_FREE_RUN);
+    for (int i = 0; i < 5; ++i, l += 100000u) {
+        push_sync_pair(&g_mem.sim, seq++, l, l + off - 50000u, true);
+        run();
+    }
+    assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);
 }
 
 static void test_realtime_mode_and_disabled_app(void **state)
@@ -712,7 +829,7 @@ static void test_realtime_mode_and_disabled_app(void **state)
     fcc_node_note_overrun(&g_node, FCC_APP_MSL, 2u, 5u);
     assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 2u);
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 12);
+    const fcc_msg_data_t s = mem_decode_tx(&g_mem, 13);
     assert_true(s.fcc_status.overrun);
     assert_int_equal(s.fcc_status.overruns, 2u);
 }
@@ -756,7 +873,7 @@ static void test_batched_one_port_call_per_step(void **state)
     assert_int_equal(g_mem.batch_len[before + 2u], 1u);
     fcc_assert_ok(fcc_node_send_status(&g_node));
     assert_int_equal(g_mem.batches - before, 4u);
-    assert_int_equal(g_mem.batch_len[before + 3u], 9u);
+    assert_int_equal(g_mem.batch_len[before + 3u], 10u);
     assert_int_equal(g_node.txq.n, 0u);
     mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
     mem_push_tick(&g_mem, FCC_APP_CDRW, 5u); /* refused on the ground: nothing sent */
@@ -973,6 +1090,7 @@ int main(void)
         cmocka_unit_test(test_heartbeat_frames),
         cmocka_unit_test(test_modes_and_authentication),
         cmocka_unit_test(test_realtime_mode_and_disabled_app),
+        cmocka_unit_test(test_time_sync_is_authenticated),
         cmocka_unit_test(test_transmit_failures_are_counted),
         cmocka_unit_test(test_garbage_never_crashes_nor_sends_nan),
     };

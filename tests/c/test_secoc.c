@@ -30,10 +30,10 @@ static uint32_t index_of(uint16_t data_id)
 static void vector_line(const char *line, void *ctx)
 {
     (void)ctx;
-    char k[40], p[160], a[40];
+    char k[40], p[200], a[40];
     unsigned int data_id, trip, counter;
-    assert_int_equal(sscanf(line, "%39s %x %159s %x %x %39s", k, &data_id, p, &trip, &counter, a), 6);
-    uint8_t key[16], pdu[64], want[8];
+    assert_int_equal(sscanf(line, "%39s %x %199s %x %x %39s", k, &data_id, p, &trip, &counter, a), 6);
+    uint8_t key[16], pdu[FCC_SECOC_PDU_BYTES], want[8];
     fcc_test_hex(k, key, 16);
     const size_t len = fcc_test_hex(p, pdu, sizeof pdu);
     fcc_test_hex(a, want, 8);
@@ -66,9 +66,16 @@ static void test_table_matches_dbc(void **state)
     assert_false(fcc_secoc_secured_index(FCC_MSG_CDRW_AOA, &i));
     assert_false(fcc_secoc_secured_index(FCC_MSG_FCC_STATUS, &i)); /* a group, not single */
     assert_true(fcc_secoc_auth_index(FCC_MSG_FCC_STATUS_AUTH, &i));
-    assert_int_equal(fcc_secoc_table[i].n_pdus, 8u);
+    assert_int_equal(fcc_secoc_table[i].n_pdus, 9u);
     assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_FCC_STATUS);
     assert_int_equal(fcc_secoc_table[i].pdus[5], FCC_MSG_FCC_SYNC_STATUS); /* the time sync status too */
+    assert_int_equal(fcc_secoc_table[i].pdus[6], FCC_MSG_FCC_SYNC_REFUSALS);
+    /* the time master's SYNC + FOLLOW_UP: one group, held by the time sync (not single frames) */
+    assert_false(fcc_secoc_secured_index(FCC_MSG_TSYNC_SYNC, &i));
+    assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &i));
+    assert_int_equal(fcc_secoc_table[i].n_pdus, 2u);
+    assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_TSYNC_SYNC);
+    assert_int_equal(fcc_secoc_table[i].pdus[1], FCC_MSG_TSYNC_FOLLOW_UP);
 }
 
 /* Sender and receiver with one key and trip: a tick and its authenticator. */

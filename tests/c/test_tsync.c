@@ -2,8 +2,11 @@
  * test_tsync.c -- the time synchronisation slave (firmware/timesync): the PI
  * servo follows a master with an offset and a rate, and every bad input of
  * fcc_tsync.h is refused, counted and survived: a sync from the past or the
- * future, a jump of the master clock, a missing or orphan follow-up, a
- * repeated sequence, a second time master, a loss of sync and its recovery.
+ * future, a jump of the master clock, a drag of its rate, a missing or orphan
+ * follow-up, a repeated sequence, a second time master, a loss of sync and its
+ * recovery; and the authenticated receiver (fcc_tsync_auth.h): only a pair
+ * whose TSYNC_AUTH verifies gets through, forged, pre-empting and replayed
+ * frames are refused and counted.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -11,8 +14,11 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <string.h>
+
 #include "fcc_test.h"
 #include "fcc_tsync.h"
+#include "fcc_tsync_auth.h"
 
 #define INTERVAL_US 100000u
 
@@ -151,8 +157,10 @@ static void servo_filters_jitter(void **state)
     assert_int_equal(fcc_tsync_rejected(&g_ts), 0u);
 }
 
-/* A single sync from the past or the future is refused and counted; the
- * estimate is untouched and the node stays locked. */
+/* A single sync from the past or the future is refused and counted: beyond
+ * the step bound against the own clock (which is the servo's outlier gate too),
+ * the state is REFUSED for that pair; the estimate is untouched and the next
+ * good pair recovers. */
 static void outliers_are_refused(void **state)
 {
     (void)state;
@@ -162,20 +170,26 @@ static void outliers_are_refused(void **state)
     run(&g_ts, &m, &l, 10);
     l += INTERVAL_US;
     assert_int_equal(pair(&g_ts, &m, l, master_at(&m, l) - 5000u), FCC_ERR_AGAIN);
-    assert_int_equal(g_ts.cnt.past, 1u);
+    assert_int_equal(g_ts.cnt.step_refused, 1u);
+    assert_int_equal(g_ts.state, FCC_TSYNC_REFUSED);
+    assert_true(fcc_tsync_has_time(&g_ts)); /* the estimate goes on */
+    run(&g_ts, &m, &l, 1);
+    assert_int_equal(g_ts.cnt.recoveries, 1u);
     l += INTERVAL_US;
     assert_int_equal(pair(&g_ts, &m, l, master_at(&m, l) + 2000000u), FCC_ERR_AGAIN);
-    assert_int_equal(g_ts.cnt.future, 1u);
-    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+    assert_int_equal(g_ts.cnt.step_refused, 2u);
     assert_error_within(&g_ts, &m, l, 1);
     run(&g_ts, &m, &l, 3);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
     assert_int_equal(g_ts.cnt.jumps, 0u);
     assert_int_equal(fcc_tsync_rejected(&g_ts), 2u);
 }
 
-/* The master clock jumps by +3 s (or is set back): three agreeing outliers in
- * a row are a jump; the estimate re-steps and locks to the new time base. */
-static void master_clock_jump_is_followed(void **state)
+/* The master clock jumps by +-3 s (an authenticated master that steps): every
+ * pair of the new time base is refused (step), the estimate goes on on the old
+ * one, for as long as it lasts; only a rebase (an authenticated RESET on the
+ * ground) lets fcc follow the new time base. */
+static void master_clock_jump_is_refused(void **state)
 {
     (void)state;
     for (int dir = 0; dir < 2; ++dir) {
@@ -183,22 +197,96 @@ static void master_clock_jump_is_followed(void **state)
         master_t m = {10000000.0, 20.0, 4u, 0u};
         uint64_t l = 0u;
         run(&g_ts, &m, &l, 10);
+        assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+        assert_int_equal(fcc_tsync_rebase(&g_ts), FCC_ERR_AGAIN); /* followed: nothing to do */
+        master_t old = m;
         m.offset_us += (dir == 0) ? 3000000.0 : -3000000.0;
-        for (int i = 0; i < 2; ++i) {
+        for (int i = 0; i < 100; ++i) {
             l += INTERVAL_US;
             assert_int_equal(pair(&g_ts, &m, l, master_at(&m, l)), FCC_ERR_AGAIN);
+            (void)fcc_tsync_poll(&g_ts, l + 10u);
         }
-        l += INTERVAL_US;
-        fcc_assert_ok(pair(&g_ts, &m, l, master_at(&m, l)));
-        assert_int_equal(g_ts.cnt.jumps, 1u);
-        assert_int_equal(g_ts.state, FCC_TSYNC_LOCKING);
+        assert_int_equal(g_ts.cnt.step_refused, 100u);
+        assert_int_equal(g_ts.cnt.rate_refused + g_ts.cnt.jumps + g_ts.cnt.losses, 0u);
+        assert_int_equal(g_ts.state, FCC_TSYNC_REFUSED);
+        assert_true(fcc_tsync_has_time(&g_ts));
+        assert_error_within(&g_ts, &old, l, 25); /* 10 s on the old base at 20 ppm */
+        fcc_assert_ok(fcc_tsync_rebase(&g_ts));
+        assert_int_equal(g_ts.state, FCC_TSYNC_FREE_RUN);
         run(&g_ts, &m, &l, 5);
         assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
         assert_error_within(&g_ts, &m, l, 2);
-        if (dir == 1) {
-            assert_true(g_ts.cnt.backwards >= 1u && g_ts.cnt.past == 3u);
+    }
+}
+
+/* With a step bound above the servo's gate, a jump inside it is still the
+ * servo's: three agreeing outliers re-step the estimate. */
+static void jump_within_the_bound_is_followed(void **state)
+{
+    (void)state;
+    fcc_tsync_config_t cfg;
+    fcc_assert_ok(fcc_tsync_config_default(&cfg));
+    cfg.max_step_us = 5000u;
+    fcc_assert_ok(fcc_tsync_init(&g_ts, &cfg));
+    master_t m = {10000000.0, 0.0, 4u, 0u};
+    uint64_t l = 0u;
+    run(&g_ts, &m, &l, 10);
+    m.offset_us -= 3000.0;
+    for (int i = 0; i < 2; ++i) {
+        l += INTERVAL_US;
+        assert_int_equal(pair(&g_ts, &m, l, master_at(&m, l)), FCC_ERR_AGAIN);
+    }
+    l += INTERVAL_US;
+    fcc_assert_ok(pair(&g_ts, &m, l, master_at(&m, l)));
+    assert_int_equal(g_ts.cnt.jumps, 1u);
+    assert_int_equal(g_ts.cnt.past, 3u);
+    run(&g_ts, &m, &l, 5);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+    assert_error_within(&g_ts, &m, l, 2);
+}
+
+/* A master dragged at 4 ms/s (4000 ppm) from a locked state: the first pairs
+ * stay inside the step bound, then it leaves the rate bound and every pair is
+ * refused (rate); what it imposed on the estimate stays under the step bound.
+ * A master 150 ppm off (inside the 200 ppm bound) is followed throughout, one
+ * 300 ppm off is refused within a few seconds. */
+static void drag_is_bounded(void **state)
+{
+    (void)state;
+    start(&g_ts);
+    master_t m = {2000000.0, 0.0, 7u, 0u};
+    uint64_t l = 0u;
+    run(&g_ts, &m, &l, 20);
+    master_t drag = m;
+    drag.offset_us += 4000.0 * 1e-6 * (double)l; /* same time now, 4000 ppm slower from here */
+    drag.ppm = -4000.0;
+    int used = 0;
+    for (int i = 0; i < 100; ++i) {
+        l += INTERVAL_US;
+        used += pair(&g_ts, &drag, l, master_at(&drag, l)) == FCC_OK;
+        (void)fcc_tsync_poll(&g_ts, l + 10u);
+    }
+    assert_true(used <= 3);
+    assert_int_equal(g_ts.cnt.rate_refused, (uint32_t)(100 - used));
+    assert_int_equal(g_ts.cnt.step_refused, 0u);
+    assert_int_equal(g_ts.state, FCC_TSYNC_REFUSED);
+    assert_error_within(&g_ts, &m, l, (int64_t)g_ts.cfg.max_step_us);
+    for (int k = 0; k < 2; ++k) {
+        start(&g_ts);
+        master_t r = {1000.0, (k == 0) ? 150.0 : -300.0, 8u, 0u};
+        l = 0u;
+        for (int i = 0; i < 300; ++i) { /* 30 s */
+            l += INTERVAL_US;
+            (void)pair(&g_ts, &r, l, master_at(&r, l));
+            (void)fcc_tsync_poll(&g_ts, l + 10u);
+        }
+        if (k == 0) {
+            assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+            assert_int_equal(fcc_tsync_rejected(&g_ts), 0u);
         } else {
-            assert_int_equal(g_ts.cnt.future, 3u);
+            /* 100 ppm beyond the bound: out of the 1 ms step bound after 10 s */
+            assert_int_equal(g_ts.state, FCC_TSYNC_REFUSED);
+            assert_true(g_ts.cnt.rate_refused >= 150u && g_ts.cnt.step_refused == 0u);
         }
     }
 }
@@ -253,12 +341,27 @@ static void second_master_is_ignored(void **state)
     assert_int_equal(g_ts.master, 1u);
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
     assert_error_within(&g_ts, &a, l, 1);
-    /* master 1 disappears: holdover, then release, then master 2 is followed */
+    /* master 1 disappears: holdover, then lost (released); master 2's pairs are
+     * authentic but 7 s off the own clock's time base: refused, until a rebase */
     quiet(&g_ts, &l, 60);
-    assert_int_equal(g_ts.state, FCC_TSYNC_FREE_RUN);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOST);
+    assert_false(fcc_tsync_has_time(&g_ts));
     assert_int_equal(g_ts.cnt.releases, 1u);
+    l += INTERVAL_US;
+    assert_int_equal(pair(&g_ts, &b, l, master_at(&b, l)), FCC_ERR_AGAIN);
+    assert_int_equal(g_ts.state, FCC_TSYNC_REFUSED);
+    assert_false(fcc_tsync_has_time(&g_ts));
+    fcc_assert_ok(fcc_tsync_rebase(&g_ts));
     run(&g_ts, &b, &l, 5);
     assert_int_equal(g_ts.master, 2u);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+    /* master 1 back within its time base after a loss: followed again without a rebase */
+    start(&g_ts);
+    l = 0u;
+    run(&g_ts, &a, &l, 10);
+    quiet(&g_ts, &l, 60);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOST);
+    run(&g_ts, &a, &l, 5);
     assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
 }
 
@@ -284,6 +387,169 @@ static void loss_and_recovery(void **state)
     assert_int_equal(fcc_tsync_poll(NULL, 0u), FCC_TSYNC_FREE_RUN);
 }
 
+/* ---- the authenticated receiver ------------------------------------------------ */
+
+static const uint8_t k_key[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+
+/* A SYNC / FOLLOW_UP as the DBC lays them out where the receiver looks (byte 1
+ * high nibble: master, byte 2: seq); the rest stands for the payload. */
+static void tsync_frame(uint8_t master, uint8_t seq, uint8_t salt, uint8_t out[8])
+{
+    for (unsigned int b = 0u; b < 8u; ++b) {
+        out[b] = (uint8_t)(salt * 13u + b);
+    }
+    out[1] = (uint8_t)((master << 4) | (salt & 0x0Fu));
+    out[2] = seq;
+}
+
+typedef struct {
+    fcc_secoc_t tx, rx;
+    uint32_t i;
+    fcc_tsync_auth_t ta;
+} tsauth_t;
+
+static tsauth_t g_a;
+
+static void tsauth_start(void)
+{
+    fcc_assert_ok(fcc_secoc_init(&g_a.tx, k_key, 0x5EEDu));
+    fcc_assert_ok(fcc_secoc_init(&g_a.rx, k_key, 0x5EEDu));
+    assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &g_a.i));
+    fcc_assert_ok(fcc_tsync_auth_init(&g_a.ta));
+}
+
+/* The master's authenticator of sync | fup. */
+static void master_auth(fcc_secoc_t *tx, const uint8_t sync[8], const uint8_t fup[8],
+                        uint8_t auth[8])
+{
+    uint8_t pdu[16];
+    memcpy(pdu, sync, 8u);
+    memcpy(&pdu[8], fup, 8u);
+    fcc_can_frame_t f;
+    fcc_assert_ok(fcc_secoc_protect(tx, g_a.i, pdu, 16u, &f));
+    assert_int_equal(f.id, FCC_MSG_TSYNC_AUTH_ID);
+    memcpy(auth, f.data, 8u);
+}
+
+static fcc_secoc_verdict_t verify(uint8_t sync_out[8], uint64_t *t_out, uint8_t fup_out[8],
+                                  const uint8_t auth[8])
+{
+    fcc_tsync_held_t h;
+    const fcc_secoc_verdict_t v = fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, fup_out);
+    if (v == FCC_SECOC_VERIFIED) {
+        memcpy(sync_out, h.data, 8u);
+        *t_out = h.t_us;
+    }
+    return v;
+}
+
+/* The red team's attack: forged SYNC + FOLLOW_UP of the same master and
+ * sequence number ahead of the master's (pre-empting its E2E counters), with
+ * and without a forged authenticator; a replayed authenticator; a forged pair
+ * squeezed in after the master's.  Only the master's pair, with its own
+ * receive stamp, comes out; each refusal is counted. */
+static void authenticated_pairs_only(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], auth[8], fs[8], ff[8], out_s[8], out_f[8];
+    uint64_t t = 0u;
+    /* the genuine triple */
+    tsync_frame(1u, 10u, 1u, sync);
+    tsync_frame(1u, 10u, 2u, fup);
+    master_auth(&g_a.tx, sync, fup, auth);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 1000u));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+    assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_VERIFIED);
+    assert_memory_equal(out_s, sync, 8u);
+    assert_memory_equal(out_f, fup, 8u);
+    assert_int_equal(t, 1000u);
+    uint8_t old_auth[8];
+    memcpy(old_auth, auth, 8u);
+    /* forged pair first (same master and seq, other bytes), then the genuine one */
+    tsync_frame(1u, 11u, 7u, fs);
+    tsync_frame(1u, 11u, 8u, ff);
+    tsync_frame(1u, 11u, 3u, sync);
+    tsync_frame(1u, 11u, 4u, fup);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, fs, 1990u));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, ff));
+    uint8_t forged_auth[8] = {2u, 0u, 1u, 2u, 3u, 4u, 5u, 6u};
+    assert_int_equal(verify(out_s, &t, out_f, forged_auth), FCC_SECOC_MAC_FAILED);
+    assert_int_equal(verify(out_s, &t, out_f, old_auth), FCC_SECOC_FRESHNESS_FAILED);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 2000u));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+    tsync_frame(1u, 11u, 9u, ff); /* another forged FOLLOW_UP, just before the authenticator */
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, ff));
+    master_auth(&g_a.tx, sync, fup, auth);
+    assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_VERIFIED);
+    assert_memory_equal(out_s, sync, 8u);
+    assert_memory_equal(out_f, fup, 8u);
+    assert_int_equal(t, 2000u);
+    /* the forged pair held before it is dropped; the later forged FOLLOW_UP waits */
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 2u);
+    assert_int_equal(g_a.ta.n_sync, 0u);
+    assert_int_equal(g_a.ta.n_fup, 1u);
+    assert_int_equal(g_a.ta.cnt.mac_failed, 1u);
+    assert_int_equal(g_a.ta.cnt.freshness_failed, 1u);
+    assert_int_equal(g_a.rx.cnt.verified, 2u);
+    /* a forged pair alone never verifies, whatever authenticator comes */
+    tsync_frame(1u, 12u, 5u, fs);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, fs, 3000u));
+    tsync_frame(1u, 12u, 6u, ff);
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, ff));
+    master_auth(&g_a.tx, sync, fup, auth); /* a genuine authenticator of other frames */
+    assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_MAC_FAILED);
+    forged_auth[0] = 5u; /* a fresh counter, a guessed MAC */
+    assert_int_equal(verify(out_s, &t, out_f, forged_auth), FCC_SECOC_MAC_FAILED);
+    /* an authenticator with no pair to match (other seq): NO_PDU, a MAC failure */
+    fcc_tsync_auth_t empty;
+    fcc_assert_ok(fcc_tsync_auth_init(&empty));
+    fcc_tsync_held_t h;
+    assert_int_equal(fcc_tsync_auth_verify(&empty, &g_a.rx, g_a.i, auth, &h, out_f),
+                     FCC_SECOC_NO_PDU);
+    assert_int_equal(empty.cnt.mac_failed, 1u);
+    assert_int_equal(fcc_tsync_auth_verify(NULL, &g_a.rx, g_a.i, auth, &h, out_f),
+                     FCC_SECOC_NO_PDU);
+}
+
+/* A flood of SYNCs and FOLLOW_UPs of one sequence number: at most
+ * FCC_SECOC_CANDIDATES MACs per authenticator, the oldest held frames go
+ * (counted); the newest genuine pair still verifies. */
+static void candidates_are_bounded(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], auth[8], x[8], out_s[8], out_f[8];
+    uint64_t t = 0u;
+    for (uint8_t k = 0u; k < 10u; ++k) {
+        tsync_frame(1u, 20u, (uint8_t)(100u + k), x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, k));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 12u); /* 6 of each pushed out */
+    tsync_frame(1u, 20u, 1u, sync);
+    tsync_frame(1u, 20u, 2u, fup);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 77u));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+    master_auth(&g_a.tx, sync, fup, auth);
+    assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_VERIFIED);
+    assert_int_equal(t, 77u);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 12u + 2u + 6u); /* 2 more pushed out, 6 older */
+    /* the genuine pair behind 3 newer forged FOLLOW_UPs: 4 candidates x 4 SYNCs, beyond the
+     * bound of 4 MACs -- refused (a denial, counted), never a forgery accepted */
+    tsync_frame(1u, 21u, 1u, sync);
+    tsync_frame(1u, 21u, 2u, fup);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 88u));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+    for (uint8_t k = 0u; k < 3u; ++k) {
+        tsync_frame(1u, 21u, (uint8_t)(50u + k), x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 90u + k));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+    master_auth(&g_a.tx, sync, fup, auth);
+    assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_MAC_FAILED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -291,7 +557,11 @@ int main(void)
         cmocka_unit_test(servo_follows_offset_and_rate),
         cmocka_unit_test(servo_filters_jitter),
         cmocka_unit_test(outliers_are_refused),
-        cmocka_unit_test(master_clock_jump_is_followed),
+        cmocka_unit_test(master_clock_jump_is_refused),
+        cmocka_unit_test(jump_within_the_bound_is_followed),
+        cmocka_unit_test(drag_is_bounded),
+        cmocka_unit_test(authenticated_pairs_only),
+        cmocka_unit_test(candidates_are_bounded),
         cmocka_unit_test(follow_up_faults_are_counted),
         cmocka_unit_test(second_master_is_ignored),
         cmocka_unit_test(loss_and_recovery),

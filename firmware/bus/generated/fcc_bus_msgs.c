@@ -42,6 +42,21 @@ static int pack_tsync_follow_up(uint8_t data[8], const void *raw)
     return fcc_hil_tsync_follow_up_pack(data, raw, 8u);
 }
 
+static const fcc_bus_signal_desc_t sig_tsync_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_tsync_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_tsync_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_tsync_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_tsync_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_tsync_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_tsync_auth_unpack(raw, data, 8u);
+}
+
+static int pack_tsync_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_tsync_auth_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_sim_control[] = {
     {"command", (uint16_t)offsetof(fcc_msg_sim_control_t, command), (uint16_t)offsetof(struct fcc_hil_sim_control_t, command), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(5)},
     {"lqg_period", (uint16_t)offsetof(fcc_msg_sim_control_t, lqg_period), (uint16_t)offsetof(struct fcc_hil_sim_control_t, lqg_period), FCC_FIELD_REAL, FCC_FIELD_U16, FCC_R(10000.0), INT64_C(0), INT64_C(3000)},
@@ -548,7 +563,7 @@ static int pack_fcc_bus_counts(uint8_t data[8], const void *raw)
 }
 
 static const fcc_bus_signal_desc_t sig_fcc_sync_status[] = {
-    {"state", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, state), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, state), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(3)},
+    {"state", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, state), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, state), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(5)},
     {"master", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, master), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, master), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(15)},
     {"offset_us", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, offset_us), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, offset_us), FCC_FIELD_I16, FCC_FIELD_I16, FCC_R(1.0), INT64_C(-32768), INT64_C(32767)},
     {"rate_ppm", (uint16_t)offsetof(fcc_msg_fcc_sync_status_t, rate_ppm), (uint16_t)offsetof(struct fcc_hil_fcc_sync_status_t, rate_ppm), FCC_FIELD_REAL, FCC_FIELD_I16, FCC_R(100.0), INT64_C(-32768), INT64_C(32767)},
@@ -614,6 +629,24 @@ static int pack_fcc_status_auth(uint8_t data[8], const void *raw)
     return fcc_hil_fcc_status_auth_pack(data, raw, 8u);
 }
 
+static const fcc_bus_signal_desc_t sig_fcc_sync_refusals[] = {
+    {"mac_failed", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, mac_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, mac_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"freshness_failed", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, freshness_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, freshness_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"unauthenticated", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, unauthenticated), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, unauthenticated), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"step_refused", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, step_refused), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, step_refused), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+    {"rate_refused", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, rate_refused), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, rate_refused), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(255)},
+};
+
+static int unpack_fcc_sync_refusals(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_sync_refusals_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_sync_refusals(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_sync_refusals_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_sim_event[] = {
     {"active", (uint16_t)offsetof(fcc_msg_sim_event_t, active), (uint16_t)offsetof(struct fcc_hil_sim_event_t, active), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"oracle_fault", (uint16_t)offsetof(fcc_msg_sim_event_t, oracle_fault), (uint16_t)offsetof(struct fcc_hil_sim_event_t, oracle_fault), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
@@ -666,6 +699,7 @@ static int pack_rig_pong(uint8_t data[8], const void *raw)
 const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"TSYNC_SYNC", 0x001u, 0x1001u, 3u, 100u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_tsync_sync / sizeof sig_tsync_sync[0]), sig_tsync_sync, unpack_tsync_sync, pack_tsync_sync},
     {"TSYNC_FOLLOW_UP", 0x002u, 0x1002u, 3u, 100u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_tsync_follow_up / sizeof sig_tsync_follow_up[0]), sig_tsync_follow_up, unpack_tsync_follow_up, pack_tsync_follow_up},
+    {"TSYNC_AUTH", 0x003u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_tsync_auth / sizeof sig_tsync_auth[0]), sig_tsync_auth, unpack_tsync_auth, pack_tsync_auth},
     {"SIM_CONTROL", 0x010u, 0x1010u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control / sizeof sig_sim_control[0]), sig_sim_control, unpack_sim_control, pack_sim_control},
     {"SIM_CONTROL_AUTH", 0x011u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_control_auth / sizeof sig_sim_control_auth[0]), sig_sim_control_auth, unpack_sim_control_auth, pack_sim_control_auth},
     {"SIM_TICK", 0x020u, 0x1020u, 3u, 20u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_tick / sizeof sig_sim_tick[0]), sig_sim_tick, unpack_sim_tick, pack_sim_tick},
@@ -700,14 +734,16 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"FCC_SEC_COUNTS", 0x706u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_counts / sizeof sig_fcc_sec_counts[0]), sig_fcc_sec_counts, unpack_fcc_sec_counts, pack_fcc_sec_counts},
     {"FCC_SEC_SESSION", 0x707u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_session / sizeof sig_fcc_sec_session[0]), sig_fcc_sec_session, unpack_fcc_sec_session, pack_fcc_sec_session},
     {"FCC_STATUS_AUTH", 0x708u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status_auth / sizeof sig_fcc_status_auth[0]), sig_fcc_status_auth, unpack_fcc_status_auth, pack_fcc_status_auth},
+    {"FCC_SYNC_REFUSALS", 0x709u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sync_refusals / sizeof sig_fcc_sync_refusals[0]), sig_fcc_sync_refusals, unpack_fcc_sync_refusals, pack_fcc_sync_refusals},
     {"SIM_EVENT", 0x710u, 0x1710u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_event / sizeof sig_sim_event[0]), sig_sim_event, unpack_sim_event, pack_sim_event},
     {"RIG_PING", 0x7F0u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_rig_ping / sizeof sig_rig_ping[0]), sig_rig_ping, unpack_rig_ping, pack_rig_ping},
     {"RIG_PONG", 0x7F1u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_rig_pong / sizeof sig_rig_pong[0]), sig_rig_pong, unpack_rig_pong, pack_rig_pong},
 };
 
 const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {
+    {FCC_MSG_TSYNC_AUTH, 0x2001u, 2u, {FCC_MSG_TSYNC_SYNC, FCC_MSG_TSYNC_FOLLOW_UP}},
     {FCC_MSG_SIM_CONTROL_AUTH, 0x2010u, 1u, {FCC_MSG_SIM_CONTROL}},
     {FCC_MSG_SIM_TICK_AUTH, 0x2020u, 1u, {FCC_MSG_SIM_TICK}},
     {FCC_MSG_MSL_ELEV_CMD_AUTH, 0x2030u, 1u, {FCC_MSG_MSL_ELEV_CMD}},
-    {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 8u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SYNC_STATUS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION}},
+    {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 9u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SYNC_STATUS, FCC_MSG_FCC_SYNC_REFUSALS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION}},
 };

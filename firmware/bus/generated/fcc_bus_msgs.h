@@ -28,49 +28,52 @@
 typedef enum {
     FCC_MSG_TSYNC_SYNC = 0, /* 0x001 */
     FCC_MSG_TSYNC_FOLLOW_UP = 1, /* 0x002 */
-    FCC_MSG_SIM_CONTROL = 2, /* 0x010 */
-    FCC_MSG_SIM_CONTROL_AUTH = 3, /* 0x011 */
-    FCC_MSG_SIM_TICK = 4, /* 0x020 */
-    FCC_MSG_SIM_TICK_AUTH = 5, /* 0x021 */
-    FCC_MSG_FCC_ACK = 6, /* 0x028 */
-    FCC_MSG_MSL_ELEV_CMD = 7, /* 0x030 */
-    FCC_MSG_MSL_ELEV_CMD_AUTH = 8, /* 0x031 */
-    FCC_MSG_MSL_RATE_GYRO = 9, /* 0x040 */
-    FCC_MSG_MSL_ACCELEROMETER = 10, /* 0x041 */
-    FCC_MSG_CDRW_AOA = 11, /* 0x050 */
-    FCC_MSG_CDRW_PITCH_RATE = 12, /* 0x051 */
-    FCC_MSG_CDRW_ELEVATOR = 13, /* 0x052 */
-    FCC_MSG_MSL_STATE_EST = 14, /* 0x100 */
-    FCC_MSG_SID_AZKF_STATE = 15, /* 0x110 */
-    FCC_MSG_SID_AZKF_BOUNDS = 16, /* 0x111 */
-    FCC_MSG_SID_AZKF_MODEL_A = 17, /* 0x112 */
-    FCC_MSG_SID_AZKF_MODEL_B = 18, /* 0x113 */
-    FCC_MSG_SID_ZKF_STATE = 19, /* 0x120 */
-    FCC_MSG_SID_ZKF_BOUNDS = 20, /* 0x121 */
-    FCC_MSG_SID_ZKF_MODEL_A = 21, /* 0x122 */
-    FCC_MSG_SID_ZKF_MODEL_B = 22, /* 0x123 */
-    FCC_MSG_SID_KF_STATE = 23, /* 0x130 */
-    FCC_MSG_SID_KF_BOUNDS = 24, /* 0x131 */
-    FCC_MSG_SID_KF_MODEL_A = 25, /* 0x132 */
-    FCC_MSG_SID_KF_MODEL_B = 26, /* 0x133 */
-    FCC_MSG_FCC_STATUS = 27, /* 0x700 */
-    FCC_MSG_FCC_E2E_COUNTS = 28, /* 0x701 */
-    FCC_MSG_FCC_E2E_FAULTS = 29, /* 0x702 */
-    FCC_MSG_FCC_REJECT_COUNTS = 30, /* 0x703 */
-    FCC_MSG_FCC_BUS_COUNTS = 31, /* 0x704 */
-    FCC_MSG_FCC_SYNC_STATUS = 32, /* 0x705 */
-    FCC_MSG_FCC_SEC_COUNTS = 33, /* 0x706 */
-    FCC_MSG_FCC_SEC_SESSION = 34, /* 0x707 */
-    FCC_MSG_FCC_STATUS_AUTH = 35, /* 0x708 */
-    FCC_MSG_SIM_EVENT = 36, /* 0x710 */
-    FCC_MSG_RIG_PING = 37, /* 0x7F0 */
-    FCC_MSG_RIG_PONG = 38, /* 0x7F1 */
+    FCC_MSG_TSYNC_AUTH = 2, /* 0x003 */
+    FCC_MSG_SIM_CONTROL = 3, /* 0x010 */
+    FCC_MSG_SIM_CONTROL_AUTH = 4, /* 0x011 */
+    FCC_MSG_SIM_TICK = 5, /* 0x020 */
+    FCC_MSG_SIM_TICK_AUTH = 6, /* 0x021 */
+    FCC_MSG_FCC_ACK = 7, /* 0x028 */
+    FCC_MSG_MSL_ELEV_CMD = 8, /* 0x030 */
+    FCC_MSG_MSL_ELEV_CMD_AUTH = 9, /* 0x031 */
+    FCC_MSG_MSL_RATE_GYRO = 10, /* 0x040 */
+    FCC_MSG_MSL_ACCELEROMETER = 11, /* 0x041 */
+    FCC_MSG_CDRW_AOA = 12, /* 0x050 */
+    FCC_MSG_CDRW_PITCH_RATE = 13, /* 0x051 */
+    FCC_MSG_CDRW_ELEVATOR = 14, /* 0x052 */
+    FCC_MSG_MSL_STATE_EST = 15, /* 0x100 */
+    FCC_MSG_SID_AZKF_STATE = 16, /* 0x110 */
+    FCC_MSG_SID_AZKF_BOUNDS = 17, /* 0x111 */
+    FCC_MSG_SID_AZKF_MODEL_A = 18, /* 0x112 */
+    FCC_MSG_SID_AZKF_MODEL_B = 19, /* 0x113 */
+    FCC_MSG_SID_ZKF_STATE = 20, /* 0x120 */
+    FCC_MSG_SID_ZKF_BOUNDS = 21, /* 0x121 */
+    FCC_MSG_SID_ZKF_MODEL_A = 22, /* 0x122 */
+    FCC_MSG_SID_ZKF_MODEL_B = 23, /* 0x123 */
+    FCC_MSG_SID_KF_STATE = 24, /* 0x130 */
+    FCC_MSG_SID_KF_BOUNDS = 25, /* 0x131 */
+    FCC_MSG_SID_KF_MODEL_A = 26, /* 0x132 */
+    FCC_MSG_SID_KF_MODEL_B = 27, /* 0x133 */
+    FCC_MSG_FCC_STATUS = 28, /* 0x700 */
+    FCC_MSG_FCC_E2E_COUNTS = 29, /* 0x701 */
+    FCC_MSG_FCC_E2E_FAULTS = 30, /* 0x702 */
+    FCC_MSG_FCC_REJECT_COUNTS = 31, /* 0x703 */
+    FCC_MSG_FCC_BUS_COUNTS = 32, /* 0x704 */
+    FCC_MSG_FCC_SYNC_STATUS = 33, /* 0x705 */
+    FCC_MSG_FCC_SEC_COUNTS = 34, /* 0x706 */
+    FCC_MSG_FCC_SEC_SESSION = 35, /* 0x707 */
+    FCC_MSG_FCC_STATUS_AUTH = 36, /* 0x708 */
+    FCC_MSG_FCC_SYNC_REFUSALS = 37, /* 0x709 */
+    FCC_MSG_SIM_EVENT = 38, /* 0x710 */
+    FCC_MSG_RIG_PING = 39, /* 0x7F0 */
+    FCC_MSG_RIG_PONG = 40, /* 0x7F1 */
     FCC_MSG_COUNT
 } fcc_msg_t;
 
 /* CAN identifiers. */
 #define FCC_MSG_TSYNC_SYNC_ID 0x001u
 #define FCC_MSG_TSYNC_FOLLOW_UP_ID 0x002u
+#define FCC_MSG_TSYNC_AUTH_ID 0x003u
 #define FCC_MSG_SIM_CONTROL_ID 0x010u
 #define FCC_MSG_SIM_CONTROL_AUTH_ID 0x011u
 #define FCC_MSG_SIM_TICK_ID 0x020u
@@ -105,6 +108,7 @@ typedef enum {
 #define FCC_MSG_FCC_SEC_COUNTS_ID 0x706u
 #define FCC_MSG_FCC_SEC_SESSION_ID 0x707u
 #define FCC_MSG_FCC_STATUS_AUTH_ID 0x708u
+#define FCC_MSG_FCC_SYNC_REFUSALS_ID 0x709u
 #define FCC_MSG_SIM_EVENT_ID 0x710u
 #define FCC_MSG_RIG_PING_ID 0x7F0u
 #define FCC_MSG_RIG_PONG_ID 0x7F1u
@@ -125,6 +129,12 @@ typedef enum {
 #define FCC_MSG_FCC_STATUS_OP_MODE_GROUND 0u
 #define FCC_MSG_FCC_STATUS_OP_MODE_FLIGHT 1u
 #define FCC_MSG_FCC_STATUS_OP_MODE_MAINTENANCE 2u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_FREE_RUN 0u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_LOCKING 1u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_LOCKED 2u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_HOLDOVER 3u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_LOST 4u
+#define FCC_MSG_FCC_SYNC_STATUS_STATE_REFUSED 5u
 #define FCC_MSG_SIM_EVENT_KIND_NONE 0u
 #define FCC_MSG_SIM_EVENT_KIND_SPIKE 1u
 #define FCC_MSG_SIM_EVENT_KIND_BIAS 2u
@@ -161,6 +171,12 @@ typedef struct {
     bool sec_carry; /* [0, 1]. 1 when the transmit time is in the second after SYNC.sec. */
     uint32_t ns; /* [0, 999999999] ns. Nanoseconds within that second of the SYNC's transmit time. */
 } fcc_msg_tsync_follow_up_t;
+
+/* TSYNC_AUTH (0x003, 100 ms, SIM -> FCC): SecOC authenticator of the time synchronisation (TSYNC_SYNC, TSYNC_FOLLOW_UP, concatenated in this order): sent by the time master right after the FOLLOW_UP. fcc uses a SYNC/FOLLOW_UP pair (with the SYNC's receive stamp) only once this authenticator verified it; frames without a valid one are refused and counted in FCC_SYNC_REFUSALS. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the SYNC's 8 bytes | the FOLLOW_UP's 8 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. Time synchronisation: firmware/app/README.md. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Low 16 bits of the freshness value (its message counter, +1 per authenticator sent, from 1). */
+    uint64_t mac; /* [0, 281474976710655]. First 48 bits of the AES-128-CMAC, the 6 bytes in frame order. */
+} fcc_msg_tsync_auth_t;
 
 /* SIM_CONTROL (0x010, event, SIM -> FCC, E2E data ID 0x1010): Run-time configuration and commands from the simulator to the FCC. Sent on demand. A field at 0 keeps the current setting. */
 typedef struct {
@@ -399,12 +415,12 @@ typedef struct {
 
 /* FCC_SYNC_STATUS (0x705, 100 ms, FCC -> SIM): Time synchronisation status of the FCC (the slave): part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. */
 typedef struct {
-    uint8_t state; /* [0, 3]. 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (sync lost: free-run on the last estimate, degraded). */
+    uint8_t state; /* [0, 5]. 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (no authentic sync for 3 intervals: the last estimate goes on, degraded), 4 lost (no accepted sync for 50 intervals: the estimate is dropped, own clock), 5 refused (the last authenticated master time failed the plausibility check against fcc's own clock: not followed, the last estimate goes on). */
     uint8_t master; /* [0, 15]. Time master followed. */
     int16_t offset_us; /* [-32768, 32767] us. Last sync residual: master time of the SYNC minus the slave's estimate of it, saturated. */
     fcc_real_t rate_ppm; /* [-327.68, 327.67] ppm, LSB 0.01. Estimated rate of the master clock relative to the slave's, ppm. */
     uint8_t syncs; /* [0, 255]. SYNC/FOLLOW_UP pairs used, modulo 256. */
-    uint8_t rejected; /* [0, 255]. Sync inputs refused (past/future outlier, missing or orphan follow-up, foreign master, repeated sequence), modulo 256. */
+    uint8_t rejected; /* [0, 255]. Sync inputs refused, every class together (the servo's: past/future outlier, backwards, missing or orphan follow-up, foreign master, repeated sequence; and those of FCC_SYNC_REFUSALS: not authenticated, implausible), modulo 256. */
     uint8_t losses; /* [0, 255]. Losses of sync (no usable sync for 3 intervals), modulo 256. */
 } fcc_msg_fcc_sync_status_t;
 
@@ -422,11 +438,20 @@ typedef struct {
     uint32_t verified; /* [0, 4294967295]. Secured frames received, authenticated and accepted since start. */
 } fcc_msg_fcc_sec_session_t;
 
-/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
 typedef struct {
     uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
     uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
 } fcc_msg_fcc_status_auth_t;
+
+/* FCC_SYNC_REFUSALS (0x709, 100 ms, FCC -> SIM): Time synchronisation refusals of the FCC: what it did not take from the bus's time master (forged, replayed, implausible). Part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. Counters since start, wrapping at their width. */
+typedef struct {
+    uint16_t mac_failed; /* [0, 65535]. TSYNC_AUTH authenticators whose MAC matched no held SYNC/FOLLOW_UP pair (forged). */
+    uint16_t freshness_failed; /* [0, 65535]. TSYNC_AUTH authenticators not newer than the last accepted one, or beyond the acceptance window (replayed). */
+    uint16_t unauthenticated; /* [0, 65535]. SYNC and FOLLOW_UP frames dropped without a valid authenticator (forged frames, or genuine ones whose authenticator never came). */
+    uint8_t step_refused; /* [0, 255]. Authenticated pairs refused: the master time stepped by more than the step bound (1 ms) against fcc's own clock. */
+    uint8_t rate_refused; /* [0, 255]. Authenticated pairs refused: the master time drifted from fcc's own clock faster than the rate bound (200 ppm). */
+} fcc_msg_fcc_sync_refusals_t;
 
 /* SIM_EVENT (0x710, event, SIM -> FCC, E2E data ID 0x1710): Fault-injection event from the simulator, sent when a fault starts or ends. Diagnostic only, except oracle_fault which the FCC oracle fault detector reads. */
 typedef struct {
@@ -454,6 +479,7 @@ typedef struct {
 typedef union {
     fcc_msg_tsync_sync_t tsync_sync;
     fcc_msg_tsync_follow_up_t tsync_follow_up;
+    fcc_msg_tsync_auth_t tsync_auth;
     fcc_msg_sim_control_t sim_control;
     fcc_msg_sim_control_auth_t sim_control_auth;
     fcc_msg_sim_tick_t sim_tick;
@@ -488,6 +514,7 @@ typedef union {
     fcc_msg_fcc_sec_counts_t fcc_sec_counts;
     fcc_msg_fcc_sec_session_t fcc_sec_session;
     fcc_msg_fcc_status_auth_t fcc_status_auth;
+    fcc_msg_fcc_sync_refusals_t fcc_sync_refusals;
     fcc_msg_sim_event_t sim_event;
     fcc_msg_rig_ping_t rig_ping;
     fcc_msg_rig_pong_t rig_pong;
@@ -497,6 +524,7 @@ typedef union {
 typedef union {
     struct fcc_hil_tsync_sync_t tsync_sync;
     struct fcc_hil_tsync_follow_up_t tsync_follow_up;
+    struct fcc_hil_tsync_auth_t tsync_auth;
     struct fcc_hil_sim_control_t sim_control;
     struct fcc_hil_sim_control_auth_t sim_control_auth;
     struct fcc_hil_sim_tick_t sim_tick;
@@ -531,6 +559,7 @@ typedef union {
     struct fcc_hil_fcc_sec_counts_t fcc_sec_counts;
     struct fcc_hil_fcc_sec_session_t fcc_sec_session;
     struct fcc_hil_fcc_status_auth_t fcc_status_auth;
+    struct fcc_hil_fcc_sync_refusals_t fcc_sync_refusals;
     struct fcc_hil_sim_event_t sim_event;
     struct fcc_hil_rig_ping_t rig_ping;
     struct fcc_hil_rig_pong_t rig_pong;
@@ -540,8 +569,8 @@ extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
 
 /* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
  * SecOC_Pdus); firmware/bus/fcc_secoc.h. */
-#define FCC_SECOC_N_AUTH 4u
-#define FCC_SECOC_MAX_PDUS 8u
+#define FCC_SECOC_N_AUTH 5u
+#define FCC_SECOC_MAX_PDUS 9u
 typedef struct {
     fcc_msg_t auth;       /* the authenticator frame */
     uint16_t data_id;     /* SecOC data ID in the MAC input */

@@ -385,6 +385,81 @@ bool fcc_hil_tsync_follow_up_ns_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 999999999.0));
 }
 
+int fcc_hil_tsync_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_tsync_auth_unpack(
+    struct fcc_hil_tsync_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_tsync_auth_init(struct fcc_hil_tsync_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_tsync_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_tsync_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_tsync_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_tsync_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_tsync_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
+}
+
 int fcc_hil_sim_control_pack(
     uint8_t *dst_p,
     const struct fcc_hil_sim_control_t *src_p,
@@ -3822,12 +3897,12 @@ int fcc_hil_fcc_sync_status_init(struct fcc_hil_fcc_sync_status_t *msg_p)
 
 bool fcc_hil_fcc_sync_status_state_is_in_range(uint8_t value)
 {
-    return (value <= 3u);
+    return (value <= 5u);
 }
 
 bool fcc_hil_fcc_sync_status_state_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 3.0));
+    return ((value >= 0.0) && (value <= 5.0));
 }
 
 bool fcc_hil_fcc_sync_status_master_is_in_range(uint8_t value)
@@ -4151,6 +4226,119 @@ bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value)
 bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 281474976710655.0));
+}
+
+int fcc_hil_fcc_sync_refusals_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sync_refusals_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->mac_failed, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->mac_failed, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u16(src_p->freshness_failed, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u16(src_p->freshness_failed, 8u, 0xffu);
+    dst_p[4] |= pack_left_shift_u16(src_p->unauthenticated, 0u, 0xffu);
+    dst_p[5] |= pack_right_shift_u16(src_p->unauthenticated, 8u, 0xffu);
+    dst_p[6] |= pack_left_shift_u8(src_p->step_refused, 0u, 0xffu);
+    dst_p[7] |= pack_left_shift_u8(src_p->rate_refused, 0u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_sync_refusals_unpack(
+    struct fcc_hil_fcc_sync_refusals_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->mac_failed = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->mac_failed |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->freshness_failed = unpack_right_shift_u16(src_p[2], 0u, 0xffu);
+    dst_p->freshness_failed |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
+    dst_p->unauthenticated = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
+    dst_p->unauthenticated |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
+    dst_p->step_refused = unpack_right_shift_u8(src_p[6], 0u, 0xffu);
+    dst_p->rate_refused = unpack_right_shift_u8(src_p[7], 0u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_sync_refusals_init(struct fcc_hil_fcc_sync_refusals_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_sync_refusals_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_sync_refusals_mac_failed_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_refusals_mac_failed_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sync_refusals_freshness_failed_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_refusals_freshness_failed_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sync_refusals_unauthenticated_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_refusals_unauthenticated_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_sync_refusals_step_refused_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_refusals_step_refused_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
+}
+
+bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_range(uint8_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 255.0));
 }
 
 int fcc_hil_sim_event_pack(

@@ -47,6 +47,7 @@ extern "C" {
 /* Frame ids. */
 #define FCC_HIL_TSYNC_SYNC_FRAME_ID (0x01u)
 #define FCC_HIL_TSYNC_FOLLOW_UP_FRAME_ID (0x02u)
+#define FCC_HIL_TSYNC_AUTH_FRAME_ID (0x03u)
 #define FCC_HIL_SIM_CONTROL_FRAME_ID (0x10u)
 #define FCC_HIL_SIM_CONTROL_AUTH_FRAME_ID (0x11u)
 #define FCC_HIL_SIM_TICK_FRAME_ID (0x20u)
@@ -81,6 +82,7 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_FRAME_ID (0x706u)
 #define FCC_HIL_FCC_SEC_SESSION_FRAME_ID (0x707u)
 #define FCC_HIL_FCC_STATUS_AUTH_FRAME_ID (0x708u)
+#define FCC_HIL_FCC_SYNC_REFUSALS_FRAME_ID (0x709u)
 #define FCC_HIL_SIM_EVENT_FRAME_ID (0x710u)
 #define FCC_HIL_RIG_PING_FRAME_ID (0x7f0u)
 #define FCC_HIL_RIG_PONG_FRAME_ID (0x7f1u)
@@ -88,6 +90,7 @@ extern "C" {
 /* Frame lengths in bytes. */
 #define FCC_HIL_TSYNC_SYNC_LENGTH (8u)
 #define FCC_HIL_TSYNC_FOLLOW_UP_LENGTH (8u)
+#define FCC_HIL_TSYNC_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_CONTROL_LENGTH (8u)
 #define FCC_HIL_SIM_CONTROL_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_TICK_LENGTH (8u)
@@ -122,6 +125,7 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_SEC_SESSION_LENGTH (8u)
 #define FCC_HIL_FCC_STATUS_AUTH_LENGTH (8u)
+#define FCC_HIL_FCC_SYNC_REFUSALS_LENGTH (8u)
 #define FCC_HIL_SIM_EVENT_LENGTH (8u)
 #define FCC_HIL_RIG_PING_LENGTH (8u)
 #define FCC_HIL_RIG_PONG_LENGTH (8u)
@@ -129,6 +133,7 @@ extern "C" {
 /* Extended or standard frame types. */
 #define FCC_HIL_TSYNC_SYNC_IS_EXTENDED (0)
 #define FCC_HIL_TSYNC_FOLLOW_UP_IS_EXTENDED (0)
+#define FCC_HIL_TSYNC_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_CONTROL_IS_EXTENDED (0)
 #define FCC_HIL_SIM_CONTROL_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_TICK_IS_EXTENDED (0)
@@ -163,6 +168,7 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SEC_SESSION_IS_EXTENDED (0)
 #define FCC_HIL_FCC_STATUS_AUTH_IS_EXTENDED (0)
+#define FCC_HIL_FCC_SYNC_REFUSALS_IS_EXTENDED (0)
 #define FCC_HIL_SIM_EVENT_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PING_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PONG_IS_EXTENDED (0)
@@ -170,6 +176,7 @@ extern "C" {
 /* Frame cycle times in milliseconds. */
 #define FCC_HIL_TSYNC_SYNC_CYCLE_TIME_MS (100u)
 #define FCC_HIL_TSYNC_FOLLOW_UP_CYCLE_TIME_MS (100u)
+#define FCC_HIL_TSYNC_AUTH_CYCLE_TIME_MS (100u)
 #define FCC_HIL_SIM_TICK_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SIM_TICK_AUTH_CYCLE_TIME_MS (20u)
 #define FCC_HIL_FCC_ACK_CYCLE_TIME_MS (20u)
@@ -202,6 +209,7 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SEC_SESSION_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_STATUS_AUTH_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_SYNC_REFUSALS_CYCLE_TIME_MS (100u)
 
 /* Signal choices. */
 #define FCC_HIL_SIM_CONTROL_COMMAND_NONE_CHOICE (0u)
@@ -223,6 +231,13 @@ extern "C" {
 #define FCC_HIL_FCC_STATUS_OP_MODE_GROUND_CHOICE (0u)
 #define FCC_HIL_FCC_STATUS_OP_MODE_FLIGHT_CHOICE (1u)
 #define FCC_HIL_FCC_STATUS_OP_MODE_MAINTENANCE_CHOICE (2u)
+
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_FREE_RUN_CHOICE (0u)
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_LOCKING_CHOICE (1u)
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_LOCKED_CHOICE (2u)
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_HOLDOVER_CHOICE (3u)
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_LOST_CHOICE (4u)
+#define FCC_HIL_FCC_SYNC_STATUS_STATE_REFUSED_CHOICE (5u)
 
 #define FCC_HIL_SIM_EVENT_KIND_NONE_CHOICE (0u)
 #define FCC_HIL_SIM_EVENT_KIND_SPIKE_CHOICE (1u)
@@ -247,6 +262,7 @@ extern "C" {
 /* Frame Names. */
 #define FCC_HIL_TSYNC_SYNC_NAME "TSYNC_SYNC"
 #define FCC_HIL_TSYNC_FOLLOW_UP_NAME "TSYNC_FOLLOW_UP"
+#define FCC_HIL_TSYNC_AUTH_NAME "TSYNC_AUTH"
 #define FCC_HIL_SIM_CONTROL_NAME "SIM_CONTROL"
 #define FCC_HIL_SIM_CONTROL_AUTH_NAME "SIM_CONTROL_AUTH"
 #define FCC_HIL_SIM_TICK_NAME "SIM_TICK"
@@ -281,6 +297,7 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_NAME "FCC_SEC_COUNTS"
 #define FCC_HIL_FCC_SEC_SESSION_NAME "FCC_SEC_SESSION"
 #define FCC_HIL_FCC_STATUS_AUTH_NAME "FCC_STATUS_AUTH"
+#define FCC_HIL_FCC_SYNC_REFUSALS_NAME "FCC_SYNC_REFUSALS"
 #define FCC_HIL_SIM_EVENT_NAME "SIM_EVENT"
 #define FCC_HIL_RIG_PING_NAME "RIG_PING"
 #define FCC_HIL_RIG_PONG_NAME "RIG_PONG"
@@ -298,6 +315,8 @@ extern "C" {
 #define FCC_HIL_TSYNC_FOLLOW_UP_SEQ_NAME "seq"
 #define FCC_HIL_TSYNC_FOLLOW_UP_SEC_CARRY_NAME "sec_carry"
 #define FCC_HIL_TSYNC_FOLLOW_UP_NS_NAME "ns"
+#define FCC_HIL_TSYNC_AUTH_FV_NAME "fv"
+#define FCC_HIL_TSYNC_AUTH_MAC_NAME "mac"
 #define FCC_HIL_SIM_CONTROL_CRC_NAME "crc"
 #define FCC_HIL_SIM_CONTROL_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_CONTROL_COMMAND_NAME "command"
@@ -446,6 +465,11 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_SESSION_VERIFIED_NAME "verified"
 #define FCC_HIL_FCC_STATUS_AUTH_FV_NAME "fv"
 #define FCC_HIL_FCC_STATUS_AUTH_MAC_NAME "mac"
+#define FCC_HIL_FCC_SYNC_REFUSALS_MAC_FAILED_NAME "mac_failed"
+#define FCC_HIL_FCC_SYNC_REFUSALS_FRESHNESS_FAILED_NAME "freshness_failed"
+#define FCC_HIL_FCC_SYNC_REFUSALS_UNAUTHENTICATED_NAME "unauthenticated"
+#define FCC_HIL_FCC_SYNC_REFUSALS_STEP_REFUSED_NAME "step_refused"
+#define FCC_HIL_FCC_SYNC_REFUSALS_RATE_REFUSED_NAME "rate_refused"
 #define FCC_HIL_SIM_EVENT_CRC_NAME "crc"
 #define FCC_HIL_SIM_EVENT_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_EVENT_ACTIVE_NAME "active"
@@ -583,6 +607,33 @@ struct fcc_hil_tsync_follow_up_t {
      * Offset: 0
      */
     uint32_t ns;
+};
+
+/**
+ * Signals in message TSYNC_AUTH.
+ *
+ * SecOC authenticator of the time synchronisation (TSYNC_SYNC, TSYNC_FOLLOW_UP, concatenated in this order): sent by the time master right after the FOLLOW_UP. fcc uses a SYNC/FOLLOW_UP pair (with the SYNC's receive stamp) only once this authenticator verified it; frames without a valid one are refused and counted in FCC_SYNC_REFUSALS. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the SYNC's 8 bytes | the FOLLOW_UP's 8 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. Time synchronisation: firmware/app/README.md.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_tsync_auth_t {
+    /**
+     * Low 16 bits of the freshness value (its message counter, +1 per authenticator sent, from 1).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * First 48 bits of the AES-128-CMAC, the 6 bytes in frame order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -2061,9 +2112,9 @@ struct fcc_hil_fcc_bus_counts_t {
  */
 struct fcc_hil_fcc_sync_status_t {
     /**
-     * 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (sync lost: free-run on the last estimate, degraded).
+     * 0 free-run (never synchronised: own clock), 1 locking, 2 locked, 3 holdover (no authentic sync for 3 intervals: the last estimate goes on, degraded), 4 lost (no accepted sync for 50 intervals: the estimate is dropped, own clock), 5 refused (the last authenticated master time failed the plausibility check against fcc's own clock: not followed, the last estimate goes on).
      *
-     * Range: 0..3 (0..3 -)
+     * Range: 0..5 (0..5 -)
      * Scale: 1
      * Offset: 0
      */
@@ -2106,7 +2157,7 @@ struct fcc_hil_fcc_sync_status_t {
     uint8_t syncs;
 
     /**
-     * Sync inputs refused (past/future outlier, missing or orphan follow-up, foreign master, repeated sequence), modulo 256.
+     * Sync inputs refused, every class together (the servo's: past/future outlier, backwards, missing or orphan follow-up, foreign master, repeated sequence; and those of FCC_SYNC_REFUSALS: not authenticated, implausible), modulo 256.
      *
      * Range: 0..255 (0..255 -)
      * Scale: 1
@@ -2199,7 +2250,7 @@ struct fcc_hil_fcc_sec_session_t {
 /**
  * Signals in message FCC_STATUS_AUTH.
  *
- * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
  *
  * All signal values are as on the CAN bus.
  */
@@ -2221,6 +2272,60 @@ struct fcc_hil_fcc_status_auth_t {
      * Offset: 0
      */
     uint64_t mac;
+};
+
+/**
+ * Signals in message FCC_SYNC_REFUSALS.
+ *
+ * Time synchronisation refusals of the FCC: what it did not take from the bus's time master (forged, replayed, implausible). Part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. Counters since start, wrapping at their width.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_sync_refusals_t {
+    /**
+     * TSYNC_AUTH authenticators whose MAC matched no held SYNC/FOLLOW_UP pair (forged).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t mac_failed;
+
+    /**
+     * TSYNC_AUTH authenticators not newer than the last accepted one, or beyond the acceptance window (replayed).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t freshness_failed;
+
+    /**
+     * SYNC and FOLLOW_UP frames dropped without a valid authenticator (forged frames, or genuine ones whose authenticator never came).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t unauthenticated;
+
+    /**
+     * Authenticated pairs refused: the master time stepped by more than the step bound (1 ms) against fcc's own clock.
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t step_refused;
+
+    /**
+     * Authenticated pairs refused: the master time drifted from fcc's own clock faster than the rate bound (200 ppm).
+     *
+     * Range: 0..255 (0..255 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint8_t rate_refused;
 };
 
 /**
@@ -2695,6 +2800,87 @@ bool fcc_hil_tsync_follow_up_ns_is_in_range(uint32_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_tsync_follow_up_ns_is_in_phys_range(double value);
+
+/**
+ * Pack message TSYNC_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_tsync_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_tsync_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message TSYNC_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_tsync_auth_unpack(
+    struct fcc_hil_tsync_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from TSYNC_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_tsync_auth_init(struct fcc_hil_tsync_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_tsync_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message SIM_CONTROL.
@@ -7209,6 +7395,153 @@ bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_SYNC_REFUSALS.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_sync_refusals_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_sync_refusals_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_SYNC_REFUSALS.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_sync_refusals_unpack(
+    struct fcc_hil_fcc_sync_refusals_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_SYNC_REFUSALS.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_sync_refusals_init(struct fcc_hil_fcc_sync_refusals_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_mac_failed_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_mac_failed_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_freshness_failed_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_freshness_failed_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_unauthenticated_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_unauthenticated_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_step_refused_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_step_refused_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_range(uint8_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_phys_range(double value);
 
 /**
  * Pack message SIM_EVENT.

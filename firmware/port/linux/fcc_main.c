@@ -320,6 +320,12 @@ static void print_summary(const host_t *h)
             (unsigned long)tc->jumps, (unsigned long)tc->foreign, (unsigned long)tc->losses,
             (unsigned long)tc->recoveries, (unsigned long)tc->releases,
             (unsigned long)(h->rt[FCC_APP_MSL].aligns + h->rt[FCC_APP_CDRW].aligns));
+    const fcc_tsync_auth_counters_t *ac = &n->tsync_auth.cnt;
+    fprintf(stderr, "fcc summary: sync_refused mac_failed=%lu freshness_failed=%lu "
+            "unauthenticated=%lu step_refused=%lu rate_refused=%lu\n",
+            (unsigned long)ac->mac_failed, (unsigned long)ac->freshness_failed,
+            (unsigned long)ac->unauthenticated, (unsigned long)tc->step_refused,
+            (unsigned long)tc->rate_refused);
     print_hist("sync_offset_us", "abs", &h->sync_offset);
     print_hist("delay_us", "missile", &h->delay);
     char events[512];

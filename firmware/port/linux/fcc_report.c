@@ -90,10 +90,12 @@ static void detail(const fcc_event_t *ev, char *buf, size_t len)
         (void)snprintf(buf, len, "socket reopened");
         break;
     case FCC_EV_SYNC_STATE: {
-        static const char *const states[4] = {"free-run (own clock)", "locking", "locked",
-                                              "holdover (sync lost, degraded)"};
+        static const char *const states[6] = {
+            "free-run (own clock)", "locking", "locked", "holdover (sync lost, degraded)",
+            "lost (no sync: own clock)",
+            "refused (the master's time is implausible against the own clock: not followed)"};
         (void)snprintf(buf, len, "%s",
-                       (ev->value >= 0 && ev->value < 4) ? states[ev->value] : "?");
+                       (ev->value >= 0 && ev->value < 6) ? states[ev->value] : "?");
         break;
     }
     case FCC_EV_SYNC_REJECTED:

@@ -192,6 +192,23 @@ static void summary(const image_t *img)
         {"replies_lost", s->replies_lost},
     };
     summary_line("slcan", slcan, N_KV(slcan));
+    const fcc_tsync_counters_t *tc = &img->node.tsync.cnt;
+    const fcc_tsync_auth_counters_t *ac = &img->node.tsync_auth.cnt;
+    const kv_t sync[] = {
+        {"state", (uint32_t)img->node.tsync.state},
+        {"samples", tc->samples},
+        {"losses", tc->losses},
+        {"rejected", fcc_node_sync_rejected(&img->node)},
+    };
+    summary_line("sync", sync, N_KV(sync));
+    const kv_t refused[] = {
+        {"mac_failed", ac->mac_failed},
+        {"freshness_failed", ac->freshness_failed},
+        {"unauthenticated", ac->unauthenticated},
+        {"step_refused", tc->step_refused},
+        {"rate_refused", tc->rate_refused},
+    };
+    summary_line("sync_refused", refused, N_KV(refused));
     mps2_counters_t b;
     mps2_counters(&b);
     const kv_t board[] = {

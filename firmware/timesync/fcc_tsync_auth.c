@@ -1,0 +1,99 @@
+/*
+ * fcc_tsync_auth.c -- authenticated receiver of the time master's frames
+ * (see fcc_tsync_auth.h).
+ */
+#include "fcc_tsync_auth.h"
+
+#include <string.h>
+
+fcc_status_t fcc_tsync_auth_init(fcc_tsync_auth_t *ta)
+{
+    if (ta == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(ta, 0, sizeof *ta);
+    return FCC_OK;
+}
+
+/* Drop the oldest n of a held list (counting the dropped ones that were not used). */
+static void drop(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t n)
+{
+    if (n >= *n_held) {
+        *n_held = 0u;
+        return;
+    }
+    memmove(&list[0], &list[n], (size_t)(*n_held - n) * sizeof list[0]);
+    *n_held = (uint8_t)(*n_held - n);
+}
+
+static fcc_status_t hold(fcc_tsync_auth_t *ta, fcc_tsync_held_t *list, uint8_t *n_held,
+                         const uint8_t data[8], uint64_t t_us)
+{
+    if (ta == NULL || data == NULL) {
+        return FCC_ERR_ARG;
+    }
+    if (*n_held == FCC_TSYNC_AUTH_HELD) {
+        drop(list, n_held, 1u);
+        ++ta->cnt.unauthenticated;
+    }
+    memcpy(list[*n_held].data, data, 8u);
+    list[*n_held].t_us = t_us;
+    ++*n_held;
+    return FCC_OK;
+}
+
+fcc_status_t fcc_tsync_auth_hold_sync(fcc_tsync_auth_t *ta, const uint8_t data[8], uint64_t t_us)
+{
+    return (ta == NULL) ? FCC_ERR_ARG : hold(ta, ta->sync, &ta->n_sync, data, t_us);
+}
+
+fcc_status_t fcc_tsync_auth_hold_follow_up(fcc_tsync_auth_t *ta, const uint8_t data[8])
+{
+    return (ta == NULL) ? FCC_ERR_ARG : hold(ta, ta->fup, &ta->n_fup, data, 0u);
+}
+
+/* Same master (high nibble of byte 1) and sequence number (byte 2): the
+ * DBC's layout of both frames, read before any check. */
+static bool same_sync(const uint8_t a[8], const uint8_t b[8])
+{
+    return (a[1] & 0xF0u) == (b[1] & 0xF0u) && a[2] == b[2];
+}
+
+fcc_secoc_verdict_t fcc_tsync_auth_verify(fcc_tsync_auth_t *ta, fcc_secoc_t *sec, uint32_t index,
+                                          const uint8_t auth[8], fcc_tsync_held_t *sync,
+                                          uint8_t fup[8])
+{
+    if (ta == NULL || sec == NULL || auth == NULL || sync == NULL || fup == NULL) {
+        return FCC_SECOC_NO_PDU;
+    }
+    uint8_t cand[FCC_SECOC_CANDIDATES][16];
+    uint8_t ci[FCC_SECOC_CANDIDATES];
+    uint8_t cj[FCC_SECOC_CANDIDATES];
+    uint32_t n = 0u;
+    for (uint32_t j = ta->n_fup; j-- > 0u && n < FCC_SECOC_CANDIDATES;) {
+        for (uint32_t i = ta->n_sync; i-- > 0u && n < FCC_SECOC_CANDIDATES;) {
+            if (same_sync(ta->sync[i].data, ta->fup[j].data)) {
+                memcpy(&cand[n][0], ta->sync[i].data, 8u);
+                memcpy(&cand[n][8], ta->fup[j].data, 8u);
+                ci[n] = (uint8_t)i;
+                cj[n] = (uint8_t)j;
+                ++n;
+            }
+        }
+    }
+    uint32_t m = 0u;
+    const fcc_secoc_verdict_t v = fcc_secoc_verify_pdus(sec, index, auth, &cand[0][0], n, 16u, &m);
+    if (v == FCC_SECOC_FRESHNESS_FAILED) {
+        ++ta->cnt.freshness_failed;
+    } else if (v != FCC_SECOC_VERIFIED) {
+        ++ta->cnt.mac_failed;
+    } else {
+        *sync = ta->sync[ci[m]];
+        memcpy(fup, ta->fup[cj[m]].data, 8u);
+        /* the pair and everything held before it goes; the others were never authenticated */
+        ta->cnt.unauthenticated += (uint32_t)ci[m] + (uint32_t)cj[m];
+        drop(ta->sync, &ta->n_sync, (uint32_t)ci[m] + 1u);
+        drop(ta->fup, &ta->n_fup, (uint32_t)cj[m] + 1u);
+    }
+    return v;
+}

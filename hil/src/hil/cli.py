@@ -283,8 +283,8 @@ def _parser() -> argparse.ArgumentParser:
 
 # ---- helpers -------------------------------------------------------------------------------
 def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
-    from .bus import load
-    from .faults import load_default_scenario, load_scenario, with_extra_faults
+    from hil.bus import load
+    from hil.faults import load_default_scenario, load_scenario, with_extra_faults
 
     frames = {m.name for m in load().messages}
     sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
@@ -302,7 +302,7 @@ def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int
 
 
 def _config(args: argparse.Namespace, stage: Path):
-    from .rig.runs import RigConfig
+    from hil.rig.runs import RigConfig
 
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -317,7 +317,7 @@ def _config(args: argparse.Namespace, stage: Path):
         raise UsageError("--target qemu-m4f: the image's serial line is routed to a SocketCAN "
                          "interface (slcand, can-gw): use --interface socketcan")
     if args.key_file is not None:
-        from .bus.secoc import KeyFileError, read_key_file
+        from hil.bus.secoc import KeyFileError, read_key_file
         try:
             read_key_file(args.key_file)
         except KeyFileError as e:
@@ -333,7 +333,7 @@ def _config(args: argparse.Namespace, stage: Path):
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:
     """runner(cfg) -> [Outcome, ...] in a staging directory, published to out when done
     (hil.rig.rundir); the tables are printed once the results are in place."""
-    from .rig.rundir import staged_run
+    from hil.rig.rundir import staged_run
 
     with staged_run(out, args.command, force=args.force) as stage:
         outcomes = runner(_config(args, stage))
@@ -348,7 +348,7 @@ def _staged(args: argparse.Namespace, out: Path, runner) -> list:
 
 # ---- commands -------------------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
-    from .rig.runs import run_flight
+    from hil.rig.runs import run_flight
 
     sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
     out = Path(str(args.out).replace("<aircraft>", args.aircraft))
@@ -364,7 +364,7 @@ def _run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: obje
     if par is None:
         _staged(args, args.out, lambda cfg: [sequential(*inputs, cfg)])
         return 0
-    from .parallel import runs
+    from hil.parallel import runs
     (outcome,) = _staged(args, args.out, lambda cfg: [getattr(runs, parallel)(*inputs, cfg, **par)])
     failed = outcome.summary.get("failed_runs") or []
     if not failed:
@@ -376,7 +376,7 @@ def _run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: obje
 
 
 def cmd_campaign(args: argparse.Namespace) -> int:
-    from .rig.runs import run_campaign
+    from hil.rig.runs import run_campaign
 
     if args.runs < 1:
         raise UsageError(f"--runs must be at least 1, got {args.runs}")
@@ -385,7 +385,7 @@ def cmd_campaign(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from .rig.runs import run_sweep
+    from hil.rig.runs import run_sweep
 
     sc = _scenario("missile", args.scenario, args.fault, args.seed)
     return _run_many(args, run_sweep, "run_sweep_parallel", sc, args.periods, args.bits)
@@ -398,8 +398,8 @@ def _not_a_summary(path: Path, e: Exception) -> UsageError:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from .rig.output import read_json
-    from .rig.report import summary_tables
+    from hil.rig.output import read_json
+    from hil.rig.report import summary_tables
 
     summary_path = args.dir / "summary.json"
     if not summary_path.is_file():
@@ -421,20 +421,20 @@ def cmd_report(args: argparse.Namespace) -> int:
         print(t)
         print()
     if args.bus:
-        from .bus import load
-        from .bus.diag import analyse, render
-        from .bus.logio import read_frames, run_log
+        from hil.bus import load
+        from hil.bus.diag import analyse, render
+        from hil.bus.logio import read_frames, run_log
         log = run_log(args.dir)
         if log is None:
             raise UsageError(f"{args.dir}: no bus log (bus.log, bus.asc or bus.blf)")
         print(render(analyse(read_frames(log), load())))
     if not args.no_plots:
-        from .plots import plot_run_dir
+        from hil.plots import plot_run_dir
         try:
             written = plot_run_dir(args.dir)
         except (KeyError, TypeError, AttributeError, IndexError) as e:
             raise _not_a_summary(summary_path, e) from None
-        from .rig.rundir import note_written
+        from hil.rig.rundir import note_written
         note_written(args.dir, written)
         names = [p.name for p in written]
         if names:
@@ -445,8 +445,8 @@ def cmd_report(args: argparse.Namespace) -> int:
 def cmd_study(args: argparse.Namespace) -> int:
     import json
 
-    from .plants.missile_cov import format_study, missile_rms_study
-    from .rig.paths import tool
+    from hil.plants.missile_cov import format_study, missile_rms_study
+    from hil.rig.paths import tool
 
     for n in args.bits:
         if not 2 <= n <= 16:
@@ -460,8 +460,8 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def cmd_live(args: argparse.Namespace) -> int:
-    from .bus import load
-    from .live import run
+    from hil.bus import load
+    from hil.live import run
 
     try:
         run(args.iface, args.seconds, load(), force_rich=args.rich)
@@ -471,8 +471,8 @@ def cmd_live(args: argparse.Namespace) -> int:
 
 
 def cmd_faults(args: argparse.Namespace) -> int:
-    from .faults import KINDS
-    from .faults.catalog import catalog
+    from hil.faults import KINDS
+    from hil.faults.catalog import catalog
 
     unknown = [k for k in args.kinds if k not in KINDS]
     if unknown:
@@ -482,7 +482,7 @@ def cmd_faults(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    from .rig.replay import ReplayError, replay
+    from hil.rig.replay import ReplayError, replay
 
     try:
         extra = shlex.split(args.fcc_args)
@@ -498,7 +498,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
         raise UsageError(str(e)) from None
     finally:
         if out.resolve().is_relative_to(args.dir.resolve()):  # the run stays hil's own: a new
-            from .rig.rundir import note_written              # run may replace it
+            from hil.rig.rundir import note_written              # run may replace it
             note_written(args.dir, [f for f in out.rglob("*") if f.is_file()])
     if diff is not None:
         print(f"replay of {args.dir}: DIFFERENT after {steps} identical steps; {diff}")
@@ -508,7 +508,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from .rig.runs import run_demo
+    from hil.rig.runs import run_demo
 
     _staged(args, args.out, run_demo)
     return 0
@@ -524,10 +524,10 @@ def _apply_paths(args: argparse.Namespace) -> None:
     if dbc_path is not None:
         if not dbc_path.is_file():
             raise UsageError(f"--dbc {dbc_path}: no such file")
-        from .bus import dbc
+        from hil.bus import dbc
         dbc.set_default(dbc_path)
     fcc_path = getattr(args, "fcc", None)
-    from .rig import paths
+    from hil.rig import paths
     paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
     if fcc_path is not None:
         try:
@@ -588,10 +588,10 @@ def _notes(e: BaseException) -> str:
 
 
 def _fail(e: Exception) -> int:
-    from .faults import ScenarioError
-    from .rig.paths import ToolNotFound
-    from .rig.rundir import OutDirRefused
-    from .rig.session import RigError
+    from hil.faults import ScenarioError
+    from hil.rig.paths import ToolNotFound
+    from hil.rig.rundir import OutDirRefused
+    from hil.rig.session import RigError
 
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
     if isinstance(e, (ScenarioError, OutDirRefused)):

@@ -15,8 +15,8 @@ from collections import defaultdict, deque
 from collections.abc import Callable
 from typing import Any
 
-from .bus.dbc import BusSpec
-from .faults import KINDS
+from hil.bus.dbc import BusSpec
+from hil.faults import KINDS
 
 #: SIM_EVENT.kind: the fault kinds numbered from 1 in hil.faults' order (hil.rig.inject)
 KIND_NAMES = {i + 1: k for i, k in enumerate(KINDS)}

@@ -20,10 +20,10 @@ import math
 
 import numpy as np
 
-from .plants import missile
+from hil.plants import missile
 
-from .sensor_options import (CDRW_SIGNALS, MISSILE_SIGNALS, NOISE_DISTRIBUTIONS, SIGNALS,  # noqa: F401
-                             CdrwSensorOptions, MissileSensorOptions)
+from hil.sensor_options import (CDRW_SIGNALS, MISSILE_SIGNALS, NOISE_DISTRIBUTIONS, SIGNALS,
+                                CdrwSensorOptions, MissileSensorOptions)  # noqa: F401
 
 
 def bounded_noise(rng: np.random.Generator, distribution: str, bound: float) -> float:

@@ -59,7 +59,7 @@ class TimedSender:
     """The simulator's side: starts the transmitter, hands frames over to it."""
 
     def __init__(self, iface: str, rt_priority: int = 0, ready_timeout: float = 30.0) -> None:
-        from .rig.processes import spawn
+        from hil.rig.processes import spawn
 
         args = [sys.executable, "-m", "hil.txsched", iface]
         if rt_priority:

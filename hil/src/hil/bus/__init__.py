@@ -10,9 +10,9 @@
 """
 from __future__ import annotations
 
-from .codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
-from .dbc import BusSpec, MessageSpec, SignalSpec, load
-from .e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
+from hil.bus.codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
+from hil.bus.dbc import BusSpec, MessageSpec, SignalSpec, load
+from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
 
 #: The simulator process speaks for the simulator core and every sensor node.
 SIM_NODES = ("SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL")

@@ -28,9 +28,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NoReturn
 
-from . import busload, candump, dbc, logio
-from .codec import decode_values
-from .e2e import E2EReceiver, E2EStatus
+from hil.bus import busload, candump, dbc, logio
+from hil.bus.codec import decode_values
+from hil.bus.e2e import E2EReceiver, E2EStatus
 
 PROG = "diag"
 SIM_CONTROL_ID = 0x010

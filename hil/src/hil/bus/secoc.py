@@ -207,7 +207,7 @@ class Endpoint:
     heartbeat that verifies with the trip it carries fixes it for the session."""
 
     def __init__(self, spec: object, key: bytes, own_node_names: tuple[str, ...]) -> None:
-        from .dbc import BusSpec
+        from hil.bus.dbc import BusSpec
         assert isinstance(spec, BusSpec)
         self.spec = spec
         self.key = key

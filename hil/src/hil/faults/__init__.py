@@ -8,15 +8,16 @@ Public API:
     FaultTimeline(faults).update(t) -> start/end FaultEvents (kept in .log)
     ScenarioError: every validation error (one line: file, fault, field, reason)
 """
-from .inject import FaultEvent, FaultTimeline, SensorFaultInjector
-from .model import (BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS, BadCrc, Bias, BusFault,
-                    CounterFreeze, CounterJump, Drift, Dropout, Fault, Flood, FrameDelay,
-                    FrameDuplicate, FrameFault, FrameLoss, FrameReplay, NoiseBurst, OutOfRange,
-                    Scale, SensorFault, Silence, Spike, Stuck, WrongDlc)
-from .scenario import (AIRCRAFT, Scenario, default_scenario_text, fault_from_table,
-                       load_default_scenario, load_scenario, loads_scenario, parse_fault_spec,
-                       scenario_from_dict, with_extra_faults, with_fault_start)
-from .schema import ScenarioError
+from hil.faults.inject import FaultEvent, FaultTimeline, SensorFaultInjector
+from hil.faults.model import (BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS, BadCrc, Bias, BusFault,
+                              CounterFreeze, CounterJump, Drift, Dropout, Fault, Flood, FrameDelay,
+                              FrameDuplicate, FrameFault, FrameLoss, FrameReplay, NoiseBurst,
+                              OutOfRange, Scale, SensorFault, Silence, Spike, Stuck, WrongDlc)
+from hil.faults.scenario import (AIRCRAFT, Scenario, default_scenario_text, fault_from_table,
+                                 load_default_scenario, load_scenario, loads_scenario,
+                                 parse_fault_spec, scenario_from_dict, with_extra_faults,
+                                 with_fault_start)
+from hil.faults.schema import ScenarioError
 
 __all__ = [
     "AIRCRAFT", "BUS_KINDS", "FRAME_KINDS", "KINDS", "SENSOR_KINDS", "BadCrc", "Bias", "BusFault",

@@ -8,8 +8,8 @@ import math
 import typing
 from typing import Any
 
-from ..sensor_options import SIGNALS
-from .model import KINDS, Fault
+from hil.sensor_options import SIGNALS
+from hil.faults.model import KINDS, Fault
 
 #: the unit of each field, by name (sensor values are in the signal's unit)
 UNITS = {

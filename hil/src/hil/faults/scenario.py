@@ -29,15 +29,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
-from .model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
-from .schema import ScenarioError, build
+from hil.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
+from hil.faults.model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
+from hil.faults.schema import ScenarioError, build
 
 #: the embedded scenarios (package data, beside the packaged DBC)
 PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 if TYPE_CHECKING:  # imported lazily below: hil.plants.options itself uses hil.faults.schema
-    from ..plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
+    from hil.plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 
 AIRCRAFT = ("cdrw", "missile")
 #: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
@@ -113,7 +113,7 @@ def _check_target(fault: Fault, aircraft: str, known_frames: Collection[str] | N
         raise ScenarioError(f"{where}: field 'frame': the simulator does not send "
                             f"{fault.frame} in a {aircraft} run (frames: *, {', '.join(sent)})")
     if isinstance(fault, OutOfRange):
-        from ..bus import load  # the DBC names the frame's signals
+        from hil.bus import load  # the DBC names the frame's signals
 
         signals = [sig.name for sig in load().by_name(fault.frame).data_signals]
         if fault.signal not in signals:
@@ -178,7 +178,7 @@ def parse_fault_spec(text: str, aircraft: str, known_frames: Collection[str] | N
 def scenario_from_dict(data: Mapping[str, Any], source: str = "<scenario>",
                        known_frames: Collection[str] | None = None) -> Scenario:
     """Validate a parsed TOML document and build the Scenario."""
-    from ..plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
+    from hil.plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 
     for key in data:
         if key not in TOP_LEVEL_KEYS:

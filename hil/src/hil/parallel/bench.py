@@ -24,8 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..rig.bench import print_table
-from ..rig.paths import REPO
+from hil.rig.bench import print_table
+from hil.rig.paths import REPO
 
 SPEEDUP_TARGET = 1.7
 TABLE5_TARGET_S = 600.0
@@ -51,7 +51,7 @@ def _campaign(out: Path, runs: int, extra: list[str], guest: bool = False) -> tu
 
 def _engine_cost(tasks: int = 2000) -> tuple[float, float]:
     """(ms per no-op task with 2 local workers, cluster start s): the engine's own cost."""
-    from .engine import Cluster, noop
+    from hil.parallel.engine import Cluster, noop
     with Cluster(workers=2) as cl:
         start = cl.start_s
         cl.client.gather(cl.client.map(noop, range(50), pure=False))   # warm

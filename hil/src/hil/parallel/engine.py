@@ -22,8 +22,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..rig.runs import RigConfig
-from .guest import GuestRig
+from hil.rig.runs import RigConfig
+from hil.parallel.guest import GuestRig
 
 FLIGHT_TIMEOUT_S = 120.0
 #: Dask's rescheduling after a worker died: once (the flight is then reported)
@@ -170,7 +170,7 @@ class Cluster:
         """Every flight once (a failed one twice); values by flight index."""
         from distributed import as_completed
         from distributed.scheduler import KilledWorker
-        from ..progress import bar as progress_bar
+        from hil.progress import bar as progress_bar
 
         t0 = time.perf_counter()
         res = Results()

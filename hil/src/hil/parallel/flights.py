@@ -10,14 +10,14 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..faults import Scenario, with_fault_start
-from ..rig.apps import CdrwDriver, MissileDriver
-from ..rig.buslog import split_flights
-from ..rig.report import firmware_summary
-from ..rig.results import cdrw_record, cdrw_result, missile_result
-from ..progress import bar as progress_bar
-from ..rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
-from ..rig.session import RigError, RigSession
+from hil.faults import Scenario, with_fault_start
+from hil.rig.apps import CdrwDriver, MissileDriver
+from hil.rig.buslog import split_flights
+from hil.rig.report import firmware_summary
+from hil.rig.results import cdrw_record, cdrw_result, missile_result
+from hil.progress import bar as progress_bar
+from hil.rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
+from hil.rig.session import RigError, RigSession
 
 
 @dataclasses.dataclass

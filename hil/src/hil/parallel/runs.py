@@ -14,13 +14,14 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..faults import Scenario, ScenarioError
-from ..rig.output import write_json
-from ..rig.session import RigError
-from ..rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points, write_campaign,
-                        write_sweep)
-from .engine import Cluster, Flight
-from .flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
+from hil.faults import Scenario, ScenarioError
+from hil.rig.output import write_json
+from hil.rig.session import RigError
+from hil.rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points,
+                          write_campaign, write_sweep)
+from hil.parallel.engine import Cluster, Flight
+from hil.parallel.flights import (add_counters, campaign_flights, fly_campaign_flights,
+                                  fly_sweep_point)
 
 
 #: most flights one rig session flies in a row (fcc reset between them, as in the sequential

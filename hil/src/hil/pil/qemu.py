@@ -22,7 +22,7 @@ import tty
 from collections.abc import Iterator
 from pathlib import Path
 
-from . import bootcfg
+from hil.pil import bootcfg
 
 QEMU = "qemu-system-arm"
 MACHINE = "mps2-an386"

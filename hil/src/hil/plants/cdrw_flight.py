@@ -15,12 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..faults.inject import FaultEvent, SensorFaultInjector
-from ..faults.scenario import Scenario, load_default_scenario
-from ..sensors import CdrwSensors
-from ..sid_csv import sid_csv
-from .cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
-from .options import CdrwPlantOptions
+from hil.faults.inject import FaultEvent, SensorFaultInjector
+from hil.faults.scenario import Scenario, load_default_scenario
+from hil.sensors import CdrwSensors
+from hil.sid_csv import sid_csv
+from hil.plants.cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
+from hil.plants.options import CdrwPlantOptions
 
 
 @dataclass(frozen=True)

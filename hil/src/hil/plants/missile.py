@@ -26,9 +26,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from ._linalg import expm
+from hil.plants._linalg import expm
 
-from ..rounding import round_half_away
+from hil.rounding import round_half_away
 
 
 def _frozen(a: list) -> np.ndarray:

@@ -34,9 +34,9 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from ._linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
+from hil.plants._linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
 
-from . import missile
+from hil.plants import missile
 
 #: D/A full scale span (rad): LSB = DAC_SPAN / 2^N
 DAC_SPAN = 2.0 * missile.U_MAX

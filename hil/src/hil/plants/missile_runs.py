@@ -25,14 +25,14 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from ._linalg import expm, solve_discrete_are
+from hil.plants._linalg import expm, solve_discrete_are
 
-from ..faults.inject import FaultEvent, SensorFaultInjector
-from ..faults.scenario import Scenario, load_default_scenario
-from ..sensors import MissileSensorOptions, MissileSensors
-from . import missile
-from .missile import DAConverter, MissilePlant
-from .options import LqgOptions, MissilePlantOptions
+from hil.faults.inject import FaultEvent, SensorFaultInjector
+from hil.faults.scenario import Scenario, load_default_scenario
+from hil.sensors import MissileSensorOptions, MissileSensors
+from hil.plants import missile
+from hil.plants.missile import DAConverter, MissilePlant
+from hil.plants.options import LqgOptions, MissilePlantOptions
 
 #: seed 2's cost weights: J = E int (x^T A x + u^T B u) dt
 COST_A = np.diag([0.12, 11.0, 0.0])

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rig.output import read_csv
+from hil.rig.output import read_csv
 
 _FINE = re.compile(r"^missile_T(?P<T>\d+\.\d+)_(?P<b>open|b\d+)_fine\.csv$")
 
@@ -54,7 +54,7 @@ def draw(figs: list[Figure]) -> list[Path | None]:
 
 def figures(run_dir: Path) -> list[Figure]:
     """The figures of a run directory, not yet drawn (the data read, matplotlib imported)."""
-    from . import cdrw, missile  # matplotlib is imported only when drawing
+    from hil.plots import cdrw, missile  # matplotlib is imported only when drawing
 
     written: list[Figure] = []
     for name in ("cdrw.csv", "cdrw_run0.csv"):
@@ -92,9 +92,9 @@ def figures(run_dir: Path) -> list[Figure]:
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
         written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle))
-    from ..rig import timing
+    from hil.rig import timing
     if (run_dir / timing.CSV_NAME).is_file():
-        from . import realtime
+        from hil.plots import realtime
         written.append(partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME),
                                run_dir))
     return written

@@ -17,8 +17,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from ..faults import load_default_scenario
-from .runs import RigConfig, run_campaign, run_flight
+from hil.faults import load_default_scenario
+from hil.rig.runs import RigConfig, run_campaign, run_flight
 
 FLIGHT_TARGET_S = 1.4
 CAMPAIGN_TARGET_S = 300.0

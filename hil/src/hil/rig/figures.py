@@ -20,12 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import metrics
-from ..faults import Scenario
-from ..plants import missile_cov
-from .output import read_csv, write_json
+from hil import metrics
+from hil.faults import Scenario
+from hil.plants import missile_cov
+from hil.rig.output import read_csv, write_json
 
-from ..cli import FIG3_PERIODS  # noqa: E402  (Fig. 3's grid: 0.02 to 0.3 s, 29 points)
+from hil.cli import FIG3_PERIODS  # noqa: E402  (Fig. 3's grid: 0.02 to 0.3 s, 29 points)
 
 #: Fig. 3's word lengths and gyro variances; the Monte-Carlo points
 FIG3_BITS = (6, 8, 12)

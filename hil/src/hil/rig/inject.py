@@ -38,14 +38,14 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..bus import FrameCodec
-from ..bus.dbc import MessageSpec, SignalSpec
-from ..bus.e2e import counter_of, protect
-from ..faults import (BadCrc, CounterFreeze, CounterJump, Fault, FaultEvent, FaultTimeline,
-                      Flood, FrameDelay, FrameDuplicate, FrameLoss, FrameReplay, OutOfRange,
-                      Silence, WrongDlc)
-from ..faults.inject import random_stream
-from ..faults.model import KINDS
+from hil.bus import FrameCodec
+from hil.bus.dbc import MessageSpec, SignalSpec
+from hil.bus.e2e import counter_of, protect
+from hil.faults import (BadCrc, CounterFreeze, CounterJump, Fault, FaultEvent, FaultTimeline, Flood,
+                        FrameDelay, FrameDuplicate, FrameLoss, FrameReplay, OutOfRange, Silence,
+                        WrongDlc)
+from hil.faults.inject import random_stream
+from hil.faults.model import KINDS
 
 if TYPE_CHECKING:
     import numpy as np

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .rundir import atomic_write_text
+from hil.rig.rundir import atomic_write_text
 
 
 def _cells(column: np.ndarray) -> list[str]:

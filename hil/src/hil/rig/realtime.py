@@ -34,12 +34,12 @@ import subprocess
 import time
 from collections.abc import Callable, Sequence
 
-from ..faults import Flood
-from .apps import AppDriver, StepIO
-from ..txsched import TimedSender
-from .processes import spawn
-from .session import COMMAND_FLIGHT, RigError, RigSession
-from .timesync import TimeMaster
+from hil.faults import Flood
+from hil.rig.apps import AppDriver, StepIO
+from hil.txsched import TimedSender
+from hil.rig.processes import spawn
+from hil.rig.session import COMMAND_FLIGHT, RigError, RigSession
+from hil.rig.timesync import TimeMaster
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
 #: before the next instant: the integration, the next sample and the hand-over take

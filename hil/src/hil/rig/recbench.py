@@ -24,12 +24,12 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..faults import load_default_scenario
-from ..progress import bar as progress_bar
-from .apps import CdrwDriver
-from .bench import print_table
-from .processes import RECORDERS, proc_stat
-from .runs import RigConfig, _fly, open_session
+from hil.faults import load_default_scenario
+from hil.progress import bar as progress_bar
+from hil.rig.apps import CdrwDriver
+from hil.rig.bench import print_table
+from hil.rig.processes import RECORDERS, proc_stat
+from hil.rig.runs import RigConfig, _fly, open_session
 
 _TICK = os.sysconf("SC_CLK_TCK")
 

@@ -23,12 +23,12 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..bus.candump import LogFrame
-from ..bus.dbc import BusSpec
-from ..bus.logio import read_frames, run_log
-from .link import pack_frame
-from .session import FccDied, RigSession
-from .simtime import WALL_LOG
+from hil.bus.candump import LogFrame
+from hil.bus.dbc import BusSpec
+from hil.bus.logio import read_frames, run_log
+from hil.rig.link import pack_frame
+from hil.rig.session import FccDied, RigSession
+from hil.rig.simtime import WALL_LOG
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
 WALL_CLOCK_IDS = 0x700          # heartbeat and rig frames from here up: not compared

@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import metrics
-from ..bus import dbc as dbc_spec
-from ..bus.dbc import BusSpec
-from ..plants.missile_cov import closed_loop_rms, open_loop_rms
-from ..plants.missile_runs import design_lqg, rms_over, simulate_missile
-from .apps import FILTERS, CdrwDriver, MissileDriver
-from .buslog import FlightFrames, sid_arrays
+from hil import metrics
+from hil.bus import dbc as dbc_spec
+from hil.bus.dbc import BusSpec
+from hil.plants.missile_cov import closed_loop_rms, open_loop_rms
+from hil.plants.missile_runs import design_lqg, rms_over, simulate_missile
+from hil.rig.apps import FILTERS, CdrwDriver, MissileDriver
+from hil.rig.buslog import FlightFrames, sid_arrays
 
 Series = dict[str, np.ndarray]
 

@@ -20,12 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import metrics
-from ..bus.dbc import BusSpec
-from ..reference.metrics import read_rows
-from ..sid_csv import sid_csv
-from .apps import FILTERS, SIGNAL_FRAMES
-from .paths import tool
+from hil import metrics
+from hil.bus.dbc import BusSpec
+from hil.reference.metrics import read_rows
+from hil.sid_csv import sid_csv
+from hil.rig.apps import FILTERS, SIGNAL_FRAMES
+from hil.rig.paths import tool
 
 ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)

@@ -23,9 +23,9 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from ..faults import load_default_scenario
-from ..plants.options import RT_ACTUATION_DELAY
-from .runs import RigConfig, run_flight
+from hil.faults import load_default_scenario
+from hil.plants.options import RT_ACTUATION_DELAY
+from hil.rig.runs import RigConfig, run_flight
 
 RMS_TOL = 0.02
 AGE_P99_US = 2000.0

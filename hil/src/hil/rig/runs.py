@@ -27,25 +27,26 @@ from typing import Any
 
 import numpy as np
 
-from .. import metrics
-from ..bus import FrameCodec, load
-from ..bus.candump import LogFrame, read_log
-from ..faults import Scenario, ScenarioError, with_fault_start
-from ..plants.options import LqgOptions
-from ..progress import bar as progress_bar
-from .apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
-from .budget import check_memory
-from .buslog import iter_flights, split_flights
-from .lockstep import LockstepRunner
-from .output import write_csv, write_json
-from .results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
-                      missile_open_loop, missile_result)
-from . import rowtables
-from .report import firmware_summary, summary_tables
-from .rundir import atomic_write_text
-from .session import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession, StatusCounters
-from .simtime import finish_bus_log
-from .targets import TARGETS
+from hil import metrics
+from hil.bus import FrameCodec, load
+from hil.bus.candump import LogFrame, read_log
+from hil.faults import Scenario, ScenarioError, with_fault_start
+from hil.plants.options import LqgOptions
+from hil.progress import bar as progress_bar
+from hil.rig.apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+from hil.rig.budget import check_memory
+from hil.rig.buslog import iter_flights, split_flights
+from hil.rig.lockstep import LockstepRunner
+from hil.rig.output import write_csv, write_json
+from hil.rig.results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
+                             missile_open_loop, missile_result)
+from hil.rig import rowtables
+from hil.rig.report import firmware_summary, summary_tables
+from hil.rig.rundir import atomic_write_text
+from hil.rig.session import (COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession,
+                             StatusCounters)
+from hil.rig.simtime import finish_bus_log
+from hil.rig.targets import TARGETS
 
 
 MODES = ("lockstep", "realtime")
@@ -163,7 +164,7 @@ def _fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any
             r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
             r.fly(drivers)
             return r
-        from .realtime import RealtimeRunner
+        from hil.rig.realtime import RealtimeRunner
         rt = runner or RealtimeRunner(rig, progress=bar.update)
         rt.fly(drivers)   # FLIGHT goes out just before the first sampling instant
         return rt
@@ -234,7 +235,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
 def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
     """Realtime floods come from cangen, on its own: its frames are counted in the bus log
     (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
-    from ..faults import Flood
+    from hil.faults import Flood
 
     ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
     if not ids:
@@ -305,7 +306,7 @@ def _report(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
     """The summary's tables and, unless off, the figures of the run directory."""
     tables = summary_tables(summary)
     if cfg.plots:
-        from ..plots import plot_run_dir
+        from hil.plots import plot_run_dir
         names = [p.name for p in plot_run_dir(out)]
         if names:
             tables.append(f"plots: {', '.join(names)}")
@@ -361,7 +362,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
 def is_paper_scenario(sc: Scenario) -> bool:
     """The paper's default CDRW scenario (the embedded one, its seed, its fault): only then
     are the paper's numbers printed beside ours."""
-    from ..faults import load_default_scenario
+    from hil.faults import load_default_scenario
     try:
         ref = load_default_scenario("cdrw", {m.name for m in RigSession.dbc_frames()})
     except Exception:  # noqa: BLE001 - no default, no paper rows
@@ -375,7 +376,7 @@ def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any
     """Offset, jitter and data age of a realtime missile flight (hil.rig.timing), and the
     samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
     slack and its transmitter's send lateness."""
-    from . import timing
+    from hil.rig import timing
     t = timing.bus_timing(out / "bus.log", load(), d.period)
     timing.write_csv(out / timing.CSV_NAME, t)
     log = out / "fcc.log"
@@ -439,7 +440,7 @@ def campaign_flight(index: int, fault_start: float, res: CdrwResult,
                     fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
     """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
     flew and with which identification options, for the symmetric tables."""
-    from ..bus import load as load_spec
+    from hil.bus import load as load_spec
     lost = res.missing_steps - res.unanswered_steps
     if lost > 0 and _flag_value(fcc_arg_list, "--mode") != "realtime":
         # in lockstep every answered step has its estimates on the bus: a gap is the
@@ -623,10 +624,10 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
     """Fig. 3 as the paper ran it: the covariance analysis at both gyro variances on the fine
     grid, and HIL Monte-Carlo points (one long flight per point in stationary gusts, fcc on
     the bus) with 95 % batch-means intervals; fig3.json + fig3_missile_rms_covariance.png."""
-    from ..faults import load_default_scenario
-    from ..plants.missile_cov import missile_rms_study
-    from . import figures
-    from .paths import tool
+    from hil.faults import load_default_scenario
+    from hil.plants.missile_cov import missile_rms_study
+    from hil.rig import figures
+    from hil.rig.paths import tool
 
     seconds = seconds or figures.MC_SECONDS
     periods = tuple(periods) or figures.MC_PERIODS
@@ -657,8 +658,8 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
 def run_responses(cfg: RigConfig) -> Outcome:
     """Figs. 4-6: deterministic initial-condition responses through fcc (q0 = 0.1 rad/s, no
     gust, no sensor noise) at T = 0.2, 0.1, 0.05 s, open loop and 6, 8, 12 bits."""
-    from ..faults import load_default_scenario
-    from . import figures
+    from hil.faults import load_default_scenario
+    from hil.rig import figures
 
     base = load_default_scenario("missile", {m.name for m in RigSession.dbc_frames()})
     sc = figures.response_scenario(base)
@@ -684,7 +685,7 @@ def run_demo(cfg: RigConfig) -> list[Outcome]:
     (the CDRW with the paper's sensor fault at 4 s); then seed 2 as the paper ran it: the
     deterministic responses of Figs. 4-6 (out_dir/responses) and Fig. 3 by covariance
     analysis with HIL Monte-Carlo points (out_dir/fig3)."""
-    from ..faults import load_default_scenario
+    from hil.faults import load_default_scenario
 
     frames = {m.name for m in RigSession.dbc_frames()}
     cdrw = load_default_scenario("cdrw", frames)

@@ -21,18 +21,18 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
-from ..bus.codec import decode_values
-from ..bus.dbc import BusSpec
-from ..bus.secoc import (TEST_KEY_FILE, Endpoint, KeyFileError, load_cmac, read_key_file,
-                         write_key_file)
-from .link import CanLink, LinkError, LinkRecorder, pack_frame
-from .processes import RECORDERS, BusRecorder
-from .targets import Device, start_device
+from hil.bus import SIM_NODES, E2EReceiver, FrameCodec, load
+from hil.bus.codec import decode_values
+from hil.bus.dbc import BusSpec
+from hil.bus.secoc import (TEST_KEY_FILE, Endpoint, KeyFileError, load_cmac, read_key_file,
+                           write_key_file)
+from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
+from hil.rig.processes import RECORDERS, BusRecorder
+from hil.rig.targets import Device, start_device
 
 if TYPE_CHECKING:  # realtime's (hil.rig.realtime makes them): not imported for lockstep
-    from ..txsched import TimedSender
-    from .timesync import TimeMaster
+    from hil.txsched import TimedSender
+    from hil.rig.timesync import TimeMaster
 
 STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
                  "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS")

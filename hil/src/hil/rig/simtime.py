@@ -18,10 +18,10 @@ import os
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 
-from ..bus.busload import worst_case_bits
-from ..bus.candump import LogFrame, read_log
-from ..bus.logio import RUN_FORMATS, write_frames
-from .buslog import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.busload import worst_case_bits
+from hil.bus.candump import LogFrame, read_log
+from hil.bus.logio import RUN_FORMATS, write_frames
+from hil.rig.buslog import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
 WALL_LOG = "bus_wall.log"

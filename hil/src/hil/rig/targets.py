@@ -19,8 +19,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from .paths import tool
-from .processes import FccProcess
+from hil.rig.paths import tool
+from hil.rig.processes import FccProcess
 
 TARGETS = ("host", "qemu-m4f", "external")
 
@@ -84,6 +84,6 @@ def start_device(target: str, run_dir: Path, fcc_args: Sequence[str], iface: str
     if target == "external":
         return ExternalDevice(iface, fcc_args, log)
     if target == "qemu-m4f":
-        from .qemu import QemuM4f
+        from hil.rig.qemu import QemuM4f
         return QemuM4f(run_dir, fcc_args, iface, log, image=firmware, interface=interface)
     raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {target!r}")

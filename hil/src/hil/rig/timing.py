@@ -25,8 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from ..bus.candump import read_log
-from ..bus.dbc import BusSpec
+from hil.bus.candump import read_log
+from hil.bus.dbc import BusSpec
 
 SYNC_ID, FOLLOW_UP_ID, SYNC_STATUS_ID = 0x001, 0x002, 0x705
 GYRO_ID, ACCEL_ID, CMD_ID = 0x040, 0x041, 0x030

@@ -1,4 +1,4 @@
-"""Result safety without a bus (hil.rig.rundir): a run writes into a staging directory that
+"""Result safety without a bus (hil.io.rundir): a run writes into a staging directory that
 is renamed into place when done, never deletes a file it did not write, refuses a foreign
 --out without --force, writes every file atomically and keeps a failed run's partial results,
 marked."""
@@ -11,9 +11,9 @@ from pathlib import Path
 import pytest
 
 from hil.cli import main
-from hil.rig import rundir
-from hil.rig.output import read_json, write_csv, write_json
-from hil.rig.rundir import FAILED, MANIFEST, OutDirRefused, atomic_write, staged_run
+from hil.io import rundir
+from hil.io.output import read_json, write_csv, write_json
+from hil.io.rundir import FAILED, MANIFEST, OutDirRefused, atomic_write, staged_run
 
 
 def test_atomic_write_keeps_the_old_file_when_the_disk_is_full(tmp_path, monkeypatch):

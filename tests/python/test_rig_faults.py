@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hil.rig.output import read_csv
+from hil.io.output import read_csv
 from rig_helpers import CDRW_1S, MISSILE_2S, fly, scenario
 
 pytestmark = pytest.mark.vcan

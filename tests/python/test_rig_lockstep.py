@@ -15,7 +15,7 @@ from hil.bus import diag, load
 from hil.bus.logio import read_frames
 from hil.faults import load_default_scenario, with_fault_start
 from hil.rig.lockstep import LockstepRunner
-from hil.rig.output import read_csv
+from hil.io.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
 from hil.rig.session import FccDied, FccTimeout, RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, airborne, cli, fly, scenario

@@ -1,4 +1,4 @@
-"""The papers' figures of merit (hil.metrics) and the run-directory files (hil.rig.output),
+"""The papers' figures of merit (hil.metrics) and the run-directory files (hil.io.output),
 checked against hand-computed values."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hil import metrics
-from hil.rig.output import read_csv, write_csv, write_json
+from hil.io.output import read_csv, write_csv, write_json
 
 
 def test_error_integral_by_hand():

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from hil.pil import qemu as pil_qemu
-from hil.rig.output import read_csv
+from hil.io.output import read_csv
 from hil.rig.qemu import build_image
 from hil.rig.runs import RigConfig, fcc_args
 from hil.rig.session import FccDied, FccTimeout, RigSession

@@ -16,7 +16,7 @@ import pytest
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import main
 from hil.rig import lockstep
-from hil.rig.rundir import FAILED
+from hil.io.rundir import FAILED
 
 from conftest import build_dir
 

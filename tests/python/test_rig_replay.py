@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from hil.rig import rundir
+from hil.io import rundir
 
 from rig_helpers import CDRW_1S, MISSILE_2S, cli, fly, scenario
 

@@ -17,7 +17,7 @@ Cortex-M4F image under QEMU instead, --target external whatever answers on the b
 failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
 status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
 answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on stderr;
-a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.rig.rundir).
+a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 """
 from __future__ import annotations
 
@@ -332,8 +332,8 @@ def _config(args: argparse.Namespace, stage: Path):
 
 def _staged(args: argparse.Namespace, out: Path, runner) -> list:
     """runner(cfg) -> [Outcome, ...] in a staging directory, published to out when done
-    (hil.rig.rundir); the tables are printed once the results are in place."""
-    from hil.rig.rundir import staged_run
+    (hil.io.rundir); the tables are printed once the results are in place."""
+    from hil.io.rundir import staged_run
 
     with staged_run(out, args.command, force=args.force) as stage:
         outcomes = runner(_config(args, stage))
@@ -398,7 +398,7 @@ def _not_a_summary(path: Path, e: Exception) -> UsageError:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from hil.rig.output import read_json
+    from hil.io.output import read_json
     from hil.rig.report import summary_tables
 
     summary_path = args.dir / "summary.json"
@@ -434,7 +434,7 @@ def cmd_report(args: argparse.Namespace) -> int:
             written = plot_run_dir(args.dir)
         except (KeyError, TypeError, AttributeError, IndexError) as e:
             raise _not_a_summary(summary_path, e) from None
-        from hil.rig.rundir import note_written
+        from hil.io.rundir import note_written
         note_written(args.dir, written)
         names = [p.name for p in written]
         if names:
@@ -446,7 +446,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     import json
 
     from hil.plants.missile_cov import format_study, missile_rms_study
-    from hil.rig.paths import tool
+    from hil.io.paths import tool
 
     for n in args.bits:
         if not 2 <= n <= 16:
@@ -498,7 +498,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
         raise UsageError(str(e)) from None
     finally:
         if out.resolve().is_relative_to(args.dir.resolve()):  # the run stays hil's own: a new
-            from hil.rig.rundir import note_written              # run may replace it
+            from hil.io.rundir import note_written              # run may replace it
             note_written(args.dir, [f for f in out.rglob("*") if f.is_file()])
     if diff is not None:
         print(f"replay of {args.dir}: DIFFERENT after {steps} identical steps; {diff}")
@@ -527,7 +527,7 @@ def _apply_paths(args: argparse.Namespace) -> None:
         from hil.bus import dbc
         dbc.set_default(dbc_path)
     fcc_path = getattr(args, "fcc", None)
-    from hil.rig import paths
+    from hil.io import paths
     paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
     if fcc_path is not None:
         try:
@@ -581,7 +581,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _notes(e: BaseException) -> str:
-    """Where a failed run's partial results are (hil.rig.rundir adds it as a note), to end
+    """Where a failed run's partial results are (hil.io.rundir adds it as a note), to end
     the one line with."""
     notes = getattr(e, "__notes__", ())
     return f" ({'; '.join(notes)})" if notes else ""
@@ -589,8 +589,8 @@ def _notes(e: BaseException) -> str:
 
 def _fail(e: Exception) -> int:
     from hil.faults import ScenarioError
-    from hil.rig.paths import ToolNotFound
-    from hil.rig.rundir import OutDirRefused
+    from hil.io.paths import ToolNotFound
+    from hil.io.rundir import OutDirRefused
     from hil.rig.session import RigError
 
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__

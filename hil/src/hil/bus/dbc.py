@@ -25,7 +25,7 @@ from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from hil.rounding import round_half_away
+from hil.util.rounding import round_half_away
 from hil.bus.e2e import DEFAULT_MAX_DELTA_COUNTER
 
 if TYPE_CHECKING:

@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 from hil.rig.bench import print_table
-from hil.rig.paths import REPO
+from hil.io.paths import REPO
 
 SPEEDUP_TARGET = 1.7
 TABLE5_TARGET_S = 600.0

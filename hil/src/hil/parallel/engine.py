@@ -170,7 +170,7 @@ class Cluster:
         """Every flight once (a failed one twice); values by flight index."""
         from distributed import as_completed
         from distributed.scheduler import KilledWorker
-        from hil.progress import bar as progress_bar
+        from hil.util.progress import bar as progress_bar
 
         t0 = time.perf_counter()
         res = Results()

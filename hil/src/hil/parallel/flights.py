@@ -15,7 +15,7 @@ from hil.rig.apps import CdrwDriver, MissileDriver
 from hil.rig.buslog import split_flights
 from hil.rig.report import firmware_summary
 from hil.rig.results import cdrw_record, cdrw_result, missile_result
-from hil.progress import bar as progress_bar
+from hil.util.progress import bar as progress_bar
 from hil.rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
 from hil.rig.session import RigError, RigSession
 

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from hil.rig.paths import REPO
+from hil.io.paths import REPO
 from hil.rig.session import RigError
 from hil.parallel.server import LEASE_S, POLL_S, write_atomic
 

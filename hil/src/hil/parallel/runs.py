@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.faults import Scenario, ScenarioError
-from hil.rig.output import write_json
+from hil.io.output import write_json
 from hil.rig.session import RigError
 from hil.rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points,
                           write_campaign, write_sweep)

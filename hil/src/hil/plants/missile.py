@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from hil.plants._linalg import expm
 
-from hil.rounding import round_half_away
+from hil.util.rounding import round_half_away
 
 
 def _frozen(a: list) -> np.ndarray:

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.rig.output import read_csv
+from hil.io.output import read_csv
 
 _FINE = re.compile(r"^missile_T(?P<T>\d+\.\d+)_(?P<b>open|b\d+)_fine\.csv$")
 

@@ -16,7 +16,7 @@ _META = {"Software": None}
 def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None) -> Path:
     """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write."""
     fig.tight_layout(rect=rect)
-    from hil.rig.rundir import atomic_write
+    from hil.io.rundir import atomic_write
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata=_META)

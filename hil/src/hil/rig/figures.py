@@ -23,7 +23,7 @@ import numpy as np
 from hil import metrics
 from hil.faults import Scenario
 from hil.plants import missile_cov
-from hil.rig.output import read_csv, write_json
+from hil.io.output import read_csv, write_json
 
 from hil.cli import FIG3_PERIODS  # noqa: E402  (Fig. 3's grid: 0.02 to 0.3 s, 29 points)
 

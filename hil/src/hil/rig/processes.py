@@ -282,7 +282,7 @@ class Canrec(BusRecorder):
     LOG_NAME = "canrec.log"
 
     def _executable(self) -> str:
-        from hil.rig.paths import ToolNotFound, tool
+        from hil.io.paths import ToolNotFound, tool
         try:
             return str(tool("canrec"))
         except ToolNotFound as e:

@@ -32,7 +32,7 @@ from pathlib import Path
 from hil.pil.bootcfg import BootConfig
 from hil.pil.qemu import _PTY as PTY_LINE  # QEMU's "char device redirected to /dev/pts/N" line
 from hil.pil.qemu import command as qemu_command
-from hil.rig.paths import REPO
+from hil.io.paths import REPO
 from hil.rig.targets import Device
 
 #: the SLCAN bitrate command slcand sends (S6 = 500 kbit/s, the bus's DBC bitrate)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from hil.faults import load_default_scenario
-from hil.progress import bar as progress_bar
+from hil.util.progress import bar as progress_bar
 from hil.rig.apps import CdrwDriver
 from hil.rig.bench import print_table
 from hil.rig.processes import RECORDERS, proc_stat

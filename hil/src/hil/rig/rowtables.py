@@ -25,7 +25,7 @@ from hil.bus.dbc import BusSpec
 from hil.reference.metrics import read_rows
 from hil.sid_csv import sid_csv
 from hil.rig.apps import FILTERS, SIGNAL_FRAMES
-from hil.rig.paths import tool
+from hil.io.paths import tool
 
 ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)

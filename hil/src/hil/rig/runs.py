@@ -32,17 +32,17 @@ from hil.bus import FrameCodec, load
 from hil.bus.candump import LogFrame, read_log
 from hil.faults import Scenario, ScenarioError, with_fault_start
 from hil.plants.options import LqgOptions
-from hil.progress import bar as progress_bar
+from hil.util.progress import bar as progress_bar
 from hil.rig.apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
 from hil.rig.budget import check_memory
 from hil.rig.buslog import iter_flights, split_flights
 from hil.rig.lockstep import LockstepRunner
-from hil.rig.output import write_csv, write_json
+from hil.io.output import write_csv, write_json
 from hil.rig.results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
                              missile_open_loop, missile_result)
 from hil.rig import rowtables
 from hil.rig.report import firmware_summary, summary_tables
-from hil.rig.rundir import atomic_write_text
+from hil.io.rundir import atomic_write_text
 from hil.rig.session import (COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession,
                              StatusCounters)
 from hil.rig.simtime import finish_bus_log
@@ -627,7 +627,7 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
     from hil.faults import load_default_scenario
     from hil.plants.missile_cov import missile_rms_study
     from hil.rig import figures
-    from hil.rig.paths import tool
+    from hil.io.paths import tool
 
     seconds = seconds or figures.MC_SECONDS
     periods = tuple(periods) or figures.MC_PERIODS

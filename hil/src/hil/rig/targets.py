@@ -19,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from hil.rig.paths import tool
+from hil.io.paths import tool
 from hil.rig.processes import FccProcess
 
 TARGETS = ("host", "qemu-m4f", "external")

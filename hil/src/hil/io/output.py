@@ -1,5 +1,5 @@
 """Writing and reading a run directory: CSV time series and JSON documents (each written
-atomically: hil.rig.rundir).
+atomically: hil.io.rundir).
 
 summary.json holds only what the seed determines (sorted keys, no wall-clock value), so two
 lockstep runs with the same seed write byte-identical files; timings, host and command lines
@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from hil.rig.rundir import atomic_write_text
+from hil.io.rundir import atomic_write_text
 
 
 def _cells(column: np.ndarray) -> list[str]:

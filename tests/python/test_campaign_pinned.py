@@ -15,7 +15,7 @@ What is asserted, for flights 0-2 of seed 1 (the rig's draw of fault times, fcc 
 * no step lacks an estimate, every step was answered;
 * each flight's 12 error integrals (3 filters x alpha, q x against the fault-free measurement
   and the true state) equal, to 1e-9, an independent computation: the flight flown offline by
-  the simulator's plant (hil.plants.cdrw_flight, the fault moved to the flight's time), the
+  the simulator's plant (hil.sim.cdrw_flight, the fault moved to the flight's time), the
   readings at the bus's resolution (1e-6), the filters of the numpy reference (hil.reference.sid,
   not the firmware's C), its estimates at the bus's resolution (1e-5), the sum taken here;
 * the same numbers equal the golden file (the campaign as i12 recorded it on the bus at 20:23
@@ -32,8 +32,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hil.faults import load_default_scenario, with_fault_start
-from hil.plants.cdrw_flight import simulate_cdrw
+from hil.scenario.file import load_default_scenario, with_fault_start
+from hil.sim.cdrw_flight import simulate_cdrw
 from hil.reference.metrics import rows_to_arrays
 from hil.reference.sid import FILTERS, SidConfig, replay
 from rig_helpers import cli

@@ -177,8 +177,8 @@ def test_duration_and_steps_are_bounded_before_flying(capsys, tmp_path, text, wo
 
 
 def test_campaign_memory_counts_every_flight():
-    from hil.faults import load_default_scenario
-    from hil.faults.schema import ScenarioError
+    from hil.scenario.file import load_default_scenario
+    from hil.scenario.schema import ScenarioError
     from hil.rig.budget import check_memory, estimate_bytes
 
     sc = load_default_scenario("cdrw")

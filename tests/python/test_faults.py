@@ -6,8 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from hil.faults import (BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS, FaultTimeline, ScenarioError,
-                        SensorFaultInjector, parse_fault_spec)
+from hil.scenario.faults import BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS
+from hil.sim.sensor_faults import FaultTimeline, SensorFaultInjector
+from hil.scenario.schema import ScenarioError
+from hil.scenario.file import parse_fault_spec
 
 T = np.round(np.arange(0.0, 2.0, 0.02), 10)
 BASE = {"alpha": 0.2, "q": 0.05, "de": -0.04}

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.live import BusView
-from hil.rig.inject import KIND_CODES
+from hil.sim.frame_faults import KIND_CODES
 
 SPEC = load()
 

@@ -1,4 +1,4 @@
-"""Fig. 3 by covariance analysis (hil.plants.missile_cov), against independent computations:
+"""Fig. 3 by covariance analysis (hil.sim.missile_cov), against independent computations:
 
 * the same stationary RMS computed another way: the error coordinates (x, e = x - x_bar),
   the stationary covariance by iterating the covariance recursion to its fixed point (no
@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from hil.plants import missile
-from hil.plants import missile_cov as mc
-from hil.plants.missile import DAConverter, MissilePlant
-from hil.plants.missile_runs import design_lqg
-from hil.sensors import MissileSensorOptions
+from hil.sim import missile
+from hil.sim import missile_cov as mc
+from hil.sim.missile import DAConverter, MissilePlant
+from hil.sim.missile_runs import design_lqg
+from hil.scenario.sensor_options import MissileSensorOptions
 
 
 def _independent_rms(d, dac_var: float, nodes: int = 24) -> tuple[float, float]:

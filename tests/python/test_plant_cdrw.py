@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from hil.faults import load_default_scenario
-from hil.plants.cdrw import CdrwPlant, cdrw_trim, expm_phi1, expm_phi1_2x2, spectral_radius
-from hil.plants.cdrw_flight import CdrwSimulation, simulate_cdrw, write_sid_csv
-from hil.plants.cdrw_params import DEFAULT_PARAMS, G0, CdrwParams
-from hil.plants.options import CdrwManeuver
+from hil.scenario.file import load_default_scenario
+from hil.sim.cdrw import CdrwPlant, cdrw_trim, expm_phi1, expm_phi1_2x2, spectral_radius
+from hil.sim.cdrw_flight import CdrwSimulation, simulate_cdrw, write_sid_csv
+from hil.scenario.cdrw_params import DEFAULT_PARAMS, G0, CdrwParams
+from hil.scenario.plant_options import CdrwManeuver
 
 DEG15 = math.radians(15.0)
 

@@ -8,12 +8,13 @@ import pytest
 from scipy.integrate import quad_vec
 from scipy.linalg import expm, solve_continuous_lyapunov
 
-from hil.faults import load_default_scenario, parse_fault_spec
-from hil.plants import missile
-from hil.plants.missile import DAConverter, MissilePlant, van_loan_noise, zoh
-from hil.plants.missile_cov import closed_loop_rms, open_loop_rms
-from hil.plants.missile_runs import MissileSimulation, design_lqg, discrete_cost, simulate_missile
-from hil.sensors import MissileSensorOptions, MissileSensors
+from hil.scenario.file import load_default_scenario, parse_fault_spec
+from hil.sim import missile
+from hil.sim.missile import DAConverter, MissilePlant, van_loan_noise, zoh
+from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
+from hil.sim.missile_runs import MissileSimulation, design_lqg, discrete_cost, simulate_missile
+from hil.scenario.sensor_options import MissileSensorOptions
+from hil.sim.sensors import MissileSensors
 
 
 def test_model_matrices_are_the_papers():

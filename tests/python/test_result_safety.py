@@ -13,7 +13,7 @@ import pytest
 from hil.cli import main
 from hil.io import rundir
 from hil.io.output import read_json, write_csv, write_json
-from hil.io.rundir import FAILED, MANIFEST, OutDirRefused, atomic_write, staged_run
+from hil.io.rundir import FAILED, MANIFEST, OutDirRefused, staged_run
 
 
 def test_atomic_write_keeps_the_old_file_when_the_disk_is_full(tmp_path, monkeypatch):

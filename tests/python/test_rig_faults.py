@@ -40,7 +40,7 @@ def test_no_fault_all_ok(tmp_path):
     (f"delay:frame=CDRW_AOA,{WINDOW},delay=0.01",
      lambda e, r, f: e["no_new_data"] == 1 and f["degraded_steps"] == 9 and f["frames_injected"]["delayed"] == 10),
     (f"duplicate:frame=CDRW_AOA,{WINDOW},count=2", lambda e, r, f: e["repeated"] == 20),
-    (f"replay:frame=CDRW_AOA,start=0.4,duration=0.2,age=0.2",
+    ("replay:frame=CDRW_AOA,start=0.4,duration=0.2,age=0.2",
      lambda e, r, f: e["wrong_sequence"] >= 1 and f["frames_injected"]["replayed"] == 10),
     (f"bad_crc:frame=*,{WINDOW}", lambda e, r, f: e["error"] == 30 and f["degraded_steps"] >= 10),
     (f"counter_freeze:frame=CDRW_PITCH_RATE,{WINDOW}",

@@ -1,4 +1,4 @@
-"""Frame- and bus-level fault injection (hil.rig.inject), without a bus: what each fault does
+"""Frame- and bus-level fault injection (hil.sim.frame_faults), without a bus: what each fault does
 to the frames, checked with the receiver side of the same E2E specification."""
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import pytest
 
 from hil.bus import SIM_NODES, E2EReceiver, E2EStatus, FrameCodec, load
 from hil.bus.codec import decode_values
-from hil.faults import parse_fault_spec
-from hil.rig.inject import FrameInjector, out_of_range_raw, set_raw
+from hil.scenario.file import parse_fault_spec
+from hil.sim.frame_faults import FrameInjector, out_of_range_raw, set_raw
 
 SPEC = load()
 FRAMES = {m.name for m in SPEC.messages}

@@ -13,7 +13,7 @@ import pytest
 from hil import metrics
 from hil.bus import diag, load
 from hil.bus.logio import read_frames
-from hil.faults import load_default_scenario, with_fault_start
+from hil.scenario.file import load_default_scenario, with_fault_start
 from hil.rig.lockstep import LockstepRunner
 from hil.io.output import read_csv
 from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep

@@ -52,7 +52,7 @@ def test_mean_table():
 
 
 def test_missile_rms_over_the_flight_seconds():
-    from hil.plants.missile_runs import rms_over
+    from hil.sim.missile_runs import rms_over
     t = np.linspace(0.0, 1.2, 961)
     x = np.column_stack([np.sin(2 * np.pi * 5 * t), np.where(t <= 1.0, 0.5, 9.0), t])
     rq, ra = rms_over(t, x, 1.0)          # the 0.2 s past the flight's duration do not count

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from hil.bus import load
-from hil.faults import load_default_scenario
+from hil.scenario.file import load_default_scenario
 from hil.rig import rowtables
 from hil.rig.runs import RigConfig, fcc_args
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import pytest
 
 from hil.bus.secoc import TEST_KEY_FILE
-from hil.cli import TARGET_CHOICES, main
-from hil.faults.scenario import load_default_scenario
+from hil.cli import TARGET_CHOICES
+from hil.scenario.file import load_default_scenario
 from hil.rig.link import CanLink
 from hil.rig.qemu import PilError, boot_options, boot_record
 from hil.rig.runs import RigConfig, fcc_args

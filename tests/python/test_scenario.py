@@ -7,9 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from hil.faults import (ScenarioError, Spike, load_default_scenario, load_scenario, loads_scenario,
-                        with_extra_faults, with_fault_start)
-from hil.plants.cdrw_params import DEFAULT_PARAMS
+from hil.scenario.schema import ScenarioError
+from hil.scenario.faults import Spike
+from hil.scenario.file import (load_default_scenario, load_scenario, loads_scenario,
+                               with_extra_faults, with_fault_start)
+from hil.scenario.cdrw_params import DEFAULT_PARAMS
 
 REPO = Path(__file__).resolve().parents[2]
 

@@ -11,8 +11,9 @@ import pytest
 
 from hil.bus import load
 from hil.cli import main
-from hil.faults import KINDS, load_scenario, parse_fault_spec
-from hil.faults.catalog import EXAMPLES, UNITS
+from hil.scenario.faults import KINDS
+from hil.scenario.file import load_scenario, parse_fault_spec
+from hil.scenario.catalog import EXAMPLES, UNITS
 
 FRAMES = {m.name for m in load().messages}
 LIBRARY = sorted(Path(str(importlib.resources.files("hil") / "scenarios")).glob("*.toml"))
@@ -49,7 +50,7 @@ def test_several_faults_and_levels():
 def test_every_kind_has_units_and_a_working_example():
     for kind, cls in KINDS.items():
         for f in dataclasses.fields(cls):
-            assert f.name in UNITS, f"{kind}.{f.name}: no unit in hil.faults.catalog.UNITS"
+            assert f.name in UNITS, f"{kind}.{f.name}: no unit in hil.scenario.catalog.UNITS"
         aircraft, example = EXAMPLES[kind]
         fault = parse_fault_spec(example, aircraft, FRAMES)
         assert fault.kind == kind

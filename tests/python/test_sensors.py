@@ -5,9 +5,10 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from hil.faults import load_default_scenario
-from hil.plants.cdrw_flight import simulate_cdrw
-from hil.sensors import NOISE_DISTRIBUTIONS, CdrwSensorOptions, CdrwSensors, bounded_noise
+from hil.scenario.file import load_default_scenario
+from hil.sim.cdrw_flight import simulate_cdrw
+from hil.scenario.sensor_options import NOISE_DISTRIBUTIONS, CdrwSensorOptions
+from hil.sim.sensors import CdrwSensors, bounded_noise
 
 
 @pytest.mark.parametrize("dist", NOISE_DISTRIBUTIONS)

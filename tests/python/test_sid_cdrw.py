@@ -1,6 +1,6 @@
 """The identification firmware (sid_replay) on the simulated CDRW flight, offline.
 
-The nonlinear plant of hil.plants (default scenario: pull-up through the stall, 0.1 s
+The nonlinear plant of hil.sim (default scenario: pull-up through the stall, 0.1 s
 spike on alpha and q at 4 s), not the linear synthetic flight of test_sid_replay.  What is
 asserted is what was measured and documented in firmware/sid/README.md
 (`python -m hil.reference.cdrw_study`): the default prior is the plant's wind-tunnel model,
@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hil.plants.cdrw_flight import CdrwFlight
-from hil.plants.cdrw_prior import wind_tunnel_prior
+from hil.sim.cdrw_flight import CdrwFlight
+from hil.sim.cdrw_prior import wind_tunnel_prior
 from hil.reference import MlsConfig, SidConfig, default_prior, default_prior_affine
 from hil.reference.cdrw_study import (campaign_times, detection, errors, flight_csv,
                                       innovation_ratio, rho_tracking, run_tool, simulate)

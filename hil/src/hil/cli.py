@@ -284,7 +284,7 @@ def _parser() -> argparse.ArgumentParser:
 # ---- helpers -------------------------------------------------------------------------------
 def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
     from hil.bus import load
-    from hil.faults import load_default_scenario, load_scenario, with_extra_faults
+    from hil.scenario.file import load_default_scenario, load_scenario, with_extra_faults
 
     frames = {m.name for m in load().messages}
     sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
@@ -445,7 +445,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 def cmd_study(args: argparse.Namespace) -> int:
     import json
 
-    from hil.plants.missile_cov import format_study, missile_rms_study
+    from hil.sim.missile_cov import format_study, missile_rms_study
     from hil.io.paths import tool
 
     for n in args.bits:
@@ -471,8 +471,8 @@ def cmd_live(args: argparse.Namespace) -> int:
 
 
 def cmd_faults(args: argparse.Namespace) -> int:
-    from hil.faults import KINDS
-    from hil.faults.catalog import catalog
+    from hil.scenario.faults import KINDS
+    from hil.scenario.catalog import catalog
 
     unknown = [k for k in args.kinds if k not in KINDS]
     if unknown:
@@ -588,7 +588,7 @@ def _notes(e: BaseException) -> str:
 
 
 def _fail(e: Exception) -> int:
-    from hil.faults import ScenarioError
+    from hil.scenario.schema import ScenarioError
     from hil.io.paths import ToolNotFound
     from hil.io.rundir import OutDirRefused
     from hil.rig.session import RigError

@@ -16,9 +16,9 @@ from collections.abc import Callable
 from typing import Any
 
 from hil.bus.dbc import BusSpec
-from hil.faults import KINDS
+from hil.scenario.faults import KINDS
 
-#: SIM_EVENT.kind: the fault kinds numbered from 1 in hil.faults' order (hil.rig.inject)
+#: SIM_EVENT.kind: the fault kinds numbered from 1 in hil.scenario.faults' order (hil.sim.frame_faults)
 KIND_NAMES = {i + 1: k for i, k in enumerate(KINDS)}
 
 FILTER_FRAMES = (("AZKF", "SID_AZKF_STATE"), ("ZKF", "SID_ZKF_STATE"), ("KF", "SID_KF_STATE"))

@@ -10,8 +10,8 @@ KF is 100 * (1 - e_filter / e_KF) %.  Row k of each filter is the firmware's out
 (KF: posterior after y_k; ZKF/AZKF: x_k before y_k is used -- firmware/sid/fcc_sid.h), all
 compared with y_k, over the whole flight, as the paper does.
 
-Seed 2, Fig. 3: hil.plants.missile_runs.rms_over (a run's RMS over [0, duration] of its
-sub-step trace) and hil.plants.missile_cov (the stationary RMS, exactly).
+Seed 2, Fig. 3: hil.sim.missile_runs.rms_over (a run's RMS over [0, duration] of its
+sub-step trace) and hil.sim.missile_cov (the stationary RMS, exactly).
 """
 from __future__ import annotations
 

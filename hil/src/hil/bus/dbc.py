@@ -17,7 +17,6 @@ on first use.
 from __future__ import annotations
 
 import json
-import math
 import os
 import zlib
 from dataclasses import asdict, dataclass

@@ -10,8 +10,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from hil.faults import Scenario, with_fault_start
-from hil.rig.apps import CdrwDriver, MissileDriver
+from hil.scenario.file import Scenario, with_fault_start
+from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.rig.buslog import split_flights
 from hil.rig.report import firmware_summary
 from hil.rig.results import cdrw_record, cdrw_result, missile_result

@@ -14,7 +14,8 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from hil.faults import Scenario, ScenarioError
+from hil.scenario.file import Scenario
+from hil.scenario.schema import ScenarioError
 from hil.io.output import write_json
 from hil.rig.session import RigError
 from hil.rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points,

@@ -3,7 +3,7 @@
     python -m hil.reference.cdrw_study [--tool build/bin/sid_replay] [--runs 100]
         [--seeds 20] [--ratio-seeds 50] [-- extra sid_replay options]
 
-Flies the CDRW plant offline (hil.plants.cdrw_flight, the default scenario: 0.1 s spike on
+Flies the CDRW plant offline (hil.sim.cdrw_flight, the default scenario: 0.1 s spike on
 alpha and q at 4 s), replays the readings through the *firmware* (sid_replay, the C
 modules of firmware/sid) for the `order` and `skip` fault policies, and prints:
 
@@ -34,10 +34,10 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.faults import load_default_scenario, with_fault_start
-from hil.plants.cdrw_flight import CdrwFlight, simulate_cdrw
+from hil.scenario.file import load_default_scenario, with_fault_start
+from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
 from hil.reference.metrics import error_table, read_rows
-from hil.sid_csv import sid_csv
+from hil.sim.sid_csv import sid_csv
 
 DT = 0.02
 FILTERS = ("kf", "zkf", "azkf")

@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from hil.faults import load_default_scenario
+from hil.scenario.file import load_default_scenario
 from hil.rig.runs import RigConfig, run_campaign, run_flight
 
 FLIGHT_TARGET_S = 1.4

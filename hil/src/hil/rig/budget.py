@@ -12,7 +12,8 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
-from hil.faults import Scenario, ScenarioError
+from hil.scenario.file import Scenario
+from hil.scenario.schema import ScenarioError
 
 #: bytes per CDRW step of the flight in the air (driver 3.0 kB, measured; results and the
 #: bus log read back: x2.5), and of each flight a campaign keeps (its record: ~30 columns)

@@ -18,7 +18,7 @@ import numpy as np
 
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import BusSpec
-from hil.rig.apps import FILTERS, SID_PARTS, SID_PREFIX
+from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
 SIM_CONTROL_ID = 0x010
 SIM_TICK_ID = 0x020

@@ -1,6 +1,6 @@
 """The demo's seed-2 figures as the paper ran them.
 
-* Fig. 3: the stationary RMS by covariance analysis (hil.plants.missile_cov, the firmware's
+* Fig. 3: the stationary RMS by covariance analysis (hil.sim.missile_cov, the firmware's
   own design) on a fine grid of T, each word length and the open loop, with HIL Monte-Carlo
   points (fcc on the bus, long flights in stationary gusts, 95 % confidence intervals by
   batch means), at the printed gyro variance 0.8 and at 8e-5.  fig3.json keeps every number
@@ -21,11 +21,9 @@ from typing import Any
 import numpy as np
 
 from hil import metrics
-from hil.faults import Scenario
-from hil.plants import missile_cov
+from hil.scenario.file import Scenario
 from hil.io.output import read_csv, write_json
 
-from hil.cli import FIG3_PERIODS  # noqa: E402  (Fig. 3's grid: 0.02 to 0.3 s, 29 points)
 
 #: Fig. 3's word lengths and gyro variances; the Monte-Carlo points
 FIG3_BITS = (6, 8, 12)

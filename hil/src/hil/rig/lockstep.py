@@ -26,7 +26,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 
-from hil.rig.apps import APP_NAMES, AppDriver, StepIO
+from hil.sim.drivers import APP_NAMES, AppDriver, StepIO
 from hil.rig.link import pack_frame
 from hil.rig.session import FccDied, FccTimeout, RigSession
 

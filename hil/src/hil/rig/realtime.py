@@ -34,8 +34,8 @@ import subprocess
 import time
 from collections.abc import Callable, Sequence
 
-from hil.faults import Flood
-from hil.rig.apps import AppDriver, StepIO
+from hil.scenario.faults import Flood
+from hil.sim.drivers import AppDriver, StepIO
 from hil.txsched import TimedSender
 from hil.rig.processes import spawn
 from hil.rig.session import COMMAND_FLIGHT, RigError, RigSession

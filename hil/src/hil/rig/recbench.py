@@ -24,9 +24,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hil.faults import load_default_scenario
+from hil.scenario.file import load_default_scenario
 from hil.util.progress import bar as progress_bar
-from hil.rig.apps import CdrwDriver
+from hil.sim.drivers import CdrwDriver
 from hil.rig.bench import print_table
 from hil.rig.processes import RECORDERS, proc_stat
 from hil.rig.runs import RigConfig, _fly, open_session

@@ -14,9 +14,9 @@ import numpy as np
 from hil import metrics
 from hil.bus import dbc as dbc_spec
 from hil.bus.dbc import BusSpec
-from hil.plants.missile_cov import closed_loop_rms, open_loop_rms
-from hil.plants.missile_runs import design_lqg, rms_over, simulate_missile
-from hil.rig.apps import FILTERS, CdrwDriver, MissileDriver
+from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
+from hil.sim.missile_runs import design_lqg, rms_over, simulate_missile
+from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
 from hil.rig.buslog import FlightFrames, sid_arrays
 
 Series = dict[str, np.ndarray]
@@ -181,7 +181,7 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
     rq, ra = rms_over(fine["t"], d.x_fine, d.scenario.duration)
     ref: dict[str, float] = {}
     if reference:
-        # the scipy LQG of hil.plants.missile_runs on the same plant, gust and noise draws,
+        # the scipy LQG of hil.sim.missile_runs on the same plant, gust and noise draws,
         # fed the measurements as fcc decodes them from the bus
         r = simulate_missile(d.scenario, closed_loop=True, received=_as_received, delay=d.delay)
         same = r.code[: d.n_steps] == d.code

@@ -23,8 +23,8 @@ import numpy as np
 from hil import metrics
 from hil.bus.dbc import BusSpec
 from hil.reference.metrics import read_rows
-from hil.sid_csv import sid_csv
-from hil.rig.apps import FILTERS, SIGNAL_FRAMES
+from hil.sim.sid_csv import sid_csv
+from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.io.paths import tool
 
 ROW_MODES = ("paper", "prior", "posterior")

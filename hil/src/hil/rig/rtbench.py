@@ -23,8 +23,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from hil.faults import load_default_scenario
-from hil.plants.options import RT_ACTUATION_DELAY
+from hil.scenario.file import load_default_scenario
+from hil.scenario.plant_options import RT_ACTUATION_DELAY
 from hil.rig.runs import RigConfig, run_flight
 
 RMS_TOL = 0.02

@@ -30,10 +30,11 @@ import numpy as np
 from hil import metrics
 from hil.bus import FrameCodec, load
 from hil.bus.candump import LogFrame, read_log
-from hil.faults import Scenario, ScenarioError, with_fault_start
-from hil.plants.options import LqgOptions
+from hil.scenario.file import Scenario, with_fault_start
+from hil.scenario.schema import ScenarioError
+from hil.scenario.plant_options import LqgOptions
 from hil.util.progress import bar as progress_bar
-from hil.rig.apps import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver, OracleFlag
 from hil.rig.budget import check_memory
 from hil.rig.buslog import iter_flights, split_flights
 from hil.rig.lockstep import LockstepRunner
@@ -235,7 +236,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
 def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
     """Realtime floods come from cangen, on its own: its frames are counted in the bus log
     (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
-    from hil.faults import Flood
+    from hil.scenario.faults import Flood
 
     ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
     if not ids:
@@ -362,7 +363,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
 def is_paper_scenario(sc: Scenario) -> bool:
     """The paper's default CDRW scenario (the embedded one, its seed, its fault): only then
     are the paper's numbers printed beside ours."""
-    from hil.faults import load_default_scenario
+    from hil.scenario.file import load_default_scenario
     try:
         ref = load_default_scenario("cdrw", {m.name for m in RigSession.dbc_frames()})
     except Exception:  # noqa: BLE001 - no default, no paper rows
@@ -624,8 +625,8 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
     """Fig. 3 as the paper ran it: the covariance analysis at both gyro variances on the fine
     grid, and HIL Monte-Carlo points (one long flight per point in stationary gusts, fcc on
     the bus) with 95 % batch-means intervals; fig3.json + fig3_missile_rms_covariance.png."""
-    from hil.faults import load_default_scenario
-    from hil.plants.missile_cov import missile_rms_study
+    from hil.scenario.file import load_default_scenario
+    from hil.sim.missile_cov import missile_rms_study
     from hil.rig import figures
     from hil.io.paths import tool
 
@@ -658,7 +659,7 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
 def run_responses(cfg: RigConfig) -> Outcome:
     """Figs. 4-6: deterministic initial-condition responses through fcc (q0 = 0.1 rad/s, no
     gust, no sensor noise) at T = 0.2, 0.1, 0.05 s, open loop and 6, 8, 12 bits."""
-    from hil.faults import load_default_scenario
+    from hil.scenario.file import load_default_scenario
     from hil.rig import figures
 
     base = load_default_scenario("missile", {m.name for m in RigSession.dbc_frames()})
@@ -685,7 +686,7 @@ def run_demo(cfg: RigConfig) -> list[Outcome]:
     (the CDRW with the paper's sensor fault at 4 s); then seed 2 as the paper ran it: the
     deterministic responses of Figs. 4-6 (out_dir/responses) and Fig. 3 by covariance
     analysis with HIL Monte-Carlo points (out_dir/fig3)."""
-    from hil.faults import load_default_scenario
+    from hil.scenario.file import load_default_scenario
 
     frames = {m.name for m in RigSession.dbc_frames()}
     cdrw = load_default_scenario("cdrw", frames)

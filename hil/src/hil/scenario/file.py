@@ -5,11 +5,11 @@ A scenario is a TOML file (or the embedded defaults, ``load_default_scenario("cd
     aircraft = "cdrw"            # or "missile"
     duration = 7.0               # s
     seed = 1
-    [plant]    ...               # CdrwPlantOptions / MissilePlantOptions (hil.plants.options)
-    [sensors]  ...               # CdrwSensorOptions / MissileSensorOptions (hil.sensors)
+    [plant]    ...               # CdrwPlantOptions / MissilePlantOptions (hil.scenario.plant_options)
+    [sensors]  ...               # CdrwSensorOptions / MissileSensorOptions (hil.sim.sensors)
     [lqg]      ...               # missile only: period, bits, closed_loop
     [[faults]]
-    kind = "spike"               # see hil.faults.model.KINDS
+    kind = "spike"               # see hil.scenario.faults.KINDS
     signal = "alpha"
     start = 4.0
     duration = 0.1
@@ -27,17 +27,17 @@ import tomllib
 from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from hil.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
-from hil.faults.model import KINDS, Fault, FrameFault, OutOfRange, SensorFault
-from hil.faults.schema import ScenarioError, build
+from hil.bus import load
+from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
+from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
+from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
+from hil.scenario.schema import ScenarioError, build
 
 #: the embedded scenarios (package data, beside the packaged DBC)
 PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
-if TYPE_CHECKING:  # imported lazily below: hil.plants.options itself uses hil.faults.schema
-    from hil.plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 
 AIRCRAFT = ("cdrw", "missile")
 #: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
@@ -112,9 +112,7 @@ def _check_target(fault: Fault, aircraft: str, known_frames: Collection[str] | N
     if fault.frame not in sent:  # a DBC frame, but nobody the rig plays sends it
         raise ScenarioError(f"{where}: field 'frame': the simulator does not send "
                             f"{fault.frame} in a {aircraft} run (frames: *, {', '.join(sent)})")
-    if isinstance(fault, OutOfRange):
-        from hil.bus import load  # the DBC names the frame's signals
-
+    if isinstance(fault, OutOfRange):  # the DBC names the frame's signals
         signals = [sig.name for sig in load().by_name(fault.frame).data_signals]
         if fault.signal not in signals:
             raise ScenarioError(f"{where}: field 'signal': {fault.frame} has no signal "
@@ -178,7 +176,6 @@ def parse_fault_spec(text: str, aircraft: str, known_frames: Collection[str] | N
 def scenario_from_dict(data: Mapping[str, Any], source: str = "<scenario>",
                        known_frames: Collection[str] | None = None) -> Scenario:
     """Validate a parsed TOML document and build the Scenario."""
-    from hil.plants.options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 
     for key in data:
         if key not in TOP_LEVEL_KEYS:

@@ -1,8 +1,8 @@
 """Frame-level and bus-level fault injection on the frames the simulator sends.
 
-The sensor-level faults change a reading before it is encoded (hil.faults does that, in the
+The sensor-level faults change a reading before it is encoded (hil.sim.sensor_faults does that, in the
 plant's simulation); the faults here act on the encoded, E2E-protected frames, as a broken
-transceiver, a bad harness or a rogue node would (SPEC section 5, hil.faults.model):
+transceiver, a bad harness or a rogue node would (SPEC section 5, hil.scenario.faults):
 
 =================  =====================================================================
 loss               the frame is not sent (probability p); the sensor's counter still
@@ -41,16 +41,17 @@ from typing import TYPE_CHECKING
 from hil.bus import FrameCodec
 from hil.bus.dbc import MessageSpec, SignalSpec
 from hil.bus.e2e import counter_of, protect
-from hil.faults import (BadCrc, CounterFreeze, CounterJump, Fault, FaultEvent, FaultTimeline, Flood,
-                        FrameDelay, FrameDuplicate, FrameLoss, FrameReplay, OutOfRange, Silence,
-                        WrongDlc)
-from hil.faults.inject import random_stream
-from hil.faults.model import KINDS
+from hil.scenario.faults import (BadCrc, CounterFreeze, CounterJump, Fault, Flood, FrameDelay,
+                                 FrameDuplicate, FrameLoss, FrameReplay, OutOfRange, Silence,
+                                 WrongDlc)
+from hil.sim.sensor_faults import FaultEvent, FaultTimeline
+from hil.sim.sensor_faults import random_stream
+from hil.scenario.faults import KINDS
 
 if TYPE_CHECKING:
     import numpy as np
 
-#: SIM_EVENT.kind of each fault kind (0 = none): position in hil.faults.model.KINDS, from 1
+#: SIM_EVENT.kind of each fault kind (0 = none): position in hil.scenario.faults.KINDS, from 1
 KIND_CODES: dict[str, int] = {k: i + 1 for i, k in enumerate(KINDS)}
 #: how much of each message's history is kept for replays
 REPLAY_HISTORY = 4096

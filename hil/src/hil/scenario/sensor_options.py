@@ -1,5 +1,5 @@
 """The [sensors] section of a scenario: noise options of both aircraft's sensors (the models
-that draw the noise are in hil.sensors).  Plain data, no numpy: the rig's bus side reads
+that draw the noise are in hil.sim.sensors).  Plain data, no numpy: the rig's bus side reads
 scenarios without the noise models."""
 from __future__ import annotations
 

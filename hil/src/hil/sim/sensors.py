@@ -1,4 +1,4 @@
-"""Sensor models of both aircraft (noise only; faults are applied on top by hil.faults).
+"""Sensor models of both aircraft (noise only; faults are applied on top by hil.sim.sensor_faults).
 
 CDRW (seed 1): alpha vane, pitch-rate gyro and elevator (elevon) position pick-off.  The
 paper's filters assume *bounded* noise, |w| <= F with F = 0.02 I (a zonotope, not a
@@ -20,10 +20,9 @@ import math
 
 import numpy as np
 
-from hil.plants import missile
+from hil.sim import missile
 
-from hil.sensor_options import (CDRW_SIGNALS, MISSILE_SIGNALS, NOISE_DISTRIBUTIONS, SIGNALS,
-                                CdrwSensorOptions, MissileSensorOptions)  # noqa: F401
+from hil.scenario.sensor_options import CdrwSensorOptions, MissileSensorOptions
 
 
 def bounded_noise(rng: np.random.Generator, distribution: str, bound: float) -> float:

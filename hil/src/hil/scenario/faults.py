@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 if TYPE_CHECKING:  # hints only
     import numpy as np
 
-from hil.faults.schema import spec
+from hil.scenario.schema import spec
 
 #: tolerance on fault edges, so 50 Hz sample times (k * 0.02) land on the intended side
 T_EPS = 1e-9

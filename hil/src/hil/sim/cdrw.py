@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hil.plants.cdrw_params import DEFAULT_PARAMS, G0, CdrwParams
+from hil.scenario.cdrw_params import DEFAULT_PARAMS, G0, CdrwParams
 
 #: frame period of the CDRW identification (seed 1: 50 Hz)
 DT_FRAME = 0.02

@@ -16,7 +16,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from hil.faults.model import Fault, SensorFault
+from hil.scenario.faults import Fault, SensorFault
 
 if TYPE_CHECKING:
     import numpy as np

@@ -22,12 +22,14 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from hil.bus import FrameCodec
-from hil.faults import FaultEvent, Scenario, SensorFault
-from hil.faults.scenario import SENSOR_FRAMES
-from hil.rig.inject import KIND_CODES, FrameInjector, TxFrame
+from hil.sim.sensor_faults import FaultEvent
+from hil.scenario.file import Scenario
+from hil.scenario.faults import SensorFault
+from hil.scenario.file import SENSOR_FRAMES
+from hil.sim.frame_faults import KIND_CODES, FrameInjector, TxFrame
 
 if TYPE_CHECKING:
-    from hil.plants.cdrw_flight import CdrwSample
+    from hil.sim.cdrw_flight import CdrwSample
 
 APP_CDRW = 0
 APP_MISSILE = 1
@@ -140,7 +142,7 @@ class CdrwDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
-        from hil.plants.cdrw_flight import CdrwSimulation
+        from hil.sim.cdrw_flight import CdrwSimulation
         self.sim = CdrwSimulation(scenario)
         super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
                          realtime, oracle)
@@ -191,7 +193,7 @@ class MissileDriver(AppDriver):
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
         import numpy as np  # the missile's loop is closed through the bus: numpy flies too
-        from hil.plants.missile_runs import MissileSimulation
+        from hil.sim.missile_runs import MissileSimulation
         self.sim = MissileSimulation(scenario)
         super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES,
                          realtime, oracle)

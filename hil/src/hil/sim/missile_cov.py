@@ -4,7 +4,7 @@ Fig. 3 is a steady-state quantity: the RMS of q and alpha_T of the loop in gusts
 sampling period T.  It is computed here without simulation:
 
 * the plant (true, continuous): dx/dt = F x + G u + f eta, sampled with its exact ZOH
-  (Phi, Gamma) and Van Loan noise Q_d over T (hil.plants.missile);
+  (Phi, Gamma) and Van Loan noise Q_d over T (hil.sim.missile);
 * the autopilot (the design under test, e.g. the firmware's own from `lqg_design`):
   x_hat_k = x_bar_k + L (y_k - H x_bar_k),  u_k = -K x_hat_k + d_k,
   x_bar_{k+1} = Phi_d x_hat_k + Gamma_d u_k  -- it propagates with the applied command;
@@ -34,9 +34,9 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from hil.plants._linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
+from hil.sim.linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
 
-from hil.plants import missile
+from hil.sim import missile
 
 #: D/A full scale span (rad): LSB = DAC_SPAN / 2^N
 DAC_SPAN = 2.0 * missile.U_MAX

@@ -15,12 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.faults.inject import FaultEvent, SensorFaultInjector
-from hil.faults.scenario import Scenario, load_default_scenario
-from hil.sensors import CdrwSensors
-from hil.sid_csv import sid_csv
-from hil.plants.cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
-from hil.plants.options import CdrwPlantOptions
+from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
+from hil.scenario.file import Scenario, load_default_scenario
+from hil.sim.sensors import CdrwSensors
+from hil.sim.sid_csv import sid_csv
+from hil.sim.cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
+from hil.scenario.plant_options import CdrwPlantOptions
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def simulate_cdrw(scenario: Scenario | None = None) -> CdrwFlight:
 
 
 def write_sid_csv(path: str | Path, flight: CdrwFlight) -> Path:
-    """The faulty readings as CSV for the C tool sid_replay (hil.sid_csv), with the fault flag."""
+    """The faulty readings as CSV for the C tool sid_replay (hil.sim.sid_csv), with the fault flag."""
     p = Path(path)
     p.write_text(sid_csv(flight.t, flight.alpha_meas, flight.q_meas, flight.de,
                          flight.fault_flag), encoding="ascii")

@@ -1,5 +1,5 @@
 """`hil faults`: every fault kind with its fields (type, unit, default, allowed range) and an
-example, read from the fault classes themselves (hil.faults.model), so the list cannot drift
+example, read from the fault classes themselves (hil.scenario.faults), so the list cannot drift
 from what the scenario loader accepts."""
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import math
 import typing
 from typing import Any
 
-from hil.sensor_options import SIGNALS
-from hil.faults.model import KINDS, Fault
+from hil.scenario.sensor_options import SIGNALS
+from hil.scenario.faults import KINDS, Fault
 
 #: the unit of each field, by name (sensor values are in the signal's unit)
 UNITS = {

@@ -22,8 +22,8 @@ from fcc_harness import flight, missile_sensors
 from hil.bus import SIM_NODES, load
 from hil.bus.codec import Decoded, FrameCodec
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
-from hil.pil import qemu
-from hil.pil.bootcfg import BootConfig
+from hil.targets import board as qemu
+from hil.targets.bootcfg import BootConfig
 
 pytestmark = pytest.mark.skipif(qemu.available() is None,
                                 reason="qemu-system-arm is not installed (scripts/setup installs it)")

@@ -143,7 +143,7 @@ def test_fcc_not_answering_times_out(tmp_path, capsys):
 @pytest.mark.timing   # (the 0.5 s answer timeout must fire within 2 s)
 def test_fcc_hanging_mid_run_times_out(tmp_path):
     sc = scenario(CDRW_1S)
-    with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
+    with RigSession(tmp_path, fcc_args([sc], cfg := RigConfig(out_dir=tmp_path)), cfg) as rig:
         runner, d = airborne(rig, sc, 5, timeout=0.5)
         os.kill(rig.fcc.pid, signal.SIGSTOP)
         try:
@@ -159,7 +159,7 @@ def test_fcc_hanging_mid_run_times_out(tmp_path):
 def test_fcc_killed_mid_run(tmp_path):
     sc = scenario(CDRW_1S)
     with pytest.raises(FccDied, match=r"fcc died during step 10 of app cdrw \(killed by SIGKILL"):
-        with RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path))) as rig:
+        with RigSession(tmp_path, fcc_args([sc], cfg := RigConfig(out_dir=tmp_path)), cfg) as rig:
             runner, d = airborne(rig, sc, 10, timeout=2.0)
             os.kill(rig.fcc.pid, signal.SIGKILL)
             runner.step(d)

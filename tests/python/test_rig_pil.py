@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hil.pil import qemu as pil_qemu
+from hil.targets import board as pil_qemu
 from hil.io.output import read_csv
-from hil.rig.qemu import build_image
+from hil.targets.qemu_m4f import build_image
 from hil.rig.runs import RigConfig, fcc_args
 from hil.rig.session import FccDied, FccTimeout, RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, airborne, fly, scenario
@@ -72,8 +72,8 @@ def test_pil_flights_match_the_host_float_build(tmp_path, float_fcc, image):
 
 def _session(tmp_path: Path, image: Path) -> RigSession:
     sc = scenario(CDRW_1S)
-    return RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path)), target="qemu-m4f",
-                      fcc_binary=image, mode="lockstep")
+    cfg = RigConfig(out_dir=tmp_path, target="qemu-m4f", fcc_binary=image, mode="lockstep")
+    return RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path)), cfg)
 
 
 def test_link_loss_slcand_killed(tmp_path, image):

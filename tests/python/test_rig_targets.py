@@ -20,9 +20,9 @@ from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import TARGET_CHOICES
 from hil.scenario.file import load_default_scenario
 from hil.rig.link import CanLink
-from hil.rig.qemu import PilError, boot_options, boot_record
+from hil.targets.qemu_m4f import PilError, boot_options, boot_record
 from hil.rig.runs import RigConfig, fcc_args
-from hil.rig.targets import TARGETS
+from hil.targets.registry import TARGETS
 from rig_helpers import CDRW_1S, cli, fly, scenario
 from test_cli import one_line
 

@@ -1,4 +1,4 @@
-"""The simulator's time-triggered transmitter (hil.txsched) on vcan0: every frame handed over
+"""The simulator's time-triggered transmitter (hil.rig.txsched) on vcan0: every frame handed over
 goes on the bus, not before its instant, a step's frames in their order; a hand-over after its
 instant goes out at once.  No bound on lateness here (the machine may be loaded): the
 transmitter counts it, and scripts/bench realtime reports it."""
@@ -10,7 +10,7 @@ import time
 import pytest
 
 from hil.rig.link import SO_TIMESTAMPNS, MonotonicStamps
-from hil.txsched import GAP_S, TimedSender
+from hil.rig.txsched import GAP_S, TimedSender
 
 pytestmark = pytest.mark.vcan
 

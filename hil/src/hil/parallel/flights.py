@@ -38,6 +38,12 @@ class SessionDone:
     firmware: dict[str, Any]
 
 
+def worker_config(cfg: RigConfig) -> RigConfig:
+    """A worker's session: the run's configuration with a random bus key of its own (the
+    workers are never handed --key-file)."""
+    return dataclasses.replace(cfg, key_file=None)
+
+
 def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]], cfg: RigConfig,
                          keep: bool = False) -> SessionDone:
     """Campaign flights (index, fault start) one after the other in one fresh session in
@@ -48,8 +54,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     records = []
-    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder) as rig:
+    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
         runner = None
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
@@ -85,8 +90,7 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     out.mkdir(parents=True, exist_ok=True)
     lqg = scenario.lqg
     assert lqg is not None
-    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder) as rig:
+    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
         d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
         with progress_bar(0, False, "") as bar:
             _fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)

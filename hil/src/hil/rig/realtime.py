@@ -8,7 +8,7 @@ time; the first flight waits (at most SYNC_WAIT_S) until fcc reports LOCKED in F
 
 The sensors sample at the instant; the simulator is not the clock.  The plant is known one
 step ahead: once period k-1 is closed, y_k is computed and step k's frames are handed over to
-the time-triggered transmitter (hil.txsched), which puts them on the bus at t_k whenever the
+the time-triggered transmitter (hil.rig.txsched), which puts them on the bus at t_k whenever the
 simulator itself runs.  A step handed over after its instant is counted (sim_late_steps) and
 goes out at once; the hand-over slack (instant minus hand-over time) is reported.
 
@@ -36,8 +36,8 @@ from collections.abc import Callable, Sequence
 
 from hil.scenario.faults import Flood
 from hil.sim.drivers import AppDriver, StepIO
-from hil.txsched import TimedSender
-from hil.rig.processes import spawn
+from hil.rig.txsched import TimedSender
+from hil.util.processes import spawn
 from hil.rig.session import COMMAND_FLIGHT, RigError, RigSession
 from hil.rig.timesync import TimeMaster
 

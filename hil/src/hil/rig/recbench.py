@@ -28,7 +28,8 @@ from hil.scenario.file import load_default_scenario
 from hil.util.progress import bar as progress_bar
 from hil.sim.drivers import CdrwDriver
 from hil.rig.bench import print_table
-from hil.rig.processes import RECORDERS, proc_stat
+from hil.rig.recorder import RECORDERS
+from hil.util.processes import proc_stat
 from hil.rig.runs import RigConfig, _fly, open_session
 
 _TICK = os.sysconf("SC_CLK_TCK")

@@ -26,6 +26,7 @@ from pathlib import Path
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec
 from hil.bus.logio import read_frames, run_log
+from hil.rig.config import RigConfig
 from hil.rig.link import pack_frame
 from hil.rig.session import FccDied, RigSession
 from hil.rig.simtime import WALL_LOG
@@ -141,7 +142,8 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
     if log is None:
         raise ReplayError(f"{run_dir}: no bus log (bus_wall.log, bus.log, bus.asc, bus.blf)")
     args = recorded_fcc_args(run_dir) + list(extra_args)
-    rig = RigSession(out_dir, args, iface=iface, fcc_binary=fcc_binary, record=False)
+    rig = RigSession(out_dir, args, RigConfig(out_dir=out_dir, iface=iface, fcc_binary=fcc_binary),
+                     record=False)
     spec = rig.spec
     segs = segments(read_frames(log), spec)
     fcc_ids = {m.frame_id for m in spec.messages

@@ -47,42 +47,14 @@ from hil.io.rundir import atomic_write_text
 from hil.rig.session import (COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession,
                              StatusCounters)
 from hil.rig.simtime import finish_bus_log
-from hil.rig.targets import TARGETS
+from hil.rig.config import RigConfig
 
 
-MODES = ("lockstep", "realtime")
 #: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
 #: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
 FCC_RT_PRIORITY = 50
 #: the LQG periods fcc accepts (firmware/app/README.md)
 FCC_PERIOD_RANGE = (0.02, 0.3)
-
-
-@dataclass
-class RigConfig:
-    out_dir: Path
-    iface: str = "vcan0"
-    mode: str = "lockstep"
-    timeout: float = 2.0
-    fcc_args: tuple[str, ...] = ()
-    rows: str = "paper"            # CDRW: which estimate fcc reports (fcc --rows)
-    progress: bool = True
-    plots: bool = True
-    fcc_binary: Path | None = None
-    log_format: str = "log"
-    #: the device under test (hil.rig.targets) and python-can's bus of the simulator
-    target: str = "host"
-    interface: str = "socketcan"
-    bitrate: int | None = None
-    key_file: Path | None = None   # None: a random key for each session
-    #: the bus recorder of a SocketCAN session (hil.rig.processes.RECORDERS)
-    recorder: str = "canrec"
-
-    def __post_init__(self) -> None:
-        if self.mode not in MODES:
-            raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
-        if self.target not in TARGETS:
-            raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {self.target!r}")
 
 
 @dataclass
@@ -127,10 +99,7 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
 def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
                  prepare: Callable[[RigSession], object] | None = None) -> RigSession:
     """The rig session of a command: its target, its bus, the device's configuration."""
-    return RigSession(out, fcc_args(scenarios, cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                      target=cfg.target, interface=cfg.interface, bitrate=cfg.bitrate,
-                      mode=cfg.mode, answer_timeout=cfg.timeout, key_file=cfg.key_file,
-                      recorder=cfg.recorder, prepare=prepare)
+    return RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:

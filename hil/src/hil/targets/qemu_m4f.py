@@ -29,12 +29,15 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from hil.pil.bootcfg import BootConfig
-from hil.pil.qemu import _PTY as PTY_LINE  # QEMU's "char device redirected to /dev/pts/N" line
-from hil.pil.qemu import command as qemu_command
+from hil.targets.bootcfg import BootConfig
+from hil.bus.secoc import TEST_KEY_FILE
+from hil.targets.board import PTY_LINE
+from hil.targets.board import command as qemu_command
 from hil.io.paths import REPO
-from hil.rig.targets import Device
+from hil.targets.device import Device, DeviceStart
 
+#: the trip of the Cortex-M4F PIL image (firmware/target/m4f_main.c: no entropy on the board)
+PIL_TRIP = 0x4D344631
 #: the SLCAN bitrate command slcand sends (S6 = 500 kbit/s, the bus's DBC bitrate)
 SLCAN_SPEED = "6"
 #: QEMU's start-up inside the UML guest takes ~3 s on an idle machine
@@ -193,6 +196,20 @@ class QemuM4f(Device):
         except BaseException:
             self.stop(grace=0.0)
             raise
+
+    @classmethod
+    def start(cls, how: DeviceStart) -> QemuM4f:
+        return cls(how.run_dir, how.fcc_args, how.iface, how.log_path, image=how.firmware,
+                   interface=how.interface)
+
+    @classmethod
+    def bus_key_file(cls, requested: Path | None) -> Path | None:
+        """The image carries the published test key (firmware/target/README.md)."""
+        return TEST_KEY_FILE
+
+    @classmethod
+    def choose_trip(cls) -> int | None:
+        return PIL_TRIP
 
     # -- start-up
     def _start(self) -> None:

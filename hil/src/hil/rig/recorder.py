@@ -1,140 +1,20 @@
-"""The two programs a run starts beside the simulator: the firmware and the bus recorder.
-
-``FccProcess`` starts ``fcc`` with the run's flags, its stdout and stderr going to
-``fcc.log`` in the run directory (that file keeps the firmware's event lines and its final
-counter block).  A ``BusRecorder`` records the whole bus in the candump log format into
-``bus.log``: ``Candump`` (``candump -l``) or ``Canrec`` (firmware/tools/canrec, the same lines,
-frames read in batches), chosen per session (``RECORDERS``).
-Both are stopped politely (shutdown frame / SIGINT), then firmly; neither outlives the run,
-not even a killed rig: every child runs in its own process group (a Ctrl-C on the terminal
-reaches the rig, which stops them in order) with a parent-death signal (Linux
-PR_SET_PDEATHSIG = SIGKILL), so ``kill -9`` of hil takes fcc, the recorder and cangen with it.
+"""The bus recorder a run starts beside the simulator: it records the whole bus in the
+candump log format into ``bus.log``: ``Candump`` (``candump -l``) or ``Canrec``
+(firmware/tools/canrec, the same lines, frames read in batches), chosen per session
+(``RECORDERS``).  Stopped politely (SIGINT after the end marker), then firmly; it never outlives
+the run (hil.util.processes.spawn).
 """
 from __future__ import annotations
 
-import ctypes
 import os
 import shutil
 import signal
 import subprocess
-import sys
 import time
-from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
 
-PR_SET_PDEATHSIG = 1
-
-
-def _die_with_parent(parent: int) -> Callable[[], None] | None:
-    """preexec_fn for a child that must not outlive this process (Linux; elsewhere None)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    libc = ctypes.CDLL(None, use_errno=True)
-
-    def preexec() -> None:
-        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-        if os.getppid() != parent:  # the parent died before prctl: nobody would kill us
-            os._exit(1)
-    return preexec
-
-
-#: util-linux's setpriv sets the parent-death signal and execs the command
-SETPRIV = shutil.which("setpriv")
-
-
-def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
-    """subprocess.Popen for a rig child: own process group, killed when the rig dies.
-
-    Through `setpriv --pdeathsig KILL` where it exists: a preexec_fn makes Python fork
-    instead of vfork, and in the UML guest forking the rig costs ~105 ms, vfork and the one
-    exec more ~55 ms (measured, 5 starts each)."""
-    if SETPRIV is not None and sys.platform.startswith("linux"):
-        return subprocess.Popen([SETPRIV, "--pdeathsig", "KILL", "--", *cmd], process_group=0, **kw)
-    return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),
-                            **kw)
-
-
-class ProcessError(RuntimeError):
-    """A program could not be started or stopped (one line)."""
-
-
-def proc_stat(pid: int) -> list[bytes]:
-    """The fields of /proc/PID/stat after the command name (state first; proc(5) numbers
-    them from 3): the name, in parentheses, may itself hold spaces and parentheses."""
-    with open(f"/proc/{pid}/stat", "rb") as fh:
-        return fh.read().rsplit(b")", 1)[1].split()
-
-
-def _last_line(path: Path) -> str:
-    try:
-        lines = [ln.strip() for ln in path.read_text(errors="replace").splitlines() if ln.strip()]
-    except OSError:
-        return ""
-    return lines[-1] if lines else ""
-
-
-class FccProcess:
-    """The firmware under test, as a child process."""
-
-    def __init__(self, binary: Path, args: Sequence[str], log_path: Path) -> None:
-        self.cmd = [str(binary), *args]
-        self.log_path = log_path
-        self._log = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
-        try:
-            self.proc = spawn(self.cmd, stdin=subprocess.DEVNULL, stdout=self._log,
-                              stderr=subprocess.STDOUT)
-        except OSError as e:
-            self._log.close()
-            raise ProcessError(f"cannot start {binary}: {e.strerror}") from None
-        self.returncode: int | None = None
-
-    @property
-    def pid(self) -> int:
-        return self.proc.pid
-
-    def poll(self) -> int | None:
-        """Exit status if the process has ended (negative: killed by that signal)."""
-        if self.returncode is None:
-            self.returncode = self.proc.poll()
-        return self.returncode
-
-    def describe_exit(self) -> str:
-        """'exit status 3' / 'killed by SIGKILL', plus its last line of output."""
-        rc = self.poll()
-        if rc is None:
-            what = "still running"
-        elif rc < 0:
-            try:
-                what = f"killed by {signal.Signals(-rc).name}"
-            except ValueError:
-                what = f"killed by signal {-rc}"
-        else:
-            what = f"exit status {rc}"
-        last = _last_line(self.log_path)
-        return f"{what}" + (f"; its last words: {last}" if last else "")
-
-    def wait(self, timeout: float) -> int | None:
-        try:
-            self.returncode = self.proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            return None
-        return self.returncode
-
-    def stop(self, grace: float = 2.0) -> int | None:
-        """Wait up to grace seconds for a clean exit, then SIGTERM, then SIGKILL."""
-        rc = self.wait(grace) if self.poll() is None else self.returncode
-        for sig in (signal.SIGTERM, signal.SIGKILL):
-            if rc is not None:
-                break
-            try:
-                self.proc.send_signal(sig)
-            except ProcessLookupError:
-                pass
-            rc = self.wait(2.0)
-        if not self._log.closed:
-            self._log.close()
-        return rc
+from hil.io.paths import ToolNotFound, tool
+from hil.util.processes import ProcessError, last_line, proc_stat, spawn
 
 
 class BusRecorder:
@@ -197,7 +77,7 @@ class BusRecorder:
         stop(), "" when it exited 0."""
         if self._error is not None:
             return self._error
-        return _last_line(self._err_path) or f"exit status {self.proc.returncode}"
+        return last_line(self._err_path) or f"exit status {self.proc.returncode}"
 
     def _state(self) -> str:
         try:
@@ -282,7 +162,6 @@ class Canrec(BusRecorder):
     LOG_NAME = "canrec.log"
 
     def _executable(self) -> str:
-        from hil.io.paths import ToolNotFound, tool
         try:
             return str(tool("canrec"))
         except ToolNotFound as e:

@@ -22,11 +22,12 @@ import tty
 from collections.abc import Iterator
 from pathlib import Path
 
-from hil.pil import bootcfg
+from hil.targets import bootcfg
 
 QEMU = "qemu-system-arm"
 MACHINE = "mps2-an386"
-_PTY = re.compile(r"char device redirected to (/dev/pts/\d+) \(label slcan\)")
+#: QEMU's "char device redirected to /dev/pts/N" line
+PTY_LINE = re.compile(r"char device redirected to (/dev/pts/\d+) \(label slcan\)")
 CR, BEL = 0x0D, 0x07
 
 
@@ -152,7 +153,7 @@ class Board:
         self.proc = subprocess.Popen(self.cmd, stdout=subprocess.PIPE, stderr=self._err)
         assert self.proc.stdout is not None
         line = self.proc.stdout.readline().decode(errors="replace")  # QEMU's first stdout line
-        m = _PTY.search(line)
+        m = PTY_LINE.search(line)
         if m is None:
             self.__exit__()
             raise LinkError(f"QEMU did not give a pty: {line.strip()!r} "

@@ -20,7 +20,7 @@ Protocol on the pipe: records of RECORD (instant in ns of CLOCK_MONOTONIC, struc
 can_frame); at end of input the transmitter sends what is left at its times and prints one
 JSON line of statistics.
 
-    python -m hil.txsched IFACE [--rt-priority N]   (started by TimedSender; imports no more
+    python -m hil.rig.txsched IFACE [--rt-priority N]   (started by TimedSender; imports no more
                                                  than it needs: it starts within the flight)
 """
 from __future__ import annotations
@@ -36,6 +36,8 @@ import subprocess
 import sys
 import time
 from collections.abc import Sequence
+
+from hil.util.processes import spawn
 
 #: struct can_frame (hil.rig.link's; not imported: the transmitter starts without the rig)
 CAN_FRAME = struct.Struct("=IB3x8s")
@@ -59,9 +61,7 @@ class TimedSender:
     """The simulator's side: starts the transmitter, hands frames over to it."""
 
     def __init__(self, iface: str, rt_priority: int = 0, ready_timeout: float = 30.0) -> None:
-        from hil.rig.processes import spawn
-
-        args = [sys.executable, "-m", "hil.txsched", iface]
+        args = [sys.executable, "-m", "hil.rig.txsched", iface]
         if rt_priority:
             args += ["--rt-priority", str(rt_priority)]
         self.proc = spawn(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE)
@@ -71,7 +71,7 @@ class TimedSender:
         ready = select.select([self.proc.stdout], [], [], ready_timeout)[0]
         if not ready or self.proc.stdout.readline().strip() != b"ready":
             self.close(1.0)
-            raise TxError(f"the frame transmitter on {iface} did not start (python -m hil.txsched)")
+            raise TxError(f"the frame transmitter on {iface} did not start (python -m hil.rig.txsched)")
 
     def send_at(self, frames: Sequence[tuple[int, bytes]], instant: float) -> None:
         """Hand one step's frames over, to leave from `instant` (CLOCK_MONOTONIC, s) on."""

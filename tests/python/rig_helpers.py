@@ -9,7 +9,8 @@ from hil.scenario.file import Scenario, loads_scenario, with_extra_faults
 from hil.sim.drivers import CdrwDriver
 from hil.rig.lockstep import LockstepRunner
 from hil.rig.runs import Outcome, RigConfig, run_flight
-from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, RigSession
+from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_RESET
+from hil.rig.session import RigSession
 
 FRAMES = {m.name for m in load().messages}
 

@@ -15,8 +15,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from fcc_harness import (CDRW, COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, COMMAND_SHUTDOWN, MISSILE,
-                         Fcc, Sim, flight, missile_sensors, parse_summary)
+from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, COMMAND_SHUTDOWN
+from fcc_harness import (CDRW, MISSILE, Fcc, Sim, flight, missile_sensors, parse_summary)
 
 pytestmark = pytest.mark.vcan
 

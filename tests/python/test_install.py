@@ -18,7 +18,7 @@ PROBE = """
 import json, sys
 import hil, hil.cli
 from hil.bus import dbc
-from hil.rig import paths
+from hil.io import paths
 print(json.dumps({"pkg": hil.__file__, "dbc": str(dbc.default_path()),
                   "dbc_text": dbc.default_path().read_text(), "messages": len(dbc.load().messages),
                   "digested": "cantools" not in sys.modules,

@@ -18,11 +18,9 @@ import numpy as np
 
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import BusSpec
+from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
-SIM_CONTROL_ID = 0x010
-SIM_TICK_ID = 0x020
-COMMAND_RESET = 2
 #: sensor frames of each application (their bytes 2-3 are the low 16 bits of the step)
 SENSOR_APP = {0x050: 0, 0x051: 0, 0x052: 0, 0x040: 1, 0x041: 1}
 

@@ -38,7 +38,8 @@ from hil.scenario.faults import Flood
 from hil.sim.drivers import AppDriver, StepIO
 from hil.rig.txsched import TimedSender
 from hil.util.processes import spawn
-from hil.rig.session import COMMAND_FLIGHT, RigError, RigSession
+from hil.bus.protocol import COMMAND_FLIGHT
+from hil.rig.session import RigError, RigSession
 from hil.rig.timesync import TimeMaster
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)

@@ -34,7 +34,6 @@ from hil.rig.simtime import WALL_LOG
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
 WALL_CLOCK_IDS = 0x700          # heartbeat and rig frames from here up: not compared
 SKIP_SIGNALS = {"FCC_ACK": ("exec_us", "crc")}
-COMMAND_SHUTDOWN = 1
 
 
 class ReplayError(ValueError):

@@ -44,8 +44,8 @@ from hil.rig.results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record,
 from hil.rig import rowtables
 from hil.rig.report import firmware_summary, summary_tables
 from hil.io.rundir import atomic_write_text
-from hil.rig.session import (COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET, RigError, RigSession,
-                             StatusCounters)
+from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
+from hil.rig.session import RigError, RigSession, StatusCounters
 from hil.rig.simtime import finish_bus_log
 from hil.rig.config import RigConfig
 

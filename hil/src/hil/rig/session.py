@@ -23,8 +23,9 @@ from typing import TYPE_CHECKING
 from hil.bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from hil.bus.codec import decode_values
 from hil.bus.dbc import BusSpec
-from hil.bus.secoc import (Endpoint, KeyFileError, load_cmac, read_key_file,
-                           write_key_file)
+from hil.bus.protocol import (COMMAND_GROUND, COMMAND_NONE, COMMAND_RESET, COMMAND_SHUTDOWN,
+                              MODE_CODES, MODE_NAMES)
+from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, write_key_file
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
 from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.rig.config import RigConfig
@@ -40,17 +41,10 @@ STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_C
 #: heartbeat signals that are states or gauges, not wrapping counters
 GAUGES = ("mode", "op_mode", "stale_now", "worst_step_us", "trip", "state", "master", "offset_us",
           "rate_ppm")
-COMMAND_SHUTDOWN = 1
-COMMAND_RESET = 2
-COMMAND_FLIGHT = 3
-COMMAND_GROUND = 4
 STARTUP_TIMEOUT_S = 10.0
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
-#: FCC_STATUS.mode
-MODE_CODES = {"lockstep": 0, "realtime": 1}
-MODE_NAMES = {v: k for k, v in MODE_CODES.items()}
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
 
@@ -325,7 +319,7 @@ class RigSession:
         for fid, d in self.message_frames(name, values):
             self.link.send_raw(pack_frame(fid, d))
 
-    def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
+    def control(self, command: int = COMMAND_NONE, period: float = 0.0, bits: int = 0) -> None:
         """SIM_CONTROL: 0 none / 1 shutdown / 2 reset / 3 flight / 4 ground; a new LQG period
         and/or D/A bits (fcc accepts reset, designs and shutdown on the ground only)."""
         self.send_message("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})

@@ -21,6 +21,7 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from hil.bus.protocol import APP_CDRW, APP_MISSILE
 from hil.bus import FrameCodec
 from hil.sim.sensor_faults import FaultEvent
 from hil.scenario.file import Scenario
@@ -31,8 +32,6 @@ from hil.sim.frame_faults import KIND_CODES, FrameInjector, TxFrame
 if TYPE_CHECKING:
     from hil.sim.cdrw_flight import CdrwSample
 
-APP_CDRW = 0
-APP_MISSILE = 1
 APP_NAMES = {APP_CDRW: "cdrw", APP_MISSILE: "missile"}
 
 #: which DBC message carries each sensor signal

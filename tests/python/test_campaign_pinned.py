@@ -34,7 +34,7 @@ import pytest
 
 from hil.scenario.file import load_default_scenario, with_fault_start
 from hil.sim.cdrw_flight import simulate_cdrw
-from hil.reference.metrics import rows_to_arrays
+from hil.results.sidrows import rows_to_arrays
 from hil.reference.sid import FILTERS, SidConfig, replay
 from rig_helpers import cli
 
@@ -102,7 +102,7 @@ def test_seed1_campaign_flights_are_pinned(tmp_path, capsys):
 def test_a_lockstep_flight_with_lost_estimates_is_not_averaged():
     """What happened to flights 84-88 of the first seed-1 campaign: every step answered, but
     the recorder lost fcc's estimates of some: the flight is refused, not averaged."""
-    from hil.rig.results import CdrwResult
+    from hil.results.flight import CdrwResult
     from hil.rig.runs import campaign_flight
     from hil.rig.session import RigError
     res = CdrwResult(scenario="cdrw", seed=1, dt=0.02, series={}, table={}, table_truth={}, coverage={},

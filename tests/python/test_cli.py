@@ -116,7 +116,7 @@ def test_report_needs_a_run_directory(capsys, tmp_path):
 
 def test_report_prints_the_tables(capsys, tmp_path):
     import json
-    from hil import metrics
+    from hil.results import metrics
     summary = {"command": "campaign", "runs_count": 2,
                "cdrw": {"table5": metrics.PAPER_TABLE5, "table5_truth": metrics.PAPER_TABLE5,
                         "azkf_better_than_kf_runs": {"alpha": 2, "q": 1}},
@@ -214,7 +214,7 @@ def test_report_into_a_closed_pipe(tmp_path):
     The reader here (`true`) exits before hil has started, so hil's first print meets a
     closed pipe whatever the timing."""
     import json
-    from hil import metrics
+    from hil.results import metrics
     summary = {"cdrw": {"table4": metrics.PAPER_TABLE4, "table4_truth": metrics.PAPER_TABLE4}}
     (tmp_path / "summary.json").write_text(json.dumps(summary))
     exe = Path(sys.executable).with_name("hil")
@@ -226,7 +226,7 @@ def test_report_into_a_closed_pipe(tmp_path):
 
 def test_report_paper_rows_only_for_the_papers_scenario(capsys, tmp_path):
     import json
-    from hil import metrics
+    from hil.results import metrics
     t = metrics.PAPER_TABLE4
     for paper in (True, False):
         summary = {"command": "run", "cdrw": {"table4": t, "table4_truth": t, "rows": "posterior",

@@ -1,10 +1,10 @@
-"""`hil live`'s view of the bus (hil.live.BusView) on frames encoded here: the measured
+"""`hil live`'s view of the bus (hil.rig.live.BusView) on frames encoded here: the measured
 values, each filter's estimate and fault flag, fcc's health flags and E2E counters, active
 simulator faults, rates."""
 from __future__ import annotations
 
 from hil.bus import SIM_NODES, FrameCodec, load
-from hil.live import BusView
+from hil.rig.live import BusView
 from hil.sim.frame_faults import KIND_CODES
 
 SPEC = load()

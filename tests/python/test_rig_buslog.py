@@ -1,4 +1,4 @@
-"""fcc's outputs read back from a bus log (hil.rig.buslog), on logs written here: flights
+"""fcc's outputs read back from a bus log (hil.results.buslog), on logs written here: flights
 split at SIM_CONTROL resets, outputs attributed to their tick (lockstep) or to the newest
 sensor sample (realtime), step fields checked."""
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line
-from hil.rig.buslog import sid_arrays, split_flights
+from hil.results.buslog import sid_arrays, split_flights
 
 SPEC = load()
 

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from hil import metrics
+from hil.results import metrics
 from hil.bus import diag, load
 from hil.bus.logio import read_frames
 from hil.scenario.file import load_default_scenario, with_fault_start

@@ -1,4 +1,4 @@
-"""The papers' figures of merit (hil.metrics) and the run-directory files (hil.io.output),
+"""The papers' figures of merit (hil.results.metrics) and the run-directory files (hil.io.output),
 checked against hand-computed values."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from hil import metrics
+from hil.results import metrics
 from hil.io.output import read_csv, write_csv, write_json
 
 

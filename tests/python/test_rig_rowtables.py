@@ -1,4 +1,4 @@
-"""hil.rig.rowtables.sid_options: the identification options of fcc's command line, read
+"""hil.results.rowtables.sid_options: the identification options of fcc's command line, read
 without starting sid_replay when the rig wrote the command line alone."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from hil.bus import load
 from hil.scenario.file import load_default_scenario
-from hil.rig import rowtables
+from hil.results import rowtables
 from hil.rig.runs import RigConfig, fcc_args
 
 

@@ -20,7 +20,7 @@ from hil.sim.cdrw_prior import wind_tunnel_prior
 from hil.reference import MlsConfig, SidConfig, default_prior, default_prior_affine
 from hil.reference.cdrw_study import (campaign_times, detection, errors, flight_csv,
                                       innovation_ratio, rho_tracking, run_tool, simulate)
-from hil.reference.metrics import rows_to_arrays
+from hil.results.sidrows import rows_to_arrays
 from hil.reference.sid import replay
 
 from conftest import build_dir

@@ -16,7 +16,8 @@ import pytest
 
 from hil.reference import MlsConfig, Model, SidConfig, batch_fit, default_prior_affine
 from hil.reference.flight import Flight, synthetic_flight
-from hil.reference.metrics import error_table, format_table, read_rows, rows_to_arrays
+from hil.reference.metrics import error_table, format_table
+from hil.results.sidrows import read_rows, rows_to_arrays
 from hil.reference.sid import COLUMNS, columns, replay, replay_mls_only
 from hil.reference.zkf import AzkfConfig, DetectorConfig
 

@@ -30,9 +30,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
+from hil.results.figures import FIG3_PERIODS
+
 PROG = "hil"
-#: Fig. 3's grid of sampling periods: 0.02 to 0.3 s every 10 ms (29 points)
-FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 EXIT_USAGE = 2
 
 
@@ -399,7 +399,7 @@ def _not_a_summary(path: Path, e: Exception) -> UsageError:
 
 def cmd_report(args: argparse.Namespace) -> int:
     from hil.io.output import read_json
-    from hil.rig.report import summary_tables
+    from hil.results.report import summary_tables
 
     summary_path = args.dir / "summary.json"
     if not summary_path.is_file():
@@ -461,7 +461,7 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 def cmd_live(args: argparse.Namespace) -> int:
     from hil.bus import load
-    from hil.live import run
+    from hil.rig.live import run
 
     try:
         run(args.iface, args.seconds, load(), force_rich=args.rich)

@@ -36,3 +36,7 @@ MODE_CODES = {name.lower(): code for name, code in value_table("FCC_STATUS", "mo
 MODE_NAMES = {code: name for name, code in MODE_CODES.items()}
 SIM_CONTROL_ID = _SPEC.by_name("SIM_CONTROL").frame_id
 SIM_TICK_ID = _SPEC.by_name("SIM_TICK").frame_id
+#: the sensor frames, by identifier: the application whose step they feed
+SENSOR_APP = {_SPEC.by_name(name).frame_id: app for app, names in (
+    (APP_CDRW, ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")),
+    (APP_MISSILE, ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"))) for name in names}

@@ -12,9 +12,9 @@ from typing import Any
 
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
-from hil.rig.buslog import split_flights
-from hil.rig.report import firmware_summary
-from hil.rig.results import cdrw_record, cdrw_result, missile_result
+from hil.results.buslog import split_flights
+from hil.results.report import firmware_summary
+from hil.results.flight import cdrw_record, cdrw_result, missile_result
 from hil.util.progress import bar as progress_bar
 from hil.rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
 from hil.rig.session import RigError, RigSession

@@ -92,7 +92,7 @@ def figures(run_dir: Path) -> list[Figure]:
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
         written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle))
-    from hil.rig import timing
+    from hil.results import timing
     if (run_dir / timing.CSV_NAME).is_file():
         from hil.plots import realtime
         written.append(partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME),

@@ -36,7 +36,8 @@ import numpy as np
 
 from hil.scenario.file import load_default_scenario, with_fault_start
 from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
-from hil.reference.metrics import error_table, read_rows
+from hil.reference.metrics import error_table
+from hil.results.sidrows import read_rows
 from hil.sim.sid_csv import sid_csv
 
 DT = 0.02

@@ -2,7 +2,7 @@
 session (one fcc process), written to one run directory.
 
 run directory
-    summary.json      deterministic results (the seed decides them; hil.rig.report)
+    summary.json      deterministic results (the seed decides them; hil.results.report)
     run_info.json     wall-clock times, fcc command line, step execution times
     bus.log           the whole bus, candump log format (candump -L / -l)
     fcc.log           fcc's stdout/stderr (event lines, final counter block); qemu-m4f: the
@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from hil import metrics
+from hil.results import metrics
 from hil.bus import FrameCodec, load
 from hil.bus.candump import LogFrame, read_log
 from hil.scenario.file import Scenario, with_fault_start
@@ -36,13 +36,13 @@ from hil.scenario.plant_options import LqgOptions
 from hil.util.progress import bar as progress_bar
 from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver, OracleFlag
 from hil.rig.budget import check_memory
-from hil.rig.buslog import iter_flights, split_flights
+from hil.results.buslog import iter_flights, split_flights
 from hil.rig.lockstep import LockstepRunner
 from hil.io.output import write_csv, write_json
-from hil.rig.results import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
-                             missile_open_loop, missile_result)
-from hil.rig import rowtables
-from hil.rig.report import firmware_summary, summary_tables
+from hil.results.flight import (CdrwRecord, CdrwResult, MissileResult, cdrw_record, cdrw_result,
+                                missile_open_loop, missile_result)
+from hil.results import rowtables
+from hil.results.report import firmware_summary, summary_tables
 from hil.io.rundir import atomic_write_text
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
 from hil.rig.session import RigError, RigSession, StatusCounters
@@ -343,10 +343,10 @@ def is_paper_scenario(sc: Scenario) -> bool:
 
 
 def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any]:
-    """Offset, jitter and data age of a realtime missile flight (hil.rig.timing), and the
+    """Offset, jitter and data age of a realtime missile flight (hil.results.timing), and the
     samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
     slack and its transmitter's send lateness."""
-    from hil.rig import timing
+    from hil.results import timing
     t = timing.bus_timing(out / "bus.log", load(), d.period)
     timing.write_csv(out / timing.CSV_NAME, t)
     log = out / "fcc.log"
@@ -596,7 +596,7 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
     the bus) with 95 % batch-means intervals; fig3.json + fig3_missile_rms_covariance.png."""
     from hil.scenario.file import load_default_scenario
     from hil.sim.missile_cov import missile_rms_study
-    from hil.rig import figures
+    from hil.results import figures
     from hil.io.paths import tool
 
     seconds = seconds or figures.MC_SECONDS
@@ -629,7 +629,7 @@ def run_responses(cfg: RigConfig) -> Outcome:
     """Figs. 4-6: deterministic initial-condition responses through fcc (q0 = 0.1 rad/s, no
     gust, no sensor noise) at T = 0.2, 0.1, 0.05 s, open loop and 6, 8, 12 bits."""
     from hil.scenario.file import load_default_scenario
-    from hil.rig import figures
+    from hil.results import figures
 
     base = load_default_scenario("missile", {m.name for m in RigSession.dbc_frames()})
     sc = figures.response_scenario(base)

@@ -21,8 +21,7 @@ from pathlib import Path
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.logio import RUN_FORMATS, write_frames
-from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
-from hil.rig.buslog import SENSOR_APP
+from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
 WALL_LOG = "bus_wall.log"

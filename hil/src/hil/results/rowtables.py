@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from hil import metrics
+from hil.results import metrics
 from hil.bus.dbc import BusSpec
-from hil.reference.metrics import read_rows
+from hil.results.sidrows import read_rows
 from hil.sim.sid_csv import sid_csv
 from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.io.paths import tool

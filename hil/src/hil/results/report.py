@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from hil import metrics
+from hil.results import metrics
 from hil.rig.session import StatusCounters
 
 
@@ -87,10 +87,10 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
             tables.append(f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
                           f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")
     if summary.get("responses", {}).get("dead_zone"):
-        from hil.rig.figures import format_dead_zone
+        from hil.results.figures import format_dead_zone
         tables.append(format_dead_zone(summary["responses"]["dead_zone"]))
     if summary.get("fig3"):
-        from hil.rig.figures import format_fig3
+        from hil.results.figures import format_fig3
         tables.append(format_fig3(summary["fig3"]))
     ms = summary.get("missile")
     if ms and ms.get("runs"):

@@ -18,11 +18,11 @@ import numpy as np
 
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import BusSpec
-from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
-#: sensor frames of each application (their bytes 2-3 are the low 16 bits of the step)
-SENSOR_APP = {0x050: 0, 0x051: 0, 0x052: 0, 0x040: 1, 0x041: 1}
+# the sensor frames of each application (hil.bus.protocol.SENSOR_APP): their bytes 2-3 are
+# the low 16 bits of the step
 
 
 @dataclass

@@ -8,7 +8,9 @@ from hil.bus import load
 from hil.scenario.file import Scenario, loads_scenario, with_extra_faults
 from hil.sim.drivers import CdrwDriver
 from hil.rig.lockstep import LockstepRunner
-from hil.rig.runs import Outcome, RigConfig, run_flight
+from hil.runs.outcome import Outcome
+from hil.rig.config import RigConfig
+from hil.runs.run import run_flight
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_RESET
 from hil.rig.session import RigSession
 

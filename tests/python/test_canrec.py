@@ -22,7 +22,7 @@ import pytest
 from hil.bus import load
 from hil.parallel.flights import fly_campaign_flights
 from hil.rig.recorder import Candump, Canrec
-from hil.rig.runs import RigConfig
+from hil.rig.config import RigConfig
 from hil.rig.session import END_MARKER_SEQ
 from rig_helpers import CDRW_1S, scenario
 

@@ -179,7 +179,7 @@ def test_duration_and_steps_are_bounded_before_flying(capsys, tmp_path, text, wo
 def test_campaign_memory_counts_every_flight():
     from hil.scenario.file import load_default_scenario
     from hil.scenario.schema import ScenarioError
-    from hil.rig.budget import check_memory, estimate_bytes
+    from hil.runs.budget import check_memory, estimate_bytes
 
     sc = load_default_scenario("cdrw")
     assert estimate_bytes(sc, 1000) > 10 * estimate_bytes(sc, 1)

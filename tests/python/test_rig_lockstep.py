@@ -16,8 +16,12 @@ from hil.bus.logio import read_frames
 from hil.scenario.file import load_default_scenario, with_fault_start
 from hil.rig.lockstep import LockstepRunner
 from hil.io.output import read_csv
-from hil.rig.runs import RigConfig, fcc_args, run_campaign, run_sweep
-from hil.rig.session import FccDied, FccTimeout, RigSession
+from hil.rig.config import RigConfig
+from hil.rig.flight import fcc_args
+from hil.runs.campaign import run_campaign
+from hil.runs.sweep import run_sweep
+from hil.rig.errors import FccDied, FccTimeout
+from hil.rig.session import RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, airborne, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan

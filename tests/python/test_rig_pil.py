@@ -20,8 +20,10 @@ import pytest
 from hil.targets import board as pil_qemu
 from hil.io.output import read_csv
 from hil.targets.qemu_m4f import build_image
-from hil.rig.runs import RigConfig, fcc_args
-from hil.rig.session import FccDied, FccTimeout, RigSession
+from hil.rig.config import RigConfig
+from hil.rig.flight import fcc_args
+from hil.rig.errors import FccDied, FccTimeout
+from hil.rig.session import RigSession
 from rig_helpers import CDRW_1S, MISSILE_2S, airborne, fly, scenario
 
 pytestmark = [pytest.mark.vcan,

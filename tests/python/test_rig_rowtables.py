@@ -9,7 +9,8 @@ import pytest
 from hil.bus import load
 from hil.scenario.file import load_default_scenario
 from hil.results import rowtables
-from hil.rig.runs import RigConfig, fcc_args
+from hil.rig.config import RigConfig
+from hil.rig.flight import fcc_args
 
 
 def _written_options(mode: str, rows: str) -> set[str]:

@@ -21,7 +21,8 @@ from hil.cli import TARGET_CHOICES
 from hil.scenario.file import load_default_scenario
 from hil.rig.link import CanLink
 from hil.targets.qemu_m4f import PilError, boot_options, boot_record
-from hil.rig.runs import RigConfig, fcc_args
+from hil.rig.config import RigConfig
+from hil.rig.flight import fcc_args
 from hil.targets.registry import TARGETS
 from rig_helpers import CDRW_1S, cli, fly, scenario
 from test_cli import one_line

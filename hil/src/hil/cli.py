@@ -302,7 +302,7 @@ def _scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int
 
 
 def _config(args: argparse.Namespace, stage: Path):
-    from hil.rig.runs import RigConfig
+    from hil.rig.config import RigConfig
 
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -348,7 +348,7 @@ def _staged(args: argparse.Namespace, out: Path, runner) -> list:
 
 # ---- commands -------------------------------------------------------------------------------
 def cmd_run(args: argparse.Namespace) -> int:
-    from hil.rig.runs import run_flight
+    from hil.runs.run import run_flight
 
     sc = _scenario(args.aircraft, args.scenario, args.fault, args.seed)
     out = Path(str(args.out).replace("<aircraft>", args.aircraft))
@@ -376,7 +376,7 @@ def _run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: obje
 
 
 def cmd_campaign(args: argparse.Namespace) -> int:
-    from hil.rig.runs import run_campaign
+    from hil.runs.campaign import run_campaign
 
     if args.runs < 1:
         raise UsageError(f"--runs must be at least 1, got {args.runs}")
@@ -385,7 +385,7 @@ def cmd_campaign(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from hil.rig.runs import run_sweep
+    from hil.runs.sweep import run_sweep
 
     sc = _scenario("missile", args.scenario, args.fault, args.seed)
     return _run_many(args, run_sweep, "run_sweep_parallel", sc, args.periods, args.bits)
@@ -482,7 +482,7 @@ def cmd_faults(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    from hil.rig.replay import ReplayError, replay
+    from hil.runs.replay import ReplayError, replay
 
     try:
         extra = shlex.split(args.fcc_args)
@@ -508,7 +508,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from hil.rig.runs import run_demo
+    from hil.runs.demo import run_demo
 
     _staged(args, args.out, run_demo)
     return 0
@@ -591,7 +591,7 @@ def _fail(e: Exception) -> int:
     from hil.scenario.schema import ScenarioError
     from hil.io.paths import ToolNotFound
     from hil.io.rundir import OutDirRefused
-    from hil.rig.session import RigError
+    from hil.rig.errors import RigError
 
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
     if isinstance(e, (ScenarioError, OutDirRefused)):

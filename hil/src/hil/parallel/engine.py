@@ -22,7 +22,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from hil.rig.runs import RigConfig
+from hil.rig.config import RigConfig
 from hil.parallel.guest import GuestRig
 
 FLIGHT_TIMEOUT_S = 120.0

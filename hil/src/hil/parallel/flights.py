@@ -16,8 +16,11 @@ from hil.results.buslog import split_flights
 from hil.results.report import firmware_summary
 from hil.results.flight import cdrw_record, cdrw_result, missile_result
 from hil.util.progress import bar as progress_bar
-from hil.rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
-from hil.rig.session import RigError, RigSession
+from hil.runs.campaign import CampaignFlight, campaign_flight
+from hil.rig.config import RigConfig
+from hil.rig.flight import fly, require_log, fcc_args
+from hil.rig.errors import RigError
+from hil.rig.session import RigSession
 
 
 @dataclasses.dataclass
@@ -59,10 +62,10 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
             with progress_bar(d.n_steps, False, "") as bar:
-                runner = _fly(rig, [d], cfg, bar, runner)
+                runner = fly(rig, [d], cfg, bar, runner)
             records.append(cdrw_record(d))
         rig.shutdown()
-    _require_log(rig)
+    require_log(rig)
     logs = split_flights(out / "bus.log")
     if len(logs) != len(flights):
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
@@ -93,7 +96,7 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
         d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
         with progress_bar(0, False, "") as bar:
-            _fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
+            fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
         rig.shutdown()
     done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status, rig.security.counters()))
     shutil.rmtree(out, ignore_errors=True)

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.io.paths import REPO
-from hil.rig.session import RigError
+from hil.rig.errors import RigError
 from hil.parallel.server import LEASE_S, POLL_S, write_atomic
 
 BOOT_TIMEOUT_S = 120.0

@@ -39,6 +39,7 @@ from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
 from hil.reference.metrics import error_table
 from hil.results.sidrows import read_rows
 from hil.sim.sid_csv import sid_csv
+from hil.scenario.campaign import campaign_fault_times
 
 DT = 0.02
 FILTERS = ("kf", "zkf", "azkf")
@@ -59,8 +60,7 @@ def simulate(seed: int = 1, fault_start: float | None = 4.0) -> CdrwFlight:
 
 
 def campaign_times(runs: int, seed: int = 1) -> np.ndarray:
-    """Fault start times as `hil campaign` draws them (hil.rig.runs)."""
-    from hil.rig.runs import campaign_fault_times  # the rig's own rule, not a copy
+    """Fault start times as `hil campaign` draws them (hil.scenario.campaign)."""
     return campaign_fault_times(load_default_scenario("cdrw"), runs, seed)
 
 

@@ -41,7 +41,7 @@ def _sid_option_names() -> frozenset[str]:
     return frozenset(re.findall(r"(--[a-z0-9][a-z0-9-]*)", text))
 
 
-#: the options hil.rig.runs.fcc_args writes besides --rows: none is an identification option,
+#: the options hil.rig.flight.fcc_args writes besides --rows: none is an identification option,
 #: so a command line of these alone needs no look at sid_replay's usage (a process start)
 RIG_OPTIONS = frozenset({"--mode", "--apps", "--lqg-period", "--lqg-bits", "--lqg-delay",
                          "--gyro-var", "--accel-var", "--rt-priority"})

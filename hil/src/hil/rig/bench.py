@@ -18,7 +18,9 @@ import time
 from pathlib import Path
 
 from hil.scenario.file import load_default_scenario
-from hil.rig.runs import RigConfig, run_campaign, run_flight
+from hil.rig.config import RigConfig
+from hil.runs.campaign import run_campaign
+from hil.runs.run import run_flight
 
 FLIGHT_TARGET_S = 1.4
 CAMPAIGN_TARGET_S = 300.0

@@ -28,7 +28,8 @@ from collections.abc import Callable, Sequence
 
 from hil.sim.drivers import APP_NAMES, AppDriver, StepIO
 from hil.rig.link import pack_frame
-from hil.rig.session import FccDied, FccTimeout, RigSession
+from hil.rig.errors import FccDied, FccTimeout
+from hil.rig.session import RigSession
 
 DEFAULT_TIMEOUT_S = 2.0
 #: check the clock every this many frames even when frames keep coming

@@ -39,14 +39,15 @@ from hil.sim.drivers import AppDriver, StepIO
 from hil.rig.txsched import TimedSender
 from hil.util.processes import spawn
 from hil.bus.protocol import COMMAND_FLIGHT
-from hil.rig.session import RigError, RigSession
+from hil.rig.errors import RigError
+from hil.rig.session import RigSession
 from hil.rig.timesync import TimeMaster
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
 #: before the next instant: the integration, the next sample and the hand-over take
 #: milliseconds in the loaded UML guest
 PREP_S = 0.004
-#: the transmitter's SCHED_FIFO priority where allowed: above fcc's (hil.rig.runs.FCC_RT_PRIORITY),
+#: the transmitter's SCHED_FIFO priority where allowed: above fcc's (hil.rig.flight.FCC_RT_PRIORITY),
 #: so that a step of fcc's never delays a sample
 TX_RT_PRIORITY = 51
 #: the first sampling instant is at least this far after fly() is called

@@ -30,7 +30,8 @@ from hil.sim.drivers import CdrwDriver
 from hil.rig.bench import print_table
 from hil.rig.recorder import RECORDERS
 from hil.util.processes import proc_stat
-from hil.rig.runs import RigConfig, _fly, open_session
+from hil.rig.config import RigConfig
+from hil.rig.flight import fly, open_session
 
 _TICK = os.sysconf("SC_CLK_TCK")
 
@@ -83,7 +84,7 @@ def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
         for _ in range(flights):
             d = CdrwDriver(sc, rig.codec, False)
             with progress_bar(d.n_steps, False, "") as bar:
-                runner = _fly(rig, [d], cfg, bar, runner)
+                runner = fly(rig, [d], cfg, bar, runner)
             s.steps += d.n_steps
         rig.bus_recorder.wait_idle(10.0)  # type: ignore[union-attr]  # it has read the last step
         s.wall_s = time.perf_counter() - t0

@@ -25,7 +25,8 @@ from typing import Any
 
 from hil.scenario.file import load_default_scenario
 from hil.scenario.plant_options import RT_ACTUATION_DELAY
-from hil.rig.runs import RigConfig, run_flight
+from hil.rig.config import RigConfig
+from hil.runs.run import run_flight
 
 RMS_TOL = 0.02
 AGE_P99_US = 2000.0

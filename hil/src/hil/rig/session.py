@@ -29,6 +29,7 @@ from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, writ
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
 from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.rig.config import RigConfig
+from hil.rig.errors import FccDied, FccTimeout, RigError
 from hil.targets.device import Device, DeviceStart
 from hil.targets.registry import device_class
 
@@ -47,20 +48,6 @@ STARTUP_TIMEOUT_S = 10.0
 LEFTOVER_LISTEN_S = 0.25
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
-
-
-class RigError(RuntimeError):
-    """A run cannot go on (one line for the user; the bus log is kept)."""
-
-    exit_code = 1
-
-
-class FccTimeout(RigError):
-    exit_code = 3
-
-
-class FccDied(RigError):
-    exit_code = 4
 
 
 @dataclass

@@ -281,3 +281,15 @@ def with_extra_faults(scenario: Scenario, specs: Iterable[str],
     """Add command-line faults (parse_fault_spec strings) to a scenario."""
     extra = tuple(parse_fault_spec(s, scenario.aircraft, known_frames) for s in specs)
     return scenario.replace(faults=scenario.faults + extra)
+
+
+def is_paper_scenario(sc: Scenario) -> bool:
+    """The paper's default CDRW scenario (the embedded one, its seed, its fault): only then
+    are the paper's numbers printed beside ours."""
+    try:
+        ref = load_default_scenario("cdrw", {m.name for m in load().messages})
+    except Exception:  # noqa: BLE001 - no default, no paper rows
+        return False
+    return sc.aircraft == "cdrw" and sc.seed == ref.seed and sc.duration == ref.duration \
+        and sc.plant == ref.plant and sc.sensors == ref.sensors \
+        and [f.describe() for f in sc.faults] == [f.describe() for f in ref.faults]

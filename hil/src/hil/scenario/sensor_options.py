@@ -4,10 +4,6 @@ scenarios without the noise models."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    import numpy as np
 
 #: signal names a sensor-level fault may target, per aircraft
 CDRW_SIGNALS = ("alpha", "q", "de")
@@ -48,8 +44,3 @@ class MissileSensorOptions:
             raise ValueError("noise variances must be >= 0")
         if not self.noise_scale >= 0.0:
             raise ValueError("noise_scale must be >= 0")
-
-    @property
-    def R(self) -> np.ndarray:
-        import numpy as np
-        return np.diag([self.var_gyro, self.var_acc])

@@ -130,7 +130,7 @@ def design_lqg(T: float, sensors: MissileSensorOptions = MissileSensorOptions(),
     g = gam[:, None]
     p = solve_discrete_are(phi, g, q11, np.array([[q22]]), s=q12[:, None])
     k = np.linalg.solve(np.array([[q22]]) + g.T @ p @ g, g.T @ p @ phi + q12[None, :])[0]
-    r = sensors.R
+    r = np.diag([sensors.var_gyro, sensors.var_acc])   # the sensors' noise covariance
     h = missile.H
     m = solve_discrete_are(phi.T, h.T, qd, r)
     m = 0.5 * (m + m.T)

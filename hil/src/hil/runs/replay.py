@@ -28,7 +28,8 @@ from hil.bus.dbc import BusSpec
 from hil.bus.logio import read_frames, run_log
 from hil.rig.config import RigConfig
 from hil.rig.link import pack_frame
-from hil.rig.session import FccDied, RigSession
+from hil.rig.errors import FccDied
+from hil.rig.session import RigSession
 from hil.rig.simtime import WALL_LOG
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}

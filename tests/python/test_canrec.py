@@ -230,9 +230,10 @@ def test_lost_frames_are_counted_reported_and_fail_the_log(tmp_path) -> None:
     (["demo"], "canrec"),
 ])
 def test_every_run_records_with_canrec_unless_told(tmp_path, argv, recorder) -> None:
-    from hil.cli import _config, _parser
+    from hil.cli.common import rig_config
+    from hil.cli.parser import build
 
-    assert _config(_parser().parse_args(argv), tmp_path).recorder == recorder
+    assert rig_config(build().parse_args(argv), tmp_path).recorder == recorder
 
 
 def test_an_unknown_recorder_is_one_line(capsys) -> None:

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from hil.bus.secoc import TEST_KEY_FILE
-from hil.cli import TARGET_CHOICES
+from hil.cli.parser import TARGET_CHOICES
 from hil.scenario.file import load_default_scenario
 from hil.rig.link import CanLink
 from hil.targets.qemu_m4f import PilError, boot_options, boot_record

@@ -24,8 +24,8 @@ from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from hil.util.rounding import round_half_away
 from hil.bus.e2e import DEFAULT_MAX_DELTA_COUNTER
+from hil.util.rounding import round_half_away
 
 if TYPE_CHECKING:
     from cantools.database.can import Database, Message, Signal

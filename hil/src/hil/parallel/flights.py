@@ -10,17 +10,17 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from hil.results.buslog import split_flights
+from hil.results.flight import cdrw_record, cdrw_result, missile_result
+from hil.results.report import firmware_summary
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.rig.flight import fcc_args, fly, require_log
+from hil.rig.session import RigSession
+from hil.runs.campaign import CampaignFlight, campaign_flight
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
-from hil.results.buslog import split_flights
-from hil.results.report import firmware_summary
-from hil.results.flight import cdrw_record, cdrw_result, missile_result
 from hil.util.progress import bar as progress_bar
-from hil.runs.campaign import CampaignFlight, campaign_flight
-from hil.rig.config import RigConfig
-from hil.rig.flight import fly, require_log, fcc_args
-from hil.rig.errors import RigError
-from hil.rig.session import RigSession
 
 
 @dataclasses.dataclass

@@ -25,8 +25,8 @@ from pathlib import Path
 from typing import Any
 
 from hil.io.paths import REPO
+from hil.parallel.files import LEASE_S, POLL_S, write_atomic
 from hil.rig.errors import RigError
-from hil.parallel.server import LEASE_S, POLL_S, write_atomic
 
 BOOT_TIMEOUT_S = 120.0
 #: the guest's own limit (with-vcan --timeout); the lease ends it much earlier when unused

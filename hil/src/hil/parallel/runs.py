@@ -14,19 +14,17 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
+from hil.io.output import write_json
+from hil.parallel.engine import Cluster, Flight
+from hil.parallel.flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.runs.campaign import write_campaign
+from hil.runs.outcome import Outcome, finish
+from hil.runs.sweep import sweep_points, write_sweep
+from hil.scenario.campaign import campaign_fault_times
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
-from hil.io.output import write_json
-from hil.rig.errors import RigError
-from hil.runs.outcome import Outcome, finish
-from hil.rig.config import RigConfig
-from hil.scenario.campaign import campaign_fault_times
-from hil.runs.sweep import sweep_points, write_sweep
-from hil.runs.campaign import write_campaign
-from hil.parallel.engine import Cluster, Flight
-from hil.parallel.flights import (add_counters, campaign_flights, fly_campaign_flights,
-                                  fly_sweep_point)
-
 
 #: most flights one rig session flies in a row (fcc reset between them, as in the sequential
 #: campaign): the session's start and end (recorder, fcc, its first heartbeat, shutdown) are

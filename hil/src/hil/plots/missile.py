@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from hil.plots._mpl import plt, save
+from hil.plots.mpl import plt, save
 
 Series = dict[str, np.ndarray]
 BITS_COLORS = {6: "tab:red", 8: "tab:green", 12: "tab:blue"}

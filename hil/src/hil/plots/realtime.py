@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.plots._mpl import plt, save
+from hil.plots.mpl import plt, save
 
 NAME = "realtime_timing.png"
 

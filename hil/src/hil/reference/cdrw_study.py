@@ -34,12 +34,12 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.scenario.file import load_default_scenario, with_fault_start
-from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
 from hil.reference.metrics import error_table
 from hil.results.sidrows import read_rows
-from hil.sim.sid_csv import sid_csv
 from hil.scenario.campaign import campaign_fault_times
+from hil.scenario.file import load_default_scenario, with_fault_start
+from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
+from hil.sim.sid_csv import sid_csv
 
 DT = 0.02
 FILTERS = ("kf", "zkf", "azkf")

@@ -5,8 +5,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from hil.results import metrics
 from hil.reference.flight import DT
+from hil.results import metrics
 
 
 def _estimate(est: Mapping[str, np.ndarray]) -> np.ndarray:

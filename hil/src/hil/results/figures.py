@@ -20,13 +20,10 @@ from typing import Any
 
 import numpy as np
 
+from hil.io.output import read_csv, write_json
 from hil.results import metrics
 from hil.scenario.file import Scenario
-from hil.io.output import read_csv, write_json
 
-
-#: Fig. 3's grid of sampling periods: 0.02 to 0.3 s every 10 ms (29 points)
-FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 #: Fig. 3's word lengths and gyro variances; the Monte-Carlo points
 FIG3_BITS = (6, 8, 12)
 FIG3_GYRO_VARS = (0.8, 8e-5)

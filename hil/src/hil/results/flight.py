@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from hil.results import metrics
 from hil.bus import dbc as dbc_spec
 from hil.bus.dbc import BusSpec
+from hil.results import metrics
+from hil.results.buslog import FlightFrames, sid_arrays
+from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
 from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
 from hil.sim.missile_runs import design_lqg, rms_over, simulate_missile
-from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
-from hil.results.buslog import FlightFrames, sid_arrays
 
 Series = dict[str, np.ndarray]
 

@@ -7,7 +7,8 @@ from __future__ import annotations
 from typing import Any
 
 from hil.results import metrics
-from hil.rig.session import StatusCounters
+from hil.results.figures import format_dead_zone, format_fig3
+from hil.rig.status import StatusCounters
 
 
 def firmware_summary(status: StatusCounters, rig_security: dict[str, int] | None = None) -> dict[str, Any]:
@@ -87,10 +88,8 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
             tables.append(f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
                           f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")
     if summary.get("responses", {}).get("dead_zone"):
-        from hil.results.figures import format_dead_zone
         tables.append(format_dead_zone(summary["responses"]["dead_zone"]))
     if summary.get("fig3"):
-        from hil.results.figures import format_fig3
         tables.append(format_fig3(summary["fig3"]))
     ms = summary.get("missile")
     if ms and ms.get("runs"):

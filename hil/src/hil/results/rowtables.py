@@ -20,12 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from hil.results import metrics
 from hil.bus.dbc import BusSpec
-from hil.results.sidrows import read_rows
-from hil.sim.sid_csv import sid_csv
-from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.io.paths import tool
+from hil.results import metrics
+from hil.results.sidrows import read_rows
+from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
+from hil.sim.sid_csv import sid_csv
 
 ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)

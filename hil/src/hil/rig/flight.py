@@ -17,12 +17,12 @@ from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.lockstep import LockstepRunner
-from hil.rig.session import RigSession, StatusCounters
+from hil.rig.realtime import RealtimeRunner
+from hil.rig.session import RigSession
+from hil.rig.status import StatusCounters
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
 from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver, OracleFlag
-from hil.rig.realtime import RealtimeRunner
-
 
 #: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
 #: SCHED_FIFO python starved the guest's timers and frame delivery, measured)

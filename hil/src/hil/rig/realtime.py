@@ -34,14 +34,14 @@ import subprocess
 import time
 from collections.abc import Callable, Sequence
 
-from hil.scenario.faults import Flood
-from hil.sim.drivers import AppDriver, StepIO
-from hil.rig.txsched import TimedSender
-from hil.util.processes import spawn
 from hil.bus.protocol import COMMAND_FLIGHT
 from hil.rig.errors import RigError
 from hil.rig.session import RigSession
 from hil.rig.timesync import TimeMaster
+from hil.rig.txsched import TimedSender
+from hil.scenario.faults import Flood
+from hil.sim.drivers import AppDriver, StepIO
+from hil.util.processes import spawn
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
 #: before the next instant: the integration, the next sample and the hand-over take

@@ -16,78 +16,39 @@ import shutil
 import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from hil.bus import SIM_NODES, E2EReceiver, FrameCodec, load
 from hil.bus.codec import decode_values
 from hil.bus.dbc import BusSpec
-from hil.bus.protocol import (COMMAND_GROUND, COMMAND_NONE, COMMAND_RESET, COMMAND_SHUTDOWN,
-                              MODE_CODES, MODE_NAMES)
+from hil.bus.protocol import (
+    COMMAND_GROUND,
+    COMMAND_NONE,
+    COMMAND_RESET,
+    COMMAND_SHUTDOWN,
+    MODE_CODES,
+    MODE_NAMES,
+)
 from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, write_key_file
-from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
-from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied, FccTimeout, RigError
+from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
+from hil.rig.status import STATUS_FRAMES, StatusCounters
+from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.targets.device import Device, DeviceStart
 from hil.targets.registry import device_class
 
 if TYPE_CHECKING:  # realtime's (hil.rig.realtime makes them): not imported for lockstep
-    from hil.rig.txsched import TimedSender
     from hil.rig.timesync import TimeMaster
+    from hil.rig.txsched import TimedSender
 
-STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
-                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS")
-#: heartbeat signals that are states or gauges, not wrapping counters
-GAUGES = ("mode", "op_mode", "stale_now", "worst_step_us", "trip", "state", "master", "offset_us",
-          "rate_ppm")
 STARTUP_TIMEOUT_S = 10.0
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
-
-
-@dataclass
-class StatusCounters:
-    """fcc's heartbeat counters, unwrapped across the 16-bit (or 8-bit) fields of the DBC
-    (the heartbeat comes often enough that no counter moves by a whole wrap in between)."""
-
-    values: dict[str, int] = field(default_factory=dict)
-    _last_raw: dict[str, int] = field(default_factory=dict)
-    last: dict[str, dict[str, int | float]] = field(default_factory=dict)
-    heartbeats: int = 0
-
-    @classmethod
-    def from_frames(cls, spec: BusSpec, frames: list[tuple[int, bytes]]) -> StatusCounters:
-        sc = cls()
-        for frame_id, data in frames:
-            sc.update(spec, frame_id, data)
-        return sc
-
-    def update(self, spec: BusSpec, frame_id: int, data: bytes) -> None:
-        msg = spec.by_id(frame_id)
-        if msg is None or msg.name not in STATUS_FRAMES or len(data) != 8:
-            return
-        vals = msg.decode(data)
-        self.last[msg.name] = dict(vals)
-        if msg.name == "FCC_STATUS":
-            self.heartbeats += 1
-        for sig in msg.signals:
-            key = f"{msg.name}.{sig.name}"
-            if sig.length == 1 or sig.name in GAUGES:
-                self.values[key] = vals[sig.name]  # flags and gauges: not counters
-                continue
-            raw = int(vals[sig.name])
-            prev = self._last_raw.get(key)
-            mod = 1 << sig.length
-            self.values[key] = self.values.get(key, 0) + (raw if prev is None else (raw - prev) % mod)
-            self._last_raw[key] = raw
-
-    def get(self, name: str, default: int = 0) -> int:
-        return self.values.get(name, default)
 
 
 _SUMMARY = re.compile(r"^fcc summary: (\w+) steps=\d+ degraded=\d+ errors=(\d+)")

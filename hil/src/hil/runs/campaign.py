@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from hil.bus import load as load_spec
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables
 from hil.results.buslog import iter_flights
@@ -28,7 +29,6 @@ from hil.scenario.file import Scenario, is_paper_scenario, with_fault_start
 from hil.scenario.schema import ScenarioError
 from hil.sim.drivers import CdrwDriver
 from hil.util.progress import bar as progress_bar
-from hil.bus import load as load_spec
 
 
 @dataclass

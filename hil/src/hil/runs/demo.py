@@ -9,6 +9,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.io.output import write_json
+from hil.io.paths import tool
+from hil.results import figures
+from hil.results.fig3_grid import FIG3_PERIODS
 from hil.rig.config import RigConfig
 from hil.rig.session import RigSession
 from hil.runs.outcome import Outcome, report_outcome
@@ -16,8 +19,6 @@ from hil.runs.run import run_flight
 from hil.runs.sweep import run_sweep
 from hil.scenario.file import load_default_scenario
 from hil.sim.missile_cov import missile_rms_study
-from hil.results import figures
-from hil.io.paths import tool
 
 
 def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = (),
@@ -33,7 +34,7 @@ def run_fig3(cfg: RigConfig, seconds: float = 0.0, periods: Sequence[float] = ()
     out = cfg.out_dir
     studies, hil = [], []
     for var in figures.FIG3_GYRO_VARS:
-        studies.append(missile_rms_study(figures.FIG3_PERIODS, figures.FIG3_BITS, var,
+        studies.append(missile_rms_study(FIG3_PERIODS, figures.FIG3_BITS, var,
                                          base.sensors.var_acc, tool("lqg_design")))  # type: ignore[union-attr]
         sub = out / f"mc_gyro_{var:g}"
         sub.mkdir(parents=True, exist_ok=True)

@@ -23,12 +23,12 @@ from hil.bus import load
 from hil.bus.candump import LogFrame
 from hil.io.output import write_csv
 from hil.io.rundir import atomic_write_text
+from hil.plots import plot_run_dir
 from hil.results.flight import MissileResult
 from hil.results.report import summary_tables
 from hil.rig.config import RigConfig
 from hil.rig.simtime import finish_bus_log
 from hil.scenario.file import Scenario
-from hil.plots import plot_run_dir
 
 
 @dataclass

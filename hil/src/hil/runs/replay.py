@@ -27,8 +27,8 @@ from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec
 from hil.bus.logio import read_frames, run_log
 from hil.rig.config import RigConfig
-from hil.rig.link import pack_frame
 from hil.rig.errors import FccDied
+from hil.rig.link import pack_frame
 from hil.rig.session import RigSession
 from hil.rig.simtime import WALL_LOG
 

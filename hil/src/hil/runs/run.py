@@ -12,22 +12,28 @@ from typing import Any
 from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
 from hil.io.output import write_csv, write_json
-from hil.results import metrics, rowtables
+from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
-from hil.results.flight import (CdrwResult, cdrw_record, cdrw_result, missile_open_loop,
-                                missile_result)
+from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_open_loop, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
-from hil.rig.flight import (Flown, fcc_args, fly, lqg_request, make_drivers, open_session,
-                            require_log, run_info)
+from hil.rig.flight import (
+    Flown,
+    fcc_args,
+    fly,
+    lqg_request,
+    make_drivers,
+    open_session,
+    require_log,
+    run_info,
+)
 from hil.rig.simtime import finish_bus_log
 from hil.runs.budget import check_memory
 from hil.runs.outcome import Outcome, report_outcome, step_periods, write_fault_log, write_missile
+from hil.scenario.faults import Flood
 from hil.scenario.file import Scenario, is_paper_scenario
 from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
-from hil.scenario.faults import Flood
-from hil.results import timing
 
 
 def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run") -> Outcome:

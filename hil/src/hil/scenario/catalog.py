@@ -8,8 +8,8 @@ import math
 import typing
 from typing import Any
 
-from hil.scenario.sensor_options import SIGNALS
 from hil.scenario.faults import KINDS, Fault
+from hil.scenario.sensor_options import SIGNALS
 
 #: the unit of each field, by name (sensor values are in the signal's unit)
 UNITS = {

@@ -30,10 +30,10 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
-from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build
+from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 
 #: the embedded scenarios (package data, beside the packaged DBC)
 PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -4,8 +4,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from hil.scenario.schema import spec
 from hil.scenario.cdrw_params import DEFAULT_PARAMS, CdrwParams
+from hil.scenario.schema import spec
 
 #: Multisine of the default CDRW excitation: frequencies (Hz) with Schroeder phases, each
 #: component of amplitude excitation/len, so the peak never exceeds `excitation_deg`.

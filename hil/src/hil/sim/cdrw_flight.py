@@ -15,12 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
 from hil.scenario.file import Scenario, load_default_scenario
+from hil.scenario.plant_options import CdrwPlantOptions
+from hil.sim.cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
+from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
 from hil.sim.sensors import CdrwSensors
 from hil.sim.sid_csv import sid_csv
-from hil.sim.cdrw import CdrwLinearisation, CdrwPlant, CdrwTrim
-from hil.scenario.plant_options import CdrwPlantOptions
 
 
 @dataclass(frozen=True)

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hil.sim.cdrw import DT_FRAME, CdrwPlant
 from hil.scenario.cdrw_params import DEFAULT_PARAMS, CdrwParams
+from hil.sim.cdrw import DT_FRAME, CdrwPlant
 
 
 @dataclass(frozen=True)

@@ -21,13 +21,16 @@ import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from hil.bus.protocol import APP_CDRW, APP_MISSILE
+import numpy as np
+
 from hil.bus import FrameCodec
-from hil.sim.sensor_faults import FaultEvent
-from hil.scenario.file import Scenario
+from hil.bus.protocol import APP_CDRW, APP_MISSILE
 from hil.scenario.faults import SensorFault
-from hil.scenario.file import SENSOR_FRAMES
+from hil.scenario.file import SENSOR_FRAMES, Scenario
+from hil.sim.cdrw_flight import CdrwSimulation
 from hil.sim.frame_faults import KIND_CODES, FrameInjector, TxFrame
+from hil.sim.missile_runs import MissileSimulation
+from hil.sim.sensor_faults import FaultEvent
 
 if TYPE_CHECKING:
     from hil.sim.cdrw_flight import CdrwSample
@@ -141,7 +144,6 @@ class CdrwDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
-        from hil.sim.cdrw_flight import CdrwSimulation
         self.sim = CdrwSimulation(scenario)
         super().__init__(scenario, codec, self.sim.dt, self.sim.n_samples, CDRW_SENSOR_FRAMES,
                          realtime, oracle)
@@ -191,8 +193,6 @@ class MissileDriver(AppDriver):
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool = False,
                  oracle: OracleFlag | None = None) -> None:
-        import numpy as np  # the missile's loop is closed through the bus: numpy flies too
-        from hil.sim.missile_runs import MissileSimulation
         self.sim = MissileSimulation(scenario)
         super().__init__(scenario, codec, self.sim.period, self.sim.n_periods, MISSILE_SENSOR_FRAMES,
                          realtime, oracle)

@@ -41,12 +41,22 @@ from typing import TYPE_CHECKING
 from hil.bus import FrameCodec
 from hil.bus.dbc import MessageSpec, SignalSpec
 from hil.bus.e2e import counter_of, protect
-from hil.scenario.faults import (BadCrc, CounterFreeze, CounterJump, Fault, Flood, FrameDelay,
-                                 FrameDuplicate, FrameLoss, FrameReplay, OutOfRange, Silence,
-                                 WrongDlc)
-from hil.sim.sensor_faults import FaultEvent, FaultTimeline
-from hil.sim.sensor_faults import random_stream
-from hil.scenario.faults import KINDS
+from hil.scenario.faults import (
+    KINDS,
+    BadCrc,
+    CounterFreeze,
+    CounterJump,
+    Fault,
+    Flood,
+    FrameDelay,
+    FrameDuplicate,
+    FrameLoss,
+    FrameReplay,
+    OutOfRange,
+    Silence,
+    WrongDlc,
+)
+from hil.sim.sensor_faults import FaultEvent, FaultTimeline, random_stream
 
 if TYPE_CHECKING:
     import numpy as np

@@ -26,8 +26,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from hil.sim.linalg import expm
 
+from hil.sim.linalg import expm
 from hil.util.rounding import round_half_away
 
 

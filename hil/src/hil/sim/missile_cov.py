@@ -34,9 +34,9 @@ from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
-from hil.sim.linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
 
 from hil.sim import missile
+from hil.sim.linalg import expm, solve_continuous_lyapunov, solve_discrete_lyapunov
 
 #: D/A full scale span (rad): LSB = DAC_SPAN / 2^N
 DAC_SPAN = 2.0 * missile.U_MAX

@@ -25,15 +25,15 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from hil.sim.linalg import expm, solve_discrete_are
 
-from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
 from hil.scenario.file import Scenario, load_default_scenario
-from hil.scenario.sensor_options import MissileSensorOptions
-from hil.sim.sensors import MissileSensors
-from hil.sim import missile
-from hil.sim.missile import DAConverter, MissilePlant
 from hil.scenario.plant_options import LqgOptions, MissilePlantOptions
+from hil.scenario.sensor_options import MissileSensorOptions
+from hil.sim import missile
+from hil.sim.linalg import expm, solve_discrete_are
+from hil.sim.missile import DAConverter, MissilePlant
+from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
+from hil.sim.sensors import MissileSensors
 
 #: seed 2's cost weights: J = E int (x^T A x + u^T B u) dt
 COST_A = np.diag([0.12, 11.0, 0.0])

@@ -14,17 +14,14 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+
+import numpy as np
 
 from hil.scenario.faults import Fault, SensorFault
-
-if TYPE_CHECKING:
-    import numpy as np
 
 
 def random_stream(seed: int, stream: int) -> np.random.Generator:
     """numpy's generator of one named stream of a scenario seed."""
-    import numpy as np
     return np.random.default_rng([int(seed), stream])
 
 

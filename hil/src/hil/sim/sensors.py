@@ -20,9 +20,8 @@ import math
 
 import numpy as np
 
-from hil.sim import missile
-
 from hil.scenario.sensor_options import CdrwSensorOptions, MissileSensorOptions
+from hil.sim import missile
 
 
 def bounded_noise(rng: np.random.Generator, distribution: str, bound: float) -> float:

@@ -29,11 +29,11 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from hil.targets.bootcfg import BootConfig
 from hil.bus.secoc import TEST_KEY_FILE
+from hil.io.paths import REPO
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
-from hil.io.paths import REPO
+from hil.targets.bootcfg import BootConfig
 from hil.targets.device import Device, DeviceStart
 
 #: the trip of the Cortex-M4F PIL image (firmware/target/m4f_main.c: no entropy on the board)

@@ -1,12 +1,12 @@
 """Campaigns on several rigs (scripts/bench.d/parallel, scripts/bench.d/table5-1000), run
 from the host shell.
 
-    python -m hil.parallel.bench scaling [--runs 24] [--rounds 2] [--recorder canrec|candump]
+    python -m hil.bench.parallel scaling [--runs 24] [--rounds 2] [--recorder canrec|candump]
         flights/s of the same campaign with 1 and 2 workers, alternated in one run (target:
         2 workers >= 1.7x 1 worker on a 2-core machine), beside the sequential campaign in one
         guest; the engine's own cost per task (Dask round trip of a no-op), the rig hand-over
         per flight, and from them an estimate of the flights/s of N machines
-    python -m hil.parallel.bench table5 [--runs 1000] [--workers 2]
+    python -m hil.bench.parallel table5 [--runs 1000] [--workers 2]
         Table 5 with 95 % intervals over 1000 flights (target <= 10 minutes)
 
 The machine's load average is printed beside every timing: on a shared machine the ratios
@@ -24,8 +24,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from hil.rig.bench import print_table
+from hil.bench.rig import print_table
 from hil.io.paths import REPO
+from hil.parallel.engine import Cluster, noop
 
 SPEEDUP_TARGET = 1.7
 TABLE5_TARGET_S = 600.0
@@ -51,7 +52,6 @@ def _campaign(out: Path, runs: int, extra: list[str], guest: bool = False) -> tu
 
 def _engine_cost(tasks: int = 2000) -> tuple[float, float]:
     """(ms per no-op task with 2 local workers, cluster start s): the engine's own cost."""
-    from hil.parallel.engine import Cluster, noop
     with Cluster(workers=2) as cl:
         start = cl.start_s
         cl.client.gather(cl.client.map(noop, range(50), pure=False))   # warm
@@ -149,7 +149,7 @@ def table5(runs: int, workers: int) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="hil.parallel.bench")
+    p = argparse.ArgumentParser(prog="hil.bench.parallel")
     sub = p.add_subparsers(dest="what", required=True)
     s = sub.add_parser("scaling")
     s.add_argument("--runs", type=int, default=24)

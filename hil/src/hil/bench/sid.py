@@ -1,6 +1,6 @@
 """Time one identification step of the numpy reference (scripts/bench.d/sid).
 
-    python -m hil.reference.bench [STEPS]
+    python -m hil.bench.sid [STEPS]
 
 Prints "SCENARIO US_PER_STEP" for the scenarios of sid_bench: the step is
 MLS update + filter step on the synthetic flight, after the same warm-up
@@ -9,8 +9,9 @@ generator matrix is at its largest, p = 1004).
 """
 from __future__ import annotations
 
-import sys
+import argparse
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -52,12 +53,14 @@ def time_scenario(name: str, steps: int) -> float:
     return (time.perf_counter() - t0) / steps * 1e6
 
 
-def main(argv: list[str]) -> int:
-    steps = int(argv[0]) if argv else 300
+def main(argv: Sequence[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m hil.bench.sid", description=__doc__.splitlines()[0])
+    p.add_argument("steps", nargs="?", type=int, default=300, help="measured steps (default 300)")
+    steps = p.parse_args(argv).steps
     for name in SCENARIOS:
         print(f"{name} {time_scenario(name, steps):.1f}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    raise SystemExit(main())

@@ -17,10 +17,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from hil.scenario.file import load_default_scenario
 from hil.rig.config import RigConfig
 from hil.runs.campaign import run_campaign
 from hil.runs.run import run_flight
+from hil.scenario.file import load_default_scenario
 
 FLIGHT_TARGET_S = 1.4
 CAMPAIGN_TARGET_S = 300.0
@@ -36,7 +36,7 @@ def _flight(out: Path) -> tuple[float, float, float]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="hil.rig.bench")
+    p = argparse.ArgumentParser(prog="hil.bench.rig")
     p.add_argument("--flights", type=int, default=5, help="default flights to time (median)")
     p.add_argument("--campaign-runs", type=int, default=100)
     args = p.parse_args(argv)

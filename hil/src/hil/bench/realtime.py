@@ -10,7 +10,7 @@ what "realtime flies like lockstep" means here) and without (d = 0, the ideal th
 against).  The machine's load average is printed with the table: realtime in the UML guest
 shares one virtual CPU with the simulator and is at the host's mercy.
 
-    .venv/bin/python -m hil.rig.rtbench [--seconds 60] [--periods 0.1,0.05,0.02] [--out DIR]
+    .venv/bin/python -m hil.bench.realtime [--seconds 60] [--periods 0.1,0.05,0.02] [--out DIR]
 """
 from __future__ import annotations
 
@@ -23,10 +23,10 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from hil.scenario.file import load_default_scenario
-from hil.scenario.plant_options import RT_ACTUATION_DELAY
 from hil.rig.config import RigConfig
 from hil.runs.run import run_flight
+from hil.scenario.file import load_default_scenario
+from hil.scenario.plant_options import RT_ACTUATION_DELAY
 
 RMS_TOL = 0.02
 AGE_P99_US = 2000.0

@@ -2,7 +2,7 @@
 scripts/with-vcan): candump against canrec side by side in one guest, the same CDRW flights
 in one session each, rounds alternated.
 
-    python -m hil.rig.recbench [--flights 4] [--rounds 2] [--no-strace]
+    python -m hil.bench.recorder [--flights 4] [--rounds 2] [--no-strace]
 
 Per flight: the wall time of the lockstep loops and the CPU time of each process of the rig
 (the recorder, fcc: /proc/PID/stat; the simulator: this process), all taken around the
@@ -24,14 +24,14 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from hil.scenario.file import load_default_scenario
-from hil.util.progress import bar as progress_bar
-from hil.sim.drivers import CdrwDriver
-from hil.rig.bench import print_table
-from hil.rig.recorder import RECORDERS
-from hil.util.processes import proc_stat
+from hil.bench.rig import print_table
 from hil.rig.config import RigConfig
 from hil.rig.flight import fly, open_session
+from hil.rig.recorder import RECORDERS
+from hil.scenario.file import load_default_scenario
+from hil.sim.drivers import CdrwDriver
+from hil.util.processes import proc_stat
+from hil.util.progress import bar as progress_bar
 
 _TICK = os.sysconf("SC_CLK_TCK")
 
@@ -125,7 +125,7 @@ def _strace_calls(path: Path) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="hil.rig.recbench")
+    p = argparse.ArgumentParser(prog="hil.bench.recorder")
     p.add_argument("--flights", type=int, default=4, help="default CDRW flights per session")
     p.add_argument("--rounds", type=int, default=2, help="rounds of the recorders, alternated")
     p.add_argument("--no-strace", action="store_true", help="no system call count (strace)")

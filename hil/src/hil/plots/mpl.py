@@ -9,6 +9,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from hil.io.rundir import atomic_write
+
 #: fixed metadata: the same data give the same PNG bytes
 _META = {"Software": None}
 
@@ -16,7 +18,6 @@ _META = {"Software": None}
 def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None) -> Path:
     """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write."""
     fig.tight_layout(rect=rect)
-    from hil.io.rundir import atomic_write
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata=_META)

@@ -13,7 +13,7 @@ and writes
   (for tests/c/test_linalg.c), both rendered from the JSON (so the C tests
   need no JSON parser).
 
-Both files are generated, never edited: ``tests/python/test_lqg_design.py``
+Both files are generated, never edited: ``tests/python/fcc/test_lqg_design.py``
 recomputes them and fails on drift.
 
     .venv/bin/python tests/gen_lqg_vectors.py [--out DIR]

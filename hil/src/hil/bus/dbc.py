@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from cantools.database.can import Database, Message, Signal
 
 #: the DBC shipped with the package (in the source tree a link to dbc/fcc_hil.dbc, the one
-#: source; a wheel holds a copy, tests/python/test_install.py checks it equals the source)
+#: source; a wheel holds a copy, tests/python/cli/test_install.py checks it equals the source)
 PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
 #: the packaged DBC digested (dbc/generate writes it from dbc/fcc_hil.dbc)
 PACKAGED_SPEC = PACKAGED_DBC.with_name("fcc_hil.spec.json")

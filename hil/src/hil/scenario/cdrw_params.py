@@ -27,7 +27,7 @@ Separated flow keeps a fraction eta_* of the attached lift slope, pitch stiffnes
 damping; because X lags alpha (tau1) and is driven by alpha - tau2*alpha_dot, the same alpha
 gives a larger X on the up-stroke than on the down-stroke: that is the hysteresis.
 
-Resulting numbers (computed from these parameters; tests/python/test_plant_cdrw.py checks
+Resulting numbers (computed from these parameters; tests/python/sim/test_plant_cdrw.py checks
 the flight they give): trim at alpha = 9 deg needs V = 11.96 m/s (qbar = 87.5 Pa,
 cbar/V = 0.051 s) and de = -2.41 deg; attached-flow short period -5.88 +- 6.97j
 (wn = 9.1 rad/s, zeta = 0.64, rho of the 20 ms discrete A = 0.889); fully separated

@@ -12,7 +12,7 @@ from hil.bus import load
 from hil.bus.secoc import (CANDIDATES, WINDOW, KeyFileError, Receiver, Sender, Verdict,
                            authenticator, cmac, read_key_file, TEST_KEY_FILE, write_key_file)
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 NIST_KEY = bytes.fromhex("2b7e151628aed2a6abf7158809cf4f3c")
 NIST_MSG = bytes.fromhex("6bc1bee22e409f96e93d7e117393172aae2d8a571e03ac9c9eb76fac45af8e51"
                          "30c81c46a35ce411e5fbc1191a0a52eff69f2445df4f9b17ad2b417be66c3710")

@@ -2,7 +2,7 @@
 firmware's own replay tools, the protocol's corner cases, run-time commands.
 
 Run inside the bus environment:
-    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/test_fcc_lockstep.py
+    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/fcc/test_fcc_lockstep.py
 """
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 survives and counts bad sync input (a second master, a SYNC without its follow-up, an orphan
 follow-up, a sync from the past), goes to holdover when the master falls silent and recovers.
 
-    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/test_fcc_timesync.py
+    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/fcc/test_fcc_timesync.py
 """
 from __future__ import annotations
 

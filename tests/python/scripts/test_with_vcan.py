@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 WITH_VCAN = ROOT / "scripts" / "with-vcan"
 UML = Path(os.environ.get("WITH_VCAN_UML_DIR") or ROOT / ".uml")
 

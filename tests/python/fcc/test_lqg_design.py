@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 VECTORS = REPO / "tests" / "vectors" / "lqg"
 MATRIX_KEYS = ("Phi", "Gamma", "Qd", "Q11", "Q12", "Q22", "K", "P", "M", "P_post", "L")
 SHAPES = {"Phi": (3, 3), "Gamma": (3, 1), "Qd": (3, 3), "Q11": (3, 3), "Q12": (3, 1),

@@ -25,7 +25,7 @@ import pytest
 
 from hil.cli import main
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 RUNS, SEED = 4, 3
 ARTEFACTS = ("summary.json", "campaign.csv", "faults.log", "cdrw_run0.csv")
 

@@ -38,7 +38,7 @@ from hil.results.sidrows import rows_to_arrays
 from hil.reference.sid import FILTERS, SidConfig, replay
 from rig_helpers import cli
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 GOLDEN = json.loads((REPO / "tests" / "vectors" / "campaign" / "cdrw_seed1_flights.json").read_text())
 RUNS = len(GOLDEN["flights"])
 #: the DBC's resolution of the CDRW readings (CDRW_AOA.alpha, ...) and of fcc's SID_*_STATE

@@ -16,7 +16,7 @@ from hil.bus import dbc
 from hil.bus.codec import FrameCodec, Verdict, decode_values, pack
 from hil.bus.e2e import E2EReceiver, E2EStatus, crc8_j1850, protect
 
-VEC = Path(__file__).resolve().parents[1] / "vectors" / "bus"
+VEC = Path(__file__).resolve().parents[2] / "vectors" / "bus"
 
 
 def _lines(name: str) -> list[list[str]]:

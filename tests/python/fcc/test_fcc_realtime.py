@@ -1,7 +1,7 @@
 """fcc in realtime mode on vcan0 (issue 6): paced by its own clock for a bounded
 time, fed by a simulator paced by another; the interface going down and up.
 
-    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/test_fcc_realtime.py
+    FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/fcc/test_fcc_realtime.py
 """
 from __future__ import annotations
 

@@ -28,7 +28,7 @@ from hil.targets.bootcfg import BootConfig
 pytestmark = pytest.mark.skipif(qemu.available() is None,
                                 reason="qemu-system-arm is not installed (scripts/setup installs it)")
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 STATUS = tuple(range(0x700, 0x708))  # the authenticated heartbeat group, FCC_SYNC_STATUS (0x705) in it
 FILTER_PREFIX = {"azkf": "SID_AZKF", "zkf": "SID_ZKF", "kf": "SID_KF"}
 TIMEOUT = 20.0  # generous: a loaded 2-core machine, TCG

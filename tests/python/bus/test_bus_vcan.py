@@ -1,7 +1,7 @@
 """The bus end to end on vcan0 (run inside scripts/with-vcan): python-can, candump/cansend,
 the C SocketCAN port through can_echo, and scripts/diag on a log recorded here.
 
-    scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/test_bus_vcan.py
+    scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/bus/test_bus_vcan.py
 """
 from __future__ import annotations
 

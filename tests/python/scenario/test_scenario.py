@@ -13,7 +13,7 @@ from hil.scenario.file import (load_default_scenario, load_scenario, loads_scena
                                with_extra_faults, with_fault_start)
 from hil.scenario.cdrw_params import DEFAULT_PARAMS
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 
 GOOD_CDRW = """
 aircraft = "cdrw"

@@ -3,7 +3,7 @@ on vcan0 (inside scripts/with-vcan) the same log as the real candump, line for l
 kind of frame and for a whole lockstep flight recorded by both at once; frames the kernel drops
 are counted, reported and fail the log; SIGTERM writes out what was read.
 
-    scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/test_canrec.py
+    scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/rig/test_canrec.py
 """
 from __future__ import annotations
 

@@ -29,7 +29,7 @@ from rig_helpers import CDRW_1S, MISSILE_2S, airborne, fly, scenario
 pytestmark = [pytest.mark.vcan,
               pytest.mark.skipif(pil_qemu.available() is None, reason="qemu-system-arm is not installed")]
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 #: TCG on a loaded 2-core machine inside User-Mode Linux: generous per-step timeout
 TIMEOUT = 20.0
 

@@ -37,7 +37,7 @@ class Model:
         return self.a @ x + self.b * de + self.c
 
 
-# The CDRW's wind-tunnel model at trim (hil.sim.cdrw.wind_tunnel_prior(): static
+# The CDRW's wind-tunnel model at trim (hil.sim.cdrw_prior.wind_tunnel_prior(): static
 # separation X = X0(alpha), the paper's Euler form, dt = 0.02 s, alpha* = 9 deg,
 # de* = -0.042105 rad).  The paper's regression has no constant term, so its prior is the
 # affine model with the trim offset c0 absorbed into [A B] by the smallest change that makes

@@ -164,7 +164,7 @@ fcc_status_t fcc_node_background(fcc_node_t *node);
 
 /* The heartbeat: the frames of FCC_STATUS_AUTH's SecOC group in the DBC's order
  * (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS,
- * FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION), then that
+ * FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, FCC_SYNC_REFUSALS), then that
  * authenticator;
  * clears the since-last-heartbeat flags. */
 fcc_status_t fcc_node_send_status(fcc_node_t *node);

@@ -595,7 +595,7 @@ static void test_modes_and_authentication(void **state)
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
     assert_int_equal(mem_decode_tx(&g_mem, (long)first).fcc_status.op_mode, FCC_OP_MAINTENANCE);
-    const fcc_msg_data_t sc = mem_decode_tx(&g_mem, (long)first + 7); /* FCC_SEC_COUNTS */
+    const fcc_msg_data_t sc = mem_decode_tx(&g_mem, (long)first + 6); /* FCC_SEC_COUNTS */
     assert_int_equal(sc.fcc_sec_counts.mode_refused, 6u);
     assert_int_equal(sc.fcc_sec_counts.mac_failed, 1u);
     assert_int_equal(sc.fcc_sec_counts.freshness_failed, 1u);
@@ -660,13 +660,13 @@ static void test_heartbeat_frames(void **state)
     fcc_assert_ok(fcc_node_send_status(&g_node));
     assert_int_equal(g_mem.tx_n - first, 10u); /* the time sync's status frames in the group */
     static const uint32_t ids[10] = {0x700u, 0x701u, 0x702u, 0x703u, 0x704u,
-                                     0x705u, 0x709u, 0x706u, 0x707u, 0x708u};
+                                     0x705u, 0x706u, 0x707u, 0x708u, 0x709u};
     for (unsigned int i = 0u; i < 10u; ++i) {
         assert_int_equal(g_mem.tx[first + i].id, ids[i]);
     }
     assert_int_equal(mem_decode_tx(&g_mem, (long)first + 5).fcc_sync_status.state, FCC_TSYNC_FREE_RUN);
-    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 6).fcc_sync_refusals.mac_failed, 0u);
-    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 8).fcc_sec_session.trip, MEM_TRIP);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 8).fcc_sync_refusals.mac_failed, 0u);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)first + 7).fcc_sec_session.trip, MEM_TRIP);
     const fcc_msg_data_t s = mem_decode_tx(&g_mem, (long)first);
     assert_int_equal(s.fcc_status.mode, FCC_MODE_LOCKSTEP);
     assert_int_equal(s.fcc_status.cdrw_steps, 3u);
@@ -774,7 +774,7 @@ static void test_time_sync_is_authenticated(void **state)
     /* the heartbeat says so */
     const size_t first = g_mem.tx_n;
     fcc_assert_ok(fcc_node_send_status(&g_node));
-    const fcc_msg_data_t r = mem_decode_tx(&g_mem, (long)first + 6);
+    const fcc_msg_data_t r = mem_decode_tx(&g_mem, (long)first + 8);
     assert_int_equal(r.fcc_sync_refusals.mac_failed, 1u);
     assert_int_equal(r.fcc_sync_refusals.freshness_failed, 1u);
     assert_int_equal(r.fcc_sync_refusals.unauthenticated, 20u);

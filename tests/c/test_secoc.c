@@ -69,7 +69,7 @@ static void test_table_matches_dbc(void **state)
     assert_int_equal(fcc_secoc_table[i].n_pdus, 9u);
     assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_FCC_STATUS);
     assert_int_equal(fcc_secoc_table[i].pdus[5], FCC_MSG_FCC_SYNC_STATUS); /* the time sync status too */
-    assert_int_equal(fcc_secoc_table[i].pdus[6], FCC_MSG_FCC_SYNC_REFUSALS);
+    assert_int_equal(fcc_secoc_table[i].pdus[8], FCC_MSG_FCC_SYNC_REFUSALS);
     /* the time master's SYNC + FOLLOW_UP: one group, held by the time sync (not single frames) */
     assert_false(fcc_secoc_secured_index(FCC_MSG_TSYNC_SYNC, &i));
     assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &i));

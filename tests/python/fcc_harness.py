@@ -19,7 +19,7 @@ from hil.bus import SIM_NODES, Decoded, load
 from hil.bus.node import BusNode
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
 
-STATUS_IDS = frozenset((*range(0x700, 0x705), 0x705, 0x706, 0x707))
+STATUS_IDS = frozenset((*range(0x700, 0x705), 0x705, 0x706, 0x707, 0x708))
 CDRW, MISSILE = 0, 1
 _SUMMARY = re.compile(r"^fcc summary: (\S+)(?: (\S+))? (.*)$")
 

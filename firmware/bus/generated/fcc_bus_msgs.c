@@ -614,21 +614,6 @@ static int pack_fcc_sec_session(uint8_t data[8], const void *raw)
     return fcc_hil_fcc_sec_session_pack(data, raw, 8u);
 }
 
-static const fcc_bus_signal_desc_t sig_fcc_status_auth[] = {
-    {"fv", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
-    {"mac", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
-};
-
-static int unpack_fcc_status_auth(void *raw, const uint8_t data[8])
-{
-    return fcc_hil_fcc_status_auth_unpack(raw, data, 8u);
-}
-
-static int pack_fcc_status_auth(uint8_t data[8], const void *raw)
-{
-    return fcc_hil_fcc_status_auth_pack(data, raw, 8u);
-}
-
 static const fcc_bus_signal_desc_t sig_fcc_sync_refusals[] = {
     {"mac_failed", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, mac_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, mac_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"freshness_failed", (uint16_t)offsetof(fcc_msg_fcc_sync_refusals_t, freshness_failed), (uint16_t)offsetof(struct fcc_hil_fcc_sync_refusals_t, freshness_failed), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
@@ -645,6 +630,21 @@ static int unpack_fcc_sync_refusals(void *raw, const uint8_t data[8])
 static int pack_fcc_sync_refusals(uint8_t data[8], const void *raw)
 {
     return fcc_hil_fcc_sync_refusals_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_fcc_status_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_fcc_status_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_fcc_status_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_fcc_status_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_fcc_status_auth_unpack(raw, data, 8u);
+}
+
+static int pack_fcc_status_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_fcc_status_auth_pack(data, raw, 8u);
 }
 
 static const fcc_bus_signal_desc_t sig_sim_event[] = {
@@ -733,8 +733,8 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"FCC_SYNC_STATUS", 0x705u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sync_status / sizeof sig_fcc_sync_status[0]), sig_fcc_sync_status, unpack_fcc_sync_status, pack_fcc_sync_status},
     {"FCC_SEC_COUNTS", 0x706u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_counts / sizeof sig_fcc_sec_counts[0]), sig_fcc_sec_counts, unpack_fcc_sec_counts, pack_fcc_sec_counts},
     {"FCC_SEC_SESSION", 0x707u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sec_session / sizeof sig_fcc_sec_session[0]), sig_fcc_sec_session, unpack_fcc_sec_session, pack_fcc_sec_session},
-    {"FCC_STATUS_AUTH", 0x708u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status_auth / sizeof sig_fcc_status_auth[0]), sig_fcc_status_auth, unpack_fcc_status_auth, pack_fcc_status_auth},
-    {"FCC_SYNC_REFUSALS", 0x709u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sync_refusals / sizeof sig_fcc_sync_refusals[0]), sig_fcc_sync_refusals, unpack_fcc_sync_refusals, pack_fcc_sync_refusals},
+    {"FCC_SYNC_REFUSALS", 0x708u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_sync_refusals / sizeof sig_fcc_sync_refusals[0]), sig_fcc_sync_refusals, unpack_fcc_sync_refusals, pack_fcc_sync_refusals},
+    {"FCC_STATUS_AUTH", 0x709u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status_auth / sizeof sig_fcc_status_auth[0]), sig_fcc_status_auth, unpack_fcc_status_auth, pack_fcc_status_auth},
     {"SIM_EVENT", 0x710u, 0x1710u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_event / sizeof sig_sim_event[0]), sig_sim_event, unpack_sim_event, pack_sim_event},
     {"RIG_PING", 0x7F0u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_rig_ping / sizeof sig_rig_ping[0]), sig_rig_ping, unpack_rig_ping, pack_rig_ping},
     {"RIG_PONG", 0x7F1u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_rig_pong / sizeof sig_rig_pong[0]), sig_rig_pong, unpack_rig_pong, pack_rig_pong},
@@ -745,5 +745,5 @@ const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {
     {FCC_MSG_SIM_CONTROL_AUTH, 0x2010u, 1u, {FCC_MSG_SIM_CONTROL}},
     {FCC_MSG_SIM_TICK_AUTH, 0x2020u, 1u, {FCC_MSG_SIM_TICK}},
     {FCC_MSG_MSL_ELEV_CMD_AUTH, 0x2030u, 1u, {FCC_MSG_MSL_ELEV_CMD}},
-    {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 9u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SYNC_STATUS, FCC_MSG_FCC_SYNC_REFUSALS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION}},
+    {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 9u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SYNC_STATUS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION, FCC_MSG_FCC_SYNC_REFUSALS}},
 };

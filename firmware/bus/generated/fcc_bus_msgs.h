@@ -62,8 +62,8 @@ typedef enum {
     FCC_MSG_FCC_SYNC_STATUS = 33, /* 0x705 */
     FCC_MSG_FCC_SEC_COUNTS = 34, /* 0x706 */
     FCC_MSG_FCC_SEC_SESSION = 35, /* 0x707 */
-    FCC_MSG_FCC_STATUS_AUTH = 36, /* 0x708 */
-    FCC_MSG_FCC_SYNC_REFUSALS = 37, /* 0x709 */
+    FCC_MSG_FCC_SYNC_REFUSALS = 36, /* 0x708 */
+    FCC_MSG_FCC_STATUS_AUTH = 37, /* 0x709 */
     FCC_MSG_SIM_EVENT = 38, /* 0x710 */
     FCC_MSG_RIG_PING = 39, /* 0x7F0 */
     FCC_MSG_RIG_PONG = 40, /* 0x7F1 */
@@ -107,8 +107,8 @@ typedef enum {
 #define FCC_MSG_FCC_SYNC_STATUS_ID 0x705u
 #define FCC_MSG_FCC_SEC_COUNTS_ID 0x706u
 #define FCC_MSG_FCC_SEC_SESSION_ID 0x707u
-#define FCC_MSG_FCC_STATUS_AUTH_ID 0x708u
-#define FCC_MSG_FCC_SYNC_REFUSALS_ID 0x709u
+#define FCC_MSG_FCC_SYNC_REFUSALS_ID 0x708u
+#define FCC_MSG_FCC_STATUS_AUTH_ID 0x709u
 #define FCC_MSG_SIM_EVENT_ID 0x710u
 #define FCC_MSG_RIG_PING_ID 0x7F0u
 #define FCC_MSG_RIG_PONG_ID 0x7F1u
@@ -438,13 +438,7 @@ typedef struct {
     uint32_t verified; /* [0, 4294967295]. Secured frames received, authenticated and accepted since start. */
 } fcc_msg_fcc_sec_session_t;
 
-/* FCC_STATUS_AUTH (0x708, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
-typedef struct {
-    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
-    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
-} fcc_msg_fcc_status_auth_t;
-
-/* FCC_SYNC_REFUSALS (0x709, 100 ms, FCC -> SIM): Time synchronisation refusals of the FCC: what it did not take from the bus's time master (forged, replayed, implausible). Part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. Counters since start, wrapping at their width. */
+/* FCC_SYNC_REFUSALS (0x708, 100 ms, FCC -> SIM): Time synchronisation refusals of the FCC: what it did not take from the bus's time master (forged, replayed, implausible). Part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. Counters since start, wrapping at their width. */
 typedef struct {
     uint16_t mac_failed; /* [0, 65535]. TSYNC_AUTH authenticators whose MAC matched no held SYNC/FOLLOW_UP pair (forged). */
     uint16_t freshness_failed; /* [0, 65535]. TSYNC_AUTH authenticators not newer than the last accepted one, or beyond the acceptance window (replayed). */
@@ -452,6 +446,12 @@ typedef struct {
     uint8_t step_refused; /* [0, 255]. Authenticated pairs refused: the master time stepped by more than the step bound (1 ms) against fcc's own clock. */
     uint8_t rate_refused; /* [0, 255]. Authenticated pairs refused: the master time drifted from fcc's own clock faster than the rate bound (200 ppm). */
 } fcc_msg_fcc_sync_refusals_t;
+
+/* FCC_STATUS_AUTH (0x709, 100 ms, FCC -> SIM): SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, FCC_SYNC_REFUSALS, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_fcc_status_auth_t;
 
 /* SIM_EVENT (0x710, event, SIM -> FCC, E2E data ID 0x1710): Fault-injection event from the simulator, sent when a fault starts or ends. Diagnostic only, except oracle_fault which the FCC oracle fault detector reads. */
 typedef struct {
@@ -513,8 +513,8 @@ typedef union {
     fcc_msg_fcc_sync_status_t fcc_sync_status;
     fcc_msg_fcc_sec_counts_t fcc_sec_counts;
     fcc_msg_fcc_sec_session_t fcc_sec_session;
-    fcc_msg_fcc_status_auth_t fcc_status_auth;
     fcc_msg_fcc_sync_refusals_t fcc_sync_refusals;
+    fcc_msg_fcc_status_auth_t fcc_status_auth;
     fcc_msg_sim_event_t sim_event;
     fcc_msg_rig_ping_t rig_ping;
     fcc_msg_rig_pong_t rig_pong;
@@ -558,8 +558,8 @@ typedef union {
     struct fcc_hil_fcc_sync_status_t fcc_sync_status;
     struct fcc_hil_fcc_sec_counts_t fcc_sec_counts;
     struct fcc_hil_fcc_sec_session_t fcc_sec_session;
-    struct fcc_hil_fcc_status_auth_t fcc_status_auth;
     struct fcc_hil_fcc_sync_refusals_t fcc_sync_refusals;
+    struct fcc_hil_fcc_status_auth_t fcc_status_auth;
     struct fcc_hil_sim_event_t sim_event;
     struct fcc_hil_rig_ping_t rig_ping;
     struct fcc_hil_rig_pong_t rig_pong;

@@ -4153,81 +4153,6 @@ bool fcc_hil_fcc_sec_session_verified_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 4294967295.0));
 }
 
-int fcc_hil_fcc_status_auth_pack(
-    uint8_t *dst_p,
-    const struct fcc_hil_fcc_status_auth_t *src_p,
-    size_t size)
-{
-    if (size < 8u) {
-        return (-EINVAL);
-    }
-
-    memset(&dst_p[0], 0, 8);
-
-    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
-    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
-    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
-    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
-    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
-    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
-    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
-    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
-
-    return (8);
-}
-
-int fcc_hil_fcc_status_auth_unpack(
-    struct fcc_hil_fcc_status_auth_t *dst_p,
-    const uint8_t *src_p,
-    size_t size)
-{
-    if (size < 8u) {
-        return (-EINVAL);
-    }
-
-    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
-    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
-    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
-
-    return (0);
-}
-
-int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p)
-{
-    if (msg_p == NULL) return -1;
-
-    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_status_auth_t));
-
-    return 0;
-}
-
-bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value)
-{
-    (void)value;
-
-    return (true);
-}
-
-bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 65535.0));
-}
-
-bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value)
-{
-    return (value <= 281474976710655ull);
-}
-
-bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 281474976710655.0));
-}
-
 int fcc_hil_fcc_sync_refusals_pack(
     uint8_t *dst_p,
     const struct fcc_hil_fcc_sync_refusals_t *src_p,
@@ -4339,6 +4264,81 @@ bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_range(uint8_t value)
 bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 255.0));
+}
+
+int fcc_hil_fcc_status_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_status_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_fcc_status_auth_unpack(
+    struct fcc_hil_fcc_status_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_fcc_status_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_sim_event_pack(

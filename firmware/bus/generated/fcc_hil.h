@@ -81,8 +81,8 @@ extern "C" {
 #define FCC_HIL_FCC_SYNC_STATUS_FRAME_ID (0x705u)
 #define FCC_HIL_FCC_SEC_COUNTS_FRAME_ID (0x706u)
 #define FCC_HIL_FCC_SEC_SESSION_FRAME_ID (0x707u)
-#define FCC_HIL_FCC_STATUS_AUTH_FRAME_ID (0x708u)
-#define FCC_HIL_FCC_SYNC_REFUSALS_FRAME_ID (0x709u)
+#define FCC_HIL_FCC_SYNC_REFUSALS_FRAME_ID (0x708u)
+#define FCC_HIL_FCC_STATUS_AUTH_FRAME_ID (0x709u)
 #define FCC_HIL_SIM_EVENT_FRAME_ID (0x710u)
 #define FCC_HIL_RIG_PING_FRAME_ID (0x7f0u)
 #define FCC_HIL_RIG_PONG_FRAME_ID (0x7f1u)
@@ -124,8 +124,8 @@ extern "C" {
 #define FCC_HIL_FCC_SYNC_STATUS_LENGTH (8u)
 #define FCC_HIL_FCC_SEC_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_SEC_SESSION_LENGTH (8u)
-#define FCC_HIL_FCC_STATUS_AUTH_LENGTH (8u)
 #define FCC_HIL_FCC_SYNC_REFUSALS_LENGTH (8u)
+#define FCC_HIL_FCC_STATUS_AUTH_LENGTH (8u)
 #define FCC_HIL_SIM_EVENT_LENGTH (8u)
 #define FCC_HIL_RIG_PING_LENGTH (8u)
 #define FCC_HIL_RIG_PONG_LENGTH (8u)
@@ -167,8 +167,8 @@ extern "C" {
 #define FCC_HIL_FCC_SYNC_STATUS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SEC_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SEC_SESSION_IS_EXTENDED (0)
-#define FCC_HIL_FCC_STATUS_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_FCC_SYNC_REFUSALS_IS_EXTENDED (0)
+#define FCC_HIL_FCC_STATUS_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SIM_EVENT_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PING_IS_EXTENDED (0)
 #define FCC_HIL_RIG_PONG_IS_EXTENDED (0)
@@ -208,8 +208,8 @@ extern "C" {
 #define FCC_HIL_FCC_SYNC_STATUS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SEC_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SEC_SESSION_CYCLE_TIME_MS (100u)
-#define FCC_HIL_FCC_STATUS_AUTH_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_SYNC_REFUSALS_CYCLE_TIME_MS (100u)
+#define FCC_HIL_FCC_STATUS_AUTH_CYCLE_TIME_MS (100u)
 
 /* Signal choices. */
 #define FCC_HIL_SIM_CONTROL_COMMAND_NONE_CHOICE (0u)
@@ -296,8 +296,8 @@ extern "C" {
 #define FCC_HIL_FCC_SYNC_STATUS_NAME "FCC_SYNC_STATUS"
 #define FCC_HIL_FCC_SEC_COUNTS_NAME "FCC_SEC_COUNTS"
 #define FCC_HIL_FCC_SEC_SESSION_NAME "FCC_SEC_SESSION"
-#define FCC_HIL_FCC_STATUS_AUTH_NAME "FCC_STATUS_AUTH"
 #define FCC_HIL_FCC_SYNC_REFUSALS_NAME "FCC_SYNC_REFUSALS"
+#define FCC_HIL_FCC_STATUS_AUTH_NAME "FCC_STATUS_AUTH"
 #define FCC_HIL_SIM_EVENT_NAME "SIM_EVENT"
 #define FCC_HIL_RIG_PING_NAME "RIG_PING"
 #define FCC_HIL_RIG_PONG_NAME "RIG_PONG"
@@ -463,13 +463,13 @@ extern "C" {
 #define FCC_HIL_FCC_SEC_COUNTS_MODE_REFUSED_NAME "mode_refused"
 #define FCC_HIL_FCC_SEC_SESSION_TRIP_NAME "trip"
 #define FCC_HIL_FCC_SEC_SESSION_VERIFIED_NAME "verified"
-#define FCC_HIL_FCC_STATUS_AUTH_FV_NAME "fv"
-#define FCC_HIL_FCC_STATUS_AUTH_MAC_NAME "mac"
 #define FCC_HIL_FCC_SYNC_REFUSALS_MAC_FAILED_NAME "mac_failed"
 #define FCC_HIL_FCC_SYNC_REFUSALS_FRESHNESS_FAILED_NAME "freshness_failed"
 #define FCC_HIL_FCC_SYNC_REFUSALS_UNAUTHENTICATED_NAME "unauthenticated"
 #define FCC_HIL_FCC_SYNC_REFUSALS_STEP_REFUSED_NAME "step_refused"
 #define FCC_HIL_FCC_SYNC_REFUSALS_RATE_REFUSED_NAME "rate_refused"
+#define FCC_HIL_FCC_STATUS_AUTH_FV_NAME "fv"
+#define FCC_HIL_FCC_STATUS_AUTH_MAC_NAME "mac"
 #define FCC_HIL_SIM_EVENT_CRC_NAME "crc"
 #define FCC_HIL_SIM_EVENT_COUNTER_NAME "counter"
 #define FCC_HIL_SIM_EVENT_ACTIVE_NAME "active"
@@ -2248,33 +2248,6 @@ struct fcc_hil_fcc_sec_session_t {
 };
 
 /**
- * Signals in message FCC_STATUS_AUTH.
- *
- * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SYNC_REFUSALS, FCC_SEC_COUNTS, FCC_SEC_SESSION, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
- *
- * All signal values are as on the CAN bus.
- */
-struct fcc_hil_fcc_status_auth_t {
-    /**
-     * Truncated freshness value: the low 16 bits of the message counter.
-     *
-     * Range: 0..65535 (0..65535 -)
-     * Scale: 1
-     * Offset: 0
-     */
-    uint16_t fv;
-
-    /**
-     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
-     *
-     * Range: 0..281474976710655 (0..281474976710655 -)
-     * Scale: 1
-     * Offset: 0
-     */
-    uint64_t mac;
-};
-
-/**
  * Signals in message FCC_SYNC_REFUSALS.
  *
  * Time synchronisation refusals of the FCC: what it did not take from the bus's time master (forged, replayed, implausible). Part of the heartbeat, authenticated with it by FCC_STATUS_AUTH. Counters since start, wrapping at their width.
@@ -2326,6 +2299,33 @@ struct fcc_hil_fcc_sync_refusals_t {
      * Offset: 0
      */
     uint8_t rate_refused;
+};
+
+/**
+ * Signals in message FCC_STATUS_AUTH.
+ *
+ * SecOC authenticator of the heartbeat (FCC_STATUS, FCC_E2E_COUNTS, FCC_E2E_FAULTS, FCC_REJECT_COUNTS, FCC_BUS_COUNTS, FCC_SYNC_STATUS, FCC_SEC_COUNTS, FCC_SEC_SESSION, FCC_SYNC_REFUSALS, concatenated in this order): sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_fcc_status_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -7316,87 +7316,6 @@ bool fcc_hil_fcc_sec_session_verified_is_in_range(uint32_t value);
 bool fcc_hil_fcc_sec_session_verified_is_in_phys_range(double value);
 
 /**
- * Pack message FCC_STATUS_AUTH.
- *
- * @param[out] dst_p Buffer to pack the message into.
- * @param[in] src_p Data to pack.
- * @param[in] size Size of dst_p.
- *
- * @return Size of packed data, or negative error code.
- */
-int fcc_hil_fcc_status_auth_pack(
-    uint8_t *dst_p,
-    const struct fcc_hil_fcc_status_auth_t *src_p,
-    size_t size);
-
-/**
- * Unpack message FCC_STATUS_AUTH.
- *
- * @param[out] dst_p Object to unpack the message into.
- * @param[in] src_p Message to unpack.
- * @param[in] size Size of src_p.
- *
- * @return zero(0) or negative error code.
- */
-int fcc_hil_fcc_status_auth_unpack(
-    struct fcc_hil_fcc_status_auth_t *dst_p,
-    const uint8_t *src_p,
-    size_t size);
-
-/**
- * Init message fields to default values from FCC_STATUS_AUTH.
- *
- * @param[in] msg_p Message to init.
- *
- * @return zero(0) on success or (-1) in case of nullptr argument.
- */
-int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value);
-
-/**
  * Pack message FCC_SYNC_REFUSALS.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -7542,6 +7461,87 @@ bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_fcc_sync_refusals_rate_refused_is_in_phys_range(double value);
+
+/**
+ * Pack message FCC_STATUS_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_fcc_status_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_fcc_status_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message FCC_STATUS_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_fcc_status_auth_unpack(
+    struct fcc_hil_fcc_status_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from FCC_STATUS_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_fcc_status_auth_init(struct fcc_hil_fcc_status_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_status_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message SIM_EVENT.

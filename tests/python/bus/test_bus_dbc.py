@@ -120,16 +120,16 @@ def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]
 
 def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
     frames, pct = _load_pct(spec, 0.05)
-    assert frames == pytest.approx(1170)   # 1020 + 120 SecOC/security + 30 time sync
-    assert pct == pytest.approx(31.59)
+    assert frames == pytest.approx(1190)   # 1020 + 120 SecOC/security + 50 time sync
+    assert pct == pytest.approx(32.13)
     assert pct < 40.0
     frames_fast, pct_fast = _load_pct(spec, 0.02)
-    assert frames_fast == pytest.approx(1410)
+    assert frames_fast == pytest.approx(1430)
     assert pct_fast < 40.0
     readme = (DBC.parent / "README.md").read_text()
     assert f"**{pct:.1f} %**" in readme
     assert f"**{pct_fast:.1f} %**" in readme
-    assert re.search(r"\*\*1170\*\*", readme)
+    assert re.search(r"\*\*1190\*\*", readme)
 
 
 def test_secoc_attributes(spec: dbc.BusSpec) -> None:
@@ -139,7 +139,9 @@ def test_secoc_attributes(spec: dbc.BusSpec) -> None:
     covered = {p for m in auths.values() for p in m.secoc_pdus}
     assert covered >= {"SIM_CONTROL", "SIM_TICK", "MSL_ELEV_CMD", "FCC_STATUS", "FCC_E2E_COUNTS",
                        "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS", "FCC_SEC_COUNTS",
-                       "FCC_SEC_SESSION", "FCC_SYNC_STATUS"}
+                       "FCC_SEC_SESSION", "FCC_SYNC_STATUS", "FCC_SYNC_REFUSALS", "TSYNC_SYNC",
+                       "TSYNC_FOLLOW_UP"}
+    assert auths["TSYNC_AUTH"].secoc_pdus == ("TSYNC_SYNC", "TSYNC_FOLLOW_UP")
     assert len({m.secoc_data_id for m in auths.values()}) == len(auths)
     for m in auths.values():
         sigs = {s.name: (s.start, s.length) for s in m.signals}
@@ -147,7 +149,9 @@ def test_secoc_attributes(spec: dbc.BusSpec) -> None:
         first = spec.by_name(m.secoc_pdus[0])
         assert m.senders == first.senders
         assert m.frame_id > max(spec.by_name(p).frame_id for p in m.secoc_pdus)
-        assert not (0x001 <= m.frame_id <= 0x00F) and m.frame_id != 0x705   # issue 11's IDs
+        # the time synchronisation's IDs (0x001-0x00F, 0x705, 0x708) hold its own frames only
+        timesync = m.secoc_pdus[0].startswith("TSYNC_")
+        assert (0x001 <= m.frame_id <= 0x00F) == timesync and m.frame_id not in (0x705, 0x708)
 
 
 # ---- the digest (data/fcc_hil.spec.json) and the packing that replaces cantools' at run time

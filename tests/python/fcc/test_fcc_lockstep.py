@@ -317,7 +317,7 @@ def test_garbage_at_full_rate(run_fcc, bin_path):
                 fid = int(rng.choice(consumed)) if rng.random() < 0.5 else int(rng.integers(0x080, 0x7FF))
                 if fid in (0x100, 0x110, 0x111, 0x112, 0x113, 0x120, 0x121, 0x122, 0x123,
                            0x130, 0x131, 0x132, 0x133, 0x700, 0x701, 0x702, 0x703, 0x704,
-                           0x705, 0x706, 0x707, 0x708, 0x710, 0x7F1):
+                           0x705, 0x706, 0x707, 0x708, 0x709, 0x710, 0x7F1):
                     fid = 0x555
                 dlc = int(rng.integers(0, 9))
                 msg = can.Message(arbitration_id=fid, data=rng.integers(0, 256, dlc, dtype=np.uint8)

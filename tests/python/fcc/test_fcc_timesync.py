@@ -1,6 +1,8 @@
-"""fcc following the bus's time master (issue 11) on vcan0: it locks, reports FCC_SYNC_STATUS,
-survives and counts bad sync input (a second master, a SYNC without its follow-up, an orphan
-follow-up, a sync from the past), goes to holdover when the master falls silent and recovers.
+"""fcc following the bus's time master on vcan0: it locks (only to authenticated pairs: the
+master sends TSYNC_AUTH), reports FCC_SYNC_STATUS, survives and counts bad sync input (a second
+master without the key, a SYNC without its follow-up, an orphan follow-up, an authenticated sync
+from the past: implausible against fcc's clock), goes to holdover when the master falls silent
+and recovers.
 
     FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/fcc/test_fcc_timesync.py
 """
@@ -45,13 +47,16 @@ def fly(sim: Sim, master: TimeMaster, seconds: float, *, sync: bool = True, each
 
 def test_fcc_locks_and_survives_bad_sync_input(bin_path, tmp_path):
     sim = Sim()
-    master = TimeMaster("vcan0", FrameCodec(sim.node.codec.spec, SIM_NODES))
     rogue = TimeMaster("vcan0", FrameCodec(sim.node.codec.spec, SIM_NODES), master_id=2)
-    rogue.epoch -= 7.0  # another time base, 7 s apart
+    rogue.epoch -= 7.0  # another time base, 7 s apart, and no key
     fcc = Fcc(bin_path("fcc"), ("--mode", "realtime", "--apps", "missile", "--lqg-period", "0.05",
                                 "--duration", "9"), tmp_path).start()
+    master = None
     try:
         fcc.wait_ready()
+        sim.attach(flight=False)   # fcc's trip, for the master's TSYNC_AUTH
+        master = TimeMaster("vcan0", FrameCodec(sim.node.codec.spec, SIM_NODES),
+                            auth=sim.sec.group_sender("TSYNC_AUTH"))
         st = fly(sim, master, 2.0)
         assert st and st[-1]["state"] == LOCKED and st[-1]["master"] == 1, st[-3:]
 
@@ -68,8 +73,8 @@ def test_fcc_locks_and_survives_bad_sync_input(bin_path, tmp_path):
                     "master": 1, "seq": (master.seq + 100) & 0xFF, "sec_carry": 0, "ns": 0})
                 master.sock.send(master_frame(fid, data))
             elif k == 7:
-                master.epoch += 0.005                    # one sync 5 ms in the past ...
-                master.send_sync()
+                master.epoch += 0.005                    # one (authenticated) sync 5 ms in the
+                master.send_sync()                       # past: implausible, refused ...
                 master.epoch -= 0.005                    # ... and back
         st = fly(sim, master, 2.0, each=bad)
         assert st[-1]["state"] == LOCKED and st[-1]["master"] == 1, st[-3:]
@@ -78,16 +83,21 @@ def test_fcc_locks_and_survives_bad_sync_input(bin_path, tmp_path):
         rc = fcc.wait(timeout=10)
     finally:
         fcc.kill()
-        master.stop()
+        if master is not None:
+            master.stop()
         rogue.stop()
         sim.close()
     assert rc == 0, fcc.stderr()
     s = parse_summary(fcc.stderr())
     sync = s["sync"]
-    # every bad input counted (the rogue's frames may also be refused earlier by E2E: its
-    # alive counters interleave with the master's)
-    assert sync["foreign"] + s["e2e"]["wrong_sequence"] + s["e2e"]["ok_some_lost"] >= 1
-    assert sync["missing_fup"] >= 1 and sync["orphan_fup"] >= 1 and sync["past"] >= 1
+    refused = s["sync_refused"]
+    # every bad input counted: the rogue's pair (no authenticator) and the SYNC without its
+    # follow-up and the orphan follow-up never get past the authentication; the sync 5 ms in the
+    # past is authenticated but refused as a step against fcc's clock
+    assert refused["unauthenticated"] == 2 + rogue.unpaired_frames + master.unpaired_frames
+    assert refused["mac_failed"] == 0 and refused["freshness_failed"] == 0
+    assert refused["step_refused"] == 1 and refused["rate_refused"] == 0
+    assert sync["foreign"] == 0 and s["e2e"]["wrong_sequence"] == 0
     # (counted by fcc: its status frames may reach this socket late on a loaded machine)
     assert sync["losses"] >= 1 and sync["recoveries"] >= 1 and sync["jumps"] == 0
     assert sync["master"] == 1 and sync["samples"] >= 30

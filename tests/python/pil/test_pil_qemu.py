@@ -29,7 +29,8 @@ pytestmark = pytest.mark.skipif(qemu.available() is None,
                                 reason="qemu-system-arm is not installed (scripts/setup installs it)")
 
 REPO = Path(__file__).resolve().parents[3]
-STATUS = tuple(range(0x700, 0x708))  # the authenticated heartbeat group, FCC_SYNC_STATUS (0x705) in it
+STATUS = tuple(range(0x700, 0x709))  # the authenticated heartbeat group, FCC_SYNC_STATUS (0x705) and
+#                                      FCC_SYNC_REFUSALS (0x708) in it
 FILTER_PREFIX = {"azkf": "SID_AZKF", "zkf": "SID_ZKF", "kf": "SID_KF"}
 TIMEOUT = 20.0  # generous: a loaded 2-core machine, TCG
 

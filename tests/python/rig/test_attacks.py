@@ -105,7 +105,7 @@ def replay_recording(log: Path) -> Callable[[random.Random], Frames]:
     """The secured frames and authenticators of an earlier run (same key, another fcc
     session) in recorded order: the commands and ticks first, then its heartbeats."""
     wanted = {ID[n] for n in ("SIM_CONTROL", "SIM_CONTROL_AUTH", "SIM_TICK", "SIM_TICK_AUTH",
-                              "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH")} | set(range(0x700, 0x709))
+                              "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH")} | set(range(0x700, 0x70A))
     frames: list[tuple[int, bytes]] = []
     for line in log.read_text().splitlines():
         parts = line.split()

@@ -34,6 +34,12 @@ APP_MISSILE = APPS["MISSILE_LQG"]
 #: FCC_STATUS.mode, by the rig's names of the modes
 MODE_CODES = {name.lower(): code for name, code in value_table("FCC_STATUS", "mode").items()}
 MODE_NAMES = {code: name for name, code in MODE_CODES.items()}
+#: FCC_SYNC_STATUS.state: fcc's time synchronisation (firmware/timesync/fcc_tsync.h)
+SYNC_STATES = value_table("FCC_SYNC_STATUS", "state")
+SYNC_STATE_NAMES = {code: name for name, code in SYNC_STATES.items()}
+SYNC_LOCKED = SYNC_STATES["LOCKED"]
+#: the states in which fcc counts its steps by the master's instants (it has an estimate)
+SYNC_HAS_TIME = tuple(SYNC_STATES[n] for n in ("LOCKING", "LOCKED", "HOLDOVER", "REFUSED"))
 SIM_CONTROL_ID = _SPEC.by_name("SIM_CONTROL").frame_id
 SIM_TICK_ID = _SPEC.by_name("SIM_TICK").frame_id
 #: the sensor frames, by identifier: the application whose step they feed

@@ -214,6 +214,7 @@ class Endpoint:
         self.key = key
         self.trip: int | None = None
         self._send: dict[int, tuple[int, int]] = {}   # secured frame id -> (auth id, data id)
+        self._send_groups: dict[str, int] = {}         # authenticator name -> data id (groups)
         self._senders: dict[int, Sender] = {}
         self._rx_single: dict[int, tuple[int, int]] = {}  # secured id / auth id -> auth id
         self._receivers: dict[int, Receiver] = {}         # by auth id
@@ -224,7 +225,9 @@ class Endpoint:
                 continue
             pdus = tuple(spec.by_name(p).frame_id for p in m.secoc_pdus)
             ours = any(s in own_node_names for s in m.senders)
-            if ours:
+            if ours and len(pdus) > 1:   # the time master's SYNC + FOLLOW_UP
+                self._send_groups[m.name] = m.secoc_data_id
+            elif ours:
                 self._send[pdus[0]] = (m.frame_id, m.secoc_data_id)
             elif len(pdus) == 1:
                 self._rx_single[pdus[0]] = m.frame_id
@@ -264,6 +267,13 @@ class Endpoint:
             s = self._senders.setdefault(frame_id, Sender(self.key, data_id, self.trip))
             out.append((auth_id, s.protect(bytes(data))))
         return out
+
+    def group_sender(self, auth_name: str) -> Sender:
+        """The sending side of a secured group of ours (TSYNC_AUTH over the time master's
+        SYNC + FOLLOW_UP): its own counter, for the one thread that sends it."""
+        if self.trip is None:
+            raise RuntimeError("SecOC: fcc's trip is not known yet (no verified heartbeat)")
+        return Sender(self.key, self._send_groups[auth_name], self.trip)
 
     # -- receiving
     def is_secured(self, frame_id: int) -> bool:

@@ -16,7 +16,10 @@ firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin); --target qemu-m4f fli
 Cortex-M4F image under QEMU instead, --target external whatever answers on the bus.  Exit status: 0 done; 1 the run
 failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
 status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
-answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on stderr;
+answer a lockstep step in time; 4 fcc died during the run; 7 (`hil run`, realtime) the run
+finished but its time synchronisation was attacked (forged or replayed SYNC/FOLLOW_UP/TSYNC_AUTH
+refused by fcc), refused (the authenticated master implausible against fcc's clock) or lost: one
+line names it, summary.json's `sync` has the counters.  Failures are one line on stderr;
 a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 
 The package: usage (the usage error), parser (every subcommand's arguments), common and many

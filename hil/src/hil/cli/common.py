@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import argparse
 import shlex
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from hil.bus import load
 from hil.bus.secoc import KeyFileError, read_key_file
 from hil.cli.parser import DEFAULT_TIMEOUT_S
-from hil.cli.usage import UsageError
+from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
 from hil.scenario.file import load_default_scenario, load_scenario, with_extra_faults
@@ -57,6 +58,17 @@ def rig_config(args: argparse.Namespace, stage: Path):
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
                      key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
+
+
+def sync_status(outcomes: Sequence) -> int:
+    """0, or EXIT_SYNC with one line on stderr when a realtime run's time synchronisation was
+    attacked, refused or lost (its summary's `sync`, hil.results.sync)."""
+    for outcome in outcomes:
+        sync = outcome.summary.get("sync") or {}
+        if sync.get("verdict", "ok") != "ok":
+            print(f"{PROG}: {sync['message']}", file=sys.stderr)
+            return EXIT_SYNC
+    return 0
 
 
 def staged(args: argparse.Namespace, out: Path, runner) -> list:

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 PROG = "hil"
 EXIT_USAGE = 2
+#: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
+EXIT_SYNC = 7
 
 
 class UsageError(Exception):

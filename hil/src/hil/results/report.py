@@ -97,6 +97,13 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
                       + metrics.format_missile_table(ms["runs"]))
     if "firmware" in summary:
         tables.append(format_firmware(summary["firmware"]))
+    sync = summary.get("sync")
+    if isinstance(sync, dict) and isinstance(sync.get("refused"), dict):
+        r = sync["refused"]
+        tables.append(f"time sync: fcc {sync.get('state')}, {sync.get('losses')} losses; refused "
+                      f"unauthenticated {r.get('unauthenticated')} mac {r.get('mac_failed')} "
+                      f"freshness {r.get('freshness_failed')} step {r.get('step_refused')} rate "
+                      f"{r.get('rate_refused')}: {sync.get('message') or 'ok'}")
     return tables
 
 

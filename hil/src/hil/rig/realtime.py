@@ -34,7 +34,7 @@ import subprocess
 import time
 from collections.abc import Callable, Sequence
 
-from hil.bus.protocol import COMMAND_FLIGHT
+from hil.bus.protocol import COMMAND_FLIGHT, SYNC_HAS_TIME, SYNC_LOCKED
 from hil.rig.errors import RigError
 from hil.rig.session import RigSession
 from hil.rig.timesync import TimeMaster
@@ -54,9 +54,6 @@ TX_RT_PRIORITY = 51
 LEAD_S = 0.05
 #: the first flight waits this long at most for fcc to lock to the time master
 SYNC_WAIT_S = 3.0
-SYNC_LOCKED = 2
-#: fcc's time-sync states in which it counts its steps by the master's instants
-SYNC_HAS_TIME = (1, 2, 3)   # LOCKING, LOCKED, HOLDOVER
 
 
 class Babbler:
@@ -227,7 +224,8 @@ class RealtimeRunner:
         rig = self.rig
         if rig.time_master is None:
             assert rig.link is not None
-            rig.time_master = TimeMaster(rig.iface, rig.codec)
+            rig.time_master = TimeMaster(rig.iface, rig.codec,
+                                         auth=rig.security.group_sender("TSYNC_AUTH"))
             rig.time_master.start()
             t = time.monotonic()
             rig.transmitter = TimedSender(rig.iface, rt_priority=TX_RT_PRIORITY)

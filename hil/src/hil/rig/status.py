@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 from hil.bus.dbc import BusSpec
 
 STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
-                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS")
+                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS",
+                 "FCC_SYNC_REFUSALS")
 #: heartbeat signals that are states or gauges, not wrapping counters
 GAUGES = ("mode", "op_mode", "stale_now", "worst_step_us", "trip", "state", "master", "offset_us",
           "rate_ppm")

@@ -6,8 +6,10 @@ the clock the realtime runner's deadlines are on, so step k of a flight that sta
 time t0 is sampled at exactly t0 + k T in master time.  Every interval the master queues a SYNC
 (sequence number, whole seconds), reads the frame's own loopback echo with its kernel receive
 stamp -- the time the frame was on the bus (vcan echoes it at once, a real controller on
-transmit completion) -- and sends the FOLLOW_UP with that precise time.  It runs in a thread
-for the whole realtime session, so fcc stays locked between flights too.
+transmit completion) -- and sends the FOLLOW_UP with that precise time, then TSYNC_AUTH, the
+SecOC authenticator of the pair (fcc uses a pair only once it verified: dbc/README.md,
+firmware/app/README.md "Time synchronisation").  It runs in a thread for the whole realtime
+session, so fcc stays locked between flights too.
 """
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ import threading
 import time
 
 from hil.bus import FrameCodec
+from hil.bus.secoc import Sender
 from hil.rig.link import CAN_FRAME, SO_TIMESTAMPNS, MonotonicStamps
 
 #: sync period (s); fcc's loss-of-sync timeout is 3 intervals
@@ -32,9 +35,13 @@ MASTER_ID = 1
 class TimeMaster:
     """Publishes the master time on one interface until stop()."""
 
-    def __init__(self, iface: str, codec: FrameCodec, *, master_id: int = MASTER_ID,
-                 interval_s: float = SYNC_INTERVAL_S) -> None:
+    def __init__(self, iface: str, codec: FrameCodec, *, auth: Sender | None = None,
+                 master_id: int = MASTER_ID, interval_s: float = SYNC_INTERVAL_S) -> None:
+        """auth: the sender of TSYNC_AUTH (the session's key and fcc's trip,
+        Endpoint.group_sender); None sends no authenticator (fcc then follows nothing)."""
         self.codec = codec
+        self.auth = auth
+        self._auth_id = codec.spec.by_name("TSYNC_AUTH").frame_id
         self.master_id = master_id
         self.interval_s = interval_s
         self.epoch = time.monotonic()
@@ -49,6 +56,9 @@ class TimeMaster:
         self.seq = 0
         self.sent = 0
         self.no_echo = 0
+        #: SYNC / FOLLOW_UP frames sent that no TSYNC_AUTH covers (fcc drops each one,
+        #: counted in FCC_SYNC_REFUSALS.unauthenticated: the rig tells them from forgeries)
+        self.unpaired_frames = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -56,6 +66,11 @@ class TimeMaster:
     def master_us(self, mono: float | None = None) -> int:
         """Master time (us) of a CLOCK_MONOTONIC reading (now by default)."""
         return int(round(((time.monotonic() if mono is None else mono) - self.epoch) * 1e6))
+
+    def published(self, master_us: int) -> int:
+        """The master time put into a SYNC / FOLLOW_UP for the true master time master_us: the
+        same (a test's faulty master overrides it)."""
+        return master_us
 
     def monotonic(self, master_us: int) -> float:
         return self.epoch + master_us * 1e-6
@@ -86,26 +101,32 @@ class TimeMaster:
         """One SYNC and its FOLLOW_UP; False when the echo did not come (no FOLLOW_UP)."""
         seq = self.seq
         self.seq = (self.seq + 1) & 0xFF
-        sec = self.master_us() // 1_000_000
-        fid, data = self.codec.encode("TSYNC_SYNC", {
+        sec = max(0, self.published(self.master_us())) // 1_000_000
+        fid, sync = self.codec.encode("TSYNC_SYNC", {
             "master": self.master_id, "seq": seq, "interval_ms": int(round(self.interval_s * 1e3)),
             "sec": sec})
-        raw = CAN_FRAME.pack(fid, len(data), bytes(data))
+        raw = CAN_FRAME.pack(fid, len(sync), bytes(sync))
         self.sock.send(raw)
         self.sent += 1
+        self.unpaired_frames += 1   # until its FOLLOW_UP and authenticator are out
         tx = self._echo_stamp(raw, 0.05)
         if tx is None:
             self.no_echo += 1
             return False
-        m = self.master_us(tx)
+        m = self.published(self.master_us(tx))
         carry = m // 1_000_000 - sec
         if carry not in (0, 1):
             self.no_echo += 1
             return False
-        fid, data = self.codec.encode("TSYNC_FOLLOW_UP", {
+        fid, fup = self.codec.encode("TSYNC_FOLLOW_UP", {
             "master": self.master_id, "seq": seq, "sec_carry": carry,
             "ns": (m % 1_000_000) * 1000})
-        self.sock.send(CAN_FRAME.pack(fid, len(data), bytes(data)))
+        self.sock.send(CAN_FRAME.pack(fid, len(fup), bytes(fup)))
+        self.unpaired_frames += 1
+        if self.auth is not None:
+            tag = self.auth.protect(bytes(sync) + bytes(fup))
+            self.sock.send(CAN_FRAME.pack(self._auth_id, len(tag), tag))
+            self.unpaired_frames -= 2
         return True
 
     # -- the thread
@@ -134,4 +155,5 @@ class TimeMaster:
         self.sock.close()
 
     def stats(self) -> dict[str, int]:
-        return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo}
+        return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo,
+                "unpaired_frames": self.unpaired_frames}

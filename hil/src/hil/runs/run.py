@@ -16,6 +16,7 @@ from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
 from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_open_loop, missile_result
 from hil.results.report import firmware_summary
+from hil.results.sync import sync_summary
 from hil.rig.config import RigConfig
 from hil.rig.flight import (
     Flown,
@@ -127,6 +128,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     missiles = [d for d in drivers if isinstance(d, MissileDriver)]
     if cfg.mode == "realtime" and missiles:
         info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
+    if cfg.mode == "realtime":
+        summary["sync"] = sync_summary(flown.status, flown.info.get("time_master"))
     finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
     if cdrw is not None:
         summary["cdrw"] = _cdrw_block(*cdrw)

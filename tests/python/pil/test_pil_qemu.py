@@ -14,6 +14,7 @@ import csv
 import io
 import os
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
@@ -192,6 +193,60 @@ def test_boot_record_realtime(elf, tmp_path):
         assert [c["step"] for c in commands] == list(range(first, first + 5))  # its own clock
         assert all(c["da_bits"] == 12 and c["degraded"] == 1 for c in commands)  # no sensors
     assert "boot configuration record applied" in board.log()
+
+
+def test_time_sync_is_authenticated_on_the_image(elf, tmp_path):
+    """The image follows only authenticated time-master pairs (TSYNC_AUTH, under its key and
+    trip): 30 intervals, each the red team's forgery first -- SYNC + FOLLOW_UP of the master's
+    next sequence number with its alive counters, 50 ms behind, and a TSYNC_AUTH with a guessed
+    MAC -- then the master's pair and its authenticator.  Realtime board (its clock is the
+    host's), the stamp taken when the SLCAN line is decoded."""
+    from hil.bus.e2e import protect
+
+    config = BootConfig(mode="realtime", apps=("missile",), lqg_period=0.1, lqg_bits=12,
+                        lqg_delay=0.005)
+    spec = load()
+    sync_msg, fup_msg = spec.by_name("TSYNC_SYNC"), spec.by_name("TSYNC_FOLLOW_UP")
+    auth_id = spec.by_name("TSYNC_AUTH").frame_id
+
+    def frames(seq: int, m_us: int, counter: int) -> tuple[bytes, bytes]:
+        sec = m_us // 1_000_000
+        s_raw = sync_msg.message.encode({"crc": 0, "counter": 0, "master": 1, "seq": seq,
+                                         "interval_ms": 100, "sec": sec})
+        f_raw = fup_msg.message.encode({"crc": 0, "counter": 0, "master": 1, "seq": seq,
+                                        "sec_carry": 0, "ns": (m_us % 1_000_000) * 1000})
+        return protect(sync_msg.data_id, s_raw, counter), protect(fup_msg.data_id, f_raw, counter)
+
+    n = 30
+    with qemu.Board(elf, tmp_path, config=config, lockstep=False) as board:
+        link = board.link()
+        sim = Sim(link)
+        sim.wait_status()   # fcc's trip, for the master's authenticator
+        sender = sim.sec.group_sender("TSYNC_AUTH")
+        t0 = time.monotonic() - 5.0
+        for i in range(n):
+            m = int((time.monotonic() - t0) * 1e6)
+            fs, ff = frames(i, m - 50_000, i % 16)     # the forger, first, same counters
+            link.send(sync_msg.frame_id, fs)
+            link.send(fup_msg.frame_id, ff)
+            link.send(auth_id, (i + 1).to_bytes(2, "little") + bytes(6))
+            m = int((time.monotonic() - t0) * 1e6)
+            gs, gf = frames(i, m, i % 16)
+            link.send(sync_msg.frame_id, gs)
+            link.send(fup_msg.frame_id, gf)
+            link.send(auth_id, sender.protect(gs + gf))
+            for _ in sim.frames(0.1):
+                pass
+        for _ in sim.frames(0.5):   # the last interval's frames handled before the heartbeat
+            pass
+        status = sim.wait_status()
+        sim.send("SIM_CONTROL", {"command": 1, "lqg_period": 0, "da_bits": 0})  # SHUTDOWN
+        assert board.exit_status(TIMEOUT) == 0
+        log = board.log()
+    r = status["FCC_SYNC_REFUSALS"]
+    assert r["unauthenticated"] == 2 * n and r["mac_failed"] == n and r["freshness_failed"] == 0
+    assert status["FCC_SYNC_STATUS"]["syncs"] >= 1   # the master's pairs reach its servo
+    assert f"fcc summary: sync_refused mac_failed={n} freshness_failed=0 unauthenticated={2 * n}" in log, log
 
 
 def test_corrupt_boot_record_is_refused(elf, tmp_path):

@@ -211,6 +211,7 @@ class FaultyMaster:
 def flight(tmp: Path, capsys: Any, attack: Any = None) -> tuple[int, str, dict]:
     """`hil run missile --mode realtime` of MISSILE_10S, under the attack (a TimeForger or a
     FaultyMaster, or none): (exit status, stderr, summary.json)."""
+    tmp.mkdir(parents=True, exist_ok=True)
     sc = tmp / "missile_10s.toml"
     sc.write_text(MISSILE_10S)
     out = tmp / "run"

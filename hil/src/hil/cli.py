@@ -22,6 +22,7 @@ a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.rig.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import shlex
@@ -34,6 +35,8 @@ PROG = "hil"
 #: Fig. 3's grid of sampling periods: 0.02 to 0.3 s every 10 ms (29 points)
 FIG3_PERIODS = tuple(round(0.02 + 0.01 * i, 2) for i in range(29))
 EXIT_USAGE = 2
+#: hil verify: a case could not run (no device, a time-out, a crash): never a pass
+EXIT_VERIFY_ERROR = 6
 
 
 class UsageError(Exception):
@@ -278,6 +281,20 @@ def _parser() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
                        "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
     _add_common(d, "out/demo")
+
+    v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
+                       "a verdict per case and requirement, JUnit XML, an HTML report",
+                       epilog="exit status: 0 every case passed; 1 a case failed; 2 bad command line or "
+                       "suite (nothing flew); 6 a case could not run (error: no device, time-out, crash)")
+    v.add_argument("suites", nargs="*", metavar="SUITE",
+                   help="a shipped suite's name (hil verify --list) or a suite TOML file")
+    v.add_argument("--case", action="append", default=[], metavar="ID", help="only these cases (repeatable)")
+    v.add_argument("--junit", type=Path, metavar="FILE", help="write JUnit XML here")
+    v.add_argument("--report", type=Path, metavar="DIR",
+                   help="the report's directory (index.html, one run directory per case; default: --out)")
+    v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
+    v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
+    _add_common(v, "out/verify")
     return p
 
 
@@ -514,9 +531,55 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_verify(args: argparse.Namespace) -> int:
+    from .rig.rundir import staged_run
+    from .verify import fields, report, runner, suite
+
+    if args.fields:
+        print(fields.describe())
+        return 0
+    if args.list:
+        for name, path in suite.shipped().items():
+            s = suite.load(path)
+            print(f"{name:<24} {len(s.cases):3d} cases  {len(s.requirements):3d} requirements  {s.title}")
+        return 0
+    if not args.suites:
+        raise UsageError("verify: name at least one suite (hil verify --list shows the shipped ones)")
+    try:
+        suites = [suite.load(suite.find(name)) for name in args.suites]
+    except suite.SuiteError as e:
+        raise UsageError(f"verify: {e}") from None
+    if args.case:
+        known = {c.id for s in suites for c in s.cases}
+        unknown = sorted(set(args.case) - known)
+        if unknown:
+            raise UsageError(f"verify: --case {', '.join(unknown)}: no such case in {', '.join(args.suites)}")
+        suites = [dataclasses.replace(s, cases=tuple(c for c in s.cases if c.id in args.case)) for s in suites]
+        suites = [s for s in suites if s.cases]
+    out = args.report or args.out
+    device = [f"--target={args.target}"] + ([f"--fcc-args={args.fcc_args}"] if args.fcc_args else []) \
+        + ([f"--key-file={args.key_file}"] if args.key_file else [])
+    command = shlex.join(["hil", "verify", *args.suites, *device])
+    with staged_run(out, "verify", force=args.force) as stage:
+        base = _config(args, stage)
+        base = dataclasses.replace(base, progress=False)
+        results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
+                                    lambda r: print(report.line(r), flush=True))
+        report.html_report(results, suites, stage, args.target, command)
+    if args.junit is not None:
+        report.junit(results, suites, args.junit, args.target)
+    n = report.counts(results)
+    print()
+    print(report.traceability(results, suites))
+    print()
+    print(f"verify: {n[runner.PASS]} passed, {n[runner.FAIL]} failed, {n[runner.ERROR]} errors "
+          f"(report: {out / 'index.html'})")
+    return EXIT_VERIFY_ERROR if n[runner.ERROR] else 1 if n[runner.FAIL] else 0
+
+
 COMMANDS = {"run": cmd_run, "campaign": cmd_campaign, "sweep": cmd_sweep, "report": cmd_report,
             "study": cmd_study, "replay": cmd_replay, "faults": cmd_faults, "live": cmd_live,
-            "demo": cmd_demo}
+            "demo": cmd_demo, "verify": cmd_verify}
 
 
 def _apply_paths(args: argparse.Namespace) -> None:

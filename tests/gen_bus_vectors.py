@@ -11,7 +11,7 @@ e2e_seq.txt    receiver sequences (frames and period ends) with the classes and
                final counts the E2E state machine must produce.
 crc.txt        CRC-8 SAE J1850 of byte strings (the published AUTOSAR table included).
 
-Deterministic (fixed seed): tests/python/test_bus_vectors.py regenerates into a
+Deterministic (fixed seed): tests/python/bus/test_bus_vectors.py regenerates into a
 temporary directory and fails if the committed files differ.
 """
 from __future__ import annotations

@@ -10,7 +10,7 @@ aes_random.txt    random keys and blocks with their AES-128 encryption.
 secoc.txt         authenticator frames (tests/c/test_secoc.c): data ID, secured bytes,
                   trip, message counter, the 8 authenticator bytes.
 
-Deterministic (fixed seed): tests/python/test_secoc.py regenerates into a temporary
+Deterministic (fixed seed): tests/python/bus/test_secoc.py regenerates into a temporary
 directory and fails if the committed files differ.
 """
 from __future__ import annotations

@@ -13,7 +13,7 @@ and writes
   (for tests/c/test_linalg.c), both rendered from the JSON (so the C tests
   need no JSON parser).
 
-Both files are generated, never edited: ``tests/python/test_lqg_design.py``
+Both files are generated, never edited: ``tests/python/fcc/test_lqg_design.py``
 recomputes them and fails on drift.
 
     .venv/bin/python tests/gen_lqg_vectors.py [--out DIR]
@@ -158,10 +158,10 @@ def design(t: float) -> dict[str, Any]:
 
 
 def delayed_design(t: float, delay: float) -> dict[str, Any]:
-    """The LQR on [x; u_{k-1}] (hil.plants.missile_runs.delayed_lqr, scipy's DARE), checked
+    """The LQR on [x; u_{k-1}] (hil.sim.missile_runs.delayed_lqr, scipy's DARE), checked
     against python-control's dlqr on the same augmented system, and Gamma0 + Gamma1 against
     Gamma (together they are the whole period's input)."""
-    from hil.plants.missile_runs import delayed_lqr
+    from hil.sim.missile_runs import delayed_lqr
     gam0, gam1, k, k_u, pa = delayed_lqr(t, delay)
     phi, gam = zoh(F, G, t)
     err = np.abs(gam0 + gam1 - gam[:, 0]).max() / np.abs(gam).max()
@@ -170,7 +170,7 @@ def delayed_design(t: float, delay: float) -> dict[str, Any]:
     a = np.block([[phi, gam1[:, None]], [np.zeros((1, 4))]])
     b = np.vstack([gam0[:, None], [[1.0]]])
     # the augmented cost rebuilt here; python-control's K on it must equal scipy's
-    from hil.plants.missile_runs import discrete_cost
+    from hil.sim.missile_runs import discrete_cost
     def block(tau: float) -> Matrix:
         q11, q12, q22 = discrete_cost(tau)
         return np.block([[q11, q12[:, None]], [q12[None, :], np.array([[q22]])]])

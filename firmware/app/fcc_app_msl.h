@@ -1,5 +1,5 @@
 /*
- * fcc_app_msl.h -- the missile autopilot application (seed 2, SPEC section 3):
+ * fcc_app_msl.h -- the missile autopilot application (firmware/lqg/fcc_lqg.h):
  * the sampled-data LQG of fcc_lqg.h on the gyro and accelerometer frames,
  * its command through the N-bit D/A converter into MSL_ELEV_CMD.
  *

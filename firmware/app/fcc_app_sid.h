@@ -1,5 +1,5 @@
 /*
- * fcc_app_sid.h -- the identification application (seed 1, SPEC section 2):
+ * fcc_app_sid.h -- the identification application (firmware/sid/README.md):
  * MLS-KF, MLS-ZKF and MLS-AZKF side by side on the CDRW's sensor frames, at
  * 50 Hz.
  *

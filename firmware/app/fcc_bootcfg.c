@@ -6,11 +6,32 @@
 #include <math.h>
 #include <string.h>
 
-/* The host command line's limits (firmware/host/fcc_cli.c). */
-#define STALE_LIMIT_MAX 1000u
-#define STATUS_RATE_MAX 1000.0f
-#define VAR_MIN 1e-12
-#define VAR_MAX 1e6
+#include "fcc_cfg_limits.h" /* the ranges, shared with the host command line */
+
+/* The layout tiles the record: each field starts where the one before ends,
+ * the CRC ends the record (a failed check is a negative array size). */
+#define FOLLOWS(next, prev)                                                                       \
+    (FCC_BOOTCFG_##next##_OFF == FCC_BOOTCFG_##prev##_OFF + FCC_BOOTCFG_##prev##_LEN)
+#define LAYOUT_OK                                                                                 \
+    (FCC_BOOTCFG_MAGIC_OFF == 0u && FOLLOWS(VERSION, MAGIC) && FOLLOWS(LENGTH, VERSION) &&        \
+     FOLLOWS(MODE, LENGTH) && FOLLOWS(APPS, MODE) && FOLLOWS(STALE_LIMIT, APPS) &&                \
+     FOLLOWS(STATUS_RATE, STALE_LIMIT) && FOLLOWS(LQG_PERIOD, STATUS_RATE) &&                     \
+     FOLLOWS(LQG_BITS, LQG_PERIOD) && FOLLOWS(DETECTOR, LQG_BITS) &&                              \
+     FOLLOWS(FAULT_POLICY, DETECTOR) && FOLLOWS(PAD, FAULT_POLICY) && FOLLOWS(GYRO_VAR, PAD) &&   \
+     FOLLOWS(ACCEL_VAR, GYRO_VAR) && FOLLOWS(LQG_DELAY, ACCEL_VAR) &&                             \
+     FOLLOWS(RESERVED, LQG_DELAY) && FOLLOWS(CRC, RESERVED) &&                                    \
+     FCC_BOOTCFG_CRC_OFF + FCC_BOOTCFG_CRC_LEN == FCC_BOOTCFG_SIZE &&                             \
+     sizeof FCC_BOOTCFG_MAGIC - 1u == FCC_BOOTCFG_MAGIC_LEN)
+typedef char layout_tiles_the_record[LAYOUT_OK ? 1 : -1];
+
+/* Field readers: the field's name gives its place, the reader's width must be
+ * the field's size (a failed check is a negative array size). */
+#define WIDTH_IS(name, bytes) ((void)sizeof(char[(FCC_BOOTCFG_##name##_LEN == (bytes)) ? 1 : -1]))
+#define U8(rec, name) (WIDTH_IS(name, 1u), (rec)[FCC_BOOTCFG_##name##_OFF])
+#define U16(rec, name) (WIDTH_IS(name, 2u), get_u16(&(rec)[FCC_BOOTCFG_##name##_OFF]))
+#define U32(rec, name) (WIDTH_IS(name, 4u), get_u32(&(rec)[FCC_BOOTCFG_##name##_OFF]))
+#define F32(rec, name) (WIDTH_IS(name, 4u), get_f32(&(rec)[FCC_BOOTCFG_##name##_OFF]))
+#define F64(rec, name) (WIDTH_IS(name, 8u), get_f64(&(rec)[FCC_BOOTCFG_##name##_OFF]))
 
 static uint16_t get_u16(const uint8_t *p)
 {
@@ -68,44 +89,47 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
         return FCC_ERR_ARG;
     }
     *field = NULL;
-    if (memcmp(rec, "FCCB", 4u) != 0) {
+    if (memcmp(&rec[FCC_BOOTCFG_MAGIC_OFF], FCC_BOOTCFG_MAGIC, FCC_BOOTCFG_MAGIC_LEN) != 0) {
         return FCC_ERR_AGAIN;
     }
-    if (get_u16(&rec[4]) != FCC_BOOTCFG_VERSION) {
+    if (U16(rec, VERSION) != FCC_BOOTCFG_VERSION) {
         return fail(field, "version", FCC_ERR_FORMAT);
     }
-    if (get_u16(&rec[6]) != FCC_BOOTCFG_SIZE) {
+    if (U16(rec, LENGTH) != FCC_BOOTCFG_SIZE) {
         return fail(field, "length", FCC_ERR_FORMAT);
     }
-    if (get_u32(&rec[60]) != fcc_bootcfg_crc32(rec, 60u)) {
+    if (U32(rec, CRC) != fcc_bootcfg_crc32(rec, FCC_BOOTCFG_CRC_OFF)) {
         return fail(field, "crc", FCC_ERR_FORMAT);
     }
-    const uint8_t mode = rec[8];
-    const uint8_t apps = rec[9];
-    const uint16_t stale = get_u16(&rec[10]);
-    const float rate = get_f32(&rec[12]);
-    const double period = get_f64(&rec[16]);
-    const uint8_t bits = rec[24];
-    const uint8_t detector = rec[25];
-    const uint8_t policy = rec[26];
-    const double gyro_var = get_f64(&rec[28]);
-    const double accel_var = get_f64(&rec[36]);
-    const double delay = get_f64(&rec[44]);
-    if (mode > 1u) {
+    const uint8_t mode = U8(rec, MODE);
+    const uint8_t apps = U8(rec, APPS);
+    const uint16_t stale = U16(rec, STALE_LIMIT);
+    const float rate = F32(rec, STATUS_RATE);
+    const double period = F64(rec, LQG_PERIOD);
+    const uint8_t bits = U8(rec, LQG_BITS);
+    const uint8_t detector = U8(rec, DETECTOR);
+    const uint8_t policy = U8(rec, FAULT_POLICY);
+    const double gyro_var = F64(rec, GYRO_VAR);
+    const double accel_var = F64(rec, ACCEL_VAR);
+    const double delay = F64(rec, LQG_DELAY);
+    if (mode != FCC_BOOTCFG_MODE_LOCKSTEP && mode != FCC_BOOTCFG_MODE_REALTIME) {
         return fail(field, "mode", FCC_ERR_RANGE);
     }
-    if (apps == 0u || apps > 3u) {
+    if (apps == 0u || (apps & ~(FCC_BOOTCFG_APP_CDRW | FCC_BOOTCFG_APP_MSL)) != 0u) {
         return fail(field, "apps", FCC_ERR_RANGE);
     }
-    if (stale > STALE_LIMIT_MAX) {
+    if (stale > FCC_CFG_STALE_LIMIT_MAX) {
         return fail(field, "stale_limit", FCC_ERR_RANGE);
     }
-    if (!(isfinite(rate) && rate >= 0.0f && rate <= STATUS_RATE_MAX)) {
+    if (!in_range((double)rate, FCC_CFG_STATUS_RATE_MIN_HZ, FCC_CFG_STATUS_RATE_MAX_HZ)) {
         return fail(field, "status_rate", FCC_ERR_RANGE);
     }
-    if (!in_range(period, (double)FCC_APP_MSL_T_MIN, (double)FCC_APP_MSL_T_MAX) ||
+    if (bits < FCC_CFG_LQG_BITS_MIN || bits > FCC_CFG_LQG_BITS_MAX) {
+        return fail(field, "lqg_bits", FCC_ERR_RANGE);
+    }
+    if (!in_range(period, FCC_CFG_LQG_PERIOD_MIN_S, FCC_CFG_LQG_PERIOD_MAX_S) ||
         !fcc_app_msl_valid((fcc_real_t)period, bits)) {
-        return fail(field, (bits < 2u || bits > 16u) ? "lqg_bits" : "lqg_period", FCC_ERR_RANGE);
+        return fail(field, "lqg_period", FCC_ERR_RANGE);
     }
     if (detector > (uint8_t)FCC_FDET_OFF) {
         return fail(field, "detector", FCC_ERR_RANGE);
@@ -113,20 +137,21 @@ fcc_status_t fcc_bootcfg_apply(const uint8_t rec[FCC_BOOTCFG_SIZE], fcc_node_con
     if (policy > (uint8_t)FCC_AZKF_POLICY_SKIP) {
         return fail(field, "fault_policy", FCC_ERR_RANGE);
     }
-    if (!in_range(gyro_var, VAR_MIN, VAR_MAX)) {
+    if (!in_range(gyro_var, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX)) {
         return fail(field, "gyro_var", FCC_ERR_RANGE);
     }
-    if (!in_range(accel_var, VAR_MIN, VAR_MAX)) {
+    if (!in_range(accel_var, FCC_CFG_NOISE_VAR_MIN, FCC_CFG_NOISE_VAR_MAX)) {
         return fail(field, "accel_var", FCC_ERR_RANGE);
     }
     /* as fcc_cli's --lqg-delay D: 0 <= D < T, compared in fcc_real_t (zero bytes: no delay,
      * the meaning of these bytes in records written before the field existed) */
-    if (!in_range(delay, 0.0, (double)FCC_APP_MSL_T_MAX) || !((fcc_real_t)delay < (fcc_real_t)period)) {
+    if (!in_range(delay, FCC_CFG_LQG_DELAY_MIN_S, FCC_CFG_LQG_DELAY_MAX_S) ||
+        !((fcc_real_t)delay < (fcc_real_t)period)) {
         return fail(field, "lqg_delay", FCC_ERR_RANGE);
     }
-    cfg->mode = (mode == 1u) ? FCC_MODE_REALTIME : FCC_MODE_LOCKSTEP;
-    cfg->app_enabled[FCC_APP_CDRW] = (apps & 1u) != 0u;
-    cfg->app_enabled[FCC_APP_MSL] = (apps & 2u) != 0u;
+    cfg->mode = (mode == FCC_BOOTCFG_MODE_REALTIME) ? FCC_MODE_REALTIME : FCC_MODE_LOCKSTEP;
+    cfg->app_enabled[FCC_APP_CDRW] = (apps & FCC_BOOTCFG_APP_CDRW) != 0u;
+    cfg->app_enabled[FCC_APP_MSL] = (apps & FCC_BOOTCFG_APP_MSL) != 0u;
     cfg->stale_limit = stale;
     cfg->msl.period = (fcc_real_t)period;
     cfg->msl.bits = bits;

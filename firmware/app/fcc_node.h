@@ -3,8 +3,8 @@
  * lockstep protocol, run-time commands, health and the heartbeat.
  *
  * Portable: no OS, no heap, no clock except the port's.  The Linux main
- * (firmware/host) and the Cortex-M4F image (firmware/target) drive it the
- * same way:
+ * (firmware/port/linux) and the Cortex-M4F image (firmware/port/mps2_an386)
+ * drive it the same way:
  *
  *     static fcc_node_t node;                        ~100 kB: keep it static
  *     cfg.security = {key, trip};                    key file, random trip

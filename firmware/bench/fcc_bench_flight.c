@@ -6,8 +6,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "fcc_mat.h" /* FCC_TRY */
 #include "fcc_node.h"
+#include "fcc_types.h" /* FCC_TRY */
 
 static const uint8_t k_bench_key[FCC_SECOC_KEY_BYTES] = {0, 1, 2,  3,  4,  5,  6,  7,
                                                           8, 9, 10, 11, 12, 13, 14, 15};

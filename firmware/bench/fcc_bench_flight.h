@@ -2,8 +2,9 @@
  * fcc_bench_flight.h -- the frames of the benchmark flights, as the simulator
  * would send them (E2E-protected by the real frame layer): one CDRW pull-up
  * with the paper's 0.1 s sensor spike at 4 s, and a missile fed by smooth
- * sensor signals.  Shared by the host bench (firmware/host/fcc_step_bench.c,
- * callgrind) and the on-target bench (firmware/target/m4f_bench.c, QEMU).
+ * sensor signals.  Shared by the host bench (fcc_step_bench.c here,
+ * callgrind) and the on-target bench (firmware/port/mps2_an386/m4f_bench.c,
+ * QEMU).
  */
 #ifndef FCC_BENCH_FLIGHT_H
 #define FCC_BENCH_FLIGHT_H

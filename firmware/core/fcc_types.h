@@ -7,7 +7,8 @@
  * under -Wconversion -Wdouble-promotion in both builds.
  *
  * Error convention (after libcanard): functions that can fail return
- * fcc_status_t; FCC_OK is zero and every error is negative.
+ * fcc_status_t; FCC_OK is zero and every error is negative.  FCC_TRY (below)
+ * passes a failure up to the caller.
  */
 #ifndef FCC_TYPES_H
 #define FCC_TYPES_H
@@ -71,6 +72,17 @@ enum {
     FCC_ERR_IO = -13,            /* port-level input/output failure */
     FCC_ERR_AGAIN = -14          /* nothing to do now; try later */
 };
+
+/* Propagate a failure: FCC_TRY(fcc_mat_mul(&a, &b, &c)); returns the status
+ * from the enclosing function (which returns fcc_status_t) unless it is
+ * FCC_OK. */
+#define FCC_TRY(expr)                                                                             \
+    do {                                                                                          \
+        const fcc_status_t fcc_try_status_ = (expr);                                              \
+        if (fcc_try_status_ != FCC_OK) {                                                          \
+            return fcc_try_status_;                                                               \
+        }                                                                                         \
+    } while (0)
 
 /* A short, static, human-readable name of a status code (never NULL). */
 const char *fcc_status_str(fcc_status_t status);

@@ -21,7 +21,7 @@
  * FCC_MAT_REAL as fcc_real_t / double.
  *
  * Why these algorithms: the autopilot designs itself on the target for the
- * sampling period it is given (SPEC section 3): Van Loan block exponentials
+ * sampling period it is given (firmware/lqg): Van Loan block exponentials
  * (expm up to 8x8), two Riccati solvers (eigenvectors of a 6x6 symplectic
  * matrix; doubling with LU solves), pole checks (eigenvalues), PBH rank
  * tests (singular values).  Sizes are tiny, so clarity and robustness win
@@ -46,18 +46,6 @@
 #define FCC_MAT_MAX_DIM 10
 #endif
 #define FCC_MAT_MAX_ELEMS (FCC_MAT_MAX_DIM * FCC_MAT_MAX_DIM)
-
-/* Propagate a failure: FCC_TRY(fcc_mat_mul(&a, &b, &c)); returns the status
- * from the enclosing function unless it is FCC_OK. */
-#ifndef FCC_TRY
-#define FCC_TRY(expr)                                                                             \
-    do {                                                                                          \
-        const fcc_status_t fcc_try_status_ = (expr);                                              \
-        if (fcc_try_status_ != FCC_OK) {                                                          \
-            return fcc_try_status_;                                                               \
-        }                                                                                         \
-    } while (0)
-#endif
 
 /* Element (i, j) of either flavour, without bounds checks (for code that has
  * already checked sizes): data[i*cols + j]. */

@@ -1,6 +1,8 @@
 /* fcc_c2d.c -- ZOH discretisation by Van Loan block exponentials. */
 #include "fcc_c2d.h"
 
+#include "fcc_types.h" /* FCC_TRY */
+
 static bool usable(const fcc_mat64_t *m)
 {
     return m != NULL && m->data != NULL && m->rows > 0U && m->cols > 0U;

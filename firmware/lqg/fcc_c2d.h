@@ -5,7 +5,8 @@
  *
  * Why block exponentials: every integral the sampled-data design needs
  * (Gamma, the process-noise covariance Q_d and the cost integrals
- * Q11, Q12, Q22 of SPEC section 3) is a sub-block of ONE matrix exponential,
+ * Q11, Q12, Q22 of the paper's eqs. 5-7, fcc_lqg.h) is a sub-block of ONE
+ * matrix exponential,
  * so the whole discretisation reduces to fcc_mat_expm, with no quadrature
  * and no inverse of F (F may be singular).
  */

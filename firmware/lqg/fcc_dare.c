@@ -3,6 +3,8 @@
 
 #include <float.h>
 
+#include "fcc_types.h" /* FCC_TRY */
+
 /* Scratch slots of ws->tmp, named by use.  evaluate() owns slots 0-3. */
 enum { T_XA = 0, T_ATXA = 1, T_N = 2, T_RB = 3, T_K = 4, T_ACL = 5, T_6 = 6, T_7 = 7 };
 

@@ -1,6 +1,8 @@
 /*
- * fcc_lqg.h -- the missile pitch autopilot of seed 2 (SPEC section 3): its
- * sampled-data LQG design for a period T, and the per-step runtime (D/A
+ * fcc_lqg.h -- the missile pitch autopilot of S. K. Lee, "Application of
+ * Discrete Stochastic Optimal Control System for Aircraft Autopilot Design"
+ * (Korean Institute of Aeronautical Technology; "the paper" in firmware/lqg):
+ * its sampled-data LQG design for a period T, and the per-step runtime (D/A
  * quantizer + steady-state Kalman filter + LQR command).
  *
  * Split on purpose:

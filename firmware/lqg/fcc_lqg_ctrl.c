@@ -1,6 +1,8 @@
 /* fcc_lqg_ctrl.c -- the per-period side of the autopilot: D/A and estimator. */
 #include "fcc_lqg.h"
 
+#include "fcc_types.h" /* FCC_TRY */
+
 #define NX FCC_LQG_NX
 #define NY FCC_LQG_NY
 

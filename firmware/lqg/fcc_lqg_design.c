@@ -1,7 +1,9 @@
-/* fcc_lqg_design.c -- the sampled-data LQG design of SPEC section 3. */
+/* fcc_lqg_design.c -- the sampled-data LQG design (fcc_lqg.h). */
 #include "fcc_lqg.h"
 
 #include <string.h>
+
+#include "fcc_types.h" /* FCC_TRY */
 
 #define NX FCC_LQG_NX
 #define NU FCC_LQG_NU

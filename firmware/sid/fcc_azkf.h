@@ -1,6 +1,6 @@
 /*
- * fcc_azkf.h -- adaptive-order zonotopic Kalman filter (seed 1, section
- * 2.2.2 and Algorithm 1, with the SPEC's erratum decision).
+ * fcc_azkf.h -- adaptive-order zonotopic Kalman filter (Gim et al. 2022,
+ * section 2.2.2 and Algorithm 1, with the orders of the erratum below).
  *
  * Every step the fault detector (fcc_fault.h) judges y_k against the
  * predicted output zonotope of the ZKF, then:
@@ -11,7 +11,8 @@
  *   policy SKIP:  q = q_normal always, and no measurement update while a
  *                 fault is flagged (the paper's footnote 2).
  * The printed Algorithm 1 has the two orders swapped; the paper's text,
- * Fig. 9 and the mathematics agree with the assignment above (SPEC).
+ * Fig. 9 and the mathematics agree with the assignment above (a small q
+ * boxes the set and raises the gain: firmware/sid/README.md, "Erratum").
  */
 #ifndef FCC_AZKF_H
 #define FCC_AZKF_H

@@ -1,6 +1,6 @@
 /*
  * fcc_fault.h -- sensor-fault detector that drives the AZKF's order
- * (seed 1, Algorithm 1, which leaves the detection rule open; SPEC section 2).
+ * (Gim et al. 2022, Algorithm 1, which leaves the detection rule open).
  *
  * Modes:
  *  - ZONOTOPE (default): set-membership consistency.  With bounded noise and

@@ -1,5 +1,5 @@
 /*
- * fcc_kf.h -- the plain Kalman filter of MLS-KF (seed 1, eqs. 8-14), the
+ * fcc_kf.h -- the plain Kalman filter of MLS-KF (Gim et al. 2022, eqs. 8-14), the
  * baseline the paper compares the zonotopic filters with.
  *
  *   predict  x-_k = A_k x_k-1 + B_k de_k-1 (+ c_k)      (10)

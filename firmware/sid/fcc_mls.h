@@ -1,6 +1,6 @@
 /*
  * fcc_mls.h -- moving-window least squares (MLS) identification of [A_k B_k]
- * (seed 1, eqs. 5-7 and 27-30; SPEC section 2).
+ * (Gim et al. 2022, eqs. 5-7 and 27-30).
  *
  * Each transition j of the window is x_j -> x_{j+1} with regressor
  * phi_j = [alpha_j, q_j, de_j]^T.  Eq. (30) is two independent 3-parameter

@@ -1,6 +1,10 @@
 /*
  * fcc_sid.h -- one real-time identification loop: one MLS closed with one
- * state filter (MLS-KF, MLS-ZKF or MLS-AZKF; seed 1, Fig. 3; SPEC section 2).
+ * state filter (MLS-KF, MLS-ZKF or MLS-AZKF; Fig. 3 of S. Gim, H. G. Harno,
+ * S. Saderla and Y. Kim, "Real-time System Identification of Aircraft in Upset
+ * Condition Using Adaptive-order Zonotopic Kalman Filter", J. Korean Soc.
+ * Aeronaut. Space Sci. 50(2), 93-101, 2022: "Gim et al. 2022" or "the paper"
+ * in firmware/sid).
  *
  * This is the API the fcc application uses: it owns three fcc_sid_t (one
  * per filter, the paper's side-by-side comparison), feeds each the same

@@ -1,6 +1,6 @@
 /*
  * fcc_sid_math.h -- the identified model and the few 2x2 facts the
- * identification modules share (seed 1, SPEC section 2).
+ * identification modules share (firmware/sid/README.md).
  *
  * The state is x = [alpha, q]^T (n = 2) and C = I2 (the CDRW measures both
  * states), so every matrix the filters touch is 2x2.  Closed forms for 2x2

@@ -1,6 +1,6 @@
 /*
- * fcc_zkf.h -- zonotopic Kalman filter (Combastel 2015; seed 1, eqs. 19-25;
- * SPEC section 2), the state-estimation half of MLS-ZKF and MLS-AZKF.
+ * fcc_zkf.h -- zonotopic Kalman filter (Combastel 2015; Gim et al. 2022,
+ * eqs. 19-25), the state-estimation half of MLS-ZKF and MLS-AZKF.
  *
  * State set <x_k, P_k> = {x_k + P_k s : |s|_inf <= 1}, P_k a 2 x p
  * generator matrix.  One combined predict-correct step of order q:

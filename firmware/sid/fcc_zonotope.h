@@ -1,6 +1,6 @@
 /*
  * fcc_zonotope.h -- 2-D zonotopes <c, R> = {c + R s : |s|_inf <= 1} and the
- * reduction operator of order q (seed 1, eqs. 15-18; SPEC section 2).
+ * reduction operator of order q (Gim et al. 2022, eqs. 15-18).
  *
  * A generator matrix R is 2 x p, stored column-major: column j is
  * (r[2j], r[2j+1]).  The largest number of columns is a compile-time bound

@@ -1,5 +1,5 @@
 /*
- * The seed-2 design chain (firmware/lqg): Van Loan discretisation, both
+ * The LQG autopilot's design chain (firmware/lqg): Van Loan discretisation, both
  * Riccati solvers, the full LQG design against scipy for every reference
  * period (tests/vectors/lqg/lqg_vectors.h, generated), refusals of bad
  * problems, and the runtime side: D/A converter and estimator/controller.

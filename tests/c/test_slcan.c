@@ -1,5 +1,5 @@
 /*
- * test_slcan.c -- the SLCAN codec and device (firmware/port/slcan): frames and
+ * test_slcan.c -- the SLCAN codec and device (firmware/bus/fcc_slcan.h): frames and
  * commands by hand, encode/parse round trips over every DLC and the id limits,
  * then bad input: garbled lines, overlong lines, line noise, a writer with no
  * room, and a long run of pseudo-random bytes that must neither crash, hang

@@ -4,7 +4,7 @@
  * the batched send (sendmmsg) and receive (recvmmsg) on a datagram socket pair,
  * the same system calls as on a CAN socket: order and bytes, a full queue
  * retried then dropped, an I/O error ending the batch, frames read ahead.  The port's traffic is tested over vcan0 by
- * tests/python/test_bus_vcan.py (can_echo) and every vcan test of fcc.
+ * tests/python/bus/test_bus_vcan.py (can_echo) and every vcan test of fcc.
  */
 #include "fcc_test.h"
 

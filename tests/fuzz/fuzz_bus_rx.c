@@ -3,14 +3,8 @@
  * (identifier lookup, DLC check, E2E check, unpack, range check) of two
  * receivers (the FCC's and one that consumes every message), plus period ends.
  *
- * Input: a sequence of 12-byte records
- *   [0] selector: bit 7 = use a DBC identifier (table index = bits 0..4),
- *       else an arbitrary 11-bit identifier from [0..1];
- *       bit 5 = E2E-protect the payload (so the checks behind the CRC run);
- *       bit 6 = close a receive period of that message afterwards
- *   [1] identifier low byte (when not from the table)
- *   [2] dlc (0..255: anything but 8 is a wrong DLC)
- *   [3..10] data, [11] E2E counter for bit 5.
+ * Input: a sequence of records, fuzz_bus_records.h (any message of the DBC,
+ * by one byte).
  * Properties checked (abort on violation): a frame passed on decodes again to
  * the same values after re-encoding; every rejection moved exactly one counter.
  */
@@ -19,10 +13,9 @@
 #include <string.h>
 
 #include "fcc_bus.h"
+#include "fuzz_bus_records.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define REC 12u
 
 static uint32_t rejections(const fcc_bus_t *bus)
 {
@@ -71,21 +64,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fcc_bus_init_masks(&all, (uint64_t)((1uLL << FCC_MSG_COUNT) - 1u), 0u) != FCC_OK) {
         abort();
     }
-    for (size_t off = 0u; off + REC <= size; off += REC) {
+    for (size_t off = 0u; off + FUZZ_RX_REC <= size; off += FUZZ_RX_REC) {
         const uint8_t *r = data + off;
         fcc_can_frame_t f;
-        memset(&f, 0, sizeof f);
-        const bool from_table = (r[0] & 0x80u) != 0u;
-        const fcc_msg_t msg = (fcc_msg_t)((r[0] & 0x1Fu) % (unsigned int)FCC_MSG_COUNT);
-        f.id = from_table ? fcc_bus_msg_table[msg].id : (((uint32_t)r[0] << 8 | r[1]) & 0x7FFu);
-        f.dlc = r[2];
-        memcpy(f.data, r + 3, 8);
-        if (from_table && (r[0] & 0x20u) != 0u && fcc_bus_msg_table[msg].data_id != 0u) {
-            (void)fcc_e2e_protect(fcc_bus_msg_table[msg].data_id, (uint8_t)(r[11] & 0x0Fu), f.data);
-        }
+        fcc_msg_t msg;
+        fuzz_rx_record(r, &f, &msg);
         feed(&fcc, &f);
         feed(&all, &f);
-        if ((r[0] & 0x40u) != 0u) {
+        if ((r[0] & FUZZ_RX_END_PERIOD) != 0u) {
             (void)fcc_bus_end_period(&fcc, msg);
             (void)fcc_bus_end_period(&all, msg);
         }

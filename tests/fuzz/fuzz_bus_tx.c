@@ -5,7 +5,7 @@
  * produces a frame that the receiver accepts with every real within half an
  * LSB of what was asked (or clamped to the range with encode_sat).
  *
- * Input: [0] message index, [1] bit 0 = saturating encode, then for each
+ * Input: [0] the message (fuzz_bus_pick: any of the DBC), [1] bit 0 = saturating encode, then for each
  * signal 8 bytes: the real (bit pattern of fcc_real_t) or the integer.
  */
 #include <math.h>
@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "fcc_bus.h"
+#include "fuzz_bus_records.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -38,7 +39,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 2u) {
         return 0;
     }
-    const fcc_msg_t msg = (fcc_msg_t)(data[0] % (unsigned int)FCC_MSG_COUNT);
+    const fcc_msg_t msg = fuzz_bus_pick(data[0]);
     const bool saturate = (data[1] & 1u) != 0u;
     const fcc_bus_msg_desc_t *d = fcc_bus_desc(msg);
     fcc_msg_data_t in;

@@ -14,12 +14,12 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hil.bus.protocol import COMMAND_FLIGHT
 from hil.bus import SIM_NODES, Decoded, load
 from hil.bus.node import BusNode
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
 
 STATUS_IDS = frozenset((*range(0x700, 0x705), 0x705, 0x706, 0x707))
-COMMAND_SHUTDOWN, COMMAND_RESET, COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_MAINTENANCE = 1, 2, 3, 4, 5
 CDRW, MISSILE = 0, 1
 _SUMMARY = re.compile(r"^fcc summary: (\S+)(?: (\S+))? (.*)$")
 

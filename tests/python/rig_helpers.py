@@ -5,11 +5,14 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
-from hil.faults import Scenario, loads_scenario, with_extra_faults
-from hil.rig.apps import CdrwDriver
+from hil.scenario.file import Scenario, loads_scenario, with_extra_faults
+from hil.sim.drivers import CdrwDriver
 from hil.rig.lockstep import LockstepRunner
-from hil.rig.runs import Outcome, RigConfig, run_flight
-from hil.rig.session import COMMAND_FLIGHT, COMMAND_RESET, RigSession
+from hil.runs.outcome import Outcome
+from hil.rig.config import RigConfig
+from hil.runs.run import run_flight
+from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_RESET
+from hil.rig.session import RigSession
 
 FRAMES = {m.name for m in load().messages}
 

@@ -64,7 +64,7 @@ void mps2_counters(mps2_counters_t *out);
  * without a debugger it would stop in a fault, so only call it last. */
 void mps2_exit(int status) __attribute__((noreturn));
 
-/* The boot configuration sector (firmware/target/README.md), 64 bytes. */
+/* The boot configuration sector (README.md here), 64 bytes. */
 const volatile uint8_t *mps2_bootcfg(void);
 
 #endif /* MPS2_BOARD_H */

@@ -36,7 +36,7 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: " PROG " --period T [--bits N] [--gyro-var V] [--accel-var V]\n"
             "                  [--solver hamiltonian|doubling] [--delay D] [--repeat N]\n"
-            "Design the seed-2 missile LQG autopilot for sampling period T (s) with the\n"
+            "Design the missile LQG autopilot for sampling period T (s) with the\n"
             "firmware's own numerics and print one JSON object (matrices row-major).\n"
             "  --period T       sampling period, %g <= T <= %g s (required)\n"
             "  --bits N         D/A converter bits, %u..%u (default 8)\n"

@@ -7,12 +7,20 @@
 * hil.bus.busload -- frame lengths (exact bit stuffing) and bus load
 * hil.bus.candump -- candump -L log reading/writing
 * hil.bus.diag   -- scripts/diag: per-message rate, jitter, E2E classes, bus load
+* hil.bus.secoc  -- SecOC: AES-128-CMAC authenticators, freshness, the bus key
+* hil.bus.protocol -- the rig protocol's numbers from the DBC's value tables (SIM_CONTROL
+                    commands, applications, modes)
+* hil.bus.logio, rawcan, cgen, digest -- ASC/BLF logs, raw sockets, the firmware's C and the
+                    spec digest generated from the DBC (dbc/generate)
+
+Room 3: may import hil.util (rounding as the firmware rounds); python-can, cantools and
+cryptography are imported where they are used, not at start-up.
 """
 from __future__ import annotations
 
-from .codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
-from .dbc import BusSpec, MessageSpec, SignalSpec, load
-from .e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
+from hil.bus.codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
+from hil.bus.dbc import BusSpec, MessageSpec, SignalSpec, load
+from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
 
 #: The simulator process speaks for the simulator core and every sensor node.
 SIM_NODES = ("SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL")

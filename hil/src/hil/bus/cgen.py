@@ -16,7 +16,7 @@ from pathlib import Path
 
 from cantools.database.can.c_source import camel_to_snake_case
 
-from . import dbc
+from hil.bus import dbc
 
 HEADER = "fcc_bus_msgs.h"
 SOURCE = "fcc_bus_msgs.c"

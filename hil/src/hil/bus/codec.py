@@ -14,8 +14,8 @@ import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
-from . import dbc
-from .e2e import E2EReceiver, E2ESender, E2EStatus
+from hil.bus import dbc
+from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus
 
 Value = float | int
 

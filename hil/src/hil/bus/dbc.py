@@ -17,7 +17,6 @@ on first use.
 from __future__ import annotations
 
 import json
-import math
 import os
 import zlib
 from dataclasses import asdict, dataclass
@@ -25,18 +24,18 @@ from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..rounding import round_half_away
-from .e2e import DEFAULT_MAX_DELTA_COUNTER
+from hil.bus.e2e import DEFAULT_MAX_DELTA_COUNTER
+from hil.util.rounding import round_half_away
 
 if TYPE_CHECKING:
     from cantools.database.can import Database, Message, Signal
 
 #: the DBC shipped with the package (in the source tree a link to dbc/fcc_hil.dbc, the one
-#: source; a wheel holds a copy, tests/python/test_install.py checks it equals the source)
+#: source; a wheel holds a copy, tests/python/cli/test_install.py checks it equals the source)
 PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
 #: the packaged DBC digested (dbc/generate writes it from dbc/fcc_hil.dbc)
 PACKAGED_SPEC = PACKAGED_DBC.with_name("fcc_hil.spec.json")
-SPEC_FORMAT = 1
+SPEC_FORMAT = 2   # 2: the value tables (VAL_) of the signals
 DEFAULT_DBC = PACKAGED_DBC
 DBC_ENV = "FCC_HIL_DBC"
 _dbc_override: Path | None = None
@@ -57,6 +56,8 @@ class SignalSpec:
     raw_min: int            # the DBC minimum, in raw units
     raw_max: int            # the DBC maximum, in raw units
     unit: str
+    #: the DBC's value table (VAL_) of the signal: (name, raw value) in the order of the values
+    choices: tuple[tuple[str, int], ...] = ()
 
     @property
     def is_integer(self) -> bool:
@@ -112,6 +113,13 @@ class MessageSpec:
         if self.dbc_path is None:
             raise ValueError(f"{self.name}: no DBC to parse")
         return _parse(self.dbc_path).get_message_by_name(self.name)
+
+    def signal(self, name: str) -> SignalSpec:
+        """The signal of that name."""
+        for sig in self.signals:
+            if sig.name == name:
+                return sig
+        raise KeyError(f"{self.name} has no signal {name!r}")
 
     def encode_raw(self, raw: dict[str, int]) -> bytes:
         """Raw values of every signal -> the 8 bytes."""
@@ -180,8 +188,9 @@ def _signal_spec(sig: Signal) -> SignalSpec:
     hi_type = (1 << (sig.length - 1)) - 1 if sig.is_signed else (1 << sig.length) - 1
     lo = lo_type if sig.minimum is None else max(lo_type, round_half_away(sig.minimum * inv))
     hi = hi_type if sig.maximum is None else min(hi_type, round_half_away(sig.maximum * inv))
+    choices = tuple((str(name), int(value)) for value, name in sorted((sig.choices or {}).items()))
     return SignalSpec(sig.name, sig.start, sig.length, sig.is_signed, sig.scale, sig.offset,
-                      inv, lo, hi, sig.unit or "")
+                      inv, lo, hi, sig.unit or "", choices)
 
 
 def _message_spec(msg: Message, path: Path) -> MessageSpec:
@@ -290,8 +299,14 @@ def spec_document(spec: BusSpec) -> dict[str, Any]:
     """The JSON document of a loaded DBC's specification (the digest dbc/generate writes)."""
     return {"format": SPEC_FORMAT, "dbc": _fingerprint(spec.path.read_bytes()),
             "nodes": list(spec.nodes), "baudrate": spec.baudrate,
-            "messages": [{k: v for k, v in asdict(m).items() if k != "dbc_path"}
-                         for m in spec.messages]}
+            "messages": [_message_document(m) for m in spec.messages]}
+
+
+def _message_document(m: MessageSpec) -> dict[str, Any]:
+    """A message of the digest: a signal's value table only where the DBC has one."""
+    doc = {k: v for k, v in asdict(m).items() if k != "dbc_path"}
+    doc["signals"] = [{k: v for k, v in sig.items() if k != "choices" or v} for sig in doc["signals"]]
+    return doc
 
 
 def _from_spec_file(path: Path, spec_file: Path | None = None) -> BusSpec | None:
@@ -303,12 +318,17 @@ def _from_spec_file(path: Path, spec_file: Path | None = None) -> BusSpec | None
         messages = tuple(MessageSpec(**{**m, "senders": tuple(m["senders"]),
                                         "receivers": tuple(m["receivers"]),
                                         "secoc_pdus": tuple(m["secoc_pdus"]),
-                                        "signals": tuple(SignalSpec(**s) for s in m["signals"])},
+                                        "signals": tuple(_signal_of(s) for s in m["signals"])},
                                      dbc_path=path)
                          for m in doc["messages"])
         return BusSpec(path, messages, tuple(doc["nodes"]), int(doc["baudrate"]))
     except (OSError, ValueError, KeyError, TypeError):
         return None
+
+
+def _signal_of(doc: dict[str, Any]) -> SignalSpec:
+    """A SignalSpec from its JSON object (the value table's pairs come back as lists)."""
+    return SignalSpec(**{**doc, "choices": tuple((str(n), int(v)) for n, v in doc.get("choices", ()))})
 
 
 def write_spec_file(dbc_path: Path, out: Path) -> None:

@@ -28,13 +28,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NoReturn
 
-from . import busload, candump, dbc, logio
-from .codec import decode_values
-from .e2e import E2EReceiver, E2EStatus
+from hil.bus import busload, candump, dbc, logio
+from hil.bus.codec import decode_values
+from hil.bus.e2e import E2EReceiver, E2EStatus
+from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID
 
 PROG = "diag"
-SIM_CONTROL_ID = 0x010
-COMMAND_RESET = 2
 #: messages that carry an application in bits 12-13 (lockstep tick and answer): one stream each
 PER_APP = ("SIM_TICK", "FCC_ACK")
 APPS = {0: "cdrw", 1: "missile"}

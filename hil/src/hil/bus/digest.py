@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .dbc import write_spec_file
+from hil.bus.dbc import write_spec_file
 
 
 def main(argv: list[str] | None = None) -> int:

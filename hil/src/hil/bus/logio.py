@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-from .candump import LogFrame, format_line, read_log
+from hil.bus.candump import LogFrame, format_line, read_log
 
 #: hil run --log-format choices (file bus.<fmt> in the run directory)
 RUN_FORMATS = ("log", "asc", "blf")

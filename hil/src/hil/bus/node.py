@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import can
 
-from . import dbc
-from .codec import Decoded, FrameCodec, Value
-from .rawcan import enlarge_receive_buffer
+from hil.bus import dbc
+from hil.bus.codec import Decoded, FrameCodec, Value
+from hil.bus.rawcan import enlarge_receive_buffer
 
 SEND_RETRY_S = 0.05      # give a full transmit queue this long before dropping
 SEND_RETRY_SLEEP_S = 0.0005

@@ -22,6 +22,8 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hil.bus.dbc import BusSpec
+
 KEY_BYTES = 16
 MAC_BYTES = 6
 FV_TRUNC_BITS = 16
@@ -207,7 +209,6 @@ class Endpoint:
     heartbeat that verifies with the trip it carries fixes it for the session."""
 
     def __init__(self, spec: object, key: bytes, own_node_names: tuple[str, ...]) -> None:
-        from .dbc import BusSpec
         assert isinstance(spec, BusSpec)
         self.spec = spec
         self.key = key

@@ -1,13 +1,18 @@
 """Campaigns flown by many rigs at once, on one machine or a Dask cluster (issue 15).
 
 * flights -- what one flight is, flown inside a rig: its own fcc, candump and bus
+* files   -- the files between the host side of a rig and the loop inside it
 * server  -- the loop inside a worker's rig (a UML guest with its own vcan0, or a vcanK):
              flight requests in, results out, through files
 * guest   -- the host side of a worker's rig: boots it once, hands it flights, restarts it
              when it dies or hangs
 * engine  -- Dask distributed: a local cluster of N workers or a running cluster's scheduler,
              one progress bar, one retry elsewhere, results merged in flight order
+* runs    -- `hil campaign/sweep --workers/--scheduler`: the flights, the merged run directory
 
 Every flight gets everything it depends on (scenario, fault time, seed) from the coordinator,
 so the merged results are the same for any number of workers and any order of completion.
+
+Room 12: may import every room below it (hil.util to hil.runs); Dask is imported only by the
+commands that use it.
 """

@@ -22,8 +22,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..rig.runs import RigConfig
-from .guest import GuestRig
+from hil.parallel.guest import GuestRig
+from hil.rig.config import RigConfig
+from hil.util.progress import bar as progress_bar
 
 FLIGHT_TIMEOUT_S = 120.0
 #: Dask's rescheduling after a worker died: once (the flight is then reported)
@@ -86,7 +87,7 @@ def _worker_rig(flight_timeout: float) -> GuestRig:
 
 def fly_on_rig(flight: Flight, cfg: RigConfig, flight_timeout: float) -> Done:
     """The Dask task: one flight in this worker process's rig."""
-    from distributed import get_worker
+    from distributed import get_worker  # Dask: slow to import, for --workers/--scheduler only
     worker = get_worker().address
     rig = _worker_rig(flight_timeout)
     t0 = time.perf_counter()
@@ -127,7 +128,7 @@ class Cluster:
     """A Dask client on a local cluster of `workers` processes, or on `scheduler`."""
 
     def __init__(self, workers: int | None = None, scheduler: str | None = None) -> None:
-        import dask
+        import dask  # Dask: slow to import, for --workers/--scheduler only
         from distributed import Client, LocalCluster
 
         if (workers is None) == (scheduler is None):
@@ -168,9 +169,8 @@ class Cluster:
     def run(self, flights: Sequence[Flight], cfg: RigConfig, *, progress: bool = True,
             desc: str = "flights", flight_timeout: float = FLIGHT_TIMEOUT_S) -> Results:
         """Every flight once (a failed one twice); values by flight index."""
-        from distributed import as_completed
+        from distributed import as_completed  # Dask: slow to import (as above)
         from distributed.scheduler import KilledWorker
-        from ..progress import bar as progress_bar
 
         t0 = time.perf_counter()
         res = Results()

@@ -10,14 +10,17 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..faults import Scenario, with_fault_start
-from ..rig.apps import CdrwDriver, MissileDriver
-from ..rig.buslog import split_flights
-from ..rig.report import firmware_summary
-from ..rig.results import cdrw_record, cdrw_result, missile_result
-from ..progress import bar as progress_bar
-from ..rig.runs import CampaignFlight, RigConfig, _fly, _require_log, campaign_flight, fcc_args
-from ..rig.session import RigError, RigSession
+from hil.results.buslog import split_flights
+from hil.results.flight import cdrw_record, cdrw_result, missile_result
+from hil.results.report import firmware_summary
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.rig.flight import fcc_args, fly, require_log
+from hil.rig.session import RigSession
+from hil.runs.campaign import CampaignFlight, campaign_flight
+from hil.scenario.file import Scenario, with_fault_start
+from hil.sim.drivers import CdrwDriver, MissileDriver
+from hil.util.progress import bar as progress_bar
 
 
 @dataclasses.dataclass
@@ -38,6 +41,12 @@ class SessionDone:
     firmware: dict[str, Any]
 
 
+def worker_config(cfg: RigConfig) -> RigConfig:
+    """A worker's session: the run's configuration with a random bus key of its own (the
+    workers are never handed --key-file)."""
+    return dataclasses.replace(cfg, key_file=None)
+
+
 def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]], cfg: RigConfig,
                          keep: bool = False) -> SessionDone:
     """Campaign flights (index, fault start) one after the other in one fresh session in
@@ -48,16 +57,15 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     records = []
-    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder) as rig:
+    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
         runner = None
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
             with progress_bar(d.n_steps, False, "") as bar:
-                runner = _fly(rig, [d], cfg, bar, runner)
+                runner = fly(rig, [d], cfg, bar, runner)
             records.append(cdrw_record(d))
         rig.shutdown()
-    _require_log(rig)
+    require_log(rig)
     logs = split_flights(out / "bus.log")
     if len(logs) != len(flights):
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
@@ -85,11 +93,10 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     out.mkdir(parents=True, exist_ok=True)
     lqg = scenario.lqg
     assert lqg is not None
-    with RigSession(out, fcc_args([scenario], cfg), iface=cfg.iface, fcc_binary=cfg.fcc_binary,
-                    recorder=cfg.recorder) as rig:
+    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
         d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
         with progress_bar(0, False, "") as bar:
-            _fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
+            fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
         rig.shutdown()
     done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status, rig.security.counters()))
     shutil.rmtree(out, ignore_errors=True)

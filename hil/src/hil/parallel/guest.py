@@ -24,9 +24,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from ..rig.paths import REPO
-from ..rig.session import RigError
-from .server import LEASE_S, POLL_S, write_atomic
+from hil.io.paths import REPO
+from hil.parallel.files import LEASE_S, POLL_S, write_atomic
+from hil.rig.errors import RigError
 
 BOOT_TIMEOUT_S = 120.0
 #: the guest's own limit (with-vcan --timeout); the lease ends it much earlier when unused

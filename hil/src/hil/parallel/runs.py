@@ -2,8 +2,8 @@
 many rigs.
 
 Everything a flight depends on is decided here, in the coordinator, exactly as in the
-sequential commands: the campaign's fault times from its seed (hil.rig.runs.campaign_fault_times),
-the sweep's (T, N) points (hil.rig.runs.sweep_points).  Each flight carries its own inputs and
+sequential commands: the campaign's fault times from its seed (hil.scenario.campaign),
+the sweep's (T, N) points (hil.runs.sweep.sweep_points).  Each flight carries its own inputs and
 the results are merged in flight order by the sequential commands' own writers, so the run
 directory is the same for any number of workers.
 """
@@ -14,14 +14,17 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..faults import Scenario, ScenarioError
-from ..rig.output import write_json
-from ..rig.session import RigError
-from ..rig.runs import (Outcome, RigConfig, _finish, campaign_fault_times, sweep_points, write_campaign,
-                        write_sweep)
-from .engine import Cluster, Flight
-from .flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
-
+from hil.io.output import write_json
+from hil.parallel.engine import Cluster, Flight
+from hil.parallel.flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.runs.campaign import write_campaign
+from hil.runs.outcome import Outcome, finish
+from hil.runs.sweep import sweep_points, write_sweep
+from hil.scenario.campaign import campaign_fault_times
+from hil.scenario.file import Scenario
+from hil.scenario.schema import ScenarioError
 
 #: most flights one rig session flies in a row (fcc reset between them, as in the sequential
 #: campaign): the session's start and end (recorder, fcc, its first heartbeat, shutdown) are
@@ -68,7 +71,7 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
                              firmware, cfg.mode, failed)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
-    return _finish(cfg, out, summary, None)
+    return finish(cfg, out, summary, None)
 
 
 def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
@@ -94,4 +97,4 @@ def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Seque
         write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
-    return _finish(cfg, out, summary, None)
+    return finish(cfg, out, summary, None)

@@ -1,15 +1,9 @@
 """The loop inside a worker's rig: ``python -m hil.parallel.server DIR``.
 
 Runs where the rig's CAN interface is (a UML guest started by scripts/with-vcan, or the host
-with its own vcanK).  DIR is shared with the host side (hil.parallel.guest):
-
-    DIR/ready        written once the loop runs
-    DIR/req/N.pkl    a request: pickled (function, args); taken and removed by the loop
-    DIR/res/N.pkl    its answer: pickled ("ok", value, seconds) or ("error", exception, seconds)
-    DIR/lease        touched by the host while it wants the rig; the loop ends when it has not
-                     changed for LEASE_S (the host process was killed) or when DIR/stop appears
-
-Files are written under a temporary name and renamed, so a reader never sees half of one.
+with its own vcanK).  DIR is shared with the host side (hil.parallel.guest): its files are hil.parallel.files'.
+The flights' modules (hil.parallel.flights) are imported with this one, before DIR/ready is
+written: at the rig's boot, not at its first flight's time.
 """
 from __future__ import annotations
 
@@ -21,14 +15,8 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-LEASE_S = 20.0
-POLL_S = 0.01
-
-
-def write_atomic(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
+import hil.parallel.flights  # noqa: F401 - the requests' functions, loaded before "ready"
+from hil.parallel.files import LEASE_S, POLL_S, write_atomic
 
 
 def _answer(req: Path, res_dir: Path) -> None:
@@ -53,7 +41,6 @@ def _answer(req: Path, res_dir: Path) -> None:
 def serve(root: Path, lease_s: float = LEASE_S) -> int:
     req_dir, res_dir = root / "req", root / "res"
     lease = root / "lease"
-    import hil.parallel.flights  # noqa: F401 - the flights' modules, loaded before "ready" (boot, not flight time)
     write_atomic(root / "ready", f"{os.getpid()}\n".encode())
     last_lease, seen_at = None, time.monotonic()
     while not (root / "stop").exists():

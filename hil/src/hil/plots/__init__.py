@@ -10,10 +10,14 @@ histograms of a realtime run's timing.
 
 The figures are independent: on a machine with several CPUs they are drawn by forked workers
 (matplotlib imported once, before the fork), the same PNG bytes as one after the other.
+
+Room 10: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
+hil.results, hil.reference; matplotlib only when drawing (hil.plots.mpl).
 """
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import re
 from collections.abc import Callable
@@ -22,7 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..rig.output import read_csv
+from hil.io.output import read_csv
+from hil.results import timing
 
 _FINE = re.compile(r"^missile_T(?P<T>\d+\.\d+)_(?P<b>open|b\d+)_fine\.csv$")
 
@@ -46,7 +51,6 @@ def draw(figs: list[Figure]) -> list[Path | None]:
     workers = min(len(figs), os.cpu_count() or 1, MAX_WORKERS)
     if workers < 2:
         return [f() for f in figs]
-    import multiprocessing
 
     with multiprocessing.get_context("fork").Pool(workers) as pool:
         return pool.map(_call, figs, chunksize=1)
@@ -54,7 +58,7 @@ def draw(figs: list[Figure]) -> list[Path | None]:
 
 def figures(run_dir: Path) -> list[Figure]:
     """The figures of a run directory, not yet drawn (the data read, matplotlib imported)."""
-    from . import cdrw, missile  # matplotlib is imported only when drawing
+    from hil.plots import cdrw, missile, realtime  # they import matplotlib: only when drawing
 
     written: list[Figure] = []
     for name in ("cdrw.csv", "cdrw_run0.csv"):
@@ -92,9 +96,7 @@ def figures(run_dir: Path) -> list[Figure]:
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
         written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle))
-    from ..rig import timing
     if (run_dir / timing.CSV_NAME).is_file():
-        from . import realtime
         written.append(partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME),
                                run_dir))
     return written

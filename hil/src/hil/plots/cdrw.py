@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._mpl import plt, save
+from hil.plots.mpl import plt, save
 
 Series = dict[str, np.ndarray]
 DEG = 180.0 / np.pi

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ._mpl import plt, save
+from hil.plots.mpl import plt, save
 
 Series = dict[str, np.ndarray]
 BITS_COLORS = {6: "tab:red", 8: "tab:green", 12: "tab:blue"}
@@ -62,7 +62,7 @@ def fig3_rms(runs: Sequence[Mapping[str, Any]], out: Path) -> Path | None:
 
 
 def fig3_covariance(doc: Mapping[str, Any], out: Path) -> Path | None:
-    """Fig. 3 as the paper ran it (hil.rig.figures): per gyro variance (rows) the stationary
+    """Fig. 3 as the paper ran it (hil.results.figures): per gyro variance (rows) the stationary
     RMS of q and alpha_T (columns) by covariance analysis against T for each word length and
     an ideal D/A, the open-loop level, and the HIL Monte-Carlo points with 95 % intervals."""
     studies = doc.get("studies") or []

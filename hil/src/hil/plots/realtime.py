@@ -1,4 +1,4 @@
-"""The timing of a realtime run (realtime_timing.csv, hil.rig.timing): histograms of the
+"""The timing of a realtime run (realtime_timing.csv, hil.results.timing): histograms of the
 step-start jitter (simulator's sensor frames and fcc's commands against the master's sampling
 instants), the data age at use, and fcc's sync offset."""
 from __future__ import annotations
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._mpl import plt, save
+from hil.plots.mpl import plt, save
 
 NAME = "realtime_timing.png"
 

@@ -3,14 +3,18 @@
 Same semantics as the C modules in firmware/sid (same defaults, same row
 meaning, same reduction rule), written the way the equations read, so that
 the tests can compare the firmware with an independent implementation and
-the benchmark can time the same step in numpy.
+the benchmark can time the same step in numpy.  cdrw_study: Tables 4-5 of the reference on
+the simulated CDRW flights against sid_replay (`python -m hil.reference.cdrw_study`).
+
+Room 9: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
+hil.results.
 """
-from hil.reference.model import Model, default_prior, default_prior_affine, norm2, spectral_radius
-from hil.reference.mls import Mls, MlsConfig, batch_fit
 from hil.reference.kf import Kf
-from hil.reference.zonotope import contains, hull, reduce_order
-from hil.reference.zkf import Azkf, AzkfConfig, Detector, DetectorConfig, Zkf
+from hil.reference.mls import Mls, MlsConfig, batch_fit
+from hil.reference.model import Model, default_prior, default_prior_affine, norm2, spectral_radius
 from hil.reference.sid import SidConfig, SidLoop, replay
+from hil.reference.zkf import Azkf, AzkfConfig, Detector, DetectorConfig, Zkf
+from hil.reference.zonotope import contains, hull, reduce_order
 
 __all__ = [
     "Azkf", "AzkfConfig", "Detector", "DetectorConfig", "Kf", "Mls", "MlsConfig", "Model",

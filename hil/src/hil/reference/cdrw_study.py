@@ -3,7 +3,7 @@
     python -m hil.reference.cdrw_study [--tool build/bin/sid_replay] [--runs 100]
         [--seeds 20] [--ratio-seeds 50] [-- extra sid_replay options]
 
-Flies the CDRW plant offline (hil.plants.cdrw_flight, the default scenario: 0.1 s spike on
+Flies the CDRW plant offline (hil.sim.cdrw_flight, the default scenario: 0.1 s spike on
 alpha and q at 4 s), replays the readings through the *firmware* (sid_replay, the C
 modules of firmware/sid) for the `order` and `skip` fault policies, and prints:
 
@@ -34,10 +34,12 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.faults import load_default_scenario, with_fault_start
-from hil.plants.cdrw_flight import CdrwFlight, simulate_cdrw
-from hil.reference.metrics import error_table, read_rows
-from hil.sid_csv import sid_csv
+from hil.reference.metrics import error_table
+from hil.results.sidrows import read_rows
+from hil.scenario.campaign import campaign_fault_times
+from hil.scenario.file import load_default_scenario, with_fault_start
+from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
+from hil.sim.sid_csv import sid_csv
 
 DT = 0.02
 FILTERS = ("kf", "zkf", "azkf")
@@ -58,8 +60,7 @@ def simulate(seed: int = 1, fault_start: float | None = 4.0) -> CdrwFlight:
 
 
 def campaign_times(runs: int, seed: int = 1) -> np.ndarray:
-    """Fault start times as `hil campaign` draws them (hil.rig.runs)."""
-    from hil.rig.runs import campaign_fault_times  # the rig's own rule, not a copy
+    """Fault start times as `hil campaign` draws them (hil.scenario.campaign)."""
     return campaign_fault_times(load_default_scenario("cdrw"), runs, seed)
 
 

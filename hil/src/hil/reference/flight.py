@@ -1,6 +1,6 @@
 """A synthetic flight for the identification tests and the benchmark.
 
-Not the CDRW (that nonlinear plant lives in hil.plants): a linear, slowly
+Not the CDRW (that nonlinear plant lives in hil.sim): a linear, slowly
 time-varying short-period model in exactly the MLS's structure, so that the
 truth A_k, B_k is known.  Shape like the paper's Fig. 5: alpha near 9 deg, a
 pull-up that passes 15 deg near 3 s and comes back by ~5 s, with pitch
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hil.sid_csv import sid_csv
+from hil.sim.sid_csv import sid_csv
 
 DT = 0.02
 

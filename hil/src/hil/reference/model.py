@@ -37,12 +37,12 @@ class Model:
         return self.a @ x + self.b * de + self.c
 
 
-# The CDRW's wind-tunnel model at trim (hil.plants.cdrw.wind_tunnel_prior(): static
+# The CDRW's wind-tunnel model at trim (hil.sim.cdrw_prior.wind_tunnel_prior(): static
 # separation X = X0(alpha), the paper's Euler form, dt = 0.02 s, alpha* = 9 deg,
 # de* = -0.042105 rad).  The paper's regression has no constant term, so its prior is the
 # affine model with the trim offset c0 absorbed into [A B] by the smallest change that makes
 # the trim a fixed point (what a least-squares fit without intercept converges to at trim).
-# tests/python/test_sid_cdrw.py checks these digits against the plant.
+# tests/python/reference/test_sid_cdrw.py checks these digits against the plant.
 PRIOR_PAPER = (0.989307, 0.018740, -0.540133, 0.873259, -0.039892, -2.015052)
 PRIOR_AFFINE = (0.895757, 0.018740, -1.001991, 0.873259, -0.014816, -1.891251,
                 0.015751, 0.077761)

@@ -1,20 +1,20 @@
-"""The rig: fly the simulated aircraft against the fcc firmware over SocketCAN.
+"""The rig: fly the simulated aircraft against the device under test over SocketCAN (or any
+python-can bus).
 
-* session   -- RigSession: the bus recorder (candump), fcc, the simulator's socket
-* targets   -- the device under test: host fcc, qemu-m4f (qemu: the M4F image + slcand + can-gw),
-               external (whatever answers on the bus)
-* apps      -- CdrwDriver / MissileDriver: one aircraft, step by step
-* inject    -- FrameInjector: frame- and bus-level faults on the simulator's frames
+* config    -- RigConfig: the run's configuration, one object for the session and the flights
+* session   -- RigSession: the bus recorder, the device under test (hil.targets), the
+               simulator's socket, the bus key
+* errors    -- RigError, FccTimeout, FccDied (with `hil`'s exit status)
+* status    -- fcc's heartbeat counters
+* link      -- CanLink: the simulator's raw CAN socket (or a python-can bus), kernel time stamps
+* recorder  -- the bus recorder: candump or canrec
 * lockstep  -- LockstepRunner: tick, wait for FCC_ACK, integrate (deterministic)
 * realtime  -- RealtimeRunner: both sides on their own clocks
-* buslog    -- fcc's outputs read back from bus.log
-* results   -- time series and figures of merit of a flight
-* runs      -- the CLI commands: run_flight, run_campaign, run_sweep, run_demo
-* report    -- summary.json as text tables
-* output    -- CSV and JSON files of a run directory
-* rundir    -- atomic writes; the staged run directory (published when done, kept when failed)
-* bench     -- scripts/bench.d/rig
+* timesync  -- the bus's time master (realtime)
+* txsched   -- the time-triggered transmitter (realtime; a process of its own)
+* simtime   -- bus.log in simulated time (lockstep), the wall-clock log beside it
+* flight    -- one flight: fcc's command line, the session, the drivers, fly
+* live      -- `hil live`'s view of the bus
 
-Nothing is imported here: each module is imported by name (a command imports only what it
-uses).
+Room 7: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets.
 """

@@ -27,8 +27,8 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from ..bus.candump import format_line
-from ..bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
+from hil.bus.candump import format_line
+from hil.bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
 
 if TYPE_CHECKING:
     import can

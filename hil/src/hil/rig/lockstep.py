@@ -26,9 +26,10 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 
-from .apps import APP_NAMES, AppDriver, StepIO
-from .link import pack_frame
-from .session import FccDied, FccTimeout, RigSession
+from hil.rig.errors import FccDied, FccTimeout
+from hil.rig.link import pack_frame
+from hil.rig.session import RigSession
+from hil.sim.drivers import APP_NAMES, AppDriver, StepIO
 
 DEFAULT_TIMEOUT_S = 2.0
 #: check the clock every this many frames even when frames keep coming

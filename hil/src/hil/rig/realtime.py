@@ -8,7 +8,7 @@ time; the first flight waits (at most SYNC_WAIT_S) until fcc reports LOCKED in F
 
 The sensors sample at the instant; the simulator is not the clock.  The plant is known one
 step ahead: once period k-1 is closed, y_k is computed and step k's frames are handed over to
-the time-triggered transmitter (hil.txsched), which puts them on the bus at t_k whenever the
+the time-triggered transmitter (hil.rig.txsched), which puts them on the bus at t_k whenever the
 simulator itself runs.  A step handed over after its instant is counted (sim_late_steps) and
 goes out at once; the hand-over slack (instant minus hand-over time) is reported.
 
@@ -34,18 +34,20 @@ import subprocess
 import time
 from collections.abc import Callable, Sequence
 
-from ..faults import Flood
-from .apps import AppDriver, StepIO
-from ..txsched import TimedSender
-from .processes import spawn
-from .session import COMMAND_FLIGHT, RigError, RigSession
-from .timesync import TimeMaster
+from hil.bus.protocol import COMMAND_FLIGHT
+from hil.rig.errors import RigError
+from hil.rig.session import RigSession
+from hil.rig.timesync import TimeMaster
+from hil.rig.txsched import TimedSender
+from hil.scenario.faults import Flood
+from hil.sim.drivers import AppDriver, StepIO
+from hil.util.processes import spawn
 
 #: a closed-loop period without fcc's answer is closed this long (s, at most a quarter period)
 #: before the next instant: the integration, the next sample and the hand-over take
 #: milliseconds in the loaded UML guest
 PREP_S = 0.004
-#: the transmitter's SCHED_FIFO priority where allowed: above fcc's (hil.rig.runs.FCC_RT_PRIORITY),
+#: the transmitter's SCHED_FIFO priority where allowed: above fcc's (hil.rig.flight.FCC_RT_PRIORITY),
 #: so that a step of fcc's never delays a sample
 TX_RT_PRIORITY = 51
 #: the first sampling instant is at least this far after fly() is called

@@ -1,6 +1,6 @@
 """One rig session: the bus recorder, the firmware process and the simulator's socket.
 
-    with RigSession(run_dir, fcc_args=[...]) as rig:     # recorder, then fcc, then "listening"
+    with RigSession(run_dir, fcc_args, config) as rig:   # recorder, then fcc, then "listening"
         ... lockstep or realtime flights (rig.link, rig.codec, rig.send_message) ...
         rig.shutdown()                                     # SIM_CONTROL shutdown, fcc exits 0
 
@@ -11,103 +11,44 @@ bus.log and fcc.log.
 """
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import tempfile
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..bus import SIM_NODES, E2EReceiver, FrameCodec, load
-from ..bus.codec import decode_values
-from ..bus.dbc import BusSpec
-from ..bus.secoc import (TEST_KEY_FILE, Endpoint, KeyFileError, load_cmac, read_key_file,
-                         write_key_file)
-from .link import CanLink, LinkError, LinkRecorder, pack_frame
-from .processes import RECORDERS, BusRecorder
-from .targets import Device, start_device
+from hil.bus import SIM_NODES, E2EReceiver, FrameCodec, load
+from hil.bus.codec import decode_values
+from hil.bus.dbc import BusSpec
+from hil.bus.protocol import (
+    COMMAND_GROUND,
+    COMMAND_NONE,
+    COMMAND_RESET,
+    COMMAND_SHUTDOWN,
+    MODE_CODES,
+    MODE_NAMES,
+)
+from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, write_key_file
+from hil.rig.config import RigConfig
+from hil.rig.errors import FccDied, FccTimeout, RigError
+from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
+from hil.rig.status import STATUS_FRAMES, StatusCounters
+from hil.rig.recorder import RECORDERS, BusRecorder
+from hil.targets.device import Device, DeviceStart
+from hil.targets.registry import device_class
 
 if TYPE_CHECKING:  # realtime's (hil.rig.realtime makes them): not imported for lockstep
-    from ..txsched import TimedSender
-    from .timesync import TimeMaster
+    from hil.rig.timesync import TimeMaster
+    from hil.rig.txsched import TimedSender
 
-STATUS_FRAMES = ("FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS", "FCC_REJECT_COUNTS",
-                 "FCC_BUS_COUNTS", "FCC_SEC_COUNTS", "FCC_SEC_SESSION", "FCC_SYNC_STATUS")
-#: heartbeat signals that are states or gauges, not wrapping counters
-GAUGES = ("mode", "op_mode", "stale_now", "worst_step_us", "trip", "state", "master", "offset_us",
-          "rate_ppm")
-COMMAND_SHUTDOWN = 1
-COMMAND_RESET = 2
-COMMAND_FLIGHT = 3
-COMMAND_GROUND = 4
 STARTUP_TIMEOUT_S = 10.0
-#: the trip of the Cortex-M4F PIL image (firmware/target/m4f_main.c: no entropy on the board)
-PIL_TRIP = 0x4D344631
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
-#: FCC_STATUS.mode
-MODE_CODES = {"lockstep": 0, "realtime": 1}
-MODE_NAMES = {v: k for k, v in MODE_CODES.items()}
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
-
-
-class RigError(RuntimeError):
-    """A run cannot go on (one line for the user; the bus log is kept)."""
-
-    exit_code = 1
-
-
-class FccTimeout(RigError):
-    exit_code = 3
-
-
-class FccDied(RigError):
-    exit_code = 4
-
-
-@dataclass
-class StatusCounters:
-    """fcc's heartbeat counters, unwrapped across the 16-bit (or 8-bit) fields of the DBC
-    (the heartbeat comes often enough that no counter moves by a whole wrap in between)."""
-
-    values: dict[str, int] = field(default_factory=dict)
-    _last_raw: dict[str, int] = field(default_factory=dict)
-    last: dict[str, dict[str, int | float]] = field(default_factory=dict)
-    heartbeats: int = 0
-
-    @classmethod
-    def from_frames(cls, spec: BusSpec, frames: list[tuple[int, bytes]]) -> StatusCounters:
-        sc = cls()
-        for frame_id, data in frames:
-            sc.update(spec, frame_id, data)
-        return sc
-
-    def update(self, spec: BusSpec, frame_id: int, data: bytes) -> None:
-        msg = spec.by_id(frame_id)
-        if msg is None or msg.name not in STATUS_FRAMES or len(data) != 8:
-            return
-        vals = msg.decode(data)
-        self.last[msg.name] = dict(vals)
-        if msg.name == "FCC_STATUS":
-            self.heartbeats += 1
-        for sig in msg.signals:
-            key = f"{msg.name}.{sig.name}"
-            if sig.length == 1 or sig.name in GAUGES:
-                self.values[key] = vals[sig.name]  # flags and gauges: not counters
-                continue
-            raw = int(vals[sig.name])
-            prev = self._last_raw.get(key)
-            mod = 1 << sig.length
-            self.values[key] = self.values.get(key, 0) + (raw if prev is None else (raw - prev) % mod)
-            self._last_raw[key] = raw
-
-    def get(self, name: str, default: int = 0) -> int:
-        return self.values.get(name, default)
 
 
 _SUMMARY = re.compile(r"^fcc summary: (\w+) steps=\d+ degraded=\d+ errors=(\d+)")
@@ -125,30 +66,28 @@ def step_errors(fcc_log: Path) -> dict[str, int]:
 class RigSession:
     """Bus recorder + fcc + the simulator's socket, for the duration of a ``with`` block."""
 
-    def __init__(self, run_dir: Path, fcc_args: Sequence[str], *, iface: str = "vcan0",
-                 fcc_binary: Path | None = None, spec: BusSpec | None = None,
-                 record: bool = True, target: str = "host", interface: str = "socketcan",
-                 bitrate: int | None = None, mode: str | None = None,
-                 answer_timeout: float = 2.0, key_file: Path | None = None,
-                 recorder: str = "canrec",
+    def __init__(self, run_dir: Path, fcc_args: Sequence[str], config: RigConfig, *,
+                 record: bool = True, spec: BusSpec | None = None,
                  prepare: Callable[[RigSession], object] | None = None) -> None:
-        """iface: the channel of the simulator's bus; interface/bitrate: python-can's (the
-        recorder on SocketCAN is `recorder`, candump or canrec (hil.rig.processes.RECORDERS);
-        the link's own log writer otherwise); target: the
-        device under test (hil.rig.targets); fcc_binary: the firmware it runs (host: fcc,
-        qemu-m4f: the ELF image; default: the build's); key_file: the bus key (default: a
-        random one for this session; the qemu-m4f image has the published test key);
-        prepare: work for the time the bus is listened to before fcc starts (the flights'
-        precomputation: the listen is a wait otherwise), its result in ``self.prepared``."""
+        """config: the run's (its interface, python-can's interface and bitrate, the device
+        under test and its firmware, the mode checked against the device's FCC_STATUS.mode,
+        the answer timeout of an external device, the bus key file (default: a random one for
+        this session; the device may have its own, hil.targets), the bus recorder on SocketCAN
+        (hil.rig.recorder.RECORDERS; the link's own log writer otherwise)); record: keep
+        bus.log; prepare: work for the time the bus is listened to before fcc starts (the
+        flights' precomputation: the listen is a wait otherwise), its result in
+        ``self.prepared``."""
         self.run_dir = Path(run_dir)
-        self.iface = iface
-        self.interface = interface
-        self.bitrate = bitrate
-        self.target = target
-        #: the run's mode, checked against the device's FCC_STATUS.mode (None: not checked)
-        self.mode = mode
+        self.config = config
+        self.iface = config.iface
+        self.interface = config.interface
+        self.bitrate = config.bitrate
+        self.target = config.target
+        self.device_class = device_class(config.target)
+        #: the run's mode, checked against the device's FCC_STATUS.mode
+        self.mode = config.mode
         #: an external device must answer (its heartbeat) within this many seconds
-        self.answer_timeout = answer_timeout
+        self.answer_timeout = config.timeout
         self.spec = spec or load()
         self.codec = FrameCodec(self.spec, SIM_NODES)
         # Only what the simulator acts on comes to its socket: the acknowledge, the missile's
@@ -158,39 +97,19 @@ class RigSession:
         self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
                          *STATUS_FRAMES, "FCC_STATUS_AUTH")
         self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
-        self.fcc_binary = fcc_binary
-        # The bus key: the user's file, or a fresh random key for this session only (a file
-        # readable by its owner, handed to fcc, deleted when the session closes); the PIL
-        # image carries the published test key and a fixed trip (firmware/target/README.md).
+        self.fcc_binary = config.fcc_binary
         self._key_dir: Path | None = None
-        if target == "qemu-m4f":
-            key_file = TEST_KEY_FILE
-        if key_file is None:
-            self._key_dir = Path(tempfile.mkdtemp(prefix="hil-key-"))
-            key_file = self._key_dir / "session.key"
-            key = write_key_file(key_file)
-        else:
-            try:
-                key = read_key_file(key_file)
-            except KeyFileError as e:
-                raise RigError(str(e)) from None
-        self.security = Endpoint(self.spec, key, SIM_NODES)
-        self.fcc_args = list(fcc_args)
-        if target == "host":
-            # The rig launches fcc, so it chooses fcc's trip (the high half of every freshness
-            # value) and knows it from the start: a heartbeat recorded in another session, even
-            # under the same key, never verifies (dbc/README.md, "Authentication").
-            self.security.set_trip(int.from_bytes(os.urandom(4), "little") or 1)
-            self.fcc_args = ["--key-file", str(key_file), "--trip", str(self.security.trip),
-                             *self.fcc_args]
-        elif target == "qemu-m4f":
-            self.security.set_trip(PIL_TRIP)
-        # external: the trip of its first heartbeat that verifies under the key (trust on
-        # first use; a replayed old heartbeat then is a denial, never a spoof)
+        self.security, key_file = self._bus_key(self.device_class.bus_key_file(config.key_file))
+        # the device's trip, when the rig knows it before the device starts (the high half
+        # of every freshness value); else from its first heartbeat that verifies
+        trip = self.device_class.choose_trip()
+        if trip is not None:
+            self.security.set_trip(trip)
+        self.fcc_args = [*self.device_class.key_args(key_file, trip), *fcc_args]
         self.record = record
-        if recorder not in RECORDERS:
-            raise ValueError(f"recorder must be one of {', '.join(RECORDERS)}, not {recorder!r}")
-        self.recorder = recorder
+        if config.recorder not in RECORDERS:
+            raise ValueError(f"recorder must be one of {', '.join(RECORDERS)}, not {config.recorder!r}")
+        self.recorder = config.recorder
         self._prepare = prepare
         self.prepared: object = None
         self.link: CanLink | None = None
@@ -210,9 +129,23 @@ class RigSession:
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
         self.time_master_stats: dict[str, int] = {}
-        #: realtime: the simulator's time-triggered transmitter (hil.txsched), with the master
+        #: realtime: the simulator's time-triggered transmitter (hil.rig.txsched), with the master
         self.transmitter: TimedSender | None = None
         self.transmitter_stats: dict[str, object] = {}
+
+    def _bus_key(self, key_file: Path | None) -> tuple[Endpoint, Path]:
+        """The bus key: the given file, or a fresh random key for this session only (a file
+        readable by its owner, handed to the device, deleted when the session closes)."""
+        if key_file is None:
+            self._key_dir = Path(tempfile.mkdtemp(prefix="hil-key-"))
+            key_file = self._key_dir / "session.key"
+            key = write_key_file(key_file)
+        else:
+            try:
+                key = read_key_file(key_file)
+            except KeyFileError as e:
+                raise RigError(str(e)) from None
+        return Endpoint(self.spec, key, SIM_NODES), key_file
 
     @staticmethod
     def dbc_frames() -> tuple:
@@ -234,10 +167,10 @@ class RigSession:
             load_cmac()
             if self._prepare is not None:
                 self.prepared = self._prepare(self)
-            if self.target != "external":  # an external device is on the bus by design
+            if self.device_class.owned:  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
-            self.fcc = start_device(self.target, self.run_dir, self.fcc_args, self.iface,
-                                    firmware=self.fcc_binary, interface=self.interface)
+            self.fcc = self.device_class.start(DeviceStart(
+                self.run_dir, self.fcc_args, self.iface, self.fcc_binary, self.interface))
             self._wait_listening()
         except BaseException:
             self.close()
@@ -334,7 +267,7 @@ class RigSession:
         for fid, d in self.message_frames(name, values):
             self.link.send_raw(pack_frame(fid, d))
 
-    def control(self, command: int = 0, period: float = 0.0, bits: int = 0) -> None:
+    def control(self, command: int = COMMAND_NONE, period: float = 0.0, bits: int = 0) -> None:
         """SIM_CONTROL: 0 none / 1 shutdown / 2 reset / 3 flight / 4 ground; a new LQG period
         and/or D/A bits (fcc accepts reset, designs and shutdown on the ground only)."""
         self.send_message("SIM_CONTROL", {"command": command, "lqg_period": period, "da_bits": bits})

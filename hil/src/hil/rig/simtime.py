@@ -18,10 +18,10 @@ import os
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 
-from ..bus.busload import worst_case_bits
-from ..bus.candump import LogFrame, read_log
-from ..bus.logio import RUN_FORMATS, write_frames
-from .buslog import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.busload import worst_case_bits
+from hil.bus.candump import LogFrame, read_log
+from hil.bus.logio import RUN_FORMATS, write_frames
+from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
 WALL_LOG = "bus_wall.log"
@@ -30,7 +30,6 @@ WALL_LOG = "bus_wall.log"
 WALL_PACED = (0x700, 0x70F)
 #: flights start on this grid (s)
 FLIGHT_GRID_S = 0.1
-MISSILE_APP = 1
 
 
 def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
@@ -49,7 +48,7 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
             t_step, last_step = offset, {}
             lqg_period = int.from_bytes(data[2:4], "little") * 1e-4
             if lqg_period > 0:
-                period[MISSILE_APP] = lqg_period
+                period[APP_MISSILE] = lqg_period
         elif plain and f.frame_id == SIM_TICK_ID:
             app = (data[1] >> 4) & 0x3
             t_step = max(t_step, offset + int.from_bytes(data[2:6], "little") * period.get(app, 0.0))

@@ -18,8 +18,8 @@ import struct
 import threading
 import time
 
-from ..bus import FrameCodec
-from .link import CAN_FRAME, SO_TIMESTAMPNS, MonotonicStamps
+from hil.bus import FrameCodec
+from hil.rig.link import CAN_FRAME, SO_TIMESTAMPNS, MonotonicStamps
 
 #: sync period (s); fcc's loss-of-sync timeout is 3 intervals
 SYNC_INTERVAL_S = 0.1

@@ -13,5 +13,6 @@ error (the case could not run: no device, a timeout, a crash -- never a pass).
     runner   -- running cases and judging them
     report   -- text summary, JUnit XML, HTML report, traceability matrix
 
-It may import hil.faults, hil.bus and hil.rig (the flight); nothing below imports it.
+May import: every room below it (hil.scenario, hil.bus, hil.io, hil.rig, hil.runs: a flight and its
+results); only hil.cli imports it.
 """

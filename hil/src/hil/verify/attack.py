@@ -11,8 +11,9 @@ import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from ..bus import load
-from ..bus.e2e import protect
+from hil.bus import load
+from hil.bus.e2e import protect
+from hil.bus.protocol import COMMAND_GROUND, COMMAND_NONE, COMMAND_RESET, COMMAND_SHUTDOWN
 
 Frames = Iterator[tuple[int, bytes]]
 
@@ -44,10 +45,10 @@ def forged_auth(rng: random.Random, fv: int | None = None) -> bytes:
 def forge_control(rng: random.Random) -> Frames:
     """Reconfigure to T = 0.3 s, N = 2; RESET; SHUTDOWN; GROUND -- each with a forged
     authenticator (a guessed freshness, a random MAC), or none at all."""
-    commands = [{"command": 0, "lqg_period": 0.3, "da_bits": 2}, {"command": 2},
-                {"command": 1}, {"command": 4}]
+    commands = [{"command": COMMAND_NONE, "lqg_period": 0.3, "da_bits": 2}, {"command": COMMAND_RESET},
+                {"command": COMMAND_SHUTDOWN}, {"command": COMMAND_GROUND}]
     for i in range(MAX_FRAMES // 2):
-        c = {"command": 0, "lqg_period": 0.0, "da_bits": 0, **commands[i % len(commands)]}
+        c = {"command": COMMAND_NONE, "lqg_period": 0.0, "da_bits": 0, **commands[i % len(commands)]}
         yield ID["SIM_CONTROL"], e2e_frame("SIM_CONTROL", c, i % 16)
         if i % 3:
             yield ID["SIM_CONTROL_AUTH"], forged_auth(rng, fv=(i // 3) & 0xFFFF)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..rig.output import read_csv
+from hil.io.output import read_csv
 
 NEVER = math.inf   # a step that never came (no fault, no flag): every "<=" on it fails
 

@@ -9,8 +9,8 @@ import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
 
-from .runner import ERROR, FAIL, PASS, CaseResult
-from .suite import Suite
+from hil.verify.runner import ERROR, FAIL, PASS, CaseResult
+from hil.verify.suite import Suite
 
 NOT_RUN = "not run"
 _WORD = {PASS: "PASS", FAIL: "FAIL", ERROR: "ERROR", NOT_RUN: "-"}

@@ -10,13 +10,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..bus import load
-from ..faults import Scenario, load_default_scenario, with_extra_faults
-from ..rig.runs import RigConfig, run_flight
-from .attack import ATTACKS, Attacker
-from .expr import Expectation, evaluate, measured
-from .fields import read_run, values
-from .suite import Case, Suite
+from hil.bus import load
+from hil.scenario.file import Scenario, load_default_scenario, with_extra_faults
+from hil.rig.config import RigConfig
+from hil.runs.run import run_flight
+from hil.verify.attack import ATTACKS, Attacker
+from hil.verify.expr import Expectation, evaluate, measured
+from hil.verify.fields import read_run, values
+from hil.verify.suite import Case, Suite, shipped
 
 PASS, FAIL, ERROR = "pass", "fail", "error"
 #: a case's attacker sends a forged frame every 20 ms: a forgery, not a flood (measured: at the
@@ -136,6 +137,5 @@ def run_suites(suites: Sequence[Suite], base: RigConfig, out: Path, refly: Calla
 
 def refly_command(suite: Suite, case: Case, argv_tail: Sequence[str]) -> str:
     """The command that flies this case alone again, with the same device options."""
-    from .suite import shipped
     name = suite.name if shipped().get(suite.name) == suite.path else str(suite.path)
     return shlex.join(["hil", "verify", name, "--case", case.id, *argv_tail])

@@ -30,9 +30,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .attack import ATTACKS
-from .expr import Expectation, ExpressionError, parse
-from .fields import FIELDS
+from hil.verify.attack import ATTACKS
+from hil.verify.expr import Expectation, ExpressionError, parse
+from hil.verify.fields import FIELDS
 
 SUITES_DIR = Path(__file__).resolve().parent.parent / "suites"
 MAX_SUITE_BYTES = 1 << 20

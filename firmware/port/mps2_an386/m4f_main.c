@@ -1,0 +1,352 @@
+/*
+ * m4f_main.c -- the flight computer as it runs on the Cortex-M4F board
+ * (QEMU mps2-an386): the same fcc_node as the Linux `fcc`, its CAN port an
+ * SLCAN device on UART0, its clock the SysTick, its configuration the boot
+ * record, its log UART1.  README.md here is the interface.
+ *
+ *   boot:    defaults + boot record -> fcc_node_init (the LQG design runs here)
+ *   closed:  answers SLCAN commands, sends nothing
+ *   O:       the heartbeat ("listening"), then as the host fcc: lockstep steps
+ *            on SIM_TICK, or realtime steps on absolute SysTick deadlines;
+ *            heartbeats at the status rate; a pending LQG redesign in idle
+ *            time, slice by slice, never across a deadline
+ *   SIM_CONTROL shutdown: last heartbeat, summary on the log, QEMU exits 0
+ */
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "fcc_bootcfg.h"
+#include "fcc_cfg_limits.h"
+#include "fcc_node.h"
+#include "fcc_slcan.h"
+#include "mps2_board.h"
+
+/* Bytes decoded per recv call at most: the receive interrupt keeps adding. */
+#define RECV_BYTE_BUDGET 512u
+/* Frames handled per loop turn before deadlines are looked at again. */
+#define POLL_BUDGET 64u
+/* Below this much time to a deadline the loop spins instead of sleeping
+ * (the SysTick that ends a WFI comes every millisecond). */
+#define SPIN_US 1000u
+#define EVENT_LINE_GAP_US 1000000u
+/* A design slice that never finds room before a deadline runs after this. */
+#define DESIGN_WAIT_MAX_US 100000u
+
+typedef struct {
+    fcc_node_t node;
+    fcc_node_config_t cfg;
+    fcc_slcan_dev_t link;
+    uint64_t status_period_us; /* 0: only when opened and at shutdown */
+    uint64_t next_status_us;
+    bool flying;               /* the channel was opened at least once */
+    fcc_node_rt_t rt[FCC_N_APPS];
+    uint32_t slice_worst_us;   /* longest LQG design slice so far (realtime scheduling) */
+    uint64_t slice_wait_since_us; /* a slice has been waiting for room since (0: not) */
+    uint32_t slices_forced;    /* slices run without room (DESIGN_WAIT_MAX_US) */
+    uint64_t event_last_us[FCC_EV_COUNT];
+    uint32_t event_suppressed[FCC_EV_COUNT];
+} image_t;
+
+static image_t g_img;
+
+/* ---- the port ------------------------------------------------------------------------ */
+
+static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
+{
+    image_t *img = ctx;
+    return fcc_slcan_dev_send(&img->link, frame);
+}
+
+static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
+{
+    image_t *img = ctx;
+    uint8_t b = 0u;
+    for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b) != 0; ++i) {
+        if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
+            frame->t_us = mps2_now_us();
+            return FCC_OK;
+        }
+    }
+    return FCC_ERR_AGAIN;
+}
+
+static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
+{
+    const image_t *img = ctx;
+    mps2_counters_t b;
+    mps2_counters(&b);
+    memset(out, 0, sizeof *out);
+    out->rx_frames = img->link.cnt.frames_rx;
+    out->tx_frames = img->link.cnt.frames_tx;
+    out->bus_errors = img->link.cnt.line_errors;   /* garbled SLCAN lines */
+    out->rx_overflows = b.rx_overflows;
+    out->tx_dropped = img->link.cnt.tx_refused;
+    out->rx_ignored = img->link.cnt.ignored;
+    return FCC_OK;
+}
+
+static uint64_t port_now(void *ctx)
+{
+    (void)ctx;
+    return mps2_now_us();
+}
+
+static void log_kv(const char *key, uint64_t v)
+{
+    mps2_log(" ");
+    mps2_log(key);
+    mps2_log("=");
+    mps2_log_u64(v);
+}
+
+/* One log line per event class per second, with the count suppressed. */
+static void port_event(void *ctx, const fcc_event_t *ev)
+{
+    image_t *img = ctx;
+    if ((unsigned)ev->cls >= (unsigned)FCC_EV_COUNT) {
+        return;
+    }
+    const uint64_t now = mps2_now_us();
+    const unsigned c = (unsigned)ev->cls;
+    if (img->event_last_us[c] != 0u && now - img->event_last_us[c] < EVENT_LINE_GAP_US) {
+        ++img->event_suppressed[c];
+        return;
+    }
+    img->event_last_us[c] = (now == 0u) ? 1u : now;
+    mps2_log("fcc: ");
+    mps2_log(fcc_event_class_str(ev->cls));
+    if (ev->app != FCC_EV_NO_APP) {
+        mps2_log((ev->app == FCC_APP_CDRW) ? " cdrw" : " missile");
+        log_kv("step", ev->step);
+    }
+    if (ev->can_id != FCC_EV_NO_MSG) {
+        log_kv("id", ev->can_id);
+    }
+    mps2_log((ev->value < 0) ? " value=-" : " value=");
+    mps2_log_u64((ev->value < 0) ? (uint64_t)(-(int64_t)ev->value) : (uint64_t)ev->value);
+    if (img->event_suppressed[c] != 0u) {
+        log_kv("suppressed", img->event_suppressed[c]);
+        img->event_suppressed[c] = 0u;
+    }
+    mps2_log("\n");
+}
+
+/* ---- start, loop, stop ------------------------------------------------------------------ */
+
+typedef struct {
+    const char *key;
+    uint64_t value;
+} kv_t;
+
+#define N_KV(a) (sizeof(a) / sizeof((a)[0]))
+
+/* "fcc summary: WHAT key=value ..." (the host fcc's exit summary, on the log UART). */
+static void summary_line(const char *what, const kv_t *kv, size_t n)
+{
+    mps2_log("fcc summary: ");
+    mps2_log(what);
+    for (size_t i = 0u; i < n; ++i) {
+        log_kv(kv[i].key, kv[i].value);
+    }
+    mps2_log("\n");
+}
+
+static void summary_app(const char *name, const fcc_node_app_t *a)
+{
+    const kv_t kv[] = {
+        {"steps", a->steps},
+        {"degraded", a->degraded_steps},
+        {"errors", a->step_errors},
+        {"ticks_lost", a->ticks_lost},
+        {"ticks_repeated", a->ticks_repeated},
+        {"ticks_behind", a->ticks_behind},
+        {"ticks_ignored", a->ticks_ignored},
+        {"overruns", a->overruns},
+        {"worst_exec_us", a->worst_exec_us},
+    };
+    summary_line(name, kv, N_KV(kv));
+}
+
+static void summary(const image_t *img)
+{
+    summary_app("cdrw", &img->node.app[FCC_APP_CDRW]);
+    summary_app("missile", &img->node.app[FCC_APP_MSL]);
+    const kv_t lqg[] = {
+        {"period_us", fcc_node_app_period_us(&img->node, FCC_APP_MSL)},
+        {"bits", fcc_app_msl_bits(&img->node.msl)},
+        {"designs_applied", img->node.msl.designs_applied},
+        {"designs_failed", img->node.msl.designs_failed},
+    };
+    summary_line("lqg", lqg, N_KV(lqg));
+    const fcc_slcan_counters_t *s = &img->link.cnt;
+    const kv_t slcan[] = {
+        {"lines", s->lines},
+        {"frames_rx", s->frames_rx},
+        {"frames_tx", s->frames_tx},
+        {"line_errors", s->line_errors},
+        {"overlong", s->overlong},
+        {"noise", s->noise},
+        {"ignored", s->ignored},
+        {"tx_refused", s->tx_refused},
+        {"replies_lost", s->replies_lost},
+    };
+    summary_line("slcan", slcan, N_KV(slcan));
+    mps2_counters_t b;
+    mps2_counters(&b);
+    const kv_t board[] = {
+        {"rx_bytes", b.rx_bytes},
+        {"rx_overflows", b.rx_overflows},
+        {"tx_bytes", b.tx_bytes},
+        {"tx_refused", b.tx_refused},
+        {"stack_used", mps2_stack_used()},
+        {"design_slice_worst_us", img->slice_worst_us},
+        {"design_slices_forced", img->slices_forced},
+        {"uptime_us", mps2_now_us()},
+    };
+    summary_line("board", board, N_KV(board));
+}
+
+static void refuse(const char *what, const char *detail)
+{
+    mps2_log("fcc: ");
+    mps2_log(what);
+    mps2_log(detail);
+    mps2_log("\n");
+    mps2_exit(2);
+}
+
+static void configure(image_t *img)
+{
+    float rate = (float)FCC_CFG_STATUS_RATE_DEFAULT_HZ;
+    const char *field = NULL;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    const volatile uint8_t *sector = mps2_bootcfg();
+    for (uint32_t i = 0u; i < FCC_BOOTCFG_SIZE; ++i) {
+        rec[i] = sector[i];
+    }
+    if (fcc_node_config_default(&img->cfg) != FCC_OK) {
+        refuse("default configuration refused", "");
+    }
+    const fcc_status_t st = fcc_bootcfg_apply(rec, &img->cfg, &rate, &field);
+    if (st == FCC_ERR_AGAIN) {
+        mps2_log("fcc: no boot configuration record: compile-time defaults\n");
+    } else if (st != FCC_OK) {
+        refuse("boot configuration refused: field ", (field != NULL) ? field : "?");
+    } else {
+        mps2_log("fcc: boot configuration record applied\n");
+    }
+    img->status_period_us = (rate > 0.0f) ? (uint64_t)(1e6f / rate) : 0u;
+    /* Bus authentication (dbc/README.md): this PIL image carries the published test key
+     * (tests/keys/secoc_test.key) and a fixed trip, because the emulated board has neither a
+     * protected key store nor entropy nor persistent flash.  A flight image takes its key
+     * from a provisioned, read-protected sector and its trip from a TRNG or a boot counter. */
+    for (uint32_t i = 0u; i < FCC_SECOC_KEY_BYTES; ++i) {
+        img->cfg.security.key[i] = (uint8_t)i;
+    }
+    img->cfg.security.trip = 0x4D344631u; /* "M4F1" */
+}
+
+static void start(image_t *img)
+{
+    configure(img);
+    if (fcc_slcan_dev_init(&img->link, mps2_link_write, NULL, "V0110", "NFCC1") != FCC_OK) {
+        refuse("SLCAN device refused its set-up", "");
+    }
+    const fcc_port_t port = {
+        .can = {.ctx = img, .send = port_send, .recv = port_recv, .counters = port_counters},
+        .now_us = port_now,
+        .event = port_event,
+        .event_ctx = img,
+    };
+    if (fcc_node_init(&img->node, &img->cfg, &port) != FCC_OK) {
+        refuse("configuration refused by the applications (LQG design failed?)", "");
+    }
+    mps2_log((img->cfg.mode == FCC_MODE_REALTIME) ? "fcc: ready, realtime" : "fcc: ready, lockstep");
+    log_kv("cdrw", img->cfg.app_enabled[FCC_APP_CDRW] ? 1u : 0u);
+    log_kv("missile", img->cfg.app_enabled[FCC_APP_MSL] ? 1u : 0u);
+    log_kv("missile_period_us", fcc_node_app_period_us(&img->node, FCC_APP_MSL));
+    log_kv("boot_us", mps2_now_us());
+    mps2_log(", waiting for SLCAN 'O' on UART0\n");
+}
+
+static uint64_t min_u64(uint64_t a, uint64_t b)
+{
+    return (a < b) ? a : b;
+}
+
+/* One turn of the loop; the time until which nothing is due. */
+static uint64_t loop_once(image_t *img)
+{
+    (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
+    (void)fcc_node_sync_poll(&img->node); /* time sync timeouts: loss of sync, holdover */
+    uint64_t now = mps2_now_us();
+    if (fcc_slcan_dev_take_opened(&img->link)) {
+        (void)fcc_node_send_status(&img->node); /* "listening" */
+        img->next_status_us = now + img->status_period_us;
+        if (!img->flying) {
+            fcc_node_rt_start(&img->node, img->rt, now);
+        }
+        img->flying = true;
+        mps2_log("fcc: SLCAN channel open\n");
+    }
+    uint64_t wake = UINT64_MAX;
+    if (img->flying && img->cfg.mode == FCC_MODE_REALTIME) {
+        uint64_t jitter[FCC_N_APPS];
+        (void)fcc_node_rt_run_due(&img->node, img->rt, jitter);
+        wake = fcc_node_rt_next(&img->node, img->rt);
+    }
+    now = mps2_now_us();
+    if (img->link.state == FCC_SLCAN_OPEN && img->status_period_us != 0u) {
+        if (now >= img->next_status_us) {
+            (void)fcc_node_send_status(&img->node);
+            img->next_status_us += img->status_period_us;
+            if (img->next_status_us <= now) { /* far behind: no burst */
+                img->next_status_us = now + img->status_period_us;
+            }
+        }
+        wake = min_u64(wake, img->next_status_us);
+    }
+    /* A pending LQG redesign, one slice at a time, and in realtime only when
+     * the longest slice seen so far ends before the next deadline: a design
+     * never delays a control step (bench pil: max slice + steps < period).
+     * Where no slice ever fits (an emulator starved by its host), a slice
+     * runs anyway after DESIGN_WAIT_MAX_US, so that a design still arrives. */
+    const bool pending = fcc_app_msl_wants_design(&img->node.msl);
+    const bool fits = wake == UINT64_MAX || now + img->slice_worst_us < wake;
+    if (pending && !fits && img->slice_wait_since_us == 0u) {
+        img->slice_wait_since_us = now;
+    }
+    const bool starved = pending && img->slice_wait_since_us != 0u &&
+                         now - img->slice_wait_since_us >= DESIGN_WAIT_MAX_US;
+    if (pending && (fits || starved)) {
+        img->slice_wait_since_us = 0u;
+        img->slices_forced += starved ? 1u : 0u;
+        const uint64_t t0 = mps2_now_us();
+        (void)fcc_node_background(&img->node);
+        const uint64_t dt = mps2_now_us() - t0;
+        img->slice_worst_us = (dt > img->slice_worst_us) ? (uint32_t)dt : img->slice_worst_us;
+        return 0u; /* did work: look again before sleeping */
+    }
+    return wake;
+}
+
+int main(void)
+{
+    image_t *img = &g_img;
+    mps2_board_init();
+    mps2_log("fcc-m4f: Cortex-M4F image on mps2-an386, SLCAN on UART0, log on UART1\n");
+    start(img);
+    for (;;) {
+        const uint64_t wake = loop_once(img);
+        if (fcc_node_shutdown_requested(&img->node)) {
+            (void)fcc_node_send_status(&img->node); /* the last heartbeat */
+            summary(img);
+            mps2_exit(0);
+        }
+        const uint64_t now = mps2_now_us();
+        if (wake > now + SPIN_US) {
+            mps2_idle(wake);
+        }
+    }
+}

@@ -1,0 +1,167 @@
+"""Campaigns on several rigs (scripts/bench.d/parallel, scripts/bench.d/table5-1000), run
+from the host shell.
+
+    python -m hil.bench.parallel scaling [--runs 24] [--rounds 2] [--recorder canrec|candump]
+        flights/s of the same campaign with 1 and 2 workers, alternated in one run (target:
+        2 workers >= 1.7x 1 worker on a 2-core machine), beside the sequential campaign in one
+        guest; the engine's own cost per task (Dask round trip of a no-op), the rig hand-over
+        per flight, and from them an estimate of the flights/s of N machines
+    python -m hil.bench.parallel table5 [--runs 1000] [--workers 2]
+        Table 5 with 95 % intervals over 1000 flights (target <= 10 minutes)
+
+The machine's load average is printed beside every timing: on a shared machine the ratios
+move with it.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from hil.bench.rig import print_table
+from hil.io.paths import REPO
+from hil.parallel.engine import Cluster, noop
+
+SPEEDUP_TARGET = 1.7
+TABLE5_TARGET_S = 600.0
+
+
+def _load() -> str:
+    return " ".join(f"{x:.1f}" for x in os.getloadavg())
+
+
+def _campaign(out: Path, runs: int, extra: list[str], guest: bool = False) -> tuple[float, dict]:
+    """Wall seconds of `hil campaign cdrw --runs N --seed 3` and its run_info.json."""
+    cmd = [sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", str(runs), "--seed", "3",
+           "--out", str(out), "--quiet", "--no-plots", *extra]
+    if guest:
+        cmd = [str(REPO / "scripts" / "with-vcan"), "--timeout", "3600", *cmd]
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if r.returncode != 0:
+        raise SystemExit(f"bench parallel: {' '.join(cmd[-9:])} failed: {r.stderr.strip().splitlines()[-1:]}")
+    return wall, json.loads((out / "run_info.json").read_text())
+
+
+def _engine_cost(tasks: int = 2000) -> tuple[float, float]:
+    """(ms per no-op task with 2 local workers, cluster start s): the engine's own cost."""
+    with Cluster(workers=2) as cl:
+        start = cl.start_s
+        cl.client.gather(cl.client.map(noop, range(50), pure=False))   # warm
+        t0 = time.perf_counter()
+        cl.client.gather(cl.client.map(noop, range(tasks), pure=False))
+        per = (time.perf_counter() - t0) / tasks
+    return 1e3 * per, start
+
+
+def scaling(runs: int, rounds: int, recorder: str = "canrec") -> int:
+    rates: dict[str, list[float]] = {"1": [], "2": []}
+    steady: dict[str, list[float]] = {"1": [], "2": []}
+    handover: list[float] = []
+    rig_s: list[float] = []
+    loads: list[str] = [_load()]
+    with tempfile.TemporaryDirectory(prefix="bench-parallel.") as tmp:
+        root = Path(tmp)
+        ref = None
+        for r in range(rounds):
+            for w in ("1", "2"):
+                out = root / f"w{w}-{r}"
+                wall, info = _campaign(out, runs, ["--workers", w, "--recorder", recorder])
+                p = info["parallel"]
+                rates[w].append(runs / wall)
+                steady[w].append(p["steady_flights_per_s"])
+                handover.append(p["task_s_per_flight"] - p["rig_s_per_flight"])
+                rig_s.append(p["rig_s_per_flight"])
+                loads.append(_load())
+                csv = (out / "campaign.csv").read_bytes()
+                if ref is None:
+                    ref = csv
+                elif csv != ref:
+                    print("bench parallel: campaign.csv differs between worker counts", file=sys.stderr)
+                    return 1
+        seq_wall, seq_info = _campaign(root / "seq", runs, ["--recorder", recorder], guest=True)
+        loads.append(_load())
+        if (root / "seq" / "campaign.csv").read_bytes() != ref:
+            print("bench parallel: the sequential campaign.csv differs", file=sys.stderr)
+            return 1
+    per_task_ms, start_s = _engine_cost()
+    loads.append(_load())
+    m1, m2 = statistics.median(rates["1"]), statistics.median(rates["2"])
+    s1, s2 = statistics.median(steady["1"]), statistics.median(steady["2"])
+    ho, rs = statistics.median(handover), statistics.median(rig_s)
+    verdict = "ok" if s2 / s1 >= SPEEDUP_TARGET else "MISSED"
+    rows = [
+        ("sequential, one guest (with-vcan, boot included)", f"{runs / seq_wall:.3f} flights/s", "", ""),
+        ("  inside the guest (run_info wall_s)", f"{runs / seq_info['wall_s']:.3f} flights/s", "", ""),
+        ("1 worker, whole command (median)", f"{m1:.3f} flights/s", "", ""),
+        ("2 workers, whole command (median)", f"{m2:.3f} flights/s", "", ""),
+        ("  ratio 2 / 1 workers, whole command", f"{m2 / m1:.2f} x", "", ""),
+        ("  per round", ", ".join(f"{b / a:.2f}" for a, b in zip(rates["1"], rates["2"])), "", ""),
+        ("1 worker, steady state (after each rig's first chunk of flights)", f"{s1:.3f} flights/s", "", ""),
+        ("2 workers, steady state", f"{s2:.3f} flights/s", "", ""),
+        ("  ratio 2 / 1 workers, steady state", f"{s2 / s1:.2f} x", f">= {SPEEDUP_TARGET} x", verdict),
+        ("one flight inside a rig (session, flight, results)", f"{rs:.3f} s", "", ""),
+        ("rig hand-over per flight (worker - rig: files, pickle)", f"{1e3 * ho:.1f} ms", "", ""),
+        ("Dask per task (no-op, 2 workers, 2000 tasks)", f"{per_task_ms:.2f} ms", "", ""),
+        ("Dask local cluster start (2 workers)", f"{start_s:.2f} s", "", ""),
+    ]
+    print_table(f"campaign of {runs} flights (seed 3, recorder {recorder}) from the host shell, "
+                f"{rounds} rounds of 1 and 2 workers alternated", rows)
+    print(f"load average (1, 5, 15 min) before, between and after: {' | '.join(loads)}")
+    # N machines of 2 rigs: each rig flies one flight per (rig time + hand-over); the scheduler
+    # hands out at most 1 / (its cost per task) tasks per second.
+    per_rig = 1.0 / (rs + ho)
+    cap = 1e3 / per_task_ms
+    print("estimate, machines like this one with 2 rigs each (flights/s = min(rigs / (rig time + "
+          "hand-over), 1 / Dask cost per task)):")
+    for n in (1, 2, 4, 8, 16, 64, 256):
+        est = min(2 * n * per_rig, cap)
+        print(f"  {n:>4} machines: {est:8.1f} flights/s, 1000 flights in {1000 / est:7.1f} s")
+    return 0
+
+
+def table5(runs: int, workers: int) -> int:
+    with tempfile.TemporaryDirectory(prefix="bench-table5.") as tmp:
+        out = Path(tmp) / "c"
+        l0 = _load()
+        cmd = [sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", str(runs), "--seed", "1",
+               "--workers", str(workers), "--out", str(out), "--quiet", "--no-plots"]
+        t0 = time.perf_counter()
+        r = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        if r.returncode != 0:
+            print(r.stderr, file=sys.stderr)
+            return 1
+        info = json.loads((out / "run_info.json").read_text())["parallel"]
+    print(r.stdout.rsplit("results in", 1)[0].rstrip())
+    verdict = "ok" if wall <= TABLE5_TARGET_S else "MISSED"
+    print(f"\n{runs} flights on {workers} workers: {wall:.1f} s wall ({runs / wall:.2f} flights/s, "
+          f"steady {info['steady_flights_per_s']:.2f}), target <= {TABLE5_TARGET_S:.0f} s: {verdict}; "
+          f"retried {info['retried']}, failed {info['failed']}; load average before {l0}, after {_load()}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="hil.bench.parallel")
+    sub = p.add_subparsers(dest="what", required=True)
+    s = sub.add_parser("scaling")
+    s.add_argument("--runs", type=int, default=24)
+    s.add_argument("--rounds", type=int, default=2)
+    s.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
+                   help="the campaigns' bus recorder (hil campaign --recorder)")
+    t = sub.add_parser("table5")
+    t.add_argument("--runs", type=int, default=1000)
+    t.add_argument("--workers", type=int, default=2)
+    a = p.parse_args(argv)
+    return scaling(a.runs, a.rounds, a.recorder) if a.what == "scaling" else table5(a.runs, a.workers)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

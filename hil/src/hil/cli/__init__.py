@@ -1,0 +1,135 @@
+"""`hil`: fly the CDRW and the missile against fcc on a CAN bus, and report.
+
+    hil run cdrw|missile [SCENARIO.toml] [--fault SPEC]... [--out DIR] [--seed S]
+                                         [--mode lockstep|realtime]
+                                         [--target host|qemu-m4f|external] [--fcc PATH]
+                                         [--interface NAME --channel CH --bitrate B]
+    hil campaign cdrw [SCENARIO.toml] --runs 100 --seed S        (Table 5)
+    hil sweep missile [SCENARIO.toml] --periods 0.2,0.1,0.05 --bits 6,8,12   (Fig. 3)
+    hil report DIR                                              (tables + plots again)
+    hil study missile-rms [--periods LIST] [--bits LIST] [--gyro-var V] [--json]
+                                   (Fig. 3 by covariance analysis, no bus needed)
+    hil demo [--out out/demo]        (both aircraft; Figs. 4-6 responses; Fig. 3 with HIL points)
+
+Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
+firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin); --target qemu-m4f flies the
+Cortex-M4F image under QEMU instead, --target external whatever answers on the bus.  Exit status: 0 done; 1 the run
+failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
+status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
+answer a lockstep step in time; 4 fcc died during the run.  Failures are one line on stderr;
+a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
+
+The package: usage (the usage error), parser (every subcommand's arguments), common and many
+(what the flying commands share), one module per subcommand with its run(args).  main() parses,
+then imports only the chosen subcommand's module.
+
+Room 14, the top: may import every room; nothing imports it (the entry points are hil.cli:main
+and hil.cli:entry).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+from collections.abc import Sequence
+from typing import NoReturn
+
+from hil.bus import dbc
+from hil.cli.parser import build
+from hil.cli.usage import EXIT_USAGE, PROG, UsageError
+from hil.io import paths
+from hil.io.paths import ToolNotFound
+from hil.io.rundir import OutDirRefused
+from hil.rig.errors import RigError
+from hil.scenario.schema import ScenarioError
+
+def dispatch(args: argparse.Namespace) -> int:
+    """The chosen subcommand: its module in hil.cli (named as the subcommand), imported now, so
+    that a command loads only what it runs; its run(args) gives the exit status."""
+    return importlib.import_module(f"hil.cli.{args.command}").run(args)
+
+
+def _apply_paths(args: argparse.Namespace) -> None:
+    dbc_path = getattr(args, "dbc", None)
+    if dbc_path is not None:
+        if not dbc_path.is_file():
+            raise UsageError(f"--dbc {dbc_path}: no such file")
+        dbc.set_default(dbc_path)
+    fcc_path = getattr(args, "fcc", None)
+    paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
+    if fcc_path is not None:
+        try:
+            paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
+        except paths.ToolNotFound as e:
+            paths.set_fcc(None)
+            raise UsageError(str(e)) from None
+
+
+def _join_fcc_args(argv: Sequence[str]) -> list[str]:
+    """`--fcc-args "--mls-intercept"`: argparse takes a value that starts with '--' for an
+    option of its own; joined as --fcc-args=VALUE it is the value it is meant to be."""
+    out: list[str] = []
+    it = iter(argv)
+    for a in it:
+        if a == "--fcc-args":
+            val = next(it, None)
+            out.append(a if val is None else f"{a}={val}")
+        else:
+            out.append(a)
+    return out
+
+
+def _quiet_stdout() -> None:
+    """The reader of our stdout has gone (`hil ... | head`): print nothing more, quietly."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        args = build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
+        _apply_paths(args)
+        return dispatch(args)
+    except BrokenPipeError:
+        # the results are already in place when the tables are printed: not a failed run
+        _quiet_stdout()
+        return 0
+    except UsageError as e:
+        print(f"{PROG}: {e}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt as e:
+        print(f"{PROG}: interrupted{_notes(e)}", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - every failure is one line for the user
+        return _fail(e)
+
+
+def _notes(e: BaseException) -> str:
+    """Where a failed run's partial results are (hil.io.rundir adds it as a note), to end
+    the one line with."""
+    notes = getattr(e, "__notes__", ())
+    return f" ({'; '.join(notes)})" if notes else ""
+
+
+def _fail(e: Exception) -> int:
+    msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+    if isinstance(e, (ScenarioError, OutDirRefused)):
+        code = EXIT_USAGE
+    elif isinstance(e, RigError):
+        code = e.exit_code
+    elif isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError)):
+        code = 1
+    else:
+        raise e
+    print(f"{PROG}: {msg}{_notes(e)}", file=sys.stderr)
+    return code
+
+
+def entry() -> NoReturn:
+    """The `hil` program (tests call main() instead)."""
+    sys.exit(main())

@@ -1,0 +1,4 @@
+"""`python -m hil.cli`: the `hil` program."""
+from hil.cli import entry
+
+entry()

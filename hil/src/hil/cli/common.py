@@ -1,0 +1,74 @@
+"""What the commands that fly share: the scenario from the command line, the run's
+configuration from the options, the staged run directory and the tables printed after it.
+"""
+from __future__ import annotations
+
+import argparse
+import shlex
+from collections.abc import Sequence
+from pathlib import Path
+
+from hil.bus import load
+from hil.bus.secoc import KeyFileError, read_key_file
+from hil.cli.parser import DEFAULT_TIMEOUT_S
+from hil.cli.usage import UsageError
+from hil.io.rundir import staged_run
+from hil.rig.config import RigConfig
+from hil.scenario.file import load_default_scenario, load_scenario, with_extra_faults
+
+
+def scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
+    frames = {m.name for m in load().messages}
+    sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
+    if sc.aircraft != aircraft:
+        raise UsageError(f"{sc.source}: a scenario for aircraft {sc.aircraft!r}, not {aircraft!r}")
+    if faults:
+        sc = with_extra_faults(sc, faults, frames)
+        for f in sc.faults:
+            if f.start >= sc.duration:
+                raise UsageError(f"command line: fault {f.describe()!r}: field 'start': {f.start:g} s "
+                                 f"is not before the end of the run ({sc.duration:g} s)")
+    if seed is not None:
+        sc = sc.replace(seed=seed)
+    return sc
+
+
+def rig_config(args: argparse.Namespace, stage: Path):
+    try:
+        extra = tuple(shlex.split(args.fcc_args))
+    except ValueError as e:
+        raise UsageError(f"--fcc-args: {e}") from None
+    if args.fcc is not None and args.target == "external":
+        raise UsageError("--fcc: the external target runs no firmware of the rig's")
+    if args.fcc_args and args.target == "external":
+        raise UsageError("--fcc-args: the external target is configured through SIM_CONTROL, "
+                         "and by whoever started it")
+    if args.target == "qemu-m4f" and args.interface != "socketcan":
+        raise UsageError("--target qemu-m4f: the image's serial line is routed to a SocketCAN "
+                         "interface (slcand, can-gw): use --interface socketcan")
+    if args.key_file is not None:
+        try:
+            read_key_file(args.key_file)
+        except KeyFileError as e:
+            raise UsageError(f"--key-file: {e}") from None
+    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
+                     timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
+                     progress=not args.quiet, rows=args.rows,
+                     plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
+                     target=args.target, interface=args.interface, bitrate=args.bitrate,
+                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
+
+
+def staged(args: argparse.Namespace, out: Path, runner) -> list:
+    """runner(cfg) -> [Outcome, ...] in a staging directory, published to out when done
+    (hil.io.rundir); the tables are printed once the results are in place."""
+
+    with staged_run(out, args.command, force=args.force) as stage:
+        outcomes = runner(rig_config(args, stage))
+    for outcome in outcomes:
+        for t in outcome.tables:
+            print(t)
+            print()
+        where = out / outcome.out_dir.relative_to(stage)
+        print(f"results in {where}/")
+    return outcomes

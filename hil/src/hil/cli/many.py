@@ -1,0 +1,43 @@
+"""`hil campaign` and `hil sweep`: in this process's rig, or on many rigs with
+--workers/--scheduler (hil.parallel.runs).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from hil.cli.common import staged
+from hil.cli.usage import PROG, UsageError
+from hil.parallel import runs
+
+
+def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
+    """--workers/--scheduler as keyword arguments of the parallel runners (None: sequential)."""
+    if args.workers is None and args.scheduler is None:
+        return None
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers must be at least 1, got {args.workers}")
+    if args.mode != "lockstep":
+        raise UsageError("--workers/--scheduler fly lockstep flights only (realtime needs the machine to itself)")
+    if args.target != "host" or args.interface != "socketcan":
+        raise UsageError("--workers/--scheduler fly the host fcc on rigs of their own (vcan), "
+                         "not --target/--interface")
+    return {"workers": args.workers, "scheduler": args.scheduler}
+
+
+def run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: object) -> int:
+    """A campaign or sweep: sequential(*inputs, cfg) in this process's rig, or with
+    --workers/--scheduler hil.parallel.runs.<parallel> on many rigs; flights that failed twice
+    there are one line and exit 1 (the others' results are written)."""
+    par = parallel_options(args)
+    if par is None:
+        staged(args, args.out, lambda cfg: [sequential(*inputs, cfg)])
+        return 0
+    (outcome,) = staged(args, args.out, lambda cfg: [getattr(runs, parallel)(*inputs, cfg, **par)])
+    failed = outcome.summary.get("failed_runs") or []
+    if not failed:
+        return 0
+    print(f"{PROG}: {len(failed)} flight(s) failed twice and are left out of the results "
+          f"(summary.json failed_runs); first: flight {failed[0]['run']}: {failed[0]['error']}",
+          file=sys.stderr)
+    return 1

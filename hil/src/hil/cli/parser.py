@@ -1,0 +1,256 @@
+"""`hil`'s command line: the parser of every subcommand, their argument types and shared
+options.  One module for all subcommands' arguments (where cantools puts each in its
+subcommand's module): `hil --help` and the parse need none of the commands' code, so that a
+command imports only what it runs (hil.cli.main imports the chosen one).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import NoReturn
+
+from hil.cli.usage import PROG, UsageError
+from hil.results.fig3_grid import FIG3_PERIODS
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:  # one line, not argparse's usage block
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
+
+
+def floats(text: str) -> list[float]:
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got {text!r}") from None
+    if not vals or not all(math.isfinite(v) and v > 0 for v in vals):
+        raise argparse.ArgumentTypeError(f"expected positive numbers separated by commas, got {text!r}")
+    return vals
+
+
+def ints(text: str) -> list[int]:
+    try:
+        vals = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got {text!r}") from None
+    if not vals:
+        raise argparse.ArgumentTypeError("expected at least one number")
+    return vals
+
+
+def seed(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
+    return v
+
+
+def positive(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return v
+
+
+def version() -> str:
+    from importlib.metadata import PackageNotFoundError, version  # 0.1 s in the UML guest: --version only
+    try:
+        return version("hil")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+class VersionAction(argparse.Action):
+    """--version, looked up only when asked (importlib.metadata costs 0.1 s in the UML guest)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kw: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="show the version and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(f"{parser.prog} {version()}")
+        parser.exit()
+
+
+def add_paths(p: argparse.ArgumentParser) -> None:
+    """--dbc and --fcc: where the bus contract and the firmware are (installed use)."""
+    p.add_argument("--dbc", type=Path, metavar="PATH",
+                   help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+    p.add_argument("--fcc", type=Path, metavar="PATH",
+                   help="the firmware binary (default $FCC_HIL_FCC, else $FCC_BUILD_DIR/bin/fcc, "
+                        "else build/bin/fcc of the source tree, else fcc on $PATH); with "
+                        "--target qemu-m4f: the ELF image (default: cross-built into build-m4f)")
+
+
+TARGET_CHOICES = ("host", "qemu-m4f", "external")
+#: lockstep answer timeout by target (--timeout)
+DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
+
+
+def bitrate(text: str) -> int:
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected bits per second, e.g. 500000, got {text!r}") from None
+    if not 10_000 <= v <= 1_000_000:
+        raise argparse.ArgumentTypeError(f"expected 10000 to 1000000 bit/s, got {v}")
+    return v
+
+
+def add_common(p: argparse.ArgumentParser, out_default: str) -> None:
+    add_paths(p)
+    p.add_argument("--out", type=Path, default=Path(out_default), metavar="DIR",
+                   help=f"run directory (default {out_default}); written when the run is done")
+    p.add_argument("--force", action="store_true",
+                   help="write into an --out that holds other files (they are kept)")
+    p.add_argument("--target", choices=TARGET_CHOICES, default="host",
+                   help="device under test: host (fcc, the Linux build; default), qemu-m4f (the "
+                   "Cortex-M4F image under QEMU, SLCAN over its UART) or external (start no "
+                   "firmware: whatever answers on the bus, e.g. a board on can0)")
+    p.add_argument("--interface", default="socketcan", metavar="NAME",
+                   help="python-can interface of the simulator's bus (default socketcan; e.g. "
+                   "pcan, kvaser, slcan; the bus is then recorded by the rig itself, not candump)")
+    p.add_argument("--channel", "--iface", dest="iface", default="vcan0", metavar="CHANNEL",
+                   help="python-can channel: the CAN interface (default vcan0; e.g. can0)")
+    p.add_argument("--bitrate", type=bitrate, metavar="BIT/S",
+                   help="bitrate for interfaces that set it when opened (python-can's bitrate; a "
+                   "SocketCAN interface's is set with `ip link`; the bus's is 500000)")
+    p.add_argument("--mode", choices=("lockstep", "realtime"), default="lockstep",
+                   help="lockstep (deterministic, default) or realtime (both sides on their clocks)")
+    p.add_argument("--timeout", type=positive, metavar="S",
+                   help="lockstep: seconds to wait for fcc's answer to a step; external: for "
+                   "the device's heartbeat at the start (default 2; qemu-m4f: 30, emulation "
+                   "on a loaded machine)")
+    p.add_argument("--fcc-args", default="", metavar="ARGS",
+                   help="extra fcc options, one string, e.g. \"--detector oracle\"")
+    p.add_argument("--rows", choices=("paper", "prior", "posterior"), default="paper",
+                   help="CDRW: the estimate fcc reports per step: paper (KF after y_k, ZKF/AZKF "
+                   "before, default), prior (all before y_k) or posterior (all after); the "
+                   "summary has Table 4/5 both ways in any case")
+    p.add_argument("--key-file", type=Path, metavar="PATH",
+                   help="AES-128 key of the bus authentication, shared with fcc (one line of 32 hex "
+                        "digits); default: a random key for each session")
+    p.add_argument("--no-plots", action="store_true", help="do not draw the PNG figures")
+    p.add_argument("--log-format", choices=("log", "asc", "blf"), default="log",
+                   help="bus log format: candump -L (bus.log, default), Vector ASC or BLF (python-can); "
+                        "lockstep: simulated timestamps, the recorder's wall-clock log in bus_wall.log")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def add_parallel(p: argparse.ArgumentParser) -> None:
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, metavar="N",
+                   help="fly on N rigs at once from the host shell (each its own UML guest or vcanK, "
+                        "fcc and recorder; Dask)")
+    g.add_argument("--scheduler", metavar="ADDRESS",
+                   help="fly on a running Dask cluster, e.g. tcp://host:8786 (README: Clusters)")
+
+
+def build() -> argparse.ArgumentParser:
+    p = Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
+                "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
+    p.add_argument("--version", action=VersionAction)
+    sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
+
+    r = sub.add_parser("run", help="one flight of one aircraft")
+    r.add_argument("aircraft", choices=("cdrw", "missile"))
+    r.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    r.add_argument("--fault", action="append", default=[], metavar="SPEC",
+                   help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
+    r.add_argument("--seed", type=seed, help="override the scenario's seed")
+    add_common(r, "out/run-<aircraft>")
+
+    c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
+    c.add_argument("aircraft", choices=("cdrw",))
+    c.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
+    c.add_argument("--seed", type=seed, default=1, help="seed of the fault times (default 1)")
+    c.add_argument("--fault", action="append", default=[], metavar="SPEC",
+                   help="extra fault (moved in time with the scenario's)")
+    c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
+                   help="the bus recorder of a SocketCAN rig: canrec (default; firmware/tools/canrec: "
+                        "candump's log lines, frames read in batches: less CPU per flight in the UML "
+                        "guest; every run records with it) or candump (can-utils)")
+    add_parallel(c)
+    add_common(c, "out/campaign-cdrw")
+
+    s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
+    s.add_argument("aircraft", choices=("missile",))
+    s.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    s.add_argument("--periods", type=floats, default=[0.2, 0.1, 0.05], metavar="T,T,...",
+                   help="sampling periods in s (default 0.2,0.1,0.05)")
+    s.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
+                   help="D/A word lengths (default 6,8,12)")
+    s.add_argument("--seed", type=seed, help="override the scenario's seed")
+    s.add_argument("--fault", action="append", default=[], metavar="SPEC", help="extra fault")
+    add_parallel(s)
+    add_common(s, "out/sweep-missile")
+
+    rep = sub.add_parser("report", help="print a run directory's tables and redraw its plots")
+    rep.add_argument("dir", type=Path)
+    rep.add_argument("--no-plots", action="store_true", help="only print the tables")
+    rep.add_argument("--plots-only", action="store_true", help="only draw the figures (no tables)")
+    rep.add_argument("--bus", action="store_true", help="also analyse the bus log (rates, E2E, load)")
+    rep.add_argument("--dbc", type=Path, metavar="PATH",
+                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+
+    st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance analysis")
+    st.add_argument("study", choices=("missile-rms",))
+    st.add_argument("--periods", type=floats, default=list(FIG3_PERIODS), metavar="T,T,...",
+                    help="sampling periods in s (default 0.02,0.03,...,0.3)")
+    st.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
+                    help="D/A word lengths (default 6,8,12)")
+    st.add_argument("--gyro-var", type=positive, default=0.8, metavar="V",
+                    help="rate-gyro noise variance, rad^2/s^2 (default 0.8, as printed)")
+    st.add_argument("--accel-var", type=positive, default=0.8, metavar="V",
+                    help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
+    st.add_argument("--json", action="store_true", help="print the result as one JSON object")
+
+    lv = sub.add_parser("live", help="dashboard of the bus while a run flies (alpha, q, estimates, "
+                        "fault flags, E2E counters)")
+    lv.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    lv.add_argument("--seconds", type=positive, default=10.0, metavar="S", help="how long (default 10)")
+    lv.add_argument("--rich", action="store_true",
+                    help="redraw in place even when stdout is not a terminal (e.g. inside scripts/with-vcan)")
+    lv.add_argument("--dbc", type=Path, metavar="PATH",
+                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+
+    fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")
+    fl.add_argument("kinds", nargs="*", metavar="KIND", help="only these kinds")
+
+    rp = sub.add_parser("replay", help="replay a recorded lockstep run into fcc; compare every "
+                        "firmware frame (exit 0 identical, 1 the first difference)")
+    rp.add_argument("dir", type=Path, metavar="RUN_DIR")
+    rp.add_argument("--out", type=Path, metavar="DIR", help="where fcc.log goes (default RUN_DIR/replay)")
+    rp.add_argument("--iface", default="vcan0", help="CAN interface (default vcan0)")
+    rp.add_argument("--timeout", type=positive, default=2.0, metavar="S",
+                    help="seconds to wait for fcc's answer to a step (default 2)")
+    rp.add_argument("--fcc-args", default="", metavar="ARGS",
+                    help="fcc options added to the recorded ones, e.g. \"--ridge 0.01\"")
+    add_paths(rp)
+
+    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
+                       "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
+    add_common(d, "out/demo")
+
+    v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
+                       "a verdict per case and requirement, JUnit XML, an HTML report",
+                       epilog="exit status: 0 every case passed; 1 a case failed; 2 bad command line or "
+                       "suite (nothing flew); 6 a case could not run (error: no device, time-out, crash)")
+    v.add_argument("suites", nargs="*", metavar="SUITE",
+                   help="a shipped suite's name (hil verify --list) or a suite TOML file")
+    v.add_argument("--case", action="append", default=[], metavar="ID", help="only these cases (repeatable)")
+    v.add_argument("--junit", type=Path, metavar="FILE", help="write JUnit XML here")
+    v.add_argument("--report", type=Path, metavar="DIR",
+                   help="the report's directory (index.html, one run directory per case; default: --out)")
+    v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
+    v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
+    add_common(v, "out/verify")
+    return p

@@ -1,0 +1,127 @@
+"""fcc's outputs read back from the run's bus log (candump -L).
+
+The recorder sees every frame in bus order.  A flight starts at a SIM_CONTROL reset (the
+rig sends one before every flight); inside it, lockstep output frames belong to the last
+SIM_TICK of their application (fcc answers a tick completely before the simulator sends
+anything else), and their own step field (12 bits for the identification frames) is checked
+against it.  In realtime mode there are no ticks: frames are kept in order with their
+timestamps and their own step field.
+"""
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from hil.bus.candump import LogFrame, read_log
+from hil.bus.dbc import BusSpec
+from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
+
+# the sensor frames of each application (hil.bus.protocol.SENSOR_APP): their bytes 2-3 are
+# the low 16 bits of the step
+
+
+@dataclass
+class FlightFrames:
+    """fcc's output frames of one flight (between two resets), by application and step."""
+
+    index: int
+    by_step: dict[int, dict[int, list[tuple[int, bytes]]]] = field(
+        default_factory=lambda: defaultdict(lambda: defaultdict(list)))
+    frames: int = 0
+
+
+def app_of(frame_id: int) -> int | None:
+    """Which application produced an output frame (None: not an output)."""
+    if 0x110 <= frame_id <= 0x13F:
+        return 0
+    if frame_id in (0x030, 0x100):
+        return 1
+    return None
+
+
+def split_flights(log: Path | Iterable[LogFrame]) -> list[FlightFrames]:
+    """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
+    path or its frames already read."""
+    return list(iter_flights(log))
+
+
+def iter_flights(log: Path | Iterable[LogFrame]) -> Iterator[FlightFrames]:
+    """The flights of a bus log one by one (a campaign's log holds 100 of them)."""
+    n = 0
+    cur: FlightFrames | None = None
+    tick: dict[int, int] = {}
+    ticked: set[int] = set()
+    for f in read_log(log) if isinstance(log, Path) else log:
+        if f.error or f.remote or f.extended or f.fd:
+            continue
+        fid, data = f.frame_id, f.data
+        if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
+            if cur is not None:
+                yield cur
+            cur = FlightFrames(n)
+            n += 1
+            tick, ticked = {}, set()
+            continue
+        if cur is None:
+            continue
+        if fid == SIM_TICK_ID and len(data) == 8:
+            tick[(data[1] >> 4) & 0x3] = int.from_bytes(data[2:6], "little")
+            ticked.add((data[1] >> 4) & 0x3)
+            continue
+        if fid in SENSOR_APP and len(data) == 8 and SENSOR_APP[fid] not in ticked:
+            # realtime (no ticks): outputs belong to the newest sample sent before them
+            app = SENSOR_APP[fid]
+            low = int.from_bytes(data[2:4], "little")
+            prev = tick.get(app, -1)
+            tick[app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
+            continue
+        app = app_of(fid)
+        if app is None:
+            continue
+        cur.frames += 1
+        if app in tick:
+            cur.by_step[app][tick[app]].append((fid, data))
+    if cur is not None:
+        yield cur
+
+
+def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
+               check_step: bool = True) -> dict[str, np.ndarray]:
+    """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
+    (NaN where a frame is missing or, lockstep, its step field does not match the tick;
+    realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
+    out: dict[str, np.ndarray] = {}
+    ids: dict[int, tuple[str, object]] = {}
+    for flt in FILTERS:
+        for part in SID_PARTS:
+            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
+            ids[msg.frame_id] = (flt, msg)
+            for sig in msg.signals:
+                if part == "STATE" and sig.name == "step":
+                    continue
+                out[f"{flt}_{sig.name}"] = np.full(n_steps, np.nan)
+    steps = flight.by_step.get(0, {})
+    mismatched = 0
+    for k in range(n_steps):
+        frames = steps.get(k)
+        if not frames:
+            continue
+        for fid, data in frames:
+            if fid not in ids or len(data) != 8:
+                continue
+            flt, msg = ids[fid]
+            vals = msg.decode(data)  # type: ignore[attr-defined]
+            if "step" in vals and check_step:
+                if int(vals["step"]) != (k & 0xFFF):
+                    mismatched += 1
+                    continue
+            for name, v in vals.items():
+                if name != "step":
+                    out[f"{flt}_{name}"][k] = float(v)
+    out["_mismatched"] = np.array([mismatched])
+    return out

@@ -1,0 +1,163 @@
+"""The symmetric filter comparison of a CDRW flight (summary.json's cdrw.tables): Table 4 with every filter's prior and
+with every filter's posterior (`--rows prior|posterior`), next to the rows fcc flew with.
+
+fcc runs one row mode on the bus (`hil run --rows`, default "paper": KF after y_k,
+ZKF/AZKF before y_k, the paper's printed equations).  The other modes come from the
+firmware's own code offline: the flight's sensor readings, at the resolution fcc decodes
+them from their frames, replayed through `sid_replay --all-rows` with the same
+identification options.  The replay in fcc's own mode is compared with fcc's rows
+(`replay_check`: largest difference of the estimates, ~ the bus's 1e-5 rad resolution when
+the replay is faithful).
+"""
+from __future__ import annotations
+
+import re
+import subprocess
+import tempfile
+from collections.abc import Mapping, Sequence
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from hil.bus.dbc import BusSpec
+from hil.io.paths import tool
+from hil.results import metrics
+from hil.results.sidrows import read_rows
+from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
+from hil.sim.sid_csv import sid_csv
+
+ROW_MODES = ("paper", "prior", "posterior")
+#: the two symmetric modes every CDRW summary carries (cdrw.tables)
+SYMMETRIC = ("prior", "posterior")
+
+
+@lru_cache(maxsize=1)
+def _sid_option_names() -> frozenset[str]:
+    """The identification options sid_replay and fcc share (fcc_opt_sid), from the usage."""
+    r = subprocess.run([str(tool("sid_replay")), "--help"], capture_output=True, text=True,
+                       timeout=60)
+    text = r.stdout.split("identification options", 1)[-1]
+    return frozenset(re.findall(r"(--[a-z0-9][a-z0-9-]*)", text))
+
+
+#: the options hil.rig.flight.fcc_args writes besides --rows: none is an identification option,
+#: so a command line of these alone needs no look at sid_replay's usage (a process start)
+RIG_OPTIONS = frozenset({"--mode", "--apps", "--lqg-period", "--lqg-bits", "--lqg-delay",
+                         "--gyro-var", "--accel-var", "--rt-priority"})
+
+
+def sid_options(fcc_args: Sequence[str]) -> tuple[str, list[str]]:
+    """(the row mode, the identification options) of an fcc command line: what a replay
+    needs to run the same filters.  An option's value is the next word unless it starts
+    with "--" (the options of fcc_opt_sid are `--name value` or flags)."""
+    given = {a.partition("=")[0] for a in fcc_args if a.startswith("--")}
+    names = frozenset({"--rows"}) if given <= RIG_OPTIONS | {"--rows"} else _sid_option_names()
+    rows, out = "paper", []
+    i = 0
+    while i < len(fcc_args):
+        a = fcc_args[i]
+        name, eq, val = a.partition("=")
+        has_next = i + 1 < len(fcc_args) and not fcc_args[i + 1].startswith("--")
+        if name in names:
+            if eq:
+                value: str | None = val
+            else:
+                value = fcc_args[i + 1] if has_next else None
+                i += 1 if has_next else 0
+            if name == "--rows":
+                rows = value or rows
+            else:
+                out += [name] + ([value] if value is not None else [])
+        i += 1
+    if rows not in ROW_MODES:
+        raise ValueError(f"rows must be one of {', '.join(ROW_MODES)}, not {rows!r}")
+    return rows, out
+
+
+def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
+    frame, name = SIGNAL_FRAMES[sig]
+    s = next(x for x in spec.by_name(frame).signals if x.name == name)
+    return np.array([v if not np.isfinite(v) else float(s.to_phys(s.to_raw(float(v))))
+                     for v in values])
+
+
+class Replay:
+    """`sid_replay --all-rows` on the flight's readings as fcc received them (one process for
+    the three modes: starting one costs ~0.1 s in the guest), running while the caller does
+    other work; result() waits for it: {row mode: {filter: columns}}."""
+
+    def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
+                 sid_args: Sequence[str] = ()) -> None:
+        csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
+                      _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
+                      [int(f) for f in series["fault"]])
+        # files, not pipes: the output (~0.3 MB) would fill a pipe and stop sid_replay until read
+        self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()
+        self._input.write(csv.encode("ascii"))
+        self._input.seek(0)
+        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", *sid_args],
+                                      stdin=self._input, stdout=self._output, stderr=subprocess.PIPE)
+
+    def result(self) -> dict[str, dict[str, dict[str, np.ndarray]]]:
+        try:
+            _, err = self._proc.communicate(timeout=120)
+            self._output.seek(0)
+            text = self._output.read().decode("ascii")
+        finally:
+            self._input.close()
+            self._output.close()
+        if self._proc.returncode != 0:
+            msg = (err.decode(errors="replace").strip().splitlines() or ["no message"])[0]
+            raise RuntimeError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
+        out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
+        for name, cols in read_rows(text).items():
+            mode, _, filt = name.partition("/")
+            out[mode][filt] = cols
+        return out
+
+
+def mode_tables(series: Mapping[str, np.ndarray], est: Mapping[str, Mapping[str, np.ndarray]],
+                dt: float) -> dict[str, Any]:
+    """Table 4 (vs the fault-free measurement and vs the truth) and the bounds coverage of
+    one row mode; est[filter] has alpha_hat, q_hat, alpha_lo, alpha_hi, q_lo, q_hi."""
+    y_ff = np.column_stack([series["alpha_ff"], series["q_ff"]])
+    truth = np.column_stack([series["alpha_true"], series["q_true"]])
+    xh = {f: np.column_stack([est[f]["alpha_hat"], est[f]["q_hat"]]) for f in FILTERS if f in est}
+    table, _ = metrics.error_table(y_ff, xh, dt)
+    table_truth, _ = metrics.error_table(truth, xh, dt)
+    bounds = {f: (np.column_stack([est[f]["alpha_lo"], est[f]["q_lo"]]),
+                  np.column_stack([est[f]["alpha_hi"], est[f]["q_hi"]])) for f in xh}
+    return {"table4": table, "table4_truth": table_truth,
+            "coverage": metrics.coverage_table(truth, bounds),
+            "improvement_over_kf_pct": metrics.improvements(table),
+            "improvement_over_kf_truth_pct": metrics.improvements(table_truth)}
+
+
+def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray]]:
+    """fcc's own rows of a flight (the run's series) in Replay.result()'s layout."""
+    cols = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
+    return {f: {c: np.asarray(series[f"{f}_{c}"]) for c in cols} for f in FILTERS}
+
+
+def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,
+                     replay: Replay) -> tuple[dict[str, Any], dict[str, float]]:
+    """({mode: mode_tables} for prior and posterior, replay_check), from the Replay of this
+    flight (started by the caller, so that it runs while the caller works on).  The mode fcc
+    flew (sid_options) is taken from fcc's rows; the others from the replay.  replay_check:
+    the largest |replay - fcc| of the estimates in fcc's own mode (NaN rows left out).  When
+    sid_replay refuses the flight (e.g. shorter than the MLS window) the tables are empty
+    and replay_check says why ("not_computed")."""
+    tables: dict[str, Any] = {}
+    try:
+        replays = replay.result()
+    except RuntimeError as e:
+        return {}, {"rows": flown, "not_computed": str(e)}
+    for mode in SYMMETRIC:
+        est = fcc_rows(series) if mode == flown else replays[mode]
+        tables[mode] = mode_tables(series, est, dt)
+    mine = replays[flown]
+    ours = fcc_rows(series)
+    diff = max(float(np.nanmax(np.abs(mine[f][c] - ours[f][c]))) if np.any(np.isfinite(ours[f][c])) else 0.0
+               for f in FILTERS for c in ("alpha_hat", "q_hat"))
+    return tables, {"rows": flown, "max_abs_estimate_difference": diff}

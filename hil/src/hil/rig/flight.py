@@ -1,0 +1,146 @@
+"""One flight against the device under test, in a rig session: fcc's command line for the
+flight's scenarios (fcc_args), the session (open_session), the drivers (make_drivers), the
+flight itself with fcc on the ground before and after it (fly), and run_info.json's facts.
+"""
+from __future__ import annotations
+
+import os
+import platform
+import shlex
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from hil.bus import FrameCodec
+from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.rig.lockstep import LockstepRunner
+from hil.rig.realtime import RealtimeRunner
+from hil.rig.session import RigSession
+from hil.rig.status import StatusCounters
+from hil.scenario.file import Scenario
+from hil.scenario.schema import ScenarioError
+from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+
+#: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
+#: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
+FCC_RT_PRIORITY = 50
+#: the LQG periods fcc accepts (firmware/app/README.md)
+FCC_PERIOD_RANGE = (0.02, 0.3)
+
+
+def check_missile(sc: Scenario) -> None:
+    lo, hi = FCC_PERIOD_RANGE
+    assert sc.lqg is not None
+    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
+        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
+                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
+
+
+def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
+    """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
+    names = list(apps) if apps else [sc.aircraft for sc in scenarios]
+    args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
+    for sc in scenarios:
+        if sc.aircraft == "missile":
+            assert sc.lqg is not None
+            check_missile(sc)
+            delay = sc.lqg.resolved_delay(cfg.mode == "realtime")
+            args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
+                     "--lqg-delay", f"{delay:.6g}",
+                     "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
+                     "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
+    if cfg.rows != "paper":
+        args += ["--rows", cfg.rows]
+    if cfg.mode == "realtime" and cfg.target == "host":  # as on a flight computer (refused
+        args += ["--rt-priority", str(FCC_RT_PRIORITY)]   # without privilege: one line); the
+        # image has no scheduler to ask (firmware/port/mps2_an386/README.md: not applicable)
+    return args + list(cfg.fcc_args)
+
+
+def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
+                 prepare: Callable[[RigSession], object] | None = None) -> RigSession:
+    """The rig session of a command: its target, its bus, the device's configuration."""
+    return RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)
+
+
+def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
+    """(period, bits) for the first reset: a device not configured by its command line (the
+    emulated image, an external device) gets the missile's design through SIM_CONTROL."""
+    if rig.fcc is None or rig.fcc.configured_by_args:
+        return 0.0, 0
+    for sc in scenarios:
+        if sc.aircraft == "missile":
+            assert sc.lqg is not None
+            return sc.lqg.period, sc.lqg.bits
+    return 0.0, 0
+
+
+def make_drivers(scenarios: Sequence[Scenario], codec: FrameCodec, cfg: RigConfig) -> list[AppDriver]:
+    """The drivers of one flight (one fcc): they share the CDRW's fault truth (OracleFlag)."""
+    rt = cfg.mode == "realtime"
+    oracle = OracleFlag()
+    return [(CdrwDriver if sc.aircraft == "cdrw" else MissileDriver)(sc, codec, rt, oracle)
+            for sc in scenarios]
+
+
+def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
+         runner: Any = None, period: float = 0.0, bits: int = 0) -> Any:
+    """One flight, fcc on the ground before and after it: SIM_CONTROL reset (and a new LQG
+    design when period/bits are given; it is also the flight boundary in bus.log), FLIGHT,
+    the steps, GROUND (fcc accepts resets and designs on the ground only)."""
+    rig.control(COMMAND_RESET, period, bits)
+    try:
+        if cfg.mode == "lockstep":
+            rig.control(COMMAND_FLIGHT)
+            r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
+            r.fly(drivers)
+            return r
+        rt = runner or RealtimeRunner(rig, progress=bar.update)
+        rt.fly(drivers)   # FLIGHT goes out just before the first sampling instant
+        return rt
+    finally:
+        if rig.fcc is not None and rig.fcc.poll() is None and rig.link is not None:
+            rig.control(COMMAND_GROUND)
+
+
+def require_log(rig: RigSession) -> None:
+    if not rig.log_complete:
+        why = rig.recorder_error or "the recorder did not catch up with the bus"
+        raise RigError(f"bus.log: {why}; fcc's outputs are read from that log, so the run is "
+                       f"not evaluated")
+
+
+def run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dict[str, Any]:
+    st = rig.status
+    info: dict[str, Any] = {
+        "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
+        "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
+        # the kernel the bus ran on; inside scripts/with-vcan: "RELEASE MODE" of its UML guest
+        "kernel": platform.release(), "uml": os.environ.get("WITH_VCAN_UML"),
+        "python": platform.python_version(), "heartbeats": st.heartbeats,
+        "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
+        "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
+        "secured_frames_verified": rig.security.counters()["verified"],
+        "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
+                 "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
+    }
+    if runner is not None:
+        info.update(runner.timing())
+    return info
+
+
+@dataclass
+class Flown:
+    """A flight as the rig flew it, for its evaluation: the drivers after their last step,
+    fcc's heartbeat counters, the rig's verification counters and run_info.json's facts (the
+    runner's timing among them)."""
+
+    drivers: list[AppDriver]
+    status: StatusCounters
+    security: dict[str, int]
+    info: dict[str, Any]
+    transmitter: dict[str, Any] = field(default_factory=dict)

@@ -1,0 +1,286 @@
+"""Fault kinds (SPEC section 5): one frozen dataclass per kind, with start, duration and its
+parameters.  A fault is active for start <= t < start + duration (duration may be inf).
+
+Three levels:
+* sensor -- changes a measured value before it is encoded (applied here, see inject.py);
+* frame  -- changes what happens to CAN frames of one message (or all, frame = "*");
+* bus    -- affects the bus as a whole.
+Frame and bus faults are *specifications* here; the bus layer applies them to frames.
+Their parameters are documented on each class so that layer knows exactly what is meant.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+if TYPE_CHECKING:  # hints only
+    import numpy as np
+
+from hil.scenario.schema import spec
+
+#: tolerance on fault edges, so 50 Hz sample times (k * 0.02) land on the intended side
+T_EPS = 1e-9
+
+
+@dataclass(frozen=True, kw_only=True)
+class Fault:
+    """Common part: when the fault is active."""
+
+    kind: ClassVar[str] = ""
+    level: ClassVar[str] = ""
+
+    start: float = spec(ge=0.0)                      # s, from the start of the run
+    duration: float = spec(gt=0.0, allow_inf=True)   # s, > 0 (inf: until the end)
+
+    @property
+    def end(self) -> float:
+        return self.start + self.duration
+
+    def active(self, t: float) -> bool:
+        return self.start - T_EPS <= t < self.end - T_EPS
+
+    @property
+    def target(self) -> str:
+        """What the fault acts on (signal, frame or 'bus'), for logs."""
+        return "bus"
+
+    def params(self) -> dict[str, Any]:
+        """Every field, in declaration order (what describe() prints)."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+    def describe(self) -> str:
+        """The command-line form, e.g. 'spike:signal=alpha,start=4,duration=0.1,magnitude=0.2'."""
+        def fmt(v: Any) -> str:
+            if isinstance(v, float):
+                return "inf" if math.isinf(v) else f"{v:g}"
+            return str(v).lower() if isinstance(v, bool) else str(v)
+        body = ",".join(f"{k}={fmt(v)}" for k, v in self.params().items() if v is not None)
+        return f"{self.kind}:{body}"
+
+
+# ---------------------------------------------------------------------------------------------
+# sensor level
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True, kw_only=True)
+class SensorFault(Fault):
+    level: ClassVar[str] = "sensor"
+    signal: str = spec()   # cdrw: alpha, q, de; missile: q_g, n_a
+
+    @property
+    def target(self) -> str:
+        return self.signal
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        """The faulty reading.  held = the reading delivered just before the fault began."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, kw_only=True)
+class Spike(SensorFault):
+    """Short additive error: reading + magnitude (the paper's ~0.1 s sensor malfunction)."""
+
+    kind: ClassVar[str] = "spike"
+    magnitude: float = spec()
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        return value + self.magnitude
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bias(Spike):
+    """Constant offset: reading + magnitude, the spike's arithmetic under the name engineers
+    use for a long one (e.g. a mis-rigged vane)."""
+
+    kind: ClassVar[str] = "bias"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Stuck(SensorFault):
+    """The reading freezes: at `value` if given, else at the last reading before the fault."""
+
+    kind: ClassVar[str] = "stuck"
+    value: float | None = spec(None)
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        return held if self.value is None else self.value
+
+
+@dataclass(frozen=True, kw_only=True)
+class Dropout(SensorFault):
+    """The sensor delivers nothing.  fill = "nan": no valid reading (the bus layer sends no
+    value / marks it invalid, an offline consumer sees NaN); "zero": a dead sensor reading 0;
+    "hold": the last reading is repeated (a stale value)."""
+
+    kind: ClassVar[str] = "dropout"
+    fill: str = spec("nan", choices=("nan", "zero", "hold"))
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        if self.fill == "zero":
+            return 0.0
+        if self.fill == "hold":
+            return held
+        return math.nan
+
+
+@dataclass(frozen=True, kw_only=True)
+class NoiseBurst(SensorFault):
+    """Extra noise: uniform on [-magnitude, magnitude] or Gaussian with sigma = magnitude."""
+
+    kind: ClassVar[str] = "noise_burst"
+    magnitude: float = spec(gt=0.0)
+    distribution: str = spec("uniform", choices=("uniform", "gaussian"))
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        if self.distribution == "gaussian":
+            return value + float(rng.normal(0.0, self.magnitude))
+        return value + float(rng.uniform(-self.magnitude, self.magnitude))
+
+
+@dataclass(frozen=True, kw_only=True)
+class Drift(SensorFault):
+    """Growing offset: reading + rate * (t - start)  (units of the signal per second)."""
+
+    kind: ClassVar[str] = "drift"
+    rate: float = spec()
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        return value + self.rate * (t - self.start)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scale(SensorFault):
+    """Gain error: reading * factor."""
+
+    kind: ClassVar[str] = "scale"
+    factor: float = spec()
+
+    def apply(self, value: float, t: float, held: float, rng: np.random.Generator) -> float:
+        return value * self.factor
+
+
+# ---------------------------------------------------------------------------------------------
+# frame level (applied by the bus layer; "frame" is a DBC message name or "*" for every
+# frame the simulator sends for this aircraft)
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True, kw_only=True)
+class FrameFault(Fault):
+    level: ClassVar[str] = "frame"
+    frame: str = spec("*")
+
+    @property
+    def target(self) -> str:
+        return self.frame
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrameLoss(FrameFault):
+    """Each frame is not sent, with this probability (1: all lost)."""
+
+    kind: ClassVar[str] = "loss"
+    probability: float = spec(1.0, gt=0.0, le=1.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrameDelay(FrameFault):
+    """Each frame is sent `delay` seconds late (lockstep: after the tick it belongs to)."""
+
+    kind: ClassVar[str] = "delay"
+    delay: float = spec(gt=0.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrameDuplicate(FrameFault):
+    """Each frame is sent `count` extra times, unchanged (same counter: E2E REPEATED)."""
+
+    kind: ClassVar[str] = "duplicate"
+    count: int = spec(1, ge=1, le=16)
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrameReplay(FrameFault):
+    """Instead of the current frame, the one sent `age` seconds earlier is sent again
+    (old counter and CRC: a replay/stale-data attack; E2E WRONG-SEQUENCE or REPEATED)."""
+
+    kind: ClassVar[str] = "replay"
+    age: float = spec(gt=0.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BadCrc(FrameFault):
+    """The E2E CRC byte is corrupted, with this probability (E2E ERROR)."""
+
+    kind: ClassVar[str] = "bad_crc"
+    probability: float = spec(1.0, gt=0.0, le=1.0)
+
+
+@dataclass(frozen=True, kw_only=True)
+class CounterFreeze(FrameFault):
+    """The alive counter stops at its value at the start (E2E REPEATED every frame)."""
+
+    kind: ClassVar[str] = "counter_freeze"
+
+
+@dataclass(frozen=True, kw_only=True)
+class CounterJump(FrameFault):
+    """`jump` is added (mod 16) to the alive counter while active: one jump at the start and
+    one back at the end (E2E OK-SOME-LOST or WRONG-SEQUENCE, depending on the size)."""
+
+    kind: ClassVar[str] = "counter_jump"
+    jump: int = spec(5, ge=1, le=15)
+
+
+@dataclass(frozen=True, kw_only=True)
+class WrongDlc(FrameFault):
+    """The frame is sent with this data length (bytes) instead of its DBC length."""
+
+    kind: ClassVar[str] = "wrong_dlc"
+    dlc: int = spec(4, ge=0, le=8)
+
+
+@dataclass(frozen=True, kw_only=True)
+class OutOfRange(FrameFault):
+    """Signal `signal` (a DBC signal of the frame) carries raw value `raw`, outside its DBC
+    range; without `raw`, the largest raw value the field can hold."""
+
+    kind: ClassVar[str] = "out_of_range"
+    signal: str = spec()
+    raw: int | None = spec(None)
+
+
+# ---------------------------------------------------------------------------------------------
+# bus level
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True, kw_only=True)
+class BusFault(Fault):
+    level: ClassVar[str] = "bus"
+
+
+@dataclass(frozen=True, kw_only=True)
+class Flood(BusFault):
+    """A babbling node sends frames with `can_id` (default 0: the highest priority) at
+    `rate_hz`, `dlc` bytes of 0xFF each."""
+
+    kind: ClassVar[str] = "flood"
+    can_id: int = spec(0, ge=0, le=0x7FF)
+    rate_hz: float = spec(2000.0, gt=0.0, le=20000.0)
+    dlc: int = spec(8, ge=0, le=8)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Silence(BusFault):
+    """The simulator sends nothing at all (its node is off the bus)."""
+
+    kind: ClassVar[str] = "silence"
+
+
+#: every fault kind, by name
+KINDS: dict[str, type[Fault]] = {
+    c.kind: c for c in (Spike, Bias, Stuck, Dropout, NoiseBurst, Drift, Scale,
+                        FrameLoss, FrameDelay, FrameDuplicate, FrameReplay, BadCrc,
+                        CounterFreeze, CounterJump, WrongDlc, OutOfRange, Flood, Silence)
+}
+SENSOR_KINDS = tuple(k for k, c in KINDS.items() if c.level == "sensor")
+FRAME_KINDS = tuple(k for k, c in KINDS.items() if c.level == "frame")
+BUS_KINDS = tuple(k for k, c in KINDS.items() if c.level == "bus")

@@ -1,0 +1,191 @@
+"""Campaigns on several rigs at once (hil.parallel, Dask): from the host shell, each worker
+its own UML guest (or vcanK) with its own fcc and recorder.
+
+* 4 flights on 2 workers = the same on 1 worker, byte for byte (summary.json, campaign.csv,
+  faults.log, cdrw_run0.csv), and = the sequential campaign in one fcc (all but one counter);
+* a worker killed in the middle of a flight: the flight is flown again elsewhere, same results;
+* a flight that fails on its rig is retried once and then reported (exit 1, one line);
+* a sweep's (T, N) points on 2 workers = the sequential sweep.
+
+Bounded: each test boots at most two guests (about 3 s each) and flies a few 7 s flights.
+"""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from hil.cli import main
+
+REPO = Path(__file__).resolve().parents[3]
+RUNS, SEED = 4, 3
+ARTEFACTS = ("summary.json", "campaign.csv", "faults.log", "cdrw_run0.csv")
+
+UML = Path(os.environ.get("WITH_VCAN_UML_DIR") or REPO / ".uml")
+needs_rig = pytest.mark.skipif(not (UML / "linux.uml").exists() and not Path("/sys/class/net/vcan0").exists(),
+                                reason="needs User-Mode Linux (scripts/setup) or a kernel with vcan")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def rig_dir(tmp_path_factory) -> Iterator[Path]:
+    """Every rig of this module keeps its files (hil-rig-PID: requests, answers, the flights a
+    failure leaves behind) under pytest's tmp dir, not in /tmp: $HIL_RIG_DIR, which
+    hil.parallel.guest.rig_root reads and the Dask workers and guests inherit."""
+    rigs = tmp_path_factory.mktemp("rigs")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("HIL_RIG_DIR", str(rigs))
+        yield rigs
+
+
+@pytest.fixture(scope="module", autouse=True)
+def two_sessions() -> Iterator[None]:
+    """The module's 4-flight campaigns in two rig sessions of two flights each (fcc reset
+    between them), so that every test here also flies a session of several flights; the
+    chunks are made by the coordinator, this process."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("hil.parallel.runs.SESSIONS_MIN", 2)
+        yield
+
+
+def test_session_chunks_cover_the_campaign_in_order():
+    from hil.parallel.runs import SESSION_FLIGHTS_MAX, session_chunks
+    for runs in (1, 2, 3, 4, 5, 12, 99, 100, 1000, 1001):
+        chunks = session_chunks(runs)
+        assert [i for c in chunks for i in c] == list(range(runs))
+        assert max(len(c) for c in chunks) <= SESSION_FLIGHTS_MAX and min(len(c) for c in chunks) >= 1
+    assert [len(c) for c in session_chunks(4)] == [2, 2]      # SESSIONS_MIN is 2 in this module
+    assert len(session_chunks(1000)) == 40
+
+
+def campaign(out: Path, *extra: str) -> tuple[int, str]:
+    argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
+            "--quiet", "--no-plots", *extra]
+    return main(argv), ""
+
+
+@pytest.fixture(scope="module")
+def one_worker(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("w1")
+    rc, _ = campaign(out, "--workers", "1")
+    assert rc == 0
+    return out
+
+
+@needs_rig
+def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
+    rc, _ = campaign(tmp_path, "--workers", "2")
+    assert rc == 0, capsys.readouterr().err
+    for name in ARTEFACTS:
+        assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
+    info = json.loads((tmp_path / "run_info.json").read_text())["parallel"]
+    assert info["engine"] == "dask.distributed" and info["failed"] == 0
+    assert sum(info["flights_by_worker"].values()) == RUNS and len(info["flights_by_worker"]) == 2
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert [r["run"] for r in s["cdrw"]["runs"]] == list(range(RUNS)) and "failed_runs" not in s
+    assert s["firmware"]["steps"]["cdrw"] == RUNS * 351
+
+
+@needs_rig
+def test_workers_equal_the_sequential_campaign(one_worker, tmp_path):
+    """The sequential form inside one guest, one fcc reset between flights: the same Table 5,
+    campaign.csv and faults; fcc's counters the same but E2E ok, which counts each session's
+    own frames (shutdown, mode commands; two sessions of two flights on the workers)."""
+    r = subprocess.run([str(REPO / "scripts" / "with-vcan"), sys.executable, "-m", "hil.cli", "campaign",
+                        "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(tmp_path),
+                        "--quiet", "--no-plots"], cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    for name in ("campaign.csv", "faults.log", "cdrw_run0.csv"):
+        assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
+    seq = json.loads((tmp_path / "summary.json").read_text())
+    par = json.loads((one_worker / "summary.json").read_text())
+    assert seq["cdrw"] == par["cdrw"]
+    extra = par["firmware"]["e2e"].pop("ok") - seq["firmware"]["e2e"].pop("ok")
+    assert extra > 0                                  # the few frames of the extra session
+    assert seq == par
+
+
+@needs_rig
+def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
+    """A running cluster (the --scheduler path): one worker process is killed while its rig
+    flies; Dask gives the flight to another worker and the results are unchanged."""
+    from distributed import Client, LocalCluster
+
+    rigs = tmp_path / "rigs"
+    monkeypatch.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
+    out = tmp_path / "out"
+    killed: list[int] = []
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                      memory_limit=0) as cluster, Client(cluster) as client:
+        pids = set(client.run(os.getpid).values())
+
+        def kill_first_flying() -> None:
+            deadline = time.monotonic() + 300
+            while time.monotonic() < deadline and not killed:
+                for pid in pids:
+                    if any((rigs / f"hil-rig-{pid}" / "flights").glob("task-*")):
+                        os.kill(pid, signal.SIGKILL)
+                        killed.append(pid)
+                        return
+                time.sleep(0.02)
+
+        t = threading.Thread(target=kill_first_flying, daemon=True)
+        t.start()
+        rc, _ = campaign(out, "--scheduler", cluster.scheduler_address)
+        t.join(5)
+    assert killed, "no worker was seen flying"
+    assert rc == 0
+    for name in ARTEFACTS:
+        assert (out / name).read_bytes() == (one_worker / name).read_bytes(), name
+
+
+@needs_rig
+def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
+    """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
+    campaign stops with one line and exit 1."""
+    rc = main(["campaign", "cdrw", "--runs", "1", "--seed", "1", "--out", str(tmp_path), "--quiet",
+               "--no-plots", "--workers", "1", "--fcc-args=--no-such-option"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 1 and len(err) == 1
+    assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
+    # the failed flights' files stay for a look, in the module's rig dir (not in /tmp)
+    assert any(rig_dir.glob("hil-rig-*/flights/task-*/fcc.log"))
+
+
+@needs_rig
+def test_sweep_on_workers_equals_the_sequential_sweep(tmp_path):
+    """Two (T, N) points on 2 workers: every missile time series, faults.log and the RMS table
+    as the sequential sweep in one fcc (E2E ok again counts one shutdown frame per session)."""
+    argv = ["sweep", "missile", "--periods", "0.2,0.1", "--bits", "8", "--quiet", "--no-plots"]
+    r = subprocess.run([str(REPO / "scripts" / "with-vcan"), sys.executable, "-m", "hil.cli", *argv,
+                        "--out", str(tmp_path / "seq")], cwd=REPO, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert main([*argv, "--out", str(tmp_path / "par"), "--workers", "2"]) == 0
+    seq_files = sorted(p.name for p in (tmp_path / "seq").iterdir() if p.suffix == ".csv")
+    assert len(seq_files) == 8 and seq_files == sorted(p.name for p in (tmp_path / "par").glob("*.csv"))
+    for name in [*seq_files, "faults.log"]:
+        assert (tmp_path / "seq" / name).read_bytes() == (tmp_path / "par" / name).read_bytes(), name
+    seq = json.loads((tmp_path / "seq" / "summary.json").read_text())
+    par = json.loads((tmp_path / "par" / "summary.json").read_text())
+    assert par["firmware"]["e2e"].pop("ok") - seq["firmware"]["e2e"].pop("ok") > 0
+    assert seq == par
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--workers", "0"], "--workers must be at least 1"),
+    (["--workers", "2", "--mode", "realtime"], "lockstep flights only"),
+    (["--workers", "2", "--target", "external"], "not --target/--interface"),
+    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not allowed with argument"),
+])
+def test_bad_parallel_options_are_one_line(tmp_path, capsys, extra, words):
+    rc = main(["campaign", "cdrw", "--runs", "2", "--out", str(tmp_path / "c"), "--quiet", *extra])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and words in err[0]
+    assert not (tmp_path / "c").exists()

@@ -42,7 +42,13 @@ fcc_status_t fcc_lqg_dac_convert(const fcc_lqg_dac_t *dac, fcc_real_t u, int32_t
         return FCC_ERR_NOT_FINITE;
     }
     /* Clamp in the real domain first: the int conversion of a huge value is undefined. */
+#ifdef FCC_PLANTED_BUG
+    /* A deliberate defect for `hil verify`'s own test (CMake FCC_PLANTED_BUG, never in a
+     * release): the D/A truncates towards minus infinity instead of rounding. */
+    const fcc_real_t q = FCC_ROUND(u / dac->lsb - FCC_R(0.5));
+#else
     const fcc_real_t q = FCC_ROUND(u / dac->lsb);
+#endif
     int32_t c;
     if (q >= (fcc_real_t)dac->code_max) {
         c = dac->code_max;

@@ -166,7 +166,7 @@ void fcc_sid_config_default(fcc_sid_config_t *cfg, fcc_sid_filter_t filter);
  * quasi-steady linearisation (separation point at its static value X0(alpha))
  * at alpha* = 9 deg, q* = 0, de* = -0.0421 rad, in the paper's Euler form
  * (dt = 0.02 s); hil.plants.cdrw_prior.wind_tunnel_prior() computes it and
- * tests/python/test_sid_cdrw.py checks these digits against it.  The
+ * tests/python/reference/test_sid_cdrw.py checks these digits against it.  The
  * paper's regression has no constant term, so this prior has the trim offset
  * c0 absorbed into [A0 B0] by the smallest change that keeps the trim a fixed
  * point (otherwise the filters would drift by c0 per step until the MLS has

@@ -25,8 +25,8 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 #: where `hil`'s parser factory may live, tried in order
-PARSER_MODULES = ("hil.cli", "hil.cli.parser", "hil.cli.main", "hil.cli.app", "hil.cli.__main__")
-PARSER_FACTORIES = ("_parser", "build_parser", "make_parser", "parser")
+PARSER_MODULES = ("hil.cli.parser",)
+PARSER_FACTORIES = ("build",)
 #: the scripts whose --help goes into the reference, in this order
 SCRIPTS = ("setup", "test", "hil-demo", "with-vcan", "diag", "bench")
 WIDTH = 100
@@ -152,7 +152,7 @@ def hil_markdown_from_parser(parser: argparse.ArgumentParser, source: str) -> st
 
 def _hil_command() -> list[str]:
     exe = Path(sys.executable).with_name("hil")
-    return [str(exe)] if exe.exists() else [sys.executable, "-c", "import sys; from hil.cli import entry; sys.exit(entry())"]
+    return [str(exe)] if exe.exists() else [sys.executable, "-m", "hil.cli"]
 
 
 def _help_text(cmd: list[str]) -> str:

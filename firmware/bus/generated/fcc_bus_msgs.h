@@ -1,6 +1,6 @@
 /*
  * fcc_bus_msgs.h -- GENERATED from dbc/fcc_hil.dbc by `python -m hil.bus.cgen` (run dbc/generate).
- * Do not edit: change the DBC and regenerate.  tests/python/test_bus_codegen.py
+ * Do not edit: change the DBC and regenerate.  tests/python/bus/test_bus_codegen.py
  * fails when this file and the DBC disagree.
  */
 

@@ -22,7 +22,7 @@ HEADER = "fcc_bus_msgs.h"
 SOURCE = "fcc_bus_msgs.c"
 BANNER = """/*
  * {name} -- GENERATED from {dbc} by `python -m hil.bus.cgen` (run dbc/generate).
- * Do not edit: change the DBC and regenerate.  tests/python/test_bus_codegen.py
+ * Do not edit: change the DBC and regenerate.  tests/python/bus/test_bus_codegen.py
  * fails when this file and the DBC disagree.
  */
 """

@@ -239,4 +239,18 @@ def build() -> argparse.ArgumentParser:
     d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
                        "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
     add_common(d, "out/demo")
+
+    v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
+                       "a verdict per case and requirement, JUnit XML, an HTML report",
+                       epilog="exit status: 0 every case passed; 1 a case failed; 2 bad command line or "
+                       "suite (nothing flew); 6 a case could not run (error: no device, time-out, crash)")
+    v.add_argument("suites", nargs="*", metavar="SUITE",
+                   help="a shipped suite's name (hil verify --list) or a suite TOML file")
+    v.add_argument("--case", action="append", default=[], metavar="ID", help="only these cases (repeatable)")
+    v.add_argument("--junit", type=Path, metavar="FILE", help="write JUnit XML here")
+    v.add_argument("--report", type=Path, metavar="DIR",
+                   help="the report's directory (index.html, one run directory per case; default: --out)")
+    v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
+    v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
+    add_common(v, "out/verify")
     return p

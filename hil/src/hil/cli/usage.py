@@ -3,6 +3,8 @@ from __future__ import annotations
 
 PROG = "hil"
 EXIT_USAGE = 2
+#: hil verify: a case could not run (no device, a time-out, a crash): never a pass
+EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
 

@@ -7,7 +7,7 @@ import dataclasses
 import time
 from collections.abc import Iterable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
@@ -37,7 +37,18 @@ from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
 
 
-def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run") -> Outcome:
+class FlightWitness(Protocol):
+    """Another node that takes part in a flight (hil.verify's attacker): the flight starts
+    once it is ready, and it stops before the rig shuts fcc down (so that the recorder closes
+    the log on the rig's own end marker)."""
+
+    def wait_ready(self) -> None: ...
+
+    def stop_now(self) -> None: ...
+
+
+def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "run",
+               witness: FlightWitness | None = None) -> Outcome:
     """One flight of one or both aircraft (interleaved in one fcc when both), evaluated."""
     out = cfg.out_dir
     if len({sc.aircraft for sc in scenarios}) != len(scenarios):
@@ -47,8 +58,14 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     # the drivers are computed while the session listens for another fcc on the bus
     with open_session(out, scenarios, cfg, lambda rig: make_drivers(scenarios, rig.codec, cfg)) as rig:
         drivers: list[AppDriver] = rig.prepared  # type: ignore[assignment]
-        with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
-            runner = fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
+        if witness is not None:
+            witness.wait_ready()
+        try:
+            with progress_bar(sum(d.n_steps for d in drivers), cfg.progress, f"hil {command}") as bar:
+                runner = fly(rig, drivers, cfg, bar, None, *lqg_request(rig, scenarios))
+        finally:
+            if witness is not None:
+                witness.stop_now()
         rig.shutdown()
     require_log(rig)
     flown = Flown(drivers, rig.status, rig.security.counters(),

@@ -351,7 +351,7 @@ def test_sigterm_flushes_the_status_and_prints_counters(run_fcc):
     assert sim.status["FCC_STATUS"]["cdrw_steps"] == 1   # the last heartbeat reached the bus
     assert set(sim.status) == {"FCC_STATUS", "FCC_E2E_COUNTS", "FCC_E2E_FAULTS",
                                "FCC_REJECT_COUNTS", "FCC_BUS_COUNTS", "FCC_SEC_COUNTS",
-                               "FCC_SEC_SESSION", "FCC_SYNC_STATUS"}
+                               "FCC_SEC_SESSION", "FCC_SYNC_STATUS", "FCC_SYNC_REFUSALS"}
     summary = parse_summary(fcc.stderr())
     assert "stopping (SIGTERM)" in fcc.stderr()
     # SIM_CONTROL(FLIGHT), 3 sensor frames, 1 tick

@@ -206,10 +206,33 @@ def paper_table5() -> dict:
     return out
 
 
+def _first(t: np.ndarray, cond: np.ndarray) -> float | None:
+    k = np.flatnonzero(cond)
+    return float(t[k[0]]) if len(k) else None
+
+
+def fig7_timing(tool: Path, level: float = 0.97, stall_deg: float = 15.0) -> dict:
+    """Fig. 7 on the default flight: when each loop's MLS rho(A_k), the true rho and alpha
+    first pass `level` / `stall_deg`, and the MLS's a21 against the true one before the pull."""
+    f = simulate_cdrw(load_default_scenario("cdrw"))
+    rows = run_tool(tool, flight_csv(f))
+    pre = (f.t > 0.5) & (f.t < 2.0)
+    out: dict = {"level": level, "alpha_passes_deg": stall_deg,
+                 "alpha_time": _first(f.t, np.degrees(f.alpha_true) >= stall_deg),
+                 "rho_true_time": _first(f.t, f.rho_true >= level),
+                 "rho_true_max": float(np.max(f.rho_true)),
+                 "a21_true_before_pull": float(np.mean(f.A_true[pre, 1, 0]))}
+    for n in ("kf", "zkf", "azkf"):
+        out[n] = {"rho_time": _first(f.t, rows[n]["rho"] >= level),
+                  "a21_before_pull": float(np.mean(rows[n]["a21"][pre]))}
+    return out
+
+
 def cdrw_study(tool: Path, runs: int = 12, noise_seeds: int = 10,
                only: Sequence[str] | None = None,
                progress: Callable[[str], None] | None = None) -> dict:
-    out: dict = {"runs": runs, "noise_seeds": noise_seeds, "paper": paper_table5(), "cases": {}}
+    out: dict = {"runs": runs, "noise_seeds": noise_seeds, "paper": paper_table5(),
+                 "fig7": fig7_timing(tool), "cases": {}}
     for case in cases():
         if only and case.name not in only:
             continue
@@ -241,6 +264,15 @@ def format_cdrw_study(s: dict) -> str:
         lines.append(f"  noise seeds 1..{s['noise_seeds']}: AZKF vs KF per seed alpha "
                      f"{ns['alpha'][0]:+.1f} .. {ns['alpha'][1]:+.1f}, q {ns['q'][0]:+.1f} .. "
                      f"{ns['q'][1]:+.1f}")
+    g = s.get("fig7")
+    if g:
+        rt = lambda v: "never" if v is None else f"{v:.2f} s"  # noqa: E731
+        lines.append(f"Fig. 7, default flight: MLS rho passes {g['level']:g} at "
+                     + ", ".join(f"{n.upper()} {rt(g[n]['rho_time'])}" for n in ("kf", "zkf", "azkf"))
+                     + f"; true rho at {rt(g['rho_true_time'])} (max {g['rho_true_max']:.3f}); alpha passes "
+                     f"{g['alpha_passes_deg']:g} deg at {rt(g['alpha_time'])}; a21 before the "
+                     f"pull: MLS (AZKF loop) {g['azkf']['a21_before_pull']:.2f}, true "
+                     f"{g['a21_true_before_pull']:.2f}")
     p = s["paper"]
     lines.append("paper Table 5: AZKF {:+.1f}/{:+.1f}, ZKF {:+.1f}/{:+.1f}; alpha/q ratio "
                  "KF {:.3f} ZKF {:.3f} AZKF {:.3f} (Table 4: {:.2f} {:.2f} {:.2f})".format(

@@ -42,6 +42,7 @@ def _missile(args: argparse.Namespace) -> int:
                                                args.accel_var, args.mc_loops, args.mc_seconds)
     if args.figure:
         from hil.plots.missile import fig3_covariance
+        args.figure.parent.mkdir(parents=True, exist_ok=True)
         fig3_covariance({"studies": [study]}, args.figure.parent, args.figure.name, _made_by(args))
     if args.json:
         print(json.dumps(study, allow_nan=False))
@@ -63,6 +64,7 @@ def _cdrw(args: argparse.Namespace) -> int:
                        progress=lambda n: print(f"study cdrw: {n}", file=sys.stderr, flush=True))
     if args.figure:
         from hil.plots.cdrw import controls_figure
+        args.figure.parent.mkdir(parents=True, exist_ok=True)
         controls_figure(study, args.figure, _made_by(args))
     print(json.dumps(study, allow_nan=False) if args.json else format_cdrw_study(study))
     return 0

@@ -165,11 +165,14 @@ def fig10_bounds(s: Series, out: Path) -> Path:
         ax.set_ylim(lo - pad, hi + pad)  # the same y range in both panels
     ax = axs[2]
     _shade_faults(ax, s)
+    meds = []
     for f in ("azkf", "kf"):
         half = (s[f"{f}_alpha_hi"] - s[f"{f}_alpha_lo"]) / 2 * DEG
         med = float(np.nanmedian(half))
+        meds.append(med)
         ax.plot(s["t"], half, color=COLORS[f], lw=1,
                 label=f"{LABELS[f]} {'hull' if f != 'kf' else '3σ'} half-width, median {med:.2f}°")
+    ax.set_ylim(0.0, 3.0 * max(meds))  # the initial transient (P0) is clipped
     ax.set_ylabel("half-width (deg)")
     ax.set_xlabel("t (s)")
     ax.grid(alpha=0.3)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import io
+import json
 from pathlib import Path
 
 import matplotlib
@@ -28,6 +29,16 @@ def title_of(fig: "plt.Figure") -> str:
     return " ".join(text.split())
 
 
+def _run_of(run_dir: Path) -> str:
+    """Which run wrote run_dir (its summary.json's command), and how to redraw."""
+    try:
+        cmd = json.loads((run_dir / "summary.json").read_text()).get("command")
+    except (OSError, ValueError, AttributeError):
+        cmd = None
+    what = f"hil {cmd} into {run_dir}" if isinstance(cmd, str) and cmd else f"the run in {run_dir}"
+    return f"{what} (redraw: hil report {run_dir})"
+
+
 def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None,
          made_by: str | None = None) -> Path:
     """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write,
@@ -40,7 +51,7 @@ def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] 
     fig.savefig(buf, format="png", dpi=110, metadata=_META)
     plt.close(fig)
     out = atomic_write(path, buf.getvalue())  # never a half-written PNG
-    run = made_by or f"the run in {path.parent} (redraw: hil report {path.parent})"
+    run = made_by or _run_of(path.parent)
     atomic_write(caption_path(path), f"{title}. Made by: {run}\n".encode())
     return out
 

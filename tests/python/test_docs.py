@@ -10,7 +10,7 @@ Every fenced shell block (```sh, ```console, ...) is preceded by a marker commen
 
 The blocks of one page run in order, each with `bash -e`, from the repository root, in one
 temporary scratch directory per page: every `out/...` path of a block is redirected into it, and
-a `hil run|campaign|sweep|demo` without `--out` gets one there, so nothing is written into the
+a `hil run|campaign|sweep|demo|verify` without `--out` gets one there, so nothing is written into the
 checkout's own out/ (checked). Also: the README's shape, the site's strict build, the command-line
 reference, and the bus figures that dbc/README.md keeps for other tests.
 """
@@ -34,7 +34,7 @@ FENCE = re.compile(r"^ {0,3}(?P<fence>`{3,}|~{3,})\s*(?P<info>[^`\s]*)")
 #: `out/...` at the start of a path (not `build/out/`, not `$X/out/`)
 OUT_PATH = re.compile(r"(?<![\w./$-])out/")
 #: a hil command that writes a run directory, up to the end of its shell command
-HIL_WRITES = re.compile(r"(?P<cmd>\bhil[ \t]+(?P<sub>run|campaign|sweep|demo)\b)(?P<rest>(?:\\\n|[^\n;&|'\"<>])*)")
+HIL_WRITES = re.compile(r"(?P<cmd>\bhil[ \t]+(?P<sub>run|campaign|sweep|demo|verify)\b)(?P<rest>(?:\\\n|[^\n;&|'\"<>])*)")
 #: the checkout's out/ entries that other steps of scripts/test write while this test runs
 OUT_OWNED_ELSEWHERE = {"test-results", "site"}
 BLOCK_TIMEOUT_S = 600

@@ -9,6 +9,8 @@
     hil report DIR                                              (tables + plots again)
     hil study missile-rms [--periods LIST] [--bits LIST] [--gyro-var V] [--json]
                                    (Fig. 3 by covariance analysis, no bus needed)
+    hil study cdrw [--runs N] [--noise-seeds N] [--json] [--figure PNG]
+                                   (Table 5 with its controls, offline through sid_replay)
     hil demo [--out out/demo]        (both aircraft; Figs. 4-6 responses; Fig. 3 with HIL points)
 
 Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built

@@ -201,8 +201,22 @@ def build() -> argparse.ArgumentParser:
     rep.add_argument("--dbc", type=Path, metavar="PATH",
                      help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
-    st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance analysis")
-    st.add_argument("study", choices=("missile-rms",))
+    st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance "
+                        "analysis and a quantiser Monte Carlo; cdrw = Table 5 with its controls")
+    st.add_argument("study", choices=("missile-rms", "cdrw"))
+    st.add_argument("--runs", type=int, default=12, metavar="N",
+                    help="cdrw: fault start times per case (default 12; the campaign draws them)")
+    st.add_argument("--noise-seeds", type=int, default=10, metavar="N",
+                    help="cdrw: noise seeds 1..N for the seed-spread case (default 10)")
+    st.add_argument("--cases", type=lambda t: [x for x in t.split(",") if x], default=None,
+                    metavar="NAME,...", help="cdrw: only these cases (default all)")
+    st.add_argument("--figure", type=Path, default=None, metavar="PNG",
+                    help="cdrw / missile-rms: also draw the study's figure into PNG")
+    st.add_argument("--mc-loops", type=int, default=0, metavar="N",
+                    help="missile-rms: also a Monte Carlo with a real quantiser, N loops per "
+                    "point (default 0: covariance model only)")
+    st.add_argument("--mc-seconds", type=positive, default=50.0, metavar="S",
+                    help="missile-rms: length of each Monte Carlo flight (default 50 s)")
     st.add_argument("--periods", type=floats, default=list(FIG3_PERIODS), metavar="T,T,...",
                     help="sampling periods in s (default 0.02,0.03,...,0.3)")
     st.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",

@@ -95,7 +95,8 @@ def figures(run_dir: Path) -> list[Figure]:
     for T, curves in sorted(by_period.items(), reverse=True):
         elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
                     if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
-        written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle))
+        written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle,
+                               bool(responses.get("deterministic"))))
     if (run_dir / timing.CSV_NAME).is_file():
         written.append(partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME),
                                run_dir))

@@ -145,8 +145,10 @@ def fig9_gains(s: Series, out: Path) -> Path:
 
 
 def fig10_bounds(s: Series, out: Path) -> Path:
-    fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
-    for ax, f in zip(axs, ("azkf", "kf")):
+    """The two filters' alpha bounds on one shared y axis, and a panel of the half-widths
+    (the hull of the AZKF against the KF's 3 sigma) with their medians."""
+    fig, axs = plt.subplots(3, 1, sharex=True, figsize=(8, 8))
+    for ax, f in zip(axs[:2], ("azkf", "kf")):
         _shade_faults(ax, s)
         ax.fill_between(s["t"], s[f"{f}_alpha_lo"] * DEG, s[f"{f}_alpha_hi"] * DEG,
                         color=COLORS[f], alpha=0.25, lw=0,
@@ -156,8 +158,26 @@ def fig10_bounds(s: Series, out: Path) -> Path:
         ax.set_ylabel("α (deg)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    axs[1].set_xlabel("t (s)")
-    fig.suptitle("Fig. 10 — bounds of the α estimate: MLS-AZKF vs MLS-KF" + _note(s))
+    lo = min(float(np.nanmin(s[f"{f}_alpha_lo"])) for f in ("azkf", "kf")) * DEG
+    hi = max(float(np.nanmax(s[f"{f}_alpha_hi"])) for f in ("azkf", "kf")) * DEG
+    pad = 0.05 * (hi - lo)
+    for ax in axs[:2]:
+        ax.set_ylim(lo - pad, hi + pad)  # the same y range in both panels
+    ax = axs[2]
+    _shade_faults(ax, s)
+    meds = []
+    for f in ("azkf", "kf"):
+        half = (s[f"{f}_alpha_hi"] - s[f"{f}_alpha_lo"]) / 2 * DEG
+        med = float(np.nanmedian(half))
+        meds.append(med)
+        ax.plot(s["t"], half, color=COLORS[f], lw=1,
+                label=f"{LABELS[f]} {'hull' if f != 'kf' else '3σ'} half-width, median {med:.2f}°")
+    ax.set_ylim(0.0, 3.0 * max(meds))  # the initial transient (P0) is clipped
+    ax.set_ylabel("half-width (deg)")
+    ax.set_xlabel("t (s)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.suptitle("Fig. 10 — bounds of the α estimate: MLS-AZKF vs MLS-KF (shared y axis)" + _note(s))
     return save(fig, out / "fig10_bounds.png")
 
 
@@ -182,3 +202,32 @@ def campaign_figure(c: Series, out: Path) -> Path:
     fig.suptitle(f"Campaign — error integral of each of {len(c['run'])} flights (Table 5 = their means)"
                  "\nagainst the fault-free measurement; Figs. 5-10 of this directory show flight 0")
     return save(fig, out / "campaign_errors.png")
+
+
+def controls_figure(study: dict, out: Path, made_by: str | None = None) -> Path:
+    """`hil study cdrw --figure`: AZKF (and ZKF) improvement over the KF per control, with
+    the 95 % intervals, beside the paper's Table 5 (dashed)."""
+    cases = list(study["cases"].items())
+    fig, axs = plt.subplots(1, 2, sharey=True, figsize=(10, 0.38 * len(cases) + 1.8))
+    y = np.arange(len(cases))[::-1]
+    for ax, key in zip(axs, ("alpha", "q")):
+        for off, filt, color in ((0.15, "azkf", COLORS["azkf"]), (-0.15, "zkf", COLORS["zkf"])):
+            for yi, (_, c) in zip(y, cases):
+                d = c.get(f"{filt}_vs_kf")
+                if not d:
+                    continue
+                lo, hi = d[f"{key}_ci"]
+                ax.errorbar(d[key], yi + off, xerr=[[d[key] - lo], [hi - d[key]]], fmt="o",
+                            ms=4, color=color, capsize=2,
+                            label=f"{LABELS[filt]} vs MLS-KF" if yi == y[0] else None)
+            ax.axvline(study["paper"]["table5"][filt][key], ls="--", lw=1, color=color,
+                       label=f"paper Table 5, {LABELS[filt]}")
+        ax.axvline(0.0, color="k", lw=0.8)
+        ax.set_xlabel(f"improvement over MLS-KF on {'α' if key == 'alpha' else 'q'} (%)")
+        ax.grid(alpha=0.3)
+    axs[0].set_yticks(y, [name for name, _ in cases])
+    axs[1].legend(loc="lower right", fontsize=7)
+    fig.suptitle(f"Table 5 with its controls (simulated CDRW, sid_replay): mean over "
+                 f"{study['runs']} fault times / {study['noise_seeds']} noise seeds, 95 % intervals",
+                 fontsize=10)
+    return save(fig, out, made_by=made_by)

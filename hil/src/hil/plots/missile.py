@@ -61,7 +61,9 @@ def fig3_rms(runs: Sequence[Mapping[str, Any]], out: Path) -> Path | None:
     return save(fig, out / "fig3_missile_rms.png")
 
 
-def fig3_covariance(doc: Mapping[str, Any], out: Path) -> Path | None:
+def fig3_covariance(doc: Mapping[str, Any], out: Path,
+                    name: str = "fig3_missile_rms_covariance.png",
+                    made_by: str | None = None) -> Path | None:
     """Fig. 3 as the paper ran it (hil.results.figures): per gyro variance (rows) the stationary
     RMS of q and alpha_T (columns) by covariance analysis against T for each word length and
     an ideal D/A, the open-loop level, and the HIL Monte-Carlo points with 95 % intervals."""
@@ -78,6 +80,13 @@ def fig3_covariance(doc: Mapping[str, Any], out: Path) -> Path | None:
                 ax.plot(T, [p["dac"][n][key] for p in ps], "-", color=_color(int(n)), lw=1.1,
                         label=f"{n}-bit D/A (LSB²/12 noise)")
             ax.axhline(st["open_loop"][key], color="k", ls="--", lw=1.0, label="open loop")
+            mc = st.get("monte_carlo")
+            for n in sorted(mc["periods"][0]["dac"] if mc and mc["periods"] else {}, key=int):
+                ax.plot([p["period"] for p in mc["periods"]],
+                        [p["dac"][n][key] for p in mc["periods"]], "x", ms=7, mew=1.6,
+                        color=_color(int(n)),
+                        label=f"{n}-bit, real quantiser (Monte Carlo, {mc['loops']} × "
+                        f"{mc['seconds']:g} s)")
             pts = [h for h in doc.get("hil", []) if h["gyro_var"] == st["gyro_var"]]
             for h in pts:
                 lo, hi, v = h[f"{key}_lo"], h[f"{key}_hi"], h[key]
@@ -92,24 +101,35 @@ def fig3_covariance(doc: Mapping[str, Any], out: Path) -> Path | None:
                          fontsize=9)
             ax.grid(alpha=0.3)
         row[1].legend(fontsize=7, loc="lower right")
-    fig.suptitle("Fig. 3 — missile: stationary RMS (covariance analysis) vs the sampling period")
-    return save(fig, out / "fig3_missile_rms_covariance.png")
+    mc_note = any(st.get("monte_carlo") for st in studies)
+    fig.suptitle("Fig. 3 — missile: stationary RMS vs the sampling period (lines: covariance "
+                 "analysis, D/A as LSB²/12 noise" + ("; ×: real quantiser" if mc_note else "") + ")",
+                 fontsize=10)
+    return save(fig, out / name, made_by=made_by)
 
 
 def fig_time_response(period: float, curves: Mapping[int | None, Series], out: Path,
                       elevator: Mapping[int | None, Series] | None = None,
-                      subtitle: str = "") -> Path:
+                      subtitle: str = "", deterministic: bool = False) -> Path:
     """q(t) and alpha_T(t) at one period for each word length, against the open loop; the
     applied elevator (D/A output, held) below when the per-step series are given.  The
     legend sits outside the axes, clear of the curves."""
     n = 3 if elevator else 2
     fig, axs = plt.subplots(n, 1, sharex=True, figsize=(9, 2.4 * n + 0.8))
-    for bits in sorted(curves, key=lambda b: (b is None, b or 0)):
+    order = sorted(curves, key=lambda b: (b is None, b or 0))
+    for i, bits in enumerate(order):
         s = curves[bits]
         label = "open loop" if bits is None else f"{bits}-bit D/A"
         lw = 0.8 if bits is None else 1.1
-        axs[0].plot(s["t"], s["q"], color=_color(bits), lw=lw, label=label)
-        axs[1].plot(s["t"], s["alpha_T"], color=_color(bits), lw=lw, label=label)
+        # a trace equal to one drawn before it hides under it: say so, and dash it
+        same = [b for b in order[:i] if _same_trace(curves[b], s)]
+        if same:
+            label += " (= " + ", ".join("open loop" if b is None else f"{b}-bit" for b in same) \
+                + ", drawn over it dashed)"
+            lw = 1.6
+        ls = "--" if same else "-"
+        axs[0].plot(s["t"], s["q"], color=_color(bits), lw=lw, ls=ls, label=label)
+        axs[1].plot(s["t"], s["alpha_T"], color=_color(bits), lw=lw, ls=ls, label=label)
         if elevator and bits is not None and bits in elevator:
             e = elevator[bits]
             axs[2].step(e["t"], e["u"], where="post", color=_color(bits), lw=lw, label=label)
@@ -122,6 +142,15 @@ def fig_time_response(period: float, curves: Mapping[int | None, Series], out: P
         ax.grid(alpha=0.3)
     axs[0].legend(fontsize=8, ncol=4, loc="lower center", bbox_to_anchor=(0.5, 1.02),
                   frameon=False)
-    fig.suptitle(f"Figs. 4–6 — missile time response at T = {period:g} s" +
-                 (f"\n{subtitle}" if subtitle else ""), fontsize=10)
-    return save(fig, out / f"fig4-6_missile_response_T{period:.3f}.png")
+    title = (f"Figs. 4–6 — missile time response at T = {period:g} s" if deterministic else
+             f"Missile flight in gusts with sensor noise at T = {period:g} s (not the paper's "
+             "Figs. 4–6, which are deterministic)")
+    fig.suptitle(title + (f"\n{subtitle}" if subtitle else ""), fontsize=10)
+    name = (f"fig4-6_missile_response_T{period:.3f}.png" if deterministic
+            else f"missile_gust_flight_T{period:.3f}.png")
+    return save(fig, out / name)
+
+
+def _same_trace(a: Series, b: Series) -> bool:
+    return (len(a["t"]) == len(b["t"]) and bool(np.allclose(a["q"], b["q"], rtol=0, atol=1e-12))
+            and bool(np.allclose(a["alpha_T"], b["alpha_T"], rtol=0, atol=1e-12)))

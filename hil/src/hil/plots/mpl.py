@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import io
+import json
 from pathlib import Path
 
 import matplotlib
@@ -15,14 +16,44 @@ from hil.io.rundir import atomic_write
 _META = {"Software": None}
 
 
-def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None) -> Path:
-    """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write."""
+def caption_path(png: Path) -> Path:
+    """The one-line caption written beside every figure: NAME.caption.txt."""
+    return png.with_name(png.stem + ".caption.txt")
+
+
+def title_of(fig: "plt.Figure") -> str:
+    sup = getattr(fig, "_suptitle", None)
+    text = sup.get_text() if sup is not None else ""
+    if not text:
+        text = next((ax.get_title() for ax in fig.axes if ax.get_title()), "")
+    return " ".join(text.split())
+
+
+def _run_of(run_dir: Path) -> str:
+    """Which run wrote run_dir (its summary.json's command), and how to redraw."""
+    try:
+        cmd = json.loads((run_dir / "summary.json").read_text()).get("command")
+    except (OSError, ValueError, AttributeError):
+        cmd = None
+    what = f"hil {cmd} into {run_dir}" if isinstance(cmd, str) and cmd else f"the run in {run_dir}"
+    return f"{what} (redraw: hil report {run_dir})"
+
+
+def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None,
+         made_by: str | None = None) -> Path:
+    """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write,
+    with a one-line caption file beside it: the title and the run that made the figure
+    (made_by; default: the run directory it sits in, redrawn by `hil report DIR`)."""
     fig.tight_layout(rect=rect)
+    title = title_of(fig)
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=110, metadata=_META)
     plt.close(fig)
-    return atomic_write(path, buf.getvalue())  # never a half-written PNG
+    out = atomic_write(path, buf.getvalue())  # never a half-written PNG
+    run = made_by or _run_of(path.parent)
+    atomic_write(caption_path(path), f"{title}. Made by: {run}\n".encode())
+    return out
 
 
-__all__ = ["plt", "save"]
+__all__ = ["caption_path", "plt", "save", "title_of"]

@@ -58,10 +58,12 @@
  *             is accepted again -- within the plausibility reference, which
  *             is kept.
  *   REFUSED   the last authenticated pair failed the plausibility check: it
- *             is not followed; the last estimate goes on (as in holdover)
- *             until release_intervals without an accepted sample, then it is
- *             dropped (`releases`) and the state stays REFUSED.  The next
- *             plausible pair recovers (`recoveries`).
+ *             is not followed; the last estimate, if any, goes on at the rate
+ *             of the last quiet residual (it is the own clock, within the
+ *             rate bound) for as long as the master is refused -- no release:
+ *             a wrong master must not hand the schedule a new time base.  The
+ *             next plausible pair recovers (`recoveries`); fcc_tsync_rebase()
+ *             forgets the reference.
  * Bad input (each counted, never fatal): a SYNC from another master than the
  * one followed (`foreign`: a second time master), a SYNC whose FOLLOW_UP never
  * came (`missing_fup`: the next SYNC or one interval passed), a FOLLOW_UP

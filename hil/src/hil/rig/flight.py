@@ -144,3 +144,6 @@ class Flown:
     security: dict[str, int]
     info: dict[str, Any]
     transmitter: dict[str, Any] = field(default_factory=dict)
+    #: the run's key and fcc's trip (hil.results.buslog.BusAuth): only frames that verify
+    #: under it count in the evaluation (None: every frame counts)
+    auth: Any = None

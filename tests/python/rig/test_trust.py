@@ -1,0 +1,71 @@
+"""Nothing the bus says is taken on trust (issue items 2-7): forged and replayed frames change
+no table, on the bus (vcan) and in the evaluation of a recorded log.  Every attack is placed
+by step count, never by wall-clock time."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from hil.bus.secoc import TEST_KEY_FILE
+from hil.rig.link import pack_frame
+from hil.rig.lockstep import LockstepRunner
+from hil.rig.session import RigSession
+from rig_helpers import CDRW_1S, fly, scenario
+
+#: `cansend vcan0 010#0020000000000000`: a SIM_CONTROL reset, no authenticator, no valid E2E
+FORGED_RESET = (0x010, bytes.fromhex("0020000000000000"))
+SIM_TICK_ID = 0x020
+
+
+def cdrw_flight(out: Path, monkeypatch: pytest.MonkeyPatch, forge_at: int | None = None,
+                replay_lag: int | None = None) -> dict:
+    """A lockstep CDRW flight; forge_at: the forged reset goes on the bus before that step's
+    tick; replay_lag: right after each tick, the tick (and its authenticator) of that many
+    steps before is sent once more (between the tick and fcc's answer on the bus)."""
+    sent_ticks: list[list[tuple[int, bytes]]] = []
+    step, secure = LockstepRunner.step, RigSession.secure
+
+    def capture(rig: RigSession, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
+        got = secure(rig, frame_id, data)
+        if frame_id == SIM_TICK_ID and replay_lag is not None:
+            sent_ticks.append(got)
+            if len(sent_ticks) > replay_lag:
+                return got + sent_ticks[-1 - replay_lag]
+        return got
+
+    def attacked(runner: LockstepRunner, d):  # type: ignore[no-untyped-def]
+        link = runner.rig.link
+        assert link is not None
+        if forge_at is not None and d.k == forge_at:
+            link.send_raw(pack_frame(*FORGED_RESET))
+        return step(runner, d)
+
+    monkeypatch.setattr(LockstepRunner, "step", attacked)
+    monkeypatch.setattr(RigSession, "secure", capture)
+    try:
+        return dict(fly(out, scenario(CDRW_1S), key_file=TEST_KEY_FILE, timeout=10.0).summary)
+    finally:
+        monkeypatch.undo()
+
+
+@pytest.fixture(scope="module")
+def clean(tmp_path_factory) -> dict:
+    with pytest.MonkeyPatch.context() as mp:
+        return cdrw_flight(tmp_path_factory.mktemp("clean"), mp)
+
+
+@pytest.mark.vcan
+def test_a_forged_reset_changes_no_table(clean, tmp_path, monkeypatch):
+    s = cdrw_flight(tmp_path / "run", monkeypatch, forge_at=50)
+    assert s["cdrw"]["table4"] == clean["cdrw"]["table4"]
+    assert s["cdrw"]["flight"]["missing_steps"] == clean["cdrw"]["flight"]["missing_steps"] == 0
+    assert s["cdrw"]["coverage"] == clean["cdrw"]["coverage"]
+
+
+@pytest.mark.vcan
+def test_ticks_replayed_ten_steps_late_change_no_table(clean, tmp_path, monkeypatch):
+    s = cdrw_flight(tmp_path / "run", monkeypatch, replay_lag=10)
+    assert s["cdrw"]["table4"] == clean["cdrw"]["table4"]
+    assert s["cdrw"]["flight"]["missing_steps"] == 0
+    assert s["firmware"]["steps"] == clean["firmware"]["steps"]

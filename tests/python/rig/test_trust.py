@@ -69,3 +69,42 @@ def test_ticks_replayed_ten_steps_late_change_no_table(clean, tmp_path, monkeypa
     assert s["cdrw"]["table4"] == clean["cdrw"]["table4"]
     assert s["cdrw"]["flight"]["missing_steps"] == 0
     assert s["firmware"]["steps"] == clean["firmware"]["steps"]
+
+
+@pytest.mark.vcan
+def test_a_second_fcc_on_the_bus_fails_the_run_before_any_result(tmp_path, monkeypatch, capsys):
+    """A second rig's fcc (the same key, its own trip) comes up after the leftover listen:
+    its first heartbeat that reaches the run fails it (exit 1, one line), no result published."""
+    from fcc_harness import Fcc
+    from hil.cli import main
+    from hil.io.paths import build_dir
+
+    second = Fcc(build_dir() / "bin" / "fcc", ["--iface", "vcan0"], tmp_path)
+    control, shutdown = RigSession.control, RigSession.shutdown
+
+    def control_with_second(rig: RigSession, *a, **kw):  # type: ignore[no-untyped-def]
+        if second.proc is None:
+            second.start().wait_ready()
+        return control(rig, *a, **kw)
+
+    def shutdown_after_its_heartbeat(rig: RigSession, *a, **kw):  # type: ignore[no-untyped-def]
+        for _ in range(200):   # at 10 Hz its heartbeat comes: until it is seen (raises)
+            got = rig.link.recv_wait(0.1)  # type: ignore[union-attr]
+            if got is not None:
+                rig.note_frame(*got)
+        return shutdown(rig, *a, **kw)
+
+    monkeypatch.setattr(RigSession, "control", control_with_second)
+    monkeypatch.setattr(RigSession, "shutdown", shutdown_after_its_heartbeat)
+    try:
+        (tmp_path / "cdrw.toml").write_text(CDRW_1S)
+        rc = main(["run", "cdrw", str(tmp_path / "cdrw.toml"), "--key-file", str(TEST_KEY_FILE),
+                   "--out", str(tmp_path / "o"), "--quiet", "--no-plots"])
+    finally:
+        if second.proc is not None:
+            second.proc.terminate()
+            second.proc.wait(10)
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert rc == 1
+    assert len(err) == 1 and "a second fcc is on vcan0" in err[0], err
+    assert not (tmp_path / "o").exists()

@@ -30,7 +30,7 @@ from hil.bus.protocol import (
     MODE_CODES,
     MODE_NAMES,
 )
-from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, write_key_file
+from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, mac, read_key_file, same_mac, write_key_file
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied, FccTimeout, RigError
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
@@ -125,6 +125,11 @@ class RigSession:
         self._tick_msg = tick
         self.tick_rx = E2EReceiver(tick.data_id, tick.max_delta_counter)
         self.fcc_exit: int | None = None
+        # a second fcc on the bus: its heartbeat carries another trip (FCC_SEC_SESSION)
+        hb_auth = self.spec.by_name("FCC_STATUS_AUTH")
+        self._hb_auth = (hb_auth.frame_id, hb_auth.secoc_data_id,
+                         tuple(self.spec.by_name(p).frame_id for p in hb_auth.secoc_pdus))
+        self._hb_latest: dict[int, bytes] = {}
         self.t_start = 0.0
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
@@ -241,10 +246,38 @@ class RigSession:
         return self.security.receive(frame_id, data)
 
     def note_frame(self, frame_id: int, data: bytes) -> None:
-        """Keep authenticated heartbeat frames (decoded after the run, off the hot path)."""
-        for fid, d in self.accept(frame_id, data):
+        """Keep authenticated heartbeat frames (decoded after the run, off the hot path); a
+        heartbeat of another fcc under this run's key fails the run (RigError)."""
+        auth_id, _, members = self._hb_auth
+        if frame_id in members:
+            self._hb_latest[frame_id] = bytes(data)
+        got = self.accept(frame_id, data)
+        if frame_id == auth_id:
+            if not got:
+                self._check_second_fcc(data)
+            self._hb_latest = {}
+        for fid, d in got:
             if fid >= 0x700:
                 self.status_frames.append((fid, d))
+
+    def _check_second_fcc(self, auth: bytes) -> None:
+        """A heartbeat that failed under our fcc's trip but verifies under the trip it
+        announces: a second fcc with this run's key answers on the bus (no race: every
+        heartbeat of the run is looked at, not a listen before the start)."""
+        trip = self.security.trip
+        _, data_id, members = self._hb_auth
+        latest = self._hb_latest
+        session = latest.get(self.security.session_id)
+        if trip is None or session is None or len(auth) != 8 or not all(m in latest for m in members):
+            return
+        other = int.from_bytes(session[:4], "little")
+        if other == trip:
+            return
+        fv = (other << 32) | int.from_bytes(auth[:2], "little")
+        if same_mac(mac(self.security.key, data_id, b"".join(latest[m] for m in members), fv), auth[2:8]):
+            raise RigError(f"a second fcc is on {self.iface} (its heartbeat announces trip "
+                           f"{other:#010x} and verifies under this run's key; this run's fcc has "
+                           f"trip {trip:#010x}): stop it; the run is not evaluated")
 
     def secure(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
         """A frame to send, followed by its authenticator when it commands or configures."""

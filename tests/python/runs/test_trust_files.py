@@ -1,0 +1,80 @@
+"""Nothing the bus says is taken on trust, the file side (issue items 3-6): runs never
+corrupt each other, the user's files are never overwritten, file arguments are read with a
+bound.  Ordered by events and files, never by wall-clock time."""
+from __future__ import annotations
+
+import json
+import os
+import threading
+from pathlib import Path
+
+import pytest
+
+from hil.io import rundir
+from hil.io.rundir import OutDirRefused, staged_run
+
+
+def _run(out: Path, table: str, staged: threading.Event, go: threading.Event,
+         results: dict[str, object]) -> None:
+    try:
+        with staged_run(out, "run") as stage:
+            (stage / "summary.json").write_text(json.dumps({"table4": table}))
+            staged.set()
+            go.wait()
+        results[table] = "published"
+    except OutDirRefused as e:
+        results[table] = str(e)
+
+
+def test_two_runs_with_the_same_pid_into_one_out_never_mix(tmp_path, monkeypatch):
+    """Two guests' runs whose PIDs are equal: separate staging directories; whichever
+    publishes, --out holds one whole run (its own table), and the other's is kept whole."""
+    monkeypatch.setattr(os, "getpid", lambda: 4242)
+    out = tmp_path / "out"
+    results: dict[str, object] = {}
+    sa, sb, ga, gb = (threading.Event() for _ in range(4))
+    a = threading.Thread(target=_run, args=(out, "A", sa, ga, results))
+    b = threading.Thread(target=_run, args=(out, "B", sb, gb, results))
+    a.start(); b.start()
+    sa.wait(); sb.wait()
+    stages = sorted(p.name for p in tmp_path.iterdir() if ".partial-" in p.name)
+    assert len(stages) == 2 and all("-4242-" in s for s in stages)
+    ga.set(); a.join()
+    gb.set(); b.join()
+    assert results == {"A": "published", "B": "published"}   # B replaced A's complete run
+    assert json.loads((out / "summary.json").read_text()) == {"table4": "B"}
+    assert rundir.is_own_run(out)
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+def test_a_run_that_loses_the_publish_race_keeps_its_results_and_removes_nothing(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    rename = os.rename
+    other = tmp_path / "other"
+
+    def racing_rename(src, dst):  # type: ignore[no-untyped-def]
+        if Path(dst) == out and ".partial-" in Path(src).name and not out.exists():
+            other.mkdir()
+            (other / "summary.json").write_text('{"table4": "other"}')
+            rename(other, out)   # another run's publish, just before ours
+        return rename(src, dst)
+
+    monkeypatch.setattr(os, "rename", racing_rename)
+    with pytest.raises(OutDirRefused, match="another run published into it") as e:
+        with staged_run(out, "run") as stage:
+            (stage / "summary.json").write_text('{"table4": "mine"}')
+    assert json.loads((out / "summary.json").read_text()) == {"table4": "other"}
+    kept = Path(str(e.value).rsplit(" ", 1)[1])
+    assert json.loads((kept / "summary.json").read_text()) == {"table4": "mine"}
+
+
+def test_a_staging_directory_is_never_shared_or_removed_by_another_run(tmp_path, monkeypatch):
+    monkeypatch.setattr(os, "getpid", lambda: 7)
+    out = tmp_path / "out"
+    foreign = tmp_path / ".out.partial-7"       # the old name of pid 7's stage: not ours
+    foreign.mkdir()
+    (foreign / "bus.log").write_text("someone else's\n")
+    with staged_run(out, "run") as stage:
+        (stage / "x.csv").write_text("1\n")
+    assert (foreign / "bus.log").read_text() == "someone else's\n"
+    assert rundir.published_path(stage) == out

@@ -3,6 +3,11 @@ no table, on the bus (vcan) and in the evaluation of a recorded log.  Every atta
 by step count, never by wall-clock time."""
 from __future__ import annotations
 
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -108,3 +113,37 @@ def test_a_second_fcc_on_the_bus_fails_the_run_before_any_result(tmp_path, monke
     assert rc == 1
     assert len(err) == 1 and "a second fcc is on vcan0" in err[0], err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.vcan
+@pytest.mark.parametrize("sig, status", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
+def test_sigterm_and_sighup_are_handled_as_sigint(sig, status, tmp_path):
+    """Sent once the session's key file exists and the run's staging directory holds the
+    recorder's files (the run is under way): a documented status, one line, the partial results
+    visible and marked FAILED, no key file, no hidden staging directory left."""
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    env = {**os.environ, "TMPDIR": str(tmp)}
+    hil = subprocess.Popen([sys.executable, "-m", "hil.cli", "run", "cdrw", "--out",
+                            str(tmp_path / "o"), "--quiet", "--no-plots"], env=env,
+                           stderr=subprocess.PIPE, stdout=subprocess.DEVNULL)
+    try:
+        for _ in range(6000):   # until the run is under way (files, not a time)
+            stages = list(tmp_path.glob(".o.partial-*"))
+            if list(tmp.glob("hil-key-*")) and stages and any(stages[0].rglob("*")) and \
+                    (stages[0] / "fcc.log").exists():
+                break
+            assert hil.poll() is None, hil.stderr.read().decode()  # type: ignore[union-attr]
+            time.sleep(0.01)
+        hil.send_signal(sig)
+        _, err = hil.communicate(timeout=60)
+    finally:
+        if hil.poll() is None:
+            hil.kill()
+    lines = [ln for ln in err.decode().splitlines() if ln.strip()]
+    assert hil.returncode == status, lines
+    assert len(lines) == 1 and f"terminated by {signal.Signals(sig).name}" in lines[0], lines
+    failed = list(tmp_path.glob("o.failed-*"))
+    assert len(failed) == 1 and (failed[0] / "FAILED").is_file()
+    assert not list(tmp_path.glob(".o.partial-*")) and not (tmp_path / "o").exists()
+    assert not list(tmp.glob("hil-key-*"))

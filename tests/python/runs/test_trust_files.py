@@ -78,3 +78,52 @@ def test_a_staging_directory_is_never_shared_or_removed_by_another_run(tmp_path,
         (stage / "x.csv").write_text("1\n")
     assert (foreign / "bus.log").read_text() == "someone else's\n"
     assert rundir.published_path(stage) == out
+
+
+def _summary_dir(path: Path) -> Path:
+    """A published run directory (manifest) whose summary has data for Fig. 3."""
+    runs = [{"period": T, "bits": b, "rms_q": 0.07, "rms_alpha": 0.005}
+            for T in (0.1, 0.05) for b in (8, None)]
+    with staged_run(path, "sweep") as stage:
+        (stage / "summary.json").write_text(json.dumps({"command": "sweep", "missile": {"runs": runs}}))
+    return path
+
+
+def test_report_never_overwrites_a_users_figure(tmp_path, capsys):
+    from hil.cli import main
+    run = _summary_dir(tmp_path / "run")
+    rc = main(["report", str(run)])
+    assert rc == 0
+    assert "fig3_missile_rms.png" in json.loads((run / rundir.MANIFEST).read_text())["files"]
+    # the user's own figure of the same name in a run directory that did not list it
+    other = _summary_dir(tmp_path / "other")
+    (other / "fig3_missile_rms.png").write_bytes(b"my figure")
+    capsys.readouterr()
+    rc = main(["report", str(other)])
+    err = capsys.readouterr().err
+    assert rc == 0
+    assert (other / "fig3_missile_rms.png").read_bytes() == b"my figure"
+    assert "fig3_missile_rms.png" not in json.loads((other / rundir.MANIFEST).read_text())["files"]
+    assert err.count("\n") == 1 and "fig3_missile_rms.png is not hil's" in err
+
+
+def test_force_never_overwrites_a_users_summary(tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "summary.json").write_text("my notes")
+    with pytest.raises(OutDirRefused, match="summary.json is not hil's") as e:
+        with staged_run(out, "run", force=True) as stage:
+            (stage / "summary.json").write_text("{}")
+            (stage / "cdrw.csv").write_text("t\n0\n")
+    assert (out / "summary.json").read_text() == "my notes"
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+    kept = Path(str(e.value).rsplit(" ", 1)[1])
+    assert (kept / "summary.json").read_text() == "{}"
+    # a file hil wrote there before (listed in its manifest) is replaced
+    with staged_run(tmp_path / "hils", "run") as stage:
+        (stage / "summary.json").write_text('{"n": 1}')
+    (tmp_path / "hils" / "notes.txt").write_text("mine")
+    with staged_run(tmp_path / "hils", "run", force=True) as stage:
+        (stage / "summary.json").write_text('{"n": 2}')
+    assert (tmp_path / "hils" / "summary.json").read_text() == '{"n": 2}'
+    assert (tmp_path / "hils" / "notes.txt").read_text() == "mine"

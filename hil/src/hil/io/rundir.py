@@ -109,6 +109,13 @@ def _manifest(path: Path) -> set[str] | None:
     return set(files)
 
 
+def users_files(path: Path) -> list[Path]:
+    """The files in a run directory that hil did not write (not in its manifest; all of them
+    when it has none): never overwritten."""
+    listed = _manifest(path) or set()
+    return [path / f for f in _files(path) if f not in listed | {MANIFEST}]
+
+
 def is_own_run(path: Path) -> bool:
     """A directory that holds exactly what a complete hil run listed in its manifest."""
     listed = _manifest(path)
@@ -147,7 +154,14 @@ def note_written(run_dir: Path, paths: list[Path]) -> None:
 
 
 def _merge_into(stage: Path, out: Path) -> None:
-    """--force: each staged file replaces its namesake in out; nothing else in out changes."""
+    """--force: each staged file is added to out; a namesake hil did not write (not in out's
+    manifest) is the user's: refused (one line, nothing moved, the results stay in stage)."""
+    listed = _manifest(out) or set()
+    theirs = [rel for rel in _files(stage)
+              if rel not in listed | {MANIFEST} and os.path.lexists(out / rel)]
+    if theirs:
+        raise OutDirRefused(f"--out {out}: {theirs[0]} is not hil's (not in its {MANIFEST}); "
+                            f"--force never overwrites a user's file; the results are in {stage}")
     for rel in _files(stage):
         dst = out / rel
         dst.parent.mkdir(parents=True, exist_ok=True)
@@ -168,7 +182,12 @@ def _publish(stage: Path, out: Path, force: bool) -> None:
                 _lost_race(old, out, stage)
             shutil.rmtree(old, ignore_errors=True)  # only what the earlier run wrote
         elif force:
+            listed = _manifest(out)
             _merge_into(stage, out)
+            if listed is not None:  # the files of the run added to what hil wrote before
+                doc = json.loads((out / MANIFEST).read_text(encoding="utf-8"))
+                doc["files"] = sorted(listed | set(doc.get("files", [])))
+                atomic_write_text(out / MANIFEST, json.dumps(doc, indent=1) + "\n")
         else:  # a foreign file appeared during the run
             raise OutDirRefused(f"--out {out}: files appeared in it during the run; the results "
                                 f"are in {stage}")

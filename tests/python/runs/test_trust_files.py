@@ -127,3 +127,53 @@ def test_force_never_overwrites_a_users_summary(tmp_path):
         (stage / "summary.json").write_text('{"n": 2}')
     assert (tmp_path / "hils" / "summary.json").read_text() == '{"n": 2}'
     assert (tmp_path / "hils" / "notes.txt").read_text() == "mine"
+
+
+# ---- bounded reads and clear lines (item 6) ----------------------------------------------------
+@pytest.mark.parametrize("argv, words", [
+    (["run", "cdrw", "--key-file", "/dev/zero"], "larger than a key file can be (4096 bytes"),
+    (["run", "cdrw", "/dev/zero"], "larger than a scenario file can be"),
+    (["campaign", "cdrw", "--workers", "1000"], "--workers must be 1..64, got 1000"),
+])
+def test_file_arguments_are_read_with_a_bound(capsys, tmp_path, argv, words):
+    from hil.cli import main
+    rc = main([*argv, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and words in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_zero_variance_is_refused_by_the_scenario_check(capsys, tmp_path):
+    from hil.cli import main
+    sc = tmp_path / "m.toml"
+    sc.write_text('aircraft = "missile"\n[sensors]\nvar_gyro = 0\n')
+    rc = main(["run", "missile", str(sc), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "var_gyro and var_acc must be > 0" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("exc, line", [
+    (OSError(28, "No space left on device", "/mnt/full/o"), "hil: no space left on device: /mnt/full/o"),
+    (OSError(30, "Read-only file system", "/ro/o"), "hil: read-only file system: /ro/o"),
+    (FileNotFoundError(2, "No such file or directory", "/x/y"), "hil: no such file or directory: /x/y"),
+])
+def test_errno_failures_are_one_clear_line(capsys, monkeypatch, exc, line):
+    import hil.cli as cli
+    def fail(_args):  # type: ignore[no-untyped-def]
+        raise exc
+    monkeypatch.setattr(cli, "dispatch", fail)
+    rc = cli.main(["run", "cdrw"])
+    err = capsys.readouterr().err
+    assert rc == 1 and err == line + "\n" and "Errno" not in err
+
+
+def test_a_killed_candump_is_not_reported_by_its_banner(tmp_path):
+    from hil.rig.recorder import Candump
+    rec = Candump.__new__(Candump)
+    rec._err_path = tmp_path / "stderr"
+    rec._err_path.write_text("Enabling Logfile 'candump-2026-01-01_000000.log'\n")
+    rec._error = None
+    class P:  # a candump killed by SIGKILL
+        returncode = -9
+    rec.proc = P()  # type: ignore[assignment]
+    assert rec.error() == "killed by SIGKILL"

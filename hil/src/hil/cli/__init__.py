@@ -148,8 +148,18 @@ def _notes(e: BaseException) -> str:
     return f" ({'; '.join(notes)})" if notes else ""
 
 
+def _os_message(e: OSError) -> str:
+    """[Errno 28] No space left on device: 'x' -> "no space left on device: x" (one clear line)."""
+    what = (e.strerror or type(e).__name__)
+    what = what[0].lower() + what[1:]
+    return f"{what}: {e.filename}" if e.filename else what
+
+
 def _fail(e: Exception) -> int:
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+    if type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
+                   NotADirectoryError, FileExistsError) and e.errno is not None:
+        msg = _os_message(e)
     if isinstance(e, (ScenarioError, OutDirRefused)):
         code = EXIT_USAGE
     elif isinstance(e, RigError):

@@ -77,7 +77,15 @@ class BusRecorder:
         stop(), "" when it exited 0."""
         if self._error is not None:
             return self._error
-        return last_line(self._err_path) or f"exit status {self.proc.returncode}"
+        said = last_line(self._err_path)
+        if said.startswith("Enabling Logfile"):  # candump's start-up banner: not a reason
+            said = ""
+        rc = self.proc.returncode
+        if said:
+            return said
+        if rc is not None and rc < 0:
+            return f"killed by {signal.Signals(-rc).name}"
+        return f"exit status {rc}"
 
     def _state(self) -> str:
         try:

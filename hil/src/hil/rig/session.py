@@ -8,6 +8,10 @@ Order matters: the socket is opened first (so fcc's first heartbeat is seen), th
 recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
 bus.log and fcc.log.
+
+Why this module is long: the session's life cycle, its key and trip, and the checks on who
+else is on the bus (another fcc before the start, a second fcc's heartbeats during the run)
+share its state; split, each part would reach into the others.
 """
 from __future__ import annotations
 

@@ -147,3 +147,34 @@ def test_sigterm_and_sighup_are_handled_as_sigint(sig, status, tmp_path):
     assert len(failed) == 1 and (failed[0] / "FAILED").is_file()
     assert not list(tmp_path.glob(".o.partial-*")) and not (tmp_path / "o").exists()
     assert not list(tmp.glob("hil-key-*"))
+
+
+@pytest.mark.vcan
+@pytest.mark.parametrize("recorder, words", [("candump", r"candump lost \d+ frame\(s\)"),
+                                             ("canrec", r"canrec: vcan0: \d+ frames lost")])
+def test_frames_the_recorder_loses_fail_the_run(tmp_path, monkeypatch, recorder, words):
+    """The recorder (candump -d, canrec) stopped (SIGSTOP) at step 50 with a small socket buffer while 2000 frames go on
+    the bus, then continued: the kernel's drop counter (candump -d) fails the run, not a
+    table over the steps that are left."""
+    from hil.rig.errors import RigError
+    from hil.rig.recorder import BusRecorder
+
+    monkeypatch.setattr(BusRecorder, "RCVBUF", 1)   # the smallest queue the kernel allows
+    step = LockstepRunner.step
+
+    def flooded(runner: LockstepRunner, d):  # type: ignore[no-untyped-def]
+        if d.k == 50:
+            rec = runner.rig.bus_recorder
+            os.kill(rec.pid, signal.SIGSTOP)  # type: ignore[union-attr]
+            try:
+                for i in range(2000):
+                    runner.rig.link.send(0x555, i.to_bytes(8, "little"))  # type: ignore[union-attr]
+            finally:
+                os.kill(rec.pid, signal.SIGCONT)  # type: ignore[union-attr]
+        return step(runner, d)
+
+    monkeypatch.setattr(LockstepRunner, "step", flooded)
+    with pytest.raises(RigError, match=words):
+        fly(tmp_path / "o", scenario(CDRW_1S), key_file=TEST_KEY_FILE, timeout=10.0,
+            recorder=recorder)
+    assert not (tmp_path / "o" / "summary.json").exists()

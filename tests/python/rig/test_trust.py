@@ -3,6 +3,7 @@ no table, on the bus (vcan) and in the evaluation of a recorded log.  Every atta
 by step count, never by wall-clock time."""
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -178,3 +179,21 @@ def test_frames_the_recorder_loses_fail_the_run(tmp_path, monkeypatch, recorder,
         fly(tmp_path / "o", scenario(CDRW_1S), key_file=TEST_KEY_FILE, timeout=10.0,
             recorder=recorder)
     assert not (tmp_path / "o" / "summary.json").exists()
+
+
+@pytest.mark.vcan
+def test_replay_sends_only_the_recordings_authenticated_frames(tmp_path, monkeypatch, capsys):
+    """A run with a forged reset replays identical (the forged frame is not re-authenticated
+    and sent to the fresh fcc); without the run's key, replay refuses in one line (exit 2)."""
+    from hil.cli import main
+    cdrw_flight(tmp_path / "rec", monkeypatch, forge_at=50)
+    assert (tmp_path / "rec" / "session.key").is_file() is False  # --key-file: not copied
+    rc = main(["replay", str(tmp_path / "rec")])
+    out, err = capsys.readouterr()
+    assert rc == 0 and "identical" in out, out + err
+    info = json.loads((tmp_path / "rec" / "run_info.json").read_text())
+    info["key_file"] = None
+    (tmp_path / "rec" / "run_info.json").write_text(json.dumps(info))
+    rc = main(["replay", str(tmp_path / "rec")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "bus key is not kept" in err and err.count("\n") == 1

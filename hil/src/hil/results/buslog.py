@@ -94,6 +94,17 @@ def split_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -
     return list(iter_flights(log, auth))
 
 
+def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogFrame]:
+    """The frames fcc acted on (what iter_flights reads with auth), as log frames: secured
+    ones at their authenticator's place (its time), authenticators not at all."""
+    gate = _Gate(auth)
+    for f in frames:
+        if f.error or f.remote or f.extended or f.fd:
+            continue
+        for fid, data in gate.frames(f.frame_id, f.data):
+            yield LogFrame(f.timestamp, f.channel, fid, data)
+
+
 def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:
     for f in read_log(log) if isinstance(log, Path) else log:
         if f.error or f.remote or f.extended or f.fd:

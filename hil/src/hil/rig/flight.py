@@ -118,6 +118,9 @@ def run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dic
     info: dict[str, Any] = {
         "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
         "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        # the bus key: a --key-file's path (hil replay reads it), else the session's own key
+        # kept in the run directory (hil.rig.session.KEPT_KEY)
+        "key_file": str(Path(cfg.key_file).resolve()) if cfg.key_file else None,
         "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
         # the kernel the bus ran on; inside scripts/with-vcan: "RELEASE MODE" of its UML guest
         "kernel": platform.release(), "uml": os.environ.get("WITH_VCAN_UML"),

@@ -51,6 +51,9 @@ STARTUP_TIMEOUT_S = 10.0
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
+#: the session's random key, kept in the run directory (owner-only): `hil replay` reads the
+#: recording with it (only authenticated frames are replayed); a --key-file is never copied
+KEPT_KEY = "session.key"
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
 
@@ -164,6 +167,8 @@ class RigSession:
     # -- life cycle
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
+        if self.record and self._key_dir is not None:  # the run's own key: hil replay needs it
+            write_key_file(self.run_dir / KEPT_KEY, self.security.key)
         try:
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None

@@ -177,3 +177,14 @@ def test_a_killed_candump_is_not_reported_by_its_banner(tmp_path):
         returncode = -9
     rec.proc = P()  # type: ignore[assignment]
     assert rec.error() == "killed by SIGKILL"
+
+
+def test_a_full_disk_is_named_not_a_slow_recorder(tmp_path, monkeypatch):
+    from types import SimpleNamespace
+
+    from hil.rig import flight
+    from hil.rig.errors import RigError
+    rig = SimpleNamespace(log_complete=False, recorder_error="", run_dir=tmp_path)
+    monkeypatch.setattr(os, "statvfs", lambda _p: SimpleNamespace(f_bavail=0, f_frsize=4096))
+    with pytest.raises(RigError, match=f"no space left on the device of {tmp_path}"):
+        flight.require_log(rig)  # type: ignore[arg-type]

@@ -106,9 +106,19 @@ def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
             rig.control(COMMAND_GROUND)
 
 
+def disk_full(path: Path) -> bool:
+    try:
+        st = os.statvfs(path)
+    except OSError:
+        return False
+    return st.f_bavail * st.f_frsize < (1 << 20)
+
+
 def require_log(rig: RigSession) -> None:
     if not rig.log_complete:
         why = rig.recorder_error or "the recorder did not catch up with the bus"
+        if disk_full(rig.run_dir):   # the recorder could not write: not a slow recorder
+            why = f"no space left on the device of {rig.run_dir}"
         raise RigError(f"bus.log: {why}; fcc's outputs are read from that log, so the run is "
                        f"not evaluated")
 

@@ -167,13 +167,13 @@ class RigSession:
     # -- life cycle
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
-        if self.record and self._key_dir is not None:  # the run's own key: hil replay needs it
-            write_key_file(self.run_dir / KEPT_KEY, self.security.key)
         try:
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None
             self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,
                                 bitrate=self.bitrate, log_path=log)
+            if self.record and self._key_dir is not None:  # the run's own key: hil replay reads it
+                write_key_file(self.run_dir / KEPT_KEY, self.security.key)
             t_open = time.monotonic()
             if self.record:
                 self._start_recorder() if socketcan else self._start_link_recorder()

@@ -233,8 +233,8 @@ class CanLink:
     def send_many(self, raws: list[bytes]) -> int:
         """Send packed struct can_frames in their order, in as few sendmmsg(2) calls as the
         queue allows (a full queue is retried as in send_raw); how many were dropped."""
-        batch = self._batch
-        if batch is None or self._generic or len(raws) == 1:
+        batch = None if self._generic else self._batch
+        if batch is None or len(raws) == 1:
             return sum(not self.send_raw(r) for r in raws)
         dropped = 0
         while raws:

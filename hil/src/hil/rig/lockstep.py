@@ -51,6 +51,18 @@ class LockstepRunner:
         self.resent_ticks = 0
         self.steps = 0
         self.wall_s = 0.0
+        #: a step's frames in one sendmmsg to the host fcc; frame by frame to another target
+        #: (the M4F image in QEMU lost ticks in a burst; not analysed yet)
+        self.batch = getattr(session, "target", "host") == "host"
+
+    def _send(self, raws: list[bytes]) -> None:
+        link = self.rig.link
+        assert link is not None
+        if self.batch:
+            link.send_many(raws)
+        else:
+            for raw in raws:
+                link.send_raw(raw)
 
     def timing(self) -> dict[str, object]:
         """Wall-clock facts of the flights (run_info.json, never summary.json)."""
@@ -98,7 +110,7 @@ class LockstepRunner:
             ticks += more
         frames += ticks
         secure = self.rig.secure
-        link.send_many([pack_frame(fid, data) for f in frames for fid, data in secure(f.frame_id, f.data)])
+        self._send([pack_frame(fid, data) for f in frames for fid, data in secure(f.frame_id, f.data)])
         io = self._await_ack(d.app, k, answer_expected, lambda: self._resend_tick(d, t, tick))
         d.end_step(io)
         self.steps += 1
@@ -114,7 +126,7 @@ class LockstepRunner:
         for f in d.injector.infrastructure(t, "SIM_TICK", tick):
             self.rig.fcc_accepts_tick(f.data, d.app, d.k)  # keep the mirror of fcc's receiver
             raws += [pack_frame(fid, data) for fid, data in self.rig.secure(f.frame_id, f.data)]
-        link.send_many(raws)
+        self._send(raws)
         self.resent_ticks += 1
 
     def _await_ack(self, app: int, k: int, expected: bool,

@@ -120,7 +120,7 @@ def _default_out(sub: str, rest: str) -> str:
     if sub == "run":
         m = re.search(r"\b(cdrw|missile)\b", rest)
         return f"run-{m.group(1) if m else 'cdrw'}"
-    return {"campaign": "campaign-cdrw", "sweep": "sweep-missile", "demo": "demo"}[sub]
+    return {"campaign": "campaign-cdrw", "sweep": "sweep-missile", "demo": "demo", "verify": "verify"}[sub]
 
 
 def rewrite(script: str, scratch: Path) -> str:

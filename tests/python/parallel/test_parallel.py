@@ -179,7 +179,7 @@ def test_sweep_on_workers_equals_the_sequential_sweep(tmp_path):
 
 
 @pytest.mark.parametrize("extra, words", [
-    (["--workers", "0"], "--workers must be at least 1"),
+    (["--workers", "0"], "--workers must be 1..64, got 0"),
     (["--workers", "2", "--mode", "realtime"], "lockstep flights only"),
     (["--workers", "2", "--target", "external"], "not --target/--interface"),
     (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not allowed with argument"),

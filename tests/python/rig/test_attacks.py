@@ -101,7 +101,7 @@ def test_attack_is_rejected_counted_and_changes_nothing(name, clean, tmp_path):
 def test_replay_of_a_recorded_run(clean, tmp_path):
     """The secured frames of an earlier run under the same key (another fcc session, another
     trip), and this run's own ticks replayed 20 steps late: all refused."""
-    s = flight(tmp_path, replay_recording(clean[1]), replay_live=True, play_all=True)
+    s = flight(tmp_path, replay_recording(clean[1], heartbeats=False), replay_live=True, play_all=True)
     same_flight(s, clean[0])
     sec = s["firmware"]["security"]
     # the recording's frames fail the freshness check where their counters are behind this
@@ -111,6 +111,14 @@ def test_replay_of_a_recorded_run(clean, tmp_path):
     assert sec["rig"]["mac_failed"] + sec["rig"]["freshness_failed"] > 0
     assert s["_attack_frames"] > 100
     record("replay: a recorded run's frames + this run's ticks 20 steps late", s)
+
+
+def test_replayed_heartbeats_of_another_trip_fail_the_run(clean, tmp_path):
+    """The heartbeats of an earlier run under the same key verify under their own trip: to
+    the rig, a second fcc with its key is on the bus; the run fails (one line, exit 1)."""
+    from hil.rig.errors import RigError
+    with pytest.raises(RigError, match="a second fcc is on vcan0"):
+        flight(tmp_path, replay_recording(clean[1]), play_all=True)
 
 
 def test_attacks_in_a_realtime_flight(tmp_path):

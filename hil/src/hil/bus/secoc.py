@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hil.bus.dbc import BusSpec
+from hil.util.bounded import TooLarge, read_bounded
 
 KEY_BYTES = 16
 MAC_BYTES = 6
@@ -76,7 +77,9 @@ def authenticator(key: bytes, data_id: int, pdu: bytes, trip: int, counter: int)
 def read_key_file(path: str | Path) -> bytes:
     """A key file: one line of 32 hex digits (lines starting with # are comments)."""
     try:
-        text = Path(path).read_text(encoding="ascii")
+        text = read_bounded(path, 4096, "key file").decode("ascii")
+    except TooLarge as exc:
+        raise KeyFileError(str(exc)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise KeyFileError(f"cannot read key file {path}: {exc}") from None
     lines = [ln.strip() for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]

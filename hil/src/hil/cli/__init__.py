@@ -21,8 +21,10 @@ status); 2 bad command line or scenario, or a foreign --out without --force; 3 f
 answer a lockstep step in time; 4 fcc died during the run; 7 (`hil run`, realtime) the run
 finished but its time synchronisation was attacked (forged or replayed SYNC/FOLLOW_UP/TSYNC_AUTH
 refused by fcc), refused (the authenticated master implausible against fcc's clock) or lost: one
-line names it, summary.json's `sync` has the counters.  Failures are one line on stderr;
-a failed run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
+line names it, summary.json's `sync` has the counters; 130, 143, 129 interrupted by
+SIGINT, SIGTERM, SIGHUP (all three alike: fcc and the recorder stopped, the session key file
+removed, partial results kept marked FAILED).  Failures are one line on stderr; a failed
+run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 
 The package: usage (the usage error), parser (every subcommand's arguments), common and many
 (what the flying commands share), one module per subcommand with its run(args).  main() parses,
@@ -36,7 +38,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from typing import NoReturn
 
@@ -95,11 +99,39 @@ def _quiet_stdout() -> None:
         pass
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP: handled as SIGINT is (the session stops fcc and the recorder and
+    removes its key file, a run keeps its partial results marked FAILED), exit 128 + signal."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _terminate(signum: int, _frame: object) -> None:
+    raise Terminated(signum)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    old: dict[int, object] = {}
+    if threading.current_thread() is threading.main_thread():
+        for sig in (signal.SIGTERM, signal.SIGHUP):
+            old[sig] = signal.signal(sig, _terminate)
+    try:
+        return _main(argv)
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)  # type: ignore[arg-type]
+
+
+def _main(argv: Sequence[str] | None) -> int:
     try:
         args = build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         _apply_paths(args)
         return dispatch(args)
+    except Terminated as e:
+        print(f"{PROG}: terminated by {signal.Signals(e.signum).name}{_notes(e)}", file=sys.stderr)
+        return 128 + e.signum
     except BrokenPipeError:
         # the results are already in place when the tables are printed: not a failed run
         _quiet_stdout()
@@ -121,8 +153,18 @@ def _notes(e: BaseException) -> str:
     return f" ({'; '.join(notes)})" if notes else ""
 
 
+def _os_message(e: OSError) -> str:
+    """[Errno 28] No space left on device: 'x' -> "no space left on device: x" (one clear line)."""
+    what = (e.strerror or type(e).__name__)
+    what = what[0].lower() + what[1:]
+    return f"{what}: {e.filename}" if e.filename else what
+
+
 def _fail(e: Exception) -> int:
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+    if type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
+                   NotADirectoryError, FileExistsError) and e.errno is not None:
+        msg = _os_message(e)
     if isinstance(e, (ScenarioError, OutDirRefused)):
         code = EXIT_USAGE
     elif isinstance(e, RigError):

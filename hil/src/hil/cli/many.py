@@ -11,12 +11,16 @@ from hil.cli.usage import PROG, UsageError
 from hil.parallel import runs
 
 
+#: more rigs than this is a typo (each is a UML guest with an fcc)
+MAX_WORKERS = 64
+
+
 def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
     """--workers/--scheduler as keyword arguments of the parallel runners (None: sequential)."""
     if args.workers is None and args.scheduler is None:
         return None
-    if args.workers is not None and args.workers < 1:
-        raise UsageError(f"--workers must be at least 1, got {args.workers}")
+    if args.workers is not None and not 1 <= args.workers <= MAX_WORKERS:
+        raise UsageError(f"--workers must be 1..{MAX_WORKERS}, got {args.workers}")
     if args.mode != "lockstep":
         raise UsageError("--workers/--scheduler fly lockstep flights only (realtime needs the machine to itself)")
     if args.target != "host" or args.interface != "socketcan":

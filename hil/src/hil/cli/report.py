@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import argparse
+import re
+import sys
 from pathlib import Path
 
 from hil.bus import load
@@ -9,9 +11,13 @@ from hil.bus.diag import analyse, render
 from hil.bus.logio import read_frames, run_log
 from hil.cli.usage import UsageError
 from hil.io.output import read_json
-from hil.io.rundir import note_written
+from hil.io.rundir import note_written, users_files
 from hil.plots import plot_run_dir
 from hil.results.report import summary_tables
+
+
+#: the names of the figures hil draws (hil.plots)
+_FIGURE = re.compile(r"(fig\d.*|campaign_errors|realtime_timing)\.png")
 
 
 def not_a_summary(path: Path, e: Exception) -> UsageError:
@@ -47,10 +53,15 @@ def run(args: argparse.Namespace) -> int:
         print(render(analyse(read_frames(log), load())))
     if not args.no_plots:
         try:
-            written = plot_run_dir(args.dir)
+            theirs = users_files(args.dir)
+            written = plot_run_dir(args.dir, theirs)
         except (KeyError, TypeError, AttributeError, IndexError) as e:
             raise not_a_summary(summary_path, e) from None
         note_written(args.dir, written)
+        for p in theirs:
+            if _FIGURE.fullmatch(p.name):
+                print(f"hil report: {p.name} is not hil's (not in the run's manifest): kept, "
+                      f"not redrawn", file=sys.stderr)
         names = [p.name for p in written]
         if names:
             print(f"plots: {', '.join(names)}")

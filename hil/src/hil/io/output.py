@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from hil.io.rundir import atomic_write_text
+from hil.util.bounded import read_bounded
 
 
 def _cells(column: np.ndarray) -> list[str]:
@@ -73,9 +74,13 @@ def write_json(path: Path, doc: Mapping[str, Any]) -> Path:
     return atomic_write_text(path, json.dumps(_plain(doc), indent=2, sort_keys=True) + "\n")
 
 
+#: summary.json and its kind: a few MB at most
+JSON_MAX_BYTES = 256 << 20
+
+
 def read_json(path: Path) -> dict[str, Any]:
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        return json.loads(read_bounded(path, JSON_MAX_BYTES, "summary").decode("utf-8"))
     except OSError as e:
         raise ValueError(f"{path}: cannot read: {e.strerror}") from None
     except json.JSONDecodeError as e:

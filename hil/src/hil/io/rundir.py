@@ -1,7 +1,9 @@
 """Result safety: atomic file writes and the staged run directory.
 
 Every file a run writes goes first into a new staging directory next to ``--out``
-(``.NAME.partial-PID``); when the run is done, that directory is renamed into place in one
+(``.NAME.partial-HOST-PID-TOKEN``: the host, the process and a random token, made with one
+mkdir, which fails rather than share a directory -- PIDs repeat across fresh guests and
+machines); when the run is done, that directory is renamed into place in one
 step, so ``--out`` holds either the previous complete results or the new complete ones, never
 a mixture.  Each file inside is itself written atomically (temporary file, fsync, rename), so
 even a copy made while a run writes never sees half a CSV.
@@ -15,14 +17,18 @@ What ``--out`` may already be:
     file stays untouched.
 A run that fails keeps what it had (bus.log, fcc.log, any result written) in
 ``NAME.failed-YYYYmmddTHHMMSS``, next to ``--out``, with a ``FAILED`` file that says why;
-``--out`` itself is not touched.
+``--out`` itself is not touched.  A run removes only directories it made itself (its own
+staging directory, the earlier run it swapped out); when another run published into the
+same ``--out`` meanwhile, its results are left where they are (one line, exit 1).
 """
 from __future__ import annotations
 
 import json
 import os
 import re
+import secrets
 import shutil
+import socket
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -32,7 +38,13 @@ from pathlib import Path
 MANIFEST = ".hil-run.json"
 #: in a failed run's directory: why it failed
 FAILED = "FAILED"
-_STAGE = re.compile(r"\.(.+)\.partial-\d+")
+_STAGE = re.compile(r"\.(.+)\.partial-[A-Za-z0-9_.-]+?-\d+-[0-9a-f]{16}")
+
+
+def unique_tag() -> str:
+    """HOST-PID-TOKEN: different for every process on every machine and guest."""
+    host = re.sub(r"[^A-Za-z0-9_.-]", "_", socket.gethostname())[:40] or "host"
+    return f"{host}-{os.getpid()}-{secrets.token_hex(8)}"
 
 
 class OutDirRefused(Exception):
@@ -56,7 +68,7 @@ def atomic_write(path: Path, data: bytes) -> Path:
     """Write a whole file or nothing: a temporary file beside it, fsync, rename over it.  A
     full disk or a kill leaves the old file (or none), never a truncated one."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    tmp = path.with_name(f".{path.name}.tmp-{unique_tag()}")
     try:
         with open(tmp, "wb") as fh:
             fh.write(data)
@@ -97,6 +109,13 @@ def _manifest(path: Path) -> set[str] | None:
     return set(files)
 
 
+def users_files(path: Path) -> list[Path]:
+    """The files in a run directory that hil did not write (not in its manifest; all of them
+    when it has none): never overwritten."""
+    listed = _manifest(path) or set()
+    return [path / f for f in _files(path) if f not in listed | {MANIFEST}]
+
+
 def is_own_run(path: Path) -> bool:
     """A directory that holds exactly what a complete hil run listed in its manifest."""
     listed = _manifest(path)
@@ -135,7 +154,14 @@ def note_written(run_dir: Path, paths: list[Path]) -> None:
 
 
 def _merge_into(stage: Path, out: Path) -> None:
-    """--force: each staged file replaces its namesake in out; nothing else in out changes."""
+    """--force: each staged file is added to out; a namesake hil did not write (not in out's
+    manifest) is the user's: refused (one line, nothing moved, the results stay in stage)."""
+    listed = _manifest(out) or set()
+    theirs = [rel for rel in _files(stage)
+              if rel not in listed | {MANIFEST} and os.path.lexists(out / rel)]
+    if theirs:
+        raise OutDirRefused(f"--out {out}: {theirs[0]} is not hil's (not in its {MANIFEST}); "
+                            f"--force never overwrites a user's file; the results are in {stage}")
     for rel in _files(stage):
         dst = out / rel
         dst.parent.mkdir(parents=True, exist_ok=True)
@@ -148,18 +174,36 @@ def _merge_into(stage: Path, out: Path) -> None:
 def _publish(stage: Path, out: Path, force: bool) -> None:
     if out.is_dir() and any(out.iterdir()):
         if is_own_run(out):
-            old = out.with_name(f".{out.name}.old-{os.getpid()}")
-            os.rename(out, old)
-            os.rename(stage, out)
+            old = out.with_name(f".{out.name}.old-{unique_tag()}")
+            os.rename(out, old)   # old: made by this rename, so this run's to remove
+            try:
+                os.rename(stage, out)
+            except OSError:  # another run published meanwhile: its results stay
+                _lost_race(old, out, stage)
             shutil.rmtree(old, ignore_errors=True)  # only what the earlier run wrote
         elif force:
+            listed = _manifest(out)
             _merge_into(stage, out)
+            if listed is not None:  # the files of the run added to what hil wrote before
+                doc = json.loads((out / MANIFEST).read_text(encoding="utf-8"))
+                doc["files"] = sorted(listed | set(doc.get("files", [])))
+                atomic_write_text(out / MANIFEST, json.dumps(doc, indent=1) + "\n")
         else:  # a foreign file appeared during the run
             raise OutDirRefused(f"--out {out}: files appeared in it during the run; the results "
                                 f"are in {stage}")
     else:
-        os.rename(stage, out)  # replaces an empty directory
+        try:
+            os.rename(stage, out)  # replaces an empty directory
+        except OSError:  # another run published into out meanwhile: its results stay
+            _lost_race(None, out, stage)
     _fsync_dir(out.parent)
+
+
+def _lost_race(old: Path | None, out: Path, stage: Path) -> None:
+    if old is not None:  # the earlier run this one swapped out (and would have removed)
+        shutil.rmtree(old, ignore_errors=True)
+    raise OutDirRefused(f"--out {out}: another run published into it while this one ran; "
+                        f"this run's complete results are in {stage}")
 
 
 def published_path(path: Path) -> Path:
@@ -192,10 +236,8 @@ def staged_run(out: Path, command: str, *, force: bool = False) -> Iterator[Path
     out = Path(out)
     check_out_dir(out, force)
     out.parent.mkdir(parents=True, exist_ok=True)
-    stage = out.with_name(f".{out.name}.partial-{os.getpid()}")
-    if stage.exists():
-        shutil.rmtree(stage)  # our own pid's leftover: hil wrote it
-    stage.mkdir()
+    stage = out.with_name(f".{out.name}.partial-{unique_tag()}")
+    stage.mkdir()   # atomic, and fails if it exists: the directory is this run's alone
     try:
         yield stage
     except BaseException as e:

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from hil.results.buslog import split_flights
+from hil.results.buslog import BusAuth, split_flights
 from hil.results.flight import cdrw_record, cdrw_result, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
@@ -66,7 +66,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
             records.append(cdrw_record(d))
         rig.shutdown()
     require_log(rig)
-    logs = split_flights(out / "bus.log")
+    logs = split_flights(out / "bus.log", BusAuth(rig.security.key, rig.security.trip))
     if len(logs) != len(flights):
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
     done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))

@@ -20,7 +20,7 @@ import json
 import multiprocessing
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from functools import partial
 from pathlib import Path
 
@@ -37,9 +37,16 @@ MAX_WORKERS = 4
 Figure = Callable[[], "Path | None"]
 
 
-def plot_run_dir(run_dir: Path) -> list[Path]:
-    """Every figure the run directory has data for, drawn; the PNGs written, in order."""
-    return [p for p in draw(figures(Path(run_dir))) if p is not None]
+def plot_run_dir(run_dir: Path, keep: Iterable[Path] = ()) -> list[Path]:
+    """Every figure the run directory has data for, drawn; the PNGs written, in order; files
+    in `keep` (the user's) are not overwritten: their figures are not drawn."""
+    figs = figures(Path(run_dir))
+    from hil.plots import mpl
+    mpl.KEEP = {Path(p).resolve() for p in keep}
+    try:
+        return [p for p in draw(figs) if p is not None]
+    finally:
+        mpl.KEEP = set()
 
 
 def _call(fig: Figure) -> Path | None:

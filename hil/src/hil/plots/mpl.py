@@ -14,6 +14,9 @@ from hil.io.rundir import atomic_write
 
 #: fixed metadata: the same data give the same PNG bytes
 _META = {"Software": None}
+#: files a figure must not overwrite (the user's, in a run directory: hil.cli.report); a
+#: figure whose file is here is not written (save returns None)
+KEEP: set[Path] = set()
 
 
 def caption_path(png: Path) -> Path:
@@ -40,10 +43,14 @@ def _run_of(run_dir: Path) -> str:
 
 
 def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None,
-         made_by: str | None = None) -> Path:
+         made_by: str | None = None) -> Path | None:
     """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write,
     with a one-line caption file beside it: the title and the run that made the figure
-    (made_by; default: the run directory it sits in, redrawn by `hil report DIR`)."""
+    (made_by; default: the run directory it sits in, redrawn by `hil report DIR`).  Not when
+    the file is in KEEP (a user's file): None."""
+    if Path(path).resolve() in KEEP:
+        plt.close(fig)
+        return None
     fig.tight_layout(rect=rect)
     title = title_of(fig)
 

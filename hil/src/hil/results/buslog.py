@@ -6,6 +6,12 @@ SIM_TICK of their application (fcc answers a tick completely before the simulato
 anything else), and their own step field (12 bits for the identification frames) is checked
 against it.  In realtime mode there are no ticks: frames are kept in order with their
 timestamps and their own step field.
+
+Nothing the bus says is taken on trust: given the run's key (and fcc's trip), the frames are
+read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and
+MSL_ELEV_CMD count only once their authenticator verified under the key and the trip, and
+SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset starts no flight, a
+forged or replayed tick moves no step (``BusAuth``; ``FlightFrames.rejected`` counts them).
 """
 from __future__ import annotations
 
@@ -17,8 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from hil.bus.candump import LogFrame, read_log
-from hil.bus.dbc import BusSpec
+from hil.bus.dbc import BusSpec, load
+from hil.bus.e2e import E2EReceiver
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.secoc import Endpoint
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
 # the sensor frames of each application (hil.bus.protocol.SENSOR_APP): their bytes 2-3 are
@@ -35,6 +43,42 @@ class FlightFrames:
     frames: int = 0
 
 
+@dataclass(frozen=True)
+class BusAuth:
+    """The run's bus key and fcc's trip (None: the first heartbeat that verifies under the key
+    fixes it, as on the live link): what a frame must verify under to count."""
+
+    key: bytes
+    trip: int | None = None
+
+
+class _Gate:
+    """The live link's checks on the recorded frames: what passes is what fcc acted on."""
+
+    def __init__(self, auth: BusAuth) -> None:
+        spec = load()
+        self.endpoint = Endpoint(spec, auth.key, ())   # every authenticator is verified here
+        if auth.trip is not None:
+            self.endpoint.set_trip(auth.trip)
+        self.e2e = {i: E2EReceiver(spec.by_id(i).data_id, spec.by_id(i).max_delta_counter)
+                    for i in (SIM_CONTROL_ID, SIM_TICK_ID)}
+        self.rejected = 0
+
+    def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
+        got = self.endpoint.receive(fid, data)
+        out = []
+        for i, d in got:
+            rx = self.e2e.get(i)
+            if rx is not None:
+                if not rx.check(d).data_usable:
+                    self.rejected += 1
+                    continue
+                if i == SIM_CONTROL_ID and (d[1] >> 4) == COMMAND_RESET:
+                    self.e2e[SIM_TICK_ID].reset()   # fcc resynchronises on a reset
+            out.append((i, d))
+        return out
+
+
 def app_of(frame_id: int) -> int | None:
     """Which application produced an output frame (None: not an output)."""
     if 0x110 <= frame_id <= 0x13F:
@@ -44,22 +88,42 @@ def app_of(frame_id: int) -> int | None:
     return None
 
 
-def split_flights(log: Path | Iterable[LogFrame]) -> list[FlightFrames]:
+def split_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> list[FlightFrames]:
     """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
-    path or its frames already read."""
-    return list(iter_flights(log))
+    path or its frames already read; auth: only frames that verify under it count."""
+    return list(iter_flights(log, auth))
 
 
-def iter_flights(log: Path | Iterable[LogFrame]) -> Iterator[FlightFrames]:
-    """The flights of a bus log one by one (a campaign's log holds 100 of them)."""
+def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogFrame]:
+    """The frames fcc acted on (what iter_flights reads with auth), as log frames: secured
+    ones at their authenticator's place (its time), authenticators not at all."""
+    gate = _Gate(auth)
+    for f in frames:
+        if f.error or f.remote or f.extended or f.fd:
+            continue
+        for fid, data in gate.frames(f.frame_id, f.data):
+            yield LogFrame(f.timestamp, f.channel, fid, data)
+
+
+def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:
+    for f in read_log(log) if isinstance(log, Path) else log:
+        if f.error or f.remote or f.extended or f.fd:
+            continue
+        if gate is None:
+            yield f.frame_id, f.data
+        else:
+            yield from gate.frames(f.frame_id, f.data)
+
+
+def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
+    """The flights of a bus log one by one (a campaign's log holds 100 of them); auth: only
+    authenticated, E2E-valid commands and ticks count (without it, every frame does)."""
     n = 0
     cur: FlightFrames | None = None
     tick: dict[int, int] = {}
     ticked: set[int] = set()
-    for f in read_log(log) if isinstance(log, Path) else log:
-        if f.error or f.remote or f.extended or f.fd:
-            continue
-        fid, data = f.frame_id, f.data
+    gate = _Gate(auth) if auth is not None else None
+    for fid, data in _authentic(log, gate):
         if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
             if cur is not None:
                 yield cur

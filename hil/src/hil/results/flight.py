@@ -15,6 +15,7 @@ from hil.bus import dbc as dbc_spec
 from hil.bus.dbc import BusSpec
 from hil.results import metrics
 from hil.results.buslog import FlightFrames, sid_arrays
+from hil.rig.errors import RigError
 from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
 from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
 from hil.sim.missile_runs import design_lqg, rms_over, simulate_missile
@@ -211,3 +212,13 @@ def missile_open_loop(scenario: Any) -> MissileResult:
     return MissileResult(scenario=scenario.name or scenario.source, seed=scenario.seed,
                          period=r.period, bits=None, closed_loop=False, series=s, fine=fine,
                          rms_q=r.rms_q, rms_alpha=r.rms_alpha, stationary={"rms_q": sq, "rms_alpha": sa})
+
+
+def require_estimates(res: CdrwResult, what: str, realtime: bool) -> None:
+    """A lockstep flight with answered steps whose estimates are not in bus.log is refused
+    (RigError, exit 1): every answered step has its estimates on the bus, so a gap is the
+    recorder's, and a table would average the flight over the steps that are left."""
+    lost = res.missing_steps - res.unanswered_steps
+    if lost > 0 and not realtime:
+        raise RigError(f"bus.log: {what} lacks fcc's estimates of {lost} answered steps (the "
+                       f"recorder lost frames); the flight is not evaluated")

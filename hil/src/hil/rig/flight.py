@@ -106,9 +106,19 @@ def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
             rig.control(COMMAND_GROUND)
 
 
+def disk_full(path: Path) -> bool:
+    try:
+        st = os.statvfs(path)
+    except OSError:
+        return False
+    return st.f_bavail * st.f_frsize < (1 << 20)
+
+
 def require_log(rig: RigSession) -> None:
     if not rig.log_complete:
         why = rig.recorder_error or "the recorder did not catch up with the bus"
+        if disk_full(rig.run_dir):   # the recorder could not write: not a slow recorder
+            why = f"no space left on the device of {rig.run_dir}"
         raise RigError(f"bus.log: {why}; fcc's outputs are read from that log, so the run is "
                        f"not evaluated")
 
@@ -118,6 +128,9 @@ def run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dic
     info: dict[str, Any] = {
         "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
         "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        # the bus key: a --key-file's path (hil replay reads it), else the session's own key
+        # kept in the run directory (hil.rig.session.KEPT_KEY)
+        "key_file": str(Path(cfg.key_file).resolve()) if cfg.key_file else None,
         "fcc_exit": rig.fcc_exit, "wall_s": t_wall, "host": platform.node(),
         # the kernel the bus ran on; inside scripts/with-vcan: "RELEASE MODE" of its UML guest
         "kernel": platform.release(), "uml": os.environ.get("WITH_VCAN_UML"),
@@ -144,3 +157,6 @@ class Flown:
     security: dict[str, int]
     info: dict[str, Any]
     transmitter: dict[str, Any] = field(default_factory=dict)
+    #: the run's key and fcc's trip (hil.results.buslog.BusAuth): only frames that verify
+    #: under it count in the evaluation (None: every frame counts)
+    auth: Any = None

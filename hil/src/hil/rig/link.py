@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from hil.bus.candump import format_line
+from hil.bus.mmsg import BatchSender
 from hil.bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
 
 if TYPE_CHECKING:
@@ -130,6 +131,7 @@ class CanLink:
         self._poll = select.poll()
         self._poll.register(self.sock, select.POLLIN)
         self._stamps: MonotonicStamps | None = None
+        self._batch = BatchSender(self.sock.fileno()) if BatchSender.available() else None
 
     def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
                       log_path: Path | None) -> None:
@@ -199,6 +201,11 @@ class CanLink:
                                  _TIMEVAL.pack(sec, int((seconds - sec) * 1e6)))
             self._slice = seconds
 
+    @property
+    def slice_s(self) -> float:
+        """Longest time one recv() blocks."""
+        return self._slice
+
     # -- transmit
     def send_raw(self, raw: bytes) -> bool:
         """Send one packed struct can_frame; False when the queue stayed full (counted)."""
@@ -222,6 +229,39 @@ class CanLink:
                 return False
             self.tx_retries += 1
             time.sleep(0.0005)
+
+    def send_many(self, raws: list[bytes]) -> int:
+        """Send packed struct can_frames in their order, in as few sendmmsg(2) calls as the
+        queue allows (a full queue is retried as in send_raw); how many were dropped."""
+        batch = None if self._generic else self._batch
+        if batch is None or len(raws) == 1:
+            return sum(not self.send_raw(r) for r in raws)
+        dropped = 0
+        while raws:
+            n = batch.load(raws)
+            i, deadline = 0, None
+            while i < n:
+                got = batch.send(i, n)
+                if got > 0:
+                    i += got
+                    self.tx_frames += got
+                    deadline = None
+                    continue
+                if -got not in (errno.ENOBUFS, errno.EAGAIN):
+                    raise LinkError(f"{self.channel}: cannot send: {errno.errorcode.get(-got, -got)}")
+                now = time.monotonic()
+                if deadline is None:
+                    deadline = now + SEND_RETRY_S
+                elif now >= deadline:   # this frame is lost (counted); the next ones are tried
+                    self.tx_dropped += 1
+                    dropped += 1
+                    i += 1
+                    deadline = None
+                    continue
+                self.tx_retries += 1
+                time.sleep(0.0005)
+            raws = raws[n:]
+        return dropped
 
     def send(self, frame_id: int, data: bytes) -> bool:
         return self.send_raw(CAN_FRAME.pack(frame_id, len(data), bytes(data)))

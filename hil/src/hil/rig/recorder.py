@@ -7,6 +7,7 @@ the run (hil.util.processes.spawn).
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -15,6 +16,9 @@ from pathlib import Path
 
 from hil.io.paths import ToolNotFound, tool
 from hil.util.processes import ProcessError, last_line, proc_stat, spawn
+
+
+_TOTAL = re.compile(rb"DROPCOUNT: dropped \d+ CAN frames? on '[^']*' socket \(total drops (\d+)\)")
 
 
 class BusRecorder:
@@ -77,7 +81,15 @@ class BusRecorder:
         stop(), "" when it exited 0."""
         if self._error is not None:
             return self._error
-        return last_line(self._err_path) or f"exit status {self.proc.returncode}"
+        said = last_line(self._err_path)
+        if said.startswith("Enabling Logfile"):  # candump's start-up banner: not a reason
+            said = ""
+        rc = self.proc.returncode
+        if said:
+            return said
+        if rc is not None and rc < 0:
+            return f"killed by {signal.Signals(-rc).name}"
+        return f"exit status {rc}"
 
     def _state(self) -> str:
         try:
@@ -114,12 +126,21 @@ class BusRecorder:
         self._error = self.error() if self.proc.returncode != 0 else ""
         lost = self.LOST_EXIT is not None and self.proc.returncode == self.LOST_EXIT
         f = self._file()
+        dropped = self._dropped(f) if f is not None else ""
+        if dropped:
+            lost = True
+            self._error = dropped
         if f is not None:
             os.replace(f, self.log_path)
         elif not self.log_path.exists():
             self.log_path.write_bytes(b"")
         shutil.rmtree(self._dir, ignore_errors=True)
         return marker is not None and f is not None and not lost and self._ends_with(marker)
+
+    def _dropped(self, f: Path) -> str:
+        """The kernel's drop counter as the program logged it ('' when it lost nothing or
+        cannot tell)."""
+        return ""
 
     def _ends_with(self, marker: bytes, tail: int = 1 << 16) -> bool:
         """The marker is the last frame of the log -- or, when a device the rig does not stop
@@ -146,7 +167,20 @@ class Candump(BusRecorder):
         return exe
 
     def command(self, exe: str, iface: str) -> list[str]:
-        return [exe, "-l", "-r", str(self.RCVBUF), iface]
+        # -d: the kernel's drop counter (SO_RXQ_OVFL); candump writes a DROPCOUNT line into
+        # its log with the first frame it receives after a loss (the end marker at the latest)
+        return [exe, "-d", "-l", "-r", str(self.RCVBUF), iface]
+
+    def _dropped(self, f: Path) -> str:
+        total, tail = 0, b""
+        with open(f, "rb") as fh:
+            while chunk := fh.read(1 << 20):
+                buf = tail + chunk
+                if b"DROPCOUNT" in buf:
+                    total = max(total, *(int(m) for m in _TOTAL.findall(buf)), 0)
+                tail = buf[-128:]
+        return (f"candump lost {total} frame(s) (the kernel's drop counter, SO_RXQ_OVFL): the "
+                f"recorder did not keep up with the bus") if total else ""
 
     def _file(self) -> Path | None:
         files = sorted(self._dir.glob("candump-*.log"))

@@ -8,6 +8,10 @@ Order matters: the socket is opened first (so fcc's first heartbeat is seen), th
 recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
 bus.log and fcc.log.
+
+Why this module is long: the session's life cycle, its key and trip, and the checks on who
+else is on the bus (another fcc before the start, a second fcc's heartbeats during the run)
+share its state; split, each part would reach into the others.
 """
 from __future__ import annotations
 
@@ -30,7 +34,7 @@ from hil.bus.protocol import (
     MODE_CODES,
     MODE_NAMES,
 )
-from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, read_key_file, write_key_file
+from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, mac, read_key_file, same_mac, write_key_file
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied, FccTimeout, RigError
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
@@ -47,6 +51,9 @@ STARTUP_TIMEOUT_S = 10.0
 #: before fcc is started, the bus is listened to this long for another fcc's frames (its
 #: heartbeat comes at 10 Hz by default)
 LEFTOVER_LISTEN_S = 0.25
+#: the session's random key, kept in the run directory (owner-only): `hil replay` reads the
+#: recording with it (only authenticated frames are replayed); a --key-file is never copied
+KEPT_KEY = "session.key"
 #: RIG_PING.seq of the last frame of every bus log
 END_MARKER_SEQ = 0xFFFFFFFF
 
@@ -125,6 +132,11 @@ class RigSession:
         self._tick_msg = tick
         self.tick_rx = E2EReceiver(tick.data_id, tick.max_delta_counter)
         self.fcc_exit: int | None = None
+        # a second fcc on the bus: its heartbeat carries another trip (FCC_SEC_SESSION)
+        hb_auth = self.spec.by_name("FCC_STATUS_AUTH")
+        self._hb_auth = (hb_auth.frame_id, hb_auth.secoc_data_id,
+                         tuple(self.spec.by_name(p).frame_id for p in hb_auth.secoc_pdus))
+        self._hb_latest: dict[int, bytes] = {}
         self.t_start = 0.0
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
@@ -160,6 +172,8 @@ class RigSession:
             log = self.run_dir / "bus.log" if self.record and not socketcan else None
             self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,
                                 bitrate=self.bitrate, log_path=log)
+            if self.record and self._key_dir is not None:  # the run's own key: hil replay reads it
+                write_key_file(self.run_dir / KEPT_KEY, self.security.key)
             t_open = time.monotonic()
             if self.record:
                 self._start_recorder() if socketcan else self._start_link_recorder()
@@ -241,10 +255,38 @@ class RigSession:
         return self.security.receive(frame_id, data)
 
     def note_frame(self, frame_id: int, data: bytes) -> None:
-        """Keep authenticated heartbeat frames (decoded after the run, off the hot path)."""
-        for fid, d in self.accept(frame_id, data):
+        """Keep authenticated heartbeat frames (decoded after the run, off the hot path); a
+        heartbeat of another fcc under this run's key fails the run (RigError)."""
+        auth_id, _, members = self._hb_auth
+        if frame_id in members:
+            self._hb_latest[frame_id] = bytes(data)
+        got = self.accept(frame_id, data)
+        if frame_id == auth_id:
+            if not got:
+                self._check_second_fcc(data)
+            self._hb_latest = {}
+        for fid, d in got:
             if fid >= 0x700:
                 self.status_frames.append((fid, d))
+
+    def _check_second_fcc(self, auth: bytes) -> None:
+        """A heartbeat that failed under our fcc's trip but verifies under the trip it
+        announces: a second fcc with this run's key answers on the bus (no race: every
+        heartbeat of the run is looked at, not a listen before the start)."""
+        trip = self.security.trip
+        _, data_id, members = self._hb_auth
+        latest = self._hb_latest
+        session = latest.get(self.security.session_id)
+        if trip is None or session is None or len(auth) != 8 or not all(m in latest for m in members):
+            return
+        other = int.from_bytes(session[:4], "little")
+        if other == trip:
+            return
+        fv = (other << 32) | int.from_bytes(auth[:2], "little")
+        if same_mac(mac(self.security.key, data_id, b"".join(latest[m] for m in members), fv), auth[2:8]):
+            raise RigError(f"a second fcc is on {self.iface} (its heartbeat announces trip "
+                           f"{other:#010x} and verifies under this run's key; this run's fcc has "
+                           f"trip {trip:#010x}): stop it; the run is not evaluated")
 
     def secure(self, frame_id: int, data: bytes) -> list[tuple[int, bytes]]:
         """A frame to send, followed by its authenticator when it commands or configures."""

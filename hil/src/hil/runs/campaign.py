@@ -16,8 +16,8 @@ import numpy as np
 from hil.bus import load as load_spec
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables
-from hil.results.buslog import iter_flights
-from hil.results.flight import CdrwRecord, CdrwResult, cdrw_record, cdrw_result
+from hil.results.buslog import BusAuth, iter_flights
+from hil.results.flight import CdrwRecord, CdrwResult, cdrw_record, cdrw_result, require_estimates
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
@@ -63,12 +63,7 @@ def campaign_flight(index: int, fault_start: float, res: CdrwResult,
                     fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
     """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
     flew and with which identification options, for the symmetric tables."""
-    lost = res.missing_steps - res.unanswered_steps
-    if lost > 0 and _flag_value(fcc_arg_list, "--mode") != "realtime":
-        # in lockstep every answered step has its estimates on the bus: a gap is the
-        # recorder's, and Table 5 would average the flight over the steps that are left
-        raise RigError(f"bus.log: campaign flight {index} lacks fcc's estimates of {lost} answered "
-                       f"steps (the recorder lost frames); the flight is not evaluated")
+    require_estimates(res, f"campaign flight {index}", _flag_value(fcc_arg_list, "--mode") == "realtime")
     flown, sid_args = rowtables.sid_options(fcc_arg_list)
     modes, check = rowtables.symmetric_tables(res.series, res.dt, flown,
                                               rowtables.Replay(load_spec(), res.series, sid_args))
@@ -160,7 +155,8 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
     require_log(rig)
     args = fcc_args([scenario], cfg)
     flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl), args)
-               for i, (rec, fl) in enumerate(zip(records, iter_flights(out / "bus.log")))]
+               for i, (rec, fl) in enumerate(zip(records, iter_flights(
+                   out / "bus.log", BusAuth(rig.security.key, rig.security.trip))))]
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
     summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status, rig.security.counters()), cfg.mode)

@@ -29,7 +29,9 @@ from hil.bus.logio import read_frames, run_log
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied
 from hil.rig.link import pack_frame
-from hil.rig.session import RigSession
+from hil.bus.secoc import KeyFileError, read_key_file
+from hil.results.buslog import BusAuth, authentic_frames
+from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.simtime import WALL_LOG
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
@@ -86,6 +88,25 @@ def recorded_fcc_args(run_dir: Path) -> list[str]:
         else:
             out.append(a)
     return out
+
+
+def recorded_key(run_dir: Path) -> bytes:
+    """The recorded run's bus key: its session key kept in the run directory, or the
+    --key-file it ran with (run_info.json); without it the recording cannot be told from
+    frames forged on its bus: refused."""
+    kept = run_dir / KEPT_KEY
+    try:
+        if kept.is_file():
+            return read_key_file(kept)
+        info = json.loads((run_dir / "run_info.json").read_text())
+        key_file = info.get("key_file") if isinstance(info, dict) else None
+        if key_file:
+            return read_key_file(key_file)
+    except (KeyFileError, OSError, ValueError) as e:
+        raise ReplayError(f"{run_dir}: the run's bus key cannot be read ({e}); only its "
+                          f"authenticated frames may be replayed") from None
+    raise ReplayError(f"{run_dir}: the run's bus key is not kept ({KEPT_KEY}, or run_info.json's "
+                      f"key_file): its authenticated frames cannot be told from forged ones")
 
 
 def segments(frames: Iterator[LogFrame], spec: BusSpec) -> list[Segment]:
@@ -145,7 +166,7 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
     rig = RigSession(out_dir, args, RigConfig(out_dir=out_dir, iface=iface, fcc_binary=fcc_binary),
                      record=False)
     spec = rig.spec
-    segs = segments(read_frames(log), spec)
+    segs = segments(authentic_frames(read_frames(log), BusAuth(recorded_key(run_dir))), spec)
     fcc_ids = {m.frame_id for m in spec.messages
                if not SIM_SENDERS.intersection(m.senders) and m.frame_id < WALL_CLOCK_IDS}
     rig.fcc_ids = tuple(sorted(fcc_ids | set(rig.fcc_ids)))

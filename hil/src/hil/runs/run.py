@@ -13,11 +13,19 @@ from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
-from hil.results.buslog import split_flights
-from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_open_loop, missile_result
+from hil.results.buslog import BusAuth, split_flights
+from hil.results.flight import (
+    CdrwResult,
+    cdrw_record,
+    cdrw_result,
+    missile_open_loop,
+    missile_result,
+    require_estimates,
+)
 from hil.results.report import firmware_summary
 from hil.results.sync import sync_summary
 from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
 from hil.rig.flight import (
     Flown,
     fcc_args,
@@ -69,7 +77,8 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         rig.shutdown()
     require_log(rig)
     flown = Flown(drivers, rig.status, rig.security.counters(),
-                  run_info(rig, cfg, runner, time.perf_counter() - t0), rig.transmitter_stats)
+                  run_info(rig, cfg, runner, time.perf_counter() - t0), rig.transmitter_stats,
+                  BusAuth(rig.security.key, rig.security.trip))
     return evaluate_flight(scenarios, cfg, command, flown)
 
 
@@ -115,7 +124,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     drivers = flown.drivers
     spec = load()
     log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
-    flights = split_flights(log)
+    flights = split_flights(log, flown.auth)
     if cfg.mode == "realtime":
         count_babbled(log, drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
@@ -124,7 +133,11 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     cdrw: tuple[CdrwResult, str, rowtables.Replay, bool] | None = None
     for d in drivers:
         if isinstance(d, CdrwDriver):
+            if not flights:
+                raise RigError("bus.log: no authenticated flight start (SIM_CONTROL reset); the "
+                               "run is not evaluated")
             res = cdrw_result(spec, cdrw_record(d), flights[0])
+            require_estimates(res, f"hil {command}'s flight", cfg.mode == "realtime")
             flown_rows, sid_args = rowtables.sid_options(fcc_args(scenarios, cfg))
             # sid_replay's symmetric tables run while the files are written
             cdrw = (res, flown_rows, rowtables.Replay(spec, res.series, sid_args),

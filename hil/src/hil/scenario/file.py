@@ -34,9 +34,13 @@ from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFaul
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
+from hil.util.bounded import TooLarge, read_bounded
 
 #: the embedded scenarios (package data, beside the packaged DBC)
 PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+
+#: a scenario file is a few kB; anything above this is not one (/dev/zero)
+SCENARIO_MAX_BYTES = 1 << 20
 
 
 AIRCRAFT = ("cdrw", "missile")
@@ -235,7 +239,9 @@ def load_scenario(path: str | Path, known_frames: Collection[str] | None = None)
     """Read and validate a scenario file."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = read_bounded(p, SCENARIO_MAX_BYTES, "scenario file").decode("utf-8")
+    except TooLarge as e:
+        raise ScenarioError(str(e)) from None
     except OSError as e:
         raise ScenarioError(f"{p}: cannot read scenario: {e.strerror or e}") from None
     except UnicodeDecodeError as e:

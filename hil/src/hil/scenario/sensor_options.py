@@ -40,7 +40,8 @@ class MissileSensorOptions:
     noise_scale: float = 1.0
 
     def __post_init__(self) -> None:
-        if self.var_gyro < 0.0 or self.var_acc < 0.0:
-            raise ValueError("noise variances must be >= 0")
+        if not (self.var_gyro > 0.0 and self.var_acc > 0.0):
+            # the autopilot's Kalman filter divides by them: fcc refuses 0 (exit 1 at run time)
+            raise ValueError("noise variances var_gyro and var_acc must be > 0")
         if not self.noise_scale >= 0.0:
             raise ValueError("noise_scale must be >= 0")

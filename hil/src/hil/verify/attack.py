@@ -89,11 +89,15 @@ def flood(rng: random.Random) -> Frames:
         yield rng.choice(ids), rng.randbytes(8)
 
 
-def replay_recording(log: Path) -> Callable[[random.Random], Frames]:
+def replay_recording(log: Path, heartbeats: bool = True) -> Callable[[random.Random], Frames]:
     """The secured frames and authenticators of an earlier run (same key, another fcc
-    session) in recorded order: the commands and ticks first, then its heartbeats."""
+    session) in recorded order: the commands and ticks first, then its heartbeats (unless
+    not `heartbeats`: a heartbeat of another trip under the run's key fails the run as a
+    second fcc on the bus, hil.rig.session)."""
     wanted = {ID[n] for n in ("SIM_CONTROL", "SIM_CONTROL_AUTH", "SIM_TICK", "SIM_TICK_AUTH",
-                              "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH")} | set(range(0x700, 0x70A))
+                              "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH")}
+    if heartbeats:
+        wanted |= set(range(0x700, 0x70A))
     frames: list[tuple[int, bytes]] = []
     for line in log.read_text().splitlines():
         parts = line.split()

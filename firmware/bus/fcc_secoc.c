@@ -159,44 +159,12 @@ static uint32_t find_match(const fcc_secoc_t *sec, uint32_t index, const uint8_t
     return match;
 }
 
-fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
-                                     uint8_t out[8])
+/* The verdict on n candidates (each len bytes) for one authenticator: a fresh counter, then
+ * the first candidate whose MAC matches (*match); the channel's counter moves on only then.
+ * Every refusal is counted. */
+static fcc_secoc_verdict_t authenticate(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                                        const uint8_t *cand, uint32_t n, size_t len, uint32_t *match)
 {
-    if (sec == NULL || auth == NULL || out == NULL || index >= FCC_SECOC_N_AUTH) {
-        return FCC_SECOC_NO_PDU;
-    }
-    fcc_secoc_chan_t *c = &sec->chan[index];
-    uint32_t counter = 0u;
-    if (!fresh_counter(c, auth, &counter)) {
-        ++sec->cnt.freshness_failed;
-        return FCC_SECOC_FRESHNESS_FAILED;
-    }
-    if (c->n_held == 0u) {
-        ++sec->cnt.mac_failed;
-        return FCC_SECOC_NO_PDU;
-    }
-    const uint32_t match = find_match(sec, index, auth, &c->held[0][0], c->n_held, 8u, counter);
-    if (match == c->n_held) {
-        ++sec->cnt.mac_failed;
-        return FCC_SECOC_MAC_FAILED;
-    }
-    memcpy(out, c->held[match], 8u);
-    sec->cnt.unpaired += match; /* older held frames: never authenticated */
-    drop_oldest(c, match + 1u);
-    c->counter = counter;
-    ++sec->cnt.verified;
-    return FCC_SECOC_VERIFIED;
-}
-
-fcc_secoc_verdict_t fcc_secoc_verify_pdus(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
-                                          const uint8_t *cand, uint32_t n, size_t len,
-                                          uint32_t *match)
-{
-    if (sec == NULL || auth == NULL || match == NULL || index >= FCC_SECOC_N_AUTH ||
-        n > FCC_SECOC_CANDIDATES || (n > 0u && cand == NULL) ||
-        len != 8u * fcc_secoc_table[index].n_pdus) {
-        return FCC_SECOC_NO_PDU;
-    }
     fcc_secoc_chan_t *c = &sec->chan[index];
     uint32_t counter = 0u;
     if (!fresh_counter(c, auth, &counter)) {
@@ -216,6 +184,35 @@ fcc_secoc_verdict_t fcc_secoc_verify_pdus(fcc_secoc_t *sec, uint32_t index, cons
     c->counter = counter;
     ++sec->cnt.verified;
     return FCC_SECOC_VERIFIED;
+}
+
+fcc_secoc_verdict_t fcc_secoc_verify(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                                     uint8_t out[8])
+{
+    if (sec == NULL || auth == NULL || out == NULL || index >= FCC_SECOC_N_AUTH) {
+        return FCC_SECOC_NO_PDU;
+    }
+    fcc_secoc_chan_t *c = &sec->chan[index];
+    uint32_t match = 0u;
+    const fcc_secoc_verdict_t v = authenticate(sec, index, auth, &c->held[0][0], c->n_held, 8u, &match);
+    if (v == FCC_SECOC_VERIFIED) {
+        memcpy(out, c->held[match], 8u);
+        sec->cnt.unpaired += match; /* older held frames: never authenticated */
+        drop_oldest(c, match + 1u);
+    }
+    return v;
+}
+
+fcc_secoc_verdict_t fcc_secoc_verify_pdus(fcc_secoc_t *sec, uint32_t index, const uint8_t auth[8],
+                                          const uint8_t *cand, uint32_t n, size_t len,
+                                          uint32_t *match)
+{
+    if (sec == NULL || auth == NULL || match == NULL || index >= FCC_SECOC_N_AUTH ||
+        n > FCC_SECOC_CANDIDATES || (n > 0u && cand == NULL) ||
+        len != 8u * fcc_secoc_table[index].n_pdus) {
+        return FCC_SECOC_NO_PDU;
+    }
+    return authenticate(sec, index, auth, cand, n, len, match);
 }
 
 void fcc_secoc_wipe(fcc_secoc_t *sec)

@@ -4,6 +4,7 @@ python-can import), and every format python-can's LogReader / Logger know (.asc,
 
     read_frames(path)            -> iterator of candump.LogFrame, any format
     write_frames(path, frames)   the format the suffix names
+    write_candump(path, timed)   candump -L of (timestamp, frame) pairs
     run_log(run_dir)             the bus log of a run directory, whichever format it has
 """
 from __future__ import annotations
@@ -54,13 +55,7 @@ def write_frames(path: str | Path, frames: Iterable[LogFrame]) -> int:
     path = Path(path)
     n = 0
     if path.suffix.lower() in CANDUMP_SUFFIXES:
-        with open(path, "w", encoding="ascii") as f:
-            for fr in frames:
-                if fr.error or fr.fd:
-                    continue
-                f.write(_candump_line(fr) + "\n")
-                n += 1
-        return n
+        return write_candump(path, ((fr.timestamp, fr) for fr in frames))
     import can
 
     with can.Logger(str(path)) as w:
@@ -73,8 +68,22 @@ def write_frames(path: str | Path, frames: Iterable[LogFrame]) -> int:
     return n
 
 
-def _candump_line(fr: LogFrame) -> str:
+def write_candump(path: str | Path, timed: Iterable[tuple[float, LogFrame]]) -> int:
+    """Write (timestamp, frame) pairs as a candump -L log, each frame at the timestamp given
+    with it (a retimed log needs no new frame objects); error and FD frames are left out.
+    Returns the count written."""
+    n = 0
+    with open(path, "w", encoding="ascii") as f:
+        for t, fr in timed:
+            if fr.error or fr.fd:
+                continue
+            f.write(_candump_line(t, fr) + "\n")
+            n += 1
+    return n
+
+
+def _candump_line(t: float, fr: LogFrame) -> str:
     if fr.remote:
         ident = f"{fr.frame_id:08X}" if fr.extended else f"{fr.frame_id:03X}"
-        return f"({fr.timestamp:.6f}) {fr.channel} {ident}#R"
-    return format_line(fr.timestamp, fr.channel, fr.frame_id, fr.data, fr.extended)
+        return f"({t:.6f}) {fr.channel} {ident}#R"
+    return format_line(t, fr.channel, fr.frame_id, fr.data, fr.extended)

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from hil.bus.candump import LogFrame, read_log
-from hil.bus.dbc import BusSpec, load
+from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.secoc import Endpoint
@@ -160,15 +160,22 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
     (NaN where a frame is missing or, lockstep, its step field does not match the tick;
     realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
     out: dict[str, np.ndarray] = {}
-    ids: dict[int, tuple[str, object]] = {}
+    # per frame id: its step signal (None: it has none) and (signal, its column) of the others;
+    # the frames are decoded signal by signal (SignalSpec) straight into their columns
+    ids: dict[int, tuple[SignalSpec | None, list[tuple[SignalSpec, np.ndarray]]]] = {}
     for flt in FILTERS:
         for part in SID_PARTS:
             msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
-            ids[msg.frame_id] = (flt, msg)
+            step_sig, cols = None, []
             for sig in msg.signals:
-                if part == "STATE" and sig.name == "step":
-                    continue
-                out[f"{flt}_{sig.name}"] = np.full(n_steps, np.nan)
+                if sig.name == "step":
+                    step_sig = sig
+                    if part == "STATE":
+                        continue
+                col = out[f"{flt}_{sig.name}"] = np.full(n_steps, np.nan)
+                if sig.name != "step":
+                    cols.append((sig, col))
+            ids[msg.frame_id] = (step_sig if check_step else None, cols)
     steps = flight.by_step.get(0, {})
     mismatched = 0
     for k in range(n_steps):
@@ -178,14 +185,12 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
         for fid, data in frames:
             if fid not in ids or len(data) != 8:
                 continue
-            flt, msg = ids[fid]
-            vals = msg.decode(data)  # type: ignore[attr-defined]
-            if "step" in vals and check_step:
-                if int(vals["step"]) != (k & 0xFFF):
-                    mismatched += 1
-                    continue
-            for name, v in vals.items():
-                if name != "step":
-                    out[f"{flt}_{name}"][k] = float(v)
+            step_sig, cols = ids[fid]
+            bits = int.from_bytes(data, "little")
+            if step_sig is not None and int(step_sig.scaled(step_sig.unpack(bits))) != (k & 0xFFF):
+                mismatched += 1
+                continue
+            for sig, col in cols:
+                col[k] = float(sig.scaled(sig.unpack(bits)))
     out["_mismatched"] = np.array([mismatched])
     return out

@@ -30,6 +30,8 @@ from hil.sim.sid_csv import sid_csv
 ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)
 SYMMETRIC = ("prior", "posterior")
+#: the columns of a filter's rows the tables and the check read
+ESTIMATES = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
 
 
 @lru_cache(maxsize=1)
@@ -85,7 +87,7 @@ def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
 class Replay:
     """`sid_replay --all-rows` on the flight's readings as fcc received them (one process for
     the three modes: starting one costs ~0.1 s in the guest), running while the caller does
-    other work; result() waits for it: {row mode: {filter: columns}}."""
+    other work; result() waits for it: {row mode: {filter: ESTIMATES columns}}."""
 
     def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
                  sid_args: Sequence[str] = ()) -> None:
@@ -111,7 +113,7 @@ class Replay:
             msg = (err.decode(errors="replace").strip().splitlines() or ["no message"])[0]
             raise RuntimeError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
         out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
-        for name, cols in read_rows(text).items():
+        for name, cols in read_rows(text, ESTIMATES).items():
             mode, _, filt = name.partition("/")
             out[mode][filt] = cols
         return out
@@ -136,8 +138,7 @@ def mode_tables(series: Mapping[str, np.ndarray], est: Mapping[str, Mapping[str,
 
 def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray]]:
     """fcc's own rows of a flight (the run's series) in Replay.result()'s layout."""
-    cols = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
-    return {f: {c: np.asarray(series[f"{f}_{c}"]) for c in cols} for f in FILTERS}
+    return {f: {c: np.asarray(series[f"{f}_{c}"]) for c in ESTIMATES} for f in FILTERS}
 
 
 def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,

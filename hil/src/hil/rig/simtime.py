@@ -20,7 +20,7 @@ from pathlib import Path
 
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
-from hil.bus.logio import RUN_FORMATS, write_frames
+from hil.bus.logio import RUN_FORMATS, write_candump, write_frames
 from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
@@ -35,6 +35,15 @@ FLIGHT_GRID_S = 0.1
 def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
               baudrate: int) -> Iterator[LogFrame]:
     """The frames again, timestamped in simulated time (periods: step period per app)."""
+    for t, f in simulated_times(frames, periods, baudrate):
+        # (not dataclasses.replace: 4x slower, and a log has thousands of frames)
+        yield LogFrame(t, f.channel, f.frame_id, f.data, f.extended, f.remote, f.error, f.fd)
+
+
+def simulated_times(frames: Iterable[LogFrame], periods: Mapping[int, float],
+                    baudrate: int) -> Iterator[tuple[float, LogFrame]]:
+    """(simulated time, frame) of each frame (periods: step period per app): simulated()
+    without a new frame each (a candump log is written from these directly)."""
     period = dict(periods)
     offset = 0.0          # simulated time of the current flight's step 0
     t_step = 0.0
@@ -63,8 +72,7 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
         if not (plain and WALL_PACED[0] <= f.frame_id <= WALL_PACED[1]):
             bits = 0 if (f.fd or f.error) else worst_case_bits(0 if f.remote else len(data), f.extended)
             bus_free = t + bits / baudrate
-        # (not dataclasses.replace: 4x slower, and a log has thousands of frames)
-        yield LogFrame(round(t, 6), f.channel, f.frame_id, data, f.extended, f.remote, f.error, f.fd)
+        yield round(t, 6), f
 
 
 def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: str,
@@ -81,7 +89,11 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
         wall = run_dir / WALL_LOG
         os.replace(raw, wall)
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-        write_frames(tmp, simulated(read_log(wall) if frames is None else frames, periods, baudrate))
+        wall_frames = read_log(wall) if frames is None else frames
+        if fmt == "log":
+            write_candump(tmp, simulated_times(wall_frames, periods, baudrate))
+        else:
+            write_frames(tmp, simulated(wall_frames, periods, baudrate))
         os.replace(tmp, out)
     elif fmt != "log":
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")

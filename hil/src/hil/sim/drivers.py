@@ -9,8 +9,8 @@ injector (frame and bus faults).  Per step k at t_k = k*period:
     driver.end_step(io)                  fcc's answer; the plant moves to t_k+1
 
 CDRW (seed 1): the simulator flies the pull-up open loop (its own elevator schedule), so the
-whole flight and every frame of it are computed before the first tick (the hot loop only
-sends); fcc's outputs, the three filters' estimates, are read back from the bus log.  Missile (seed 2): the
+whole flight (hil.sim.cdrw_cache: computed once per scenario and code) and every frame of it
+are computed before the first tick (the hot loop only sends); fcc's outputs, the three filters' estimates, are read back from the bus log.  Missile (seed 2): the
 elevator is the D/A code of fcc's MSL_ELEV_CMD of step k, held over [t_k, t_k + T) with the
 scenario's sub-steps; without a usable command of step k the previous code stays applied
 (a real actuator holds its last input).
@@ -27,6 +27,7 @@ from hil.bus import FrameCodec
 from hil.bus.protocol import APP_CDRW, APP_MISSILE
 from hil.scenario.faults import SensorFault
 from hil.scenario.file import SENSOR_FRAMES, Scenario
+from hil.sim.cdrw_cache import open_loop
 from hil.sim.cdrw_flight import CdrwSimulation
 from hil.sim.frame_faults import KIND_CODES, FrameInjector, TxFrame
 from hil.sim.missile_runs import MissileSimulation
@@ -152,8 +153,8 @@ class CdrwDriver(AppDriver):
         self._frames: list[list[TxFrame]] = []
         self._events: list[list[Message]] = []
         self._fault_active: list[bool] = []
-        for _ in range(self.n_steps):  # open loop: the flight does not depend on fcc
-            s = self.sim.step()
+        # open loop: the flight does not depend on fcc (so it can come from the cache)
+        for s in open_loop(scenario, self.n_steps):
             self.samples.append(s)
             self._fault_active.append(bool(s.fault_active))
             events = list(s.events) + self.injector.update(s.t)

@@ -1,0 +1,170 @@
+"""The cache of the CDRW's open-loop flight (hil.sim.cdrw_cache): a flight from the cache is
+the computed one bit for bit (and so are the driver's frames); a corrupt, foreign, linked or
+unprivate entry or directory is never trusted."""
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hil.bus import FrameCodec, load
+from hil.scenario.file import load_default_scenario
+from hil.sim import cdrw_cache
+from hil.sim.drivers import CdrwDriver
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    """The default flight with its fault, shortened (the spike at 4 s stays in)."""
+    return load_default_scenario("cdrw").replace(duration=4.5)
+
+
+@pytest.fixture(scope="module")
+def computed(scenario):
+    return cdrw_cache.compute(scenario)
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch) -> Path:
+    d = tmp_path / "cache"
+    monkeypatch.setenv(cdrw_cache.CACHE_ENV, str(d))
+    return d
+
+
+def same(a, b) -> None:
+    """Equal value, type and bits (arrays: dtype, shape, bytes; fault events: the scenario's
+    own fault object)."""
+    assert type(a) is type(b)
+    if isinstance(a, np.ndarray):
+        assert (a.dtype, a.shape, a.tobytes()) == (b.dtype, b.shape, b.tobytes())
+    elif dataclasses.is_dataclass(a):
+        for f in dataclasses.fields(a):
+            if f.name == "fault":
+                assert getattr(a, f.name) is getattr(b, f.name)
+            else:
+                same(getattr(a, f.name), getattr(b, f.name))
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            same(x, y)
+    elif isinstance(a, dict):
+        assert list(a) == list(b)
+        for k in a:
+            same(a[k], b[k])
+    else:
+        assert a == b or (a != a and b != b)   # NaN: a dropped-out reading
+
+
+def entries(d: Path) -> list[Path]:
+    return sorted(d.glob("*.json"))
+
+
+def test_a_cached_flight_is_the_computed_one_bit_for_bit(scenario, computed, cache) -> None:
+    n = len(computed)
+    same(cdrw_cache.open_loop(scenario, n), computed)      # computed and stored
+    assert len(entries(cache)) == 1
+    assert (cache.stat().st_mode & 0o777) == 0o700
+    same(cdrw_cache.open_loop(scenario, n), computed)      # read back
+    assert any(s.events for s in computed)
+
+
+def test_the_driver_sends_the_same_frames_with_and_without_the_cache(scenario, cache, monkeypatch) -> None:
+    def driver():
+        d = CdrwDriver(scenario, FrameCodec(load()))
+        return d.samples, d._events, d._frames, d._fault_active
+
+    monkeypatch.setenv(cdrw_cache.CACHE_ENV, "off")
+    off = driver()
+    assert not cache.exists()
+    monkeypatch.setenv(cdrw_cache.CACHE_ENV, str(cache))
+    miss = driver()
+    hit = driver()
+    assert len(entries(cache)) == 1
+    same(miss, off)
+    same(hit, off)
+
+
+def test_another_scenario_has_its_own_entry(scenario, computed, cache) -> None:
+    other = scenario.replace(seed=scenario.seed + 1)
+    a = cdrw_cache.open_loop(scenario, len(computed))
+    b = cdrw_cache.open_loop(other, len(computed))
+    assert len(entries(cache)) == 2
+    assert a[10].meas != b[10].meas
+
+
+def _stored(scenario, computed, cache) -> Path:
+    cdrw_cache.open_loop(scenario, len(computed))
+    (entry,) = entries(cache)
+    return entry
+
+
+@pytest.mark.parametrize("damage", ["flipped digit", "truncated", "not json", "empty"])
+def test_a_corrupt_entry_is_rebuilt(scenario, computed, cache, damage) -> None:
+    entry = _stored(scenario, computed, cache)
+    data = entry.read_bytes()
+    i = data.index(b'"samples"') + 40
+    bad = {"flipped digit": data[:i] + bytes([data[i] ^ 1]) + data[i + 1:],
+           "truncated": data[: len(data) // 2], "not json": b"x\n{", "empty": b""}[damage]
+    entry.write_bytes(bad)
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    assert entry.read_bytes() == data        # rebuilt
+
+
+def test_an_entry_of_another_flight_under_this_name_is_not_used(scenario, computed, cache) -> None:
+    entry = _stored(scenario, computed, cache)
+    other = scenario.replace(seed=scenario.seed + 1)
+    # a well-formed entry (its digest matches) of another scenario, renamed to this one's key
+    entry.write_bytes(cdrw_cache._encode(cdrw_cache.entry_key(other), cdrw_cache.compute(other)))
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    # the right key with the wrong number of samples is refused too
+    entry.write_bytes(cdrw_cache._encode(cdrw_cache.entry_key(scenario), computed[:-1]))
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+
+
+def test_a_linked_entry_is_not_followed(scenario, computed, cache, tmp_path) -> None:
+    entry = _stored(scenario, computed, cache)
+    elsewhere = tmp_path / "elsewhere.json"
+    os.replace(entry, elsewhere)
+    entry.symlink_to(elsewhere)
+    elsewhere.write_bytes(b"x\n{")   # were it followed, this would be read (and refused)
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    assert not entry.is_symlink()    # replaced by a regular entry
+    assert elsewhere.read_bytes() == b"x\n{"
+
+
+def test_a_directory_others_can_write_is_not_used(scenario, computed, cache) -> None:
+    cache.mkdir(mode=0o700)
+    cache.chmod(0o777)
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    assert entries(cache) == []
+    assert (cache.stat().st_mode & 0o777) == 0o777   # the user's directory is left as it is
+
+
+def test_off_computes_and_stores_nothing(scenario, computed, tmp_path, monkeypatch) -> None:
+    monkeypatch.setenv(cdrw_cache.CACHE_ENV, "off")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_default_place_is_the_users_cache(monkeypatch, tmp_path) -> None:
+    monkeypatch.delenv(cdrw_cache.CACHE_ENV, raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert cdrw_cache.cache_dir() == tmp_path / "hil" / "cdrw"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    assert cdrw_cache.cache_dir() == Path.home() / ".cache" / "hil" / "cdrw"
+
+
+def test_old_entries_go_first(scenario, cache, monkeypatch) -> None:
+    monkeypatch.setattr(cdrw_cache, "MAX_ENTRIES", 2)
+    short = scenario.replace(duration=0.1)
+    for seed in (1, 2, 3):
+        cdrw_cache.open_loop(short.replace(seed=seed), 6)
+        entry = cache / f"{cdrw_cache.entry_key(short.replace(seed=seed))}.json"
+        os.utime(entry, (1000 + seed, 1000 + seed))   # apart, whatever the clock's grain
+    kept = entries(cache)
+    assert len(kept) == 2
+    assert cache / f"{cdrw_cache.entry_key(short.replace(seed=1))}.json" not in kept

@@ -80,6 +80,21 @@ def test_csv_round_trip(tmp_path):
         write_csv(tmp_path / "b.csv", {"a": np.zeros(2), "b": np.zeros(3)})
 
 
+def test_csv_cells_are_exact_text(tmp_path):
+    """Every float at full precision (signed zero, either NaN, infinities, a float32 as the
+    double it is), integers and booleans as such; only a header name that needs quotes gets them."""
+    cols = {"x,y": np.array([1 / 3, -0.0, np.nan, -np.nan, np.inf, -np.inf]),
+            "k": np.array([0, -1, 2, 3, 4, 5], dtype=np.int8),
+            "f32": np.full(6, 0.1, dtype=np.float32),
+            "ok": np.array([True, False, True, False, True, False])}
+    write_csv(tmp_path / "c.csv", cols)
+    assert (tmp_path / "c.csv").read_text().splitlines() == [
+        '"x,y",k,f32,ok',
+        "0.3333333333333333,0,0.10000000149011612,1.0", "-0.0,-1,0.10000000149011612,0.0",
+        "nan,2,0.10000000149011612,1.0", "nan,3,0.10000000149011612,0.0",
+        "inf,4,0.10000000149011612,1.0", "-inf,5,0.10000000149011612,0.0"]
+
+
 def test_json_is_sorted_and_plain(tmp_path):
     write_json(tmp_path / "s.json", {"b": np.float64(1.5), "a": [np.int64(2), float("nan")]})
     text = (tmp_path / "s.json").read_text()

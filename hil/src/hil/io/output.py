@@ -23,9 +23,12 @@ from hil.util.bounded import read_bounded
 
 def _cells(column: np.ndarray) -> list[str]:
     """A column's cells: integers as they are, everything else as floats at full precision
-    (a column at a time: a cell at a time is 3x slower)."""
+    (a column at a time: a cell at a time is 3x slower; repr(nan) is "nan", so a float
+    column needs no test per cell)."""
     if column.dtype.kind in "iu":
         return [str(v) for v in column.tolist()]
+    if column.dtype.kind == "f":
+        return list(map(repr, column.tolist()))
     return ["nan" if math.isnan(x) else repr(x) for x in map(float, column.tolist())]
 
 
@@ -37,9 +40,9 @@ def write_csv(path: Path, columns: Mapping[str, np.ndarray]) -> Path:
         raise ValueError(f"{path.name}: columns of different lengths {sorted(n)}")
     arrays = [np.asarray(columns[k]) for k in names]
     buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(names)
-    w.writerows(zip(*(_cells(a) for a in arrays)))
+    csv.writer(buf, lineterminator="\n").writerow(names)   # (a name may need quotes)
+    # a number never needs quotes: the rows are joined directly (csv.writer: 5x slower)
+    buf.writelines(",".join(row) + "\n" for row in zip(*(_cells(a) for a in arrays)))
     return atomic_write_text(path, buf.getvalue(), encoding="ascii")
 
 

@@ -101,12 +101,12 @@ def _stored(scenario, computed, cache) -> Path:
     return entry
 
 
-@pytest.mark.parametrize("damage", ["flipped digit", "truncated", "not json", "empty"])
+@pytest.mark.parametrize("damage", ["flipped bit", "truncated", "not json", "empty"])
 def test_a_corrupt_entry_is_rebuilt(scenario, computed, cache, damage) -> None:
     entry = _stored(scenario, computed, cache)
     data = entry.read_bytes()
-    i = data.index(b'"samples"') + 40
-    bad = {"flipped digit": data[:i] + bytes([data[i] ^ 1]) + data[i + 1:],
+    i = len(data) - 1000                    # a bit of a sample's floats
+    bad = {"flipped bit": data[:i] + bytes([data[i] ^ 1]) + data[i + 1:],
            "truncated": data[: len(data) // 2], "not json": b"x\n{", "empty": b""}[damage]
     entry.write_bytes(bad)
     same(cdrw_cache.open_loop(scenario, len(computed)), computed)
@@ -121,6 +121,11 @@ def test_an_entry_of_another_flight_under_this_name_is_not_used(scenario, comput
     same(cdrw_cache.open_loop(scenario, len(computed)), computed)
     # the right key with the wrong number of samples is refused too
     entry.write_bytes(cdrw_cache._encode(cdrw_cache.entry_key(scenario), computed[:-1]))
+    same(cdrw_cache.open_loop(scenario, len(computed)), computed)
+    # a well-formed entry whose fault event names a fault the scenario does not have
+    doctored = computed[:40] + [dataclasses.replace(computed[40], events=(dataclasses.replace(
+        computed[200].events[0], index=7),))] + computed[41:]
+    entry.write_bytes(cdrw_cache._encode(cdrw_cache.entry_key(scenario), doctored))
     same(cdrw_cache.open_loop(scenario, len(computed)), computed)
 
 

@@ -4,22 +4,25 @@ fcc starts, and the flight depends on nothing but the scenario and this code.
 
     open_loop(scenario) -> [CdrwSample, ...]   from the cache, else computed (and stored)
 
-Where: $HIL_CACHE if it names a directory, else $XDG_CACHE_HOME/hil/cdrw, else
-~/.cache/hil/cdrw; HIL_CACHE=off computes every flight.  The directory is made owner-only
+Where: $FCC_HIL_CACHE if it names a directory, else $XDG_CACHE_HOME/hil/cdrw, else
+~/.cache/hil/cdrw; FCC_HIL_CACHE=off computes every flight.  The directory is made owner-only
 and used only while it is one (a real directory, the user's, no access for group or others).
 
-An entry is the flight as JSON (floats by repr: they read back to the same bits), named by
-the SHA-256 of the scenario (its repr: every field), of the source of the modules that
-compute it and of the numpy and Python versions (their random streams and libm).  Its first
-line is the SHA-256 of the rest.  An entry is used only when it is the user's own regular
-file, its digest and key match, and every sample reads back with the expected shape;
-anything else (a corrupt, truncated, foreign or older entry) is ignored and rebuilt.  Writes
-are atomic (hil.io.rundir), so a concurrent run reads the old entry or the new one.
+An entry is named by the SHA-256 of the scenario (its repr: every field), of the source of
+the modules that compute the flight and of the numpy and Python versions (their random
+streams and libm).  Its first line is the SHA-256 of the rest, its second a JSON line (the
+key again, the sample count, the readings' names, the fault events), then one row of
+little-endian float64 per sample: the same bits read back, no float is printed or parsed.
+An entry is used only when it is the user's own regular file (not a link), its digest, key,
+count and size match; anything else (a corrupt, truncated, foreign or older entry) is
+ignored and rebuilt.  Writes rename a complete file into place, so a concurrent run reads
+the old entry or the new one.
 """
 from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import stat
 import sys
@@ -28,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from hil.io.rundir import atomic_write
+from hil.io.rundir import unique_tag
 from hil.scenario import cdrw_params, faults, plant_options, sensor_options
 from hil.scenario.file import Scenario
 from hil.sim import cdrw, cdrw_flight, sensor_faults, sensors
@@ -36,8 +39,8 @@ from hil.sim.cdrw import CdrwLinearisation
 from hil.sim.cdrw_flight import CdrwSample, CdrwSimulation
 from hil.sim.sensor_faults import FaultEvent
 
-CACHE_ENV = "HIL_CACHE"
-#: an entry is one flight (~0.4 MB); larger is not one of ours
+CACHE_ENV = "FCC_HIL_CACHE"
+#: an entry is one flight (0.13 MB for the default one); larger is not one of ours
 ENTRY_MAX_BYTES = 16 << 20
 #: entries kept (the oldest go first): a campaign of new seeds does not fill the disk
 MAX_ENTRIES = 64
@@ -46,6 +49,7 @@ _CODE = (cdrw, cdrw_flight, sensors, sensor_faults, cdrw_params, plant_options, 
          faults, sys.modules[__name__])
 _LIN = ("A_c", "B_c", "A", "B", "A_euler", "B_euler", "A_static", "J3", "c")
 _SHAPES = {"J3": (3, 3), "B_c": (2,), "B": (2,), "B_euler": (2,), "c": (2,)}
+_SIZES = tuple(math.prod(_SHAPES.get(name, (2, 2))) for name in _LIN)
 
 
 def cache_dir() -> Path | None:
@@ -78,45 +82,52 @@ def entry_key(scenario: Scenario) -> str:
     return h.hexdigest()
 
 
-def _encode(key: str, samples: list[CdrwSample]) -> bytes:
-    rows = [[s.k, s.t, s.alpha, s.q, s.X, s.de, s.meas, s.meas_faultfree, s.fault_active,
-             [[e.t, e.action, e.index] for e in s.events],
-             [getattr(s.lin, name).tolist() for name in _LIN], s.lin.dt] for s in samples]
-    body = json.dumps({"key": key, "samples": rows}, separators=(",", ":")).encode()
+def _encode(key: str, samples: list[CdrwSample]) -> bytes | None:
+    """The entry: its digest line, a JSON line (key, reading names, fault events), then one
+    row of float64 per sample, bit for bit (None: readings that change names, not stored)."""
+    names = list(samples[0].meas) if samples else []
+    if any(list(s.meas) != names or list(s.meas_faultfree) != names for s in samples):
+        return None
+    rows = [[s.t, s.alpha, s.q, s.X, s.de, *s.meas.values(), *s.meas_faultfree.values(),
+             float(s.fault_active), s.lin.dt,
+             *(v for name in _LIN for v in getattr(s.lin, name).ravel().tolist())] for s in samples]
+    events = [[s.k, e.t, e.action, e.index] for s in samples for e in s.events]
+    head = json.dumps({"key": key, "n": len(samples), "readings": names, "events": events})
+    body = head.encode() + b"\n" + np.array(rows, dtype="<f8").tobytes()
     return hashlib.sha256(body).hexdigest().encode() + b"\n" + body
-
-
-def _floats(d: Any) -> dict[str, float]:
-    if not isinstance(d, dict):
-        raise ValueError("not a reading")
-    return {str(k): float(v) for k, v in d.items()}
-
-
-def _array(name: str, value: Any) -> np.ndarray:
-    a = np.array(value, dtype=float)
-    if a.shape != _SHAPES.get(name, (2, 2)):
-        raise ValueError(f"{name}: shape {a.shape}")
-    return a
 
 
 def _decode(data: bytes, key: str, scenario: Scenario, n: int) -> list[CdrwSample]:
     digest, _, body = data.partition(b"\n")
     if digest != hashlib.sha256(body).hexdigest().encode():
         raise ValueError("digest")
-    doc = json.loads(body)
-    if doc["key"] != key or len(doc["samples"]) != n:
+    head_line, _, block = body.partition(b"\n")
+    head = json.loads(head_line)
+    names = [str(x) for x in head["readings"]]
+    width = 7 + 2 * len(names) + sum(_SIZES)
+    if head["key"] != key or head["n"] != n or len(block) != n * width * 8:
         raise ValueError("another flight")
+    table = np.frombuffer(block, dtype="<f8").reshape(n, width)
     fs = scenario.sensor_faults
+    events: dict[int, list[FaultEvent]] = {}
+    for k, t, action, i in head["events"]:
+        if action not in ("start", "end") or type(k) is not int or type(i) is not int \
+                or not (0 <= k < n and 0 <= i < len(fs)):
+            raise ValueError("event")
+        events.setdefault(k, []).append(FaultEvent(float(t), action, i, fs[i]))
+    m = len(names)
     out = []
-    for k, (k_, t, alpha, q, x, de, meas, ff, active, events, lin, dt) in enumerate(doc["samples"]):
-        if k_ != k or not isinstance(active, bool):
-            raise ValueError("sample")
-        evs = tuple(FaultEvent(float(et), str(act), int(i), fs[int(i)]) for et, act, i in events)
-        arrays = {name: _array(name, v) for name, v in zip(_LIN, lin, strict=True)}
-        out.append(CdrwSample(k=k, t=float(t), alpha=float(alpha), q=float(q), X=float(x),
-                              de=float(de), meas=_floats(meas), meas_faultfree=_floats(ff),
-                              fault_active=active, events=evs,
-                              lin=CdrwLinearisation(**arrays, dt=float(dt))))
+    for k, row in enumerate(table.tolist()):
+        meas, ff = row[5:5 + m], row[5 + m:5 + 2 * m]
+        lin, at = {}, 7 + 2 * m
+        for name, size in zip(_LIN, _SIZES):
+            lin[name] = np.array(row[at:at + size]).reshape(_SHAPES.get(name, (2, 2)))
+            at += size
+        out.append(CdrwSample(k=k, t=row[0], alpha=row[1], q=row[2], X=row[3], de=row[4],
+                              meas=dict(zip(names, meas)), meas_faultfree=dict(zip(names, ff)),
+                              fault_active=row[5 + 2 * m] != 0.0,
+                              events=tuple(events.get(k, ())),
+                              lin=CdrwLinearisation(**lin, dt=row[6 + 2 * m])))
     return out
 
 
@@ -164,9 +175,21 @@ def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
         except (ValueError, TypeError, KeyError, IndexError):
             pass   # not a valid entry: rebuilt below
     samples = compute(scenario)
-    try:
-        atomic_write(path, _encode(key, samples))
+    entry = _encode(key, samples)
+    if entry is not None:
+        _store(path, entry)
         _prune(d)
-    except OSError:
-        pass       # a full or read-only disk: the flight is computed next time too
     return samples
+
+
+def _store(path: Path, entry: bytes) -> None:
+    """Write the entry beside its place, then rename it there (a reader sees the old entry or
+    the new one).  Not synced: an entry a crash tears fails its digest and is rebuilt."""
+    tmp = path.with_name(f".{path.name}.{unique_tag()}")
+    try:
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(entry)
+        os.replace(tmp, path)
+    except OSError:
+        tmp.unlink(missing_ok=True)   # a full or read-only disk: computed next time too

@@ -59,7 +59,7 @@ def same(a, b) -> None:
 
 
 def entries(d: Path) -> list[Path]:
-    return sorted(d.glob("*.json"))
+    return sorted(d.glob(f"*{cdrw_cache.SUFFIX}"))
 
 
 def test_a_cached_flight_is_the_computed_one_bit_for_bit(scenario, computed, cache) -> None:
@@ -168,8 +168,8 @@ def test_old_entries_go_first(scenario, cache, monkeypatch) -> None:
     short = scenario.replace(duration=0.1)
     for seed in (1, 2, 3):
         cdrw_cache.open_loop(short.replace(seed=seed), 6)
-        entry = cache / f"{cdrw_cache.entry_key(short.replace(seed=seed))}.json"
+        entry = cache / f"{cdrw_cache.entry_key(short.replace(seed=seed))}{cdrw_cache.SUFFIX}"
         os.utime(entry, (1000 + seed, 1000 + seed))   # apart, whatever the clock's grain
     kept = entries(cache)
     assert len(kept) == 2
-    assert cache / f"{cdrw_cache.entry_key(short.replace(seed=1))}.json" not in kept
+    assert cache / f"{cdrw_cache.entry_key(short.replace(seed=1))}{cdrw_cache.SUFFIX}" not in kept

@@ -27,7 +27,6 @@ import os
 import stat
 import sys
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -40,6 +39,8 @@ from hil.sim.cdrw_flight import CdrwSample, CdrwSimulation
 from hil.sim.sensor_faults import FaultEvent
 
 CACHE_ENV = "FCC_HIL_CACHE"
+#: an entry's file: <key>.flight
+SUFFIX = ".flight"
 #: an entry is one flight (0.13 MB for the default one); larger is not one of ours
 ENTRY_MAX_BYTES = 16 << 20
 #: entries kept (the oldest go first): a campaign of new seeds does not fill the disk
@@ -75,6 +76,7 @@ def _usable_dir(d: Path) -> bool:
 
 
 def entry_key(scenario: Scenario) -> str:
+    """The entry's name: what decides the flight (OSError: a module's source is unreadable)."""
     h = hashlib.sha256()
     for mod in _CODE:
         h.update(Path(mod.__file__ or "").read_bytes())
@@ -147,7 +149,7 @@ def _read(path: Path) -> bytes | None:
 def _prune(d: Path) -> None:
     """Keep the newest MAX_ENTRIES entries."""
     try:
-        entries = sorted((p.stat().st_mtime, p) for p in d.glob("*.json"))
+        entries = sorted((p.stat().st_mtime, p) for p in d.glob(f"*{SUFFIX}"))
         for _, p in entries[:-MAX_ENTRIES]:
             p.unlink()
     except OSError:
@@ -166,8 +168,11 @@ def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
     d = cache_dir()
     if d is None or not _usable_dir(d):
         return compute(scenario)
-    key = entry_key(scenario)
-    path = d / f"{key}.json"
+    try:
+        key = entry_key(scenario)
+    except OSError:   # the code is not in files (a frozen interpreter): nothing to key on
+        return compute(scenario)
+    path = d / f"{key}{SUFFIX}"
     data = _read(path)
     if data is not None:
         try:

@@ -1,5 +1,6 @@
 """hil.results.rowtables.sid_options: the identification options of fcc's command line, read
-without starting sid_replay when the rig wrote the command line alone."""
+without starting sid_replay when the rig wrote the command line alone; the replay's rows read
+only in the columns the tables use."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -9,6 +10,7 @@ import pytest
 from hil.bus import load
 from hil.scenario.file import load_default_scenario
 from hil.results import rowtables
+from hil.results.sidrows import read_rows
 from hil.rig.config import RigConfig
 from hil.rig.flight import fcc_args
 
@@ -39,3 +41,17 @@ def test_a_users_options_are_sorted_by_sid_replays_usage() -> None:
     args = ["--mode", "lockstep", "--apps", "cdrw", "--window", "40", "--stale-limit", "3"]
     rows, sid = rowtables.sid_options(args)
     assert rows == "paper" and sid == ["--window", "40"]
+
+
+def test_the_replays_rows_are_read_column_for_column() -> None:
+    """read_rows with `columns`: those columns only, each the same array as read in full."""
+    text = ("t,filter,alpha_hat,q_hat,gain_norm\n"
+            "0,paper/kf,0.1,0.25,1\n0,prior/kf,0.5,nan,2\n0.02,paper/kf,-0.3,1e-300,3\n")
+    every = read_rows(text)
+    some = read_rows(text, rowtables.ESTIMATES)
+    assert list(every) == list(some) == ["paper/kf", "prior/kf"]
+    assert list(some["paper/kf"]) == ["alpha_hat", "q_hat"]
+    for f in some:
+        for c in some[f]:
+            assert some[f][c].tobytes() == every[f][c].tobytes()
+    assert some["paper/kf"]["q_hat"].tolist() == [0.25, 1e-300]

@@ -161,6 +161,11 @@ def test_the_default_place_is_the_users_cache(monkeypatch, tmp_path) -> None:
     assert cdrw_cache.cache_dir() == tmp_path / "hil" / "cdrw"
     monkeypatch.delenv("XDG_CACHE_HOME")
     assert cdrw_cache.cache_dir() == Path.home() / ".cache" / "hil" / "cdrw"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/dir")       # not absolute: ignored
+    assert cdrw_cache.cache_dir() == Path.home() / ".cache" / "hil" / "cdrw"
+    monkeypatch.delenv("HOME")                                   # no home: no cache
+    monkeypatch.setattr(os.path, "expanduser", lambda p: p)
+    assert cdrw_cache.cache_dir() is None
 
 
 def test_old_entries_go_first(scenario, cache, monkeypatch) -> None:

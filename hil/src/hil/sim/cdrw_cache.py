@@ -54,15 +54,17 @@ _SIZES = tuple(math.prod(_SHAPES.get(name, (2, 2))) for name in _LIN)
 
 
 def cache_dir() -> Path | None:
-    """The cache directory (None: caching is off)."""
+    """The cache directory (None: caching is off; XDG_CACHE_HOME counts only when absolute,
+    as its specification says)."""
     env = os.environ.get(CACHE_ENV, "")
     if env.lower() in ("off", "0", "no"):
         return None
     if env:
         return Path(env)
-    xdg = os.environ.get("XDG_CACHE_HOME", "")
-    base = Path(xdg) if xdg else Path.home() / ".cache"
-    return base / "hil" / "cdrw"
+    xdg = Path(os.environ.get("XDG_CACHE_HOME", ""))
+    base = xdg if xdg.is_absolute() else Path(os.path.expanduser("~")) / ".cache"
+    # no home to expand ("~" stays): no cache rather than one under the current directory
+    return base / "hil" / "cdrw" if base.is_absolute() else None
 
 
 def _usable_dir(d: Path) -> bool:

@@ -2,7 +2,7 @@
 (351 samples of RK4 and local linearisations in pure Python, ~0.2 s in the UML guest) before
 fcc starts, and the flight depends on nothing but the scenario and this code.
 
-    open_loop(scenario) -> [CdrwSample, ...]   from the cache, else computed (and stored)
+    open_loop(scenario, n) -> [CdrwSample] * n   from the cache, else computed (and stored)
 
 Where: $FCC_HIL_CACHE if it names a directory, else $XDG_CACHE_HOME/hil/cdrw, else
 ~/.cache/hil/cdrw; FCC_HIL_CACHE=off computes every flight.  The directory is made owner-only

@@ -5,6 +5,7 @@ inputs: not on which worker flies it, nor on what that worker flew before."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import shutil
 from collections.abc import Sequence
 from pathlib import Path
@@ -28,14 +29,14 @@ class FlightDone:
     """What a rig sends back for one flight (a sweep point)."""
 
     flight: Any                  # MissileResult
-    firmware: dict[str, Any]     # fcc's counters over this flight's session
+    firmware: dict[str, Any]     # fcc's counters of this flight (flights_counters)
 
 
 @dataclasses.dataclass
 class SessionDone:
     """What a rig sends back for a chunk of campaign flights flown in one session: each
     flight's result (index, fault start, CdrwResult; later its CampaignFlight) and fcc's
-    counters over the session."""
+    counters of these flights (flights_counters: the session's end left out)."""
 
     flights: list[tuple[int, float, Any]]
     firmware: dict[str, Any]
@@ -71,7 +72,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
     done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))
                         for (i, t), rec, fl in zip(flights, records, logs)],
-                       firmware_summary(rig.status, rig.security.counters()))
+                       flights_counters(firmware_summary(rig.status, rig.security.counters())))
     if not keep:
         shutil.rmtree(out, ignore_errors=True)
     return done
@@ -98,16 +99,36 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
         with progress_bar(0, False, "") as bar:
             fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
         rig.shutdown()
-    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status, rig.security.counters()))
+    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"),
+                      flights_counters(firmware_summary(rig.status, rig.security.counters())))
     shutil.rmtree(out, ignore_errors=True)
     return done
 
 
-def add_counters(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
-    """fcc's counters of two sessions added up (nested dicts of whole numbers)."""
-    return {k: add_counters(v, b.get(k, {})) if isinstance(v, dict) else v + b.get(k, 0)
+#: what fcc counts once per session after its flights: the shutdown's GROUND and SHUTDOWN
+#: (SIM_CONTROL frames, FCC_E2E_COUNTS.ok; hil.rig.session.RigSession.shutdown).  Nothing
+#: before the first flight is counted, so a session's counters less these are its flights'.
+SESSION_END = {"e2e": {"ok": 2}}
+
+
+def add_counters(a: dict[str, Any], b: dict[str, Any], sign: int = 1) -> dict[str, Any]:
+    """fcc's counters a + sign * b (nested dicts of whole numbers; b may hold fewer keys)."""
+    return {k: add_counters(v, b.get(k, {}), sign) if isinstance(v, dict) else v + sign * b.get(k, 0)
             for k, v in a.items()}
 
 
+def flights_counters(session: dict[str, Any]) -> dict[str, Any]:
+    """A session's counters (firmware_summary) less its end: its flights' own share."""
+    return add_counters(session, SESSION_END, -1)
+
+
+def one_session_counters(shares: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The flights' shares (flights_counters, in flight order) as one session flying them all
+    would count them, as the sequential command does: the same for any chunking of the
+    flights into sessions (whole numbers: the order of the sums does not matter)."""
+    total = functools.reduce(add_counters, shares)
+    return add_counters(total, SESSION_END)
+
+
 __all__ = ["CampaignFlight", "FlightDone", "SessionDone", "add_counters", "campaign_flights",
-           "fly_campaign_flights", "fly_sweep_point"]
+           "flights_counters", "fly_campaign_flights", "fly_sweep_point", "one_session_counters"]

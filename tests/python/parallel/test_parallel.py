@@ -120,6 +120,8 @@ def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
     info = json.loads((tmp_path / "run_info.json").read_text())["parallel"]
     assert info["engine"] == "dask.distributed" and info["failed"] == 0
     assert sum(info["flights_by_worker"].values()) == RUNS and len(info["flights_by_worker"]) == 2
+    assert info["tasks"] == 2 and info["flights_per_task"] == 2 and info["session_s_per_task"] > 0
+    assert info["retried"] == 0 and info["workers_lost"] == 0
     s = json.loads((tmp_path / "summary.json").read_text())
     assert [r["run"] for r in s["cdrw"]["runs"]] == list(range(RUNS)) and "failed_runs" not in s
     assert s["firmware"]["steps"]["cdrw"] == RUNS * 351
@@ -231,3 +233,16 @@ def test_workers_inside_the_guest_say_so_at_once(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and "without scripts/with-vcan" in err[0]
     assert not (tmp_path / "c").exists()
+
+
+def test_the_bench_models_n_machines_from_the_real_chunking(monkeypatch):
+    """scripts/bench parallel's model: greedy hand-out of the chunks, a + b x flights each."""
+    from hil.bench.parallel import balance, makespan
+    from hil.parallel.runs import session_chunks
+    monkeypatch.setattr("hil.parallel.runs.TASKS_PER_WORKER", 4)
+    assert makespan([3.0, 1.0, 1.0, 1.0], 2) == 3.0 and makespan([1.0] * 5, 2) == 3.0
+    wall, excess = balance(10_000, 32, 0.5, 0.3, session_chunks(10_000, 32))
+    assert excess < 0.20 and wall >= 10_000 * 0.3 / 32
+    old = [range(i, min(i + 25, 1000)) for i in range(0, 1000, 25)]
+    assert balance(1000, 32, 0.0, 0.3, old)[1] > 0.5                   # 40 chunks on 32 rigs
+    assert balance(1000, 32, 0.0, 0.3, session_chunks(1000, 32))[1] < 0.1

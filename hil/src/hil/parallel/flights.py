@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import shutil
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -40,6 +41,7 @@ class SessionDone:
 
     flights: list[tuple[int, float, Any]]
     firmware: dict[str, Any]
+    session_s: float = 0.0       # the session's own start and end, paid once per chunk
 
 
 def worker_config(cfg: RigConfig) -> RigConfig:
@@ -58,21 +60,26 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     records = []
+    t0 = time.perf_counter()
     with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
+        flying = time.perf_counter()
         runner = None
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
             with progress_bar(d.n_steps, False, "") as bar:
                 runner = fly(rig, [d], cfg, bar, runner)
             records.append(cdrw_record(d))
+        flying = time.perf_counter() - flying
         rig.shutdown()
+    session_s = time.perf_counter() - t0 - flying
     require_log(rig)
     logs = split_flights(out / "bus.log", BusAuth(rig.security.key, rig.security.trip))
     if len(logs) != len(flights):
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
     done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))
                         for (i, t), rec, fl in zip(flights, records, logs)],
-                       flights_counters(firmware_summary(rig.status, rig.security.counters())))
+                       flights_counters(firmware_summary(rig.status, rig.security.counters())),
+                       session_s)
     if not keep:
         shutil.rmtree(out, ignore_errors=True)
     return done
@@ -84,7 +91,7 @@ def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> S
     cheap, not inside the rig's guest)."""
     args = fcc_args([scenario], cfg)
     return SessionDone([(i, t, campaign_flight(i, t, res, args)) for i, t, res in done.flights],
-                       done.firmware)
+                       done.firmware, done.session_s)
 
 
 def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:

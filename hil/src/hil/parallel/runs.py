@@ -71,6 +71,9 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
     if not done:
         raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
     firmware = one_session_counters([d.firmware for d in done])
+    # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
+    # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
+    res.info["session_s_per_task"] = sum(d.session_s for d in done) / len(done)
     summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
                              firmware, cfg.mode, failed)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from hil.cli.common import staged
@@ -26,6 +27,15 @@ def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
     if args.target != "host" or args.interface != "socketcan":
         raise UsageError("--workers/--scheduler fly the host fcc on rigs of their own (vcan), "
                          "not --target/--interface")
+    if args.log_format != "log":
+        raise UsageError(f"--log-format {args.log_format}: --workers/--scheduler keep no bus log (each "
+                         "rig session's is read and removed); fly the sequential form for one: "
+                         "scripts/with-vcan .venv/bin/hil campaign|sweep ... --log-format "
+                         f"{args.log_format}")
+    if os.environ.get("WITH_VCAN_UML"):   # set by scripts/with-vcan inside its guest
+        raise UsageError("--workers/--scheduler start each rig's own guest from the host shell and "
+                         "cannot inside scripts/with-vcan's guest: run the command without "
+                         "scripts/with-vcan")
     return {"workers": args.workers, "scheduler": args.scheduler}
 
 

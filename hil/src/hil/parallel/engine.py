@@ -118,6 +118,13 @@ def stop_rig() -> int:
     return os.getpid()
 
 
+def suspicious_keys(keys: Sequence[str], dask_scheduler: Any = None) -> list[str]:
+    """client.run_on_scheduler: those of `keys` that were on a worker when it died (Dask gave
+    them to another worker: TaskState.suspicious)."""
+    tasks = dask_scheduler.tasks
+    return [k for k in keys if k in tasks and tasks[k].suspicious > 0]
+
+
 def noop(x: int) -> int:
     """The engine's own cost per task (scripts/bench)."""
     return x
@@ -189,12 +196,14 @@ class Cluster:
         per_worker: Counter[str] = Counter()
         rig_s = task_s = 0.0
         finished_at: list[tuple[float, int]] = []   # (seconds, flights done by then)
-        retries = 0
-        n = 0
+        retried = 0                                  # flights flown again after a rig failure
+        seen = set(self.workers())                   # to count the workers lost on the way
         ac = as_completed([submit(fl, 0) for fl in flights])
+        n = 0
         with progress_bar(sum(fl.count for fl in flights), progress, desc, unit="flight") as bar:
             for fut in ac:
-                fl, attempt = meta.pop(fut)
+                fl, attempt = meta[fut]              # kept (and the scheduler's task state)
+                seen.update(self.workers())
                 if fut.status == "finished":
                     done: Done = fut.result()
                     res.values[fl.index] = done.value
@@ -207,8 +216,8 @@ class Cluster:
                     continue
                 exc = fut.exception()
                 if attempt == 0 and not isinstance(exc, KilledWorker):
-                    retries += 1
-                    bar.set_postfix(retried=retries)
+                    retried += fl.count
+                    bar.set_postfix(retried=retried)
                     avoid = exc.args[1] if isinstance(exc, FlightFailed) else None
                     ac.add(submit(fl, 1, avoid))
                     continue
@@ -216,6 +225,11 @@ class Cluster:
                 res.failed[fl.index] = what
                 bar.update(fl.count)
         wall = time.perf_counter() - t0
+        # the flights Dask gave to another worker after theirs died (the coordinator never
+        # sees those attempts), and the workers that left during the run
+        moved = set(self.client.run_on_scheduler(suspicious_keys, [f.key for f in meta]))
+        retried += sum(fl.count for f, (fl, _) in meta.items() if f.key in moved)
+        lost = sorted(seen - set(self.workers()))
         # steady state: after as many tasks as workers (every rig has booted by then)
         k = len(per_worker)
         steady = None
@@ -229,5 +243,6 @@ class Cluster:
                     "steady_flights_per_s": steady,
                     "rig_s_per_flight": rig_s / n if n else None,
                     "task_s_per_flight": task_s / n if n else None,
-                    "retried": retries, "failed": len(res.failed)}
+                    "retried": retried, "workers_lost": len(lost), "lost_workers": lost,
+                    "failed": len(res.failed)}
         return res

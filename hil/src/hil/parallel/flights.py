@@ -5,7 +5,9 @@ inputs: not on which worker flies it, nor on what that worker flew before."""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import shutil
+import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -28,17 +30,18 @@ class FlightDone:
     """What a rig sends back for one flight (a sweep point)."""
 
     flight: Any                  # MissileResult
-    firmware: dict[str, Any]     # fcc's counters over this flight's session
+    firmware: dict[str, Any]     # fcc's counters of this flight (flights_counters)
 
 
 @dataclasses.dataclass
 class SessionDone:
     """What a rig sends back for a chunk of campaign flights flown in one session: each
     flight's result (index, fault start, CdrwResult; later its CampaignFlight) and fcc's
-    counters over the session."""
+    counters of these flights (flights_counters: the session's end left out)."""
 
     flights: list[tuple[int, float, Any]]
     firmware: dict[str, Any]
+    session_s: float = 0.0       # the session's own start and end, paid once per chunk
 
 
 def worker_config(cfg: RigConfig) -> RigConfig:
@@ -57,21 +60,26 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     records = []
+    t0 = time.perf_counter()
     with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
+        flying = time.perf_counter()
         runner = None
         for _, fault_start in flights:
             d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
             with progress_bar(d.n_steps, False, "") as bar:
                 runner = fly(rig, [d], cfg, bar, runner)
             records.append(cdrw_record(d))
+        flying = time.perf_counter() - flying
         rig.shutdown()
+    session_s = time.perf_counter() - t0 - flying
     require_log(rig)
     logs = split_flights(out / "bus.log", BusAuth(rig.security.key, rig.security.trip))
     if len(logs) != len(flights):
         raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
     done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))
                         for (i, t), rec, fl in zip(flights, records, logs)],
-                       firmware_summary(rig.status, rig.security.counters()))
+                       flights_counters(firmware_summary(rig.status, rig.security.counters())),
+                       session_s)
     if not keep:
         shutil.rmtree(out, ignore_errors=True)
     return done
@@ -83,7 +91,7 @@ def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> S
     cheap, not inside the rig's guest)."""
     args = fcc_args([scenario], cfg)
     return SessionDone([(i, t, campaign_flight(i, t, res, args)) for i, t, res in done.flights],
-                       done.firmware)
+                       done.firmware, done.session_s)
 
 
 def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
@@ -98,16 +106,36 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
         with progress_bar(0, False, "") as bar:
             fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
         rig.shutdown()
-    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"), firmware_summary(rig.status, rig.security.counters()))
+    done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"),
+                      flights_counters(firmware_summary(rig.status, rig.security.counters())))
     shutil.rmtree(out, ignore_errors=True)
     return done
 
 
-def add_counters(a: dict[str, Any], b: dict[str, Any]) -> dict[str, Any]:
-    """fcc's counters of two sessions added up (nested dicts of whole numbers)."""
-    return {k: add_counters(v, b.get(k, {})) if isinstance(v, dict) else v + b.get(k, 0)
+#: what fcc counts once per session after its flights: the shutdown's GROUND and SHUTDOWN
+#: (SIM_CONTROL frames, FCC_E2E_COUNTS.ok; hil.rig.session.RigSession.shutdown).  Nothing
+#: before the first flight is counted, so a session's counters less these are its flights'.
+SESSION_END = {"e2e": {"ok": 2}}
+
+
+def add_counters(a: dict[str, Any], b: dict[str, Any], sign: int = 1) -> dict[str, Any]:
+    """fcc's counters a + sign * b (nested dicts of whole numbers; b may hold fewer keys)."""
+    return {k: add_counters(v, b.get(k, {}), sign) if isinstance(v, dict) else v + sign * b.get(k, 0)
             for k, v in a.items()}
 
 
+def flights_counters(session: dict[str, Any]) -> dict[str, Any]:
+    """A session's counters (firmware_summary) less its end: its flights' own share."""
+    return add_counters(session, SESSION_END, -1)
+
+
+def one_session_counters(shares: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The flights' shares (flights_counters, in flight order) as one session flying them all
+    would count them, as the sequential command does: the same for any chunking of the
+    flights into sessions (whole numbers: the order of the sums does not matter)."""
+    total = functools.reduce(add_counters, shares)
+    return add_counters(total, SESSION_END)
+
+
 __all__ = ["CampaignFlight", "FlightDone", "SessionDone", "add_counters", "campaign_flights",
-           "fly_campaign_flights", "fly_sweep_point"]
+           "flights_counters", "fly_campaign_flights", "fly_sweep_point", "one_session_counters"]

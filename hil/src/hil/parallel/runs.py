@@ -9,14 +9,13 @@ directory is the same for any number of workers.
 """
 from __future__ import annotations
 
-import functools
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from hil.io.output import write_json
 from hil.parallel.engine import Cluster, Flight
-from hil.parallel.flights import add_counters, campaign_flights, fly_campaign_flights, fly_sweep_point
+from hil.parallel.flights import campaign_flights, fly_campaign_flights, fly_sweep_point, one_session_counters
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.runs.campaign import write_campaign
@@ -26,21 +25,26 @@ from hil.scenario.campaign import campaign_fault_times
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
 
-#: most flights one rig session flies in a row (fcc reset between them, as in the sequential
-#: campaign): the session's start and end (recorder, fcc, its first heartbeat, shutdown) are
-#: paid once per chunk of flights, not once per flight
-SESSION_FLIGHTS_MAX = 25
-#: at least this many sessions, so that a few rigs share a small campaign
-SESSIONS_MIN = 4
+#: tasks per worker: with equal chunks the last round then leaves at most a quarter of a
+#: round idle on any rig (40 chunks of 25 on 32 rigs left 38 % idle); more only pays more
+#: session starts (recorder, fcc, its first heartbeat, shutdown: once per chunk)
+TASKS_PER_WORKER = 4
+#: most flights one rig session flies in a row: a failed chunk is flown again whole, and the
+#: rig's answer timeout grows with the chunk
+SESSION_FLIGHTS_MAX = 100
 
 
-def session_chunks(runs: int) -> list[range]:
-    """The campaign's flights in consecutive chunks, one rig session each (at least
-    SESSIONS_MIN of them, at most SESSION_FLIGHTS_MAX flights in one).  A function of the
-    number of flights only -- never of the workers -- so that every count of workers flies
-    the same sessions and writes the same summary.json (fcc's counters add up per session)."""
-    size = max(1, min(SESSION_FLIGHTS_MAX, -(-runs // SESSIONS_MIN)))
-    return [range(i, min(i + size, runs)) for i in range(0, runs, size)]
+def session_chunks(runs: int, workers: int) -> list[range]:
+    """The campaign's flights in consecutive chunks, one rig session each: about
+    TASKS_PER_WORKER per worker, at most SESSION_FLIGHTS_MAX flights each, sizes differing by
+    at most one flight.  The results do not depend on the chunks (each flight's result and
+    counters are its own, merged in flight order: hil.parallel.flights), so any number of
+    workers writes the same summary.json."""
+    if runs < 1 or workers < 1:
+        raise ValueError(f"session_chunks: runs and workers must be >= 1, got {runs}, {workers}")
+    n = min(runs, max(TASKS_PER_WORKER * workers, -(-runs // SESSION_FLIGHTS_MAX)))
+    bounds = [runs * k // n for k in range(n + 1)]
+    return [range(a, b) for a, b in zip(bounds, bounds[1:])]
 
 
 def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConfig, *,
@@ -54,19 +58,22 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
         raise ValueError(f"--runs must be >= 1, got {runs}")
     out = Path(cfg.out_dir)
     starts = campaign_fault_times(scenario, runs, seed)
-    chunks = session_chunks(runs)
-    tasks = [Flight(c, fly_campaign_flights, (scenario, [(i, float(starts[i])) for i in chunk]),
-                    count=len(chunk), post=campaign_flights, post_args=(scenario,))
-             for c, chunk in enumerate(chunks)]
     t0 = time.perf_counter()
     with Cluster(workers, scheduler) as cluster:
+        chunks = session_chunks(runs, max(1, len(cluster.workers())))
+        tasks = [Flight(c, fly_campaign_flights, (scenario, [(i, float(starts[i])) for i in chunk]),
+                        count=len(chunk), post=campaign_flights, post_args=(scenario,))
+                 for c, chunk in enumerate(chunks)]
         res = cluster.run(tasks, cfg, progress=cfg.progress, desc="hil campaign")
     done = [res.values[c] for c in sorted(res.values)]
     failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[c]}
               for c in sorted(res.failed) for i in chunks[c]]
     if not done:
         raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
-    firmware = functools.reduce(add_counters, [d.firmware for d in done])
+    firmware = one_session_counters([d.firmware for d in done])
+    # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
+    # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
+    res.info["session_s_per_task"] = sum(d.session_s for d in done) / len(done)
     summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
                              firmware, cfg.mode, failed)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
@@ -89,7 +96,7 @@ def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Seque
     done = [res.values[i] for i in sorted(res.values)]
     if not done:
         raise RigError(f"all {len(points)} sweep flights failed twice; first: {res.failed[0]}")
-    firmware = functools.reduce(add_counters, [d.firmware for d in done])
+    firmware = one_session_counters([d.firmware for d in done])
     summary = write_sweep(out, scenario, periods, [d.flight for d in done], firmware, cfg.mode)
     if res.failed:
         summary["failed_runs"] = [{"run": i, "period": points[i].lqg.period, "bits": points[i].lqg.bits,  # type: ignore[union-attr]

@@ -101,8 +101,12 @@ def tool(name: str) -> Path:
         build = "build-m4f" if image else "build"
         raise ToolNotFound(f"{name} is not built: run `cmake -S . -B {build} -G Ninja && cmake "
                            f"--build {build}` in {tree}, or {_HOW}")
-    how = _HOW.replace(BUILD_ENV, M4F_BUILD_ENV) if image else _HOW
-    raise ToolNotFound(f"{name} not found: {how}" + (" (or --fcc PATH / $FCC_HIL_FCC)" if name == "fcc" else ""))
+    if image:
+        how = (f"give --fcc IMAGE or ${M4F_BUILD_ENV} (the Cortex-M4F cross build: "
+               f"firmware/port/mps2_an386/README.md), or put it on $PATH")
+    else:
+        how = _HOW + (" (fcc: also --fcc PATH or $FCC_HIL_FCC)" if name == "fcc" else "")
+    raise ToolNotFound(f"{name} not found: {how}")
 
 
 def fcc_binary() -> Path:

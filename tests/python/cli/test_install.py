@@ -135,8 +135,8 @@ def test_installed_hil_stands_alone(venv: Path, tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("args, given, missing", [
     (("run", "cdrw"), (), "fcc not found"),                       # nothing given: fcc first
-    (("run", "cdrw"), ("fcc",), "bin/canrec is not"),             # then the recorder
-    (("run", "cdrw"), ("fcc", "canrec"), "bin/sid_replay is not"),  # not after the flight
+    (("run", "cdrw"), ("fcc",), "bin/canrec: not an executable file"),             # then the recorder
+    (("run", "cdrw"), ("fcc", "canrec"), "bin/sid_replay: not an executable file"),  # not after the flight
     (("study", "missile-rms"), (), "lqg_design not found"),
     (("study", "cdrw"), (), "sid_replay not found"),
     (("run", "cdrw", "--target", "qemu-m4f"), (), "fcc_m4f.elf not found"),

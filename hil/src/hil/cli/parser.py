@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
+import hil
 from hil.cli.usage import PROG, UsageError
 from hil.results.fig3_grid import FIG3_PERIODS
 
@@ -61,7 +62,7 @@ def positive(text: str) -> float:
 
 
 def version() -> str:
-    import hil  # hil.__version__: looked up in the package's metadata when asked (--version only)
+    """hil.__version__: looked up in the package's metadata when asked (--version only)."""
     return str(hil.__version__)
 
 

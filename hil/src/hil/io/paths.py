@@ -72,10 +72,10 @@ def _executable(path: Path) -> bool:
     return path.is_file() and os.access(path, os.X_OK)
 
 
-def _given(path: str | Path, what: str) -> Path:
+def _given(path: str | Path, what: str, where: str = "") -> Path:
     p = Path(path).expanduser()
     if not _executable(p):
-        raise ToolNotFound(f"{what}: {p} is not an executable file")
+        raise ToolNotFound(f"{what}{p}: not an executable file{where}")
     return p.resolve()
 
 
@@ -85,10 +85,11 @@ def tool(name: str) -> Path:
     if name == "fcc":
         for given, what in ((_fcc_override, "--fcc"), (os.environ.get(FCC_ENV), f"${FCC_ENV}")):
             if given:
-                return _given(given, what)
+                return _given(given, f"{what} ")
     env = M4F_BUILD_ENV if image else BUILD_ENV
     if os.environ.get(env):
-        return _given(Path(os.environ[env]).expanduser() / "bin" / name, f"{name} (--build-dir or ${env})" if env == BUILD_ENV else f"{name} (${env})")
+        given_by = f"--build-dir or ${env}" if env == BUILD_ENV else f"${env}"
+        return _given(Path(os.environ[env]).expanduser() / "bin" / name, "", f" (from {given_by})")
     tree = source_tree()
     if tree is not None:
         built = tree / ("build-m4f" if image else "build") / "bin" / name

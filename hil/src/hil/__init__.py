@@ -18,3 +18,15 @@ One room per concern, lowest first; a module imports its own room and the rooms 
     bench      the benchmarks' Python (scripts/bench.d)
     cli        `hil` (nothing imports it)
 """
+
+
+def __getattr__(name: str) -> str:
+    """hil.__version__: the installed distribution's version (hil/pyproject.toml, the one place
+    it is written), looked up when asked: importlib.metadata costs 0.1 s in the UML guest."""
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            return version("hil")
+        except PackageNotFoundError:
+            return "unknown (not installed)"
+    raise AttributeError(f"module 'hil' has no attribute {name!r}")

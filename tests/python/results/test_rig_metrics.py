@@ -116,7 +116,8 @@ def test_campaign_table5_intervals_by_hand():
     s = math.sqrt(((1 - 2) ** 2 + 0 + (3 - 2) ** 2) / 2)       # 1.0
     h = 4.302652729749464 * s / math.sqrt(3)
     assert c["mean"] == pytest.approx(2.0) and c["std"] == pytest.approx(s)
-    assert c["half_width"] == pytest.approx(h, rel=1e-12)
+    # (scipy < 1.17 computes the quantile 1.2e-11 away from the table: hil allows scipy >= 1.14)
+    assert c["half_width"] == pytest.approx(h, rel=1e-10)
     assert (c["lo"], c["hi"]) == (pytest.approx(2.0 - h), pytest.approx(2.0 + h))
     assert t5["table5"]["kf"]["q"] == pytest.approx(2 * (3.0 + 1.5 + 5.0) / 3)
     # paired improvement: d = kf - azkf = (2, -0.5, 2), mean 7/6, scaled by 100 / mean(kf)

@@ -23,15 +23,16 @@ import numpy as np
 import scipy
 import scipy.linalg as sl
 
-from hil.io.paths import REPO
+from hil.io.paths import source_tree
 
 #: the instruction counts the table shows, by solver and part (scripts/bench.d/lqg measures them)
 IR_PARTS = ("design", "c2d", "ham", "dbl", "total")
 
 
-def reference_module(repo: Path | None = REPO) -> ModuleType:
+def reference_module(repo: Path | None = None) -> ModuleType:
     """tests/gen_lqg_vectors.py: the plant, the weights and the discretisation the firmware's
     test vectors come from."""
+    repo = repo or source_tree()
     if repo is None:
         raise SystemExit("bench lqg: needs the source tree (tests/gen_lqg_vectors.py)")
     spec = importlib.util.spec_from_file_location("gen", repo / "tests" / "gen_lqg_vectors.py")

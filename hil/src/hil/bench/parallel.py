@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 from hil.bench.rig import print_table
-from hil.io.paths import REPO
+from hil.io.paths import source_tree, with_vcan
 from hil.parallel.engine import Cluster, noop
 from hil.parallel.runs import session_chunks
 
@@ -46,9 +46,9 @@ def _campaign(out: Path, runs: int, extra: list[str], guest: bool = False) -> tu
     cmd = [sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", str(runs), "--seed", "3",
            "--out", str(out), "--quiet", "--no-plots", *extra]
     if guest:
-        cmd = [str(REPO / "scripts" / "with-vcan"), "--timeout", "3600", *cmd]
+        cmd = [*with_vcan(), "--timeout", "3600", *cmd]
     t0 = time.perf_counter()
-    r = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
+    r = subprocess.run(cmd, cwd=source_tree(), capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise SystemExit(f"bench parallel: {' '.join(cmd[-9:])} failed: {r.stderr.strip().splitlines()[-1:]}")
@@ -178,7 +178,7 @@ def table5(runs: int, workers: int) -> int:
         cmd = [sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", str(runs), "--seed", "1",
                "--workers", str(workers), "--out", str(out), "--quiet", "--no-plots"]
         t0 = time.perf_counter()
-        r = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True)
+        r = subprocess.run(cmd, cwd=source_tree(), capture_output=True, text=True)
         wall = time.perf_counter() - t0
         if r.returncode != 0:
             print(r.stderr, file=sys.stderr)

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hil.bus.dbc import BusSpec
+from hil.io.paths import DATA
 from hil.util.bounded import TooLarge, read_bounded
 
 KEY_BYTES = 16
@@ -31,7 +32,7 @@ FV_TRUNC_BITS = 16
 WINDOW = 1024
 CANDIDATES = 4
 #: the documented test key (tests only; fcc warns when it is used)
-TEST_KEY_FILE = Path(__file__).resolve().parents[4] / "tests" / "keys" / "secoc_test.key"
+TEST_KEY_FILE = DATA / "secoc_test.key"  # shipped in the package (a copy of tests/keys/)
 
 
 class KeyFileError(ValueError):

@@ -13,11 +13,14 @@
                                    (Table 5 with its controls, offline through sid_replay)
     hil demo [--out out/demo]        (both aircraft; Figs. 4-6 responses; Fig. 3 with HIL points)
 
-Needs a CAN interface (vcan0; `scripts/with-vcan hil ...` provides one) and the built
-firmware in $FCC_BUILD_DIR/bin (default <repo>/build/bin); --target qemu-m4f flies the
-Cortex-M4F image under QEMU instead, --target external whatever answers on the bus.  Exit status: 0 done; 1 the run
+Needs a CAN interface (vcan0; `hil-vcan hil ...` or, in the clone, `scripts/with-vcan hil ...`
+provides one) and the firmware's programs, found as hil.io.paths says (--fcc, --build-dir,
+$FCC_HIL_FCC, $FCC_BUILD_DIR, the source tree's build/, $PATH) and checked before anything
+flies; --target qemu-m4f flies the Cortex-M4F image under QEMU instead, --target external
+whatever answers on the bus.  Exit status: 0 done; 1 the run
 failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
-status); 2 bad command line or scenario, or a foreign --out without --force; 3 fcc did not
+status); 2 bad command line or scenario, a firmware program or an extra of the package
+missing, or a foreign --out without --force; 3 fcc did not
 answer a lockstep step in time; 4 fcc died during the run; 7 (`hil run`, realtime) the run
 finished but its time synchronisation was attacked (forged or replayed SYNC/FOLLOW_UP/TSYNC_AUTH
 refused by fcc), refused (the authenticated master implausible against fcc's clock) or lost: one
@@ -45,6 +48,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from hil.bus import dbc
+from hil.cli import needs
 from hil.cli.parser import build
 from hil.cli.usage import EXIT_USAGE, PROG, UsageError
 from hil.io import paths
@@ -60,6 +64,11 @@ def dispatch(args: argparse.Namespace) -> int:
 
 
 def _apply_paths(args: argparse.Namespace) -> None:
+    build_dir = getattr(args, "build_dir", None)
+    if build_dir is not None:
+        if not build_dir.is_dir():
+            raise UsageError(f"--build-dir {build_dir}: no such directory")
+        os.environ[paths.BUILD_ENV] = str(build_dir.resolve())  # the run's workers look there too
     dbc_path = getattr(args, "dbc", None)
     if dbc_path is not None:
         if not dbc_path.is_file():
@@ -73,6 +82,7 @@ def _apply_paths(args: argparse.Namespace) -> None:
         except paths.ToolNotFound as e:
             paths.set_fcc(None)
             raise UsageError(str(e)) from None
+    needs.check(args)
 
 
 def _join_fcc_args(argv: Sequence[str]) -> list[str]:
@@ -117,11 +127,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGTERM, signal.SIGHUP):
             old[sig] = signal.signal(sig, _terminate)
+    build_env = os.environ.get(paths.BUILD_ENV)
     try:
         return _main(argv)
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler)  # type: ignore[arg-type]
+        if build_env is None:  # --build-dir holds for this call only (tests call main() often)
+            os.environ.pop(paths.BUILD_ENV, None)
+        else:
+            os.environ[paths.BUILD_ENV] = build_env
 
 
 def _main(argv: Sequence[str] | None) -> int:

@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
+import hil
 from hil.cli.usage import PROG, UsageError
 from hil.results.fig3_grid import FIG3_PERIODS
 
@@ -61,11 +62,8 @@ def positive(text: str) -> float:
 
 
 def version() -> str:
-    from importlib.metadata import PackageNotFoundError, version  # 0.1 s in the UML guest: --version only
-    try:
-        return version("hil")
-    except PackageNotFoundError:
-        return "unknown (not installed)"
+    """hil.__version__: looked up in the package's metadata when asked (--version only)."""
+    return str(hil.__version__)
 
 
 class VersionAction(argparse.Action):
@@ -80,13 +78,22 @@ class VersionAction(argparse.Action):
 
 
 def add_paths(p: argparse.ArgumentParser) -> None:
-    """--dbc and --fcc: where the bus contract and the firmware are (installed use)."""
+    """--dbc, --fcc and --build-dir: where the bus contract and the firmware are (installed use)."""
     p.add_argument("--dbc", type=Path, metavar="PATH",
                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
     p.add_argument("--fcc", type=Path, metavar="PATH",
                    help="the firmware binary (default $FCC_HIL_FCC, else $FCC_BUILD_DIR/bin/fcc, "
                         "else build/bin/fcc of the source tree, else fcc on $PATH); with "
-                        "--target qemu-m4f: the ELF image (default: cross-built into build-m4f)")
+                        "--target qemu-m4f: the ELF image (default $FCC_M4F_BUILD_DIR/bin/fcc_m4f.elf, "
+                        "else cross-built into build-m4f of the source tree, else fcc_m4f.elf on $PATH)")
+    add_build_dir(p)
+
+
+def add_build_dir(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--build-dir", type=Path, metavar="DIR",
+                   help="the firmware's CMake build directory: every program (fcc, sid_replay, canrec, "
+                        "lqg_design) from DIR/bin (default $FCC_BUILD_DIR, else build/ of the source "
+                        "tree, else $PATH)")
 
 
 TARGET_CHOICES = ("host", "qemu-m4f", "external")
@@ -226,6 +233,7 @@ def build() -> argparse.ArgumentParser:
     st.add_argument("--accel-var", type=positive, default=0.8, metavar="V",
                     help="accelerometer noise variance, ft^2/s^4 (default 0.8)")
     st.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    add_build_dir(st)
 
     lv = sub.add_parser("live", help="dashboard of the bus while a run flies (alpha, q, estimates, "
                         "fault flags, E2E counters)")

@@ -1,26 +1,49 @@
-"""Where the firmware and its tools are.
+"""Where the firmware's programs, the package's data and the vcan launcher are.
 
-``fcc`` is found, first match wins: ``--fcc PATH`` (``set_fcc``), ``$FCC_HIL_FCC``,
-``$FCC_BUILD_DIR/bin/fcc``, ``<repo>/build/bin/fcc`` when the package runs from its source
-tree, then ``fcc`` on ``$PATH``.  The other built tools (``sid_replay``, ``can_echo``, ...)
-come from the build directory: ``$FCC_BUILD_DIR/bin``, default ``<repo>/build/bin``.
+Every program a command runs -- ``fcc``, ``sid_replay``, ``lqg_design``, ``canrec``,
+``can_echo`` and the Cortex-M4F image ``fcc_m4f.elf`` -- is found by tool(NAME), first match
+wins:
+
+1. the command line: ``--fcc PATH`` (fcc; with ``--target qemu-m4f`` the image, which the
+   target takes as given) and ``--build-dir DIR`` (every program: ``DIR/bin/NAME``; the option
+   sets ``$FCC_BUILD_DIR`` for the run, so that its workers see it too);
+2. the environment: ``$FCC_HIL_FCC`` (fcc), ``$FCC_BUILD_DIR/bin/NAME`` (the image:
+   ``$FCC_M4F_BUILD_DIR/bin``);
+3. the source tree's build directory, when hil runs from a clone (an editable install):
+   ``build/bin/NAME`` (the image: ``build-m4f/bin``, cross-built on demand by hil.targets);
+4. ``NAME`` on ``$PATH``.
+
+A path or directory given in 1 or 2 that does not hold the program is an error, not a reason
+to look further: what the user named is what runs.  source_tree() is the one place that
+knows the layout of the clone; everything else hil reads ships inside the package (DATA).
 """
 from __future__ import annotations
 
 import os
 import shutil
+from collections.abc import Iterable
 from pathlib import Path
 
-#: the source tree this package lives in (None when installed: site-packages has no dbc/)
-_TREE = Path(__file__).resolve().parents[4]
-REPO: Path | None = _TREE if (_TREE / "dbc" / "fcc_hil.dbc").is_file() else None
 FCC_ENV = "FCC_HIL_FCC"
+BUILD_ENV = "FCC_BUILD_DIR"
+M4F_BUILD_ENV = "FCC_M4F_BUILD_DIR"
+#: the Cortex-M4F image's file name (in the cross build's bin/)
+M4F_IMAGE = "fcc_m4f.elf"
+#: the package's data: the DBC and its digest, the published test key, the vcan launcher
+DATA = Path(__file__).resolve().parent.parent / "data"
 
 _fcc_override: Path | None = None
 
 
 class ToolNotFound(FileNotFoundError):
-    """A built program is missing (one line, says how to build it)."""
+    """A firmware program is missing (one line: which, and the ways to give it)."""
+
+
+def source_tree() -> Path | None:
+    """The clone this package runs from (an editable install), or None when installed."""
+    tree = Path(__file__).resolve().parents[4]  # <tree>/hil/src/hil/io/paths.py
+    marks = (tree / "CMakeLists.txt", tree / "dbc" / "fcc_hil.dbc", tree / "scripts" / "with-vcan")
+    return tree if all(m.is_file() for m in marks) else None
 
 
 def set_fcc(path: Path | None) -> None:
@@ -30,46 +53,89 @@ def set_fcc(path: Path | None) -> None:
 
 
 def build_dir() -> Path:
-    default = (REPO or Path.cwd()) / "build"
-    return Path(os.environ.get("FCC_BUILD_DIR", default)).resolve()
+    """The host build directory: $FCC_BUILD_DIR, else the clone's build/ (rule 2, then 3)."""
+    given = os.environ.get(BUILD_ENV)
+    if given:
+        return Path(given).expanduser().resolve()
+    tree = source_tree()
+    if tree is None:
+        raise ToolNotFound(f"no build directory: hil is installed, not run from its source tree; "
+                           f"{_HOW}")
+    return tree / "build"
+
+
+_HOW = (f"give --build-dir DIR or ${BUILD_ENV} (a CMake build of the firmware: "
+        f"`cmake -S SRC -B DIR -G Ninja && cmake --build DIR`), or put it on $PATH")
 
 
 def _executable(path: Path) -> bool:
     return path.is_file() and os.access(path, os.X_OK)
 
 
-def _build_hint() -> str:
-    return (f"build it (`cmake -S . -B build -G Ninja && cmake --build build` in the source tree), "
-            f"or give --fcc PATH / ${FCC_ENV} / $FCC_BUILD_DIR")
-
-
-def fcc_binary() -> Path:
-    """The firmware to run (rules in the module docstring)."""
-    for given, what in ((_fcc_override, "--fcc"), (os.environ.get(FCC_ENV), f"${FCC_ENV}")):
-        if given:
-            p = Path(given).expanduser()
-            if not _executable(p):
-                raise ToolNotFound(f"{what} {p}: not an executable file")
-            return p.resolve()
-    candidates = []
-    if "FCC_BUILD_DIR" in os.environ or REPO is not None:
-        candidates.append(build_dir() / "bin" / "fcc")
-    on_path = shutil.which("fcc")
-    if on_path:
-        candidates.append(Path(on_path))
-    for p in candidates:
-        if _executable(p):
-            return p.resolve()
-    where = candidates[0] if candidates else "fcc"
-    raise ToolNotFound(f"{where} is not built: {_build_hint()}")
+def _given(path: str | Path, what: str, where: str = "") -> Path:
+    p = Path(path).expanduser()
+    if not _executable(p):
+        raise ToolNotFound(f"{what}{p}: not an executable file{where}")
+    return p.resolve()
 
 
 def tool(name: str) -> Path:
-    """Path of a built program, e.g. tool('sid_replay') -> <build>/bin/sid_replay."""
+    """The program NAME (the rules in the module docstring)."""
+    image = name == M4F_IMAGE
     if name == "fcc":
-        return fcc_binary()
-    path = build_dir() / "bin" / name
-    if not _executable(path):
-        raise ToolNotFound(f"{path} is not built: run `cmake -S . -B {build_dir().name} -G Ninja "
-                           f"&& cmake --build {build_dir().name}` (or set FCC_BUILD_DIR)")
-    return path
+        for given, what in ((_fcc_override, "--fcc"), (os.environ.get(FCC_ENV), f"${FCC_ENV}")):
+            if given:
+                return _given(given, f"{what} ")
+    env = M4F_BUILD_ENV if image else BUILD_ENV
+    if os.environ.get(env):
+        given_by = f"--build-dir or ${env}" if env == BUILD_ENV else f"${env}"
+        return _given(Path(os.environ[env]).expanduser() / "bin" / name, "", f" (from {given_by})")
+    tree = source_tree()
+    if tree is not None:
+        built = tree / ("build-m4f" if image else "build") / "bin" / name
+        if _executable(built):
+            return built
+    on_path = shutil.which(name)
+    if on_path:
+        return Path(on_path).resolve()
+    if tree is not None:
+        build = "build-m4f" if image else "build"
+        raise ToolNotFound(f"{name} is not built: run `cmake -S . -B {build} -G Ninja && cmake "
+                           f"--build {build}` in {tree}, or {_HOW}")
+    if image:
+        how = (f"give --fcc IMAGE or ${M4F_BUILD_ENV} (the Cortex-M4F cross build: "
+               f"firmware/port/mps2_an386/README.md), or put it on $PATH")
+    else:
+        how = _HOW + (" (fcc: also --fcc PATH or $FCC_HIL_FCC)" if name == "fcc" else "")
+    raise ToolNotFound(f"{name} not found: {how}")
+
+
+def fcc_binary() -> Path:
+    """The firmware to run on the host (tool('fcc'))."""
+    return tool("fcc")
+
+
+def require(names: Iterable[str]) -> None:
+    """Every program of a run, looked up before it starts: the first missing one raises
+    ToolNotFound (one line), so that nothing flies that cannot finish."""
+    for name in names:
+        tool(name)
+
+
+def uml_dir() -> Path:
+    """Where the packaged vcan launcher keeps its User-Mode Linux kernel: $WITH_VCAN_UML_DIR,
+    else hil/uml in the user's cache directory ($XDG_CACHE_HOME, default ~/.cache)."""
+    given = os.environ.get("WITH_VCAN_UML_DIR")
+    if given:
+        return Path(given).expanduser()
+    cache = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(cache) / "hil" / "uml"
+
+
+def with_vcan() -> list[str]:
+    """The command prefix that runs a command where vcan0 exists: the clone's scripts/with-vcan,
+    else the same script shipped in the package (data/with-vcan) with its kernel in uml_dir()."""
+    tree = source_tree()
+    if tree is not None:
+        return [str(tree / "scripts" / "with-vcan")]
+    return ["env", f"WITH_VCAN_UML_DIR={uml_dir()}", "bash", str(DATA / "with-vcan")]

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from hil.io.paths import REPO
+from hil.io.paths import with_vcan
 from hil.parallel.files import LEASE_S, POLL_S, write_atomic
 from hil.rig.errors import RigError
 
@@ -95,11 +95,11 @@ class GuestRig:
             self.iface, cmd = iface, server
         else:
             self.iface = "vcan0"
-            cmd = [str(REPO / "scripts" / "with-vcan"), "--uml", "--timeout", str(GUEST_LIFETIME_S), *server]
+            cmd = [*with_vcan(), "--uml", "--timeout", str(GUEST_LIFETIME_S), *server]
         log = open(d / "rig.log", "wb")  # noqa: SIM115 - the child owns it
         try:
             self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                         cwd=REPO, start_new_session=True)
+                                         start_new_session=True)
         finally:
             log.close()
         if self._keeper is None:

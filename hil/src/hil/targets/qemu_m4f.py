@@ -30,7 +30,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
-from hil.io.paths import REPO
+from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
@@ -52,28 +52,27 @@ class PilError(RuntimeError):
 
 
 def m4f_build_dir() -> Path:
-    """Where the cross build lives ($FCC_M4F_BUILD_DIR, default <repo>/build-m4f)."""
-    if "FCC_M4F_BUILD_DIR" in os.environ:
-        return Path(os.environ["FCC_M4F_BUILD_DIR"]).resolve()
-    if REPO is None:
+    """Where the cross build lives in a clone ($FCC_M4F_BUILD_DIR, default <tree>/build-m4f)."""
+    if os.environ.get(M4F_BUILD_ENV):
+        return Path(os.environ[M4F_BUILD_ENV]).resolve()
+    tree = source_tree()
+    if tree is None:
         raise PilError("hil runs outside its source tree: give the Cortex-M4F image with --fcc "
-                       "IMAGE.elf (or $FCC_M4F_BUILD_DIR)")
-    return REPO / "build-m4f"
+                       f"IMAGE.elf (or ${M4F_BUILD_ENV})")
+    return tree / "build-m4f"
 
 
 def build_image(build: Path | None = None) -> Path:
     """The ELF image, cross-built (cmake + the M4F toolchain file) when missing or stale."""
+    tree = source_tree()
+    if tree is None:  # installed: the image as it is, found as every program is (hil.io.paths)
+        return build / "bin" / M4F_IMAGE if build else tool(M4F_IMAGE)
     build = build or m4f_build_dir()
-    if REPO is None:  # a build directory without the sources: take the image as it is
-        image = build / "bin" / "fcc_m4f.elf"
-        if not image.is_file():
-            raise PilError(f"no {image}, and no source tree to build it from")
-        return image
     log = build / "hil-build.log"
     steps = []
     if not (build / "CMakeCache.txt").is_file():
-        steps.append(["cmake", "-S", str(REPO), "-B", str(build), "-G", "Ninja",
-                      f"-DCMAKE_TOOLCHAIN_FILE={REPO / 'cmake' / 'arm-none-eabi-cortex-m4f.cmake'}"])
+        steps.append(["cmake", "-S", str(tree), "-B", str(build), "-G", "Ninja",
+                      f"-DCMAKE_TOOLCHAIN_FILE={tree / 'cmake' / 'arm-none-eabi-cortex-m4f.cmake'}"])
     steps.append(["cmake", "--build", str(build)])
     build.mkdir(parents=True, exist_ok=True)
     with open(log, "wb") as fh:
@@ -86,7 +85,7 @@ def build_image(build: Path | None = None) -> Path:
             if rc != 0:
                 raise PilError(f"the Cortex-M4F cross build failed ({' '.join(cmd[:3])} ...); "
                                f"see {log}")
-    image = build / "bin" / "fcc_m4f.elf"
+    image = build / "bin" / M4F_IMAGE
     if not image.is_file():
         raise PilError(f"the cross build made no {image}")
     return image

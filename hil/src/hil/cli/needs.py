@@ -1,0 +1,67 @@
+"""What a command needs before it starts: the firmware's programs (found by hil.io.paths) and
+the optional parts of the package (extras).  Checked after the parse and before anything flies,
+so that a missing sid_replay is one line at the start, not a failure after the flight."""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+
+from hil.cli.usage import UsageError
+from hil.io import paths
+
+#: the commands that start a rig (a recorder and a device under test)
+FLYING = ("run", "campaign", "sweep", "demo", "verify", "replay")
+#: extra -> the modules it brings (hil/pyproject.toml [project.optional-dependencies])
+EXTRAS = {"parallel": ("dask", "distributed"), "live": ("rich",)}
+
+
+def programs(args: argparse.Namespace) -> list[str]:
+    """The firmware programs the parsed command runs, in the order it runs them."""
+    cmd = args.command
+    if cmd == "verify" and (args.list or args.fields):
+        return []
+    names: list[str] = []
+    if cmd in FLYING:
+        target = getattr(args, "target", "host")
+        if target == "host":
+            names.append("fcc")
+        elif target == "qemu-m4f" and args.fcc is None and paths.source_tree() is None:
+            names.append(paths.M4F_IMAGE)  # (in a clone hil.targets cross-builds it when missing)
+        if getattr(args, "interface", "socketcan") == "socketcan" and \
+                getattr(args, "recorder", "canrec") == "canrec":
+            names.append("canrec")
+    aircraft = getattr(args, "aircraft", None)
+    study = getattr(args, "study", None)
+    if (cmd in ("run", "campaign") and aircraft == "cdrw") or cmd in ("demo", "verify") or study == "cdrw":
+        names.append("sid_replay")
+    if cmd == "demo" or study == "missile-rms":
+        names.append("lqg_design")
+    return names
+
+
+def extras(args: argparse.Namespace) -> list[str]:
+    """The extras the parsed command imports."""
+    wanted = []
+    if getattr(args, "workers", None) or getattr(args, "scheduler", None):
+        wanted.append("parallel")
+    if args.command == "live" and (args.rich or sys.stdout.isatty()):
+        wanted.append("live")
+    return wanted
+
+
+def check(args: argparse.Namespace) -> None:
+    """UsageError (exit 2, one line) naming the first thing missing and how to provide it."""
+    for extra in extras(args):
+        missing = [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+        if missing:
+            raise UsageError(f"{' and '.join(missing)} not installed: `pip install 'hil[{extra}]'` "
+                             f"(needed by {_what(extra)})")
+    try:
+        paths.require(programs(args))
+    except paths.ToolNotFound as e:
+        raise UsageError(str(e)) from None
+
+
+def _what(extra: str) -> str:
+    return {"parallel": "--workers and --scheduler", "live": "hil live's dashboard"}[extra]

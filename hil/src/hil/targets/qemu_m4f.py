@@ -202,6 +202,7 @@ class QemuM4f(Device):
         _tool("qemu-system-arm", "qemu-system-arm")
         self._slcand_exe = _tool("slcand", "can-utils")
         self._cangw = _tool("cangw", "can-utils")
+        self._tc = _tool("tc", "iproute2")
         image = image or build_image()
         cfg = boot_record(fcc_args)
         self.cmd = qemu_command(image, log=log_path, bootcfg_file=cfg.write(run_dir / "bootcfg.bin"),
@@ -307,7 +308,7 @@ class QemuM4f(Device):
         if not force and now - self._line_checked < LINE_CHECK_S:
             return None
         self._line_checked = now
-        r = subprocess.run(["tc", "-s", "-j", "qdisc", "show", "dev", self.slcan],
+        r = subprocess.run([self._tc, "-s", "-j", "qdisc", "show", "dev", self.slcan],
                            stdin=subprocess.DEVNULL, capture_output=True, text=True)
         try:
             drops = sum(int(q.get("drops", 0)) for q in json.loads(r.stdout)) if r.returncode == 0 else 0

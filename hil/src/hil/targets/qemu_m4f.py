@@ -16,8 +16,8 @@ instruction count / 1000); realtime without -icount (virtual time = the host's c
 A link loss -- QEMU gone, slcand gone, the interface gone -- is seen by `poll()` and is a rig
 error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is lost
 silently: the slcan interface queues LINE_QUEUE frames (a step's burst from the rig waits there
-while the UART takes one byte at a time); a frame the full queue drops (the qdisc's drop count,
-looked at every LINE_CHECK_S while the line is up) and a byte the image's receive ring could not
+while the UART takes one byte at a time); a frame the full queue drops (its queueing discipline's drop count,
+read over rtnetlink every LINE_CHECK_S while the line is up) and a byte the image's receive ring could not
 take (its summary's `board rx_overflows`, also FCC_BUS_COUNTS.rx_overflows on the bus) end the
 run with one line naming the loss.  Needs root for
 slcand, `ip link` and cangw (the User-Mode Linux guest of scripts/with-vcan runs as root) and
@@ -25,7 +25,6 @@ the kernel modules slcan and can-gw (with-vcan loads them) and a devpts at /dev/
 """
 from __future__ import annotations
 
-import json
 import os
 import re
 import shutil
@@ -38,6 +37,7 @@ from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.io.paths import REPO
+from hil.targets import qdisc
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
@@ -55,7 +55,7 @@ LINK_GRACE_S = 2.0
 #: frames the slcan interface queues toward the UART (the kernel's default for slcan is 10:
 #: a step's burst plus the heartbeat or an attacker's frames overflowed it, losing ticks)
 LINE_QUEUE = 256
-#: how often poll() reads the interface's drop count (one `tc` call)
+#: how often poll() reads the interface's drop count (hil.targets.qdisc, over rtnetlink)
 LINE_CHECK_S = 1.0
 #: the image's summary line with its receive ring's overflows (m4f_main.c)
 RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
@@ -202,7 +202,6 @@ class QemuM4f(Device):
         _tool("qemu-system-arm", "qemu-system-arm")
         self._slcand_exe = _tool("slcand", "can-utils")
         self._cangw = _tool("cangw", "can-utils")
-        self._tc = _tool("tc", "iproute2")
         image = image or build_image()
         cfg = boot_record(fcc_args)
         self.cmd = qemu_command(image, log=log_path, bootcfg_file=cfg.write(run_dir / "bootcfg.bin"),
@@ -308,12 +307,14 @@ class QemuM4f(Device):
         if not force and now - self._line_checked < LINE_CHECK_S:
             return None
         self._line_checked = now
-        r = subprocess.run([self._tc, "-s", "-j", "qdisc", "show", "dev", self.slcan],
-                           stdin=subprocess.DEVNULL, capture_output=True, text=True)
+        if not Path(f"/sys/class/net/{self.slcan}").exists():
+            return None
         try:
-            drops = sum(int(q.get("drops", 0)) for q in json.loads(r.stdout)) if r.returncode == 0 else 0
-        except (ValueError, TypeError, AttributeError):
-            return f"cannot read {self.slcan}'s queue statistics from tc"
+            drops = qdisc.drops(self.slcan)
+        except OSError as e:
+            if not Path(f"/sys/class/net/{self.slcan}").exists():
+                return None
+            return f"cannot read {self.slcan}'s queue statistics ({e})"
         if drops == 0:
             return None
         return (f"{drops} frames dropped on their way to the image ({self.slcan}'s queue of "

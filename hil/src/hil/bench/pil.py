@@ -1,9 +1,9 @@
 """scripts/bench.d/pil's Python half: the on-target instruction counts the bench image wrote
 (OUT/bench.log, m4f_bench.elf under -icount shift=0) as a table with times at 168 MHz and the
-hardest case's budget; then fcc_m4f.elf in realtime under QEMU with a re-design requested every
+hardest case's budget; then fcc_m4f.elf in lockstep over its pty (wall ms per CDRW step); then in realtime under QEMU with a re-design requested every
 0.5 s; then the image's flash and static RAM (OUT/size).
 
-    python -m hil.bench.pil OUT IMAGE.elf [--rt-seconds S]
+    python -m hil.bench.pil OUT IMAGE.elf [--rt-seconds S] [--lockstep-steps N]
 """
 from __future__ import annotations
 
@@ -109,6 +109,55 @@ class Commander:
             self.link.send(*f)
 
 
+def lockstep(out: Path, elf: Path, steps: int) -> tuple[float, dict[str, int]]:
+    """fcc_m4f.elf in lockstep over the bare pty (no slcand): `steps` CDRW steps, each its
+    sensor frames, SIM_TICK and its authenticator in one write, then until its FCC_ACK;
+    (wall ms per step, the image's board summary)."""
+    run = out / "lockstep"
+    run.mkdir()
+    with Board(elf, run, config=BootConfig(apps=("cdrw",))) as board:
+        cmd = Commander(board.link())
+        ack = cmd.codec.spec.by_name("FCC_ACK").frame_id
+        cmd.control(COMMAND_FLIGHT)
+        t0 = time.perf_counter()
+        for k in range(steps):
+            for name, values in (("CDRW_AOA", {"alpha": 0.1}), ("CDRW_PITCH_RATE", {"q": 0.01 * (k % 7)}),
+                                 ("CDRW_ELEVATOR", {"delta_e": -0.05}), ("SIM_TICK", {"app": 0})):
+                for f in cmd.security.protect(*cmd.codec.encode(name, {"step": k, **values})):
+                    cmd.link.send(*f)
+            answer = _until_ack(cmd.link, ack)
+            values = cmd.codec.decode(ack, answer[-1][1]).values if answer else None
+            if values is None or int(values["step"]) != k:
+                raise RuntimeError(f"the image did not answer lockstep step {k}")
+        wall = time.perf_counter() - t0
+        cmd.control(COMMAND_GROUND)
+        cmd.control(COMMAND_SHUTDOWN)
+        status = board.exit_status(60)
+        log = board.log()
+    assert status == 0, log
+    board_line = re.search(r"fcc summary: board(.*)", log)
+    assert board_line is not None, log
+    return 1e3 * wall / steps, kv(board_line.group(1))
+
+
+def _until_ack(link: SlcanLink, ack: int) -> list[tuple[int, bytes]]:
+    """The frames up to and including the next FCC_ACK (empty after 20 s without one)."""
+    got = []
+    for fid, data in link.frames(20.0):
+        got.append((fid, data))
+        if fid == ack:
+            return got
+    return []
+
+
+def lockstep_line(steps: int, ms: float, board: dict[str, int]) -> None:
+    print()
+    print(f"lockstep on QEMU (-icount shift=0,sleep=on) over the bare pty, no slcand, {steps} CDRW "
+          f"steps: {ms:.1f} ms a step on this machine ({board['rx_bytes'] / steps:.0f} bytes to the "
+          f"image and {board['tx_bytes'] / steps:.0f} from it per step, one QEMU main-loop round "
+          f"per received byte; the rig in the UML guest adds its system calls' cost)")
+
+
 def redesigns(cmd: Commander, seconds: float) -> int:
     """A re-design every 0.5 s for `seconds` (T alternating 0.025 / 0.02 s); how many."""
     requests = 0
@@ -170,10 +219,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("out", type=Path, help="holds bench.log and size; the realtime run goes to OUT/rt")
     p.add_argument("elf", type=Path, help="fcc_m4f.elf")
     p.add_argument("--rt-seconds", type=float, default=10.0)
+    p.add_argument("--lockstep-steps", type=int, default=200)
     a = p.parse_args(argv)
     rec, designs = read_bench_log(a.out / "bench.log")
     counts_table(rec, designs)
     budget(rec, designs)
+    ms, board = lockstep(a.out, a.elf, a.lockstep_steps)
+    lockstep_line(a.lockstep_steps, ms, board)
     requests, log = realtime(a.out, a.elf, a.rt_seconds)
     realtime_line(a.rt_seconds, requests, log)
     size_line(a.out / "size")

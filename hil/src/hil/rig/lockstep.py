@@ -51,9 +51,9 @@ class LockstepRunner:
         self.resent_ticks = 0
         self.steps = 0
         self.wall_s = 0.0
-        #: a step's frames in one sendmmsg to the host fcc; frame by frame to another target
-        #: (the M4F image in QEMU lost ticks in a burst; not analysed yet)
-        self.batch = getattr(session, "target", "host") == "host"
+        #: a step's frames in one sendmmsg to the host fcc and the M4F image (its slcan line
+        #: queues a burst: hil.targets.qemu_m4f.LINE_QUEUE); frame by frame to an external device
+        self.batch = getattr(session, "target", "host") in ("host", "qemu-m4f")
 
     def _send(self, raws: list[bytes]) -> None:
         link = self.rig.link

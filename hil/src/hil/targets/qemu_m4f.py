@@ -14,13 +14,19 @@ The image has no command line: the run's fcc options go into its boot configurat
 instruction count / 1000); realtime without -icount (virtual time = the host's clock).
 
 A link loss -- QEMU gone, slcand gone, the interface gone -- is seen by `poll()` and is a rig
-error of one line; a UART that stops while QEMU runs is the lockstep timeout.  Needs root for
+error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is lost
+silently: the slcan interface queues LINE_QUEUE frames (a step's burst from the rig waits there
+while the UART takes one byte at a time); a frame the full queue drops (its queueing discipline's drop count,
+read over rtnetlink every LINE_CHECK_S while the line is up) and a byte the image's receive ring could not
+take (its summary's `board rx_overflows`, also FCC_BUS_COUNTS.rx_overflows on the bus) end the
+run with one line naming the loss.  Needs root for
 slcand, `ip link` and cangw (the User-Mode Linux guest of scripts/with-vcan runs as root) and
 the kernel modules slcan and can-gw (with-vcan loads them) and a devpts at /dev/pts.
 """
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import signal
 import struct
@@ -31,6 +37,7 @@ from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
+from hil.targets import qdisc
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
@@ -45,6 +52,13 @@ PTY_TIMEOUT_S = 60.0
 IFACE_TIMEOUT_S = 20.0
 #: how long a link loss waits for QEMU's own exit before it counts as a loss
 LINK_GRACE_S = 2.0
+#: frames the slcan interface queues toward the UART (the kernel's default for slcan is 10:
+#: a step's burst plus the heartbeat or an attacker's frames overflowed it, losing ticks)
+LINE_QUEUE = 256
+#: how often poll() reads the interface's drop count (hil.targets.qdisc, over rtnetlink)
+LINE_CHECK_S = 1.0
+#: the image's summary line with its receive ring's overflows (m4f_main.c)
+RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
 
 
 class PilError(RuntimeError):
@@ -180,6 +194,7 @@ class QemuM4f(Device):
         self.slcan = f"slc{os.getpid() % 100000}"
         self.returncode: int | None = None
         self._lost: str | None = None
+        self._line_checked = 0.0
         self._routes: list[list[str]] = []
         self.qemu: subprocess.Popen[bytes] | None = None
         self.slcand: subprocess.Popen[bytes] | None = None
@@ -223,7 +238,8 @@ class QemuM4f(Device):
                                         pty, self.slcan], stdin=subprocess.DEVNULL,
                                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         self._wait_iface()
-        _run(["ip", "link", "set", self.slcan, "up"], f"ip link set {self.slcan} up")
+        _run(["ip", "link", "set", self.slcan, "txqueuelen", str(LINE_QUEUE), "up"],
+             f"ip link set {self.slcan} up")
         for route in (["-s", self.slcan, "-d", self.iface, "-e"], ["-s", self.iface, "-d", self.slcan]):
             _run([self._cangw, "-A", *route], f"cangw -A {' '.join(route)} (is can-gw loaded?)")
             self._routes.append(route)
@@ -263,7 +279,10 @@ class QemuM4f(Device):
             return self.returncode
         assert self.qemu is not None
         rc = self.qemu.poll()
-        if rc is None and (lost := self._link_gone()) is not None:
+        if rc is None and (lost := self._line_loss()) is not None:
+            self._lost = lost
+            rc = 1
+        elif rc is None and (lost := self._link_gone()) is not None:
             try:  # QEMU exiting (after a shutdown frame) closes the pty, which ends the link first
                 rc = self.qemu.wait(LINK_GRACE_S)
             except subprocess.TimeoutExpired:
@@ -279,6 +298,36 @@ class QemuM4f(Device):
         if not Path(f"/sys/class/net/{self.slcan}").exists():
             return f"interface {self.slcan} gone"
         return None
+
+    def _line_loss(self, force: bool = False) -> str | None:
+        """Frames the full slcan queue dropped (at most every LINE_CHECK_S unless forced), or
+        None; None too once the interface is gone (QEMU's exit closes the line)."""
+        now = time.monotonic()
+        if not force and now - self._line_checked < LINE_CHECK_S:
+            return None
+        self._line_checked = now
+        if not Path(f"/sys/class/net/{self.slcan}").exists():
+            return None
+        try:
+            drops = qdisc.drops(self.slcan)
+        except OSError as e:
+            if not Path(f"/sys/class/net/{self.slcan}").exists():
+                return None
+            return f"cannot read {self.slcan}'s queue statistics ({e})"
+        if drops == 0:
+            return None
+        return (f"{drops} frames dropped on their way to the image ({self.slcan}'s queue of "
+                f"{LINE_QUEUE} frames was full: the UART is slower than the bus traffic)")
+
+    def _image_loss(self) -> str | None:
+        """Bytes the image's receive ring could not take (its summary on the log), or None."""
+        try:
+            m = RX_OVERFLOWS.search(self.log_path.read_text(errors="replace"))
+        except OSError:
+            return None
+        if m is None or int(m.group(1)) == 0:
+            return None
+        return f"the image's UART receive ring overflowed ({m.group(1)} bytes lost)"
 
     def describe_exit(self) -> str:
         rc = self.poll()
@@ -299,10 +348,16 @@ class QemuM4f(Device):
         """Wait up to grace s for QEMU's own exit (after a shutdown frame), then end it; then
         the link (the routes go with the interface)."""
         rc = self.returncode
+        if self._lost is None and Path(f"/sys/class/net/{self.slcan}").exists():
+            self._lost = self._line_loss(force=True)
         if self.qemu is not None:
             rc = _end(self.qemu, grace)
             if self.returncode is None or self._lost is None:
                 self.returncode = rc
+        if self._lost is None:
+            self._lost = self._image_loss()
+        if self._lost is not None and self.returncode == 0:
+            self.returncode = 1
         for route in self._routes:
             subprocess.run([self._cangw, "-D", *route], stdin=subprocess.DEVNULL,
                            capture_output=True)

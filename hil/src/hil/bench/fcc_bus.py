@@ -19,9 +19,11 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import SIM_NODES, load
+from hil.bus.mmsg import BatchSender
 from hil.bus.node import BusNode
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_SHUTDOWN
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
+from hil.rig.link import pack_frame
 
 #: the frames whose kernel time stamps give the turnarounds
 MSL_ACCEL_ID = load().by_name("MSL_ACCELEROMETER").frame_id
@@ -78,13 +80,26 @@ def fcc_process(build: Path, args: Sequence[str], err: Path) -> subprocess.Popen
                             stderr=open(err, "w"))  # noqa: SIM115 - the child keeps it
 
 
+def send_batch(batch: BatchSender, frames: list[tuple[int, bytes]]) -> None:
+    """frames in one sendmmsg, as the rig sends a step's frames to the host fcc (hil.rig.lockstep)."""
+    n = batch.load([pack_frame(fid, data) for fid, data in frames])
+    sent = 0
+    while sent < n:
+        got = batch.send(sent, n)
+        assert got > 0, f"sendmmsg failed: errno {-got}"
+        sent += got
+
+
 def lockstep_steps(node: BusNode, sec: Endpoint, steps: int) -> None:
-    """Each step: sensors, the tick, FCC_ACK; then a RIG_PING that can_echo answers."""
+    """Each step: sensors and the tick (with its authenticator) in one batch, FCC_ACK; then a
+    RIG_PING that can_echo answers."""
+    batch = BatchSender(node.bus.socket.fileno())
     for k in range(steps):
         q_g, n_a = sensors(k)
-        node.send("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g})
-        node.send("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a})
-        send(node, sec, "SIM_TICK", {"app": 1, "step": k})
+        frames = [node.encode("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g}),
+                  node.encode("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a}),
+                  *sec.protect(*node.encode("SIM_TICK", {"app": 1, "step": k}))]
+        send_batch(batch, frames)
         assert node.wait_for("FCC_ACK", 2.0, lambda d, k=k: d.values["step"] == k) is not None, k
         node.send("RIG_PING", {"seq": k, "t_send_us": int(time.monotonic() * 1e6) & 0xFFFFFFFF})
         assert node.wait_for("RIG_PONG", 2.0, lambda d, k=k: d.values["seq"] == k) is not None, k

@@ -266,7 +266,8 @@ static void test_recv_reads_ahead_in_arrival_order(void **state)
 }
 
 /* A short read emptied the kernel's queue: no system call asks it again until the
- * caller's wait (or its own poll, told with fcc_socketcan_readable) saw more. */
+ * caller's wait (or its own poll, told with fcc_socketcan_readable) saw more, or a
+ * send (whose answer may be queued when it returns). */
 static void test_drained_queue_not_asked_again_until_readable(void **state)
 {
     (void)state;
@@ -291,6 +292,18 @@ static void test_drained_queue_not_asked_again_until_readable(void **state)
     fcc_socketcan_readable(&s); /* the caller's own poll saw it */
     fcc_assert_ok(fcc_socketcan_recv(&s, &f));
     assert_int_equal(f.id, 0x124u);
+    /* a send: the answer may be there when it returns, the next receive asks */
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
+    cf.can_id = 0x125u;
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    fcc_can_frame_t out;
+    memset(&out, 0, sizeof out);
+    out.id = 0x321u;
+    fcc_assert_ok(fcc_socketcan_send(&s, &out));
+    fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+    assert_int_equal(f.id, 0x125u);
+    struct can_frame echoed;
+    assert_int_equal(read(peer, &echoed, sizeof echoed), (ssize_t)sizeof echoed);
     /* a full read (as many as asked for) may have left more: the next call asks */
     for (uint32_t i = 0u; i < FCC_SOCKETCAN_RX_BATCH + 1u; ++i) {
         cf.can_id = 0x200u + i;
@@ -304,7 +317,7 @@ static void test_drained_queue_not_asked_again_until_readable(void **state)
     assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
     fcc_can_port_counters_t c;
     fcc_assert_ok(fcc_socketcan_counters(&s, &c));
-    assert_int_equal(c.rx_frames, FCC_SOCKETCAN_RX_BATCH + 3u);
+    assert_int_equal(c.rx_frames, FCC_SOCKETCAN_RX_BATCH + 4u);
     fcc_socketcan_close(&s);
     (void)close(peer);
 }

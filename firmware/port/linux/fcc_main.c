@@ -15,7 +15,7 @@
  * work needs: the wait, one receive for the frames that woke it (the port knows
  * when the kernel's queue is empty), one send per step, and one clock read after
  * the work when time matters to it (a timer came due, a command left and is
- * stamped, the interface is down, the realtime schedule, a followed time master);
+ * stamped, the interface is down, the realtime schedule, the time sync's timeouts);
  * the timer is re-armed only when the next wake moves.  The rest of a wake for
  * frames needs no clock: whatever is due at a time has the timer armed for it.
  */
@@ -153,11 +153,14 @@ static uint64_t min_u64(uint64_t a, uint64_t b)
     return (a < b) ? a : b;
 }
 
-/* The time sync follows a master: its loss is timed (fcc_node_sync_poll). */
-static bool sync_followed(const host_t *h)
+/* The time sync has something timed to check (fcc_node_sync_poll): the loss of the
+ * master it follows, or a SYNC waiting for its FOLLOW_UP.  (Its frames poll it as
+ * they come.) */
+static bool sync_timed(const host_t *h)
 {
-    const fcc_tsync_state_t st = h->node.tsync.state;
-    return st == FCC_TSYNC_LOCKING || st == FCC_TSYNC_LOCKED || st == FCC_TSYNC_HOLDOVER;
+    const fcc_tsync_t *ts = &h->node.tsync;
+    return ts->pending || ts->state == FCC_TSYNC_LOCKING || ts->state == FCC_TSYNC_LOCKED ||
+           ts->state == FCC_TSYNC_HOLDOVER;
 }
 
 static uint64_t next_wake(host_t *h, uint64_t now)
@@ -167,7 +170,7 @@ static uint64_t next_wake(host_t *h, uint64_t now)
     if (h->cli.node.mode == FCC_MODE_REALTIME) {
         wake = min_u64(wake, fcc_node_rt_next(&h->node, h->rt));
     }
-    if (sync_followed(h)) {
+    if (sync_timed(h)) {
         wake = min_u64(wake, h->next_sync_poll_us);
     }
     return wake;
@@ -210,7 +213,7 @@ static void send_status_if_due(host_t *h, uint64_t now)
 
 static void sync_poll_if_due(host_t *h, uint64_t now)
 {
-    if (now < h->next_sync_poll_us) {
+    if (!sync_timed(h) || now < h->next_sync_poll_us) {
         return;
     }
     (void)fcc_node_sync_poll(&h->node);
@@ -249,7 +252,7 @@ static bool loop_once(host_t *h)
         handle_frames(h, FRAME_BUDGET);
     }
     rt_run_due(h);
-    const bool timed = timer_due || h->hp.cmd_unstamped || !h->hp.up || sync_followed(h) ||
+    const bool timed = timer_due || h->hp.cmd_unstamped || !h->hp.up || sync_timed(h) ||
                        h->cli.node.mode == FCC_MODE_REALTIME;
     if (timed) {
         const uint64_t now = fcc_host_monotonic_us(); /* the iteration's one clock read */

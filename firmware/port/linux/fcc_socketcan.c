@@ -342,6 +342,10 @@ static bool batch_send(fcc_socketcan_t *s, batch_t *b, fcc_status_t *st)
 {
     uint32_t next = 0u;
     uint64_t deadline = 0u;
+    /* A send wakes the receivers, and on one CPU they run before the sender goes on: the
+     * answer may be queued when the send returns (the lockstep simulator's next step
+     * is), so the next receive asks the kernel again -- one read instead of a wait. */
+    s->drained = false;
     while (next < b->n) {
         const int sent = sendmmsg(s->fd, &b->mm[next], b->n - next, 0);
         const int err = (sent < 0) ? errno : 0;

@@ -13,9 +13,9 @@
  * System calls are the cost here (under User-Mode Linux each one costs about as
  * much as a lockstep step's arithmetic), so an iteration makes only those its
  * work needs: the wait, one receive for the frames that woke it (the port knows
- * when the kernel's queue is empty), one send per step, and one clock read after
- * the work when time matters to it (a timer came due, a command left and is
- * stamped, the interface is down, the realtime schedule, the time sync's timeouts);
+ * when the kernel's queue is empty), one send per step, a clock read after each
+ * command (its send time), and one after the work when time matters to it (a timer
+ * came due, the interface is down, the realtime schedule, the time sync's timeouts);
  * the timer is re-armed only when the next wake moves.  The rest of a wake for
  * frames needs no clock: whatever is due at a time has the timer armed for it.
  */
@@ -113,6 +113,15 @@ static void measure_command(host_t *h)
     }
 }
 
+/* A command has left since the last stamp: the clock after it is its send time (one
+ * read per command, which the loop's later work reuses). */
+static void stamp_command(host_t *h, uint64_t now)
+{
+    h->now_us = now;
+    fcc_hostport_stamp_command(&h->hp, now);
+    measure_command(h);
+}
+
 /* ---- frames ------------------------------------------------------------------- */
 
 static void handle_frames(host_t *h, uint32_t budget)
@@ -121,6 +130,9 @@ static void handle_frames(host_t *h, uint32_t budget)
         uint32_t n = 0u;
         (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
         measure_steps(h);
+        if (h->hp.cmd_unstamped) { /* before the next frame can run the next step */
+            stamp_command(h, fcc_host_monotonic_us());
+        }
         if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
             return;
         }
@@ -252,17 +264,15 @@ static bool loop_once(host_t *h)
         handle_frames(h, FRAME_BUDGET);
     }
     rt_run_due(h);
-    const bool timed = timer_due || h->hp.cmd_unstamped || !h->hp.up || sync_timed(h) ||
+    const bool timed = timer_due || !h->hp.up || sync_timed(h) ||
                        h->cli.node.mode == FCC_MODE_REALTIME;
-    if (timed) {
+    if (timed || h->hp.cmd_unstamped) {
         const uint64_t now = fcc_host_monotonic_us(); /* the iteration's one clock read */
-        h->now_us = now;
-        fcc_hostport_stamp_command(&h->hp, now);
+        stamp_command(h, now);
         send_status_if_due(h, now);
         (void)fcc_hostport_service(&h->hp, now);
         sync_poll_if_due(h, now);
         measure_steps(h);
-        measure_command(h);
     }
     while (fcc_node_background(&h->node) == FCC_OK) { /* idle time: a pending LQG redesign, */
     }                                                  /* all its slices (36 us on the host) */

@@ -1,5 +1,7 @@
 """scripts/bench.d/fcc, parts 2 and 3, inside scripts/with-vcan: fcc on vcan0 in lockstep
-beside can_echo (one bus, one candump log: both turnarounds seen by the same observer), then
+beside can_echo (one bus, one recorder's log: both turnarounds seen by the same observer; a step's
+frames go out in one sendmmsg, as hil.rig.lockstep sends them to the host fcc, so that the tick's
+authenticator follows the tick at once, as the echo's answer needs only its ping), then
 fcc in realtime with both applications at 50 Hz fed by a python simulator.  Writes
 OUT/vcan.json (hil.bench.fcc_table prints it) and leaves bus.log, lock.err and rt.err in OUT.
 
@@ -106,8 +108,10 @@ def lockstep_steps(node: BusNode, sec: Endpoint, steps: int) -> None:
 
 
 def lockstep_run(build: Path, out: Path, steps: int, res: dict[str, Any]) -> None:
-    """fcc in lockstep and can_echo on one bus, recorded by candump -L into OUT/bus.log."""
-    dump = subprocess.Popen(["candump", "-L", "vcan0"], stdout=open(out / "bus.log", "w"))  # noqa: SIM115
+    """fcc in lockstep and can_echo on one bus, recorded into OUT/bus.log by canrec, the rig's
+    recorder (candump's lines, the kernel's receive stamps; one read for a step's frames where
+    candump reads and writes each: an observer that would delay a batch more than a ping)."""
+    dump = subprocess.Popen([str(build / "bin" / "canrec"), "-o", str(out / "bus.log"), "vcan0"])
     echo = subprocess.Popen([str(build / "bin" / "can_echo"), "-i", "vcan0", "-q"], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     node = BusNode("vcan0", SIM_NODES)

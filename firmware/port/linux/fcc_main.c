@@ -265,8 +265,8 @@ static bool loop_once(host_t *h)
     }
     rt_run_due(h);
     const bool timed = timer_due || !h->hp.up || sync_timed(h) ||
-                       h->cli.node.mode == FCC_MODE_REALTIME;
-    if (timed || h->hp.cmd_unstamped) {
+                       h->cli.node.mode == FCC_MODE_REALTIME || h->hp.cmd_unstamped;
+    if (timed) {
         const uint64_t now = fcc_host_monotonic_us(); /* the iteration's one clock read */
         stamp_command(h, now);
         send_status_if_due(h, now);

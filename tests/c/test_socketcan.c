@@ -3,7 +3,8 @@
  * interface: a missing interface, bad names, bad filters, a closed port -- and
  * the batched send (sendmmsg) and receive (recvmmsg) on a datagram socket pair,
  * the same system calls as on a CAN socket: order and bytes, a full queue
- * retried then dropped, an I/O error ending the batch, frames read ahead.  The port's traffic is tested over vcan0 by
+ * retried then dropped, an I/O error ending the batch, frames read ahead, a drained
+ * queue not asked again until the descriptor is readable.  The port's traffic is tested over vcan0 by
  * tests/python/bus/test_bus_vcan.py (can_echo) and every vcan test of fcc.
  */
 #include "fcc_test.h"
@@ -255,11 +256,69 @@ static void test_recv_reads_ahead_in_arrival_order(void **state)
     memset(&cf, 0, sizeof cf);
     assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
     assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    fcc_assert_ok(fcc_socketcan_wait(&s, 0));
     fcc_assert_ok(fcc_socketcan_recv(&s, &f));
     assert_true(fcc_socketcan_pending(&s));
     fcc_socketcan_close(&s);
     assert_false(fcc_socketcan_pending(&s));
     assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_ARG);
+    (void)close(peer);
+}
+
+/* A short read emptied the kernel's queue: no system call asks it again until the
+ * caller's wait (or its own poll, told with fcc_socketcan_readable) saw more, or a
+ * send (whose answer may be queued when it returns). */
+static void test_drained_queue_not_asked_again_until_readable(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 1000u);
+    struct can_frame cf;
+    memset(&cf, 0, sizeof cf);
+    cf.can_id = 0x123u;
+    cf.len = 1u;
+    fcc_can_frame_t f;
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN); /* nothing: drained */
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN); /* not asked again */
+    fcc_assert_ok(fcc_socketcan_wait(&s, 0));
+    fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+    assert_int_equal(f.id, 0x123u);
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN); /* the read was short */
+    cf.can_id = 0x124u;
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
+    fcc_socketcan_readable(&s); /* the caller's own poll saw it */
+    fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+    assert_int_equal(f.id, 0x124u);
+    /* a send: the answer may be there when it returns, the next receive asks */
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
+    cf.can_id = 0x125u;
+    assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    fcc_can_frame_t out;
+    memset(&out, 0, sizeof out);
+    out.id = 0x321u;
+    fcc_assert_ok(fcc_socketcan_send(&s, &out));
+    fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+    assert_int_equal(f.id, 0x125u);
+    struct can_frame echoed;
+    assert_int_equal(read(peer, &echoed, sizeof echoed), (ssize_t)sizeof echoed);
+    /* a full read (as many as asked for) may have left more: the next call asks */
+    for (uint32_t i = 0u; i < FCC_SOCKETCAN_RX_BATCH + 1u; ++i) {
+        cf.can_id = 0x200u + i;
+        assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+    }
+    fcc_assert_ok(fcc_socketcan_wait(&s, 0));
+    for (uint32_t i = 0u; i < FCC_SOCKETCAN_RX_BATCH + 1u; ++i) {
+        fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+        assert_int_equal(f.id, 0x200u + i);
+    }
+    assert_int_equal(fcc_socketcan_recv(&s, &f), FCC_ERR_AGAIN);
+    fcc_can_port_counters_t c;
+    fcc_assert_ok(fcc_socketcan_counters(&s, &c));
+    assert_int_equal(c.rx_frames, FCC_SOCKETCAN_RX_BATCH + 4u);
+    fcc_socketcan_close(&s);
     (void)close(peer);
 }
 
@@ -273,6 +332,7 @@ int main(void)
         cmocka_unit_test(test_send_many_full_queue_retried_then_dropped),
         cmocka_unit_test(test_send_many_io_error_ends_the_batch),
         cmocka_unit_test(test_recv_reads_ahead_in_arrival_order),
+        cmocka_unit_test(test_drained_queue_not_asked_again_until_readable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

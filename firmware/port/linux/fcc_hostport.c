@@ -113,6 +113,22 @@ bool fcc_hostport_pending(const fcc_hostport_t *hp)
     return hp != NULL && hp->up && fcc_socketcan_pending(&hp->sc);
 }
 
+void fcc_hostport_readable(fcc_hostport_t *hp)
+{
+    if (hp != NULL && hp->up) {
+        fcc_socketcan_readable(&hp->sc);
+    }
+}
+
+void fcc_hostport_stamp_command(fcc_hostport_t *hp, uint64_t now_us)
+{
+    if (hp != NULL && hp->cmd_unstamped) {
+        hp->cmd_unstamped = false;
+        hp->cmd_sent_us = now_us;
+        ++hp->cmd_sends;
+    }
+}
+
 void fcc_hostport_lost(fcc_hostport_t *hp)
 {
     if (hp == NULL || !hp->up) {
@@ -183,10 +199,7 @@ static fcc_status_t port_send_many(void *ctx, const fcc_can_frame_t *frames, uin
         cmd_sent = cmd_sent || (st[i] == FCC_OK && frames[i].id == hp->cmd_id);
         io_error = io_error || st[i] == FCC_ERR_IO;
     }
-    if (cmd_sent) { /* the batch has left: its command is on the bus */
-        hp->cmd_sent_us = fcc_host_monotonic_us();
-        ++hp->cmd_sends;
-    }
+    hp->cmd_unstamped = hp->cmd_unstamped || cmd_sent; /* on the bus: the loop stamps it */
     if (io_error) {
         fcc_hostport_lost(hp);
     }

@@ -12,11 +12,12 @@
  * backwards.
  *
  * It sends a batch of frames (a step's outputs, the node's queue) with one
- * sendmmsg (fcc_socketcan_send_many) and stamps the send of each MSL_ELEV_CMD
- * -- right after the batch that carried it -- with CLOCK_MONOTONIC, the clock
- * of the receive time stamps (the kernel's SO_TIMESTAMPNS, moved to
- * CLOCK_MONOTONIC by fcc_socketcan), for the data age sensor frame received ->
- * command sent.
+ * sendmmsg (fcc_socketcan_send_many).  The send of an MSL_ELEV_CMD is stamped
+ * by the loop's own clock read after the frames it was handling
+ * (fcc_hostport_stamp_command): CLOCK_MONOTONIC, the clock of the receive time
+ * stamps (the kernel's SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC by
+ * fcc_socketcan), for the data age sensor frame received -> command sent.  Not a
+ * clock read of its own: under User-Mode Linux each one is a system call.
  */
 #ifndef FCC_HOSTPORT_H
 #define FCC_HOSTPORT_H
@@ -38,7 +39,8 @@ typedef struct {
     uint32_t downs;                   /* times the interface was lost */
     uint32_t reopens;                 /* times it came back */
     uint32_t cmd_id;                  /* identifier whose send is stamped */
-    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC after the last batch with one */
+    bool cmd_unstamped;               /* a batch with one has left since the last stamp */
+    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC of the last stamp */
     uint32_t cmd_sends;               /* sends stamped so far */
     void (*event)(void *ctx, const fcc_event_t *ev);
     void *event_ctx;
@@ -65,6 +67,13 @@ int fcc_hostport_fd(const fcc_hostport_t *hp);
 /* Frames already read from the descriptor (read ahead) wait for the node's
  * receive: do not block on the descriptor while this is true. */
 bool fcc_hostport_pending(const fcc_hostport_t *hp);
+
+/* The loop's poll() found the descriptor readable (fcc_socketcan_readable). */
+void fcc_hostport_readable(fcc_hostport_t *hp);
+
+/* now_us (CLOCK_MONOTONIC, read after the frames were handled) is the send time of
+ * the commands that left since the last call: cmd_sent_us, one more cmd_sends. */
+void fcc_hostport_stamp_command(fcc_hostport_t *hp, uint64_t now_us);
 
 /* An I/O error was seen: close the socket and start probing. */
 void fcc_hostport_lost(fcc_hostport_t *hp);

@@ -9,6 +9,15 @@
  * order; in lockstep the node steps on SIM_TICK inside that call; in realtime
  * the loop releases each application's step at its deadline (fcc_node_rt:
  * the master's sampling instants while a time master is followed).
+ *
+ * System calls are the cost here (under User-Mode Linux each one costs about as
+ * much as a lockstep step's arithmetic), so an iteration makes only those its
+ * work needs: the wait, one receive for the frames that woke it (the port knows
+ * when the kernel's queue is empty), one send per step, a clock read after each
+ * command (its send time), and one after the work when time matters to it (a timer
+ * came due, the interface is down, the realtime schedule, the time sync's timeouts);
+ * the timer is re-armed only when the next wake moves.  The rest of a wake for
+ * frames needs no clock: whatever is due at a time has the timer armed for it.
  */
 #define _GNU_SOURCE 1 /* signalfd, timerfd, sigprocmask */
 
@@ -45,6 +54,10 @@ typedef struct {
     uint64_t end_us;
     uint64_t status_period_us;
     uint64_t next_status_us;
+    uint64_t wake_us;        /* the next wake the loop computed */
+    uint64_t armed_us;       /* the timer's setting (UINT64_MAX: disarmed) */
+    uint64_t now_us;         /* the loop's last clock read */
+    uint64_t next_sync_poll_us;
     fcc_node_rt_t rt[FCC_N_APPS];
     uint32_t seen_steps[FCC_N_APPS]; /* steps already measured */
     uint32_t seen_cmd_sends;
@@ -63,7 +76,7 @@ static const char *const k_app_names[FCC_N_APPS] = {"cdrw", "missile"};
 
 /* ---- measurements ------------------------------------------------------------- */
 
-/* After any call that may have run steps: record their times and latency. */
+/* After any call that may have run steps: record their execution times. */
 static void measure_steps(host_t *h)
 {
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
@@ -73,6 +86,12 @@ static void measure_steps(host_t *h)
             fcc_hist_add(&h->exec[a], na->last_exec_us);
         }
     }
+}
+
+/* After the loop's clock read stamped the command sent (if any): its data age,
+ * and the time sync's residual. */
+static void measure_command(host_t *h)
+{
     if (h->hp.cmd_sends != h->seen_cmd_sends) {
         h->seen_cmd_sends = h->hp.cmd_sends;
         const fcc_app_msl_result_t *r = &h->node.msl.last;
@@ -94,6 +113,15 @@ static void measure_steps(host_t *h)
     }
 }
 
+/* A command has left since the last stamp: the clock after it is its send time (one
+ * read per command, which the loop's later work reuses). */
+static void stamp_command(host_t *h, uint64_t now)
+{
+    h->now_us = now;
+    fcc_hostport_stamp_command(&h->hp, now);
+    measure_command(h);
+}
+
 /* ---- frames ------------------------------------------------------------------- */
 
 static void handle_frames(host_t *h, uint32_t budget)
@@ -102,6 +130,9 @@ static void handle_frames(host_t *h, uint32_t budget)
         uint32_t n = 0u;
         (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
         measure_steps(h);
+        if (h->hp.cmd_unstamped) { /* before the next frame can run the next step */
+            stamp_command(h, fcc_host_monotonic_us());
+        }
         if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
             return;
         }
@@ -134,6 +165,16 @@ static uint64_t min_u64(uint64_t a, uint64_t b)
     return (a < b) ? a : b;
 }
 
+/* The time sync has something timed to check (fcc_node_sync_poll): the loss of the
+ * master it follows, or a SYNC waiting for its FOLLOW_UP.  (Its frames poll it as
+ * they come.) */
+static bool sync_timed(const host_t *h)
+{
+    const fcc_tsync_t *ts = &h->node.tsync;
+    return ts->pending || ts->state == FCC_TSYNC_LOCKING || ts->state == FCC_TSYNC_LOCKED ||
+           ts->state == FCC_TSYNC_HOLDOVER;
+}
+
 static uint64_t next_wake(host_t *h, uint64_t now)
 {
     uint64_t wake = min_u64(h->end_us, h->next_status_us);
@@ -141,11 +182,19 @@ static uint64_t next_wake(host_t *h, uint64_t now)
     if (h->cli.node.mode == FCC_MODE_REALTIME) {
         wake = min_u64(wake, fcc_node_rt_next(&h->node, h->rt));
     }
+    if (sync_timed(h)) {
+        wake = min_u64(wake, h->next_sync_poll_us);
+    }
     return wake;
 }
 
-static void arm_timer(const host_t *h, uint64_t wake)
+/* Arms the timer for wake (UINT64_MAX: disarmed), unless it is so already. */
+static void arm_timer(host_t *h, uint64_t wake)
 {
+    if (wake == h->armed_us) {
+        return;
+    }
+    h->armed_us = wake;
     struct itimerspec its;
     memset(&its, 0, sizeof its);
     if (wake != UINT64_MAX) {
@@ -170,11 +219,23 @@ static void send_status_if_due(host_t *h, uint64_t now)
     }
 }
 
+/* The time sync's loss detection (its frames are handled as they come): at most once
+ * per this many microseconds -- its limits are whole sync intervals. */
+#define SYNC_POLL_US 1000u
+
+static void sync_poll_if_due(host_t *h, uint64_t now)
+{
+    if (!sync_timed(h) || now < h->next_sync_poll_us) {
+        return;
+    }
+    (void)fcc_node_sync_poll(&h->node);
+    h->next_sync_poll_us = now + SYNC_POLL_US;
+}
+
 /* One wait and everything that became due.  False when the loop must end. */
 static bool loop_once(host_t *h)
 {
-    uint64_t now = fcc_host_monotonic_us();
-    arm_timer(h, next_wake(h, now));
+    arm_timer(h, h->wake_us);
     struct pollfd fds[3] = {{h->sig_fd, POLLIN, 0}, {h->timer_fd, POLLIN, 0},
                             {fcc_hostport_fd(&h->hp), POLLIN, 0}};
     const nfds_t nfds = (fds[2].fd >= 0) ? 3u : 2u;
@@ -190,26 +251,39 @@ static bool loop_once(host_t *h)
         h->stop_reason = (n == (ssize_t)sizeof si && si.ssi_signo == SIGINT) ? "SIGINT" : "SIGTERM";
         return false;
     }
-    if ((fds[1].revents & POLLIN) != 0) {
+    const bool timer_due = (fds[1].revents & POLLIN) != 0;
+    if (timer_due) {
         uint64_t expirations;
         (void)read(h->timer_fd, &expirations, sizeof expirations);
+        h->armed_us = UINT64_MAX; /* expired: disarmed until set again */
+    }
+    if (nfds == 3u && fds[2].revents != 0) {
+        fcc_hostport_readable(&h->hp);
     }
     if (nfds == 3u && (fds[2].revents != 0 || pending)) {
         handle_frames(h, FRAME_BUDGET);
     }
     rt_run_due(h);
-    now = fcc_host_monotonic_us();
-    send_status_if_due(h, now);
-    (void)fcc_hostport_service(&h->hp, now);
-    (void)fcc_node_sync_poll(&h->node);
-    measure_steps(h);
+    const bool timed = timer_due || !h->hp.up || sync_timed(h) ||
+                       h->cli.node.mode == FCC_MODE_REALTIME || h->hp.cmd_unstamped;
+    if (timed) {
+        const uint64_t now = fcc_host_monotonic_us(); /* the iteration's one clock read */
+        stamp_command(h, now);
+        send_status_if_due(h, now);
+        (void)fcc_hostport_service(&h->hp, now);
+        sync_poll_if_due(h, now);
+        measure_steps(h);
+    }
     while (fcc_node_background(&h->node) == FCC_OK) { /* idle time: a pending LQG redesign, */
     }                                                  /* all its slices (36 us on the host) */
+    if (timed) {
+        h->wake_us = next_wake(h, h->now_us);
+    }
     if (fcc_node_shutdown_requested(&h->node)) {
         h->stop_reason = "shutdown frame";
         return false;
     }
-    if (now >= h->end_us) {
+    if (h->now_us >= h->end_us) {
         h->stop_reason = "--duration elapsed";
         return false;
     }
@@ -394,6 +468,7 @@ static int start(host_t *h)
     }
     set_rt_priority(h->cli.rt_priority);
     h->start_us = fcc_host_monotonic_us();
+    h->now_us = h->start_us;
     h->end_us = (h->cli.duration_s > 0.0)
                     ? h->start_us + (uint64_t)(h->cli.duration_s * 1e6)
                     : UINT64_MAX;
@@ -404,6 +479,8 @@ static int start(host_t *h)
                             ? UINT64_MAX
                             : h->start_us + h->status_period_us;
     fcc_node_rt_start(&h->node, h->rt, h->start_us);
+    h->armed_us = UINT64_MAX; /* timerfd_create leaves it disarmed */
+    h->wake_us = next_wake(h, h->start_us);
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
         fcc_hist_init(&h->exec[a]);
         fcc_hist_init(&h->jitter[a]);

@@ -204,7 +204,10 @@ static void take_message(fcc_socketcan_t *s, const struct can_frame *cf, size_t 
 }
 
 /* Reads the waiting messages, up to FCC_SOCKETCAN_RX_BATCH, with one recvmmsg into
- * the (empty) read-ahead buffer.  FCC_ERR_AGAIN when none is waiting. */
+ * the (empty) read-ahead buffer.  FCC_ERR_AGAIN when none is waiting.  Fewer than
+ * asked for: the kernel's queue is empty now (drained), so the next read waits for
+ * the caller's wait to see the descriptor readable -- under User-Mode Linux a system
+ * call costs more than a whole step's arithmetic. */
 static fcc_status_t read_ahead(fcc_socketcan_t *s)
 {
     struct can_frame cf[FCC_SOCKETCAN_RX_BATCH];
@@ -225,9 +228,13 @@ static fcc_status_t read_ahead(fcc_socketcan_t *s)
     }
     const int n = recvmmsg(s->fd, mm, FCC_SOCKETCAN_RX_BATCH, MSG_DONTWAIT, NULL);
     if (n < 0) {
-        return (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) ? FCC_ERR_AGAIN
-                                                                           : FCC_ERR_IO;
+        if (errno == EAGAIN || errno == EWOULDBLOCK) {
+            s->drained = true;
+            return FCC_ERR_AGAIN;
+        }
+        return (errno == EINTR) ? FCC_ERR_AGAIN : FCC_ERR_IO;
     }
+    s->drained = (uint32_t)n < FCC_SOCKETCAN_RX_BATCH;
     s->rx_head = 0u;
     s->rx_n = 0u;
     for (int i = 0; i < n; ++i) {
@@ -242,6 +249,9 @@ fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame)
         return FCC_ERR_ARG;
     }
     while (s->rx_head == s->rx_n) { /* error and foreign frames skipped; the queue is finite */
+        if (s->drained) {
+            return FCC_ERR_AGAIN;
+        }
         const fcc_status_t st = read_ahead(s);
         if (st != FCC_OK) {
             return st;
@@ -270,7 +280,18 @@ fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms)
     if (r < 0) {
         return (errno == EINTR) ? FCC_ERR_AGAIN : FCC_ERR_IO;
     }
-    return (r > 0) ? FCC_OK : FCC_ERR_AGAIN;
+    if (r == 0) {
+        return FCC_ERR_AGAIN;
+    }
+    s->drained = false;
+    return FCC_OK;
+}
+
+void fcc_socketcan_readable(fcc_socketcan_t *s)
+{
+    if (s != NULL) {
+        s->drained = false;
+    }
 }
 
 static bool frame_sendable(const fcc_can_frame_t *frame)
@@ -321,6 +342,10 @@ static bool batch_send(fcc_socketcan_t *s, batch_t *b, fcc_status_t *st)
 {
     uint32_t next = 0u;
     uint64_t deadline = 0u;
+    /* A send wakes the receivers, and on one CPU they run before the sender goes on: the
+     * answer may be queued when the send returns (the lockstep simulator's next step
+     * is), so the next receive asks the kernel again -- one read instead of a wait. */
+    s->drained = false;
     while (next < b->n) {
         const int sent = sendmmsg(s->fd, &b->mm[next], b->n - next, 0);
         const int err = (sent < 0) ? errno : 0;

@@ -7,7 +7,12 @@
  *  - receive without blocking, with the kernel's time stamp (SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC):
  *    the waiting frames are read ahead, up to FCC_SOCKETCAN_RX_BATCH with one
  *    recvmmsg(), and handed out one by one in arrival order (a caller that waits
- *    on the descriptor asks fcc_socketcan_pending() first);
+ *    on the descriptor asks fcc_socketcan_pending() first).  A read that returned
+ *    fewer than it asked for emptied the kernel's queue: the port does not ask the
+ *    kernel again (no system call that would say "nothing") until the caller's wait
+ *    says the descriptor is readable (fcc_socketcan_wait, or fcc_socketcan_readable
+ *    for a caller that polls the descriptor itself), or until it sent (the answer
+ *    to a send may be queued when it returns);
  *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
  *    the frame is dropped and counted -- the program never stops on it;
  *  - send many: the same, frames in order, up to FCC_SOCKETCAN_MAX_BATCH per
@@ -43,6 +48,7 @@ typedef struct {
     fcc_can_frame_t rx[FCC_SOCKETCAN_RX_BATCH]; /* frames read ahead, in arrival order */
     uint32_t rx_head;             /* the next one to hand out */
     uint32_t rx_n;                /* how many were read */
+    bool drained;                 /* the last read emptied the kernel's queue */
 } fcc_socketcan_t;
 
 /* Open interface ifname (e.g. "vcan0"): FCC_ERR_IO when it does not exist or
@@ -62,7 +68,9 @@ fcc_status_t fcc_socketcan_set_rcvbuf(fcc_socketcan_t *s, int bytes);
  * socket error.  Error frames and frames the port cannot represent (extended,
  * remote) are counted and skipped.  Frames are read ahead (one recvmmsg for all
  * that wait, up to FCC_SOCKETCAN_RX_BATCH) and handed out one per call; rx_frames
- * counts them as they are handed out. */
+ * counts them as they are handed out.  After a read that emptied the kernel's
+ * queue, FCC_ERR_AGAIN without a system call until fcc_socketcan_wait(),
+ * fcc_socketcan_readable() or a send (frames that came since wait on the descriptor). */
 fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame);
 
 /* Frames read ahead and not yet handed out: the descriptor may not be readable
@@ -73,6 +81,10 @@ bool fcc_socketcan_pending(const fcc_socketcan_t *s);
 /* Wait up to timeout_ms for a frame to read (at once when one is read ahead):
  * FCC_OK readable, FCC_ERR_AGAIN timeout. */
 fcc_status_t fcc_socketcan_wait(fcc_socketcan_t *s, int timeout_ms);
+
+/* The caller's own poll() found the descriptor readable: the next
+ * fcc_socketcan_recv() asks the kernel again. */
+void fcc_socketcan_readable(fcc_socketcan_t *s);
 
 /* Send one standard data frame (dlc <= 8).  FCC_ERR_AGAIN: dropped after the
  * bounded retry (counted in tx_dropped). */

@@ -1,5 +1,7 @@
 """scripts/bench.d/fcc, parts 2 and 3, inside scripts/with-vcan: fcc on vcan0 in lockstep
-beside can_echo (one bus, one candump log: both turnarounds seen by the same observer), then
+beside can_echo (one bus, one recorder's log: both turnarounds seen by the same observer; a step's
+frames go out in one sendmmsg, as hil.rig.lockstep sends them to the host fcc, so that the tick's
+authenticator follows the tick at once, as the echo's answer needs only its ping), then
 fcc in realtime with both applications at 50 Hz fed by a python simulator.  Writes
 OUT/vcan.json (hil.bench.fcc_table prints it) and leaves bus.log, lock.err and rt.err in OUT.
 
@@ -19,9 +21,11 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import SIM_NODES, load
+from hil.bus.mmsg import BatchSender
 from hil.bus.node import BusNode
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_SHUTDOWN
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
+from hil.rig.link import pack_frame
 
 #: the frames whose kernel time stamps give the turnarounds
 MSL_ACCEL_ID = load().by_name("MSL_ACCELEROMETER").frame_id
@@ -78,21 +82,36 @@ def fcc_process(build: Path, args: Sequence[str], err: Path) -> subprocess.Popen
                             stderr=open(err, "w"))  # noqa: SIM115 - the child keeps it
 
 
+def send_batch(batch: BatchSender, frames: list[tuple[int, bytes]]) -> None:
+    """frames in one sendmmsg, as the rig sends a step's frames to the host fcc (hil.rig.lockstep)."""
+    n = batch.load([pack_frame(fid, data) for fid, data in frames])
+    sent = 0
+    while sent < n:
+        got = batch.send(sent, n)
+        assert got > 0, f"sendmmsg failed: errno {-got}"
+        sent += got
+
+
 def lockstep_steps(node: BusNode, sec: Endpoint, steps: int) -> None:
-    """Each step: sensors, the tick, FCC_ACK; then a RIG_PING that can_echo answers."""
+    """Each step: sensors and the tick (with its authenticator) in one batch, FCC_ACK; then a
+    RIG_PING that can_echo answers."""
+    batch = BatchSender(node.bus.socket.fileno())
     for k in range(steps):
         q_g, n_a = sensors(k)
-        node.send("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g})
-        node.send("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a})
-        send(node, sec, "SIM_TICK", {"app": 1, "step": k})
+        frames = [node.encode("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g}),
+                  node.encode("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a}),
+                  *sec.protect(*node.encode("SIM_TICK", {"app": 1, "step": k}))]
+        send_batch(batch, frames)
         assert node.wait_for("FCC_ACK", 2.0, lambda d, k=k: d.values["step"] == k) is not None, k
         node.send("RIG_PING", {"seq": k, "t_send_us": int(time.monotonic() * 1e6) & 0xFFFFFFFF})
         assert node.wait_for("RIG_PONG", 2.0, lambda d, k=k: d.values["seq"] == k) is not None, k
 
 
 def lockstep_run(build: Path, out: Path, steps: int, res: dict[str, Any]) -> None:
-    """fcc in lockstep and can_echo on one bus, recorded by candump -L into OUT/bus.log."""
-    dump = subprocess.Popen(["candump", "-L", "vcan0"], stdout=open(out / "bus.log", "w"))  # noqa: SIM115
+    """fcc in lockstep and can_echo on one bus, recorded into OUT/bus.log by canrec, the rig's
+    recorder (candump's lines, the kernel's receive stamps; one read for a step's frames where
+    candump reads and writes each: an observer that would delay a batch more than a ping)."""
+    dump = subprocess.Popen([str(build / "bin" / "canrec"), "-o", str(out / "bus.log"), "vcan0"])
     echo = subprocess.Popen([str(build / "bin" / "can_echo"), "-i", "vcan0", "-q"], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     node = BusNode("vcan0", SIM_NODES)

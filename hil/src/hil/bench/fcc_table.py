@@ -60,9 +60,9 @@ def latency(v: dict[str, Any]) -> None:
     print(f"\n2. latency on vcan0 (UML), lockstep, missile, {int(lock['missile']['steps'])} steps, "
           f"can_echo on the same bus in the same run [us]")
     print(f"   {'measure':<58}{'n':>6}{'p50':>8}{'p99':>8}")
-    for key, label in (("tick_to_cmd", "SIM_TICK -> MSL_ELEV_CMD (candump stamps)"),
-                       ("sensor_to_cmd", "MSL_ACCELEROMETER -> MSL_ELEV_CMD (candump stamps)"),
-                       ("ping_to_pong", "RIG_PING -> RIG_PONG by can_echo (candump stamps)")):
+    for key, label in (("tick_to_cmd", "SIM_TICK -> MSL_ELEV_CMD (kernel stamps)"),
+                       ("sensor_to_cmd", "MSL_ACCELEROMETER -> MSL_ELEV_CMD (kernel stamps)"),
+                       ("ping_to_pong", "RIG_PING -> RIG_PONG by can_echo (kernel stamps)")):
         r = v[key]
         print(f"   {label:<58}{r['n']:>6}{r['p50']:>8.0f}{r['p99']:>8.0f}")
     lat = lock["latency_us missile"]

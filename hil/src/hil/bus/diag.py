@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import math
 import statistics
 import sys
@@ -28,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NoReturn
 
-from hil.bus import busload, candump, dbc, logio
+from hil.bus import busload, candump, canif, dbc, logio
 from hil.bus.codec import decode_values
 from hil.bus.e2e import E2EReceiver, E2EStatus
 from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID
@@ -200,8 +201,14 @@ def render(rep: dict[str, object]) -> str:
 def capture(iface: str, seconds: float, interface: str = "socketcan") -> list[candump.LogFrame]:
     import can  # only the live mode needs python-can
 
+    logging.getLogger("can").addHandler(logging.NullHandler())  # its errors: one line of ours
     frames: list[candump.LogFrame] = []
-    with can.Bus(interface=interface, channel=iface) as bus:
+    try:
+        canif.check_up(iface)
+        bus = can.Bus(interface=interface, channel=iface)
+    except (OSError, can.CanError) as e:
+        raise _Fail(canif.open_error(iface, e)) from None
+    with bus:
         print(f"{PROG}: capturing {iface} for {seconds:g} s", file=sys.stderr, flush=True)
         end = time.monotonic() + seconds
         while (left := end - time.monotonic()) > 0:

@@ -47,7 +47,8 @@ def _flight_under(dump: subprocess.Popen, out: Path) -> tuple[list[str], int]:
             break
     dump.terminate()
     dump.wait(timeout=10)
-    recorded = sum(1 for _ in open(out / "bus_wall.log", encoding="ascii"))
+    with open(out / "bus_wall.log", encoding="ascii") as f:
+        recorded = sum(1 for _ in f)
     return lines, recorded
 
 

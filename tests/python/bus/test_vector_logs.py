@@ -45,7 +45,8 @@ def test_offsets_from_a_real_start_and_the_rigs_directions(tmp_path: Path, fmt: 
     assert write_frames(path, sim, start=WALL_START, received=sent_by_fcc()) == len(sim)
     if fmt == "asc":
         assert _asc_begin(path) == datetime.fromtimestamp(WALL_START)
-        assert path.read_text().splitlines()[0] == f"date {datetime.fromtimestamp(WALL_START):%a %b %d %H:%M:%S}.250 2026"
+        start = datetime.fromtimestamp(WALL_START)
+        assert path.read_text().splitlines()[0] == f"date {start:%a %b %d %H:%M:%S}.250 2026"
         back = list(can.ASCReader(str(path), relative_timestamp=False))
         offsets = [m.timestamp for m in can.ASCReader(str(path))]   # relative: the simulated times
         assert offsets == pytest.approx([f.timestamp for f in sim], abs=1e-9)

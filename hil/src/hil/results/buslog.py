@@ -180,10 +180,9 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                 continue
             flt, msg = ids[fid]
             vals = msg.decode(data)  # type: ignore[attr-defined]
-            if "step" in vals and check_step:
-                if int(vals["step"]) != (k & 0xFFF):
-                    mismatched += 1
-                    continue
+            if "step" in vals and check_step and int(vals["step"]) != (k & 0xFFF):
+                mismatched += 1
+                continue
             for name, v in vals.items():
                 if name != "step":
                     out[f"{flt}_{name}"][k] = float(v)

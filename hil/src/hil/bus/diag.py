@@ -9,9 +9,9 @@ of its own inter-arrival times, so a T = 0.2 s missile run is not measured again
 DBC's 100 ms), jitter against that period (RMS and worst), E2E classification counts (OK,
 REPEATED, OK_SOME_LOST, WRONG_SEQUENCE, ERROR; NO_NEW_DATA = whole periods in which no frame
 arrived, E2E-protected cyclic messages only), wrong-DLC and out-of-range counts.  Flights are
-the segments between SIM_CONTROL resets; no period spans two.  Then frames the DBC does not know, error frames, and the bus
-load: exact (stuff bits counted from each frame's bit stream) and worst case (135 bits per
-8-byte frame).  --json is strict JSON (null where there is no value).
+the segments between SIM_CONTROL resets; no period spans two.  Then frames the DBC does not
+know, error frames, and the bus load: exact (stuff bits counted from each frame's bit stream)
+and worst case (135 bits per 8-byte frame).  --json is strict JSON (null where there is no value).
 Exit status: 0; 1 timestamps go backwards in the log (counted, the report still printed,
 periods across them left out); 2 bad file or flags, or an interface that cannot be opened
 (one line on stderr: what is wrong and what to do, hil.bus.canif).

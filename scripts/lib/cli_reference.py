@@ -4,8 +4,10 @@ A MkDocs hook (mkdocs.yml `hooks:`): in a page, the line
 
     <!-- generated: hil -->        becomes one section per `hil` subcommand, from its argparse parser
     <!-- generated: scripts -->    becomes the `--help` of every script in scripts/
+    <!-- generated: hil-exit -->   becomes the table of `hil`'s exit statuses (hil.cli.usage.EXIT_STATUS,
+                                   the table `hil --help` prints)
 
-Also a program: `.venv/bin/python scripts/lib/cli_reference.py [hil|scripts]` prints the Markdown.
+Also a program: `.venv/bin/python scripts/lib/cli_reference.py [hil|hil-exit|scripts]` prints the Markdown.
 
 `hil`'s parser is found by module path at run time (PARSER_MODULES x PARSER_FACTORIES, the first
 that imports and builds an argparse parser).  When none does (the package was reorganised), the
@@ -30,7 +32,7 @@ PARSER_FACTORIES = ("build",)
 #: the scripts whose --help goes into the reference, in this order
 SCRIPTS = ("setup", "test", "hil-demo", "with-vcan", "diag", "bench")
 WIDTH = 100
-MARKER = re.compile(r"^<!-- generated: (hil|scripts) -->$", re.M)
+MARKER = re.compile(r"^<!-- generated: (hil-exit|hil|scripts) -->$", re.M)
 
 log = logging.getLogger("mkdocs.hooks.cli_reference")
 
@@ -189,6 +191,17 @@ def hil_markdown() -> str:
     return hil_markdown_from_help(source)
 
 
+def exit_markdown() -> str:
+    """`hil`'s exit statuses as a table, from the one table `hil --help` prints."""
+    try:
+        from hil.cli.usage import EXIT_STATUS
+    except Exception as e:  # noqa: BLE001 - a moved module is a fallback, not an error
+        log.info("cli_reference: no hil.cli.usage.EXIT_STATUS (%s): using `hil --help`", type(e).__name__)
+        return "```text\n" + _help_text([*_hil_command(), "--help"]).split("\nexit status")[-1] + "\n```"
+    rows = [f"| {status} | {_cell(meaning)} |" for status, meaning in EXIT_STATUS]
+    return "\n".join(["| exit | meaning |", "|---|---|", *rows])
+
+
 # ---- the scripts, from their --help -----------------------------------------------------------
 def scripts_markdown() -> str:
     lines = ["Generated at build time from each script's `--help`.", ""]
@@ -200,7 +213,7 @@ def scripts_markdown() -> str:
     return "\n".join(lines)
 
 
-GENERATORS = {"hil": hil_markdown, "scripts": scripts_markdown}
+GENERATORS = {"hil": hil_markdown, "scripts": scripts_markdown, "hil-exit": exit_markdown}
 
 
 # ---- the MkDocs hook -------------------------------------------------------------------------
@@ -211,5 +224,5 @@ def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001
 
 
 if __name__ == "__main__":
-    which = sys.argv[1:] or ["hil", "scripts"]
+    which = sys.argv[1:] or ["hil", "hil-exit", "scripts"]
     print("\n".join(GENERATORS[w]() for w in which))

@@ -6,6 +6,8 @@
  *
  *   can_echo [-i IFACE] [-r ID] [-n COUNT] [-t IDLE_S] [-q]
  *
+ *   can_echo --help
+ *
  * Stops after COUNT echoes (0: never), after IDLE_S seconds without a frame
  * (0: never) or on SIGINT/SIGTERM; prints one "ready" line when listening and
  * one summary line at exit.  Exit 0, 1 on an I/O error, 2 on bad arguments.
@@ -33,11 +35,30 @@ typedef struct {
     int quiet;
 } options_t;
 
-static int usage_error(const char *what, const char *arg)
+/* What parse_args found: run, print the help (exit 0), or a usage error (exit 2). */
+typedef enum { ARGS_RUN = 0, ARGS_HELP = 1, ARGS_BAD = 2 } args_t;
+
+#define CAN_ECHO_USAGE "can_echo [-i IFACE] [-r ID] [-n COUNT] [-t IDLE_S] [-q]"
+
+static void print_help(void)
 {
-    fprintf(stderr, "can_echo: %s '%s' (usage: can_echo [-i IFACE] [-r ID] [-n COUNT] "
-                    "[-t IDLE_S] [-q])\n", what, arg);
-    return 2;
+    fputs("usage: " CAN_ECHO_USAGE "\n"
+          "Echo CAN frames: receive on ID, send the same bytes back on ID + 1 (the rig's\n"
+          "round-trip baseline, through the fcc's own SocketCAN port).\n"
+          "  -i IFACE    the CAN interface (default vcan0)\n"
+          "  -r ID       the standard identifier to echo, 0..0x7FE (default 0x7F0, RIG_PING)\n"
+          "  -n COUNT    stop after COUNT echoes (default 0: never)\n"
+          "  -t IDLE_S   stop after IDLE_S seconds without a frame, 0..86400 (default 0: never)\n"
+          "  -q          no ready line, no summary line\n"
+          "  -h, --help  this text\n"
+          "Stops also on SIGINT/SIGTERM. Exit 0, 1 on an I/O error, 2 on bad arguments.\n",
+          stdout);
+}
+
+static args_t usage_error(const char *what, const char *arg)
+{
+    fprintf(stderr, "can_echo: %s '%s' (usage: " CAN_ECHO_USAGE ")\n", what, arg);
+    return ARGS_BAD;
 }
 
 static int parse_ulong(const char *s, unsigned long max, unsigned long *out)
@@ -54,7 +75,7 @@ static int parse_ulong(const char *s, unsigned long max, unsigned long *out)
     return 0;
 }
 
-static int parse_args(int argc, char **argv, options_t *o)
+static args_t parse_args(int argc, char **argv, options_t *o)
 {
     o->iface = "vcan0";
     o->rx_id = 0x7F0u;
@@ -64,12 +85,21 @@ static int parse_args(int argc, char **argv, options_t *o)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            print_help();
+            return ARGS_HELP;
+        }
         if (strcmp(a, "-q") == 0) {
             o->quiet = 1;
             continue;
         }
+        const int takes_value = strcmp(a, "-i") == 0 || strcmp(a, "-r") == 0 ||
+                                strcmp(a, "-n") == 0 || strcmp(a, "-t") == 0;
+        if (!takes_value) {
+            return usage_error("unknown option", a);
+        }
         if (v == NULL) {
-            return usage_error("missing value or unknown option", a);
+            return usage_error("a value is missing after", a);
         }
         ++i;
         if (strcmp(a, "-i") == 0) {
@@ -90,7 +120,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             return usage_error("unknown option", a);
         }
     }
-    return 0;
+    return ARGS_RUN;
 }
 
 /* Echo until done; returns the exit status. */
@@ -128,8 +158,9 @@ static int echo_loop(fcc_socketcan_t *port, const options_t *o, unsigned long *e
 int main(int argc, char **argv)
 {
     options_t o;
-    if (parse_args(argc, argv, &o) != 0) {
-        return 2;
+    const args_t parsed = parse_args(argc, argv, &o);
+    if (parsed != ARGS_RUN) {
+        return parsed == ARGS_HELP ? 0 : 2;
     }
     fcc_socketcan_t port;
     if (fcc_socketcan_open(&port, o.iface) != FCC_OK) {

@@ -18,7 +18,7 @@ def defines(prefix: str) -> dict[str, int]:
 
 
 def test_commands_are_the_firmwares() -> None:
-    assert protocol.COMMANDS == defines("FCC_MSG_SIM_CONTROL_COMMAND")
+    assert defines("FCC_MSG_SIM_CONTROL_COMMAND") == protocol.COMMANDS
     assert (protocol.COMMAND_NONE, protocol.COMMAND_SHUTDOWN, protocol.COMMAND_RESET,
             protocol.COMMAND_FLIGHT, protocol.COMMAND_GROUND) == (0, 1, 2, 3, 4)
 
@@ -26,9 +26,9 @@ def test_commands_are_the_firmwares() -> None:
 def test_value_tables_are_the_dbcs() -> None:
     db = cantools.database.load_file(str(REPO / "dbc" / "fcc_hil.dbc"))
     sig = db.get_message_by_name("SIM_CONTROL").get_signal_by_name("command")
-    assert protocol.COMMANDS == {str(name): value for value, name in sig.choices.items()}
+    assert {str(name): value for value, name in sig.choices.items()} == protocol.COMMANDS
     app = db.get_message_by_name("SIM_TICK").get_signal_by_name("app")
-    assert protocol.APPS == {str(name): value for value, name in app.choices.items()}
+    assert {str(name): value for value, name in app.choices.items()} == protocol.APPS
     assert protocol.MODE_CODES == {"lockstep": 0, "realtime": 1}
-    assert protocol.SIM_CONTROL_ID == db.get_message_by_name("SIM_CONTROL").frame_id
-    assert protocol.SIM_TICK_ID == db.get_message_by_name("SIM_TICK").frame_id
+    assert db.get_message_by_name("SIM_CONTROL").frame_id == protocol.SIM_CONTROL_ID
+    assert db.get_message_by_name("SIM_TICK").frame_id == protocol.SIM_TICK_ID

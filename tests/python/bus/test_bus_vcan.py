@@ -39,7 +39,7 @@ class Candump:
 
     def __init__(self, path: Path, *args: str) -> None:
         self.path = path
-        self._f = open(path, "w")
+        self._f = open(path, "w")  # noqa: SIM115 - candump writes it until stop() closes it
         self.proc = subprocess.Popen(["candump", "-L", *args, IFACE], stdout=self._f)
 
     def wait_ready(self, node: BusNode) -> None:
@@ -175,7 +175,7 @@ def test_can_echo_counts_error_frames_and_queue_overflows(bin_path) -> None:
         os.kill(echo.pid, signal.SIGCONT)
         time.sleep(0.5)
         # the kernel reports the drop count with the next frames queued
-        for i in range(5):
+        for _ in range(5):
             bus.send(can.Message(arbitration_id=0x7F0, data=bytes(8), is_extended_id=False))
             time.sleep(0.05)
     c = _summary(echo)

@@ -76,7 +76,7 @@ class Recorders:
 
     def __init__(self, tmp: Path, iface: str, canrec: Path) -> None:
         self.a, self.b = tmp / f"candump-{iface}.log", tmp / f"canrec-{iface}.log"
-        self._fa = open(self.a, "w")
+        self._fa = open(self.a, "w")  # noqa: SIM115 - candump writes it until it is closed after the run
         self.candump = subprocess.Popen(["candump", "-L", iface], stdout=self._fa)
         self.canrec = subprocess.Popen([str(canrec), "-o", str(self.b), iface],
                                        stderr=subprocess.PIPE, text=True)

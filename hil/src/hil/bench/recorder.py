@@ -148,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
         ss = got[label]
 
         def per_flight(attr: str) -> float:
-            return statistics.median(getattr(x, attr) / x.flights for x in ss)
+            return statistics.median(getattr(x, attr) / x.flights for x in ss)  # noqa: B023 - this iteration's
 
         wake = statistics.median(x.wakeups / x.steps for x in ss)
         rows += [

@@ -53,7 +53,7 @@ class Decoded:
 
 @dataclass
 class Counters:
-    e2e: dict[E2EStatus, int] = field(default_factory=lambda: {s: 0 for s in E2EStatus})
+    e2e: dict[E2EStatus, int] = field(default_factory=lambda: dict.fromkeys(E2EStatus, 0))
     unknown_id: int = 0
     wrong_dlc: int = 0
     out_of_range: int = 0

@@ -8,17 +8,19 @@ Per message: count, mean rate, mean period, the period the run used (per flight:
 of its own inter-arrival times, so a T = 0.2 s missile run is not measured against the
 DBC's 100 ms), jitter against that period (RMS and worst), E2E classification counts (OK,
 REPEATED, OK_SOME_LOST, WRONG_SEQUENCE, ERROR; NO_NEW_DATA = whole periods in which no frame
-arrived, E2E-protected cyclic messages only), wrong-DLC and out-of-range counts.  Flights are the segments between SIM_CONTROL
-resets; no period spans two.  Then frames the DBC does not know, error frames, and the bus
-load: exact (stuff bits counted from each frame's bit stream) and worst case (135 bits per
-8-byte frame).  --json is strict JSON (null where there is no value).
+arrived, E2E-protected cyclic messages only), wrong-DLC and out-of-range counts.  Flights are
+the segments between SIM_CONTROL resets; no period spans two.  Then frames the DBC does not
+know, error frames, and the bus load: exact (stuff bits counted from each frame's bit stream)
+and worst case (135 bits per 8-byte frame).  --json is strict JSON (null where there is no value).
 Exit status: 0; 1 timestamps go backwards in the log (counted, the report still printed,
-periods across them left out); 2 bad file or flags (one line on stderr).
+periods across them left out); 2 bad file or flags, or an interface that cannot be opened
+(one line on stderr: what is wrong and what to do, hil.bus.canif).
 """
 from __future__ import annotations
 
 import argparse
 import json
+import logging
 import math
 import statistics
 import sys
@@ -26,9 +28,9 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
-from hil.bus import busload, candump, dbc, logio
+from hil.bus import busload, candump, canif, dbc, logio
 from hil.bus.codec import decode_values
 from hil.bus.e2e import E2EReceiver, E2EStatus
 from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID
@@ -116,8 +118,8 @@ class BusStats:
             self.bits_worst += busload.worst_case_bits(len(f.data), f.extended)
         msg = None if (f.extended or f.fd or f.remote) else self.spec.by_id(f.frame_id)
         if msg is None:
-            key = f"{f.frame_id:08X}" if f.extended else f"{f.frame_id:03X}"
-            self.unknown[key] = self.unknown.get(key, 0) + 1
+            ident = f"{f.frame_id:08X}" if f.extended else f"{f.frame_id:03X}"
+            self.unknown[ident] = self.unknown.get(ident, 0) + 1
             return
         if f.frame_id == SIM_CONTROL_ID and len(f.data) == 8 and (f.data[1] >> 4) == COMMAND_RESET:
             self.flight += 1
@@ -170,14 +172,14 @@ def _fmt(x: object, spec: str) -> str:
     return format(x, spec)
 
 
-def render(rep: dict[str, object]) -> str:
+def render(rep: dict[str, Any]) -> str:
     e2e_cols = ("OK", "REPEATED", "OK_SOME_LOST", "WRONG_SEQUENCE", "ERROR", "NO_NEW_DATA")
     short = ("ok", "rep", "lost", "wseq", "err", "nnd")
     # (a space before each time column: a wall-clock heartbeat's period runs to 4 digits)
     head = (f"{'message':<20}{'id':>6}{'count':>8}{'Hz':>9}{'exp':>6} {'T ms':>9}"
             f" {'jit ms':>8} {'max ms':>8} " + "".join(f"{s:>6}" for s in short) + f"{'dlc':>5}{'rng':>5}")
     lines = [head, "-" * len(head)]
-    for m in rep["messages"]:  # type: ignore[union-attr]
+    for m in rep["messages"]:
         e2e = m["e2e"]
         lines.append(
             f"{m['name']:<20}{m['id']:>6}{m['count']:>8}{_fmt(m['rate_hz'], '.2f'):>9}"
@@ -187,7 +189,7 @@ def render(rep: dict[str, object]) -> str:
     unknown = rep["unknown_ids"]
     lines.append("-" * len(head))
     lines.append(f"frames {rep['frames']} in {rep['duration_s']:.3f} s; unknown ids "
-                 + (", ".join(f"{k}×{v}" for k, v in unknown.items()) or "none")  # type: ignore[union-attr]
+                 + (", ".join(f"{k}×{v}" for k, v in unknown.items()) or "none")
                  + f"; error frames {rep['error_frames']}")
     if rep.get("timestamps_backwards"):
         lines.append(f"timestamps going backwards: {rep['timestamps_backwards']} (first at "
@@ -200,8 +202,14 @@ def render(rep: dict[str, object]) -> str:
 def capture(iface: str, seconds: float, interface: str = "socketcan") -> list[candump.LogFrame]:
     import can  # only the live mode needs python-can
 
+    logging.getLogger("can").addHandler(logging.NullHandler())  # its errors: one line of ours
     frames: list[candump.LogFrame] = []
-    with can.Bus(interface=interface, channel=iface) as bus:
+    try:
+        canif.check_up(iface)
+        bus = can.Bus(interface=interface, channel=iface)
+    except (OSError, can.CanError) as e:
+        raise _Fail(canif.open_error(iface, e)) from None
+    with bus:
         print(f"{PROG}: capturing {iface} for {seconds:g} s", file=sys.stderr, flush=True)
         end = time.monotonic() + seconds
         while (left := end - time.monotonic()) > 0:

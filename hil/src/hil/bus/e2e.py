@@ -108,7 +108,7 @@ class E2EReceiver:
     last_status: E2EStatus = E2EStatus.NO_NEW_DATA
     stale: bool = False
     lost_frames: int = 0
-    counts: dict[E2EStatus, int] = field(default_factory=lambda: {s: 0 for s in E2EStatus})
+    counts: dict[E2EStatus, int] = field(default_factory=lambda: dict.fromkeys(E2EStatus, 0))
 
     def __post_init__(self) -> None:
         if not 1 <= self.max_delta_counter < COUNTER_MODULO - 1:

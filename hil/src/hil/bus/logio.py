@@ -9,8 +9,14 @@ python-can import), and every format python-can's LogReader / Logger know (.asc,
 """
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+import functools
+import itertools
+import math
+import time
+from collections.abc import Callable, Iterable, Iterator
+from datetime import datetime
 from pathlib import Path
+from typing import Any
 
 from hil.bus.candump import LogFrame, format_line, read_log
 
@@ -50,22 +56,18 @@ def read_frames(path: str | Path) -> Iterator[LogFrame]:
                            bool(m.is_fd))
 
 
-def write_frames(path: str | Path, frames: Iterable[LogFrame]) -> int:
-    """Write frames in the format of the path's suffix; returns the count written."""
+def write_frames(path: str | Path, frames: Iterable[LogFrame], *, start: float | None = None,
+                 received: Callable[[LogFrame], bool] | None = None) -> int:
+    """Write frames in the format of the path's suffix; returns the count written.
+    For ASC and BLF (candump keeps the times as they are, and has no direction):
+    start: the wall-clock time (Unix s) of the frames' time 0, when their times are offsets
+    from it (a lockstep run's simulated time); None: the times are wall-clock already.
+    received(frame): whether the log's node received it (Rx) rather than sent it (Tx);
+    None: every frame Rx (a listener's log)."""
     path = Path(path)
-    n = 0
     if path.suffix.lower() in CANDUMP_SUFFIXES:
         return write_candump(path, ((fr.timestamp, fr) for fr in frames))
-    import can
-
-    with can.Logger(str(path)) as w:
-        for fr in frames:
-            w.on_message_received(can.Message(
-                timestamp=fr.timestamp, arbitration_id=fr.frame_id, data=fr.data,
-                is_extended_id=fr.extended, is_remote_frame=fr.remote, is_error_frame=fr.error,
-                is_fd=fr.fd, dlc=len(fr.data), channel=fr.channel, check=False))
-            n += 1
-    return n
+    return _write_vector(path, frames, start, received)
 
 
 def write_candump(path: str | Path, timed: Iterable[tuple[float, LogFrame]]) -> int:
@@ -87,3 +89,62 @@ def _candump_line(t: float, fr: LogFrame) -> str:
         ident = f"{fr.frame_id:08X}" if fr.extended else f"{fr.frame_id:03X}"
         return f"({t:.6f}) {fr.channel} {ident}#R"
     return format_line(t, fr.channel, fr.frame_id, fr.data, fr.extended)
+
+
+# ---- ASC and BLF (python-can's writers) -------------------------------------------------------
+#: the first event of an ASC log whose frame times are offsets from a given start
+ASC_OFFSETS_NOTE = "hil: frame times are simulated seconds after this start (a lockstep run)"
+
+
+def _write_vector(path: Path, frames: Iterable[LogFrame], start: float | None,
+                  received: Callable[[LogFrame], bool] | None) -> int:
+    """ASC/BLF (or any python-can format) with a real measurement start: python-can takes it
+    from the first frame, so a log in simulated time from 0 said 1 Jan 1970."""
+    import can
+
+    it = iter(frames)
+    first = next(it, None)
+    header = start if start is not None else (first.timestamp if first is not None else time.time())
+    # both formats keep the start to the millisecond: offsets from a given start stay exact
+    header = math.floor(header * 1000) / 1000
+    origin = 0.0 if start is None else header
+    writer: Any
+    if path.suffix.lower() == ".asc":
+        writer = _asc_writer_class()(path, header)
+        if start is not None:  # the time origin, so that the offsets are written as they are
+            writer.log_event(ASC_OFFSETS_NOTE, origin)
+    else:
+        writer = can.Logger(str(path))
+        if isinstance(writer, can.BLFWriter):
+            writer.start_timestamp = header
+    n = 0
+    with writer:
+        for fr in itertools.chain(() if first is None else (first,), it):
+            writer.on_message_received(can.Message(
+                timestamp=origin + fr.timestamp, arbitration_id=fr.frame_id, data=fr.data,
+                is_extended_id=fr.extended, is_remote_frame=fr.remote, is_error_frame=fr.error,
+                is_fd=fr.fd, dlc=len(fr.data), channel=fr.channel, check=False,
+                is_rx=received is None or received(fr)))
+            n += 1
+    return n
+
+
+@functools.cache
+def _asc_writer_class() -> type:
+    """The class, made on first use: python-can is imported only for these formats."""
+    import can
+
+    class AscWriter(can.ASCWriter):
+        """python-can's ASC writer with the measurement's start in the header's `date` line
+        and `Begin Triggerblock` (python-can writes the time the file is written and the
+        first frame's time). `_format_header_datetime` is python-can's own (4.5 and 4.6 have it);
+        tests/python/bus/test_vector_logs.py reads the header back."""
+
+        def __init__(self, path: Path, start: float) -> None:
+            self._start = datetime.fromtimestamp(start)
+            super().__init__(str(path))
+
+        def _format_header_datetime(self, dt: datetime) -> str:
+            return str(super()._format_header_datetime(self._start))
+
+    return AscWriter

@@ -17,16 +17,8 @@ Needs a CAN interface (vcan0; `hil-vcan hil ...` or, in the clone, `scripts/with
 provides one) and the firmware's programs, found as hil.io.paths says (--fcc, --build-dir,
 $FCC_HIL_FCC, $FCC_BUILD_DIR, the source tree's build/, $PATH) and checked before anything
 flies; --target qemu-m4f flies the Cortex-M4F image under QEMU instead, --target external
-whatever answers on the bus.  Exit status: 0 done; 1 the run
-failed (bus, firmware start-up, another fcc on the bus, failed firmware steps, fcc exit
-status); 2 bad command line or scenario, a firmware program or an extra of the package
-missing, or a foreign --out without --force; 3 fcc did not
-answer a lockstep step in time; 4 fcc died during the run; 7 (`hil run`, realtime) the run
-finished but its time synchronisation was attacked (forged or replayed SYNC/FOLLOW_UP/TSYNC_AUTH
-refused by fcc), refused (the authenticated master implausible against fcc's clock) or lost: one
-line names it, summary.json's `sync` has the counters; 130, 143, 129 interrupted by
-SIGINT, SIGTERM, SIGHUP (all three alike: fcc and the recorder stopped, the session key file
-removed, partial results kept marked FAILED).  Failures are one line on stderr; a failed
+whatever answers on the bus.  Exit status: hil.cli.usage.EXIT_STATUS (printed by `hil --help`).
+Failures are one line on stderr; a failed
 run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 
 The package: usage (the usage error), parser (every subcommand's arguments), common and many
@@ -50,7 +42,7 @@ from typing import NoReturn
 from hil.bus import dbc
 from hil.cli import needs
 from hil.cli.parser import build
-from hil.cli.usage import EXIT_USAGE, PROG, UsageError
+from hil.cli.usage import EXIT_SIGINT, EXIT_USAGE, PROG, UsageError
 from hil.io import paths
 from hil.io.paths import ToolNotFound
 from hil.io.rundir import OutDirRefused
@@ -156,7 +148,7 @@ def _main(argv: Sequence[str] | None) -> int:
         return EXIT_USAGE
     except KeyboardInterrupt as e:
         print(f"{PROG}: interrupted{_notes(e)}", file=sys.stderr)
-        return 130
+        return EXIT_SIGINT
     except Exception as e:  # noqa: BLE001 - every failure is one line for the user
         return _fail(e)
 

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import NoReturn
 
 import hil
-from hil.cli.usage import PROG, UsageError
+from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.results.fig3_grid import FIG3_PERIODS
 
 
@@ -162,7 +162,8 @@ def add_parallel(p: argparse.ArgumentParser) -> None:
 
 def build() -> argparse.ArgumentParser:
     p = Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
-                "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.")
+                "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.",
+               epilog=exit_status_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action=VersionAction)
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
 

@@ -1,12 +1,63 @@
-"""What every part of the CLI shares: the program's name, the usage error (one line, exit 2)."""
+"""What every part of the CLI shares: the program's name, the usage error (one line, exit 2),
+and the exit statuses: one table (EXIT_STATUS) that `hil --help` prints and the documentation's
+command-line reference renders (scripts/lib/cli_reference.py), so the two cannot drift."""
 from __future__ import annotations
 
+import textwrap
+
 PROG = "hil"
+EXIT_FAILED = 1
 EXIT_USAGE = 2
+#: fcc did not answer a lockstep step in time (hil.rig.errors.FccTimeout)
+EXIT_TIMEOUT = 3
+#: fcc died during the run (hil.rig.errors.FccDied)
+EXIT_DIED = 4
 #: hil verify: a case could not run (no device, a time-out, a crash): never a pass
 EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
+#: interrupted: 128 + the signal's number
+EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
+
+#: (status, meaning) of every exit status of `hil`, in the order they are listed
+EXIT_STATUS: tuple[tuple[int, str], ...] = (
+    (0, "done"),
+    (EXIT_FAILED, "the run failed: interface missing or down, fcc failed to start (or refused its "
+                  "options), another fcc already on the bus or a second fcc heard during the run, "
+                  "fcc reported failed steps, the recorder missed frames, answered steps missing "
+                  "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference"),
+    (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
+                 "the simulator does not send for that aircraft), a flight too long for the memory "
+                 "available, a foreign `--out`, a user's file `--force` would overwrite, a file "
+                 "argument too large (`/dev/zero`), `--workers` outside 1..64, `--workers` with "
+                 "`--log-format asc|blf` or inside the `scripts/with-vcan` guest, a firmware program "
+                 "or an extra of the package missing; `hil replay` of a run whose bus key is not "
+                 "kept: nothing is started"),
+    (EXIT_TIMEOUT, "fcc did not answer a lockstep step within `--timeout` (after resending the "
+                   "tick at `--timeout`/2)"),
+    (EXIT_DIED, "fcc died during the run, or the serial line to the Cortex-M4F image lost "
+                "frames (`--target qemu-m4f`)"),
+    (EXIT_VERIFY_ERROR, "`hil verify`: a case could not run (no device, a time-out, a crash): "
+                        "never a pass"),
+    (EXIT_SYNC, "`hil run --mode realtime`: the flight finished, but its time synchronisation "
+                "was attacked (forged or replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), "
+                "refused (the authenticated master implausible against fcc's clock) or lost; "
+                "one line names it, summary.json's `sync` has the counters"),
+    (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
+                  "file removed, partial results kept marked `FAILED`"),
+    (EXIT_SIGTERM, "SIGTERM: as SIGINT"),
+    (EXIT_SIGHUP, "SIGHUP: as SIGINT"),
+)
+
+
+def exit_status_help(width: int = 79) -> str:
+    """The exit statuses as `hil --help` ends with them."""
+    lines = textwrap.wrap("exit status (every failure is one line on stderr; a failed run's files "
+                          "are kept in OUT.failed-TIME):", width)
+    for status, meaning in EXIT_STATUS:
+        lines += textwrap.wrap(meaning.replace("`", ""), width, initial_indent=f"  {status:<5}",
+                               subsequent_indent=" " * 7)
+    return "\n".join(lines)
 
 
 class UsageError(Exception):

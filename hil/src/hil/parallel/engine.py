@@ -78,7 +78,7 @@ _rig_lock = threading.Lock()
 
 
 def _worker_rig(flight_timeout: float) -> GuestRig:
-    global _rig
+    global _rig  # noqa: PLW0603 - one rig per worker process, made on its first task
     with _rig_lock:
         if _rig is None:
             _rig = GuestRig(flight_timeout=flight_timeout)
@@ -110,7 +110,7 @@ def fly_on_rig(flight: Flight, cfg: RigConfig, flight_timeout: float) -> Done:
 
 def stop_rig() -> int:
     """client.run: stop this worker's rig (its guest powers off)."""
-    global _rig
+    global _rig  # noqa: PLW0603 - one rig per worker process, made on its first task
     with _rig_lock:
         if _rig is not None:
             _rig.stop()

@@ -24,7 +24,7 @@ def caption_path(png: Path) -> Path:
     return png.with_name(png.stem + ".caption.txt")
 
 
-def title_of(fig: "plt.Figure") -> str:
+def title_of(fig: plt.Figure) -> str:
     sup = getattr(fig, "_suptitle", None)
     text = sup.get_text() if sup is not None else ""
     if not text:
@@ -42,7 +42,7 @@ def _run_of(run_dir: Path) -> str:
     return f"{what} (redraw: hil report {run_dir})"
 
 
-def save(fig: "plt.Figure", path: Path, rect: tuple[float, float, float, float] | None = None,
+def save(fig: plt.Figure, path: Path, rect: tuple[float, float, float, float] | None = None,
          made_by: str | None = None) -> Path | None:
     """Lay out (inside rect, figure fraction, when given: room for a figure legend) and write,
     with a one-line caption file beside it: the title and the run that made the figure

@@ -16,7 +16,7 @@ class Model:
     c: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @staticmethod
-    def from_flat(v: "np.ndarray | list[float]") -> "Model":
+    def from_flat(v: np.ndarray | list[float]) -> Model:
         """From (a11, a12, a21, a22, b1, b2[, c1, c2]), the order of the CSV columns."""
         v = np.asarray(v, dtype=float)
         c = v[6:8].copy() if len(v) >= 8 else np.zeros(2)
@@ -30,7 +30,7 @@ class Model:
         """(a11, ..., b2, c1, c2)."""
         return np.concatenate([self.a.ravel(), self.b, self.c])
 
-    def copy(self) -> "Model":
+    def copy(self) -> Model:
         return Model(self.a.copy(), self.b.copy(), self.c.copy())
 
     def predict(self, x: np.ndarray, de: float) -> np.ndarray:

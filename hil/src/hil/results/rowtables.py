@@ -95,7 +95,7 @@ class Replay:
                       _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
                       [int(f) for f in series["fault"]])
         # files, not pipes: the output (~0.3 MB) would fill a pipe and stop sid_replay until read
-        self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()
+        self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()
         self._input.write(csv.encode("ascii"))
         self._input.seek(0)
         self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", *sid_args],

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from hil.bus.candump import format_line
+from hil.bus.canif import check_up, open_error
 from hil.bus.mmsg import BatchSender
 from hil.bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
 
@@ -119,9 +120,10 @@ class CanLink:
         if log_path is not None:
             raise ValueError("on SocketCAN the recorder is candump, not the link")
         try:
+            check_up(channel)
             self.sock: socket.socket = open_raw(channel, frame_ids)
         except OSError as e:
-            raise LinkError(f"cannot open CAN interface {channel!r}: {e}") from None
+            raise LinkError(open_error(channel, e)) from None
         self._generic = False
         self.writer: TextIO | None = None
         self.bus: can.BusABC | None = None

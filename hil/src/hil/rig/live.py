@@ -66,7 +66,7 @@ class BusView:
         out = [f"CDRW  alpha {f(self.get('CDRW_AOA', 'alpha'))} rad   q {f(self.get('CDRW_PITCH_RATE', 'q'))} rad/s"
                f"   elevator {f(self.get('CDRW_ELEVATOR', 'delta_e'))} rad   ({self.rate('CDRW_AOA', now):.0f} Hz)"]
         for label, frame in FILTER_FRAMES:
-            g = lambda s: self.get(frame, s)  # noqa: E731
+            g = lambda s: self.get(frame, s)  # noqa: E731, B023 - used in this iteration only
             out.append(f"  {label:<5} alpha_hat {f(g('alpha_hat'))}  q_hat {f(g('q_hat'))}  order "
                        f"{f(g('order'), 'd')}  fault {f(g('fault'), 'd')}  degraded {f(g('degraded'), 'd')}")
         out.append(f"MSL   q_g {f(self.get('MSL_RATE_GYRO', 'q_g'))} rad/s   q_hat "

@@ -13,13 +13,15 @@ new LQG period changes the missile's step period.  The wall-clock log is kept be
 """
 from __future__ import annotations
 
+import itertools
 import math
 import os
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
+from hil.bus.dbc import load
 from hil.bus.logio import RUN_FORMATS, write_candump, write_frames
 from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
@@ -28,6 +30,8 @@ WALL_LOG = "bus_wall.log"
 #: fcc's heartbeat frames: paced by the wall clock, so a slow lockstep step gathers many of
 #: them; they get the time of the step they fell in but do not hold up the steps' frames
 WALL_PACED = (0x700, 0x70F)
+#: the DBC's node of the device under test
+FCC_NODE = "FCC"
 #: flights start on this grid (s)
 FLIGHT_GRID_S = 0.1
 
@@ -88,16 +92,27 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
     if mode == "lockstep":
         wall = run_dir / WALL_LOG
         os.replace(raw, wall)
+        recorded = iter(read_log(wall) if frames is None else frames)
+        first = next(recorded, None)  # its simulated time is 0: the log starts at its wall time
+        recorded = itertools.chain(() if first is None else (first,), recorded)
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-        wall_frames = read_log(wall) if frames is None else frames
         if fmt == "log":
-            write_candump(tmp, simulated_times(wall_frames, periods, baudrate))
+            write_candump(tmp, simulated_times(recorded, periods, baudrate))
         else:
-            write_frames(tmp, simulated(wall_frames, periods, baudrate))
+            write_frames(tmp, simulated(recorded, periods, baudrate), received=sent_by_fcc(),
+                         start=None if first is None else first.timestamp)
         os.replace(tmp, out)
     elif fmt != "log":
         tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-        write_frames(tmp, read_log(raw) if frames is None else frames)
+        write_frames(tmp, read_log(raw) if frames is None else frames, received=sent_by_fcc())
         os.replace(tmp, out)
         raw.unlink()
     return out
+
+
+def sent_by_fcc() -> Callable[[LogFrame], bool]:
+    """Whether a frame is one the rig received: the log is the rig's view (ASC/BLF Tx and
+    Rx), fcc's frames Rx (the DBC's node FCC sends them), every other frame Tx (the simulator,
+    its sensors, the time master, the faults it injects)."""
+    ids = frozenset(m.frame_id for m in load().messages if FCC_NODE in m.senders)
+    return lambda f: f.frame_id in ids and not f.extended

@@ -87,7 +87,7 @@ class Scenario:
     def signals(self) -> tuple[str, ...]:
         return SIGNALS[self.aircraft]
 
-    def replace(self, **changes: Any) -> "Scenario":
+    def replace(self, **changes: Any) -> Scenario:
         """A copy with some fields changed (seed, duration, faults ...), faults re-checked."""
         new = dataclasses.replace(self, **changes)
         if "faults" in changes:

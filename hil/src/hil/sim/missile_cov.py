@@ -67,7 +67,7 @@ class FirmwareDesign:
     L: np.ndarray
 
     @classmethod
-    def from_json(cls, doc: dict[str, Any]) -> "FirmwareDesign":
+    def from_json(cls, doc: dict[str, Any]) -> FirmwareDesign:
         a = lambda k: np.asarray(doc[k], dtype=float)  # noqa: E731
         return cls(T=float(doc["T"]), Phi=a("Phi"), Gamma=a("Gamma").reshape(3),
                    H=a("H"), R=a("R"), K=a("K").reshape(3), L=a("L"))

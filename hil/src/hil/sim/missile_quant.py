@@ -135,7 +135,7 @@ def format_quantiser(mc: dict[str, Any]) -> str:
     for p in mc["periods"]:
         for n, d in p["dac"].items():
             v = d["vs_open"]
-            cell = lambda k: f"{v[k]:+6.2f} [{v[k + '_ci'][0]:+6.2f},{v[k + '_ci'][1]:+6.2f}]"  # noqa: E731
+            cell = lambda k: f"{v[k]:+6.2f} [{v[k + '_ci'][0]:+6.2f},{v[k + '_ci'][1]:+6.2f}]"  # noqa: E731, B023 - used in this iteration only
             lines.append(f"{p['period']:>7.3f} {n:>4} {cell('q'):>24} {cell('alpha'):>24}   "
                          f"{d['model_vs_open']['q']:+8.2f} {d['model_vs_open']['alpha']:+9.2f}")
     return "\n".join(lines)

@@ -259,7 +259,7 @@ class MissileSimulation:
         self.last_code = code
         return self.plant.last_substeps
 
-    def advance_substeps(self, codes: "list[int]") -> np.ndarray:
+    def advance_substeps(self, codes: list[int]) -> np.ndarray:
         """Like advance(), with one D/A code per sub-step (real-time rig: a command that
         arrives during the period acts from the next sub-step).  Same noise draws as
         advance() when every code is the same."""

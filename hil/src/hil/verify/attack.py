@@ -66,7 +66,7 @@ def forge_command(rng: random.Random) -> Frames:
 
 def forge_status(rng: random.Random) -> Frames:
     """A heartbeat claiming a clean, busy firmware, with a forged authenticator."""
-    for i in range(MAX_FRAMES // 8):
+    for _ in range(MAX_FRAMES // 8):
         yield ID["FCC_STATUS"], SPEC.by_name("FCC_STATUS").message.encode(
             {"mode": 0, "op_mode": 1, "cdrw_degraded": 0, "msl_degraded": 0, "sensor_stale": 0,
              "e2e_fault": 0, "overrun": 0, "config_rejected": 0, "overruns": 0,

@@ -58,7 +58,8 @@ def test_a_wrong_option(case: tuple[Path, str]) -> None:
 #: the bench parts that pass their options on to a Python module: the options the wrapper
 #: accepts (check_options) are the module's, no more, no fewer
 PASSED_ON = {"parallel": ["hil.bench.parallel", "scaling"], "table5-1000": ["hil.bench.parallel", "table5"],
-             "recorder": ["hil.bench.recorder"], "rig": ["hil.bench.rig"]}
+             "recorder": ["hil.bench.recorder"], "rig": ["hil.bench.rig"],
+             "hostarch": ["hil.bench.hostarch"]}
 
 
 @pytest.mark.parametrize("part", sorted(PASSED_ON))

@@ -91,6 +91,7 @@ def test_default_flight_passes_15deg_near_3s_and_recovers_by_5s(flight):
     assert np.max(np.abs(flight.de_faultfree - flight.de_true)) <= 0.001 + 1e-12
 
 
+@pytest.mark.timing  # CPU time: its verdict depends on the machine and its load (0.16-0.26 s seen)
 def test_flight_is_fast(flight):
     sc = load_default_scenario("cdrw")
     t0 = time.process_time()

@@ -9,12 +9,13 @@ Where: $FCC_HIL_CACHE if it names a directory, else $XDG_CACHE_HOME/hil/cdrw, el
 and used only while it is one (a real directory, the user's, no access for group or others).
 
 What is stored is the fault-free flight (fault_free(scenario)): the faults change only the
-readings, applied on top in microseconds, so the N flights of a campaign that differ in their
-fault's start share one entry, and the last entry read is kept in memory (a campaign's
-flights in one process skip even the decoding; the entry's bytes are still read and compared).
+readings (their random stream is their own, the flight open loop), applied on top per flight,
+so the N flights of a campaign that differ in their fault's start share one entry; the last
+entry used is kept in memory (a campaign's flights in one process skip even the decoding;
+the entry's bytes are still read and compared, so a changed entry is never trusted).
 
-An entry is named by the SHA-256 of the fault-free scenario (its repr: every field), of the source of
-the modules that compute the flight and of the numpy and Python versions (their random
+An entry is named by the SHA-256 of the fault-free scenario (its repr: every field), of the
+source of the modules that compute the flight and of the numpy and Python versions (their random
 streams and libm).  Its first line is the SHA-256 of the rest, its second a JSON line (the
 key again, the sample count, the readings' names, the fault events), then one row of
 little-endian float64 per sample: the same bits read back, no float is printed or parsed.

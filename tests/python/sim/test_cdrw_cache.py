@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from hil.bus import FrameCodec, load
-from hil.scenario.file import load_default_scenario
+from hil.scenario.file import load_default_scenario, with_fault_start
 from hil.sim import cdrw_cache
 from hil.sim.drivers import CdrwDriver
 
@@ -93,6 +93,16 @@ def test_another_scenario_has_its_own_entry(scenario, computed, cache) -> None:
     b = cdrw_cache.open_loop(other, len(computed))
     assert len(entries(cache)) == 2
     assert a[10].meas != b[10].meas
+
+
+def test_flights_that_differ_in_their_faults_share_one_entry(scenario, cache) -> None:
+    # a Table 5 campaign: one seed, the fault moved in time (or gone); each flight is the one
+    # CdrwSimulation computes with that fault, bit for bit
+    flights = [with_fault_start(scenario, t) for t in (0.5, 2.0, 3.1)] + [scenario.replace(faults=())]
+    for sc in flights:
+        computed = cdrw_cache.compute(sc)
+        same(cdrw_cache.open_loop(sc, len(computed)), computed)
+    assert len(entries(cache)) == 1
 
 
 def _stored(scenario, computed, cache) -> Path:

@@ -8,8 +8,14 @@ Where: $FCC_HIL_CACHE if it names a directory, else $XDG_CACHE_HOME/hil/cdrw, el
 ~/.cache/hil/cdrw; FCC_HIL_CACHE=off computes every flight.  The directory is made owner-only
 and used only while it is one (a real directory, the user's, no access for group or others).
 
-An entry is named by the SHA-256 of the scenario (its repr: every field), of the source of
-the modules that compute the flight and of the numpy and Python versions (their random
+What is stored is the fault-free flight (fault_free(scenario)): the faults change only the
+readings (their random stream is their own, the flight open loop), applied on top per flight,
+so the N flights of a campaign that differ in their fault's start share one entry; the last
+entry used is kept in memory (a campaign's flights in one process skip even the decoding;
+the entry's bytes are still read and compared, so a changed entry is never trusted).
+
+An entry is named by the SHA-256 of the fault-free scenario (its repr: every field), of the
+source of the modules that compute the flight and of the numpy and Python versions (their random
 streams and libm).  Its first line is the SHA-256 of the rest, its second a JSON line (the
 key again, the sample count, the readings' names, the fault events), then one row of
 little-endian float64 per sample: the same bits read back, no float is printed or parsed.
@@ -35,7 +41,7 @@ from hil.scenario import cdrw_params, faults, plant_options, sensor_options
 from hil.scenario.file import Scenario
 from hil.sim import cdrw, cdrw_flight, sensor_faults, sensors
 from hil.sim.cdrw import CdrwLinearisation
-from hil.sim.cdrw_flight import CdrwSample, CdrwSimulation
+from hil.sim.cdrw_flight import CdrwSample, CdrwSimulation, fault_free, with_sensor_faults
 from hil.sim.sensor_faults import FaultEvent
 
 CACHE_ENV = "FCC_HIL_CACHE"
@@ -78,11 +84,12 @@ def _usable_dir(d: Path) -> bool:
 
 
 def entry_key(scenario: Scenario) -> str:
-    """The entry's name: what decides the flight (OSError: a module's source is unreadable)."""
+    """The entry's name: what decides the fault-free flight (OSError: a module's source is
+    unreadable)."""
     h = hashlib.sha256()
     for mod in _CODE:
         h.update(Path(mod.__file__ or "").read_bytes())
-    h.update(f"{np.__version__}\0{sys.version}\0{scenario!r}".encode())
+    h.update(f"{np.__version__}\0{sys.version}\0{fault_free(scenario)!r}".encode())
     return h.hexdigest()
 
 
@@ -165,8 +172,19 @@ def compute(scenario: Scenario) -> list[CdrwSample]:
 
 
 def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
-    """Every sample of the scenario's open-loop flight (n_samples of them), from the cache
-    when it holds a valid entry, else computed and stored."""
+    """Every sample of the scenario's open-loop flight (n_samples of them): its fault-free
+    flight (cached) with the scenario's sensor faults applied."""
+    return with_sensor_faults(scenario, _clean_flight(fault_free(scenario), n_samples))
+
+
+#: the last entry used in this process: (its bytes, its samples)
+_last: tuple[bytes, list[CdrwSample]] | None = None
+
+
+def _clean_flight(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
+    """The fault-free flight, from the cache when it holds a valid entry (decoded once while
+    the entry's bytes stay the same), else computed and stored."""
+    global _last
     d = cache_dir()
     if d is None or not _usable_dir(d):
         return compute(scenario)
@@ -176,9 +194,13 @@ def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
         return compute(scenario)
     path = d / f"{key}{SUFFIX}"
     data = _read(path)
+    if data is not None and _last is not None and _last[0] == data:
+        return _last[1]
     if data is not None:
         try:
-            return _decode(data, key, scenario, n_samples)
+            samples = _decode(data, key, scenario, n_samples)
+            _last = (data, samples)
+            return samples
         except (ValueError, TypeError, KeyError, IndexError):
             pass   # not a valid entry: rebuilt below
     samples = compute(scenario)
@@ -186,6 +208,7 @@ def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
     if entry is not None:
         _store(path, entry)
         _prune(d)
+        _last = (entry, samples)
     return samples
 
 

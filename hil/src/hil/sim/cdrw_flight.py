@@ -7,9 +7,13 @@ The plant then integrates to t_{k+1} with a bounded random disturbance v_k (proc
 
 The fault-free readings use the *same* noise draws as the faulty ones (the faults are
 applied on top), so the paper's error integral against the fault-free measurement is exact.
+The faults draw from a stream of their own and the flight is open loop, so everything but
+the faulty readings is the fault-free scenario's: with_sensor_faults() turns that flight into
+any faulty one (a Table 5 campaign flies one clean flight with N fault start times).
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -76,18 +80,36 @@ class CdrwSimulation:
         t = k * dt
         de = self.elevator(t)
         clean = self.sensors.measure(p.alpha, p.q, de)
-        n_log = len(self.faults.log)
-        faulty = self.faults.apply(t, clean)
-        events = tuple(self.faults.log[n_log:])
-        sample = CdrwSample(k=k, t=t, alpha=p.alpha, q=p.q, X=p.X, de=de, meas=faulty,
-                            meas_faultfree=clean, fault_active=bool(self.faults.active),
-                            events=events, lin=p.linearise(de, dt))
+        sample = _with_faults(self.faults, CdrwSample(
+            k=k, t=t, alpha=p.alpha, q=p.q, X=p.X, de=de, meas=clean, meas_faultfree=clean,
+            fault_active=False, events=(), lin=p.linearise(de, dt)))
         bound = self.opts.process_noise
         v_a = float(self._rng.uniform(-bound[0], bound[0])) if bound[0] > 0.0 else 0.0
         v_q = float(self._rng.uniform(-bound[1], bound[1])) if bound[1] > 0.0 else 0.0
         p.step(de, dt, d_alpha=v_a / dt, d_q=v_q / dt)
         self.k += 1
         return sample
+
+
+def _with_faults(faults: SensorFaultInjector, clean: CdrwSample) -> CdrwSample:
+    """The sample with the injector's faults applied to its fault-free readings (samples in
+    order: the injector holds and logs across them)."""
+    n_log = len(faults.log)
+    faulty = faults.apply(clean.t, clean.meas_faultfree)
+    return dataclasses.replace(clean, meas=faulty, fault_active=bool(faults.active),
+                               events=tuple(faults.log[n_log:]))
+
+
+def fault_free(scenario: Scenario) -> Scenario:
+    """The scenario without its faults: the flight every one of its fault variants shares."""
+    return scenario.replace(faults=())
+
+
+def with_sensor_faults(scenario: Scenario, clean: list[CdrwSample]) -> list[CdrwSample]:
+    """The scenario's flight from its fault-free one (fault_free(scenario)'s samples), the
+    same bits as CdrwSimulation(scenario) steps them."""
+    faults = SensorFaultInjector(scenario.sensor_faults, scenario.seed)
+    return [_with_faults(faults, s) for s in clean]
 
 
 @dataclass(frozen=True)

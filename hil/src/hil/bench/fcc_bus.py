@@ -74,7 +74,8 @@ def attach(node: BusNode, fcc: subprocess.Popen) -> Endpoint:
 
 def sensors(k: int) -> tuple[float, float]:
     """The missile's gyro and accelerometer readings of step k (a fixed test signal)."""
-    return round(0.1 * math.cos(0.7 * k) + 0.3 * math.sin(2.1 * k), 5), round((-3 + 40 * math.sin(0.45 * k)) / 0.002) * 0.002
+    return (round(0.1 * math.cos(0.7 * k) + 0.3 * math.sin(2.1 * k), 5),
+            round((-3 + 40 * math.sin(0.45 * k)) / 0.002) * 0.002)
 
 
 def fcc_process(build: Path, args: Sequence[str], err: Path) -> subprocess.Popen:

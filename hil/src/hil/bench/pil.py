@@ -1,7 +1,7 @@
 """scripts/bench.d/pil's Python half: the on-target instruction counts the bench image wrote
 (OUT/bench.log, m4f_bench.elf under -icount shift=0) as a table with times at 168 MHz and the
-hardest case's budget; then fcc_m4f.elf in lockstep over its pty (wall ms per CDRW step); then in realtime under QEMU with a re-design requested every
-0.5 s; then the image's flash and static RAM (OUT/size).
+hardest case's budget; then fcc_m4f.elf in lockstep over its pty (wall ms per CDRW step); then in realtime under
+QEMU with a re-design requested every 0.5 s; then the image's flash and static RAM (OUT/size).
 
     python -m hil.bench.pil OUT IMAGE.elf [--rt-seconds S] [--lockstep-steps N]
 """

@@ -159,6 +159,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                    out / "bus.log", BusAuth(rig.security.key, rig.security.trip))))]
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
-    summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status, rig.security.counters()), cfg.mode)
+    summary = write_campaign(out, scenario, seed, runs, flights,
+                             firmware_summary(rig.status, rig.security.counters()), cfg.mode)
     write_json(out / "run_info.json", run_info(rig, cfg, runner, time.perf_counter() - t0))
     return finish(cfg, out, summary, step_periods([scenario]))

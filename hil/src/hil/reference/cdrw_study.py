@@ -74,7 +74,7 @@ def flight_csv(f: CdrwFlight, faulty: bool = True, states: bool = False) -> str:
         a, q = f.alpha_meas_faultfree, f.q_meas_faultfree
     de = f.de if faulty else f.de_faultfree
     flag = f.fault_flag if faulty else np.zeros(len(f.t), dtype=int)
-    return sid_csv(f.t, a, q, de, flag)
+    return sid_csv(f.t.tolist(), a.tolist(), q.tolist(), de.tolist(), flag.tolist())  # the same text
 
 
 def run_tool(tool: Path, csv_text: str, args: Sequence[str] = ()) -> Rows:

@@ -91,8 +91,9 @@ class Replay:
 
     def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
                  sid_args: Sequence[str] = ()) -> None:
-        csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
-                      _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
+        csv = sid_csv(series["t"].tolist(), _received(spec, "alpha", series["alpha_meas"]).tolist(),
+                      _received(spec, "q", series["q_meas"]).tolist(),
+                      _received(spec, "de", series["de_meas"]).tolist(),
                       [int(f) for f in series["fault"]])
         # files, not pipes: the output (~0.3 MB) would fill a pipe and stop sid_replay until read
         self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()

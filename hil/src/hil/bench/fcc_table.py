@@ -98,7 +98,7 @@ def size_rows(path: Path) -> list[tuple[int, int, int, str]]:
     return rows
 def by_module(rows: list[tuple[int, int, int, str]]) -> dict[str, list[int]]:
     """text, data, bss summed by the firmware's modules."""
-    mods = {}
+    mods: dict[str, list[int]] = {}
     for t, d, b, name in rows:
         n = re.sub(r"\.c\.o(bj)?$", "", name)
         mod = ("app" if n in ("fcc_event", "fcc_sensor", "fcc_app_sid", "fcc_app_msl", "fcc_node") else

@@ -126,8 +126,8 @@ def lockstep(out: Path, elf: Path, steps: int) -> tuple[float, dict[str, int]]:
                 for f in cmd.security.protect(*cmd.codec.encode(name, {"step": k, **values})):
                     cmd.link.send(*f)
             answer = _until_ack(cmd.link, ack)
-            values = cmd.codec.decode(ack, answer[-1][1]).values if answer else None
-            if values is None or int(values["step"]) != k:
+            acked = cmd.codec.decode(ack, answer[-1][1]).values if answer else None
+            if acked is None or int(acked["step"]) != k:
                 raise RuntimeError(f"the image did not answer lockstep step {k}")
         wall = time.perf_counter() - t0
         cmd.control(COMMAND_GROUND)

@@ -143,7 +143,7 @@ def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray
 
 
 def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,
-                     replay: Replay) -> tuple[dict[str, Any], dict[str, float]]:
+                     replay: Replay) -> tuple[dict[str, Any], dict[str, str | float]]:
     """({mode: mode_tables} for prior and posterior, replay_check), from the Replay of this
     flight (started by the caller, so that it runs while the caller works on).  The mode fcc
     flew (sid_options) is taken from fcc's rows; the others from the replay.  replay_check:

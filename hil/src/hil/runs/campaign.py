@@ -121,7 +121,7 @@ def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
         "faults": [f.describe() for f in scenario.faults],
         "cdrw": {**metrics.campaign_table5(
             [fl.table for fl in flights], [fl.table_truth for fl in flights],
-            coverage=[fl.coverage for fl in flights] if all(fl.coverage for fl in flights) else None),
+            coverage=[fl.coverage for fl in flights if fl.coverage] if all(fl.coverage for fl in flights) else None),
             **_campaign_modes(flights), "paper_scenario": is_paper_scenario(scenario),
             "runs": per_run},
         "firmware": firmware}

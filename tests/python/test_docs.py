@@ -34,7 +34,8 @@ FENCE = re.compile(r"^ {0,3}(?P<fence>`{3,}|~{3,})\s*(?P<info>[^`\s]*)")
 #: `out/...` at the start of a path (not `build/out/`, not `$X/out/`)
 OUT_PATH = re.compile(r"(?<![\w./$-])out/")
 #: a hil command that writes a run directory, up to the end of its shell command
-HIL_WRITES = re.compile(r"(?P<cmd>\bhil[ \t]+(?P<sub>run|campaign|sweep|demo|verify)\b)(?P<rest>(?:\\\n|[^\n;&|'\"<>])*)")
+HIL_WRITES = re.compile(r"(?P<cmd>\bhil[ \t]+(?P<sub>run|campaign|sweep|demo|verify)\b)"
+                        r"(?P<rest>(?:\\\n|[^\n;&|'\"<>])*)")
 #: the checkout's out/ entries that other steps of scripts/test write while this test runs
 OUT_OWNED_ELSEWHERE = {"test-results", "site"}
 BLOCK_TIMEOUT_S = 600

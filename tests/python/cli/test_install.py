@@ -107,7 +107,8 @@ def user_env(venv: Path, **extra: str) -> dict[str, str]:
     return env
 
 
-def hil(venv: Path, cwd: Path, *args: str, env: dict[str, str], timeout: float = 900) -> subprocess.CompletedProcess[str]:
+def hil(venv: Path, cwd: Path, *args: str, env: dict[str, str],
+        timeout: float = 900) -> subprocess.CompletedProcess[str]:
     return subprocess.run([str(venv / "bin" / args[0]), *args[1:]], capture_output=True, text=True,
                           cwd=cwd, env=env, timeout=timeout, stdin=subprocess.DEVNULL)
 

@@ -98,7 +98,8 @@ def test_external_hand_started_fcc_same_table4_as_host(capsys, tmp_path, bin_pat
     info = json.loads((tmp_path / "host" / "run_info.json").read_text())
     assert info["target"] == "host"
     fcc = subprocess.Popen([str(bin_path("fcc")), "--iface", "vcan0", "--mode", "lockstep",
-                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         rc, out_ext, err = cli(capsys, "run", "cdrw", "--target", "external", "--quiet", "--no-plots",
                                "--key-file", str(TEST_KEY_FILE), "--out", str(tmp_path / "ext"))
@@ -121,7 +122,8 @@ def test_external_hand_started_fcc_same_table4_as_host(capsys, tmp_path, bin_pat
 @pytest.mark.vcan
 def test_external_wrong_mode_is_one_line(capsys, tmp_path, bin_path):
     fcc = subprocess.Popen([str(bin_path("fcc")), "--iface", "vcan0", "--mode", "realtime",
-                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            "--apps", "cdrw", "--key-file", str(TEST_KEY_FILE)],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         rc, _, err = cli(capsys, "run", "cdrw", "--target", "external", "--quiet", "--no-plots",
                          "--key-file", str(TEST_KEY_FILE), "--out", str(tmp_path / "o"))

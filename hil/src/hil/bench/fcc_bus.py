@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import SIM_NODES, load
+from hil.bus.codec import Decoded
 from hil.bus.mmsg import BatchSender
 from hil.bus.node import BusNode
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_SHUTDOWN
@@ -74,7 +75,8 @@ def attach(node: BusNode, fcc: subprocess.Popen) -> Endpoint:
 
 def sensors(k: int) -> tuple[float, float]:
     """The missile's gyro and accelerometer readings of step k (a fixed test signal)."""
-    return round(0.1 * math.cos(0.7 * k) + 0.3 * math.sin(2.1 * k), 5), round((-3 + 40 * math.sin(0.45 * k)) / 0.002) * 0.002
+    return (round(0.1 * math.cos(0.7 * k) + 0.3 * math.sin(2.1 * k), 5),
+            round((-3 + 40 * math.sin(0.45 * k)) / 0.002) * 0.002)
 
 
 def fcc_process(build: Path, args: Sequence[str], err: Path) -> subprocess.Popen:
@@ -92,19 +94,24 @@ def send_batch(batch: BatchSender, frames: list[tuple[int, bytes]]) -> None:
         sent += got
 
 
+def _equals(name: str, value: int) -> Callable[[Decoded], bool]:
+    """A wait_for match: the frame's signal `name` has this value."""
+    return lambda d: d.values is not None and d.values[name] == value
+
+
 def lockstep_steps(node: BusNode, sec: Endpoint, steps: int) -> None:
     """Each step: sensors and the tick (with its authenticator) in one batch, FCC_ACK; then a
     RIG_PING that can_echo answers."""
-    batch = BatchSender(node.bus.socket.fileno())
+    batch = BatchSender(node.bus.fileno())  # socketcan: its socket's
     for k in range(steps):
         q_g, n_a = sensors(k)
         frames = [node.encode("MSL_RATE_GYRO", {"step": k & 0xFFFF, "q_g": q_g}),
                   node.encode("MSL_ACCELEROMETER", {"step": k & 0xFFFF, "n_a": n_a}),
                   *sec.protect(*node.encode("SIM_TICK", {"app": 1, "step": k}))]
         send_batch(batch, frames)
-        assert node.wait_for("FCC_ACK", 2.0, lambda d, k=k: d.values["step"] == k) is not None, k
+        assert node.wait_for("FCC_ACK", 2.0, _equals("step", k)) is not None, k
         node.send("RIG_PING", {"seq": k, "t_send_us": int(time.monotonic() * 1e6) & 0xFFFFFFFF})
-        assert node.wait_for("RIG_PONG", 2.0, lambda d, k=k: d.values["seq"] == k) is not None, k
+        assert node.wait_for("RIG_PONG", 2.0, _equals("seq", k)) is not None, k
 
 
 def lockstep_run(build: Path, out: Path, steps: int, res: dict[str, Any]) -> None:

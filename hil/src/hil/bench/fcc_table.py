@@ -66,7 +66,8 @@ def latency(v: dict[str, Any]) -> None:
         r = v[key]
         print(f"   {label:<58}{r['n']:>6}{r['p50']:>8.0f}{r['p99']:>8.0f}")
     lat = lock["latency_us missile"]
-    print(f"   {'fcc internal: sensor kernel rx stamp -> command sent':<58}{int(lat['n']):>6}{lat['p50']:>8.0f}{lat['p99']:>8.0f}")
+    print(f"   {'fcc internal: sensor kernel rx stamp -> command sent':<58}"
+          f"{int(lat['n']):>6}{lat['p50']:>8.0f}{lat['p99']:>8.0f}")
     ratio = v["tick_to_cmd"]["p50"] / v["ping_to_pong"]["p50"]
     print(f"   fcc turnaround / echo turnaround (p50): {ratio:.2f} (target <= 1.5)")
     print(f"   start-up, exec -> first heartbeat on the bus: {v['startup_ms']:.0f} ms")
@@ -77,7 +78,8 @@ def realtime(v: dict[str, Any]) -> None:
     rt = v["rt"]
     prio = "SCHED_FIFO " + str(v["rt_prio"]) if v["rt_prio"] != "0" else "normal scheduling"
     print(f"\n3. realtime, both applications at 50 Hz, {v['rt_seconds']:.0f} s, {prio}, fed by a python simulator [us]")
-    print(f"   {'app':<9}{'steps':>7}{'overruns':>9}{'jit p50':>9}{'jit p99':>9}{'jit max':>9}{'exec p50':>9}{'exec p99':>9}{'exec max':>9}")
+    print(f"   {'app':<9}{'steps':>7}{'overruns':>9}{'jit p50':>9}{'jit p99':>9}{'jit max':>9}"
+          f"{'exec p50':>9}{'exec p99':>9}{'exec max':>9}")
     for app in ("cdrw", "missile"):
         j, e, a = rt[f"jitter_us {app}"], rt[f"exec_us {app}"], rt[app]
         print(f"   {app:<9}{int(a['steps']):>7}{int(a['overruns']):>9}{j['p50']:>9.0f}{j['p99']:>9.0f}{j['max']:>9.0f}"
@@ -96,7 +98,7 @@ def size_rows(path: Path) -> list[tuple[int, int, int, str]]:
     return rows
 def by_module(rows: list[tuple[int, int, int, str]]) -> dict[str, list[int]]:
     """text, data, bss summed by the firmware's modules."""
-    mods = {}
+    mods: dict[str, list[int]] = {}
     for t, d, b, name in rows:
         n = re.sub(r"\.c\.o(bj)?$", "", name)
         mod = ("app" if n in ("fcc_event", "fcc_sensor", "fcc_app_sid", "fcc_app_msl", "fcc_node") else

@@ -75,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
     differ = same_outputs(pb, ab)
     print(f"1. outputs (lqg_design x{len(DESIGNS)}, sid_replay x{len(SID_ARGS)}): "
           + ("identical, byte for byte" if not differ else "DIFFER: " + "; ".join(differ)))
-    print(f"2. instructions per fcc step (callgrind, fcc_step_bench, frames in -> out)")
+    print("2. instructions per fcc step (callgrind, fcc_step_bench, frames in -> out)")
     print(f"   {'app':<9}{'portable':>11}{name:>11}{'ratio':>8}")
     for app in STEPS:
         ip, ia = instructions(pb, app), instructions(ab, app)

@@ -1,7 +1,7 @@
 """scripts/bench.d/pil's Python half: the on-target instruction counts the bench image wrote
 (OUT/bench.log, m4f_bench.elf under -icount shift=0) as a table with times at 168 MHz and the
-hardest case's budget; then fcc_m4f.elf in lockstep over its pty (wall ms per CDRW step); then in realtime under QEMU with a re-design requested every
-0.5 s; then the image's flash and static RAM (OUT/size).
+hardest case's budget; then fcc_m4f.elf in lockstep over its pty (wall ms per CDRW step); then in realtime under
+QEMU with a re-design requested every 0.5 s; then the image's flash and static RAM (OUT/size).
 
     python -m hil.bench.pil OUT IMAGE.elf [--rt-seconds S] [--lockstep-steps N]
 """
@@ -126,8 +126,8 @@ def lockstep(out: Path, elf: Path, steps: int) -> tuple[float, dict[str, int]]:
                 for f in cmd.security.protect(*cmd.codec.encode(name, {"step": k, **values})):
                     cmd.link.send(*f)
             answer = _until_ack(cmd.link, ack)
-            values = cmd.codec.decode(ack, answer[-1][1]).values if answer else None
-            if values is None or int(values["step"]) != k:
+            acked = cmd.codec.decode(ack, answer[-1][1]).values if answer else None
+            if acked is None or int(acked["step"]) != k:
                 raise RuntimeError(f"the image did not answer lockstep step {k}")
         wall = time.perf_counter() - t0
         cmd.control(COMMAND_GROUND)

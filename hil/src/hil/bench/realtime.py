@@ -34,6 +34,7 @@ AGE_P99_US = 2000.0
 
 def _missile(T: float, seconds: float, delay: float | str) -> Any:
     sc = load_default_scenario("missile")
+    assert sc.lqg is not None, "the default missile scenario has its [lqg]"
     return dataclasses.replace(sc, duration=seconds,
                                lqg=dataclasses.replace(sc.lqg, period=T, delay=delay))
 

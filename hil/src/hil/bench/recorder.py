@@ -27,9 +27,10 @@ from pathlib import Path
 from hil.bench.rig import print_table
 from hil.rig.config import RigConfig
 from hil.rig.flight import fly, open_session
-from hil.rig.recorder import RECORDERS
+from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.scenario.file import load_default_scenario
 from hil.sim.drivers import CdrwDriver
+from hil.targets.host import HostFcc
 from hil.util.processes import proc_stat
 from hil.util.progress import bar as progress_bar
 
@@ -71,8 +72,8 @@ def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
     cfg = RigConfig(out_dir=out, progress=False, plots=False, recorder=recorder)
     s = Sample(flights=flights)
     with open_session(out, [sc], cfg) as rig:
-        assert rig.bus_recorder is not None and rig.fcc is not None
-        rec_pid, fcc_pid = rig.bus_recorder.pid, rig.fcc.pid  # type: ignore[union-attr]
+        assert isinstance(rig.bus_recorder, BusRecorder) and isinstance(rig.fcc, HostFcc)
+        rec_pid, fcc_pid = rig.bus_recorder.pid, rig.fcc.pid
         tracer = None
         if strace:
             tracer = subprocess.Popen(["strace", "-c", "-q", "-o", str(out / "strace.txt"),
@@ -86,7 +87,7 @@ def _session(out: Path, recorder: str, flights: int, strace: bool) -> Sample:
             with progress_bar(d.n_steps, False, "") as bar:
                 runner = fly(rig, [d], cfg, bar, runner)
             s.steps += d.n_steps
-        rig.bus_recorder.wait_idle(10.0)  # type: ignore[union-attr]  # it has read the last step
+        rig.bus_recorder.wait_idle(10.0)  # it has read the last step
         s.wall_s = time.perf_counter() - t0
         s.recorder_s = _cpu_s(rec_pid) - c_rec
         s.fcc_s = _cpu_s(fcc_pid) - c_fcc

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -34,6 +34,7 @@ def time_scenario(name: str, steps: int) -> float:
     steps = min(steps, 20) if name == "mls-azkf-spike" else steps
     n = warmup + steps + 1
     x, y, de, fault = _flight(n, 4.0 if name == "mls-azkf-spike" else 1e9)
+    step: Callable[[int], object]  # what a step returns is not measured
     if name == "mls":
         mls = Mls()
         step = lambda k: mls.update(x[k - 1], de[k - 1], x[k])  # noqa: E731

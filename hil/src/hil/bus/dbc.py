@@ -285,7 +285,10 @@ def _parsed(path: Path) -> BusSpec:
 @lru_cache(maxsize=8)
 def _parse(path: Path) -> Database:
     import cantools  # slow to import (python-can with it): only when the DBC must be parsed
-    return cantools.database.load_file(str(path), strict=True)
+    db = cantools.database.load_file(str(path), strict=True)
+    if not isinstance(db, cantools.database.can.Database):  # e.g. a diagnostics (.cdd) file
+        raise ValueError(f"{path}: not a CAN database")
+    return db
 
 
 # ---- the digested specification (data/fcc_hil.spec.json) --------------------------------

@@ -220,7 +220,7 @@ class Endpoint:
         self._send: dict[int, tuple[int, int]] = {}   # secured frame id -> (auth id, data id)
         self._send_groups: dict[str, int] = {}         # authenticator name -> data id (groups)
         self._senders: dict[int, Sender] = {}
-        self._rx_single: dict[int, tuple[int, int]] = {}  # secured id / auth id -> auth id
+        self._rx_single: dict[int, int] = {}              # secured id / auth id -> auth id
         self._receivers: dict[int, Receiver] = {}         # by auth id
         self._group_of: dict[int, int] = {}               # member id -> auth id
         self.session_id = spec.by_name("FCC_SEC_SESSION").frame_id
@@ -292,10 +292,10 @@ class Endpoint:
                 self._receivers[self._rx_single[frame_id]].hold(data)
             return []
         if frame_id in self._group_of:
-            r = self._receivers[self._group_of[frame_id]]
-            assert isinstance(r, GroupReceiver)
+            group = self._receivers[self._group_of[frame_id]]
+            assert isinstance(group, GroupReceiver)
             if len(data) == 8:
-                r.hold_frame(frame_id, data)
+                group.hold_frame(frame_id, data)
             return []
         r = self._receivers.get(frame_id)
         if r is None:

@@ -115,7 +115,7 @@ def _terminate(signum: int, _frame: object) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    old: dict[int, object] = {}
+    old: dict[signal.Signals, object] = {}
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGTERM, signal.SIGHUP):
             old[sig] = signal.signal(sig, _terminate)
@@ -169,8 +169,8 @@ def _os_message(e: OSError) -> str:
 
 def _fail(e: Exception) -> int:
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-    if type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
-                   NotADirectoryError, FileExistsError) and e.errno is not None:
+    if isinstance(e, OSError) and type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
+                                              NotADirectoryError, FileExistsError) and e.errno is not None:
         msg = _os_message(e)
     if isinstance(e, (ScenarioError, OutDirRefused)):
         code = EXIT_USAGE

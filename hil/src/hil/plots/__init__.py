@@ -100,8 +100,9 @@ def figures(run_dir: Path) -> list[Figure]:
     subtitle = ("deterministic: q0 = 0.1 rad/s, α_T0 = 0, no gust, no sensor noise "
                 "(the design keeps its nominal R)") if responses.get("deterministic") else ""
     for T, curves in sorted(by_period.items(), reverse=True):
-        elevator = {b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
-                    if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
+        elevator: dict[int | None, dict[str, np.ndarray]] = {
+            b: read_csv(run_dir / f"missile_T{T:.3f}_b{b}.csv") for b in curves
+            if b is not None and (run_dir / f"missile_T{T:.3f}_b{b}.csv").is_file()}
         written.append(partial(missile.fig_time_response, T, curves, run_dir, elevator, subtitle,
                                bool(responses.get("deterministic"))))
     if (run_dir / timing.CSV_NAME).is_file():

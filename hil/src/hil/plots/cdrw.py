@@ -47,7 +47,7 @@ def _stall_times(s: Series) -> list[float]:
     return [float(s["t"][i]) for i in cross]
 
 
-def fig5_alpha_q(s: Series, out: Path) -> Path:
+def fig5_alpha_q(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5.5))
     for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
         _shade_faults(ax, s)
@@ -62,7 +62,7 @@ def fig5_alpha_q(s: Series, out: Path) -> Path:
     return save(fig, out / "fig5_cdrw_alpha_q.png")
 
 
-def fig6_model(s: Series, out: Path) -> Path:
+def fig6_model(s: Series, out: Path) -> Path | None:
     names = ("a11", "a12", "a21", "a22", "b1", "b2")
     fig, axs = plt.subplots(3, 2, sharex=True, figsize=(9, 7))
     for ax, n in zip(axs.flat, names):
@@ -81,7 +81,7 @@ def fig6_model(s: Series, out: Path) -> Path:
     return save(fig, out / "fig6_model_elements.png", rect=(0, 0, 1, 0.9 if _note(s) else 0.925))
 
 
-def fig7_rho(s: Series, out: Path) -> Path:
+def fig7_rho(s: Series, out: Path) -> Path | None:
     fig, ax = plt.subplots(figsize=(8, 4))
     _shade_faults(ax, s)
     for f in ("kf", "zkf", "azkf"):
@@ -99,7 +99,7 @@ def fig7_rho(s: Series, out: Path) -> Path:
     return save(fig, out / "fig7_spectral_radius.png")
 
 
-def fig8_estimates(s: Series, out: Path) -> Path:
+def fig8_estimates(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
     for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
         _shade_faults(ax, s)
@@ -115,7 +115,7 @@ def fig8_estimates(s: Series, out: Path) -> Path:
     return save(fig, out / "fig8_estimates_under_fault.png")
 
 
-def fig9_gains(s: Series, out: Path) -> Path:
+def fig9_gains(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5), height_ratios=(2, 1))
     ax = axs[0]
     _shade_faults(ax, s)
@@ -144,7 +144,7 @@ def fig9_gains(s: Series, out: Path) -> Path:
     return save(fig, out / "fig9_gain_norms.png")
 
 
-def fig10_bounds(s: Series, out: Path) -> Path:
+def fig10_bounds(s: Series, out: Path) -> Path | None:
     """The two filters' alpha bounds on one shared y axis, and a panel of the half-widths
     (the hull of the AZKF against the KF's 3 sigma) with their medians."""
     fig, axs = plt.subplots(3, 1, sharex=True, figsize=(8, 8))
@@ -181,7 +181,7 @@ def fig10_bounds(s: Series, out: Path) -> Path:
     return save(fig, out / "fig10_bounds.png")
 
 
-def all_figures(s: Series, out: Path, note: str = "") -> list[Callable[[], Path]]:
+def all_figures(s: Series, out: Path, note: str = "") -> list[Callable[[], Path | None]]:
     """Figs. 5-10, to draw (hil.plots.draw); note (e.g. which campaign flight) goes under
     every title."""
     s = {**s, NOTE_KEY: note} if note else s  # type: ignore[dict-item]
@@ -189,7 +189,7 @@ def all_figures(s: Series, out: Path, note: str = "") -> list[Callable[[], Path]
                                          fig9_gains, fig10_bounds)]
 
 
-def campaign_figure(c: Series, out: Path) -> Path:
+def campaign_figure(c: Series, out: Path) -> Path | None:
     """Table 5's raw material: each flight's error integrals against its fault time."""
     fig, axs = plt.subplots(1, 2, figsize=(10, 4))
     for ax, st, unit in ((axs[0], "alpha", "rad·s"), (axs[1], "q", "rad")):
@@ -204,7 +204,7 @@ def campaign_figure(c: Series, out: Path) -> Path:
     return save(fig, out / "campaign_errors.png")
 
 
-def controls_figure(study: dict, out: Path, made_by: str | None = None) -> Path:
+def controls_figure(study: dict, out: Path, made_by: str | None = None) -> Path | None:
     """`hil study cdrw --figure`: AZKF (and ZKF) improvement over the KF per control, with
     the 95 % intervals, beside the paper's Table 5 (dashed)."""
     cases = list(study["cases"].items())

@@ -110,7 +110,7 @@ def fig3_covariance(doc: Mapping[str, Any], out: Path,
 
 def fig_time_response(period: float, curves: Mapping[int | None, Series], out: Path,
                       elevator: Mapping[int | None, Series] | None = None,
-                      subtitle: str = "", deterministic: bool = False) -> Path:
+                      subtitle: str = "", deterministic: bool = False) -> Path | None:
     """q(t) and alpha_T(t) at one period for each word length, against the open loop; the
     applied elevator (D/A output, held) below when the per-step series are given.  The
     legend sits outside the axes, clear of the curves."""

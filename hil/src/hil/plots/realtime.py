@@ -12,7 +12,7 @@ from hil.plots.mpl import plt, save
 NAME = "realtime_timing.png"
 
 
-def fig_realtime_timing(t: dict[str, np.ndarray], out: Path) -> Path:
+def fig_realtime_timing(t: dict[str, np.ndarray], out: Path) -> Path | None:
     fig, ax = plt.subplots(1, 3, figsize=(13, 3.8))
     panels = (
         (ax[0], (("sim_jitter", "simulator: sensor frame - sampling instant"),

@@ -29,6 +29,7 @@ from hil.reference.model import Model
 from hil.reference.sid import SidLoop
 from hil.scenario.campaign import campaign_fault_times
 from hil.scenario.file import Scenario, load_default_scenario, with_fault_start
+from hil.scenario.plant_options import CdrwPlantOptions
 from hil.sim.cdrw_flight import CdrwFlight, simulate_cdrw
 
 #: paper, seed 1 Table 5 (alpha, q) error integrals
@@ -75,6 +76,8 @@ def cases() -> list[Case]:
 def scenario(case: Case, seed: int = 1) -> Scenario:
     sc = load_default_scenario("cdrw").replace(seed=seed)
     plant = sc.plant
+    if not isinstance(plant, CdrwPlantOptions):
+        raise TypeError(f"the default cdrw scenario has a {type(plant).__name__}")
     if case.cm_alpha is not None:
         plant = dataclasses.replace(plant, params=dataclasses.replace(plant.params,
                                                                       C_ma=case.cm_alpha))

@@ -74,7 +74,7 @@ def flight_csv(f: CdrwFlight, faulty: bool = True, states: bool = False) -> str:
         a, q = f.alpha_meas_faultfree, f.q_meas_faultfree
     de = f.de if faulty else f.de_faultfree
     flag = f.fault_flag if faulty else np.zeros(len(f.t), dtype=int)
-    return sid_csv(f.t, a, q, de, flag)
+    return sid_csv(f.t.tolist(), a.tolist(), q.tolist(), de.tolist(), flag.tolist())  # the same text
 
 
 def run_tool(tool: Path, csv_text: str, args: Sequence[str] = ()) -> Rows:
@@ -186,15 +186,15 @@ def study_policy(tool: Path, policy: str, extra: Sequence[str], runs: int, seeds
     alarms = []
     for s in range(1, seeds + 1):
         g = simulate(s, None)
-        r = run_tool(tool, flight_csv(g), ["--filter", "azkf", *args])["azkf"]
-        iv = intervals(r["fault"].astype(bool))
-        if iv:
-            alarms.append((s, [(round(a * DT, 2), round(b * DT, 2)) for a, b in iv]))
+        az = run_tool(tool, flight_csv(g), ["--filter", "azkf", *args])["azkf"]
+        spans = intervals(az["fault"].astype(bool))
+        if spans:
+            alarms.append((s, [(round(a * DT, 2), round(b * DT, 2)) for a, b in spans]))
     print(f"  false alarms on {seeds} fault-free flights (seeds 1..{seeds}): "
           f"{len(alarms)} {alarms[:5] if alarms else ''}")
 
     times = campaign_times(runs)
-    tabs = {n: [] for n in FILTERS}
+    tabs: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {n: [] for n in FILTERS}
     lat, clr, other, missed = [], [], 0, 0
     for tf in times:
         g = simulate(1, float(tf))
@@ -202,7 +202,7 @@ def study_policy(tool: Path, policy: str, extra: Sequence[str], runs: int, seeds
         for n in FILTERS:
             tabs[n].append(errors(g, r[n]))
         d = detection(g, r["azkf"]["fault"].astype(bool))
-        if d.latency is None:
+        if d.latency is None or d.clear_delay is None:  # both None together: missed
             missed += 1
         else:
             lat.append(d.latency)

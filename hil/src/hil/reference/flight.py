@@ -32,7 +32,9 @@ class Flight:
     def csv(self, with_fault_column: bool = True, faulty: bool = True) -> str:
         """The flight as sid_replay input (full precision)."""
         y = self.y if faulty else self.y_clean
-        return sid_csv(self.t, y[:, 0], y[:, 1], self.de, self.fault if with_fault_column else None)
+        # as lists: sid_csv takes sequences of Python numbers (the same text)
+        return sid_csv(self.t.tolist(), y[:, 0].tolist(), y[:, 1].tolist(), self.de.tolist(),
+                       self.fault.tolist() if with_fault_column else None)
 
 
 def _bump(t: np.ndarray, t0: float, t1: float, ramp: float) -> np.ndarray:

@@ -1,6 +1,7 @@
 """The identified model x_{k+1} = A x + B de (+ c) and its 2x2 facts (eq. 26, gain norm)."""
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -16,7 +17,7 @@ class Model:
     c: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @staticmethod
-    def from_flat(v: np.ndarray | list[float]) -> Model:
+    def from_flat(v: np.ndarray | Sequence[float]) -> Model:
         """From (a11, a12, a21, a22, b1, b2[, c1, c2]), the order of the CSV columns."""
         v = np.asarray(v, dtype=float)
         c = v[6:8].copy() if len(v) >= 8 else np.zeros(2)

@@ -84,9 +84,11 @@ class SidLoop:
     def _model(self) -> Model:
         return self.mls.model  # without MLS: the (effective) prior, never refitted
 
-    def _learn(self, from_ok: bool, x: np.ndarray, de: float, x_next: np.ndarray,
+    def _learn(self, from_ok: bool, x: np.ndarray | None, de: float, x_next: np.ndarray,
                to_ok: bool) -> None:
         if self.cfg.mls_enabled and from_ok and to_ok:
+            if x is None:  # from_ok says there is a previous estimate
+                raise RuntimeError("SidLoop: learning from a step that has no state estimate")
             self.mls.update(x, de, x_next)
 
     def step(self, y: np.ndarray, de: float, oracle: bool = False, valid: bool = True) -> dict:
@@ -100,7 +102,7 @@ class SidLoop:
                "rho": spectral_radius(model.a), "order": 0, "fault": 0}
         if c.mls.intercept:
             row.update(c1=model.c[0], c2=model.c[1])
-        if self.kind == "kf":
+        if isinstance(self.filt, Kf):  # kind == "kf"
             kf = self.filt
             row["gain_norm"] = kf.step(model, self.prev_de, y if use_y else None)
             prior = c.rows == "prior"
@@ -112,11 +114,11 @@ class SidLoop:
             self.prev_x, self.prev_de, self.prev_informed = xh.copy(), de, informed
             self.cur_informed = use_y
         else:
-            zkf = self.filt.zkf if self.kind == "azkf" else self.filt
+            zkf = self.filt.zkf if isinstance(self.filt, Azkf) else self.filt
             xh = zkf.x.copy()
             h = hull(zkf.gen)
             lo, hi = xh - h, xh + h
-            if self.kind == "azkf":
+            if isinstance(self.filt, Azkf):  # kind == "azkf"
                 armed = not c.mls_enabled or c.arm_on_prior or not self.mls.is_prior
                 gnorm, q, _, fault = self.filt.step(model, de, y if use_y else None, oracle, armed)
                 skipped = fault and c.azkf.policy == "skip"

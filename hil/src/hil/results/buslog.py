@@ -60,8 +60,8 @@ class _Gate:
         self.endpoint = Endpoint(spec, auth.key, ())   # every authenticator is verified here
         if auth.trip is not None:
             self.endpoint.set_trip(auth.trip)
-        self.e2e = {i: E2EReceiver(spec.by_id(i).data_id, spec.by_id(i).max_delta_counter)
-                    for i in (SIM_CONTROL_ID, SIM_TICK_ID)}
+        self.e2e = {m.frame_id: E2EReceiver(m.data_id, m.max_delta_counter)
+                    for m in (spec.by_name("SIM_CONTROL"), spec.by_name("SIM_TICK"))}
         self.rejected = 0
 
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
@@ -139,10 +139,10 @@ def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) ->
             continue
         if fid in SENSOR_APP and len(data) == 8 and SENSOR_APP[fid] not in ticked:
             # realtime (no ticks): outputs belong to the newest sample sent before them
-            app = SENSOR_APP[fid]
+            sensor_app = SENSOR_APP[fid]
             low = int.from_bytes(data[2:4], "little")
-            prev = tick.get(app, -1)
-            tick[app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
+            prev = tick.get(sensor_app, -1)
+            tick[sensor_app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
             continue
         app = app_of(fid)
         if app is None:

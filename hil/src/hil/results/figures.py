@@ -23,6 +23,8 @@ import numpy as np
 from hil.io.output import read_csv, write_json
 from hil.results import metrics
 from hil.scenario.file import Scenario
+from hil.scenario.plant_options import MissilePlantOptions
+from hil.scenario.sensor_options import MissileSensorOptions
 
 #: Fig. 3's word lengths and gyro variances; the Monte-Carlo points
 FIG3_BITS = (6, 8, 12)
@@ -37,20 +39,28 @@ RESPONSE_BITS = (6, 8, 12)
 RESPONSE_SECONDS = 3.0
 
 
+def _missile(base: Scenario) -> tuple[MissilePlantOptions, MissileSensorOptions]:
+    """base's plant and sensor options, which these figures need to be the missile's."""
+    if not isinstance(base.plant, MissilePlantOptions) or not isinstance(base.sensors, MissileSensorOptions):
+        raise ValueError(f"the missile's figures need a missile scenario, got aircraft {base.aircraft!r}")
+    return base.plant, base.sensors
+
+
 def stationary_scenario(base: Scenario, gyro_var: float, seconds: float) -> Scenario:
     """The missile in stationary gusts (no transient: q0 = 0, the gust drawn from its
     stationary law), for a Monte-Carlo RMS."""
+    plant, sensors = _missile(base)
     return base.replace(duration=seconds,
-                        plant=dataclasses.replace(base.plant, q0=0.0, alpha0=0.0, gust0="stationary"),
-                        sensors=dataclasses.replace(base.sensors, var_gyro=gyro_var))
+                        plant=dataclasses.replace(plant, q0=0.0, alpha0=0.0, gust0="stationary"),
+                        sensors=dataclasses.replace(sensors, var_gyro=gyro_var))
 
 
 def response_scenario(base: Scenario, seconds: float = RESPONSE_SECONDS) -> Scenario:
     """Seed 2's Figs. 4-6: from q = 0.1 rad/s, alpha_T = 0, no gust, no sensor noise."""
+    plant, sensors = _missile(base)
     return base.replace(duration=seconds,
-                        plant=dataclasses.replace(base.plant, q0=0.1, alpha0=0.0, gust0=0.0,
-                                                  gust_scale=0.0),
-                        sensors=dataclasses.replace(base.sensors, noise_scale=0.0))
+                        plant=dataclasses.replace(plant, q0=0.1, alpha0=0.0, gust0=0.0, gust_scale=0.0),
+                        sensors=dataclasses.replace(sensors, noise_scale=0.0))
 
 
 def batch_rms(fine_csv: Path, seconds: float, batches: int = MC_BATCHES,

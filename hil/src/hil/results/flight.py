@@ -43,7 +43,8 @@ class CdrwResult:
                 "dt": self.dt, "error": self.table, "error_truth": self.table_truth,
                 "improvement_over_kf_pct": metrics.improvements(self.table),
                 "improvement_over_kf_truth_pct": metrics.improvements(self.table_truth),
-                "coverage": self.coverage, "missing_steps": self.missing_steps, "unanswered_steps": self.unanswered_steps,
+                "coverage": self.coverage, "missing_steps": self.missing_steps,
+                "unanswered_steps": self.unanswered_steps,
                 "degraded_steps": int(np.sum(self.series["degraded"])),
                 "faults": self.faults, "fault_events": self.events, "frames_injected": self.injected}
 

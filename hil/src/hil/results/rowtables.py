@@ -91,8 +91,9 @@ class Replay:
 
     def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
                  sid_args: Sequence[str] = ()) -> None:
-        csv = sid_csv(series["t"], _received(spec, "alpha", series["alpha_meas"]),
-                      _received(spec, "q", series["q_meas"]), _received(spec, "de", series["de_meas"]),
+        csv = sid_csv(series["t"].tolist(), _received(spec, "alpha", series["alpha_meas"]).tolist(),
+                      _received(spec, "q", series["q_meas"]).tolist(),
+                      _received(spec, "de", series["de_meas"]).tolist(),
                       [int(f) for f in series["fault"]])
         # files, not pipes: the output (~0.3 MB) would fill a pipe and stop sid_replay until read
         self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()
@@ -142,7 +143,7 @@ def fcc_rows(series: Mapping[str, np.ndarray]) -> dict[str, dict[str, np.ndarray
 
 
 def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,
-                     replay: Replay) -> tuple[dict[str, Any], dict[str, float]]:
+                     replay: Replay) -> tuple[dict[str, Any], dict[str, str | float]]:
     """({mode: mode_tables} for prior and posterior, replay_check), from the Replay of this
     flight (started by the caller, so that it runs while the caller works on).  The mode fcc
     flew (sid_options) is taken from fcc's rows; the others from the replay.  replay_check:

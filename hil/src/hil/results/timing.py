@@ -19,7 +19,7 @@ run_info.json, with fcc's own histograms (``fcc summary: ...`` lines of fcc.log)
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -119,4 +119,4 @@ def read_csv(path: Path) -> dict[str, np.ndarray]:
     return {k: np.asarray(v) for k, v in rows.items()}
 
 
-__all__: Iterable[str] = ("bus_timing", "fcc_histograms", "summarise", "write_csv", "read_csv")
+__all__: Sequence[str] = ("bus_timing", "fcc_histograms", "summarise", "write_csv", "read_csv")

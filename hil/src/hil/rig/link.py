@@ -25,7 +25,7 @@ import struct
 import time
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 from hil.bus.candump import format_line
 from hil.bus.canif import check_up, open_error
@@ -138,7 +138,7 @@ class CanLink:
     def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
                       log_path: Path | None) -> None:
         import can  # only the other interfaces need python-can (slow to import)
-        kwargs = {} if bitrate is None else {"bitrate": bitrate}
+        kwargs: dict[str, Any] = {} if bitrate is None else {"bitrate": bitrate}
         try:
             self.bus = can.Bus(interface=self.interface, channel=self.channel,
                                receive_own_messages=False, **kwargs)
@@ -160,6 +160,8 @@ class CanLink:
 
     def _send_generic(self, frame_id: int, data: bytes) -> bool:
         import can
+        if self.bus is None:
+            raise LinkError(f"{self.channel}: cannot send: the link is closed")
         msg = can.Message(arbitration_id=frame_id, data=data, is_extended_id=frame_id > 0x7FF,
                           channel=self.channel)
         try:
@@ -176,6 +178,8 @@ class CanLink:
     def _recv_generic(self, timeout: float) -> tuple[int, bytes] | None:
         """The next wanted frame within timeout s (every frame received is logged)."""
         import can
+        if self.bus is None:
+            raise LinkError(f"{self.channel}: cannot receive: the link is closed")
         deadline = time.monotonic() + timeout
         while True:
             try:

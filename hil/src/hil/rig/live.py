@@ -74,7 +74,8 @@ class BusView:
                    f" ({f(self.get('MSL_ELEV_CMD', 'da_bits'), 'd')} bit)   ({self.rate('MSL_ELEV_CMD', now):.0f} Hz)")
         flags = [h for h in HEALTH if self.get("FCC_STATUS", h)]
         out.append(f"FCC   steps cdrw {f(self.get('FCC_STATUS', 'cdrw_steps'), 'd')} missile "
-                   f"{f(self.get('FCC_STATUS', 'msl_steps'), 'd')}  overruns {f(self.get('FCC_STATUS', 'overruns'), 'd')}"
+                   f"{f(self.get('FCC_STATUS', 'msl_steps'), 'd')}"
+                   f"  overruns {f(self.get('FCC_STATUS', 'overruns'), 'd')}"
                    f"  worst {f(self.get('FCC_STATUS', 'worst_step_us'), 'd')} us  flags: {' '.join(flags) or 'none'}")
         e2e = [f"{s} {f(self.get(m, s), 'd')}" for m, sigs in E2E for s in sigs]
         out.append("E2E   " + "  ".join(e2e))

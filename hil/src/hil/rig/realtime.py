@@ -239,7 +239,7 @@ class RealtimeRunner:
                     rig.note_frame(*got)   # authenticated heartbeat frames are appended
                     for fid, data in rig.status_frames[n:]:   # only this one decoded
                         if fid == status.frame_id:
-                            state = int(status.message.decode(data, decode_choices=False)["state"])
+                            state = int(status.decode(data)["state"])
                 rig.check_alive("while locking to the time master")
             self.lock_wait_s = time.monotonic() - t
         return rig.time_master

@@ -369,10 +369,10 @@ class RigSession:
             self.note_frame(*got)
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
-            got = self.link.recv()
-            if got is not None:
-                self.note_frame(*got)
-                if got[0] == last_id:
+            frame = self.link.recv()
+            if frame is not None:
+                self.note_frame(*frame)
+                if frame[0] == last_id:
                     return True
         return False
 

@@ -20,7 +20,7 @@ class StatusCounters:
     """fcc's heartbeat counters, unwrapped across the 16-bit (or 8-bit) fields of the DBC
     (the heartbeat comes often enough that no counter moves by a whole wrap in between)."""
 
-    values: dict[str, int] = field(default_factory=dict)
+    values: dict[str, int | float] = field(default_factory=dict)  # a scaled gauge is a float
     _last_raw: dict[str, int] = field(default_factory=dict)
     last: dict[str, dict[str, int | float]] = field(default_factory=dict)
     heartbeats: int = 0
@@ -51,5 +51,5 @@ class StatusCounters:
             self.values[key] = self.values.get(key, 0) + (raw if prev is None else (raw - prev) % mod)
             self._last_raw[key] = raw
 
-    def get(self, name: str, default: int = 0) -> int:
+    def get(self, name: str, default: int = 0) -> int | float:
         return self.values.get(name, default)

@@ -121,7 +121,7 @@ def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
         "faults": [f.describe() for f in scenario.faults],
         "cdrw": {**metrics.campaign_table5(
             [fl.table for fl in flights], [fl.table_truth for fl in flights],
-            coverage=[fl.coverage for fl in flights] if all(fl.coverage for fl in flights) else None),
+            coverage=[fl.coverage for fl in flights if fl.coverage] if all(fl.coverage for fl in flights) else None),
             **_campaign_modes(flights), "paper_scenario": is_paper_scenario(scenario),
             "runs": per_run},
         "firmware": firmware}
@@ -159,6 +159,7 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
                    out / "bus.log", BusAuth(rig.security.key, rig.security.trip))))]
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
-    summary = write_campaign(out, scenario, seed, runs, flights, firmware_summary(rig.status, rig.security.counters()), cfg.mode)
+    summary = write_campaign(out, scenario, seed, runs, flights,
+                             firmware_summary(rig.status, rig.security.counters()), cfg.mode)
     write_json(out / "run_info.json", run_info(rig, cfg, runner, time.perf_counter() - t0))
     return finish(cfg, out, summary, step_periods([scenario]))

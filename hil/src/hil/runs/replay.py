@@ -33,6 +33,7 @@ from hil.bus.secoc import KeyFileError, read_key_file
 from hil.results.buslog import BusAuth, authentic_frames
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.simtime import WALL_LOG
+from hil.targets.host import HostFcc
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
 WALL_CLOCK_IDS = 0x700          # heartbeat and rig frames from here up: not compared
@@ -141,7 +142,7 @@ def compare(spec: BusSpec, where: str, rec: Sequence[tuple[int, bytes]],
         r = rec[i] if i < len(rec) else None
         v = live[i] if i < len(live) else None
         if r is None or v is None or r[0] != v[0]:
-            name = lambda fr: spec.by_id(fr[0]).name if fr and spec.by_id(fr[0]) else "-"  # noqa: E731
+            name = lambda fr: (m.name if fr and (m := spec.by_id(fr[0])) else "-")  # noqa: E731
             return Difference(where, f"frame {i + 1}", "message", name(r), name(v))
         if r[1] == v[1]:
             continue
@@ -205,7 +206,7 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
             if diff is not None:
                 return steps, diff
             steps += 1
-        if rig.fcc is not None and rig.fcc.wait(5.0) is None:
+        if isinstance(rig.fcc, HostFcc) and rig.fcc.wait(5.0) is None:  # replay runs the host's fcc
             raise FccDied("fcc did not exit after the recorded shutdown command")
         rest = [g for g in link.drain() if g[0] < WALL_CLOCK_IDS and g[0] not in auth_ids]
         diff = compare(spec, "the end of the run", segs[-1].fcc, rest)

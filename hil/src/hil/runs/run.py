@@ -148,6 +148,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         else:
             assert isinstance(d, MissileDriver)
             mres = missile_result(d)  # realtime too: the reference flies with the same delay
+            assert d.scenario.lqg is not None, "a missile scenario has its [lqg]"
             ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
             write_missile(out, mres)
             write_missile(out, ol)

@@ -91,6 +91,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
                 mdrivers.append(d)
         rig.shutdown()
     results = [missile_result(d, reference=cfg.mode == "lockstep") for d in mdrivers]
-    summary = write_sweep(out, scenario, periods, results, firmware_summary(rig.status, rig.security.counters()), cfg.mode)
+    summary = write_sweep(out, scenario, periods, results,
+                          firmware_summary(rig.status, rig.security.counters()), cfg.mode)
     write_json(out / "run_info.json", run_info(rig, cfg, runner, time.perf_counter() - t0))
     return finish(cfg, out, summary, step_periods([first]))

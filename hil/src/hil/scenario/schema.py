@@ -77,7 +77,7 @@ def _coerce(value: Any, hint: Any, meta: Mapping[str, Any], where: str) -> Any:
         if len(value) != len(args):
             raise ScenarioError(f"{where}: expected an array of {len(args)} values, got {len(value)}")
         return tuple(_coerce(v, h, meta, f"{where}[{i}]") for i, (v, h) in enumerate(zip(value, args)))
-    if dataclasses.is_dataclass(hint):
+    if isinstance(hint, type) and dataclasses.is_dataclass(hint):
         if not isinstance(value, Mapping):
             raise ScenarioError(f"{where}: expected a table, got {_show(value)}")
         return build(hint, value, where)

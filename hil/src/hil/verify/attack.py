@@ -8,7 +8,7 @@ from __future__ import annotations
 import random
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 
 from hil.bus import load
@@ -30,7 +30,7 @@ PAUSE_S = 0.002
 FIRST_FRAMES = 8
 
 
-def e2e_frame(name: str, values: dict[str, int | float], counter: int) -> bytes:
+def e2e_frame(name: str, values: Mapping[str, int | float], counter: int) -> bytes:
     """A frame with a valid E2E header: the attacker knows the CRC and tries every counter."""
     msg = SPEC.by_name(name)
     raw = bytes(msg.message.encode({"crc": 0, "counter": 0, **values}))
@@ -45,8 +45,9 @@ def forged_auth(rng: random.Random, fv: int | None = None) -> bytes:
 def forge_control(rng: random.Random) -> Frames:
     """Reconfigure to T = 0.3 s, N = 2; RESET; SHUTDOWN; GROUND -- each with a forged
     authenticator (a guessed freshness, a random MAC), or none at all."""
-    commands = [{"command": COMMAND_NONE, "lqg_period": 0.3, "da_bits": 2}, {"command": COMMAND_RESET},
-                {"command": COMMAND_SHUTDOWN}, {"command": COMMAND_GROUND}]
+    commands: list[dict[str, int | float]] = [
+        {"command": COMMAND_NONE, "lqg_period": 0.3, "da_bits": 2}, {"command": COMMAND_RESET},
+        {"command": COMMAND_SHUTDOWN}, {"command": COMMAND_GROUND}]
     for i in range(MAX_FRAMES // 2):
         c = {"command": COMMAND_NONE, "lqg_period": 0.0, "da_bits": 0, **commands[i % len(commands)]}
         yield ID["SIM_CONTROL"], e2e_frame("SIM_CONTROL", c, i % 16)

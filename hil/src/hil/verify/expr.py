@@ -81,8 +81,8 @@ def evaluate(node: ast.expr, values: Mapping[str, float]) -> float | bool:
     name = _dotted(node)
     if name is not None:
         return values[name]
-    if isinstance(node, ast.Constant):
-        return node.value  # type: ignore[no-any-return]
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):  # all _check admits
+        return node.value
     if isinstance(node, ast.BinOp):
         return _BINARY[type(node.op)](evaluate(node.left, values), evaluate(node.right, values))
     if isinstance(node, ast.UnaryOp):

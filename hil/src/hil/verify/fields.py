@@ -88,7 +88,8 @@ _add("detector.flagged_steps", "cdrw", "steps the AZKF flagged", _at("derived", 
 # ---- the missile autopilot (seed 2) ---------------------------------------------------------
 _add("steps.missile", "missile", "missile steps fcc reported", _at("summary", "firmware", "steps", "missile"))
 for _k in ("rms_q", "rms_alpha"):
-    _add(f"missile.{_k}", "missile", f"closed loop through fcc: RMS of {_k[4:]}", _at("summary", "missile", "runs", "0", _k))
+    _add(f"missile.{_k}", "missile", f"closed loop through fcc: RMS of {_k[4:]}",
+         _at("summary", "missile", "runs", "0", _k))
     _add(f"open_loop.{_k}", "missile", f"open loop, same gusts and noise: RMS of {_k[4:]}",
          _at("summary", "missile", "runs", "1", _k))
     _add(f"reference.{_k}", "missile", f"the scipy LQG reference on the same gusts: RMS of {_k[4:]}",

@@ -45,6 +45,7 @@ x_{k+1} = A_k x_k + B_k de_k):
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -241,11 +242,12 @@ class CdrwPlant:
         n = max(1, math.ceil(dt / self.substep - 1e-9))
         h = dt / n
         a, q, x = self.alpha, self.q, self.X
-        f = self.rates
+        f: Callable[..., tuple[float, float, float]] = self.rates
         if hold_separation:
-            def f(a_: float, q_: float, x_: float, de_: float, da: float, dq: float) -> tuple[float, float, float]:
+            def held(a_: float, q_: float, x_: float, de_: float, da: float, dq: float) -> tuple[float, float, float]:
                 r = self.rates(a_, q_, x_, de_, da, dq)
                 return r[0], r[1], 0.0
+            f = held
         for _ in range(n):
             k1 = f(a, q, x, de, d_alpha, d_q)
             k2 = f(a + 0.5 * h * k1[0], q + 0.5 * h * k1[1], x + 0.5 * h * k1[2], de, d_alpha, d_q)

@@ -177,14 +177,19 @@ def open_loop(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
     return with_sensor_faults(scenario, _clean_flight(fault_free(scenario), n_samples))
 
 
-#: the last entry used in this process: (its bytes, its samples)
-_last: tuple[bytes, list[CdrwSample]] | None = None
+#: the last entry used in this process, its bytes -> its samples (one slot: a campaign's flights
+#: share one entry; a changed file is a different key, so it is decoded and checked again)
+_decoded: dict[bytes, list[CdrwSample]] = {}
+
+
+def _remember(data: bytes, samples: list[CdrwSample]) -> None:
+    _decoded.clear()
+    _decoded[data] = samples
 
 
 def _clean_flight(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
     """The fault-free flight, from the cache when it holds a valid entry (decoded once while
     the entry's bytes stay the same), else computed and stored."""
-    global _last
     d = cache_dir()
     if d is None or not _usable_dir(d):
         return compute(scenario)
@@ -194,12 +199,12 @@ def _clean_flight(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
         return compute(scenario)
     path = d / f"{key}{SUFFIX}"
     data = _read(path)
-    if data is not None and _last is not None and _last[0] == data:
-        return _last[1]
+    if data is not None and data in _decoded:
+        return _decoded[data]
     if data is not None:
         try:
             samples = _decode(data, key, scenario, n_samples)
-            _last = (data, samples)
+            _remember(data, samples)
             return samples
         except (ValueError, TypeError, KeyError, IndexError):
             pass   # not a valid entry: rebuilt below
@@ -208,7 +213,7 @@ def _clean_flight(scenario: Scenario, n_samples: int) -> list[CdrwSample]:
     if entry is not None:
         _store(path, entry)
         _prune(d)
-        _last = (entry, samples)
+        _remember(entry, samples)
     return samples
 
 

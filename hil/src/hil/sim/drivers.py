@@ -10,7 +10,8 @@ injector (frame and bus faults).  Per step k at t_k = k*period:
 
 CDRW (seed 1): the simulator flies the pull-up open loop (its own elevator schedule), so the
 whole flight (hil.sim.cdrw_cache: computed once per scenario and code) and every frame of it
-are computed before the first tick (the hot loop only sends); fcc's outputs, the three filters' estimates, are read back from the bus log.  Missile (seed 2): the
+are computed before the first tick (the hot loop only sends); fcc's outputs, the three
+filters' estimates, are read back from the bus log.  Missile (seed 2): the
 elevator is the D/A code of fcc's MSL_ELEV_CMD of step k, held over [t_k, t_k + T) with the
 scenario's sub-steps; without a usable command of step k the previous code stays applied
 (a real actuator holds its last input).

@@ -45,13 +45,21 @@ DAC_SPAN = 2.0 * missile.U_MAX
 class Design(Protocol):
     """What the covariance analysis needs of an LQG design (period T)."""
 
-    T: float
-    Phi: np.ndarray     # 3x3, the estimator's transition
-    Gamma: np.ndarray   # (3,), the estimator's input
-    H: np.ndarray       # 2x3
-    R: np.ndarray       # 2x2, the sensor noise the loop really gets
-    K: np.ndarray       # (3,), u = -K x_hat
-    L: np.ndarray       # 3x2, update-form filter gain
+    # read-only members (properties), so that a frozen dataclass is a Design too
+    @property
+    def T(self) -> float: ...
+    @property
+    def Phi(self) -> np.ndarray: ...    # 3x3, the estimator's transition
+    @property
+    def Gamma(self) -> np.ndarray: ...  # (3,), the estimator's input
+    @property
+    def H(self) -> np.ndarray: ...      # 2x3
+    @property
+    def R(self) -> np.ndarray: ...      # 2x2, the sensor noise the loop really gets
+    @property
+    def K(self) -> np.ndarray: ...      # (3,), u = -K x_hat
+    @property
+    def L(self) -> np.ndarray: ...      # 3x2, update-form filter gain
 
 
 @dataclass(frozen=True)

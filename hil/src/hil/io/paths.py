@@ -122,14 +122,25 @@ def require(names: Iterable[str]) -> None:
         tool(name)
 
 
+def user_cache() -> Path | None:
+    """hil's directory in the user's cache: $XDG_CACHE_HOME/hil (only when absolute, as the XDG
+    specification says), else ~/.cache/hil; None without a home directory (rather than a cache
+    under the current directory)."""
+    xdg = Path(os.environ.get("XDG_CACHE_HOME", ""))
+    base = xdg if xdg.is_absolute() else Path(os.path.expanduser("~")) / ".cache"
+    return base / "hil" if base.is_absolute() else None
+
+
 def uml_dir() -> Path:
     """Where the packaged vcan launcher keeps its User-Mode Linux kernel: $WITH_VCAN_UML_DIR,
-    else hil/uml in the user's cache directory ($XDG_CACHE_HOME, default ~/.cache)."""
+    else uml/ in user_cache()."""
     given = os.environ.get("WITH_VCAN_UML_DIR")
     if given:
         return Path(given).expanduser()
-    cache = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(cache) / "hil" / "uml"
+    cache = user_cache()
+    if cache is None:
+        raise ToolNotFound("no home directory for the User-Mode Linux kernel: set $WITH_VCAN_UML_DIR")
+    return cache / "uml"
 
 
 def with_vcan() -> list[str]:

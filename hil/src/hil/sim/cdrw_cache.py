@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hil.io.paths import user_cache
 from hil.io.rundir import unique_tag
 from hil.scenario import cdrw_params, faults, plant_options, sensor_options
 from hil.scenario.file import Scenario
@@ -60,17 +61,14 @@ _SIZES = tuple(math.prod(_SHAPES.get(name, (2, 2))) for name in _LIN)
 
 
 def cache_dir() -> Path | None:
-    """The cache directory (None: caching is off; XDG_CACHE_HOME counts only when absolute,
-    as its specification says)."""
+    """The cache directory (None: caching is off, or there is no home directory)."""
     env = os.environ.get(CACHE_ENV, "")
     if env.lower() in ("off", "0", "no"):
         return None
     if env:
         return Path(env)
-    xdg = Path(os.environ.get("XDG_CACHE_HOME", ""))
-    base = xdg if xdg.is_absolute() else Path(os.path.expanduser("~")) / ".cache"
-    # no home to expand ("~" stays): no cache rather than one under the current directory
-    return base / "hil" / "cdrw" if base.is_absolute() else None
+    base = user_cache()
+    return None if base is None else base / "cdrw"
 
 
 def _usable_dir(d: Path) -> bool:

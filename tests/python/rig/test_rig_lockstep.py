@@ -160,6 +160,19 @@ def test_fcc_hanging_mid_run_times_out(tmp_path):
     assert rig.fcc.returncode is not None    # the session stopped it
 
 
+def test_lockstep_runs_its_processes_as_batch(tmp_path):
+    """In lockstep the simulator, fcc and the recorder are SCHED_BATCH (none preempts another
+    when a frame wakes it: a step's frames are read at one wake-up); the simulator's own process
+    is back to the default policy when the session closes."""
+    sc = scenario(CDRW_1S)
+    with RigSession(tmp_path, fcc_args([sc], cfg := RigConfig(out_dir=tmp_path)), cfg) as rig:
+        airborne(rig, sc, 3, timeout=2.0)
+        assert rig.batch_scheduled
+        pids = [0, rig.fcc.pid, rig.bus_recorder.pid]
+        assert [os.sched_getscheduler(p) for p in pids] == [os.SCHED_BATCH] * 3
+    assert os.sched_getscheduler(0) == os.SCHED_OTHER
+
+
 def test_fcc_killed_mid_run(tmp_path):
     sc = scenario(CDRW_1S)
     with pytest.raises(FccDied, match=r"fcc died during step 10 of app cdrw \(killed by SIGKILL"):

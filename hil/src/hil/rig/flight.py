@@ -138,6 +138,7 @@ def run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dic
         "worst_step_us": st.get("FCC_STATUS.worst_step_us"), "status_flags": st.last.get("FCC_STATUS", {}),
         "stale_now": st.get("FCC_E2E_FAULTS.stale_now"),
         "secured_frames_verified": rig.security.counters()["verified"],
+        "batch_scheduled": rig.batch_scheduled,
         "link": {"tx_frames": rig.link_stats.get("tx_frames", 0), "rx_frames": rig.link_stats.get("rx_frames", 0),
                  "tx_retries": rig.link_stats.get("tx_retries", 0), "tx_dropped": rig.link_stats.get("tx_dropped", 0)},
     }

@@ -42,6 +42,7 @@ from hil.rig.status import STATUS_FRAMES, StatusCounters
 from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.targets.device import Device, DeviceStart
 from hil.targets.registry import device_class
+from hil.util.processes import run_as_batch
 
 if TYPE_CHECKING:  # realtime's (hil.rig.realtime makes them): not imported for lockstep
     from hil.rig.timesync import TimeMaster
@@ -138,6 +139,8 @@ class RigSession:
                          tuple(self.spec.by_name(p).frame_id for p in hb_auth.secoc_pdus))
         self._hb_latest: dict[int, bytes] = {}
         self.t_start = 0.0
+        #: lockstep: fcc and the recorder in SCHED_BATCH (hil.util.processes.run_as_batch)
+        self.batch_scheduled = False
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
         self.time_master_stats: dict[str, int] = {}
@@ -186,6 +189,8 @@ class RigSession:
             self.fcc = self.device_class.start(DeviceStart(
                 self.run_dir, self.fcc_args, self.iface, self.fcc_binary, self.interface))
             self._wait_listening()
+            if self.mode == "lockstep":
+                self.batch_scheduled = run_as_batch(self._lockstep_pids())
         except BaseException:
             self.close()
             raise
@@ -222,6 +227,12 @@ class RigSession:
     def _start_link_recorder(self) -> None:
         assert self.link is not None
         self.bus_recorder = LinkRecorder(self.link)
+
+    def _lockstep_pids(self) -> list[int]:
+        """This process and the local ones that answer or record its frames."""
+        assert self.fcc is not None
+        recorder = self.bus_recorder.pid if isinstance(self.bus_recorder, BusRecorder) else None
+        return [0, *self.fcc.local_pids(), *([recorder] if recorder is not None else [])]
 
     def _wait_listening(self) -> None:
         """Until the device's first authenticated heartbeat: it has opened its socket, listens,
@@ -392,6 +403,8 @@ class RigSession:
                 if self.fcc_exit is None:
                     self.fcc_exit = self.fcc.returncode
         finally:
+            if self.batch_scheduled:  # the simulator's own process: back to the default policy
+                run_as_batch([0], batch=False)
             self._stop_recorder()
             self._close_link()
 

@@ -69,6 +69,10 @@ class Device:
     def poll(self) -> int | None:
         return None
 
+    def local_pids(self) -> tuple[int, ...]:
+        """The processes of this machine that play the device (none for an external one)."""
+        return ()
+
     def describe_exit(self) -> str:
         return "still running"
 

@@ -99,6 +99,9 @@ class HostFcc(FccProcess, Device):
     def key_args(cls, key_file: Path, trip: int | None) -> list[str]:
         return ["--key-file", str(key_file), "--trip", str(trip)]
 
+    def local_pids(self) -> tuple[int, ...]:
+        return (self.pid,)
+
     @classmethod
     def start(cls, how: DeviceStart) -> HostFcc:
         return cls(how.firmware or tool("fcc"), how.fcc_args, how.iface, how.log_path)

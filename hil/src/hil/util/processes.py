@@ -46,6 +46,26 @@ def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
                             **kw)
 
 
+def run_as_batch(pids: Sequence[int], batch: bool = True) -> bool:
+    """Put processes (0: this one) in the SCHED_BATCH policy, or back in SCHED_OTHER; False
+    where the system refuses (or has no such policy).
+
+    A batch process woken by a frame does not preempt the running one (Linux's wake-up
+    preemption skips SCHED_BATCH).  In lockstep, with the simulator, fcc and the recorder all
+    batch, each runs until it waits: the simulator's sendmmsg of a step's frames ends before fcc
+    runs, and fcc reads the whole step at one wake-up instead of one per frame.  Nothing else
+    changes: a batch process still gets its fair share of the CPU."""
+    if not hasattr(os, "SCHED_BATCH"):
+        return False
+    policy = os.SCHED_BATCH if batch else os.SCHED_OTHER
+    try:
+        for pid in pids:
+            os.sched_setscheduler(pid, policy, os.sched_param(0))
+    except OSError:
+        return False
+    return True
+
+
 class ProcessError(RuntimeError):
     """A program could not be started or stopped (one line)."""
 

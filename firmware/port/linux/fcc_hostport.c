@@ -1,7 +1,7 @@
 /*
- * fcc_hostport.c -- Linux port: SocketCAN + clocks + interface watchdog.
+ * fcc_hostport.c -- Linux port: SocketCAN + clock + interface watchdog.
  */
-#define _DEFAULT_SOURCE 1 /* clock_gettime, ioctl flags under -std=c99 */
+#define _DEFAULT_SOURCE 1 /* ioctl flags under -std=c99 */
 
 #include "fcc_hostport.h"
 
@@ -9,23 +9,14 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "fcc_bus_msgs.h"
 
-static uint64_t clock_us(clockid_t id)
+uint64_t fcc_hostport_now(fcc_hostport_t *hp)
 {
-    struct timespec ts;
-    (void)clock_gettime(id, &ts);
-    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
+    return fcc_hostclock_now(&hp->clock);
 }
-
-uint64_t fcc_host_monotonic_us(void)
-{
-    return clock_us(CLOCK_MONOTONIC);
-}
-
 
 static void report(const fcc_hostport_t *hp, fcc_event_class_t cls, int32_t value)
 {
@@ -69,6 +60,7 @@ fcc_status_t fcc_hostport_init(fcc_hostport_t *hp, const char *ifname,
     }
     memset(hp, 0, sizeof *hp);
     hp->sc.fd = -1;
+    fcc_hostclock_init(&hp->clock, fcc_hostclock_has_counter());
     strcpy(hp->ifname, ifname);
     hp->cmd_id = FCC_MSG_MSL_ELEV_CMD_ID;
     hp->event = event;
@@ -141,7 +133,7 @@ void fcc_hostport_lost(fcc_hostport_t *hp)
     fcc_socketcan_close(&hp->sc);
     hp->up = false;
     ++hp->downs;
-    hp->next_probe_us = fcc_host_monotonic_us() + FCC_HOSTPORT_PROBE_US;
+    hp->next_probe_us = fcc_hostport_now(hp) + FCC_HOSTPORT_PROBE_US;
     report(hp, FCC_EV_IFACE_DOWN, (int32_t)hp->downs);
 }
 
@@ -238,13 +230,13 @@ static fcc_status_t port_counters(void *ctx, fcc_can_port_counters_t *out)
 
 static uint64_t port_now(void *ctx)
 {
-    (void)ctx;
-    return fcc_host_monotonic_us();
+    return fcc_hostport_now(ctx);
 }
 
 fcc_port_t fcc_hostport_port(fcc_hostport_t *hp)
 {
     const fcc_port_t p = {
+        .clock_ctx = hp,
         .can = {.ctx = hp, .send = port_send, .recv = port_recv, .counters = port_counters,
                 .send_many = port_send_many},
         .now_us = port_now,

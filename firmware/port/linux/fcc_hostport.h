@@ -18,6 +18,11 @@
  * stamps (the kernel's SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC by
  * fcc_socketcan), for the data age sensor frame received -> command sent.  Not a
  * clock read of its own: under User-Mode Linux each one is a system call.
+ *
+ * Its clock (now_us, and the loop's reads through fcc_hostport_now) is CLOCK_MONOTONIC
+ * read through the CPU's time-stamp counter where it is invariant (fcc_hostclock.h): the
+ * node reads it twice a step (its execution time), and a system call each would lie on
+ * the path from a lockstep tick to its command.
  */
 #ifndef FCC_HOSTPORT_H
 #define FCC_HOSTPORT_H
@@ -25,6 +30,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fcc_hostclock.h"
 #include "fcc_port.h"
 #include "fcc_socketcan.h"
 
@@ -32,6 +38,7 @@
 
 typedef struct {
     fcc_socketcan_t sc;
+    fcc_hostclock_t clock;            /* the port's clock (fcc_hostclock.h) */
     char ifname[32];
     bool up;                          /* socket open and working */
     uint64_t next_probe_us;           /* while down */
@@ -46,7 +53,9 @@ typedef struct {
     void *event_ctx;
 } fcc_hostport_t;
 
-uint64_t fcc_host_monotonic_us(void);
+/* The port's clock: CLOCK_MONOTONIC in microseconds, through the time-stamp counter where
+ * it serves (fcc_hostclock.h: no system call per read); the node's now_us. */
+uint64_t fcc_hostport_now(fcc_hostport_t *hp);
 
 /* Prepares hp for interface ifname without opening it (sends fail, receive
  * is empty until fcc_hostport_open).  event/event_ctx receive interface

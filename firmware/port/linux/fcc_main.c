@@ -131,7 +131,7 @@ static void handle_frames(host_t *h, uint32_t budget)
         (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
         measure_steps(h);
         if (h->hp.cmd_unstamped) { /* before the next frame can run the next step */
-            stamp_command(h, fcc_host_monotonic_us());
+            stamp_command(h, fcc_hostport_now(&h->hp));
         }
         if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
             return;
@@ -267,7 +267,7 @@ static bool loop_once(host_t *h)
     const bool timed = timer_due || !h->hp.up || sync_timed(h) ||
                        h->cli.node.mode == FCC_MODE_REALTIME || h->hp.cmd_unstamped;
     if (timed) {
-        const uint64_t now = fcc_host_monotonic_us(); /* the iteration's one clock read */
+        const uint64_t now = fcc_hostport_now(&h->hp); /* the iteration's one clock read */
         stamp_command(h, now);
         send_status_if_due(h, now);
         (void)fcc_hostport_service(&h->hp, now);
@@ -308,7 +308,7 @@ static int setup_fds(host_t *h)
 
 static uint64_t host_now(void)
 {
-    return fcc_host_monotonic_us();
+    return fcc_hostport_now(&g_host.hp);
 }
 
 static void print_hist(const char *what, const char *app, const fcc_hist_t *hist)
@@ -318,14 +318,15 @@ static void print_hist(const char *what, const char *app, const fcc_hist_t *hist
             (unsigned long long)fcc_hist_quantile(hist, 0.99), (unsigned long long)hist->max);
 }
 
-static void print_summary(const host_t *h)
+/* now_us: the clock at the stop, for the run's length */
+static void print_summary(const host_t *h, uint64_t now_us)
 {
     const fcc_node_t *n = &h->node;
     fcc_bus_counters_t bc;
     fcc_can_port_counters_t pc;
     (void)fcc_bus_get_counters(&n->bus, &bc);
     (void)n->port.can.counters(n->port.can.ctx, &pc);
-    const double secs = (double)(fcc_host_monotonic_us() - h->start_us) * 1e-6;
+    const double secs = (double)(now_us - h->start_us) * 1e-6;
     fprintf(stderr, "fcc: stopping (%s) after %.2f s, mode %s\n", h->stop_reason, secs,
             n->cfg.mode == FCC_MODE_LOCKSTEP ? "lockstep" : "realtime");
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
@@ -467,7 +468,7 @@ static int start(host_t *h)
         return 1;
     }
     set_rt_priority(h->cli.rt_priority);
-    h->start_us = fcc_host_monotonic_us();
+    h->start_us = fcc_hostport_now(&h->hp);
     h->now_us = h->start_us;
     h->end_us = (h->cli.duration_s > 0.0)
                     ? h->start_us + (uint64_t)(h->cli.duration_s * 1e6)
@@ -521,7 +522,7 @@ int main(int argc, char **argv)
     }
     (void)fcc_node_send_status(&h->node); /* the last heartbeat, flushed before exit */
     fcc_report_flush(&h->report);
-    print_summary(h);
+    print_summary(h, fcc_hostport_now(&h->hp));
     fcc_hostport_close(&h->hp);
     return 0;
 }

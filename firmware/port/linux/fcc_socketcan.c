@@ -207,7 +207,7 @@ static void take_message(fcc_socketcan_t *s, const struct can_frame *cf, size_t 
  * the (empty) read-ahead buffer.  FCC_ERR_AGAIN when none is waiting.  Fewer than
  * asked for: the kernel's queue is empty now (drained), so the next read waits for
  * the caller's wait to see the descriptor readable -- under User-Mode Linux a system
- * call costs more than a whole step's arithmetic. */
+ * call costs about as much as a whole step's arithmetic. */
 static fcc_status_t read_ahead(fcc_socketcan_t *s)
 {
     struct can_frame cf[FCC_SOCKETCAN_RX_BATCH];
@@ -342,10 +342,10 @@ static bool batch_send(fcc_socketcan_t *s, batch_t *b, fcc_status_t *st)
 {
     uint32_t next = 0u;
     uint64_t deadline = 0u;
-    /* A send wakes the receivers, and on one CPU they run before the sender goes on: the
-     * answer may be queued when the send returns (the lockstep simulator's next step
-     * is), so the next receive asks the kernel again -- one read instead of a wait. */
-    s->drained = false;
+    /* A send leaves the receive side as it is: an answer that came meanwhile makes the
+     * descriptor readable, and the caller's wait returns at once for it (in lockstep the
+     * peers run as SCHED_BATCH, so the answer comes only once this process waits: a read
+     * after each send found nothing, a system call per step). */
     while (next < b->n) {
         const int sent = sendmmsg(s->fd, &b->mm[next], b->n - next, 0);
         const int err = (sent < 0) ? errno : 0;

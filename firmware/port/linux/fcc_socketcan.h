@@ -11,8 +11,7 @@
  *    fewer than it asked for emptied the kernel's queue: the port does not ask the
  *    kernel again (no system call that would say "nothing") until the caller's wait
  *    says the descriptor is readable (fcc_socketcan_wait, or fcc_socketcan_readable
- *    for a caller that polls the descriptor itself), or until it sent (the answer
- *    to a send may be queued when it returns);
+ *    for a caller that polls the descriptor itself; a send changes nothing here);
  *  - send: a full queue (ENOBUFS/EAGAIN) is retried for a bounded time, then
  *    the frame is dropped and counted -- the program never stops on it;
  *  - send many: the same, frames in order, up to FCC_SOCKETCAN_MAX_BATCH per
@@ -69,8 +68,8 @@ fcc_status_t fcc_socketcan_set_rcvbuf(fcc_socketcan_t *s, int bytes);
  * remote) are counted and skipped.  Frames are read ahead (one recvmmsg for all
  * that wait, up to FCC_SOCKETCAN_RX_BATCH) and handed out one per call; rx_frames
  * counts them as they are handed out.  After a read that emptied the kernel's
- * queue, FCC_ERR_AGAIN without a system call until fcc_socketcan_wait(),
- * fcc_socketcan_readable() or a send (frames that came since wait on the descriptor). */
+ * queue, FCC_ERR_AGAIN without a system call until fcc_socketcan_wait() or
+ * fcc_socketcan_readable() (frames that came since wait on the descriptor). */
 fcc_status_t fcc_socketcan_recv(fcc_socketcan_t *s, fcc_can_frame_t *frame);
 
 /* Frames read ahead and not yet handed out: the descriptor may not be readable

@@ -161,8 +161,10 @@ static void test_options(void **state)
     assert_int_equal(o.rcvbuf, 0u);
     assert_int_equal(o.batch, CANREC_BATCH_DEFAULT);
     assert_int_equal(o.count, 0u);
+    assert_int_equal(o.wait_ms, 0u);
     assert_int_equal(PARSE(&o, err, "-r", "16777216", "-o", "bus.log", "-b", "256", "-n", "3",
-                           "can1"), 0);
+                           "-w", "10", "can1"), 0);
+    assert_int_equal(o.wait_ms, 10u);
     assert_string_equal(o.iface, "can1");
     assert_string_equal(o.output, "bus.log");
     assert_int_equal(o.rcvbuf, 16777216u);
@@ -198,6 +200,7 @@ static void test_refusals(void **state)
     expect_refused(PARSE(&o, err, "vcan0", "-r", "-5"), err, "not a non-negative integer");
     expect_refused(PARSE(&o, err, "vcan0", "-r", "0"), err, "outside");
     expect_refused(PARSE(&o, err, "vcan0", "-n", "x"), err, "-n: 'x'");
+    expect_refused(PARSE(&o, err, "vcan0", "-w", "101"), err, "-w: 101 is outside 0..100");
     expect_refused(PARSE(&o, err, "vcan0", "-o"), err, "option -o needs a value");
     expect_refused(PARSE(&o, err, "vcan0", "-o", ""), err, "empty file name");
     expect_refused(PARSE(&o, err, "vcan0", "-l"), err, "unknown option '-l'");

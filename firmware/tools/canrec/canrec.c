@@ -2,7 +2,7 @@
  * canrec -- record a SocketCAN interface in the candump log format, a batch
  * of frames per system call.
  *
- *   canrec [-o FILE] [-r BYTES] [-b N] [-n N] IFACE
+ *   canrec [-o FILE] [-r BYTES] [-b N] [-n N] [-w MS] IFACE
  *
  * The lines are candump -l's (canrec_log.h): the kernel's receive time of
  * every frame (SO_TIMESTAMP), the interface, the frame.  Where candump makes
@@ -12,10 +12,16 @@
  * batch).  On a User-Mode Linux guest, where a system call costs tens of
  * microseconds, that is the recorder's whole cost (README, Performance).
  *
+ * -w MS: after a read that emptied the queue, canrec lets frames gather for MS
+ * milliseconds before it reads again (the kernel stamps them on arrival, so the
+ * log is the same): in lockstep one wake-up for many steps instead of one or two
+ * a step.  The queue (-r) must then hold MS of the bus.
+ *
  * The kernel's drop counter (SO_RXQ_OVFL, and SO_MEMINFO at the end) tells
  * whether a frame was lost because the receive queue was full: one line on
  * stderr when it happens, exit 3 at the end.  SIGINT/SIGTERM: the frames
- * read so far are written, the file closed, exit 0 (or 3).
+ * queued at that moment are read too (a stop during a -w wait must not lose
+ * the rig's end marker), everything is written, the file closed, exit 0 (or 3).
  *
  * Exit: 0 recorded; 1 socket or file error; 2 bad command line; 3 frames lost.
  * Host tool (Linux), static storage only.
@@ -32,6 +38,7 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/time.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <linux/can.h>
@@ -232,39 +239,83 @@ static int record(recorder_t *r, struct mmsghdr *m, const struct canfd_frame *f)
     return 0;
 }
 
+/* One receive call (flags: MSG_WAITFORONE to wait for the first frame, MSG_DONTWAIT not
+ * to wait) and its frames into the output block.  0, with *drained when the call returned
+ * fewer frames than it asked for (the queue is empty: a signal or the receive timeout
+ * returns none), or the exit status of an error. */
+static int read_batch(recorder_t *r, int flags, bool *drained)
+{
+    unsigned want = (unsigned)r->o->batch;
+    if (r->o->count != 0u && r->o->count - r->frames < want) {
+        want = (unsigned)(r->o->count - r->frames);
+    }
+    for (unsigned i = 0u; i < want; ++i) {
+        r->msgs[i].msg_hdr.msg_name = NULL;
+        r->msgs[i].msg_hdr.msg_namelen = 0;
+        r->msgs[i].msg_hdr.msg_controllen = sizeof r->control[i].buf;
+        r->msgs[i].msg_hdr.msg_flags = 0;
+    }
+    const int n = recvmmsg(r->sock, r->msgs, want, flags, NULL);
+    if (n < 0 && errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK) {
+        return fail("cannot receive from", r->o->iface, errno);
+    }
+    *drained = n < (int)want;
+    for (int i = 0; i < n; ++i) {
+        const int rc = record(r, &r->msgs[i], &r->frames_in[i]);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    if (n > 0 && r->flush_each_batch && flush_out(r) != 0) {
+        return fail("cannot write the log of", r->o->iface, errno);
+    }
+    return 0;
+}
+
+/* -w: after a read that emptied the queue, let frames gather for wait_ms (the kernel
+ * stamps them as they come, so the log is the same) -- one wake-up for many lockstep
+ * steps instead of one or two each.  A signal ends the wait. */
+static void let_frames_gather(const recorder_t *r)
+{
+    const struct timespec gap = {(time_t)(r->o->wait_ms / 1000u),
+                                 (long)(r->o->wait_ms % 1000u) * 1000000L};
+    (void)nanosleep(&gap, NULL);
+}
+
+static bool count_reached(const recorder_t *r)
+{
+    return r->o->count != 0u && r->frames >= r->o->count;
+}
+
 /* Until a signal, -n frames, or an error. */
 static int record_loop(recorder_t *r)
 {
-    const unsigned batch = (unsigned)r->o->batch;
-    while (!g_stop) {
-        unsigned want = batch;
-        if (r->o->count != 0u && r->o->count - r->frames < want) {
-            want = (unsigned)(r->o->count - r->frames);
+    while (!g_stop && !count_reached(r)) {
+        bool drained = false;
+        const int rc = read_batch(r, MSG_WAITFORONE, &drained);
+        if (rc != 0) {
+            return rc;
         }
-        for (unsigned i = 0u; i < want; ++i) {
-            r->msgs[i].msg_hdr.msg_name = NULL;
-            r->msgs[i].msg_hdr.msg_namelen = 0;
-            r->msgs[i].msg_hdr.msg_controllen = sizeof r->control[i].buf;
-            r->msgs[i].msg_hdr.msg_flags = 0;
+        if (drained && r->o->wait_ms != 0u && !g_stop) {
+            let_frames_gather(r);
         }
-        const int n = recvmmsg(r->sock, r->msgs, want, MSG_WAITFORONE, NULL);
-        if (n < 0) {
-            if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
-                continue;
-            }
-            return fail("cannot receive from", r->o->iface, errno);
-        }
-        for (int i = 0; i < n; ++i) {
-            const int rc = record(r, &r->msgs[i], &r->frames_in[i]);
-            if (rc != 0) {
-                return rc;
-            }
-        }
-        if (r->flush_each_batch && flush_out(r) != 0) {
-            return fail("cannot write the log of", r->o->iface, errno);
-        }
-        if (r->o->count != 0u && r->frames >= r->o->count) {
-            break;
+    }
+    return 0;
+}
+
+/* Stopped by a signal: what is queued now was on the bus before the stop (the rig's end
+ * marker among it, when the stop came during a -w wait), so it is read and written too
+ * -- up to DRAIN_MAX frames, in case the bus never goes quiet. */
+#define DRAIN_MAX 65536u
+
+static int drain(recorder_t *r)
+{
+    const uint64_t limit = r->frames + DRAIN_MAX;
+    bool drained = false;
+    while (!drained && !count_reached(r) && r->frames < limit) {
+        const int rc = read_batch(r, MSG_DONTWAIT, &drained);
+        if (rc != 0) {
+            return rc;
         }
     }
     return 0;
@@ -320,6 +371,9 @@ int main(int argc, char **argv)
     }
     if (rc == 0) {
         rc = record_loop(r);
+    }
+    if (rc == 0 && g_stop) {
+        rc = drain(r);
     }
     if (r->sock >= 0) {
         final_drops(r);

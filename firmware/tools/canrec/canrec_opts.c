@@ -18,19 +18,23 @@ void canrec_opts_usage(FILE *out)
             "Records every frame on the SocketCAN interface IFACE in the candump log format,\n"
             "one line a frame: (SECONDS.MICROSECONDS) IFACE ID#DATA, the kernel's receive time\n"
             "(SO_TIMESTAMP) -- the lines candump -l writes.  Frames are read in batches\n"
-            "(recvmmsg) and written in blocks; stops on SIGINT or SIGTERM, after writing out\n"
-            "everything it has read.\n"
+            "(recvmmsg) and written in blocks; stops on SIGINT or SIGTERM, after reading what\n"
+            "is queued and writing everything out.\n"
             "options:\n"
             "  -o, --output FILE   write the log to FILE (default: stdout, written once per batch)\n"
             "  -r, --rcvbuf BYTES  socket receive buffer (as candump -r; default: the system's)\n"
             "  -b, --batch N       frames per receive call, 1..%u (default %u)\n"
             "  -n, --count N       stop after N frames (default: never)\n"
+            "  -w, --wait MS       after a read that emptied the queue, let frames gather for\n"
+            "                      MS ms, 0..%u (default 0: read as they come); the times\n"
+            "                      are the kernel's all the same; the queue (-r) must hold\n"
+            "                      MS ms of the bus\n"
             "  -h, --help          this text\n"
             "Frames the kernel drops because the receive queue is full are counted\n"
             "(SO_RXQ_OVFL): one line on stderr as they happen, and exit 3.\n"
             "Exit: 0 recorded; 1 socket or file error (one line); 2 bad command line;\n"
             "3 frames were lost (the log is incomplete).\n",
-            CANREC_BATCH_MAX, CANREC_BATCH_DEFAULT);
+            CANREC_BATCH_MAX, CANREC_BATCH_DEFAULT, CANREC_WAIT_MAX_MS);
 }
 
 static int is(const char *name, const char *short_name, const char *long_name)
@@ -57,6 +61,9 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
     }
     if (is(name, "-b", "--batch")) {
         return fcc_opt_uint(name, val, 1u, CANREC_BATCH_MAX, &o->batch, err, len);
+    }
+    if (is(name, "-w", "--wait")) {
+        return fcc_opt_uint(name, val, 0u, CANREC_WAIT_MAX_MS, &o->wait_ms, err, len);
     }
     if (is(name, "-n", "--count")) {
         return fcc_opt_uint(name, val, 1u, 0xFFFFFFFFul, &o->count, err, len);

@@ -201,8 +201,13 @@ class Canrec(BusRecorder):
         except ToolNotFound as e:
             raise ProcessError(str(e)) from None
 
+    #: after a read that emptied its queue, canrec lets frames gather this long (-w; the
+    #: kernel's stamps, the same log): one wake-up per ~20 lockstep steps, not two a step
+    GATHER_MS = 10
+
     def command(self, exe: str, iface: str) -> list[str]:
-        return [exe, "-r", str(self.RCVBUF), "-o", self.LOG_NAME, iface]
+        return [exe, "-r", str(self.RCVBUF), "-b", "256", "-w", str(self.GATHER_MS), "-o", self.LOG_NAME,
+                iface]
 
     def _file(self) -> Path | None:
         f = self._dir / self.LOG_NAME

@@ -1,7 +1,8 @@
 """canrec (firmware/tools/canrec), the campaigns' bus recorder: its command line on the host;
 on vcan0 (inside scripts/with-vcan) the same log as the real candump, line for line, for every
 kind of frame and for a whole lockstep flight recorded by both at once; frames the kernel drops
-are counted, reported and fail the log; SIGTERM writes out what was read.
+are counted, reported and fail the log; SIGTERM writes out what was read, and a stop during the
+gathering wait (-w) what was queued.
 
     scripts/with-vcan .venv/bin/python -m pytest -m vcan tests/python/rig/test_canrec.py
 """
@@ -39,7 +40,8 @@ def test_help_says_what_it_writes(bin_path) -> None:
     r = run(bin_path("canrec"), "--help")
     assert r.returncode == 0 and r.stderr == ""
     assert r.stdout.startswith("usage: canrec [options] IFACE")
-    for words in ("candump log format", "recvmmsg", "-r, --rcvbuf BYTES", "SO_RXQ_OVFL", "exit 3"):
+    for words in ("candump log format", "recvmmsg", "-r, --rcvbuf BYTES", "-w, --wait MS", "SO_RXQ_OVFL",
+                  "exit 3"):
         assert words in r.stdout
 
 
@@ -47,6 +49,7 @@ def test_help_says_what_it_writes(bin_path) -> None:
     ((), 2, "no interface given"),
     (("vcan0", "vcan1"), 2, "records one interface"),
     (("-b", "0", "vcan0"), 2, "-b: 0 is outside 1..256"),
+    (("-w", "101", "vcan0"), 2, "-w: 101 is outside 0..100"),
     (("-x", "vcan0"), 2, "unknown option '-x'"),
     (("nosuch7",), 1, "no CAN interface nosuch7"),
 ])
@@ -190,6 +193,26 @@ def send_frames(n: int, can_id: int = 0x555) -> int:
         return sent
     finally:
         s.close()
+
+
+@vcan
+def test_a_stop_during_the_gathering_wait_writes_what_is_queued(bin_path, tmp_path) -> None:
+    """-w 100: after a read that emptied its queue canrec sleeps 100 ms; SIGINT then makes it read
+    the queue before it exits, so nothing sent before the stop is missing (the rig's end marker
+    among it).  (On a slow machine the wait may be over before the signal: the same log.)"""
+    log = tmp_path / "bus.log"
+    proc = subprocess.Popen([str(bin_path("canrec")), "-w", "100", "-o", str(log), IFACE],
+                            stderr=subprocess.PIPE, text=True)
+    wait_listening(proc)
+    subprocess.run(["cansend", IFACE, "0AA#01"], check=True)  # one read, then the wait
+    sent = send_frames(20)
+    proc.send_signal(signal.SIGINT)
+    err = proc.communicate(timeout=10)[1]
+    assert proc.returncode == 0 and err == ""
+    lines = log.read_text().splitlines()
+    assert lines[0].endswith(f" {IFACE} 0AA#01")
+    assert [ln.split("#")[1] for ln in lines[1:]] == [i.to_bytes(8, "big").hex().upper() for i in range(20)]
+    assert sent == 20
 
 
 class TinyCanrec(Canrec):

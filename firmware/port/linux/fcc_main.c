@@ -16,8 +16,10 @@
  * when the kernel's queue is empty), one send per step, a clock read after each
  * command (its send time), and one after the work when time matters to it (a timer
  * came due, the interface is down, the realtime schedule, the time sync's timeouts);
- * the timer is re-armed only when the next wake moves.  The rest of a wake for
- * frames needs no clock: whatever is due at a time has the timer armed for it.
+ * the timer is re-armed only when the next wake moves (or it expired: setting it clears
+ * the expiration, no read).  The rest of a wake for frames needs no clock: whatever is
+ * due at a time has the timer armed for it.  The clock is the port's (fcc_hostclock.h:
+ * the time-stamp counter, a clock_gettime at most every 5 ms).
  */
 #define _GNU_SOURCE 1 /* signalfd, timerfd, sigprocmask */
 
@@ -56,6 +58,7 @@ typedef struct {
     uint64_t next_status_us;
     uint64_t wake_us;        /* the next wake the loop computed */
     uint64_t armed_us;       /* the timer's setting (UINT64_MAX: disarmed) */
+    bool timer_expired;      /* it expired and the expiration is not cleared yet */
     uint64_t now_us;         /* the loop's last clock read */
     uint64_t next_sync_poll_us;
     fcc_node_rt_t rt[FCC_N_APPS];
@@ -188,10 +191,12 @@ static uint64_t next_wake(host_t *h, uint64_t now)
     return wake;
 }
 
-/* Arms the timer for wake (UINT64_MAX: disarmed), unless it is so already. */
+/* Arms the timer for wake (UINT64_MAX: disarmed), unless it is so already.  Setting it
+ * also clears an expiration the loop has not read (timerfd_settime resets the count), so
+ * a wake by the timer needs no read of it: one system call less before a realtime step. */
 static void arm_timer(host_t *h, uint64_t wake)
 {
-    if (wake == h->armed_us) {
+    if (wake == h->armed_us && !h->timer_expired) {
         return;
     }
     h->armed_us = wake;
@@ -204,7 +209,11 @@ static void arm_timer(host_t *h, uint64_t wake)
             its.it_value.tv_nsec = 1; /* 0 would disarm */
         }
     }
-    (void)timerfd_settime(h->timer_fd, TFD_TIMER_ABSTIME, &its, NULL);
+    if (timerfd_settime(h->timer_fd, TFD_TIMER_ABSTIME, &its, NULL) != 0 && h->timer_expired) {
+        uint64_t expirations; /* not set (cannot happen with these arguments): read it clear */
+        (void)read(h->timer_fd, &expirations, sizeof expirations);
+    }
+    h->timer_expired = false;
 }
 
 static void send_status_if_due(host_t *h, uint64_t now)
@@ -253,9 +262,8 @@ static bool loop_once(host_t *h)
     }
     const bool timer_due = (fds[1].revents & POLLIN) != 0;
     if (timer_due) {
-        uint64_t expirations;
-        (void)read(h->timer_fd, &expirations, sizeof expirations);
-        h->armed_us = UINT64_MAX; /* expired: disarmed until set again */
+        h->timer_expired = true; /* cleared by the next arm_timer, which sets it again */
+        h->armed_us = UINT64_MAX;
     }
     if (nfds == 3u && fds[2].revents != 0) {
         fcc_hostport_readable(&h->hp);

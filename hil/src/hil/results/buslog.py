@@ -122,18 +122,18 @@ def data_frames(path: Path) -> Iterator[tuple[int, bytes]]:
     """(identifier, data) of the classic data frames of a candump -L log, in order: what
     candump.read_log gives without its frame objects (a LogFrame per line costs more than
     the rest of a flight's read-back), as strict (a malformed line raises LogFormatError)."""
-    lineno = 0
+    before = 0   # lines of the blocks before this one
     with open(path, encoding="ascii", errors="replace") as f:
         while block := f.read(_BLOCK_CHARS):
             block += f.readline()   # whole lines only
-            for lineno, (ident, data, other) in enumerate(_PLAIN_LINE.findall(block), lineno + 1):
+            for lineno, (ident, data, other) in enumerate(_PLAIN_LINE.findall(block), before + 1):
                 if ident:
                     yield int(ident, 16), bytes.fromhex(data)
                 elif other.strip():
                     fr = parse_line(other, lineno)
                     if not (fr.error or fr.remote or fr.extended or fr.fd):
                         yield fr.frame_id, fr.data
-            lineno -= block.endswith("\n")   # the last match was the empty one after the text
+            before += block.count("\n") + (not block.endswith("\n"))
 
 
 def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:

@@ -191,7 +191,10 @@ def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) ->
 
 def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
     """A signal's physical values from frames read as little-endian 64-bit integers: what
-    float(sig.scaled(sig.unpack(bits))) gives frame by frame, the same float operations."""
+    float(sig.scaled(sig.unpack(bits))) gives frame by frame, the same float operations (a
+    signal of at most 32 bits, as every identification signal: exact in int64 and float64)."""
+    if sig.length > 32:
+        raise ValueError(f"{sig.name}: a {sig.length}-bit signal is not decoded here")
     raw = ((bits >> np.uint64(sig.start)) & np.uint64((1 << sig.length) - 1)).astype(np.int64)
     if sig.signed:
         raw = np.where(raw >> (sig.length - 1) != 0, raw - (1 << sig.length), raw)

@@ -30,9 +30,14 @@ static sid_flight_t flight;  /* static: up to SID_CSV_MAX_ROWS rows */
 static fcc_sid_t loops[3];  /* one per filter, reused for each row mode (pages already touched) */
 static fcc_mls_t mls_alone;
 static bool with_c; /* the c1,c2 columns are printed */
+static bool estimates_only; /* --estimates: t, filter and the six estimate columns only */
 
 static void print_header(void)
 {
+    if (estimates_only) {
+        fputs("t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi\n", stdout);
+        return;
+    }
     fputs("t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi,gain_norm,order,fault,"
           "a11,a12,a21,a22,b1,b2,rho",
           stdout);
@@ -53,6 +58,10 @@ static void print_row(double t, const char *name, const fcc_real_t x[2], const f
     printf("%.17g,%s", t, name);
     const fcc_real_t xb[6] = {x[0], x[1], lo[0], hi[0], lo[1], hi[1]};
     print_reals(xb, 6);
+    if (estimates_only) {
+        fputc('\n', stdout);
+        return;
+    }
     printf("," REAL_FMT ",%u,%d", (double)gain, order, fault);
     print_reals(m->a, 4);
     print_reals(m->b, 2);
@@ -262,6 +271,7 @@ int main(int argc, char **argv)
         return 1;
     }
     with_c = opts.cfg.mls.intercept;
+    estimates_only = opts.estimates_only;
     const int rc = opts.mls_only ? run_mls_only(&opts) : run_filters(&opts);
     if (rc == 0 && (fflush(stdout) != 0 || ferror(stdout))) {
         return die("cannot write the output");

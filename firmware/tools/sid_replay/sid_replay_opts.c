@@ -27,6 +27,8 @@ void sid_opts_usage(const char *prog)
            "  --fixed-model a11,...,b2[,c1,c2]  MLS off: this model every step\n"
            "  --all-rows                    every row mode (paper, prior, posterior) in one\n"
            "                                pass; the filter column reads MODE/FILTER\n"
+           "  --estimates                   only t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,\n"
+           "                                q_lo,q_hi (what the rig reads; less to print)\n"
            "  --help                        this text\n",
            prog);
     fcc_opt_sid_usage(stdout);
@@ -58,6 +60,9 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
     }
     if (strcmp(name, "--all-rows") == 0) {
         return fcc_opt_flag(name, val, &o->all_rows, true, err, len);
+    }
+    if (strcmp(name, "--estimates") == 0) {
+        return fcc_opt_flag(name, val, &o->estimates_only, true, err, len);
     }
     if (strcmp(name, "--mls-only") == 0) {
         return fcc_opt_flag(name, val, &o->mls_only, true, err, len);
@@ -93,6 +98,9 @@ int sid_opts_parse(int argc, char **argv, sid_opts_t *o, char *err, size_t len)
     fcc_opt_sid_end(&p.sid);
     if (o->all_rows && o->mls_only) {
         return fcc_opt_fail(err, len, "--all-rows replays the filters: not with --mls-only");
+    }
+    if (o->estimates_only && o->mls_only) {
+        return fcc_opt_fail(err, len, "--estimates prints the filters' estimates: not with --mls-only");
     }
     return 0;
 }

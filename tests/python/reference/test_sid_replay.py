@@ -196,6 +196,15 @@ def test_all_rows_is_each_row_mode_in_one_run(tool: Path, flight: Flight, extra:
                 np.testing.assert_array_equal(every[f"{mode}/{f}"][col], values, err_msg=f"{mode}/{f}.{col}")
 
 
+def test_estimates_are_the_first_columns_of_every_row(tool: Path, flight: Flight) -> None:
+    """--estimates (what the rig reads: less to print and to parse) prints each row's t,
+    filter and six estimate columns, the same text as the full row's first eight fields."""
+    full = run(tool, flight.csv(), "--all-rows").stdout.splitlines()
+    short = run(tool, flight.csv(), "--all-rows", "--estimates").stdout.splitlines()
+    assert short[0] == "t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi"
+    assert short == [",".join(row.split(",")[:8]) for row in full]
+
+
 def test_no_nan_anywhere(tool: Path, flight: Flight) -> None:
     for policy in ("order", "skip"):
         out = read_rows(run(tool, flight.csv(), "--fault-policy", policy).stdout)
@@ -259,6 +268,7 @@ def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
     ("--margin", "-1"),
     ("--prior", "1,0,0,1,0,0,0"),            # 7 values: neither 6 nor 8
     ("--max-fault", "-2"), ("--max-fault", "x"), ("--all-rows", "--mls-only"),
+    ("--estimates", "--mls-only"),
     ("--x0", "1e308,1e308"), ("--x0", "0,11"),   # beyond what the sensors can read
     ("--prior", "1e300,0,0,1,0,0"), ("--p0", "1e300"), ("--e", "1e30,1"),
 ])

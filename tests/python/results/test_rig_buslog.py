@@ -6,10 +6,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from hil.bus import SIM_NODES, FrameCodec, load
-from hil.bus.candump import format_line
-from hil.results.buslog import sid_arrays, split_flights
+from hil.bus.candump import LogFormatError, format_line, read_log
+from hil.results.buslog import data_frames, sid_arrays, split_flights
 
 SPEC = load()
 
@@ -62,3 +63,24 @@ def test_realtime_outputs_follow_the_newest_sample(tmp_path):
     a = sid_arrays(SPEC, fl, 3, check_step=False)
     assert np.allclose(a["azkf_alpha_hat"], [0.0, 0.2, 0.4])
     assert fl.frames == 18
+
+
+def test_data_frames_reads_what_read_log_reads(tmp_path, monkeypatch):
+    """The fast reader of the flights' frames gives candump.read_log's data frames, whatever
+    the lines (other spacing, extended, remote, error and FD frames, blank lines), across
+    its blocks, and refuses a malformed line with read_log's message (its line number)."""
+    lines = ["(1000.000001) vcan0 110#0102030405060708", "", "  (1000.1) can1   7FF#  ",
+             "(1000.2) vcan0 12345678#AABB", "(1000.3) vcan0 123#R", "(1000.4) vcan0 20000080#0000000000000000",
+             "(1000.5) vcan0 123##1AABB", "(1000.6) vcan0 0A0#", "(1000.7) vcan0 1fe#abcdef\t",
+             "(1000.8)\tvcan0 028#00"]
+    log = tmp_path / "bus.log"
+    log.write_text("\n".join(lines * 40))          # no newline at the end
+    monkeypatch.setattr("hil.results.buslog._BLOCK_CHARS", 100)   # many blocks
+    want = [(f.frame_id, f.data) for f in read_log(log) if not (f.error or f.remote or f.extended or f.fd)]
+    assert list(data_frames(log)) == want and len(want) == 5 * 40
+    log.write_text("\n".join(lines * 3 + ["(1000.9) vcan0 123#ABC"] + lines) + "\n")
+    with pytest.raises(LogFormatError) as ref:
+        list(read_log(log))
+    with pytest.raises(LogFormatError) as bad:
+        list(data_frames(log))
+    assert str(bad.value) == str(ref.value) and str(ref.value).startswith("line 31:")

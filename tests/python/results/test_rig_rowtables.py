@@ -55,3 +55,12 @@ def test_the_replays_rows_are_read_column_for_column() -> None:
         for c in some[f]:
             assert some[f][c].tobytes() == every[f][c].tobytes()
     assert some["paper/kf"]["q_hat"].tolist() == [0.25, 1e-300]
+
+
+def test_the_replays_rows_must_be_whole() -> None:
+    """A row with other than the header's fields is refused (one line), not shifted into the
+    next row's columns; no rows, no filters."""
+    with pytest.raises(ValueError, match="rows of other than the header's 3 fields"):
+        read_rows("t,filter,alpha_hat\n0,kf,0.1\n0.02,kf\n")
+    assert read_rows("t,filter,alpha_hat\n") == {} and read_rows("") == {}
+    assert read_rows("t,filter,alpha_hat\n0,kf,0.5")["kf"]["alpha_hat"].tolist() == [0.5]

@@ -15,6 +15,7 @@ forged or replayed tick moves no step (``BusAuth``; ``FlightFrames.rejected`` co
 """
 from __future__ import annotations
 
+import re
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
@@ -22,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.bus.candump import LogFrame, read_log
+from hil.bus.candump import LogFrame, parse_line
 from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
@@ -31,6 +32,14 @@ from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
 # the sensor frames of each application (hil.bus.protocol.SENSOR_APP): their bytes 2-3 are
 # the low 16 bits of the step
+
+#: a candump -L line of a classic data frame with a standard identifier, single spaces: nearly
+#: every line of a rig's log, read by one regular-expression pass over a block of the text
+#: (group 1 the identifier, 2 the data); any other line is group 3, for candump.parse_line
+_PLAIN_LINE = re.compile(r"^\(\d+(?:\.\d+)?\) \S+ ([0-9A-Fa-f]{3})#((?:[0-9A-Fa-f]{2}){0,8})$|^(.*)$",
+                         re.MULTILINE)
+#: the text read per pass (whole lines): the log of a long campaign is never held at once
+_BLOCK_CHARS = 1 << 20
 
 
 @dataclass
@@ -63,6 +72,10 @@ class _Gate:
         self.e2e = {m.frame_id: E2EReceiver(m.data_id, m.max_delta_counter)
                     for m in (spec.by_name("SIM_CONTROL"), spec.by_name("SIM_TICK"))}
         self.rejected = 0
+        #: the frames these checks look at (secured, authenticators, E2E): all others pass as
+        #: they are (the bulk of a log: fcc's identification outputs)
+        self.checked = frozenset({*self.e2e, *self.endpoint.auth_ids,
+                                  *(m.frame_id for m in spec.messages if self.endpoint.is_secured(m.frame_id))})
 
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
         got = self.endpoint.receive(fid, data)
@@ -81,11 +94,11 @@ class _Gate:
 
 def app_of(frame_id: int) -> int | None:
     """Which application produced an output frame (None: not an output)."""
-    if 0x110 <= frame_id <= 0x13F:
-        return 0
-    if frame_id in (0x030, 0x100):
-        return 1
-    return None
+    return _OUTPUT_APP.get(frame_id)
+
+
+#: the output frames of each application (0 CDRW, 1 missile)
+_OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
 
 
 def split_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> list[FlightFrames]:
@@ -105,14 +118,36 @@ def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogF
             yield LogFrame(f.timestamp, f.channel, fid, data)
 
 
+def data_frames(path: Path) -> Iterator[tuple[int, bytes]]:
+    """(identifier, data) of the classic data frames of a candump -L log, in order: what
+    candump.read_log gives without its frame objects (a LogFrame per line costs more than
+    the rest of a flight's read-back), as strict (a malformed line raises LogFormatError)."""
+    before = 0   # lines of the blocks before this one
+    with open(path, encoding="ascii", errors="replace") as f:
+        while block := f.read(_BLOCK_CHARS):
+            block += f.readline()   # whole lines only
+            for lineno, (ident, data, other) in enumerate(_PLAIN_LINE.findall(block), before + 1):
+                if ident:
+                    yield int(ident, 16), bytes.fromhex(data)
+                elif other.strip():
+                    fr = parse_line(other, lineno)
+                    if not (fr.error or fr.remote or fr.extended or fr.fd):
+                        yield fr.frame_id, fr.data
+            before += block.count("\n") + (not block.endswith("\n"))
+
+
 def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:
-    for f in read_log(log) if isinstance(log, Path) else log:
-        if f.error or f.remote or f.extended or f.fd:
-            continue
-        if gate is None:
-            yield f.frame_id, f.data
+    frames = data_frames(log) if isinstance(log, Path) else (
+        (f.frame_id, f.data) for f in log if not (f.error or f.remote or f.extended or f.fd))
+    if gate is None:
+        yield from frames
+        return
+    checked = gate.checked
+    for fid, data in frames:
+        if fid in checked:
+            yield from gate.frames(fid, data)
         else:
-            yield from gate.frames(f.frame_id, f.data)
+            yield fid, data
 
 
 def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
@@ -144,7 +179,7 @@ def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) ->
             prev = tick.get(sensor_app, -1)
             tick[sensor_app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
             continue
-        app = app_of(fid)
+        app = _OUTPUT_APP.get(fid)
         if app is None:
             continue
         cur.frames += 1
@@ -154,14 +189,25 @@ def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) ->
         yield cur
 
 
+def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
+    """A signal's physical values from frames read as little-endian 64-bit integers: what
+    float(sig.scaled(sig.unpack(bits))) gives frame by frame, the same float operations (a
+    signal of at most 32 bits, as every identification signal: exact in int64 and float64)."""
+    if sig.length > 32:
+        raise ValueError(f"{sig.name}: a {sig.length}-bit signal is not decoded here")
+    raw = ((bits >> np.uint64(sig.start)) & np.uint64((1 << sig.length) - 1)).astype(np.int64)
+    if sig.signed:
+        raw = np.where(raw >> (sig.length - 1) != 0, raw - (1 << sig.length), raw)
+    return raw.astype(float) if sig.is_integer else raw * sig.scale + sig.offset
+
+
 def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                check_step: bool = True) -> dict[str, np.ndarray]:
     """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
     (NaN where a frame is missing or, lockstep, its step field does not match the tick;
     realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
     out: dict[str, np.ndarray] = {}
-    # per frame id: its step signal (None: it has none) and (signal, its column) of the others;
-    # the frames are decoded signal by signal (SignalSpec) straight into their columns
+    # per frame id: its step signal (None: it has none) and (signal, its column) of the others
     ids: dict[int, tuple[SignalSpec | None, list[tuple[SignalSpec, np.ndarray]]]] = {}
     for flt in FILTERS:
         for part in SID_PARTS:
@@ -176,21 +222,31 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                 if sig.name != "step":
                     cols.append((sig, col))
             ids[msg.frame_id] = (step_sig if check_step else None, cols)
-    steps = flight.by_step.get(0, {})
+    # each frame id's frames of steps 0..n-1, in the log's order: their steps and their bytes,
+    # decoded a signal at a time over all of them (numpy) instead of a frame at a time
+    found: dict[int, tuple[list[int], list[bytes]]] = {fid: ([], []) for fid in ids}
+    for k, frames in flight.by_step.get(0, {}).items():
+        if k < n_steps:
+            for fid, data in frames:
+                if fid in found and len(data) == 8:
+                    ks, datas = found[fid]
+                    ks.append(k)
+                    datas.append(data)
     mismatched = 0
-    for k in range(n_steps):
-        frames = steps.get(k)
-        if not frames:
+    for fid, (ks, datas) in found.items():
+        if not ks:
             continue
-        for fid, data in frames:
-            if fid not in ids or len(data) != 8:
-                continue
-            step_sig, cols = ids[fid]
-            bits = int.from_bytes(data, "little")
-            if step_sig is not None and int(step_sig.scaled(step_sig.unpack(bits))) != (k & 0xFFF):
-                mismatched += 1
-                continue
-            for sig, col in cols:
-                col[k] = float(sig.scaled(sig.unpack(bits)))
+        steps = np.array(ks)
+        bits = np.frombuffer(b"".join(datas), dtype="<u8")
+        step_sig, cols = ids[fid]
+        if step_sig is not None:
+            ok = _column(step_sig, bits).astype(np.int64) == (steps & 0xFFF)
+            mismatched += int(np.count_nonzero(~ok))
+            steps, bits = steps[ok], bits[ok]
+        # a step's last frame wins (a step field written twice, realtime)
+        last = len(steps) - 1 - np.unique(steps[::-1], return_index=True)[1]
+        steps, bits = steps[last], bits[last]
+        for sig, col in cols:
+            col[steps] = _column(sig, bits)
     out["_mismatched"] = np.array([mismatched])
     return out

@@ -85,9 +85,10 @@ def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
 
 
 class Replay:
-    """`sid_replay --all-rows` on the flight's readings as fcc received them (one process for
-    the three modes: starting one costs ~0.1 s in the guest), running while the caller does
-    other work; result() waits for it: {row mode: {filter: ESTIMATES columns}}."""
+    """`sid_replay --all-rows --estimates` on the flight's readings as fcc received them (one
+    process for the three modes: starting one costs ~0.1 s in the guest; only the ESTIMATES
+    columns printed), running while the caller does other work; result() waits for it:
+    {row mode: {filter: ESTIMATES columns}}."""
 
     def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
                  sid_args: Sequence[str] = ()) -> None:
@@ -99,7 +100,7 @@ class Replay:
         self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()
         self._input.write(csv.encode("ascii"))
         self._input.seek(0)
-        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", *sid_args],
+        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", "--estimates", *sid_args],
                                       stdin=self._input, stdout=self._output, stderr=subprocess.PIPE)
 
     def result(self) -> dict[str, dict[str, dict[str, np.ndarray]]]:

@@ -3,8 +3,6 @@ numpy reference's rows (rows_to_arrays) -> {filter: {column: array}}.
 """
 from __future__ import annotations
 
-import csv
-import io
 from collections.abc import Collection, Iterable, Mapping
 
 import numpy as np
@@ -23,16 +21,21 @@ def rows_to_arrays(rows: Iterable[Mapping[str, object]]) -> dict[str, dict[str, 
 
 def read_rows(text: str, columns: Collection[str] | None = None) -> dict[str, dict[str, np.ndarray]]:
     """sid_replay output -> {filter: {column: array}} (numeric columns, or only `columns`),
-    as rows_to_arrays gives it, but a filter's rows converted at once (a row at a time is 4x
-    slower; the text to float conversion is most of the time, hence `columns`)."""
-    reader = csv.reader(io.StringIO(text))
-    header = next(reader, None)
-    if header is None:
+    as rows_to_arrays gives it, but a column at a time: the text is cut into its cells once,
+    a column is every n-th cell (its numbers converted at once), a filter's rows picked out
+    of it (a row at a time is 4x slower; the conversion is most of the time, hence `columns`)."""
+    header, _, body = text.partition("\n")
+    if not header:
         return {}
-    col = header.index("filter")
-    keep = [i for i, h in enumerate(header) if i != col and (columns is None or h in columns)]
-    rows: dict[str, list[list[str]]] = {}
-    for row in reader:
-        rows.setdefault(row[col], []).append([row[i] for i in keep])
-    names = [header[i] for i in keep]
-    return {f: dict(zip(names, np.array(r, dtype=float).T)) for f, r in rows.items()}
+    names = header.split(",")
+    n = len(names)
+    col = names.index("filter")
+    keep = [i for i, h in enumerate(names) if i != col and (columns is None or h in columns)]
+    body = body[:-1] if body.endswith("\n") else body
+    cells = body.replace("\n", ",").split(",") if body else []
+    if len(cells) % n:
+        raise ValueError(f"sid_replay output: rows of other than the header's {n} fields")
+    filters = np.array(cells[col::n])
+    rows = {f: np.flatnonzero(filters == f) for f in dict.fromkeys(cells[col::n])}
+    values = {names[i]: np.array(cells[i::n], dtype=float) for i in keep}
+    return {f: {name: v[r] for name, v in values.items()} for f, r in rows.items()}

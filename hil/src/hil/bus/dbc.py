@@ -59,7 +59,7 @@ class SignalSpec:
     #: the DBC's value table (VAL_) of the signal: (name, raw value) in the order of the values
     choices: tuple[tuple[str, int], ...] = ()
 
-    @property
+    @cached_property
     def is_integer(self) -> bool:
         """True when the physical value is the raw integer itself."""
         return self.scale == 1 and self.offset == 0
@@ -129,11 +129,22 @@ class MessageSpec:
         return bits.to_bytes(self.length, "little")
 
     def decode_raw(self, data: bytes) -> dict[str, int]:
-        """The frame's bytes -> every signal's raw value."""
+        """The frame's bytes -> every signal's raw value (SignalSpec.unpack of each, inlined
+        over ``fields``: the lockstep loop decodes every tick and acknowledgement)."""
         if len(data) != self.length:
             raise ValueError(f"{self.name}: {len(data)} bytes, expected {self.length}")
         bits = int.from_bytes(data, "little")
-        return {s.name: s.unpack(bits) for s in self.signals}
+        out = {}
+        for name, start, mask, sign in self.fields:
+            v = (bits >> start) & mask
+            out[name] = v - (sign << 1) if v & sign else v
+        return out
+
+    @cached_property
+    def fields(self) -> tuple[tuple[str, int, int, int], ...]:
+        """(name, start bit, mask, sign bit: 0 for unsigned) of every signal."""
+        return tuple((s.name, s.start, (1 << s.length) - 1, 1 << (s.length - 1) if s.signed else 0)
+                     for s in self.signals)
 
     def decode(self, data: bytes) -> dict[str, float | int]:
         """The frame's bytes -> every signal's physical value (as cantools' decode)."""

@@ -112,19 +112,14 @@ def pack(msg: dbc.MessageSpec, values: Mapping[str, Value], *,
     return bits.to_bytes(msg.length, "little"), clamped
 
 
-def unpack_raw(msg: dbc.MessageSpec, data: bytes) -> dict[str, int]:
-    return msg.decode_raw(bytes(data))
-
-
 def decode_values(msg: dbc.MessageSpec, data: bytes) -> dict[str, Value] | None:
     """8 bytes -> physical values of the data signals; None when a raw value is out of range."""
-    raw = unpack_raw(msg, data)
+    fields = msg.data_fields
     out: dict[str, Value] = {}
-    for sig in msg.data_signals:
-        r = raw[sig.name]
-        if not sig.raw_min <= r <= sig.raw_max:
+    for f, r in zip(fields, msg.raw_values(bytes(data), fields)):
+        if not f.raw_min <= r <= f.raw_max:
             return None
-        out[sig.name] = r if sig.is_integer else r / sig.inv_scale
+        out[f.name] = r / f.inv_scale if f.inv_scale else r
     return out
 
 

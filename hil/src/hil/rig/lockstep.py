@@ -102,10 +102,9 @@ class LockstepRunner:
         secured, secure = self._secured, self.rig.secure
         out: list[bytes] = []
         for f in frames:
-            if f.frame_id in secured:
-                out += [pack_frame(fid, data) for fid, data in secure(f.frame_id, f.data)]
-            else:
-                out.append(f.raw)
+            out.append(f.raw)
+            if f.frame_id in secured:   # secure() gives the frame itself, then its authenticator
+                out += [pack_frame(fid, data) for fid, data in secure(f.frame_id, f.data)[1:]]
         return out
 
     def step(self, d: AppDriver) -> StepIO:

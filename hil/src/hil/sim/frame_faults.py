@@ -227,7 +227,9 @@ class FrameInjector:
     def _encode(self, t: float, name: str, values: Mapping[str, float | int]) -> TxFrame:
         frame_id, data = self.codec.encode(name, values, saturate=True)
         self.counts["encoded"] += 1
-        hist = self._history.setdefault(name, deque(maxlen=REPLAY_HISTORY))
+        hist = self._history.get(name)
+        if hist is None:
+            hist = self._history[name] = deque(maxlen=REPLAY_HISTORY)
         hist.append((t, data))
         return TxFrame(frame_id, data, name)
 
@@ -237,7 +239,6 @@ class FrameInjector:
         False (the tick): a delayed frame is a lost one -- in lockstep nothing happens on
         the bus between two steps that could carry it late."""
         frame = self._encode(t, name, values)
-        msg = self.spec.by_name(name)
         copies = 0
         for i, f in active:
             if f.level != "frame" or not self._targets(f, name):
@@ -263,7 +264,7 @@ class FrameInjector:
                 copies += f.count
                 self.counts["duplicated"] += f.count
             else:
-                frame = TxFrame(frame.frame_id, self._corrupt(i, f, msg, frame.data), name)
+                frame = TxFrame(frame.frame_id, self._corrupt(i, f, self.spec.by_name(name), frame.data), name)
                 self.counts["corrupted"] += 1
         # copies are taken after every other fault: a duplicate repeats what was sent
         return [frame] * (1 + copies)

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from hil.bus import load
-from hil.bus.secoc import (CANDIDATES, WINDOW, KeyFileError, Receiver, Sender, Verdict,
+from hil.bus.secoc import (CANDIDATES, WINDOW, KeyedCmac, KeyFileError, Receiver, Sender, Verdict,
                            authenticator, cmac, read_key_file, TEST_KEY_FILE, write_key_file)
 
 REPO = Path(__file__).resolve().parents[3]
@@ -102,3 +102,12 @@ def test_key_files(tmp_path: Path) -> None:
         read_key_file(tmp_path / "bad")
     with pytest.raises(KeyFileError, match="cannot read"):
         read_key_file(tmp_path / "missing")
+
+
+def test_a_keyed_cmac_carries_nothing_from_one_message_to_the_next() -> None:
+    """KeyedCmac copies its keyed context per message: any order of messages gives each one
+    the MAC a fresh CMAC gives it (the NIST SP 800-38B examples)."""
+    keyed = KeyedCmac(NIST_KEY)
+    for n in (64, 0, 40, 16, 40, 64):
+        assert keyed.digest(NIST_MSG[:n]) == cmac(NIST_KEY, NIST_MSG[:n])
+    assert keyed.digest(NIST_MSG[:16]).hex() == "070a16b46b4d4144f79bdd9dd04a287c"

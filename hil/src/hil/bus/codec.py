@@ -65,15 +65,21 @@ class Counters:
 # ---- stateless helpers ---------------------------------------------------------
 
 def _value_to_raw(sig: dbc.SignalSpec, value: Value, saturate: bool) -> tuple[int, bool]:
-    if isinstance(value, bool):
+    if type(value) is float or type(value) is int:   # noqa: E721 - the usual case, no bool or numpy
+        pass
+    elif isinstance(value, bool):
         value = int(value)
-    if not isinstance(value, (int, float)):
+    elif not isinstance(value, (int, float)):
         raise EncodeError(f"{sig.name}: {value!r} is not a number")
-    if isinstance(value, float) and not math.isfinite(value):
+    if sig.is_integer:
+        if isinstance(value, float) and not value.is_integer():   # NaN and Inf are not either
+            raise EncodeError(f"{sig.name}: {value} is not " +
+                              ("finite" if not math.isfinite(value) else "an integer"))
+        raw = int(value)
+    elif isinstance(value, float) and not math.isfinite(value):
         raise EncodeError(f"{sig.name}: {value} is not finite")
-    if sig.is_integer and isinstance(value, float) and not value.is_integer():
-        raise EncodeError(f"{sig.name}: {value} is not an integer")
-    raw = int(value) if sig.is_integer else _scaled_raw(sig, float(value))
+    else:
+        raw = _scaled_raw(sig, float(value))
     if sig.raw_min <= raw <= sig.raw_max:
         return raw, False
     if not saturate:
@@ -92,32 +98,28 @@ def _scaled_raw(sig: dbc.SignalSpec, value: float) -> int:
 def pack(msg: dbc.MessageSpec, values: Mapping[str, Value], *,
          saturate: bool = False) -> tuple[bytes, bool]:
     """Physical values -> 8 bytes with crc = counter = 0; returns (bytes, clamped)."""
-    raw: dict[str, int] = {s.name: 0 for s in msg.signals}
+    bits = 0
     clamped = False
     for sig in msg.data_signals:
         if sig.name not in values:
             raise EncodeError(f"{msg.name}: signal {sig.name} missing")
-        raw[sig.name], c = _value_to_raw(sig, values[sig.name], saturate)
+        raw, c = _value_to_raw(sig, values[sig.name], saturate)
+        bits |= sig.pack(raw)
         clamped |= c
-    unknown = set(values) - {s.name for s in msg.data_signals}
-    if unknown:
+    if len(values) != len(msg.data_signals):   # every data signal is there: others too
+        unknown = set(values) - {s.name for s in msg.data_signals}
         raise EncodeError(f"{msg.name}: no signal(s) {sorted(unknown)}")
-    return msg.encode_raw(raw), clamped
-
-
-def unpack_raw(msg: dbc.MessageSpec, data: bytes) -> dict[str, int]:
-    return msg.decode_raw(bytes(data))
+    return bits.to_bytes(msg.length, "little"), clamped
 
 
 def decode_values(msg: dbc.MessageSpec, data: bytes) -> dict[str, Value] | None:
     """8 bytes -> physical values of the data signals; None when a raw value is out of range."""
-    raw = unpack_raw(msg, data)
+    fields = msg.data_fields
     out: dict[str, Value] = {}
-    for sig in msg.data_signals:
-        r = int(raw[sig.name])
-        if not sig.raw_min <= r <= sig.raw_max:
+    for f, r in zip(fields, msg.raw_values(bytes(data), fields)):
+        if not f.raw_min <= r <= f.raw_max:
             return None
-        out[sig.name] = sig.to_phys(r)
+        out[f.name] = r / f.inv_scale if f.inv_scale else r
     return out
 
 

@@ -22,7 +22,7 @@ import zlib
 from dataclasses import asdict, dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from hil.bus.e2e import DEFAULT_MAX_DELTA_COUNTER
 from hil.util.rounding import round_half_away
@@ -59,7 +59,7 @@ class SignalSpec:
     #: the DBC's value table (VAL_) of the signal: (name, raw value) in the order of the values
     choices: tuple[tuple[str, int], ...] = ()
 
-    @property
+    @cached_property
     def is_integer(self) -> bool:
         """True when the physical value is the raw integer itself."""
         return self.scale == 1 and self.offset == 0
@@ -90,6 +90,23 @@ class SignalSpec:
         if not lo <= raw < lo + (1 << self.length):
             raise ValueError(f"{self.name}: raw value {raw} does not fit {self.length} bits")
         return (raw & ((1 << self.length) - 1)) << self.start
+
+
+class Field(NamedTuple):
+    """A signal as the codecs' inner loops use it (no method calls there)."""
+
+    name: str
+    start: int
+    mask: int
+    sign: int      # the sign bit of a signed signal, 0 for an unsigned one
+    raw_min: int
+    raw_max: int
+    inv_scale: int  # 0 for an integer signal (its physical value is the raw one)
+
+    @classmethod
+    def of(cls, s: SignalSpec) -> Field:
+        return cls(s.name, s.start, (1 << s.length) - 1, 1 << (s.length - 1) if s.signed else 0,
+                   s.raw_min, s.raw_max, 0 if s.is_integer else s.inv_scale)
 
 
 @dataclass(frozen=True)
@@ -130,10 +147,25 @@ class MessageSpec:
 
     def decode_raw(self, data: bytes) -> dict[str, int]:
         """The frame's bytes -> every signal's raw value."""
+        return dict(zip([f.name for f in self.fields], self.raw_values(data, self.fields)))
+
+    def raw_values(self, data: bytes, fields: tuple[Field, ...]) -> list[int]:
+        """The raw values of these fields of the frame's bytes (SignalSpec.unpack of each,
+        inlined: the lockstep loop decodes every tick and acknowledgement)."""
         if len(data) != self.length:
             raise ValueError(f"{self.name}: {len(data)} bytes, expected {self.length}")
         bits = int.from_bytes(data, "little")
-        return {s.name: s.unpack(bits) for s in self.signals}
+        return [(v := (bits >> f.start) & f.mask) - ((v & f.sign) << 1) for f in fields]
+
+    @cached_property
+    def fields(self) -> tuple[Field, ...]:
+        """Every signal's field."""
+        return tuple(Field.of(s) for s in self.signals)
+
+    @cached_property
+    def data_fields(self) -> tuple[Field, ...]:
+        """The data signals' fields."""
+        return tuple(Field.of(s) for s in self.data_signals)
 
     def decode(self, data: bytes) -> dict[str, float | int]:
         """The frame's bytes -> every signal's physical value (as cantools' decode)."""

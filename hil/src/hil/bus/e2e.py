@@ -48,7 +48,11 @@ def frame_crc(data_id: int, payload: bytes | bytearray) -> int:
         raise ValueError(f"E2E data ID {data_id} is not a 16-bit value")
     if len(payload) != FRAME_LENGTH:
         raise ValueError(f"E2E frames are {FRAME_LENGTH} bytes, not {len(payload)}")
-    return crc8_j1850(bytes((data_id & 0xFF, data_id >> 8)) + bytes(payload[1:]))
+    crc = _TABLE[_TABLE[CRC8_INIT ^ (data_id & 0xFF)] ^ (data_id >> 8)]
+    table = _TABLE
+    for byte in payload[1:]:   # unrolled crc8_j1850: this runs for every frame of a step
+        crc = table[crc ^ byte]
+    return crc ^ CRC8_XOROUT
 
 
 def protect(data_id: int, payload: bytes | bytearray, counter: int) -> bytes:

@@ -13,8 +13,15 @@ import struct
 from collections.abc import Iterable
 
 CAN_EFF_FLAG = 0x80000000
+#: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
+CAN_FRAME = struct.Struct("=IB3x8s")
 #: a standard identifier's filter mask: all 11 bits, and the extended-frame flag clear
 STANDARD_MASK = 0x7FF | CAN_EFF_FLAG
+
+
+def pack_frame(frame_id: int, data: bytes) -> bytes:
+    """A raw struct can_frame for a classic frame of len(data) <= 8 bytes."""
+    return CAN_FRAME.pack(frame_id, len(data), bytes(data))
 
 
 def open_raw(channel: str, frame_ids: Iterable[int] | None = None) -> socket.socket:

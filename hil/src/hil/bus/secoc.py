@@ -12,7 +12,10 @@ The specification is in dbc/README.md ("Authentication"); in short:
   low 16 bits; more than WINDOW ahead fails freshness, otherwise the MAC decides; it holds up
   to CANDIDATES secured frames and accepts the one the MAC verifies.
 
-The MAC is computed by the ``cryptography`` package (OpenSSL), independent of the C code.
+The MAC is computed by the ``cryptography`` package (OpenSSL), independent of the C code.  A
+sender or receiver keeps its key's CMAC context (key schedule and subkeys) and copies it per
+message (``KeyedCmac``): 0.7 us a MAC instead of 3 us on the build machine, where the lockstep
+loop authenticates a tick every step.
 """
 from __future__ import annotations
 
@@ -46,18 +49,34 @@ def load_cmac() -> None:
     from cryptography.hazmat.primitives.ciphers import algorithms as _algorithms  # noqa: F401
 
 
+class KeyedCmac:
+    """AES-128-CMAC under one key: the context made once (AES key schedule, CMAC subkeys) and
+    copied for each message (cryptography's ``CMAC.copy``), the MAC itself cryptography's."""
+
+    def __init__(self, key: bytes) -> None:
+        from cryptography.hazmat.primitives.ciphers import algorithms
+        from cryptography.hazmat.primitives.cmac import CMAC
+        self._keyed = CMAC(algorithms.AES(key))
+
+    def digest(self, data: bytes) -> bytes:
+        """The full 16-byte AES-128-CMAC of data."""
+        c = self._keyed.copy()
+        c.update(data)
+        return c.finalize()
+
+    def mac(self, data_id: int, pdu: bytes, fv: int) -> bytes:
+        """The truncated MAC: first MAC_BYTES of the CMAC over data ID | pdu | FV."""
+        return self.digest(data_id.to_bytes(2, "big") + pdu + fv.to_bytes(8, "big"))[:MAC_BYTES]
+
+
 def cmac(key: bytes, data: bytes) -> bytes:
-    """The full 16-byte AES-128-CMAC of data."""
-    from cryptography.hazmat.primitives.ciphers import algorithms
-    from cryptography.hazmat.primitives.cmac import CMAC
-    c = CMAC(algorithms.AES(key))
-    c.update(data)
-    return c.finalize()
+    """The full 16-byte AES-128-CMAC of data (one message: KeyedCmac for many)."""
+    return KeyedCmac(key).digest(data)
 
 
 def mac(key: bytes, data_id: int, pdu: bytes, fv: int) -> bytes:
     """The truncated MAC: first MAC_BYTES of the CMAC over data ID | pdu | FV."""
-    return cmac(key, data_id.to_bytes(2, "big") + bytes(pdu) + fv.to_bytes(8, "big"))[:MAC_BYTES]
+    return KeyedCmac(key).mac(data_id, bytes(pdu), fv)
 
 
 def same_mac(a: bytes, b: bytes) -> bool:
@@ -69,10 +88,11 @@ def same_mac(a: bytes, b: bytes) -> bool:
     return diff == 0
 
 
-def authenticator(key: bytes, data_id: int, pdu: bytes, trip: int, counter: int) -> bytes:
+def authenticator(key: bytes | KeyedCmac, data_id: int, pdu: bytes, trip: int, counter: int) -> bytes:
     """The 8 bytes of the authenticator frame for pdu at message counter `counter`."""
+    keyed = key if isinstance(key, KeyedCmac) else KeyedCmac(key)
     fv = (trip << 32) | counter
-    return (counter & 0xFFFF).to_bytes(2, "little") + mac(key, data_id, pdu, fv)
+    return (counter & 0xFFFF).to_bytes(2, "little") + keyed.mac(data_id, bytes(pdu), fv)
 
 
 def read_key_file(path: str | Path) -> bytes:
@@ -130,10 +150,14 @@ class Sender:
     data_id: int
     trip: int
     counter: int = 0
+    keyed: KeyedCmac = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self.keyed = KeyedCmac(self.key)
 
     def protect(self, pdu: bytes) -> bytes:
         self.counter += 1
-        return authenticator(self.key, self.data_id, pdu, self.trip, self.counter)
+        return authenticator(self.keyed, self.data_id, pdu, self.trip, self.counter)
 
 
 @dataclass
@@ -147,6 +171,10 @@ class Receiver:
     counters: Counters = field(default_factory=Counters)
     counter: int = 0
     held: deque[bytes] = field(default_factory=lambda: deque())
+    keyed: KeyedCmac = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self.keyed = KeyedCmac(self.key)
 
     def hold(self, data: bytes) -> None:
         if len(self.held) == CANDIDATES:
@@ -171,7 +199,7 @@ class Receiver:
             return Verdict.NO_PDU, None
         fv = (self.trip << 32) | cand
         for i, pdu in enumerate(self.held):
-            if same_mac(mac(self.key, self.data_id, pdu, fv), bytes(auth[2:8])):
+            if same_mac(self.keyed.mac(self.data_id, pdu, fv), bytes(auth[2:8])):
                 self.counters.unpaired += i
                 for _ in range(i + 1):
                     self.held.popleft()
@@ -246,6 +274,11 @@ class Endpoint:
         """Identifiers of the authenticators fcc sends (for the receive filter)."""
         return tuple(self._receivers)
 
+    @property
+    def secured_ids(self) -> frozenset[int]:
+        """Identifiers of the frames of ours that protect() follows with an authenticator."""
+        return frozenset(self._send)
+
     def counters(self) -> dict[str, int]:
         total = Counters()
         for r in self._receivers.values():
@@ -268,7 +301,9 @@ class Endpoint:
             if self.trip is None:
                 raise RuntimeError("SecOC: fcc's trip is not known yet (no verified heartbeat)")
             auth_id, data_id = self._send[frame_id]
-            s = self._senders.setdefault(frame_id, Sender(self.key, data_id, self.trip))
+            s = self._senders.get(frame_id)
+            if s is None:
+                s = self._senders[frame_id] = Sender(self.key, data_id, self.trip)
             out.append((auth_id, s.protect(bytes(data))))
         return out
 

@@ -30,13 +30,11 @@ from typing import TYPE_CHECKING, Any, TextIO
 from hil.bus.candump import format_line
 from hil.bus.canif import check_up, open_error
 from hil.bus.mmsg import BatchSender
-from hil.bus.rawcan import RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw
+from hil.bus.rawcan import CAN_FRAME, RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw, pack_frame
 
 if TYPE_CHECKING:
     import can
 
-#: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
-CAN_FRAME = struct.Struct("=IB3x8s")
 CAN_MTU = CAN_FRAME.size
 CAN_EFF_FLAG = 0x80000000
 CAN_RTR_FLAG = 0x40000000
@@ -85,11 +83,6 @@ class MonotonicStamps:
 
 class LinkError(RuntimeError):
     """The interface cannot be opened or used (one line)."""
-
-
-def pack_frame(frame_id: int, data: bytes) -> bytes:
-    """A raw struct can_frame for a classic frame of len(data) <= 8 bytes."""
-    return CAN_FRAME.pack(frame_id, len(data), bytes(data))
 
 
 class CanLink:
@@ -270,7 +263,7 @@ class CanLink:
         return dropped
 
     def send(self, frame_id: int, data: bytes) -> bool:
-        return self.send_raw(CAN_FRAME.pack(frame_id, len(data), bytes(data)))
+        return self.send_raw(pack_frame(frame_id, data))
 
     # -- receive
     def _recv_once(self, flags: int = 0) -> tuple[int, bytes] | None:

@@ -25,12 +25,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 from hil.rig.errors import FccDied, FccTimeout
 from hil.rig.link import pack_frame
 from hil.rig.session import RigSession
 from hil.sim.drivers import APP_NAMES, AppDriver, StepIO
+from hil.sim.frame_faults import TxFrame
 
 DEFAULT_TIMEOUT_S = 2.0
 #: check the clock every this many frames even when frames keep coming
@@ -54,6 +55,8 @@ class LockstepRunner:
         #: a step's frames in one sendmmsg to the host fcc and the M4F image (its slcan line
         #: queues a burst: hil.targets.qemu_m4f.LINE_QUEUE); frame by frame to an external device
         self.batch = getattr(session, "target", "host") in ("host", "qemu-m4f")
+        #: the frames the rig authenticates (the tick): the others go out as they were packed
+        self._secured = session.security.secured_ids
 
     def _send(self, raws: list[bytes]) -> None:
         link = self.rig.link
@@ -81,24 +84,32 @@ class LockstepRunner:
         """Run every driver to its end, interleaved by step time."""
         t0 = time.perf_counter()
         try:
-            while True:
-                pending = [d for d in drivers if not d.done]
-                if not pending:
-                    break
-                self.step(min(pending, key=lambda d: (d.t_next, d.app)))
+            pending = [d for d in drivers if not d.done]
+            while pending:
+                self.step(min(pending, key=lambda d: (d.t_next, d.app)) if len(pending) > 1 else pending[0])
+                pending = [d for d in pending if not d.done]
         finally:
             self.wall_s += time.perf_counter() - t0
         link = self.rig.link
         assert link is not None
         for d in drivers:  # frames still held back by a delay fault arrive after the run
             for f in d.injector.flush_delayed():
-                link.send_raw(pack_frame(f.frame_id, f.data))
+                link.send_raw(f.raw)
+
+    def _wire(self, frames: Iterable[TxFrame]) -> list[bytes]:
+        """The frames as the socket sends them, each one the rig authenticates followed by its
+        authenticator."""
+        secured, secure = self._secured, self.rig.secure
+        out: list[bytes] = []
+        for f in frames:
+            out.append(f.raw)
+            if f.frame_id in secured:   # secure() gives the frame itself, then its authenticator
+                out += [pack_frame(fid, data) for fid, data in secure(f.frame_id, f.data)[1:]]
+        return out
 
     def step(self, d: AppDriver) -> StepIO:
-        link = self.rig.link
-        assert link is not None
         k, t = d.k, d.t_next
-        frames = list(d.frames_for_step())
+        frames = d.frames_for_step()
         tick = {"app": d.app, "step": k}
         ticks = d.injector.infrastructure(t, "SIM_TICK", tick)
         answer_expected = any([self.rig.fcc_accepts_tick(f.data, d.app, k) for f in ticks])  # noqa: C419 - each tick updates the mirror of fcc's E2E state: no short cut
@@ -108,9 +119,7 @@ class LockstepRunner:
             more = d.injector.infrastructure(t, "SIM_TICK", tick)
             answer_expected = any([self.rig.fcc_accepts_tick(f.data, d.app, k) for f in more])  # noqa: C419 - as above
             ticks += more
-        frames += ticks
-        secure = self.rig.secure
-        self._send([pack_frame(fid, data) for f in frames for fid, data in secure(f.frame_id, f.data)])
+        self._send(self._wire(frames) + self._wire(ticks))
         io = self._await_ack(d.app, k, answer_expected, lambda: self._resend_tick(d, t, tick))
         d.end_step(io)
         self.steps += 1
@@ -120,13 +129,10 @@ class LockstepRunner:
 
     def _resend_tick(self, d: AppDriver, t: float, tick: dict[str, int]) -> None:
         """The tick of step k once more, with the next alive counter."""
-        link = self.rig.link
-        assert link is not None
-        raws = []
-        for f in d.injector.infrastructure(t, "SIM_TICK", tick):
+        ticks = d.injector.infrastructure(t, "SIM_TICK", tick)
+        for f in ticks:
             self.rig.fcc_accepts_tick(f.data, d.app, d.k)  # keep the mirror of fcc's receiver
-            raws += [pack_frame(fid, data) for fid, data in self.rig.secure(f.frame_id, f.data)]
-        self._send(raws)
+        self._send(self._wire(ticks))
         self.resent_ticks += 1
 
     def _await_ack(self, app: int, k: int, expected: bool,

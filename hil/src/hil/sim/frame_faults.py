@@ -35,12 +35,13 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from hil.bus import FrameCodec
 from hil.bus.dbc import MessageSpec, SignalSpec
 from hil.bus.e2e import counter_of, protect
+from hil.bus.rawcan import pack_frame
 from hil.scenario.faults import (
     KINDS,
     BadCrc,
@@ -75,6 +76,12 @@ class TxFrame:
     frame_id: int
     data: bytes            # len 8, or the wrong DLC
     name: str              # DBC message, or "flood"
+    #: the frame as the socket sends it (struct can_frame), packed once: the CDRW's frames
+    #: are made before its flight, so its lockstep loop only hands them over
+    raw: bytes = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "raw", pack_frame(self.frame_id, self.data))
 
 
 def set_raw(data: bytes, sig: SignalSpec, raw: int) -> bytes:
@@ -109,10 +116,13 @@ class FrameInjector:
         self.codec = codec
         self.spec = codec.spec
         self.faults = tuple(f for f in faults if f.level in ("frame", "bus"))
-        for f in self.faults:
+        #: the faults that name each message (the tick's are looked up every step)
+        self._naming: dict[str, list[tuple[int, Fault]]] = {}
+        for i, f in enumerate(self.faults):
             name = getattr(f, "frame", "*")
             if name != "*":
                 self.spec.by_name(name)  # KeyError names an unknown frame
+                self._naming.setdefault(name, []).append((i, f))
             if isinstance(f, OutOfRange):
                 msg = self.spec.by_name(f.frame) if f.frame != "*" else None
                 if msg is None or f.signal not in {s.name for s in msg.data_signals}:
@@ -180,14 +190,12 @@ class FrameInjector:
 
     def faulted(self, t: float, name: str) -> bool:
         """True when a frame fault names this message explicitly and is active at t."""
-        return any(f.level == "frame" and getattr(f, "frame", "*") == name and f.active(t)
-                   for f in self.faults)
+        return any(f.level == "frame" and f.active(t) for _, f in self._naming.get(name, ()))
 
     def infrastructure(self, t: float, name: str, values: Mapping[str, float | int]) -> list[TxFrame]:
         """A rig frame (SIM_TICK, SIM_CONTROL): only faults that name it act on it; silence,
         floods and '*' faults do not (the tick is the rig's clock, not a node)."""
-        active = [(i, f) for i, f in enumerate(self.faults)
-                  if f.active(t) and getattr(f, "frame", "*") == name]
+        active = [(i, f) for i, f in self._naming.get(name, ()) if f.active(t)]
         out = self._one(t, name, values, active, can_delay=False)
         self.counts["sent"] += len(out)
         return out
@@ -219,7 +227,9 @@ class FrameInjector:
     def _encode(self, t: float, name: str, values: Mapping[str, float | int]) -> TxFrame:
         frame_id, data = self.codec.encode(name, values, saturate=True)
         self.counts["encoded"] += 1
-        hist = self._history.setdefault(name, deque(maxlen=REPLAY_HISTORY))
+        hist = self._history.get(name)
+        if hist is None:
+            hist = self._history[name] = deque(maxlen=REPLAY_HISTORY)
         hist.append((t, data))
         return TxFrame(frame_id, data, name)
 
@@ -229,7 +239,6 @@ class FrameInjector:
         False (the tick): a delayed frame is a lost one -- in lockstep nothing happens on
         the bus between two steps that could carry it late."""
         frame = self._encode(t, name, values)
-        msg = self.spec.by_name(name)
         copies = 0
         for i, f in active:
             if f.level != "frame" or not self._targets(f, name):
@@ -255,7 +264,7 @@ class FrameInjector:
                 copies += f.count
                 self.counts["duplicated"] += f.count
             else:
-                frame = TxFrame(frame.frame_id, self._corrupt(i, f, msg, frame.data), name)
+                frame = TxFrame(frame.frame_id, self._corrupt(i, f, self.spec.by_name(name), frame.data), name)
                 self.counts["corrupted"] += 1
         # copies are taken after every other fault: a duplicate repeats what was sent
         return [frame] * (1 + copies)

@@ -274,6 +274,19 @@ class QemuM4f(Device):
         raise PilError(f"slcand made no {self.slcan} within {IFACE_TIMEOUT_S:g} s")
 
     # -- the Device interface
+    def local_pids(self) -> tuple[int, ...]:
+        """Every thread of QEMU (its main loop and its vCPU: a policy is per thread) and
+        slcand, for the rig's SCHED_BATCH in lockstep."""
+        pids: list[int] = []
+        if self.qemu is not None and self.qemu.poll() is None:
+            try:
+                pids += sorted(int(t) for t in os.listdir(f"/proc/{self.qemu.pid}/task"))
+            except OSError:  # gone meanwhile: poll() reports it
+                pass
+        if self.slcand is not None and self.slcand.poll() is None:
+            pids.append(self.slcand.pid)
+        return tuple(pids)
+
     def poll(self) -> int | None:
         if self.returncode is not None:
             return self.returncode

@@ -1,13 +1,13 @@
 /*
  * m4f_main.c -- the flight computer as it runs on the Cortex-M4F board
  * (QEMU mps2-an386): the same fcc_node as the Linux `fcc`, its CAN port an
- * SLCAN device on UART0, its clock the SysTick, its configuration the boot
+ * SLCAN device on UART0, its clock the dual timer, its configuration the boot
  * record, its log UART1.  README.md here is the interface.
  *
  *   boot:    defaults + boot record -> fcc_node_init (the LQG design runs here)
  *   closed:  answers SLCAN commands, sends nothing
  *   O:       the heartbeat ("listening"), then as the host fcc: lockstep steps
- *            on SIM_TICK, or realtime steps on absolute SysTick deadlines;
+ *            on SIM_TICK, or realtime steps on absolute timer deadlines;
  *            heartbeats at the status rate; a pending LQG redesign in idle
  *            time, slice by slice, never across a deadline
  *   SIM_CONTROL shutdown: last heartbeat, summary on the log, QEMU exits 0
@@ -26,9 +26,9 @@
 #define RECV_BYTE_BUDGET 512u
 /* Frames handled per loop turn before deadlines are looked at again. */
 #define POLL_BUDGET 64u
-/* Below this much time to a deadline the loop spins instead of sleeping
- * (the SysTick that ends a WFI comes every millisecond). */
-#define SPIN_US 1000u
+/* Below this much time to a deadline the loop spins instead of arming the
+ * alarm and sleeping. */
+#define SPIN_US 50u
 #define EVENT_LINE_GAP_US 1000000u
 /* A design slice that never finds room before a deadline runs after this. */
 #define DESIGN_WAIT_MAX_US 100000u
@@ -220,6 +220,7 @@ static void summary(const image_t *img)
         {"design_slice_worst_us", img->slice_worst_us},
         {"design_slices_forced", img->slices_forced},
         {"uptime_us", mps2_now_us()},
+        {"sleeps", b.sleeps},
     };
     summary_line("board", board, N_KV(board));
 }

@@ -40,7 +40,11 @@ typedef struct {
 #define DUALTIMER1_VALUE (*(volatile uint32_t *)0x40002004u)
 #define DUALTIMER1_CTRL (*(volatile uint32_t *)0x40002008u)
 #define DUALTIMER_CTRL_EN_32BIT_FREE 0x82u /* enable, 32-bit, free-running, no prescale */
-#define SYST_TICKS_PER_MS (MPS2_CPU_HZ / 1000u)
+#define SYST_CSR_ONE_SHOT 0x7u     /* CPU clock, interrupt, enable */
+#define SYST_RELOAD_MAX 0xFFFFFFu  /* 24 bits: 0.67 s at 25 MHz */
+#define TICKS_PER_US (MPS2_CPU_HZ / 1000000u)
+/* How long the image lingers between its last byte and QEMU's exit. */
+#define EXIT_LINGER_US 50000u
 #define IRQ_UART0_RX 0u
 #define IRQ_UART0_TX 1u
 #define IRQ_UART_OVERFLOW 12u
@@ -86,9 +90,11 @@ static void irq_restore(uint32_t primask)
 
 /* ---- clock ------------------------------------------------------------------------ */
 
-/* The SysTick only ends a WFI every millisecond. */
+/* The SysTick is the alarm: it fires once, at the deadline arm_alarm()
+ * set (for the idle loop, or the wait before exit), and stops. */
 void mps2_systick_isr(void)
 {
+    SYST_CSR = 0u;
 }
 
 /* The dual timer's first counter, free-running over 32 bits, is the clock:
@@ -237,18 +243,37 @@ void mps2_log_u64(uint64_t v)
 
 void mps2_board_init(void)
 {
-    SYST_CSR = 0u;
-    SYST_RVR = SYST_TICKS_PER_MS - 1u;
-    SYST_CVR = 0u;
-    SYST_CSR = 0x7u; /* CPU clock, interrupt, enable */
+    SYST_CSR = 0u; /* armed by arm_alarm() only */
     DUALTIMER1_CTRL = 0u;
     DUALTIMER1_LOAD = 0xFFFFFFFFu;
     DUALTIMER1_CTRL = DUALTIMER_CTRL_EN_32BIT_FREE;
     UART0->bauddiv = UART_BAUDDIV;
     UART0->ctrl = UART_CTRL_TX_EN | UART_CTRL_RX_EN | UART_CTRL_RX_INT | UART_CTRL_RXO_INT;
+    /* An empty read (nothing received yet: RX was off since reset) tells
+     * the emulator the receiver is ready: QEMU's UART model announces
+     * "ready" only on a data read, and bytes its line buffer took before
+     * RX was enabled would otherwise wait there for the next byte. */
+    (void)UART0->data;
     UART1->bauddiv = UART_BAUDDIV;
     UART1->ctrl = UART_CTRL_TX_EN;
     NVIC_ISER0 = (1u << IRQ_UART0_RX) | (1u << IRQ_UART0_TX) | (1u << IRQ_UART_OVERFLOW);
+}
+
+/* The SysTick fires once at until_us (at most 0.67 s ahead: the caller
+ * looks again then).  A one-shot alarm, not a periodic tick: under QEMU every
+ * timer interrupt is a round of its main loop and vCPU thread, and a 1 ms
+ * tick cost ~16 system calls each while the image waited for the rig. */
+static void arm_alarm(uint64_t until_us)
+{
+    const uint64_t now = mps2_now_us();
+    const uint64_t wait_us = (until_us > now) ? until_us - now : 1u;
+    const uint32_t reload = (wait_us > SYST_RELOAD_MAX / TICKS_PER_US)
+                                ? SYST_RELOAD_MAX
+                                : (uint32_t)(wait_us * TICKS_PER_US);
+    SYST_CSR = 0u;
+    SYST_RVR = reload;
+    SYST_CVR = 0u;
+    SYST_CSR = SYST_CSR_ONE_SHOT;
 }
 
 void mps2_idle(uint64_t until_us)
@@ -257,9 +282,11 @@ void mps2_idle(uint64_t until_us)
         return;
     }
     /* Masked check-then-sleep: an interrupt that arrives in between still
-     * ends the WFI (it is pending), so no byte waits for the next SysTick. */
+     * ends the WFI (it is pending), so no byte waits for the alarm. */
     const uint32_t primask = irq_save();
     if (g_board.rx_tail == g_board.rx_head) {
+        arm_alarm(until_us);
+        g_board.cnt.sleeps = g_board.cnt.sleeps + 1u;
         __asm__ volatile("dsb\n\twfi" ::: "memory");
     }
     irq_restore(primask);
@@ -282,6 +309,7 @@ void mps2_counters(mps2_counters_t *out)
     out->tx_bytes = g_board.cnt.tx_bytes;
     out->tx_refused = g_board.cnt.tx_refused;
     out->log_dropped = g_board.cnt.log_dropped;
+    out->sleeps = g_board.cnt.sleeps;
     irq_restore(primask);
 }
 
@@ -296,6 +324,15 @@ void mps2_exit(int status)
         const uint32_t primask = irq_save();
         tx_pump();
         irq_restore(primask);
+    }
+    /* Then give the far end of the line time to take it: QEMU's exit closes
+     * its pty, and the kernel drops what the pty's reader (slcand's line
+     * discipline) had not yet processed -- the last heartbeat, the counters
+     * the rig reports.  Received bytes no longer matter: sleep through them. */
+    const uint64_t until = mps2_now_us() + EXIT_LINGER_US;
+    while (mps2_now_us() < until) {
+        arm_alarm(until);
+        __asm__ volatile("dsb\n\twfi" ::: "memory");
     }
     __asm__ volatile("mov r0, #0x20\n\tmov r1, %0\n\tbkpt #0xab" ::"r"(block) : "r0", "r1", "memory");
     for (;;) {

@@ -7,7 +7,7 @@
  *   UART1 (0x40005000)  the log: polled, bounded wait, drops when stuck
  *   dual timer 1        free-running 32-bit counter at 25 MHz, extended to a
  *                       64-bit tick count and microsecond clock
- *   SysTick             1 ms interrupt: wakes the idle loop
+ *   SysTick             one-shot alarm: ends the idle loop's WFI at its deadline
  *   semihosting         only to end QEMU with an exit status
  *
  * No heap, no OS; the only mutable state is this module's (one board).
@@ -30,6 +30,7 @@ typedef struct {
     uint32_t tx_bytes;
     uint32_t tx_refused;    /* writes refused: no room in the transmit ring */
     uint32_t log_dropped;   /* log bytes dropped: UART1 did not drain */
+    uint32_t sleeps;        /* times the idle loop slept (WFI) */
 } mps2_counters_t;
 
 /* Clock, both UARTs, interrupts; the FPU is on from reset (mps2_startup.c). */
@@ -51,8 +52,8 @@ void mps2_log(const char *text);
 void mps2_log_u64(uint64_t v);
 
 /* Sleeps (WFI) until an interrupt, unless a received byte is already
- * waiting; returns at once when until_us is already reached.  The SysTick
- * wakes it at least every millisecond. */
+ * waiting; returns at once when until_us is already reached.  The SysTick,
+ * armed here, wakes it at until_us or after 0.67 s, whichever is first. */
 void mps2_idle(uint64_t until_us);
 
 /* Deepest stack use since reset, bytes (the stack is painted at reset). */

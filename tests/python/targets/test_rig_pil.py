@@ -104,3 +104,15 @@ def test_link_loss_uart_stops(tmp_path, image):
         assert time.monotonic() - t0 < 10
         os.kill(rig.fcc.qemu.pid, signal.SIGCONT)       # type: ignore[union-attr]
     assert rig.fcc.qemu.poll() is not None              # type: ignore[union-attr]
+
+
+def test_lockstep_runs_qemu_and_slcand_batch(tmp_path, image):
+    """In lockstep every thread of QEMU (main loop, vCPU, ...) and slcand run SCHED_BATCH with the
+    rig: a woken thread does not preempt the one running, so QEMU's main loop reads a frame's
+    bytes ahead before its vCPU takes them (firmware/port/mps2_an386/README.md)."""
+    with _session(tmp_path, image) as rig:
+        qemu_threads = [int(t) for t in os.listdir(f"/proc/{rig.fcc.qemu.pid}/task")]  # type: ignore[union-attr]
+        assert rig.batch_scheduled and len(qemu_threads) >= 2
+        assert set(rig.fcc.local_pids()) == {*qemu_threads, rig.fcc.slcand.pid}     # type: ignore[union-attr]
+        for tid in rig.fcc.local_pids():
+            assert os.sched_getscheduler(tid) == os.SCHED_BATCH

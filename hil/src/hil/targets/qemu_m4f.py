@@ -1,7 +1,7 @@
 """`--target qemu-m4f`: the Cortex-M4F image (firmware/port/mps2_an386/README.md) under qemu-system-arm,
 its SLCAN serial line attached to the rig's CAN bus.
 
-    qemu-system-arm (mps2-an386)   UART0 = SLCAN on a pty, UART1 = the image's log -> fcc.log
+    qemu-system-arm (mps2-an386)   UART0 = SLCAN on a pty (via QEMU's multiplexer), UART1 = the log
         |  /dev/pts/N
     slcand -F -o -c -s6            the pty as a SocketCAN interface (slcNNNN, kernel slcan)
         |
@@ -16,11 +16,11 @@ instruction count / 1000); realtime without -icount (virtual time = the host's c
 A link loss -- QEMU gone, slcand gone, the interface gone -- is seen by `poll()` and is a rig
 error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is lost
 silently: the slcan interface queues LINE_QUEUE frames (a step's burst from the rig waits there
-while the UART takes one byte at a time); a frame the full queue drops (its queueing discipline's drop count,
-read over rtnetlink every LINE_CHECK_S while the line is up) and a byte the image's receive ring could not
-take (its summary's `board rx_overflows`, also FCC_BUS_COUNTS.rx_overflows on the bus) end the
-run with one line naming the loss.  Needs root for
-slcand, `ip link` and cangw (the User-Mode Linux guest of scripts/with-vcan runs as root) and
+while the UART takes one byte at a time); a frame the full queue drops (its queueing
+discipline's drop count, read over rtnetlink every LINE_CHECK_S while the line is up) and a
+byte the image's receive ring could not take (its summary's `board rx_overflows`, also
+FCC_BUS_COUNTS.rx_overflows on the bus) end the run with one line naming the loss.  Needs root
+for slcand, `ip link` and cangw (the User-Mode Linux guest of scripts/with-vcan runs as root),
 the kernel modules slcan and can-gw (with-vcan loads them) and a devpts at /dev/pts.
 """
 from __future__ import annotations
@@ -274,6 +274,17 @@ class QemuM4f(Device):
         raise PilError(f"slcand made no {self.slcan} within {IFACE_TIMEOUT_S:g} s")
 
     # -- the Device interface
+    def local_pids(self) -> tuple[int, ...]:
+        """Every thread of QEMU (a scheduling policy is per thread: its main loop, its vCPU)
+        and of slcand, for the rig's SCHED_BATCH in lockstep."""
+        tids: list[int] = []
+        for proc in (self.qemu, self.slcand):
+            try:
+                tids += sorted(int(t) for t in os.listdir(f"/proc/{proc.pid}/task")) if proc else []
+            except OSError:  # gone meanwhile: poll() reports it
+                pass
+        return tuple(tids)
+
     def poll(self) -> int | None:
         if self.returncode is not None:
             return self.returncode
@@ -359,8 +370,7 @@ class QemuM4f(Device):
         if self._lost is not None and self.returncode == 0:
             self.returncode = 1
         for route in self._routes:
-            subprocess.run([self._cangw, "-D", *route], stdin=subprocess.DEVNULL,
-                           capture_output=True)
+            subprocess.run([self._cangw, "-D", *route], stdin=subprocess.DEVNULL, capture_output=True)
         self._routes = []
         if self.slcand is not None:
             _end(self.slcand, 0.0)

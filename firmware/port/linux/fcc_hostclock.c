@@ -13,7 +13,7 @@
 #define FCC_HOSTCLOCK_X86 1
 #endif
 
-static uint64_t clock_us(void)
+uint64_t fcc_hostclock_monotonic_us(void)
 {
     struct timespec ts;
     (void)clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -128,13 +128,13 @@ bool fcc_hostclock_extrapolate(fcc_hostclock_t *c, uint64_t tick, uint64_t *us)
 uint64_t fcc_hostclock_now(fcc_hostclock_t *c)
 {
     if (!c->counter) {
-        return clock_us();
+        return fcc_hostclock_monotonic_us();
     }
     const uint64_t before = counter_now();
     uint64_t us;
     if (fcc_hostclock_extrapolate(c, before, &us)) {
         return us;
     }
-    us = clock_us();
+    us = fcc_hostclock_monotonic_us();
     return fcc_hostclock_sample(c, before, us, counter_now());
 }

@@ -75,6 +75,9 @@ uint64_t fcc_hostclock_sample(fcc_hostclock_t *c, uint64_t before, uint64_t us, 
  * anchor too old). */
 bool fcc_hostclock_extrapolate(fcc_hostclock_t *c, uint64_t tick, uint64_t *us);
 
+/* CLOCK_MONOTONIC now, in microseconds: always a real read (a system call under UML). */
+uint64_t fcc_hostclock_monotonic_us(void);
+
 /* CLOCK_MONOTONIC now, in microseconds: extrapolated, or a real (bracketed) read. */
 uint64_t fcc_hostclock_now(fcc_hostclock_t *c);
 

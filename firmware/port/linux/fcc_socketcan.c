@@ -5,6 +5,8 @@
 
 #include "fcc_socketcan.h"
 
+#include "fcc_hostclock.h"
+
 #include <errno.h>
 #include <net/if.h>
 #include <poll.h>
@@ -25,13 +27,6 @@
 #ifndef SO_RCVBUFFORCE
 #define SO_RCVBUFFORCE 33
 #endif
-
-static uint64_t monotonic_us(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
-}
 
 static uint64_t timespec_us(const struct timespec *ts)
 {
@@ -54,9 +49,9 @@ static uint64_t realtime_to_monotonic(fcc_socketcan_t *s, uint64_t rt_us)
         uint64_t best = UINT64_MAX;
         for (int i = 0; i < 5; ++i) {
             struct timespec rt;
-            const uint64_t m0 = monotonic_us();
+            const uint64_t m0 = fcc_hostclock_monotonic_us();
             (void)clock_gettime(CLOCK_REALTIME, &rt);
-            const uint64_t m1 = monotonic_us();
+            const uint64_t m1 = fcc_hostclock_monotonic_us();
             if (m1 - m0 < best) {
                 best = m1 - m0;
                 s->rt_minus_mono_us = (int64_t)timespec_us(&rt) - (int64_t)(m0 + (m1 - m0) / 2u);
@@ -366,7 +361,7 @@ static bool batch_send(fcc_socketcan_t *s, batch_t *b, fcc_status_t *st)
             }
             return false;
         }
-        const uint64_t now = monotonic_us();
+        const uint64_t now = fcc_hostclock_monotonic_us();
         if (deadline == 0u) {
             deadline = now + s->send_budget_us;
         }

@@ -27,6 +27,7 @@ from hil.bus.node import BusNode
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_SHUTDOWN
 from hil.bus.secoc import TEST_KEY_FILE, Endpoint, read_key_file
 from hil.rig.link import pack_frame
+from hil.rig.recorder import BusRecorder
 
 #: the frames whose kernel time stamps give the turnarounds
 MSL_ACCEL_ID = load().by_name("MSL_ACCELEROMETER").frame_id
@@ -118,7 +119,8 @@ def lockstep_run(build: Path, out: Path, steps: int, res: dict[str, Any]) -> Non
     """fcc in lockstep and can_echo on one bus, recorded into OUT/bus.log by canrec, the rig's
     recorder (candump's lines, the kernel's receive stamps; one read for a step's frames where
     candump reads and writes each: an observer that would delay a batch more than a ping)."""
-    dump = subprocess.Popen([str(build / "bin" / "canrec"), "-o", str(out / "bus.log"), "vcan0"])
+    dump = subprocess.Popen([str(build / "bin" / "canrec"), "-r", str(BusRecorder.RCVBUF), "-o",
+                             str(out / "bus.log"), "vcan0"])
     echo = subprocess.Popen([str(build / "bin" / "can_echo"), "-i", "vcan0", "-q"], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     node = BusNode("vcan0", SIM_NODES)

@@ -35,6 +35,12 @@ class LogFrame:
     error: bool = False
     fd: bool = False
 
+    @property
+    def classic_data(self) -> bool:
+        """A classic data frame with a standard identifier: the only kind the rig's frames are
+        (error, remote, extended and FD frames are someone else's)."""
+        return not (self.error or self.remote or self.extended or self.fd)
+
 
 def parse_line(line: str, lineno: int = 0) -> LogFrame:
     m = _LINE.match(line.strip())

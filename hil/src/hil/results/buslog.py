@@ -112,7 +112,7 @@ def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogF
     ones at their authenticator's place (its time), authenticators not at all."""
     gate = _Gate(auth)
     for f in frames:
-        if f.error or f.remote or f.extended or f.fd:
+        if not f.classic_data:
             continue
         for fid, data in gate.frames(f.frame_id, f.data):
             yield LogFrame(f.timestamp, f.channel, fid, data)
@@ -131,14 +131,14 @@ def data_frames(path: Path) -> Iterator[tuple[int, bytes]]:
                     yield int(ident, 16), bytes.fromhex(data)
                 elif other.strip():
                     fr = parse_line(other, lineno)
-                    if not (fr.error or fr.remote or fr.extended or fr.fd):
+                    if fr.classic_data:
                         yield fr.frame_id, fr.data
             before += block.count("\n") + (not block.endswith("\n"))
 
 
 def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:
     frames = data_frames(log) if isinstance(log, Path) else (
-        (f.frame_id, f.data) for f in log if not (f.error or f.remote or f.extended or f.fd))
+        (f.frame_id, f.data) for f in log if f.classic_data)
     if gate is None:
         yield from frames
         return

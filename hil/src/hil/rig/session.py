@@ -139,7 +139,7 @@ class RigSession:
                          tuple(self.spec.by_name(p).frame_id for p in hb_auth.secoc_pdus))
         self._hb_latest: dict[int, bytes] = {}
         self.t_start = 0.0
-        #: lockstep: fcc and the recorder in SCHED_BATCH (hil.util.processes.run_as_batch)
+        #: lockstep: the simulator, fcc and the recorder in SCHED_BATCH (hil.util.processes.run_as_batch)
         self.batch_scheduled = False
         #: realtime: the bus's time master (hil.rig.timesync), started by the first flight
         self.time_master: TimeMaster | None = None
@@ -231,8 +231,10 @@ class RigSession:
     def _lockstep_pids(self) -> list[int]:
         """This process and the local ones that answer or record its frames."""
         assert self.fcc is not None
-        recorder = self.bus_recorder.pid if isinstance(self.bus_recorder, BusRecorder) else None
-        return [0, *self.fcc.local_pids(), *([recorder] if recorder is not None else [])]
+        pids = [0, *self.fcc.local_pids()]
+        if isinstance(self.bus_recorder, BusRecorder):  # a program (not the link's own recorder)
+            pids.append(self.bus_recorder.pid)
+        return pids
 
     def _wait_listening(self) -> None:
         """Until the device's first authenticated heartbeat: it has opened its socket, listens,

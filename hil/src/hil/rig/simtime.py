@@ -55,7 +55,7 @@ def simulated_times(frames: Iterable[LogFrame], periods: Mapping[int, float],
     last_step: dict[int, int] = {}
     for f in frames:
         data = f.data
-        plain = not (f.error or f.remote or f.extended or f.fd) and len(data) == 8
+        plain = f.classic_data and len(data) == 8
         if plain and f.frame_id == SIM_CONTROL_ID and (data[1] >> 4) == COMMAND_RESET:
             offset = math.ceil(bus_free / FLIGHT_GRID_S - 1e-9) * FLIGHT_GRID_S
             t_step, last_step = offset, {}

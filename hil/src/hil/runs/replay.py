@@ -115,7 +115,7 @@ def segments(frames: Iterator[LogFrame], spec: BusSpec) -> list[Segment]:
     ack_id = spec.by_name("FCC_ACK").frame_id
     out = [Segment()]
     for f in frames:
-        if f.error or f.remote or f.extended or f.fd:
+        if not f.classic_data:
             continue
         msg = spec.by_id(f.frame_id)
         if msg is None or (f.frame_id >= WALL_CLOCK_IDS and msg.name != "SIM_EVENT") \

@@ -22,6 +22,8 @@
  * stderr when it happens, exit 3 at the end.  SIGINT/SIGTERM: the frames
  * queued at that moment are read too (a stop during a -w wait must not lose
  * the rig's end marker), everything is written, the file closed, exit 0 (or 3).
+ * A receive error (the interface went down) is reported after the frames queued
+ * before it are written, exit 1.
  *
  * Exit: 0 recorded; 1 socket or file error; 2 bad command line; 3 frames lost.
  * Host tool (Linux), static storage only.
@@ -72,6 +74,7 @@ typedef struct {
     uint64_t frames;
     uint32_t drops_seen;      /* the kernel's counter as last read */
     uint64_t drops;           /* frames lost since the start */
+    int rx_errno;             /* a receive error not yet reported (0: none) */
     size_t out_len;
     char out[OUT_BLOCK];
     struct mmsghdr msgs[CANREC_BATCH_MAX];
@@ -257,7 +260,7 @@ static int read_batch(recorder_t *r, int flags, bool *drained)
     }
     const int n = recvmmsg(r->sock, r->msgs, want, flags, NULL);
     if (n < 0 && errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK) {
-        return fail("cannot receive from", r->o->iface, errno);
+        r->rx_errno = errno;
     }
     *drained = n < (int)want;
     for (int i = 0; i < n; ++i) {
@@ -287,25 +290,9 @@ static bool count_reached(const recorder_t *r)
     return r->o->count != 0u && r->frames >= r->o->count;
 }
 
-/* Until a signal, -n frames, or an error. */
-static int record_loop(recorder_t *r)
-{
-    while (!g_stop && !count_reached(r)) {
-        bool drained = false;
-        const int rc = read_batch(r, MSG_WAITFORONE, &drained);
-        if (rc != 0) {
-            return rc;
-        }
-        if (drained && r->o->wait_ms != 0u && !g_stop) {
-            let_frames_gather(r);
-        }
-    }
-    return 0;
-}
-
-/* Stopped by a signal: what is queued now was on the bus before the stop (the rig's end
- * marker among it, when the stop came during a -w wait), so it is read and written too
- * -- up to DRAIN_MAX frames, in case the bus never goes quiet. */
+/* What is queued now was on the bus before a stop or a receive error (the rig's end
+ * marker among it, when a stop came during a -w wait), so it is read and written too --
+ * up to DRAIN_MAX frames, in case the bus never goes quiet. */
 #define DRAIN_MAX 65536u
 
 static int drain(recorder_t *r)
@@ -316,6 +303,36 @@ static int drain(recorder_t *r)
         const int rc = read_batch(r, MSG_DONTWAIT, &drained);
         if (rc != 0) {
             return rc;
+        }
+    }
+    return 0;
+}
+
+/* The kernel reports a socket error (ENETDOWN: the interface went down) before the
+ * frames still queued -- and clears it -- so those frames are drained first, then
+ * the error is reported. */
+static int receive_failed(recorder_t *r)
+{
+    const int err = r->rx_errno;
+    r->rx_errno = 0;
+    const int rc = drain(r);
+    return rc != 0 ? rc : fail("cannot receive from", r->o->iface, err);
+}
+
+/* Until a signal, -n frames, or an error. */
+static int record_loop(recorder_t *r)
+{
+    while (!g_stop && !count_reached(r)) {
+        bool drained = false;
+        const int rc = read_batch(r, MSG_WAITFORONE, &drained);
+        if (rc != 0) {
+            return rc;
+        }
+        if (r->rx_errno != 0) {
+            return receive_failed(r);
+        }
+        if (drained && r->o->wait_ms != 0u && !g_stop) {
+            let_frames_gather(r);
         }
     }
     return 0;
@@ -374,6 +391,9 @@ int main(int argc, char **argv)
     }
     if (rc == 0 && g_stop) {
         rc = drain(r);
+    }
+    if (rc == 0 && r->rx_errno != 0) {
+        rc = fail("cannot receive from", o.iface, r->rx_errno);
     }
     if (r->sock >= 0) {
         final_drops(r);

@@ -215,6 +215,30 @@ def test_a_stop_during_the_gathering_wait_writes_what_is_queued(bin_path, tmp_pa
     assert sent == 20
 
 
+@vcan
+def test_the_interface_going_down_during_the_wait_loses_nothing_queued(bin_path, tmp_path) -> None:
+    """The kernel reports ENETDOWN before the frames still queued: canrec writes those frames,
+    then says why it stopped in one line, exit 1.  (On a slow machine the wait may be over
+    before the interface goes down: the same log and the same exit.)"""
+    log = tmp_path / "bus.log"
+    proc = subprocess.Popen([str(bin_path("canrec")), "-w", "100", "-o", str(log), IFACE],
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        wait_listening(proc)
+        subprocess.run(["cansend", IFACE, "0AA#01"], check=True)  # one read, then the wait
+        sent = send_frames(20)
+        subprocess.run(["ip", "link", "set", IFACE, "down"], check=True)
+        err = proc.communicate(timeout=10)[1]
+    finally:
+        subprocess.run(["ip", "link", "set", IFACE, "up"], check=True)
+    assert proc.returncode == 1
+    assert err == f"canrec: cannot receive from {IFACE}: Network is down\n"
+    lines = log.read_text().splitlines()
+    assert lines[0].endswith(f" {IFACE} 0AA#01")
+    assert [ln.split("#")[1] for ln in lines[1:]] == [i.to_bytes(8, "big").hex().upper() for i in range(20)]
+    assert sent == 20
+
+
 class TinyCanrec(Canrec):
     """canrec with the smallest receive queue the kernel allows (a few frames)."""
 

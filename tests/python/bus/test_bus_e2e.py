@@ -5,9 +5,11 @@ by both (test_bus_vectors.py here).
 """
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
-from hil.bus.e2e import (E2EReceiver, E2ESender, E2EStatus, crc8_j1850, frame_crc, protect)
+from hil.bus.e2e import (E2EReceiver, E2ESender, E2EStatus, crc8_j1850, frame_crc, protect,
+                         protect_many)
 
 
 def _crc_bitwise(data: bytes) -> int:
@@ -56,6 +58,26 @@ def test_protect_keeps_data_nibble_and_checks_arguments() -> None:
         protect(0x1234, bytes(7), 0)
     with pytest.raises(ValueError):
         frame_crc(0x10000, bytes(8))
+
+
+def test_protect_many_equals_protect() -> None:
+    """The vectorised protection of a lockstep flight's ticks (hil.rig.tickplan) gives what
+    protect() gives frame by frame: random payloads, every counter, several data IDs."""
+    rng = np.random.default_rng(7)
+    payloads = rng.integers(0, 256, (500, 8), dtype=np.uint8)
+    before = payloads.copy()
+    counters = np.arange(500) % 16
+    for data_id in (0x0000, 0x1020, 0x1050, 0xFFFF):
+        got = protect_many(data_id, payloads, counters)
+        assert [bytes(r) for r in got] == [protect(data_id, bytes(p), int(c))
+                                           for p, c in zip(payloads, counters)]
+    assert (payloads == before).all()   # the payloads handed over are not changed
+    with pytest.raises(ValueError):
+        protect_many(0x10000, payloads, counters)
+    with pytest.raises(ValueError):
+        protect_many(0x1020, payloads, counters + 1)   # 16 is not a counter
+    with pytest.raises(ValueError):
+        protect_many(0x1020, payloads[:, :7], counters)
 
 
 def _frame(counter: int, data_id: int = 0x1050) -> bytes:

@@ -113,13 +113,20 @@ def pack(msg: dbc.MessageSpec, values: Mapping[str, Value], *,
 
 
 def decode_values(msg: dbc.MessageSpec, data: bytes) -> dict[str, Value] | None:
-    """8 bytes -> physical values of the data signals; None when a raw value is out of range."""
-    fields = msg.data_fields
+    """8 bytes -> physical values of the data signals; None when a raw value is out of range.
+    (MessageSpec.raw_values' unpacking and the check in one loop over the fields' tuples: it
+    runs for every acknowledgement of the lockstep loop.)"""
+    if len(data) != msg.length:
+        raise ValueError(f"{msg.name}: {len(data)} bytes, expected {msg.length}")
+    bits = int.from_bytes(data, "little")
     out: dict[str, Value] = {}
-    for f, r in zip(fields, msg.raw_values(bytes(data), fields)):
-        if not f.raw_min <= r <= f.raw_max:
+    for name, start, mask, sign, raw_min, raw_max, inv_scale in msg.data_fields:  # Field, unpacked
+        r = (bits >> start) & mask
+        if r & sign:
+            r -= sign << 1
+        if not raw_min <= r <= raw_max:
             return None
-        out[f.name] = r / f.inv_scale if f.inv_scale else r
+        out[name] = r / inv_scale if inv_scale else r
     return out
 
 

@@ -15,6 +15,8 @@ from collections.abc import Iterable
 CAN_EFF_FLAG = 0x80000000
 #: struct can_frame: 32-bit id, 8-bit length, 3 pad bytes, 8 data bytes
 CAN_FRAME = struct.Struct("=IB3x8s")
+#: where a struct can_frame's data bytes start
+DATA_OFFSET = 8
 #: a standard identifier's filter mask: all 11 bits, and the extended-frame flag clear
 STANDARD_MASK = 0x7FF | CAN_EFF_FLAG
 

@@ -129,6 +129,9 @@ class FrameInjector:
                     raise ValueError(f"fault {f.describe()}: out_of_range needs frame = a DBC "
                                      f"message and signal = one of its data signals")
         self.star = frozenset(star_frames)
+        #: the messages a replay fault may act on: only their history is kept
+        self._replayed = frozenset(n for f in self.faults if isinstance(f, FrameReplay)
+                                   for n in (self.star if f.frame == "*" else (f.frame,)))
         self.timeline = FaultTimeline(self.faults)
         self._seed = int(seed)
         self._rng_made: np.random.Generator | None = None
@@ -192,6 +195,10 @@ class FrameInjector:
         """True when a frame fault names this message explicitly and is active at t."""
         return any(f.level == "frame" and f.active(t) for _, f in self._naming.get(name, ()))
 
+    def names(self, name: str) -> bool:
+        """True when some fault of the scenario names this message explicitly (at any time)."""
+        return name in self._naming
+
     def infrastructure(self, t: float, name: str, values: Mapping[str, float | int]) -> list[TxFrame]:
         """A rig frame (SIM_TICK, SIM_CONTROL): only faults that name it act on it; silence,
         floods and '*' faults do not (the tick is the rig's clock, not a node)."""
@@ -199,6 +206,13 @@ class FrameInjector:
         out = self._one(t, name, values, active, can_delay=False)
         self.counts["sent"] += len(out)
         return out
+
+    def sent_as_encoded(self, t: float, name: str, data: bytes) -> None:
+        """Account for a rig frame that no fault names, encoded ahead of time (the lockstep's
+        tick plan, hil.rig.tickplan), as infrastructure() would have."""
+        self.counts["encoded"] += 1
+        self.counts["sent"] += 1
+        self._remember(t, name, data)
 
     def flush_delayed(self) -> list[TxFrame]:
         """Frames still held back at the end of a run (they arrive after it)."""
@@ -227,11 +241,16 @@ class FrameInjector:
     def _encode(self, t: float, name: str, values: Mapping[str, float | int]) -> TxFrame:
         frame_id, data = self.codec.encode(name, values, saturate=True)
         self.counts["encoded"] += 1
-        hist = self._history.get(name)
-        if hist is None:
-            hist = self._history[name] = deque(maxlen=REPLAY_HISTORY)
-        hist.append((t, data))
+        self._remember(t, name, data)
         return TxFrame(frame_id, data, name)
+
+    def _remember(self, t: float, name: str, data: bytes) -> None:
+        """Keep what was sent of a message a replay fault may replay."""
+        if name in self._replayed:
+            hist = self._history.get(name)
+            if hist is None:
+                hist = self._history[name] = deque(maxlen=REPLAY_HISTORY)
+            hist.append((t, data))
 
     def _one(self, t: float, name: str, values: Mapping[str, float | int],
              active: list[tuple[int, Fault]], can_delay: bool = True) -> list[TxFrame]:

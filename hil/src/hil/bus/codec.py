@@ -34,7 +34,7 @@ class EncodeError(ValueError):
     """A value cannot be encoded (not finite, out of range, missing, not ours)."""
 
 
-@dataclass
+@dataclass(slots=True)
 class Decoded:
     """One received frame after the checks; values is None unless verdict is PASS."""
 

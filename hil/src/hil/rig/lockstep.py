@@ -198,12 +198,11 @@ class LockstepRunner:
                 rig.note_frame(frame_id, data)
                 continue
             if frame_id == self.ack_id:
-                dec = rig.codec.decode(frame_id, data)
-                if dec.ok and dec.values is not None and int(dec.values["app"]) == app \
-                        and int(dec.values["step"]) == k:
+                ack = rig.codec.decode(frame_id, data).values   # None: refused (counted)
+                if ack is not None and ack["app"] == app and ack["step"] == k:
                     io.acked = True
-                    io.degraded = bool(dec.values["degraded"])
-                    self.exec_us[app].append(int(dec.values["exec_us"]))
+                    io.degraded = bool(ack["degraded"])
+                    self.exec_us[app].append(int(ack["exec_us"]))
                     return io
                 continue  # a repeated ACK of an earlier tick
             io.frames.extend(rig.accept(frame_id, data))

@@ -54,7 +54,7 @@ SID_PARTS = ("STATE", "BOUNDS", "MODEL_A", "MODEL_B")
 Message = tuple[str, dict[str, float | int]]
 
 
-@dataclass
+@dataclass(slots=True)
 class StepIO:
     """What fcc answered to one step.  Realtime: no ACK; t0 is the wall time (monotonic) the
     period began and arrivals[i] the time frames[i] was received."""

@@ -8,19 +8,19 @@ import dataclasses
 import functools
 import shutil
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 from hil.bus import load as load_spec
 from hil.results.buslog import BusAuth, iter_flights
-from hil.results.flight import cdrw_record, cdrw_result, missile_result
+from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import fcc_args, fly, require_log
 from hil.rig.session import RigSession
-from hil.runs.campaign import CampaignFlight, campaign_flight
+from hil.runs.campaign import CampaignFlight, evaluate_flights
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
@@ -87,20 +87,25 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
 def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
     """A session's flights as Table 5 needs them (CampaignFlight): fcc's outputs read from
     the session's bus.log (one pass, a flight at a time) and joined with the simulator's
-    records, then the symmetric tables (one `sid_replay --all-rows` per flight); on the
-    worker, where starting a process is cheap, not inside the rig's guest.  The session's
-    directory is removed once its flights are evaluated."""
+    records, then the symmetric tables (one `sid_replay --all-rows` per flight, running
+    while the next flight is read: hil.runs.campaign.evaluate_flights); on the worker, where
+    starting a process is cheap, not inside the rig's guest.  The session's directory is
+    removed once its flights are evaluated."""
     assert done.run_dir is not None
     log = done.run_dir / "bus.log"
     spec = load_spec()
     args = fcc_args([scenario], cfg)
-    evaluated = []
     recorded = 0
-    for fl in iter_flights(log, done.auth):
-        if recorded < len(done.flights):
-            i, t, rec = done.flights[recorded]
-            evaluated.append((i, t, campaign_flight(i, t, cdrw_result(spec, rec, fl), args)))
-        recorded += 1
+
+    def results() -> Iterator[tuple[int, float, CdrwResult]]:
+        nonlocal recorded
+        for fl in iter_flights(log, done.auth):
+            if recorded < len(done.flights):
+                i, t, rec = done.flights[recorded]
+                yield i, t, cdrw_result(spec, rec, fl)
+            recorded += 1
+
+    evaluated = [(fl.index, fl.fault_start, fl) for fl in evaluate_flights(results(), args)]
     if recorded != len(done.flights):
         raise RigError(f"{log}: {recorded} flights recorded, expected {len(done.flights)}")
     shutil.rmtree(done.run_dir, ignore_errors=True)

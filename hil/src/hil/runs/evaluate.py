@@ -12,7 +12,7 @@ from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
-from hil.results.buslog import BusAuth, split_flights
+from hil.results.buslog import split_flights
 from hil.results.flight import (
     CdrwResult,
     cdrw_record,

@@ -48,11 +48,12 @@ def frame_crc(data_id: int, payload: bytes | bytearray) -> int:
         raise ValueError(f"E2E data ID {data_id} is not a 16-bit value")
     if len(payload) != FRAME_LENGTH:
         raise ValueError(f"E2E frames are {FRAME_LENGTH} bytes, not {len(payload)}")
-    crc = _TABLE[_TABLE[CRC8_INIT ^ (data_id & 0xFF)] ^ (data_id >> 8)]
-    table = _TABLE
-    for byte in payload[1:]:   # unrolled crc8_j1850: this runs for every frame of a step
-        crc = table[crc ^ byte]
-    return crc ^ CRC8_XOROUT
+    # crc8_j1850 written out over the data ID's two bytes and bytes 1..7: it runs for every
+    # frame the lockstep loop checks or protects, and a loop costs twice as much in CPython
+    t = _TABLE
+    _, b1, b2, b3, b4, b5, b6, b7 = payload
+    crc = t[t[CRC8_INIT ^ (data_id & 0xFF)] ^ (data_id >> 8)]
+    return t[t[t[t[t[t[t[crc ^ b1] ^ b2] ^ b3] ^ b4] ^ b5] ^ b6] ^ b7] ^ CRC8_XOROUT
 
 
 def protect(data_id: int, payload: bytes | bytearray, counter: int) -> bytes:

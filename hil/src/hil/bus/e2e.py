@@ -48,11 +48,12 @@ def frame_crc(data_id: int, payload: bytes | bytearray) -> int:
         raise ValueError(f"E2E data ID {data_id} is not a 16-bit value")
     if len(payload) != FRAME_LENGTH:
         raise ValueError(f"E2E frames are {FRAME_LENGTH} bytes, not {len(payload)}")
-    crc = _TABLE[_TABLE[CRC8_INIT ^ (data_id & 0xFF)] ^ (data_id >> 8)]
-    table = _TABLE
-    for byte in payload[1:]:   # unrolled crc8_j1850: this runs for every frame of a step
-        crc = table[crc ^ byte]
-    return crc ^ CRC8_XOROUT
+    # crc8_j1850 written out over the data ID's two bytes and bytes 1..7: it runs for every
+    # frame the lockstep loop checks or protects, and a loop costs twice as much in CPython
+    t = _TABLE
+    _, b1, b2, b3, b4, b5, b6, b7 = payload
+    crc = t[t[CRC8_INIT ^ (data_id & 0xFF)] ^ (data_id >> 8)]
+    return t[t[t[t[t[t[t[crc ^ b1] ^ b2] ^ b3] ^ b4] ^ b5] ^ b6] ^ b7] ^ CRC8_XOROUT
 
 
 def protect(data_id: int, payload: bytes | bytearray, counter: int) -> bytes:
@@ -84,7 +85,11 @@ class E2EStatus(enum.IntEnum):
     @property
     def data_usable(self) -> bool:
         """True for the classes whose data may be used (OK and OK_SOME_LOST)."""
-        return self in (E2EStatus.OK, E2EStatus.OK_SOME_LOST)
+        return self in _USABLE
+
+
+#: the classes whose data may be used (a set of the members: checked for every frame received)
+_USABLE = frozenset((E2EStatus.OK, E2EStatus.OK_SOME_LOST))
 
 
 @dataclass
@@ -98,6 +103,12 @@ class E2ESender:
         frame = protect(self.data_id, payload, self.counter)
         self.counter = (self.counter + 1) % COUNTER_MODULO
         return frame
+
+
+#: the classes as module names: reading a member off the enum class costs CPython 3.11 ten
+#: times a global's lookup, and the receiver classifies every frame the lockstep loop checks
+_OK, _REPEATED, _OK_SOME_LOST, _WRONG_SEQUENCE, _ERROR = (
+    E2EStatus.OK, E2EStatus.REPEATED, E2EStatus.OK_SOME_LOST, E2EStatus.WRONG_SEQUENCE, E2EStatus.ERROR)
 
 
 @dataclass
@@ -128,21 +139,21 @@ class E2EReceiver:
 
     def _classify(self, payload: bytes | bytearray) -> E2EStatus:
         if len(payload) != FRAME_LENGTH or payload[0] != frame_crc(self.data_id, payload):
-            return E2EStatus.ERROR
+            return _ERROR
         counter = counter_of(payload)
         if not self.synced:
             self.synced, self.last_counter = True, counter
-            return E2EStatus.OK
+            return _OK
         delta = (counter - self.last_counter) % COUNTER_MODULO
         if delta == 0:
-            return E2EStatus.REPEATED
+            return _REPEATED
         self.last_counter = counter
         if delta == 1:
-            return E2EStatus.OK
+            return _OK
         if delta <= self.max_delta_counter:
             self.lost_frames += delta - 1
-            return E2EStatus.OK_SOME_LOST
-        return E2EStatus.WRONG_SEQUENCE
+            return _OK_SOME_LOST
+        return _WRONG_SEQUENCE
 
     def end_period(self) -> bool:
         """Close one receive period; True (and a NO_NEW_DATA count) if it had no frame."""

@@ -23,15 +23,12 @@ import numpy as np
 from hil.bus.dbc import BusSpec
 from hil.io.paths import tool
 from hil.results import metrics
-from hil.results.sidrows import read_binary_rows
+from hil.results.sidrows import ESTIMATES, ROW_MODES, read_binary_rows
 from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.sim.sid_csv import sid_csv
 
-ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)
 SYMMETRIC = ("prior", "posterior")
-#: the columns of a filter's rows the tables and the check read
-ESTIMATES = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
 
 
 @lru_cache(maxsize=1)

@@ -1,6 +1,6 @@
 """`hil campaign`: Table 5, the same CDRW flight many times with the scenario's faults at
 random times (hil.scenario.campaign), one fcc reset between flights; the flights' share of the
-table (campaign_flight) and the table from them in any order (write_campaign, also for the
+table (evaluate_flights) and the table from them in any order (write_campaign, also for the
 flights flown on many rigs, hil.parallel).
 """
 from __future__ import annotations
@@ -59,17 +59,12 @@ def _flag_value(args: Sequence[str], flag: str) -> str | None:
     return value
 
 
-def campaign_flight(index: int, fault_start: float, res: CdrwResult,
-                    fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
-    """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
-    flew and with which identification options, for the symmetric tables."""
-    return start_campaign_flight(index, fault_start, res, fcc_arg_list)()
-
-
 def start_campaign_flight(index: int, fault_start: float, res: CdrwResult,
                           fcc_arg_list: Sequence[str] = ()) -> Callable[[], CampaignFlight]:
-    """campaign_flight in two halves: the flight's replay (sid_replay) starts now; the
-    function returned waits for it and gives the CampaignFlight."""
+    """One flight's share of Table 5, in two halves: the flight's replay (sid_replay) starts
+    now; the function returned waits for it and gives the CampaignFlight.  fcc_arg_list
+    (fcc's command line) says which rows fcc flew and with which identification options, for
+    the symmetric tables."""
     require_estimates(res, f"campaign flight {index}", _flag_value(fcc_arg_list, "--mode") == "realtime")
     flown, sid_args = rowtables.sid_options(fcc_arg_list)
     replay = rowtables.Replay(load_spec(), res.series, sid_args)
@@ -84,7 +79,7 @@ def start_campaign_flight(index: int, fault_start: float, res: CdrwResult,
 
 def evaluate_flights(results: Iterable[tuple[int, float, CdrwResult]],
                      fcc_arg_list: Sequence[str] = ()) -> Iterator[CampaignFlight]:
-    """campaign_flight of each (index, fault start, result), a flight's replay running while
+    """The CampaignFlight of each (index, fault start, result), a flight's replay running while
     the next result is made (read from the bus log: `results` is lazy) and its replay
     started, so that neither waits for the other."""
     pending = None

@@ -54,12 +54,13 @@ static void test_anchor_age_from_the_rate_error(void **state)
     uint64_t us = 0u;
     (void)sample_at(&c, 1000000u, 1u);
     assert_false(fcc_hostclock_extrapolate(&c, tick_at(1000100u), &us)); /* one sample */
-    /* 1 ms apart, 2 us of brackets: the rate to 2e-3, the anchor good for 1 us / 2e-3 */
+    /* 1 ms apart, 2 us of brackets and 1 us of the readings' truncation: the rate to
+     * 3e-3, the anchor good for 1 us / 3e-3 */
     (void)sample_at(&c, 1001000u, 1u);
-    assert_true(fcc_hostclock_extrapolate(&c, tick_at(1001500u), &us));
-    assert_int_equal(us, 1001500u);
-    assert_false(fcc_hostclock_extrapolate(&c, tick_at(1001501u), &us));
-    /* 30 ms: 6.7e-5, FCC_HOSTCLOCK_ANCHOR_US */
+    assert_true(fcc_hostclock_extrapolate(&c, tick_at(1001333u), &us));
+    assert_int_equal(us, 1001333u);
+    assert_false(fcc_hostclock_extrapolate(&c, tick_at(1001334u), &us));
+    /* 30 ms: 1e-4, FCC_HOSTCLOCK_ANCHOR_US */
     (void)sample_at(&c, 1030000u, 1u);
     assert_true(fcc_hostclock_extrapolate(&c, tick_at(1030000u + FCC_HOSTCLOCK_ANCHOR_US), &us));
     assert_int_equal(us, 1030000u + FCC_HOSTCLOCK_ANCHOR_US);
@@ -151,6 +152,38 @@ static void test_rate_follows_the_clock_after_the_base_moves(void **state)
     assert_true(us + 1u >= want && us <= want + 1u);
 }
 
+/* A real read at ns nanoseconds, as on a host whose clock_gettime takes 20 ns: a bracket
+ * of 50 ticks and the clock in whole microseconds. */
+static void sample_at_ns(fcc_hostclock_t *c, uint64_t ns)
+{
+    const uint64_t tick = OFFSET + ns * TICKS_PER_US / 1000u;
+    (void)fcc_hostclock_sample(c, tick - 25u, ns / 1000u, tick + 25u);
+}
+
+/* Reads 1.7 us apart for 20 ms, each followed by extrapolations as far as the anchor
+ * allows: within the drift, the truncation and rounding of the true time.  (With the
+ * truncation left out of the rate's error, 1 us over the first microseconds' span passed
+ * for 2e-5 and the time ran up to 14 us ahead.) */
+static void test_whole_microsecond_readings_bound_the_rate(void **state)
+{
+    (void)state;
+    fcc_hostclock_t c;
+    fcc_hostclock_init(&c, true);
+    for (uint64_t ns = 1000000000u; ns < 1020000000u; ns += 1700u) {
+        sample_at_ns(&c, ns);
+        for (uint64_t ahead = 0u; ahead <= 1000u * FCC_HOSTCLOCK_ANCHOR_US; ahead += 50000u) {
+            fcc_hostclock_t probe = c; /* extrapolating moves the last time handed out */
+            const uint64_t t = ns + ahead;
+            uint64_t us = 0u;
+            if (!fcc_hostclock_extrapolate(&probe, OFFSET + t * TICKS_PER_US / 1000u, &us)) {
+                break;
+            }
+            assert_true(us + FCC_HOSTCLOCK_DRIFT_US + 2u >= t / 1000u);
+            assert_true(us <= t / 1000u + FCC_HOSTCLOCK_DRIFT_US + 2u);
+        }
+    }
+}
+
 static uint64_t clock_us(void)
 {
     struct timespec ts;
@@ -187,6 +220,7 @@ int main(void)
         cmocka_unit_test(test_wide_bracket_is_no_anchor),
         cmocka_unit_test(test_never_backwards),
         cmocka_unit_test(test_rate_follows_the_clock_after_the_base_moves),
+        cmocka_unit_test(test_whole_microsecond_readings_bound_the_rate),
         cmocka_unit_test(test_real_clock_within_clock_gettime),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

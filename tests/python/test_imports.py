@@ -37,6 +37,8 @@ HEAVY = {
     "cryptography": "imported while the session listens to the bus, off the start-up path",
     "rich": "`hil live` only",
     "importlib.metadata": "`hil --version` only (0.1 s in the UML guest)",
+    "numpy": "the simulator and the results: `hil run` imports them while its session listens "
+             "to the bus (0.2 s in the UML guest)",
 }
 
 

@@ -71,13 +71,17 @@ static void measure_rate(fcc_hostclock_t *c, const fcc_hostclock_sample_t *s)
         return;
     }
     const double span = (double)(s->tick - b->tick);
-    const double err = (double)(b->half + s->half) / span;
+    const double us_per_tick = (double)(s->us - b->us) / span;
+    /* the brackets' halves, and the clock's whole microseconds: a difference of two
+     * truncated readings is off by up to 1 us (on a host whose clock_gettime takes
+     * 20 ns that is most of the error, and leaving it out let reads run 14 us ahead) */
+    const double err = ((double)(b->half + s->half) * us_per_tick + 1.0) / (double)(s->us - b->us);
     const double good_enough = (c->rate_err > FCC_HOSTCLOCK_RATE_FLOOR) ? c->rate_err
                                                                           : FCC_HOSTCLOCK_RATE_FLOOR;
     if (c->us_per_tick > 0.0 && err > good_enough) {
         return;
     }
-    c->us_per_tick = (double)(s->us - b->us) / span;
+    c->us_per_tick = us_per_tick;
     c->rate_err = err;
     double age_us = (double)FCC_HOSTCLOCK_DRIFT_US / err;
     if (age_us > (double)FCC_HOSTCLOCK_ANCHOR_US) {

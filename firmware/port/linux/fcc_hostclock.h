@@ -11,7 +11,8 @@
  * How: a real clock_gettime bracketed by two counter reads is a sample (the clock's
  * value at the bracket's middle; half the bracket is its uncertainty).  The counter's
  * rate is measured between an early sample (the base) and the latest, with the bound of
- * error (half bracket + half bracket) / span.  A read is the last sample (the anchor)
+ * error (half bracket + half bracket + 1 us, the clock's readings being whole
+ * microseconds) / span.  A read is the last sample (the anchor)
  * plus the counter's ticks since, scaled, as long as the anchor is young enough that the
  * rate's error adds at most FCC_HOSTCLOCK_DRIFT_US (and at most FCC_HOSTCLOCK_ANCHOR_US
  * old); an older one is renewed by a real read.  In the guest (brackets of ~6 us) the

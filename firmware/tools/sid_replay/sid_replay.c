@@ -3,7 +3,8 @@
  * loops (MLS-KF, MLS-ZKF, MLS-AZKF side by side, each with its own MLS) and
  * writes one CSV row per step per filter on stdout.  Row semantics: see
  * fcc_sid.h.  With the MLS intercept (--mls-intercept, or an 8-value model)
- * the rows end with the affine term c1,c2.  Bad input: one line on stderr, exit status 1 (2 for a bad
+ * the rows end with the affine term c1,c2.  --estimates --binary: the estimates'
+ * rows as binary64 records (the rig's symmetric tables read them).  Bad input: one line on stderr, exit status 1 (2 for a bad
  * command line).
  */
 #include <stdio.h>
@@ -31,9 +32,16 @@ static fcc_sid_t loops[3];  /* one per filter, reused for each row mode (pages a
 static fcc_mls_t mls_alone;
 static bool with_c; /* the c1,c2 columns are printed */
 static bool estimates_only; /* --estimates: t, filter and the six estimate columns only */
+static bool binary;         /* --binary: those as binary64 records, no header */
+
+/* A row of --binary: t, the row's filter code, the six estimates, as binary64. */
+#define BINARY_ROW_VALUES 8u
 
 static void print_header(void)
 {
+    if (binary) {
+        return;
+    }
     if (estimates_only) {
         fputs("t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,q_lo,q_hi\n", stdout);
         return;
@@ -49,6 +57,16 @@ static void print_reals(const fcc_real_t *v, size_t n)
     for (size_t i = 0; i < n; ++i) {
         printf("," REAL_FMT, (double)v[i]);
     }
+}
+
+/* One --binary row; 0, or -1 when stdout refused it. */
+static int write_binary_row(double t, unsigned code, const fcc_real_t x[2], const fcc_real_t lo[2],
+                            const fcc_real_t hi[2])
+{
+    const double row[BINARY_ROW_VALUES] = {t,           (double)code,  (double)x[0],
+                                           (double)x[1], (double)lo[0], (double)hi[0],
+                                           (double)lo[1], (double)hi[1]};
+    return fwrite(row, sizeof row[0], BINARY_ROW_VALUES, stdout) == BINARY_ROW_VALUES ? 0 : -1;
 }
 
 static void print_row(double t, const char *name, const fcc_real_t x[2], const fcc_real_t lo[2],
@@ -170,6 +188,12 @@ static int step_loop(const sid_opts_t *o, size_t k, int r, int i)
                 fcc_status_str(st));
         return 1;
     }
+    if (binary) {
+        const unsigned code = (unsigned)i + (o->all_rows ? 3u * (unsigned)r : 0u);
+        return write_binary_row(flight.t[k], code, out.x_hat, out.lo, out.hi) == 0
+                   ? 0
+                   : die("cannot write the output");
+    }
     print_row(flight.t[k], o->all_rows ? all_rows_names[r][i] : filter_names[i], out.x_hat,
               out.lo, out.hi, out.gain_norm, out.order, out.fault ? 1 : 0, &out.model, out.rho);
     return 0;
@@ -272,6 +296,7 @@ int main(int argc, char **argv)
     }
     with_c = opts.cfg.mls.intercept;
     estimates_only = opts.estimates_only;
+    binary = opts.binary;
     const int rc = opts.mls_only ? run_mls_only(&opts) : run_filters(&opts);
     if (rc == 0 && (fflush(stdout) != 0 || ferror(stdout))) {
         return die("cannot write the output");

@@ -29,6 +29,11 @@ void sid_opts_usage(const char *prog)
            "                                pass; the filter column reads MODE/FILTER\n"
            "  --estimates                   only t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,\n"
            "                                q_lo,q_hi (what the rig reads; less to print)\n"
+           "  --binary                      with --estimates: each row as 8 native-endian\n"
+           "                                IEEE 754 binary64 values, no header: t, the\n"
+           "                                filter (0 kf, 1 zkf, 2 azkf; --all-rows: + 3 x the\n"
+           "                                mode, 0 paper, 1 prior, 2 posterior), the six\n"
+           "                                estimates (exact, nothing to format or parse)\n"
            "  --help                        this text\n",
            prog);
     fcc_opt_sid_usage(stdout);
@@ -63,6 +68,9 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
     }
     if (strcmp(name, "--estimates") == 0) {
         return fcc_opt_flag(name, val, &o->estimates_only, true, err, len);
+    }
+    if (strcmp(name, "--binary") == 0) {
+        return fcc_opt_flag(name, val, &o->binary, true, err, len);
     }
     if (strcmp(name, "--mls-only") == 0) {
         return fcc_opt_flag(name, val, &o->mls_only, true, err, len);
@@ -101,6 +109,9 @@ int sid_opts_parse(int argc, char **argv, sid_opts_t *o, char *err, size_t len)
     }
     if (o->estimates_only && o->mls_only) {
         return fcc_opt_fail(err, len, "--estimates prints the filters' estimates: not with --mls-only");
+    }
+    if (o->binary && !o->estimates_only) {
+        return fcc_opt_fail(err, len, "--binary writes the estimates' rows: give --estimates too");
     }
     return 0;
 }

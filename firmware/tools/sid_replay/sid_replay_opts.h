@@ -19,6 +19,7 @@ typedef struct {
     bool fixed_model;        /* --fixed-model given */
     bool all_rows;           /* --all-rows: every row mode in one pass */
     bool estimates_only;     /* --estimates: t, filter and the estimates only */
+    bool binary;             /* --binary: the --estimates rows as binary64 records */
     const char *input;       /* file name, or NULL / "-" for stdin */
     fcc_sid_config_t cfg;    /* shared by the three loops (filter set per loop) */
 } sid_opts_t;

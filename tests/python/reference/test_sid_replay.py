@@ -17,7 +17,7 @@ import pytest
 from hil.reference import MlsConfig, Model, SidConfig, batch_fit, default_prior_affine
 from hil.reference.flight import Flight, synthetic_flight
 from hil.reference.metrics import error_table, format_table
-from hil.results.sidrows import read_rows, rows_to_arrays
+from hil.results.sidrows import read_binary_rows, read_rows, rows_to_arrays
 from hil.reference.sid import COLUMNS, columns, replay, replay_mls_only
 from hil.reference.zkf import AzkfConfig, DetectorConfig
 
@@ -205,6 +205,28 @@ def test_estimates_are_the_first_columns_of_every_row(tool: Path, flight: Flight
     assert short == [",".join(row.split(",")[:8]) for row in full]
 
 
+@pytest.mark.parametrize("extra", [("--all-rows",), ("--filter", "zkf")])
+def test_binary_estimates_are_the_text_ones_to_the_bit(tool: Path, flight: Flight, extra: tuple) -> None:
+    """--binary (what the rig reads: nothing formatted or parsed) gives, row for row, the
+    numbers --estimates prints, exactly, under the same filter names."""
+    text = read_rows(run(tool, flight.csv(), "--estimates", *extra).stdout)
+    raw = subprocess.run([str(tool), "--estimates", "--binary", *extra], input=flight.csv().encode(),
+                         capture_output=True, timeout=60, check=True).stdout
+    binary = read_binary_rows(raw, all_rows="--all-rows" in extra)
+    assert binary.keys() == text.keys()
+    for name, cols in text.items():
+        assert binary[name].keys() == cols.keys()
+        for col, values in cols.items():
+            np.testing.assert_array_equal(binary[name][col], values, err_msg=f"{name}.{col}")
+
+
+def test_binary_output_of_another_shape_is_refused() -> None:
+    with pytest.raises(ValueError, match="not rows of 8 values"):
+        read_binary_rows(b"\0" * 72, all_rows=True)
+    with pytest.raises(ValueError, match="filter code 9.0"):
+        read_binary_rows(np.array([0.0, 9.0, 1, 2, 3, 4, 5, 6]).tobytes(), all_rows=True)
+
+
 def test_no_nan_anywhere(tool: Path, flight: Flight) -> None:
     for policy in ("order", "skip"):
         out = read_rows(run(tool, flight.csv(), "--fault-policy", policy).stdout)
@@ -268,7 +290,7 @@ def test_bad_input_one_line_and_failure(tool: Path, name: str) -> None:
     ("--margin", "-1"),
     ("--prior", "1,0,0,1,0,0,0"),            # 7 values: neither 6 nor 8
     ("--max-fault", "-2"), ("--max-fault", "x"), ("--all-rows", "--mls-only"),
-    ("--estimates", "--mls-only"),
+    ("--estimates", "--mls-only"), ("--binary",),   # --binary writes --estimates' rows only
     ("--x0", "1e308,1e308"), ("--x0", "0,11"),   # beyond what the sensors can read
     ("--prior", "1e300,0,0,1,0,0"), ("--p0", "1e300"), ("--e", "1e30,1"),
 ])

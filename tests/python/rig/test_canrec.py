@@ -165,7 +165,7 @@ def test_a_flight_recorded_by_candump_and_canrec_at_once_is_the_same_log(tmp_pat
     dump = Candump(IFACE, tmp_path / "candump.log")
     assert dump.wait_idle(10.0)
     cfg = RigConfig(out_dir=tmp_path / "rig", progress=False, plots=False, recorder="canrec")
-    done = fly_campaign_flights(scenario(CDRW_1S), [(0, 0.5), (1, 0.3)], cfg, keep=True)
+    done = fly_campaign_flights(scenario(CDRW_1S), [(0, 0.5), (1, 0.3)], cfg)
     assert len(done.flights) == 2
     marker = end_marker().encode()
     assert dump.stop(marker)

@@ -8,7 +8,7 @@ of frames on flights 84-88 (every message, e.g. 34,039 of 35,100 SIM_TICKs in it
 log still ended with the rig's end marker, and Table 5 averaged those five flights over the
 steps that were left (their KF α error 0.003-0.10 instead of 0.14-0.20).  Every other flight of
 that campaign equals the offline computation below to the last digit.  The campaign now refuses
-a lockstep flight whose answered steps lack fcc's estimates (hil.runs.campaign.campaign_flight).
+a lockstep flight whose answered steps lack fcc's estimates (hil.runs.campaign.evaluate_flights).
 
 What is asserted, for flights 0-2 of seed 1 (the rig's draw of fault times, fcc on vcan0):
 * the fault times are the seed's (golden: tests/vectors/campaign/cdrw_seed1_flights.json);
@@ -103,9 +103,9 @@ def test_a_lockstep_flight_with_lost_estimates_is_not_averaged():
     """What happened to flights 84-88 of the first seed-1 campaign: every step answered, but
     the recorder lost fcc's estimates of some: the flight is refused, not averaged."""
     from hil.results.flight import CdrwResult
-    from hil.runs.campaign import campaign_flight
+    from hil.runs.campaign import evaluate_flights
     from hil.rig.errors import RigError
     res = CdrwResult(scenario="cdrw", seed=1, dt=0.02, series={}, table={}, table_truth={}, coverage={},
                      missing_steps=111, unanswered_steps=0, faults=[], events=[], injected={})
     with pytest.raises(RigError, match="campaign flight 84 lacks fcc's estimates of 111 answered steps"):
-        campaign_flight(84, 1.34, res, ["--mode", "lockstep", "--apps", "cdrw"])
+        list(evaluate_flights([(84, 1.34, res)], ["--mode", "lockstep", "--apps", "cdrw"]))

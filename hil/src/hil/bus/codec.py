@@ -191,17 +191,39 @@ class FrameCodec:
         if len(data) != msg.length:
             self.counters.wrong_dlc += 1
             return Decoded(frame_id, msg.name, Verdict.WRONG_DLC, E2EStatus.OK, None, timestamp)
-        status = E2EStatus.OK
-        if msg.protected:
-            status = self.receivers[msg.name].check(bytes(data))
-            self.counters.e2e[status] += 1
-            if not status.data_usable:
-                return Decoded(frame_id, msg.name, Verdict.E2E, status, None, timestamp)
+        status = self._e2e(msg, data)
+        if not status.data_usable:
+            return Decoded(frame_id, msg.name, Verdict.E2E, status, None, timestamp)
         values = decode_values(msg, bytes(data))
         if values is None:
             self.counters.out_of_range += 1
             return Decoded(frame_id, msg.name, Verdict.OUT_OF_RANGE, status, None, timestamp)
         return Decoded(frame_id, msg.name, Verdict.PASS, status, values, timestamp)
+
+    def usable(self, msg: dbc.MessageSpec, data: bytes) -> bool:
+        """decode()'s checks of a frame of msg, a message this node consumes, short of the range
+        check (in_range()), counted as decode() counts them: its length, then its E2E class.
+        For a caller that reads a few fields itself (the lockstep loop's acknowledgement, once
+        a step)."""
+        if len(data) != msg.length:
+            self.counters.wrong_dlc += 1
+            return False
+        return self._e2e(msg, data).data_usable
+
+    def in_range(self, msg: dbc.MessageSpec, data: bytes) -> bool:
+        """decode()'s range check of a frame that usable() passed, counted as decode() counts it."""
+        if decode_values(msg, bytes(data)) is None:
+            self.counters.out_of_range += 1
+            return False
+        return True
+
+    def _e2e(self, msg: dbc.MessageSpec, data: bytes | bytearray) -> E2EStatus:
+        """The E2E class of a received frame of msg (OK when it is not protected), counted."""
+        if not msg.protected:
+            return E2EStatus.OK
+        status = self.receivers[msg.name].check(bytes(data))
+        self.counters.e2e[status] += 1
+        return status
 
     def end_period(self, name: str) -> bool:
         """Close a receive period of a consumed protected message; True if it had no frame."""

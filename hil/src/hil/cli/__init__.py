@@ -31,6 +31,7 @@ and hil.cli:entry).
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import os
 import signal
@@ -186,4 +187,9 @@ def _fail(e: Exception) -> int:
 
 def entry() -> NoReturn:
     """The `hil` program (tests call main() instead)."""
-    sys.exit(main())
+    code = main()
+    # The interpreter's exit collects the objects still alive, all of which (the modules,
+    # numpy's among them) live to the end: frozen, the collections skip them (0.03-0.05 s of
+    # a `hil run` in the UML guest, measured)
+    gc.freeze()
+    sys.exit(code)

@@ -8,18 +8,19 @@ import dataclasses
 import functools
 import shutil
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from hil.results.buslog import BusAuth, split_flights
-from hil.results.flight import cdrw_record, cdrw_result, missile_result
+from hil.bus import load as load_spec
+from hil.results.buslog import BusAuth, iter_flights
+from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import fcc_args, fly, require_log
 from hil.rig.session import RigSession
-from hil.runs.campaign import CampaignFlight, campaign_flight
+from hil.runs.campaign import CampaignFlight, evaluate_flights
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
@@ -35,13 +36,17 @@ class FlightDone:
 
 @dataclasses.dataclass
 class SessionDone:
-    """What a rig sends back for a chunk of campaign flights flown in one session: each
-    flight's result (index, fault start, CdrwResult; later its CampaignFlight) and fcc's
-    counters of these flights (flights_counters: the session's end left out)."""
+    """A chunk of campaign flights flown in one session: each flight (index, fault start,
+    and what is known of it: the simulator's CdrwRecord from the rig, its CampaignFlight
+    after campaign_flights), fcc's counters of these flights (flights_counters: the
+    session's end left out), and, from the rig, the session's directory with its bus.log and
+    the key its frames verify under (fcc's outputs are read from it on the worker)."""
 
     flights: list[tuple[int, float, Any]]
     firmware: dict[str, Any]
     session_s: float = 0.0       # the session's own start and end, paid once per chunk
+    run_dir: Path | None = None  # the rig's session directory (bus.log), until evaluated
+    auth: BusAuth | None = None
 
 
 def worker_config(cfg: RigConfig) -> RigConfig:
@@ -50,13 +55,14 @@ def worker_config(cfg: RigConfig) -> RigConfig:
     return dataclasses.replace(cfg, key_file=None)
 
 
-def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]], cfg: RigConfig,
-                         keep: bool = False) -> SessionDone:
+def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]],
+                         cfg: RigConfig) -> SessionDone:
     """Campaign flights (index, fault start) one after the other in one fresh session in
     cfg.out_dir, fcc reset between them as in the sequential campaign (so each result
-    depends only on its inputs); the directory is removed afterwards unless `keep` (kept when
-    the session fails).  Returns the rig's share: fcc's outputs joined with the simulation
-    (the symmetric tables are made by the caller, off the rig: campaign_flights)."""
+    depends only on its inputs).  Returns the simulator's records and the session's
+    directory: fcc's outputs are read from its bus.log off the rig (campaign_flights, on the
+    worker: the guest's one CPU is the rig's scarcest, and reading a log there costs about
+    twice the host's); the directory stays until then (and when the session fails)."""
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     records = []
@@ -73,25 +79,37 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
         rig.shutdown()
     session_s = time.perf_counter() - t0 - flying
     require_log(rig)
-    logs = split_flights(out / "bus.log", BusAuth(rig.security.key, rig.security.trip))
-    if len(logs) != len(flights):
-        raise RigError(f"{out / 'bus.log'}: {len(logs)} flights recorded, expected {len(flights)}")
-    done = SessionDone([(i, t, cdrw_result(rig.spec, rec, fl))
-                        for (i, t), rec, fl in zip(flights, records, logs)],
+    return SessionDone([(i, t, rec) for (i, t), rec in zip(flights, records)],
                        flights_counters(firmware_summary(rig.status, rig.security.counters())),
-                       session_s)
-    if not keep:
-        shutil.rmtree(out, ignore_errors=True)
-    return done
+                       session_s, out, BusAuth(rig.security.key, rig.security.trip))
 
 
 def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
-    """A session's flights as Table 5 needs them (CampaignFlight: the symmetric tables by
-    one `sid_replay --all-rows` per flight -- on the worker, where starting a process is
-    cheap, not inside the rig's guest)."""
+    """A session's flights as Table 5 needs them (CampaignFlight): fcc's outputs read from
+    the session's bus.log (one pass, a flight at a time) and joined with the simulator's
+    records, then the symmetric tables (one `sid_replay --all-rows` per flight, running
+    while the next flight is read: hil.runs.campaign.evaluate_flights); on the worker, where
+    starting a process is cheap, not inside the rig's guest.  The session's directory is
+    removed once its flights are evaluated."""
+    assert done.run_dir is not None
+    log = done.run_dir / "bus.log"
+    spec = load_spec()
     args = fcc_args([scenario], cfg)
-    return SessionDone([(i, t, campaign_flight(i, t, res, args)) for i, t, res in done.flights],
-                       done.firmware, done.session_s)
+    recorded = 0
+
+    def results() -> Iterator[tuple[int, float, CdrwResult]]:
+        nonlocal recorded
+        for fl in iter_flights(log, done.auth):
+            if recorded < len(done.flights):
+                i, t, rec = done.flights[recorded]
+                yield i, t, cdrw_result(spec, rec, fl)
+            recorded += 1
+
+    evaluated = [(fl.index, fl.fault_start, fl) for fl in evaluate_flights(results(), args)]
+    if recorded != len(done.flights):
+        raise RigError(f"{log}: {recorded} flights recorded, expected {len(done.flights)}")
+    shutil.rmtree(done.run_dir, ignore_errors=True)
+    return SessionDone(evaluated, done.firmware, done.session_s)
 
 
 def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:

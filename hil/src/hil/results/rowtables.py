@@ -23,15 +23,12 @@ import numpy as np
 from hil.bus.dbc import BusSpec
 from hil.io.paths import tool
 from hil.results import metrics
-from hil.results.sidrows import read_rows
+from hil.results.sidrows import ESTIMATES, ROW_MODES, read_binary_rows
 from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.sim.sid_csv import sid_csv
 
-ROW_MODES = ("paper", "prior", "posterior")
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)
 SYMMETRIC = ("prior", "posterior")
-#: the columns of a filter's rows the tables and the check read
-ESTIMATES = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
 
 
 @lru_cache(maxsize=1)
@@ -85,10 +82,10 @@ def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
 
 
 class Replay:
-    """`sid_replay --all-rows --estimates` on the flight's readings as fcc received them (one
-    process for the three modes: starting one costs ~0.1 s in the guest; only the ESTIMATES
-    columns printed), running while the caller does other work; result() waits for it:
-    {row mode: {filter: ESTIMATES columns}}."""
+    """`sid_replay --all-rows --estimates --binary` on the flight's readings as fcc received
+    them (one process for the three modes: starting one costs ~0.1 s in the guest; only the
+    ESTIMATES columns, as binary64: no number formatted or parsed), running while the caller
+    does other work; result() waits for it: {row mode: {filter: ESTIMATES columns}}."""
 
     def __init__(self, spec: BusSpec, series: Mapping[str, np.ndarray],
                  sid_args: Sequence[str] = ()) -> None:
@@ -100,14 +97,15 @@ class Replay:
         self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()
         self._input.write(csv.encode("ascii"))
         self._input.seek(0)
-        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", "--estimates", *sid_args],
+        self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", "--estimates", "--binary",
+                                       *sid_args],
                                       stdin=self._input, stdout=self._output, stderr=subprocess.PIPE)
 
     def result(self) -> dict[str, dict[str, dict[str, np.ndarray]]]:
         try:
             _, err = self._proc.communicate(timeout=120)
             self._output.seek(0)
-            text = self._output.read().decode("ascii")
+            data = self._output.read()
         finally:
             self._input.close()
             self._output.close()
@@ -115,7 +113,7 @@ class Replay:
             msg = (err.decode(errors="replace").strip().splitlines() or ["no message"])[0]
             raise RuntimeError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
         out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
-        for name, cols in read_rows(text, ESTIMATES).items():
+        for name, cols in read_binary_rows(data, all_rows=True).items():
             mode, _, filt = name.partition("/")
             out[mode][filt] = cols
         return out

@@ -1,5 +1,6 @@
-"""The rows of the identification, as arrays: sid_replay's CSV output (read_rows) or the
-numpy reference's rows (rows_to_arrays) -> {filter: {column: array}}.
+"""The rows of the identification, as arrays: sid_replay's CSV output (read_rows), its
+binary estimates (read_binary_rows) or the numpy reference's rows (rows_to_arrays)
+-> {filter: {column: array}}.
 """
 from __future__ import annotations
 
@@ -39,3 +40,33 @@ def read_rows(text: str, columns: Collection[str] | None = None) -> dict[str, di
     rows = {f: np.flatnonzero(filters == f) for f in dict.fromkeys(cells[col::n])}
     values = {names[i]: np.array(cells[i::n], dtype=float) for i in keep}
     return {f: {name: v[r] for name, v in values.items()} for f, r in rows.items()}
+
+
+#: sid_replay --estimates: the columns after t and the filter (the rig's tables and check read
+#: them; --binary: the values of a row after t and the filter's code)
+ESTIMATES = ("alpha_hat", "q_hat", "alpha_lo", "alpha_hi", "q_lo", "q_hi")
+#: the filter codes' names: code = filter + 3 x row mode (modes only with --all-rows)
+BINARY_FILTERS = ("kf", "zkf", "azkf")
+#: the row modes (fcc_sid.h), in the order of the codes
+ROW_MODES = ("paper", "prior", "posterior")
+
+
+def read_binary_rows(data: bytes, all_rows: bool) -> dict[str, dict[str, np.ndarray]]:
+    """sid_replay --estimates --binary output (rows of 8 native binary64 values: t, the
+    filter's code, ESTIMATES) -> {filter: {column: array}} with the columns t and
+    ESTIMATES, as read_rows gives the text of --estimates (filter "MODE/FILTER" with
+    --all-rows): the same numbers, none formatted or parsed."""
+    width = 2 + len(ESTIMATES)
+    if len(data) % (8 * width):
+        raise ValueError(f"sid_replay --binary output: {len(data)} bytes, not rows of {width} values")
+    rows = np.frombuffer(data, dtype=np.float64).reshape(-1, width)
+    names = [f"{m}/{f}" for m in ROW_MODES for f in BINARY_FILTERS] if all_rows else list(BINARY_FILTERS)
+    out: dict[str, dict[str, np.ndarray]] = {}
+    codes = rows[:, 1]
+    for code in dict.fromkeys(codes.tolist()):
+        if not (code.is_integer() and 0 <= code < len(names)):
+            raise ValueError(f"sid_replay --binary output: a row of filter code {code!r}")
+        picked = rows[codes == code]
+        out[names[int(code)]] = {"t": picked[:, 0].copy(),
+                                 **{c: picked[:, 2 + j].copy() for j, c in enumerate(ESTIMATES)}}
+    return out

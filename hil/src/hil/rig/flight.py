@@ -1,6 +1,9 @@
 """One flight against the device under test, in a rig session: fcc's command line for the
 flight's scenarios (fcc_args), the session (open_session), the drivers (make_drivers), the
 flight itself with fcc on the ground before and after it (fly), and run_info.json's facts.
+
+The simulator (numpy) is imported by make_drivers and fly, not with this module: `hil run`
+opens its session first and imports it while the session listens to the bus.
 """
 from __future__ import annotations
 
@@ -10,19 +13,19 @@ import shlex
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from hil.bus import FrameCodec
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
-from hil.rig.lockstep import LockstepRunner
-from hil.rig.realtime import RealtimeRunner
 from hil.rig.session import RigSession
 from hil.rig.status import StatusCounters
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
-from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver, OracleFlag
+
+if TYPE_CHECKING:
+    from hil.sim.drivers import AppDriver
 
 #: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
 #: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
@@ -80,6 +83,7 @@ def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, 
 
 def make_drivers(scenarios: Sequence[Scenario], codec: FrameCodec, cfg: RigConfig) -> list[AppDriver]:
     """The drivers of one flight (one fcc): they share the CDRW's fault truth (OracleFlag)."""
+    from hil.sim.drivers import CdrwDriver, MissileDriver, OracleFlag  # numpy: see the docstring
     rt = cfg.mode == "realtime"
     oracle = OracleFlag()
     return [(CdrwDriver if sc.aircraft == "cdrw" else MissileDriver)(sc, codec, rt, oracle)
@@ -94,10 +98,12 @@ def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
     rig.control(COMMAND_RESET, period, bits)
     try:
         if cfg.mode == "lockstep":
+            from hil.rig.lockstep import LockstepRunner  # numpy: see the docstring
             rig.control(COMMAND_FLIGHT)
             r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
             r.fly(drivers)
             return r
+        from hil.rig.realtime import RealtimeRunner
         rt = runner or RealtimeRunner(rig, progress=bar.update)
         rt.fly(drivers)   # FLIGHT goes out just before the first sampling instant
         return rt

@@ -27,6 +27,7 @@ import math
 import time
 from collections.abc import Callable, Iterable, Sequence
 
+from hil.rig.ack import AckReader
 from hil.rig.errors import FccDied, FccTimeout
 from hil.rig.link import pack_frame
 from hil.rig.session import RigSession
@@ -47,7 +48,7 @@ class LockstepRunner:
         self.rig = session
         self.timeout = timeout
         self.progress = progress
-        self.ack_id = session.spec.by_name("FCC_ACK").frame_id
+        self.ack = AckReader(session.codec)
         self.exec_us: dict[int, list[int]] = {0: [], 1: []}
         self.unanswered_ticks = 0
         self.resent_ticks = 0
@@ -162,7 +163,7 @@ class LockstepRunner:
 
     def _await_ack(self, app: int, k: int, expected: bool,
                    resend: Callable[[], None] | None = None) -> StepIO:
-        rig, link = self.rig, self.rig.link
+        rig, link, ack = self.rig, self.rig.link, self.ack
         assert link is not None
         io = StepIO(acked=False)
         if not expected:  # fcc will not act on this tick: nothing to wait for
@@ -197,14 +198,14 @@ class LockstepRunner:
             if frame_id >= 0x700:
                 rig.note_frame(frame_id, data)
                 continue
-            if frame_id == self.ack_id:
-                ack = rig.codec.decode(frame_id, data).values   # None: refused (counted)
-                if ack is not None and ack["app"] == app and ack["step"] == k:
+            if frame_id == ack.frame_id:
+                got_ack = ack.read(data, app, k)
+                if got_ack is not None:
                     io.acked = True
-                    io.degraded = bool(ack["degraded"])
-                    self.exec_us[app].append(int(ack["exec_us"]))
+                    io.degraded, exec_us = got_ack
+                    self.exec_us[app].append(exec_us)
                     return io
-                continue  # a repeated ACK of an earlier tick
+                continue  # a repeated ACK of an earlier tick (or one the codec refused)
             io.frames.extend(rig.accept(frame_id, data))
 
 

@@ -82,9 +82,9 @@ class RigSession:
         the answer timeout of an external device, the bus key file (default: a random one for
         this session; the device may have its own, hil.targets), the bus recorder on SocketCAN
         (hil.rig.recorder.RECORDERS; the link's own log writer otherwise)); record: keep
-        bus.log; prepare: work for the time the bus is listened to before fcc starts (the
-        flights' precomputation: the listen is a wait otherwise), its result in
-        ``self.prepared``."""
+        bus.log; prepare: work for the time the bus is listened to before fcc starts (`hil
+        run`'s imports of the simulator and the evaluation, the flights' precomputation: the
+        listen is a wait otherwise), its result in ``self.prepared``."""
         self.run_dir = Path(run_dir)
         self.config = config
         self.iface = config.iface

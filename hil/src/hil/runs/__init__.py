@@ -1,7 +1,8 @@
 """The commands that fly and write a run directory, each in one rig session (one fcc): a
-flight (run), a campaign (campaign), a sweep (sweep), the demo (demo), the replay of a recorded
-run (replay); what they leave (outcome: the Outcome, the common files, the finished bus log,
-the figures) and whether the machine has the memory for a run's results (budget).
+flight (run; its evaluation: evaluate), a campaign (campaign), a sweep (sweep), the demo
+(demo), the replay of a recorded run (replay); what they leave (outcome: the Outcome, the
+common files, the finished bus log, the figures) and whether the machine has the memory for a
+run's results (budget).
 
 Room 11: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
 hil.results, hil.reference, hil.plots.

@@ -1,12 +1,12 @@
 """`hil campaign`: Table 5, the same CDRW flight many times with the scenario's faults at
 random times (hil.scenario.campaign), one fcc reset between flights; the flights' share of the
-table (campaign_flight) and the table from them in any order (write_campaign, also for the
+table (evaluate_flights) and the table from them in any order (write_campaign, also for the
 flights flown on many rigs, hil.parallel).
 """
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -59,17 +59,37 @@ def _flag_value(args: Sequence[str], flag: str) -> str | None:
     return value
 
 
-def campaign_flight(index: int, fault_start: float, res: CdrwResult,
-                    fcc_arg_list: Sequence[str] = ()) -> CampaignFlight:
-    """One flight's share of Table 5; fcc_arg_list (fcc's command line) says which rows fcc
-    flew and with which identification options, for the symmetric tables."""
+def start_campaign_flight(index: int, fault_start: float, res: CdrwResult,
+                          fcc_arg_list: Sequence[str] = ()) -> Callable[[], CampaignFlight]:
+    """One flight's share of Table 5, in two halves: the flight's replay (sid_replay) starts
+    now; the function returned waits for it and gives the CampaignFlight.  fcc_arg_list
+    (fcc's command line) says which rows fcc flew and with which identification options, for
+    the symmetric tables."""
     require_estimates(res, f"campaign flight {index}", _flag_value(fcc_arg_list, "--mode") == "realtime")
     flown, sid_args = rowtables.sid_options(fcc_arg_list)
-    modes, check = rowtables.symmetric_tables(res.series, res.dt, flown,
-                                              rowtables.Replay(load_spec(), res.series, sid_args))
-    return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,
-                          res.unanswered_steps, res.events, res.series if index == 0 else None,
-                          res.coverage, flown, modes, check)
+    replay = rowtables.Replay(load_spec(), res.series, sid_args)
+
+    def finish() -> CampaignFlight:
+        modes, check = rowtables.symmetric_tables(res.series, res.dt, flown, replay)
+        return CampaignFlight(index, fault_start, res.table, res.table_truth, res.missing_steps,
+                              res.unanswered_steps, res.events, res.series if index == 0 else None,
+                              res.coverage, flown, modes, check)
+    return finish
+
+
+def evaluate_flights(results: Iterable[tuple[int, float, CdrwResult]],
+                     fcc_arg_list: Sequence[str] = ()) -> Iterator[CampaignFlight]:
+    """The CampaignFlight of each (index, fault start, result), a flight's replay running while
+    the next result is made (read from the bus log: `results` is lazy) and its replay
+    started, so that neither waits for the other."""
+    pending = None
+    for index, fault_start, res in results:
+        started = start_campaign_flight(index, fault_start, res, fcc_arg_list)
+        if pending is not None:
+            yield pending()
+        pending = started
+    if pending is not None:
+        yield pending()
 
 
 def _campaign_modes(flights: Sequence[CampaignFlight]) -> dict[str, Any]:
@@ -154,9 +174,10 @@ def run_campaign(scenario: Scenario, runs: int, seed: int, cfg: RigConfig) -> Ou
         rig.shutdown()
     require_log(rig)
     args = fcc_args([scenario], cfg)
-    flights = [campaign_flight(i, float(starts[i]), cdrw_result(rig.spec, rec, fl), args)
-               for i, (rec, fl) in enumerate(zip(records, iter_flights(
-                   out / "bus.log", BusAuth(rig.security.key, rig.security.trip))))]
+    flights = list(evaluate_flights(
+        ((i, float(starts[i]), cdrw_result(rig.spec, rec, fl)) for i, (rec, fl) in enumerate(zip(
+            records, iter_flights(out / "bus.log", BusAuth(rig.security.key, rig.security.trip))))),
+        args))
     if len(flights) != runs:
         raise RigError(f"bus.log: {len(flights)} flights recorded, expected {runs}")
     summary = write_campaign(out, scenario, seed, runs, flights,

@@ -23,7 +23,6 @@ from hil.bus import load
 from hil.bus.candump import LogFrame
 from hil.io.output import write_csv
 from hil.io.rundir import atomic_write_text
-from hil.plots import plot_run_dir
 from hil.results.flight import MissileResult
 from hil.results.report import summary_tables
 from hil.rig.config import RigConfig
@@ -78,6 +77,7 @@ def report_outcome(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcom
     """The summary's tables and, unless off, the figures of the run directory."""
     tables = summary_tables(summary)
     if cfg.plots:
+        from hil.plots import plot_run_dir  # (its multiprocessing: the figures only)
         names = [p.name for p in plot_run_dir(out)]
         if names:
             tables.append(f"plots: {', '.join(names)}")

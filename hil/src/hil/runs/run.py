@@ -1,48 +1,26 @@
 """`hil run`: one flight of one aircraft, or both interleaved in one fcc (the demo's first
-part), evaluated from its bus log and its drivers.
+part), evaluated from its bus log and its drivers (hil.runs.evaluate).
+
+The simulator and the evaluation (numpy: 0.2 s of a start in the UML guest) are imported
+while the session listens to the bus for another fcc, a wait otherwise: this module, and
+what it imports at load, do not need them.
 """
 from __future__ import annotations
 
-import dataclasses
 import time
-from collections.abc import Iterable, Sequence
-from pathlib import Path
-from typing import Any, Protocol
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Protocol
 
-from hil.bus import load
-from hil.bus.candump import LogFrame, read_log
-from hil.io.output import write_csv, write_json
-from hil.results import metrics, rowtables, timing
-from hil.results.buslog import BusAuth, split_flights
-from hil.results.flight import (
-    CdrwResult,
-    cdrw_record,
-    cdrw_result,
-    missile_open_loop,
-    missile_result,
-    require_estimates,
-)
-from hil.results.report import firmware_summary
-from hil.results.sync import sync_summary
 from hil.rig.config import RigConfig
-from hil.rig.errors import RigError
-from hil.rig.flight import (
-    Flown,
-    fcc_args,
-    fly,
-    lqg_request,
-    make_drivers,
-    open_session,
-    require_log,
-    run_info,
-)
-from hil.rig.simtime import finish_bus_log
+from hil.rig.flight import Flown, fly, lqg_request, make_drivers, open_session, require_log, run_info
+from hil.rig.session import RigSession
 from hil.runs.budget import check_memory
-from hil.runs.outcome import Outcome, report_outcome, step_periods, write_fault_log, write_missile
-from hil.scenario.faults import Flood
-from hil.scenario.file import Scenario, is_paper_scenario
-from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver
+from hil.scenario.file import Scenario
 from hil.util.progress import bar as progress_bar
+
+if TYPE_CHECKING:
+    from hil.runs.outcome import Outcome
+    from hil.sim.drivers import AppDriver
 
 
 class FlightWitness(Protocol):
@@ -63,8 +41,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
         raise ValueError("one scenario per aircraft")
     check_memory(scenarios)
     t0 = time.perf_counter()
-    # the drivers are computed while the session listens for another fcc on the bus
-    with open_session(out, scenarios, cfg, lambda rig: make_drivers(scenarios, rig.codec, cfg)) as rig:
+    with open_session(out, scenarios, cfg, lambda rig: prepare(scenarios, rig, cfg)) as rig:
         drivers: list[AppDriver] = rig.prepared  # type: ignore[assignment]
         if witness is not None:
             witness.wait_ready()
@@ -76,114 +53,16 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
                 witness.stop_now()
         rig.shutdown()
     require_log(rig)
+    from hil.results.buslog import BusAuth  # (both imported by prepare)
+    from hil.runs.evaluate import evaluate_flight
     flown = Flown(drivers, rig.status, rig.security.counters(),
                   run_info(rig, cfg, runner, time.perf_counter() - t0), rig.transmitter_stats,
                   BusAuth(rig.security.key, rig.security.trip))
     return evaluate_flight(scenarios, cfg, command, flown)
 
 
-def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
-    """Realtime floods come from cangen, on its own: its frames are counted in the bus log
-    (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
-
-    ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
-    if not ids:
-        return
-    seen = dict.fromkeys(ids, 0)
-    for fr in log:
-        if fr.frame_id in seen:
-            seen[fr.frame_id] += 1
-    for d in drivers:
-        mine = {f.can_id for f in d.injector.faults if isinstance(f, Flood)}
-        n = sum(seen.pop(i, 0) for i in mine)
-        d.injector.counts["flood"] += n
-        d.injector.counts["sent"] += n
-
-
-def _cdrw_block(res: CdrwResult, flown: str, replay: rowtables.Replay, paper: bool) -> dict[str, Any]:
-    """summary.json's cdrw: Table 4 of the rows fcc flew (cdrw.rows), the bounds coverage,
-    both symmetric tables (cdrw.tables: prior, posterior, from this flight's replay) and the
-    replay's check."""
-    tables, check = rowtables.symmetric_tables(res.series, res.dt, flown, replay)
-    return {"table4": res.table, "table4_truth": res.table_truth, "rows": flown,
-            "coverage": res.coverage, "tables": tables, "replay_check": check,
-            "paper_scenario": paper,
-            "improvement_over_kf_pct": metrics.improvements(res.table),
-            "improvement_over_kf_truth_pct": metrics.improvements(res.table_truth),
-            "flight": res.summary()}
-
-
-def _write_cdrw(out: Path, res: CdrwResult, name: str = "cdrw.csv") -> None:
-    write_csv(out / name, res.series)
-
-
-def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str, flown: Flown) -> Outcome:
-    """A flight's results from its bus log and its drivers (run_flight): the
-    CSVs, faults.log, summary.json, run_info.json, the finished bus log, the tables."""
-    out = cfg.out_dir
-    drivers = flown.drivers
-    spec = load()
-    log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
-    flights = split_flights(log, flown.auth)
-    if cfg.mode == "realtime":
-        count_babbled(log, drivers)
-    summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
-                               "firmware": firmware_summary(flown.status, flown.security)}
-    fault_log = []
-    cdrw: tuple[CdrwResult, str, rowtables.Replay, bool] | None = None
-    for d in drivers:
-        if isinstance(d, CdrwDriver):
-            if not flights:
-                raise RigError("bus.log: no authenticated flight start (SIM_CONTROL reset); the "
-                               "run is not evaluated")
-            res = cdrw_result(spec, cdrw_record(d), flights[0])
-            require_estimates(res, f"hil {command}'s flight", cfg.mode == "realtime")
-            flown_rows, sid_args = rowtables.sid_options(fcc_args(scenarios, cfg))
-            # sid_replay's symmetric tables run while the files are written
-            cdrw = (res, flown_rows, rowtables.Replay(spec, res.series, sid_args),
-                    is_paper_scenario(d.scenario))
-            summary["cdrw"] = None   # its place in summary.json; filled in below
-            _write_cdrw(out, res)
-            fault_log.append(("cdrw     ", res.events))
-        else:
-            assert isinstance(d, MissileDriver)
-            mres = missile_result(d)  # realtime too: the reference flies with the same delay
-            assert d.scenario.lqg is not None, "a missile scenario has its [lqg]"
-            ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
-            write_missile(out, mres)
-            write_missile(out, ol)
-            summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
-            fault_log.append(("missile  ", mres.events))
-    write_fault_log(out, fault_log)
-    info = dict(flown.info)
-    missiles = [d for d in drivers if isinstance(d, MissileDriver)]
-    if cfg.mode == "realtime" and missiles:
-        info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
-    if cfg.mode == "realtime":
-        summary["sync"] = sync_summary(flown.status, flown.info.get("time_master"))
-    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
-    if cdrw is not None:
-        summary["cdrw"] = _cdrw_block(*cdrw)
-    write_json(out / "summary.json", summary)
-    write_json(out / "run_info.json", info)
-    return report_outcome(cfg, out, summary)
-
-
-def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any]:
-    """Offset, jitter and data age of a realtime missile flight (hil.results.timing), and the
-    samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
-    slack and its transmitter's send lateness."""
-    t = timing.bus_timing(out / "bus.log", load(), d.period)
-    timing.write_csv(out / timing.CSV_NAME, t)
-    log = out / "fcc.log"
-    rep = timing.summarise(t, log.read_text(errors="replace") if log.is_file() else "")
-    st = flown.status
-    rep["sync_status"] = {k.split(".", 1)[1]: v for k, v in st.values.items()
-                          if k.startswith("FCC_SYNC_STATUS.")}
-    rep["delay_s"] = d.delay
-    rep["commands_late"] = d.cmd_late
-    t = flown.info   # (run_info.json's facts hold the runner's timing)
-    rep["simulator"] = {"late_steps": t["sim_late_steps"], "steps": t["realtime_steps"],
-                        "handover_slack_ms": t["sim_handover_slack_ms"],
-                        "stale_frames": t["sim_stale_frames"], "transmitter": flown.transmitter}
-    return rep
+def prepare(scenarios: Sequence[Scenario], rig: RigSession, cfg: RigConfig) -> list[AppDriver]:
+    """The work for the time the session listens to the bus before fcc starts: the drivers
+    (their precomputation) and the import of the evaluation (numpy among it)."""
+    import hil.runs.evaluate  # noqa: F401
+    return make_drivers(scenarios, rig.codec, cfg)

@@ -188,3 +188,13 @@ def test_old_entries_go_first(scenario, cache, monkeypatch) -> None:
     kept = entries(cache)
     assert len(kept) == 2
     assert cache / f"{cdrw_cache.entry_key(short.replace(seed=1))}{cdrw_cache.SUFFIX}" not in kept
+
+
+def test_a_faulty_flight_shares_the_clean_samples_where_no_fault_acts(scenario, computed, cache) -> None:
+    # a campaign's flights keep one clean flight in memory, not one copy each
+    clean = cdrw_cache.open_loop(scenario.replace(faults=()), len(computed))
+    faulty = cdrw_cache.open_loop(scenario, len(computed))
+    same(faulty, computed)
+    shared = [a is b for a, b in zip(faulty, clean)]
+    touched = [s.fault_active or bool(s.events) for s in faulty]
+    assert shared == [not t for t in touched] and any(touched)

@@ -2,6 +2,7 @@
 to the frames, checked with the receiver side of the same E2E specification."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from hil.bus import SIM_NODES, E2EReceiver, E2EStatus, FrameCodec, load
@@ -164,3 +165,37 @@ def test_fault_timeline_logs_start_and_end():
     inj = injector("bad_crc:frame=*,start=0.1,duration=0.04")
     fly(inj)
     assert [(e.action, round(e.t, 3)) for e in inj.log] == [("start", 0.1), ("end", 0.14)]
+
+
+def _batches(n: int, dropped: set[int]) -> list:
+    """The three sensor messages of fly() for n steps, the AoA reading dropped at some."""
+    k = np.arange(n)
+    aoa = np.array([i not in dropped for i in range(n)])
+    return [("CDRW_AOA", aoa, {"step": k[aoa], "alpha": (0.1 + 0.001 * k)[aoa]}),
+            ("CDRW_PITCH_RATE", np.ones(n, bool), {"step": k, "q": 0.01 * k}),
+            ("CDRW_ELEVATOR", np.ones(n, bool), {"step": k, "delta_e": np.full(n, -0.05)})]
+
+
+def test_a_flight_without_frame_faults_is_made_at_once_as_step_by_step():
+    dropped = {3, 4, 17}
+    a, b = injector(), injector()
+    for inj in (a, b):   # the senders somewhere in their cycle, as in a session's later flight
+        inj.outgoing(0.0, [("CDRW_AOA", {"step": 0, "alpha": 0.0})])
+    steps = []
+    for k in range(20):
+        a.update(k * DT)
+        msgs = [m for m in (("CDRW_AOA", {"step": k, "alpha": 0.1 + 0.001 * k}),
+                            ("CDRW_PITCH_RATE", {"step": k, "q": 0.01 * k}),
+                            ("CDRW_ELEVATOR", {"step": k, "delta_e": -0.05}))
+                if not (m[0] == "CDRW_AOA" and k in dropped)]
+        steps.append(a.outgoing(k * DT, msgs))
+    planned = b.outgoing_flight(20, _batches(20, dropped))
+    assert planned == steps and [f.raw for s in planned for f in s] == [f.raw for s in steps for f in s]
+    assert a.counts == b.counts
+    assert {n: s.counter for n, s in a.codec.senders.items()} == {n: s.counter for n, s in b.codec.senders.items()}
+
+
+def test_a_flight_with_a_frame_fault_goes_step_by_step():
+    inj = injector("loss:frame=CDRW_AOA,start=0.1,duration=0.04")
+    assert inj.outgoing_flight(20, _batches(20, set())) is None
+    assert inj.counts["encoded"] == 0 and all(s.counter == 0 for s in inj.codec.senders.values())

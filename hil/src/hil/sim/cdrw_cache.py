@@ -125,15 +125,20 @@ def _decode(data: bytes, key: str, scenario: Scenario, n: int) -> list[CdrwSampl
             raise ValueError("event")
         events.setdefault(k, []).append(FaultEvent(float(t), action, i, fs[i]))
     m = len(names)
+    # readings the same bits as the fault-free ones are one dict, as the flight made them
+    # (hil.sim.cdrw_flight._with_faults keeps such a sample where no fault acts)
+    bits = table.view("<u8")
+    same = (bits[:, 5:5 + m] == bits[:, 5 + m:5 + 2 * m]).all(axis=1).tolist()
     out = []
     for k, row in enumerate(table.tolist()):
-        meas, ff = row[5:5 + m], row[5 + m:5 + 2 * m]
+        ff = dict(zip(names, row[5 + m:5 + 2 * m]))
+        meas = ff if same[k] else dict(zip(names, row[5:5 + m]))
         lin, at = {}, 7 + 2 * m
         for name, size in zip(_LIN, _SIZES):
             lin[name] = np.array(row[at:at + size]).reshape(_SHAPES.get(name, (2, 2)))
             at += size
         out.append(CdrwSample(k=k, t=row[0], alpha=row[1], q=row[2], X=row[3], de=row[4],
-                              meas=dict(zip(names, meas)), meas_faultfree=dict(zip(names, ff)),
+                              meas=meas, meas_faultfree=ff,
                               fault_active=row[5 + 2 * m] != 0.0,
                               events=tuple(events.get(k, ())),
                               lin=CdrwLinearisation(**lin, dt=row[6 + 2 * m])))

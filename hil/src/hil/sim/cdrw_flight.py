@@ -93,9 +93,14 @@ class CdrwSimulation:
 
 def _with_faults(faults: SensorFaultInjector, clean: CdrwSample) -> CdrwSample:
     """The sample with the injector's faults applied to its fault-free readings (samples in
-    order: the injector holds and logs across them)."""
+    order: the injector holds and logs across them).  A fault-free sample (its readings the
+    very dict of its fault-free ones) that no fault changes or starts or ends at is itself
+    that sample: a campaign's flights share most of their samples with the clean flight."""
     n_log = len(faults.log)
     faulty = faults.apply(clean.t, clean.meas_faultfree)
+    if clean.meas is clean.meas_faultfree and not faults.active and len(faults.log) == n_log \
+            and not clean.fault_active and not clean.events:
+        return clean
     return dataclasses.replace(clean, meas=faulty, fault_active=bool(faults.active),
                                events=tuple(faults.log[n_log:]))
 

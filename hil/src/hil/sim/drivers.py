@@ -30,7 +30,7 @@ from hil.scenario.faults import SensorFault
 from hil.scenario.file import SENSOR_FRAMES, Scenario
 from hil.sim.cdrw_cache import open_loop
 from hil.sim.cdrw_flight import CdrwSimulation
-from hil.sim.frame_faults import KIND_CODES, FrameInjector, TxFrame
+from hil.sim.frame_faults import KIND_CODES, Batch, FrameInjector, TxFrame
 from hil.sim.missile_runs import MissileSimulation
 from hil.sim.sensor_faults import FaultEvent
 
@@ -154,14 +154,30 @@ class CdrwDriver(AppDriver):
         self._frames: list[list[TxFrame]] = []
         self._events: list[list[Message]] = []
         self._fault_active: list[bool] = []
-        # open loop: the flight does not depend on fcc (so it can come from the cache)
-        for s in open_loop(scenario, self.n_steps):
+        # open loop: the flight does not depend on fcc (so it can come from the cache), and
+        # its sensor frames are made at once unless a frame fault acts on single ones
+        samples = open_loop(scenario, self.n_steps)
+        planned = self.injector.outgoing_flight(len(samples), self._batches(samples))
+        for k, s in enumerate(samples):
             self.samples.append(s)
             self._fault_active.append(bool(s.fault_active))
             events = list(s.events) + self.injector.update(s.t)
             # SIM_EVENT is encoded when sent: its alive counter is shared with the other app
             self._events.append(self._event_messages(s.k, events, s.fault_active))
-            self._frames.append(self.injector.outgoing(s.t, self._messages(s)))
+            self._frames.append(planned[k] if planned is not None else
+                                self.injector.outgoing(s.t, self._messages(s)))
+
+    @staticmethod
+    def _batches(samples: list[CdrwSample]) -> list[Batch]:
+        """_messages of every sample, a column per signal: the readings that are finite."""
+        steps = np.array([s.k for s in samples], dtype=np.int64) & 0xFFFF
+        out: list[Batch] = []
+        for sig in ("alpha", "q", "de"):
+            v = np.array([s.meas[sig] for s in samples], dtype=np.float64)
+            sends = np.isfinite(v)
+            frame, field_name = SIGNAL_FRAMES[sig]
+            out.append((frame, sends, {"step": steps[sends], field_name: v[sends]}))
+        return out
 
     def _messages(self, s: CdrwSample) -> list[Message]:
         msgs: list[Message] = []

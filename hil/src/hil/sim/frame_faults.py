@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from hil.bus import FrameCodec
+from hil.bus.batch import encode_many
 from hil.bus.dbc import MessageSpec, SignalSpec
 from hil.bus.e2e import counter_of, protect
 from hil.bus.rawcan import pack_frame
@@ -61,6 +62,10 @@ from hil.sim.sensor_faults import FaultEvent, FaultTimeline, random_stream
 
 if TYPE_CHECKING:
     import numpy as np
+
+#: one message of every step of a flight, for FrameInjector.outgoing_flight: its name, which
+#: steps send it (bool, one per step) and the values of its data signals in those steps
+Batch = tuple[str, "np.ndarray", Mapping[str, "np.ndarray"]]
 
 #: SIM_EVENT.kind of each fault kind (0 = none): position in hil.scenario.faults.KINDS, from 1
 KIND_CODES: dict[str, int] = {k: i + 1 for i, k in enumerate(KINDS)}
@@ -190,6 +195,23 @@ class FrameInjector:
             return []
         self.counts["sent"] += len(out)
         return out
+
+    def outgoing_flight(self, n_steps: int, batches: Sequence[Batch]) -> list[list[TxFrame]] | None:
+        """Every step's frames of a flight whose messages are all known before it starts, made
+        at once (hil.bus.batch): what outgoing(t_k, messages of step k) would give step by step,
+        with the same counts and E2E counters.  None when the scenario has a frame or bus
+        fault (they act on single frames, some with random draws: the caller goes step by
+        step)."""
+        if self.faults:
+            return None
+        steps: list[list[TxFrame]] = [[] for _ in range(n_steps)]
+        for name, sends, columns in batches:
+            frame_id, datas = encode_many(self.codec, name, columns, saturate=True)
+            for k, data in zip(sends.nonzero()[0].tolist(), datas):
+                steps[k].append(TxFrame(frame_id, data, name))
+            self.counts["encoded"] += len(datas)
+            self.counts["sent"] += len(datas)
+        return steps
 
     def faulted(self, t: float, name: str) -> bool:
         """True when a frame fault names this message explicitly and is active at t."""

@@ -246,3 +246,18 @@ def test_the_bench_models_n_machines_from_the_real_chunking(monkeypatch):
     old = [range(i, min(i + 25, 1000)) for i in range(0, 1000, 25)]
     assert balance(1000, 32, 0.0, 0.3, old)[1] > 0.5                   # 40 chunks on 32 rigs
     assert balance(1000, 32, 0.0, 0.3, session_chunks(1000, 32))[1] < 0.1
+
+
+def _worker_profiles() -> bool:
+    import dask
+
+    return bool(dask.config.get("distributed.worker.profile.enabled"))
+
+
+def test_local_workers_do_not_sample_their_tasks_stacks():
+    """A local cluster's workers run without Dask's statistical profiler (its samples, taken
+    every 10 ms from the worker's event loop, are for a dashboard nobody watches here)."""
+    from hil.parallel.engine import Cluster
+
+    with Cluster(workers=1) as cluster:
+        assert list(cluster.client.run(_worker_profiles).values()) == [False]

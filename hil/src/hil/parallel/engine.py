@@ -29,6 +29,10 @@ from hil.util.progress import bar as progress_bar
 FLIGHT_TIMEOUT_S = 120.0
 #: Dask's rescheduling after a worker died: once (the flight is then reported)
 ALLOWED_FAILURES = 1
+#: a local worker's statistical profiler samples the task's stack every 10 ms from the
+#: worker's event loop (for the dashboard, which nobody looks at here): CPU on the cores
+#: the rigs and the evaluations need
+QUIET_WORKERS = {"distributed.worker.profile.enabled": False}
 
 
 @dataclass
@@ -142,7 +146,7 @@ class Cluster:
             raise ValueError("give either a number of workers or a scheduler address")
         t0 = time.perf_counter()
         self.cluster = None
-        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+        with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES, **QUIET_WORKERS}):
             if scheduler is None:
                 assert workers is not None
                 self.cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,

@@ -26,6 +26,7 @@ the old entry or the new one.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -81,12 +82,21 @@ def _usable_dir(d: Path) -> bool:
     return stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o077
 
 
-def entry_key(scenario: Scenario) -> str:
-    """The entry's name: what decides the fault-free flight (OSError: a module's source is
-    unreadable)."""
+@functools.lru_cache(maxsize=1)
+def _code_hash() -> hashlib._Hash:
+    """The digest's state after the source of the modules that compute the flight: read once
+    per process, as the code that runs is the code imported (a campaign's flights would read
+    and hash ten files each, system calls that cost in the rig's guest)."""
     h = hashlib.sha256()
     for mod in _CODE:
         h.update(Path(mod.__file__ or "").read_bytes())
+    return h
+
+
+def entry_key(scenario: Scenario) -> str:
+    """The entry's name: what decides the fault-free flight (OSError: a module's source is
+    unreadable)."""
+    h = _code_hash().copy()
     h.update(f"{np.__version__}\0{sys.version}\0{fault_free(scenario)!r}".encode())
     return h.hexdigest()
 

@@ -47,7 +47,7 @@ def _raw_column(sig: dbc.SignalSpec, values: np.ndarray, saturate: bool) -> tupl
     return np.clip(raw, sig.raw_min, sig.raw_max), clamped
 
 
-def _pack_many(msg: dbc.MessageSpec, columns: Mapping[str, np.ndarray], n: int,
+def pack_many(msg: dbc.MessageSpec, columns: Mapping[str, np.ndarray], n: int,
                saturate: bool) -> tuple[np.ndarray, int]:
     """hil.bus.codec.pack of n frames: (n, length) uint8 with crc = counter = 0, and how many
     frames had a value clamped."""
@@ -80,7 +80,7 @@ def encode_many(codec: FrameCodec, name: str, columns: Mapping[str, np.ndarray],
         if name not in codec.produces:
             raise EncodeError(f"this node does not send {name}")
         msg = codec.spec.by_name(name)
-        frames, clamped = _pack_many(msg, columns, n, saturate)
+        frames, clamped = pack_many(msg, columns, n, saturate)
     except (EncodeError, KeyError):
         codec.counters.tx_refused += 1
         raise

@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from hil.bus import FrameCodec
-from hil.bus.codec import pack
+from hil.bus.batch import pack_many
 from hil.bus.e2e import COUNTER_MODULO, protect_many
 from hil.bus.rawcan import CAN_FRAME, DATA_OFFSET, pack_frame
 from hil.bus.secoc import Endpoint, authenticator
@@ -49,12 +49,10 @@ class TickPlan:
         self._e2e0, self._sec0, self._trip = self._e2e.counter, self._sec.counter, self._sec.trip
         step = msg.signal("step")
         end = min(end, step.raw_max + 1)   # beyond, the encoder would clamp the step number
-        ks = np.arange(first, max(first, end), dtype=np.uint64)
-        # SIM_TICK(app, k) is SIM_TICK(app, 0) with k in the step field (hil.bus.codec.pack)
-        base, _ = pack(msg, {"app": app, "step": 0})
-        words = np.uint64(int.from_bytes(base, "little")) | (ks << np.uint64(step.start))
+        ks = np.arange(first, max(first, end), dtype=np.int64)
+        payloads, _ = pack_many(msg, {"app": np.full(len(ks), app), "step": ks}, len(ks), saturate=False)
         counters = (self._e2e0 + np.arange(len(ks))) % COUNTER_MODULO
-        frames = protect_many(msg.data_id, words.astype("<u8").view(np.uint8).reshape(-1, 8), counters)
+        frames = protect_many(msg.data_id, payloads, counters)
         keyed, data_id = self._sec.keyed, self._sec.data_id
         blob = frames.tobytes()
         datas = [blob[i: i + 8] for i in range(0, len(blob), 8)]

@@ -113,20 +113,13 @@ def pack(msg: dbc.MessageSpec, values: Mapping[str, Value], *,
 
 
 def decode_values(msg: dbc.MessageSpec, data: bytes) -> dict[str, Value] | None:
-    """8 bytes -> physical values of the data signals; None when a raw value is out of range.
-    (MessageSpec.raw_values' unpacking and the check in one loop over the fields' tuples: it
-    runs for every acknowledgement of the lockstep loop.)"""
-    if len(data) != msg.length:
-        raise ValueError(f"{msg.name}: {len(data)} bytes, expected {msg.length}")
-    bits = int.from_bytes(data, "little")
+    """8 bytes -> physical values of the data signals; None when a raw value is out of range."""
+    fields = msg.data_fields
     out: dict[str, Value] = {}
-    for name, start, mask, sign, raw_min, raw_max, inv_scale in msg.data_fields:  # Field, unpacked
-        r = (bits >> start) & mask
-        if r & sign:
-            r -= sign << 1
-        if not raw_min <= r <= raw_max:
+    for f, r in zip(fields, msg.raw_values(bytes(data), fields)):
+        if not f.raw_min <= r <= f.raw_max:
             return None
-        out[name] = r / inv_scale if inv_scale else r
+        out[f.name] = r / f.inv_scale if f.inv_scale else r
     return out
 
 

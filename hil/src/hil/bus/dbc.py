@@ -151,7 +151,7 @@ class MessageSpec:
 
     def raw_values(self, data: bytes, fields: tuple[Field, ...]) -> list[int]:
         """The raw values of these fields of the frame's bytes (SignalSpec.unpack of each,
-        inlined; hil.bus.codec.decode_values has the same arithmetic with the range check)."""
+        inlined: the lockstep loop decodes every tick and acknowledgement)."""
         if len(data) != self.length:
             raise ValueError(f"{self.name}: {len(data)} bytes, expected {self.length}")
         bits = int.from_bytes(data, "little")

@@ -65,11 +65,8 @@ class KeyedCmac:
         return c.finalize()
 
     def mac(self, data_id: int, pdu: bytes, fv: int) -> bytes:
-        """The truncated MAC: first MAC_BYTES of the CMAC over data ID | pdu | FV (digest()
-        inlined: a tick's plan makes one per step)."""
-        c = self._keyed.copy()
-        c.update(data_id.to_bytes(2, "big") + pdu + fv.to_bytes(8, "big"))
-        return c.finalize()[:MAC_BYTES]
+        """The truncated MAC: first MAC_BYTES of the CMAC over data ID | pdu | FV."""
+        return self.digest(data_id.to_bytes(2, "big") + pdu + fv.to_bytes(8, "big"))[:MAC_BYTES]
 
 
 def cmac(key: bytes, data: bytes) -> bytes:
@@ -300,7 +297,7 @@ class Endpoint:
         """The frame, followed by its authenticator when it is a secured 8-byte frame."""
         out = [(frame_id, bytes(data))]
         if frame_id in self._send and len(data) == 8:
-            out.append((self._send[frame_id][0], self.sender(frame_id).protect(bytes(data))))
+            out.append((self.auth_id(frame_id), self.sender(frame_id).protect(bytes(data))))
         return out
 
     def sender(self, frame_id: int) -> Sender:

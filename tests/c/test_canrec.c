@@ -162,6 +162,11 @@ static void test_options(void **state)
     assert_int_equal(o.batch, CANREC_BATCH_DEFAULT);
     assert_int_equal(o.count, 0u);
     assert_int_equal(o.wait_ms, 0u);
+    assert_int_equal(o.ring, CANREC_RING_DEFAULT);
+    assert_int_equal(PARSE(&o, err, "-R", "4096", "vcan0"), 0);
+    assert_int_equal(o.ring, 4096u);
+    assert_int_equal(PARSE(&o, err, "--ring=16777216", "vcan0"), 0);
+    assert_int_equal(o.ring, CANREC_RING_MAX);
     assert_int_equal(PARSE(&o, err, "-r", "16777216", "-o", "bus.log", "-b", "256", "-n", "3",
                            "-w", "10", "can1"), 0);
     assert_int_equal(o.wait_ms, 10u);
@@ -197,6 +202,7 @@ static void test_refusals(void **state)
     expect_refused(PARSE(&o, err, "vcan0", "vcan1"), err, "one interface");
     expect_refused(PARSE(&o, err, "vcan0", "-b", "0"), err, "-b: 0 is outside 1..256");
     expect_refused(PARSE(&o, err, "vcan0", "-b", "257"), err, "outside 1..256");
+    expect_refused(PARSE(&o, err, "vcan0", "-R", "4095"), err, "-R: 4095 is outside 4096..16777216");
     expect_refused(PARSE(&o, err, "vcan0", "-r", "-5"), err, "not a non-negative integer");
     expect_refused(PARSE(&o, err, "vcan0", "-r", "0"), err, "outside");
     expect_refused(PARSE(&o, err, "vcan0", "-n", "x"), err, "-n: 'x'");

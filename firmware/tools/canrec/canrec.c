@@ -1,38 +1,43 @@
 /*
  * canrec -- record a SocketCAN interface in the candump log format, a batch
- * of frames per system call.
+ * of frames per system call or none.
  *
- *   canrec [-o FILE] [-r BYTES] [-b N] [-n N] [-w MS] IFACE
+ *   canrec [-o FILE] [-R BYTES] [-r BYTES] [-b N] [-n N] [-w MS] IFACE
  *
  * The lines are candump -l's (canrec_log.h): the kernel's receive time of
  * every frame (SO_TIMESTAMP), the interface, the frame.  Where candump makes
- * two system calls and one wake-up per frame (select, recvmsg), canrec waits
- * in recvmmsg(MSG_WAITFORONE) and takes everything queued, up to -b frames,
- * in that one call; the log goes out in 64 KiB blocks (stdout: once per
- * batch).  On a User-Mode Linux guest, where a system call costs tens of
- * microseconds, that is the recorder's whole cost (README, Performance).
+ * two system calls and one wake-up per frame (select, recvmsg), canrec takes
+ * the frames from a packet socket's receive ring (canrec_ring.h: the kernel
+ * copies each frame into memory canrec reads, no system call while frames
+ * are there) or, without CAP_NET_RAW, from a CAN_RAW socket in
+ * recvmmsg(MSG_WAITFORONE), everything queued up to -b frames in that one
+ * call; the log goes out in 64 KiB blocks (stdout: once per batch).  On a
+ * User-Mode Linux guest, where a system call costs microseconds and each
+ * socket a frame is queued to as much again, that is the recorder's whole
+ * cost (docs/performance.md).
  *
  * -w MS: after a read that emptied the queue, canrec lets frames gather for MS
  * milliseconds before it reads again (the kernel stamps them on arrival, so the
  * log is the same): in lockstep one wake-up for many steps instead of one or two
- * a step.  The queue (-r) must then hold MS of the bus.
+ * a step.  The ring or queue (-r) must then hold MS of the bus.
  *
- * The kernel's drop counter (SO_RXQ_OVFL, and SO_MEMINFO at the end) tells
- * whether a frame was lost because the receive queue was full: one line on
- * stderr when it happens, exit 3 at the end.  SIGINT/SIGTERM: the frames
- * queued at that moment are read too (a stop during a -w wait must not lose
- * the rig's end marker), everything is written, the file closed, exit 0 (or 3).
- * A receive error (the interface went down) is reported after the frames queued
- * before it are written, exit 1.
+ * The kernel's drop counter (PACKET_STATISTICS for the ring; SO_RXQ_OVFL, and
+ * SO_MEMINFO at the end, for the socket) tells whether a frame was lost because
+ * the ring or queue was full: one line on stderr when it happens, exit 3 at the
+ * end.  SIGINT/SIGTERM: the frames queued at that moment are read too (a stop
+ * during a -w wait must not lose the rig's end marker), everything is written,
+ * the file closed, exit 0 (or 3).  A receive error (the interface went down) is
+ * reported after the frames queued before it are written, exit 1.
  *
  * Exit: 0 recorded; 1 socket or file error; 2 bad command line; 3 frames lost.
- * Host tool (Linux), static storage only.
+ * Host tool (Linux), static storage only (the ring is the kernel's, mapped).
  */
 #define _GNU_SOURCE
 
 #include <errno.h>
 #include <fcntl.h>
 #include <net/if.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -49,6 +54,7 @@
 
 #include "canrec_log.h"
 #include "canrec_opts.h"
+#include "canrec_ring.h"
 
 #define EXIT_IO 1
 #define EXIT_USAGE 2
@@ -68,7 +74,9 @@ typedef union {
 /* The recorder's state: one instance, owned by main(). */
 typedef struct {
     const canrec_opts_t *o;
-    int sock;
+    canrec_ring_t ring;       /* the packet socket's ring, when use_ring */
+    bool use_ring;
+    int sock;                 /* else: the CAN_RAW socket */
     int out_fd;
     bool flush_each_batch;
     uint64_t frames;
@@ -125,15 +133,11 @@ static int flush_out(recorder_t *r)
     return rc;
 }
 
-/* The socket: every frame of the interface (CAN FD too, when it has them),
- * receive timestamps, the drop counter, the receive buffer asked for. */
-static int open_socket(recorder_t *r)
+/* The CAN_RAW socket (where no packet ring can be had): every frame of the interface (CAN FD
+ * too, when it has them), receive timestamps, the drop counter, the receive buffer asked for. */
+static int open_socket(recorder_t *r, unsigned idx)
 {
     const canrec_opts_t *o = r->o;
-    const unsigned idx = if_nametoindex(o->iface);
-    if (idx == 0u) {
-        return fail("no CAN interface", o->iface, errno);
-    }
     r->sock = socket(PF_CAN, SOCK_RAW, CAN_RAW);
     if (r->sock < 0) {
         return fail("cannot open a CAN socket for", o->iface, errno);
@@ -182,21 +186,76 @@ static int open_socket(recorder_t *r)
     return 0;
 }
 
-/* The kernel's drop counter went from r->drops_seen to now: count, and say so. */
-static void note_drops(recorder_t *r, uint32_t now)
+/* The ring where a packet socket may be had (CAP_NET_RAW), else the CAN_RAW socket.  The ring
+ * records any interface, so it is opened only on a CAN one (as binding CAN_RAW checks). */
+static int open_receiver(recorder_t *r)
 {
-    const uint32_t lost = canrec_drops_since(r->drops_seen, now);
+    const canrec_opts_t *o = r->o;
+    const unsigned idx = if_nametoindex(o->iface);
+    if (idx == 0u) {
+        return fail("no CAN interface", o->iface, errno);
+    }
+    if (!canrec_ring_is_can(o->iface)) {
+        return fail("cannot bind to", o->iface, ENODEV);
+    }
+    const char *what = "";
+    int err = 0;
+    switch (canrec_ring_open(&r->ring, idx, o->ring, &what, &err)) {
+    case CANREC_RING_OK:
+        r->use_ring = true;
+        return 0;
+    case CANREC_RING_UNAVAILABLE:
+        return open_socket(r, idx);
+    default:
+        return fail(what, o->iface, err);
+    }
+}
+
+/* The frames the kernel dropped since the last count: counted, and said. */
+static void count_losses(recorder_t *r, uint32_t lost)
+{
     if (lost == 0u) {
         return;
     }
-    r->drops_seen = now;
     r->drops += lost;
     fprintf(stderr, "canrec: %s: %lu frame%s lost (receive queue full), %llu in all\n",
             r->o->iface, (unsigned long)lost, lost == 1u ? "" : "s",
             (unsigned long long)r->drops);
 }
 
-/* One received message: its line into the output block. */
+/* The CAN_RAW socket's drop counter went from r->drops_seen to now. */
+static void note_drops(recorder_t *r, uint32_t now)
+{
+    count_losses(r, canrec_drops_since(r->drops_seen, now));
+    r->drops_seen = now;
+}
+
+/* One frame received at sec.usec: its line into the output block. */
+static int record_line(recorder_t *r, int64_t sec, int64_t usec, const struct canfd_frame *f,
+                       bool fd)
+{
+    if (OUT_BLOCK - r->out_len < CANREC_LINE_MAX && flush_out(r) != 0) {
+        return fail("cannot write the log of", r->o->iface, errno);
+    }
+    const size_t n = canrec_log_line(r->out + r->out_len, OUT_BLOCK - r->out_len, sec, usec,
+                                     r->o->iface, f, fd);
+    if (n == 0u) {
+        fprintf(stderr, "canrec: %s: a frame with the receive time %lld.%06lld cannot be "
+                "written\n", r->o->iface, (long long)sec, (long long)usec);
+        return EXIT_IO;
+    }
+    r->out_len += n;
+    ++r->frames;
+    return 0;
+}
+
+static int not_a_frame(const recorder_t *r, unsigned len)
+{
+    fprintf(stderr, "canrec: %s: a message of %u bytes is not a CAN frame\n", r->o->iface, len);
+    return EXIT_IO;
+}
+
+/* One message of the CAN_RAW socket: its line into the output block. */
 static int record(recorder_t *r, struct mmsghdr *m, const struct canfd_frame *f)
 {
     bool fd;
@@ -205,9 +264,7 @@ static int record(recorder_t *r, struct mmsghdr *m, const struct canfd_frame *f)
     } else if (m->msg_len == CAN_MTU) {
         fd = false;
     } else {
-        fprintf(stderr, "canrec: %s: a message of %u bytes is not a CAN frame\n", r->o->iface,
-                m->msg_len);
-        return EXIT_IO;
+        return not_a_frame(r, m->msg_len);
     }
     if ((m->msg_hdr.msg_flags & MSG_CTRUNC) != 0) {
         fprintf(stderr, "canrec: %s: receive timestamp truncated\n", r->o->iface);
@@ -227,31 +284,25 @@ static int record(recorder_t *r, struct mmsghdr *m, const struct canfd_frame *f)
             note_drops(r, now);
         }
     }
-    if (OUT_BLOCK - r->out_len < CANREC_LINE_MAX && flush_out(r) != 0) {
-        return fail("cannot write the log of", r->o->iface, errno);
-    }
-    const size_t n = canrec_log_line(r->out + r->out_len, OUT_BLOCK - r->out_len,
-                                     (int64_t)tv.tv_sec, (int64_t)tv.tv_usec, r->o->iface, f, fd);
-    if (n == 0u) {
-        fprintf(stderr, "canrec: %s: a frame with the receive time %lld.%06lld cannot be "
-                "written\n", r->o->iface, (long long)tv.tv_sec, (long long)tv.tv_usec);
-        return EXIT_IO;
-    }
-    r->out_len += n;
-    ++r->frames;
-    return 0;
+    return record_line(r, (int64_t)tv.tv_sec, (int64_t)tv.tv_usec, f, fd);
 }
 
 /* One receive call (flags: MSG_WAITFORONE to wait for the first frame, MSG_DONTWAIT not
  * to wait) and its frames into the output block.  0, with *drained when the call returned
  * fewer frames than it asked for (the queue is empty: a signal or the receive timeout
  * returns none), or the exit status of an error. */
-static int read_batch(recorder_t *r, int flags, bool *drained)
+static unsigned batch_size(const recorder_t *r)
 {
     unsigned want = (unsigned)r->o->batch;
     if (r->o->count != 0u && r->o->count - r->frames < want) {
         want = (unsigned)(r->o->count - r->frames);
     }
+    return want;
+}
+
+static int read_batch(recorder_t *r, int flags, bool *drained)
+{
+    const unsigned want = batch_size(r);
     for (unsigned i = 0u; i < want; ++i) {
         r->msgs[i].msg_hdr.msg_name = NULL;
         r->msgs[i].msg_hdr.msg_namelen = 0;
@@ -273,6 +324,53 @@ static int read_batch(recorder_t *r, int flags, bool *drained)
         return fail("cannot write the log of", r->o->iface, errno);
     }
     return 0;
+}
+
+/* The ring's counterpart of read_batch: what the ring holds, up to -b frames; with wait, first
+ * up to RCV_TIMEOUT_US for one (a socket error -- the interface went down -- ends the wait and
+ * is kept for after the frames still in the ring). */
+static int read_ring(recorder_t *r, bool wait, bool *drained)
+{
+    canrec_ring_frame_t f;
+    bool ready = canrec_ring_peek(&r->ring, &f);
+    if (!ready && wait) {
+        struct pollfd p = {r->ring.fd, POLLIN, 0};
+        if (poll(&p, 1, RCV_TIMEOUT_US / 1000) > 0 && (p.revents & POLLERR) != 0) {
+            r->rx_errno = canrec_ring_error(&r->ring);
+        }
+        ready = canrec_ring_peek(&r->ring, &f);
+    }
+    const unsigned want = batch_size(r);
+    unsigned n = 0u;
+    bool losses = false;
+    for (; ready && n < want; ready = n < want && canrec_ring_peek(&r->ring, &f)) {
+        if (!f.is_can) {
+            return not_a_frame(r, f.len);
+        }
+        const int rc = record_line(r, f.sec, f.usec, f.frame, f.fd);
+        if (rc != 0) {
+            return rc;
+        }
+        losses = losses || f.after_losses;
+        canrec_ring_release(&r->ring);
+        ++n;
+    }
+    *drained = n < want;
+    uint32_t lost = 0u;
+    if (losses && canrec_ring_losses(&r->ring, &lost) == 0) {
+        count_losses(r, lost);
+    }
+    if (n > 0u && r->flush_each_batch && flush_out(r) != 0) {
+        return fail("cannot write the log of", r->o->iface, errno);
+    }
+    return 0;
+}
+
+/* One read from the ring or the socket (wait: for the first frame). */
+static int read_some(recorder_t *r, bool wait, bool *drained)
+{
+    return r->use_ring ? read_ring(r, wait, drained)
+                       : read_batch(r, wait ? MSG_WAITFORONE : MSG_DONTWAIT, drained);
 }
 
 /* -w: after a read that emptied the queue, let frames gather for wait_ms (the kernel
@@ -300,7 +398,7 @@ static int drain(recorder_t *r)
     const uint64_t limit = r->frames + DRAIN_MAX;
     bool drained = false;
     while (!drained && !count_reached(r) && r->frames < limit) {
-        const int rc = read_batch(r, MSG_DONTWAIT, &drained);
+        const int rc = read_some(r, false, &drained);
         if (rc != 0) {
             return rc;
         }
@@ -324,7 +422,7 @@ static int record_loop(recorder_t *r)
 {
     while (!g_stop && !count_reached(r)) {
         bool drained = false;
-        const int rc = read_batch(r, MSG_WAITFORONE, &drained);
+        const int rc = read_some(r, true, &drained);
         if (rc != 0) {
             return rc;
         }
@@ -342,6 +440,13 @@ static int record_loop(recorder_t *r)
  * frame read carry no SO_RXQ_OVFL message); 0 when it cannot say. */
 static void final_drops(recorder_t *r)
 {
+    if (r->use_ring) {
+        uint32_t lost = 0u;
+        if (canrec_ring_losses(&r->ring, &lost) == 0) {
+            count_losses(r, lost);
+        }
+        return;
+    }
 #if defined(SO_MEMINFO)
     uint32_t mem[SK_MEMINFO_VARS];
     socklen_t len = sizeof mem;
@@ -378,7 +483,8 @@ int main(int argc, char **argv)
     (void)sigemptyset(&sa.sa_mask);
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
-    int rc = open_socket(r);
+    r->ring.fd = -1;
+    int rc = open_receiver(r);
     if (rc == 0 && o.output != NULL) {
         r->out_fd = open(o.output, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
         r->flush_each_batch = false;
@@ -395,7 +501,7 @@ int main(int argc, char **argv)
     if (rc == 0 && r->rx_errno != 0) {
         rc = fail("cannot receive from", o.iface, r->rx_errno);
     }
-    if (r->sock >= 0) {
+    if (r->sock >= 0 || r->use_ring) {
         final_drops(r);
     }
     if (flush_out(r) != 0 && rc == 0) {
@@ -407,6 +513,7 @@ int main(int argc, char **argv)
     if (r->sock >= 0) {
         (void)close(r->sock);
     }
+    canrec_ring_close(&r->ring);
     if (rc == 0 && r->drops > 0u) {
         fprintf(stderr, "canrec: %s: %llu frame%s lost in all: the log is incomplete (a larger "
                 "-r, or a recorder that keeps up)\n", o.iface, (unsigned long long)r->drops,

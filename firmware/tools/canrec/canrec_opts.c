@@ -17,24 +17,29 @@ void canrec_opts_usage(FILE *out)
             "usage: canrec [options] IFACE\n"
             "Records every frame on the SocketCAN interface IFACE in the candump log format,\n"
             "one line a frame: (SECONDS.MICROSECONDS) IFACE ID#DATA, the kernel's receive time\n"
-            "(SO_TIMESTAMP) -- the lines candump -l writes.  Frames are read in batches\n"
-            "(recvmmsg) and written in blocks; stops on SIGINT or SIGTERM, after reading what\n"
+            "(SO_TIMESTAMP) -- the lines candump -l writes.  Frames are taken from a packet\n"
+            "socket's receive ring (AF_PACKET, PACKET_RX_RING: no system call per batch, one\n"
+            "copy a frame; needs CAP_NET_RAW), else read in batches from a CAN_RAW socket\n"
+            "(recvmmsg), and written in blocks; stops on SIGINT or SIGTERM, after reading what\n"
             "is queued and writing everything out.\n"
             "options:\n"
             "  -o, --output FILE   write the log to FILE (default: stdout, written once per batch)\n"
-            "  -r, --rcvbuf BYTES  socket receive buffer (as candump -r; default: the system's)\n"
-            "  -b, --batch N       frames per receive call, 1..%u (default %u)\n"
+            "  -R, --ring BYTES    the receive ring's size, 4096..%lu (default %lu)\n"
+            "  -r, --rcvbuf BYTES  the CAN_RAW socket's receive buffer, where no ring can be\n"
+            "                      had (as candump -r; default: the system's)\n"
+            "  -b, --batch N       frames per read, 1..%u (default %u)\n"
             "  -n, --count N       stop after N frames (default: never)\n"
             "  -w, --wait MS       after a read that emptied the queue, let frames gather for\n"
             "                      MS ms, 0..%u (default 0: read as they come); the times\n"
-            "                      are the kernel's all the same; the queue (-r) must hold\n"
-            "                      MS ms of the bus\n"
+            "                      are the kernel's all the same; the ring (-R) or the\n"
+            "                      queue (-r) must hold MS ms of the bus\n"
             "  -h, --help          this text\n"
-            "Frames the kernel drops because the receive queue is full are counted\n"
-            "(SO_RXQ_OVFL): one line on stderr as they happen, and exit 3.\n"
+            "Frames the kernel drops because the ring or the receive queue is full are counted\n"
+            "(PACKET_STATISTICS, SO_RXQ_OVFL): one line on stderr as they happen, and exit 3.\n"
             "Exit: 0 recorded; 1 socket or file error (one line); 2 bad command line;\n"
             "3 frames were lost (the log is incomplete).\n",
-            CANREC_BATCH_MAX, CANREC_BATCH_DEFAULT, CANREC_WAIT_MAX_MS);
+            CANREC_RING_MAX, CANREC_RING_DEFAULT, CANREC_BATCH_MAX, CANREC_BATCH_DEFAULT,
+            CANREC_WAIT_MAX_MS);
 }
 
 static int is(const char *name, const char *short_name, const char *long_name)
@@ -59,6 +64,9 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
     if (is(name, "-r", "--rcvbuf")) {
         return fcc_opt_uint(name, val, 1u, RCVBUF_MAX, &o->rcvbuf, err, len);
     }
+    if (is(name, "-R", "--ring")) {
+        return fcc_opt_uint(name, val, 4096u, CANREC_RING_MAX, &o->ring, err, len);
+    }
     if (is(name, "-b", "--batch")) {
         return fcc_opt_uint(name, val, 1u, CANREC_BATCH_MAX, &o->batch, err, len);
     }
@@ -76,6 +84,7 @@ int canrec_opts_parse(int argc, char **argv, canrec_opts_t *o, FILE *out, char *
 {
     memset(o, 0, sizeof *o);
     o->batch = CANREC_BATCH_DEFAULT;
+    o->ring = CANREC_RING_DEFAULT;
     for (int i = 1; i < argc; ++i) {
         const char *arg = argv[i];
         if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {

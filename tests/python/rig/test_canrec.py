@@ -74,14 +74,34 @@ def fd_iface() -> Iterator[str]:
         subprocess.run(["ip", "link", "delete", name], check=False)
 
 
-class Recorders:
-    """candump -L and canrec on one interface at once, each into its own file."""
+#: canrec as a user without CAP_NET_RAW: no packet socket, its CAN_RAW socket instead
+UNPRIVILEGED = ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"]
 
-    def __init__(self, tmp: Path, iface: str, canrec: Path) -> None:
+
+def packet_socket_inodes() -> set[str]:
+    """The inodes of the packet sockets open now (/proc/net/packet's last column)."""
+    with open("/proc/net/packet") as fh:
+        return {ln.split()[-1] for ln in fh.read().splitlines()[1:]}
+
+
+def reads_a_ring(pid: int) -> bool:
+    """The process holds a packet socket (canrec's receive ring)."""
+    sockets = {os.readlink(f"/proc/{pid}/fd/{fd}")[8:-1] for fd in os.listdir(f"/proc/{pid}/fd")
+               if os.readlink(f"/proc/{pid}/fd/{fd}").startswith("socket:[")}
+    return bool(sockets & packet_socket_inodes())
+
+
+class Recorders:
+    """candump -L and canrec on one interface at once, each into its own file (canrec's on its
+    stdout when it runs unprivileged: it may not create a file here)."""
+
+    def __init__(self, tmp: Path, iface: str, canrec: Path, privileged: bool = True) -> None:
         self.a, self.b = tmp / f"candump-{iface}.log", tmp / f"canrec-{iface}.log"
         self._fa = open(self.a, "w")  # noqa: SIM115 - candump writes it until it is closed after the run
+        self._fb = open(self.b, "w")  # noqa: SIM115 - the same, for canrec's stdout
         self.candump = subprocess.Popen(["candump", "-L", iface], stdout=self._fa)
-        self.canrec = subprocess.Popen([str(canrec), "-o", str(self.b), iface],
+        cmd = [str(canrec), "-o", str(self.b), iface] if privileged else [*UNPRIVILEGED, str(canrec), iface]
+        self.canrec = subprocess.Popen(cmd, stdout=subprocess.DEVNULL if privileged else self._fb,
                                        stderr=subprocess.PIPE, text=True)
 
     def stop(self, marker: str) -> tuple[list[str], list[str], str]:
@@ -98,6 +118,7 @@ class Recorders:
         assert self.candump.wait(10) == 0
         err = self.canrec.communicate(timeout=10)[1]
         self._fa.close()
+        self._fb.close()
         assert self.canrec.returncode == 0, err
         return self.a.read_text().splitlines(), self.b.read_text().splitlines(), err
 
@@ -123,12 +144,16 @@ FD_FRAMES = ["123##1DEAD", "7FF##0", "12345678##3" + "".join(f"{i:02X}" for i in
 
 
 @vcan
+@pytest.mark.parametrize("privileged", [True, False], ids=["ring", "can_raw"])
 @pytest.mark.parametrize("fd", [False, True], ids=["classic", "fd"])
-def test_same_lines_as_candump_for_every_kind_of_frame(bin_path, tmp_path, request, fd) -> None:
+def test_same_lines_as_candump_for_every_kind_of_frame(bin_path, tmp_path, request, fd, privileged) -> None:
+    """With CAP_NET_RAW canrec reads a packet socket's ring, without it a CAN_RAW socket: the
+    same lines either way, the receive times included."""
     iface = request.getfixturevalue("fd_iface") if fd else IFACE
-    rec = Recorders(tmp_path, iface, bin_path("canrec"))
+    rec = Recorders(tmp_path, iface, bin_path("canrec"), privileged)
     wait_listening(rec.candump)
     wait_listening(rec.canrec)
+    assert reads_a_ring(rec.canrec.pid) == privileged
     sent = FRAMES + (FD_FRAMES if fd else []) + ["7F0#FFFFFFFF00000000"]
     for f in sent:
         subprocess.run(["cansend", iface, f], check=True)
@@ -240,9 +265,9 @@ def test_the_interface_going_down_during_the_wait_loses_nothing_queued(bin_path,
 
 
 class TinyCanrec(Canrec):
-    """canrec with the smallest receive queue the kernel allows (a few frames)."""
+    """canrec with the smallest receive ring (a page: 25 frames)."""
 
-    RCVBUF = 1
+    RING = 4096
 
 
 @vcan
@@ -266,6 +291,31 @@ def test_lost_frames_are_counted_reported_and_fail_the_log(tmp_path) -> None:
     recorded = sum(1 for ln in lines if " 555#" in ln)
     assert 0 < recorded < sent == 300
     assert recorded + int(m.group(1)) == sent       # every frame: in the log or counted lost
+
+
+@vcan
+def test_lost_frames_of_the_can_raw_socket_are_counted_too(bin_path, tmp_path) -> None:
+    """Without CAP_NET_RAW (no ring): the smallest socket buffer, the same accounting."""
+    log = tmp_path / "bus.log"
+    with open(log, "w") as out:
+        proc = subprocess.Popen([*UNPRIVILEGED, str(bin_path("canrec")), "-r", "1", IFACE],
+                                stdout=out, stderr=subprocess.PIPE, text=True)
+        wait_listening(proc)
+        assert not reads_a_ring(proc.pid)
+        os.kill(proc.pid, signal.SIGSTOP)
+        try:
+            sent = send_frames(300)
+        finally:
+            os.kill(proc.pid, signal.SIGCONT)
+        wait_listening(proc)
+        proc.send_signal(signal.SIGINT)
+        err = proc.communicate(timeout=10)[1]
+    assert proc.returncode == 3
+    m = re.search(r"canrec: vcan0: (\d+) frames lost in all: the log is incomplete", err)
+    assert m, err
+    recorded = sum(1 for ln in log.read_text().splitlines() if " 555#" in ln)
+    assert 0 < recorded < sent == 300
+    assert recorded + int(m.group(1)) == sent
 
 
 # ---- the rig's choice -----------------------------------------------------------------------------

@@ -154,13 +154,14 @@ def test_sigterm_and_sighup_are_handled_as_sigint(sig, status, tmp_path):
 @pytest.mark.parametrize("recorder, words", [("candump", r"candump lost \d+ frame\(s\)"),
                                              ("canrec", r"canrec: vcan0: \d+ frames lost")])
 def test_frames_the_recorder_loses_fail_the_run(tmp_path, monkeypatch, recorder, words):
-    """The recorder (candump -d, canrec) stopped (SIGSTOP) at step 50 with a small socket buffer while 2000 frames go on
-    the bus, then continued: the kernel's drop counter (candump -d) fails the run, not a
-    table over the steps that are left."""
+    """The recorder (candump -d, canrec) stopped (SIGSTOP) at step 50 with a small socket buffer
+    (canrec: a one-page ring) while 2000 frames go on the bus, then continued: the kernel's drop
+    counter fails the run, not a table over the steps that are left."""
     from hil.rig.errors import RigError
-    from hil.rig.recorder import BusRecorder
+    from hil.rig.recorder import BusRecorder, Canrec
 
     monkeypatch.setattr(BusRecorder, "RCVBUF", 1)   # the smallest queue the kernel allows
+    monkeypatch.setattr(Canrec, "RING", 4096)       # and the smallest ring
     step = LockstepRunner.step
 
     def flooded(runner: LockstepRunner, d):  # type: ignore[no-untyped-def]

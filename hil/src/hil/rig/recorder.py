@@ -188,10 +188,15 @@ class Candump(BusRecorder):
 
 
 class Canrec(BusRecorder):
-    """``canrec`` (firmware/tools/canrec): the same lines as candump -l, a batch of frames per
-    system call (recvmmsg), exit 3 when the kernel dropped a frame (the campaigns' recorder)."""
+    """``canrec`` (firmware/tools/canrec): the same lines as candump -l, the frames taken from a
+    packet socket's receive ring (or a batch per recvmmsg without CAP_NET_RAW), exit 3 when the
+    kernel dropped a frame (every run's recorder)."""
 
     name = "canrec"
+    #: the receive ring (-R, canrec's default): 6,500 frames, twice what the wait below gathers
+    #: of the busiest bus the guest makes (a 20 kHz flood in lockstep); -r is the socket
+    #: buffer where canrec may not have a ring (no CAP_NET_RAW)
+    RING = 1 << 20
     LOST_EXIT = 3
     LOG_NAME = "canrec.log"
 
@@ -206,8 +211,8 @@ class Canrec(BusRecorder):
     GATHER_MS = 10
 
     def command(self, exe: str, iface: str) -> list[str]:
-        return [exe, "-r", str(self.RCVBUF), "-b", "256", "-w", str(self.GATHER_MS), "-o", self.LOG_NAME,
-                iface]
+        return [exe, "-R", str(self.RING), "-r", str(self.RCVBUF), "-b", "256", "-w", str(self.GATHER_MS),
+                "-o", self.LOG_NAME, iface]
 
     def _file(self) -> Path | None:
         f = self._dir / self.LOG_NAME

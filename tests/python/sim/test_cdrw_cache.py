@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from hil.bus import FrameCodec, load
-from hil.scenario.file import load_default_scenario, with_fault_start
+from hil.scenario.file import load_default_scenario, parse_fault_spec, with_fault_start
 from hil.sim import cdrw_cache
 from hil.sim.drivers import CdrwDriver
 
@@ -103,6 +103,23 @@ def test_flights_that_differ_in_their_faults_share_one_entry(scenario, cache) ->
         computed = cdrw_cache.compute(sc)
         same(cdrw_cache.open_loop(sc, len(computed)), computed)
     assert len(entries(cache)) == 1
+
+
+@pytest.mark.parametrize("faults", [
+    ("stuck:signal=q,start=1.02,duration=1", "dropout:signal=alpha,start=1.5,duration=0.3,fill=hold"),
+    ("dropout:signal=de,start=0,duration=0.5,fill=nan", "stuck:signal=alpha,start=0.3,duration=0.1"),
+    ("noise_burst:signal=q,start=2,duration=1,magnitude=0.5,distribution=gaussian",
+     "drift:signal=alpha,start=3.9,duration=inf,rate=0.1"),
+    ("scale:signal=q,start=4.49,duration=0.5,factor=2", "dropout:signal=q,start=3,duration=0.2,fill=zero"),
+], ids=["held", "from-the-start", "random-and-to-the-end", "at-the-end"])
+def test_every_sensor_fault_from_the_shared_flight_is_the_computed_one(scenario, cache, faults) -> None:
+    """A flight's faulty readings made from the fault-free flight (only the samples around the
+    faults computed again) are those CdrwSimulation steps: readings held from before a fault,
+    random draws, faults from the first sample or to the last."""
+    sc = scenario.replace(faults=tuple(parse_fault_spec(f, "cdrw") for f in faults))
+    computed = cdrw_cache.compute(sc)
+    same(cdrw_cache.open_loop(sc, len(computed)), computed)
+    assert any(s.events for s in computed)
 
 
 def _stored(scenario, computed, cache) -> Path:

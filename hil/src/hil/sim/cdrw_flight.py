@@ -114,7 +114,17 @@ def with_sensor_faults(scenario: Scenario, clean: list[CdrwSample]) -> list[Cdrw
     """The scenario's flight from its fault-free one (fault_free(scenario)'s samples), the
     same bits as CdrwSimulation(scenario) steps them."""
     faults = SensorFaultInjector(scenario.sensor_faults, scenario.seed)
-    return [_with_faults(faults, s) for s in clean]
+    first, last = faults.window()
+    out: list[CdrwSample] = []
+    for s in clean:
+        if s.t < first or (s.t >= last and out and out[-1].t >= last):
+            # no fault acts before the first start, nor after the sample that logged the ends:
+            # the fault-free sample itself (a 0.1 s spike touches 6 of a flight's 351)
+            faults.passed(s.meas_faultfree)
+            out.append(s)
+        else:
+            out.append(_with_faults(faults, s))
+    return out
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hil.scenario.faults import Fault, SensorFault
+from hil.scenario.faults import T_EPS, Fault, SensorFault
 
 
 def random_stream(seed: int, stream: int) -> np.random.Generator:
@@ -88,6 +88,20 @@ class SensorFaultInjector:
     def active(self) -> tuple[Fault, ...]:
         """Sensor faults active at the last apply()."""
         return self.timeline.active
+
+    def window(self) -> tuple[float, float]:
+        """[first start, last end) of the faults, in apply()'s time: before it no reading is
+        changed and nothing is logged; from its end on, once the ends are logged, neither."""
+        if not self.faults:
+            return math.inf, math.inf
+        return (min(f.start for f in self.faults) - T_EPS, max(f.end for f in self.faults) - T_EPS)
+
+    def passed(self, values: Mapping[str, float]) -> None:
+        """Readings delivered unchanged outside window() (what apply() would remember of them:
+        the last good reading of each signal, held when a fault starts)."""
+        for sig, v in values.items():
+            if math.isfinite(v):
+                self._last[sig] = v
 
     def apply(self, t: float, values: Mapping[str, float]) -> dict[str, float]:
         """The readings at time t with every active sensor fault applied."""

@@ -1,0 +1,73 @@
+"""A run of recorded (frame, authenticator) pairs verified in one call (hil.bus.secoc_run):
+the pairs it takes, and the receiver after them, are those hold() and verify() give pair by
+pair; it stops before the first pair they would decide otherwise."""
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from hil.bus.secoc import Receiver, Sender, Verdict
+from hil.bus.secoc_run import verify_run
+
+KEY, DATA_ID, TRIP = bytes(range(16)), 0x0211, 7
+
+
+def pairs(n: int, first_counter: int = 0) -> list[tuple[bytes, bytes]]:
+    tx = Sender(KEY, DATA_ID, TRIP, first_counter)
+    pdus = [bytes([k & 0xFF, k >> 8, 1, 2, 3, 4, 5, 6]) for k in range(n)]
+    return [(p, tx.protect(p)) for p in pdus]
+
+
+def state(rx: Receiver) -> tuple:
+    return rx.counter, list(rx.held), dataclasses.astuple(rx.counters)
+
+
+def one_by_one(rx: Receiver, run: list[tuple[bytes, bytes]]) -> int:
+    """How many leading pairs verify pair by pair (rx advanced past them)."""
+    for i, (pdu, auth) in enumerate(run):
+        rx.hold(pdu)
+        if rx.verify(auth) != (Verdict.VERIFIED, pdu):
+            return i
+    return len(run)
+
+
+@pytest.mark.parametrize("first_counter", [0, 0xFFF0, 0xFFFFFFF0])
+def test_genuine_pairs_verify_as_one_by_one(first_counter):
+    run = pairs(40, first_counter)
+    a, b, c = (Receiver(KEY, DATA_ID, TRIP, counter=first_counter) for _ in range(3))
+    n = verify_run(a, [p for p, _ in run], [x for _, x in run])
+    assert n == one_by_one(b, run) == one_by_one(c, run[:n]) and state(a) == state(c)
+    assert n == (15 if first_counter == 0xFFFFFFF0 else 40)   # the counter's end: no more
+
+
+def forge(run, i, how):
+    pdu, auth = run[i]
+    if how == "mac":
+        run[i] = (pdu, auth[:7] + bytes([auth[7] ^ 1]))
+    elif how == "pdu":
+        run[i] = (bytes([pdu[0] ^ 1]) + pdu[1:], auth)
+    elif how == "replay":
+        run[i] = run[i - 5]
+    elif how == "skip":          # a pair lost: the next one carries a counter two ahead
+        del run[i]
+    elif how == "short":
+        run[i] = (pdu[:7], auth)
+    return run
+
+
+@pytest.mark.parametrize("how", ["mac", "pdu", "replay", "skip", "short"])
+def test_it_stops_before_the_first_pair_decided_otherwise(how):
+    run = forge(pairs(30), 12, how)
+    rx = Receiver(KEY, DATA_ID, TRIP)
+    assert verify_run(rx, [p for p, _ in run], [x for _, x in run]) == 12
+    ref = Receiver(KEY, DATA_ID, TRIP)
+    assert one_by_one(ref, run[:12]) == 12 and state(rx) == state(ref)
+
+
+def test_nothing_is_taken_while_a_frame_is_held():
+    run = pairs(3)
+    rx = Receiver(KEY, DATA_ID, TRIP)
+    rx.hold(b"\x00" * 8)
+    before = state(rx)
+    assert verify_run(rx, [p for p, _ in run], [x for _, x in run]) == 0 and state(rx) == before

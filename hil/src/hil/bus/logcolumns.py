@@ -86,7 +86,8 @@ def read_columns(path: str | Path) -> Iterator[FrameColumns]:
         while block := f.read(BLOCK_BYTES):
             block += f.readline()   # whole lines only
             # read_log's universal newlines: "\r\n" and "\r" end a line too
-            block = block.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+            if b"\r" in block:
+                block = block.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
             cols, n = _block_columns(block, before)
             before += n
             yield cols

@@ -27,7 +27,7 @@ from hil.bus.e2e import E2EReceiver
 from hil.bus.logcolumns import FrameColumns, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.secoc import Endpoint, Receiver, Verdict
-from hil.bus.secoc_run import verify_run
+from hil.bus.runcheck import check_run, verify_run
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
 #: the output frames of each application (0 CDRW, 1 missile)
@@ -79,7 +79,7 @@ class BusAuth:
 class _Gate:
     """The live link's checks on the recorded frames: what passes is what fcc acted on.  The
     ticks (half the frames checked) have a receiver of the gate's own, so that a run of them
-    verifies in one call (columns: hil.bus.secoc_run); the endpoint verifies the others."""
+    is checked in one call (columns: hil.bus.runcheck); the endpoint verifies the others."""
 
     def __init__(self, auth: BusAuth) -> None:
         spec = load()
@@ -133,48 +133,67 @@ class _Gate:
 
     def columns(self, cols: FrameColumns) -> FrameColumns:
         """A block's frames fcc acted on: what frames() gives frame by frame, each in its
-        authenticator's place; a run of tick pairs that verifies simply is taken at once."""
+        authenticator's place; a run of ticks that passes simply is taken at once."""
         at = np.flatnonzero(np.isin(cols.frame_id, self.checked))
         if not len(at):
             return cols
         keep = np.ones(len(cols), bool)
         keep[at] = False
         ids, full = cols.frame_id[at].tolist(), (cols.length[at] == 8).tolist()
-        out_at: list[int] = []
-        out: list[tuple[int, bytes]] = []
+        places, passed = [np.flatnonzero(keep)], [cols.take(keep)]   # where each frame goes
+        runs = self._tick_pairs(ids, full)
         j = 0
         while j < len(at):
-            pdus = self._tick_run(cols, at, ids, full, j)
-            for i, pdu in enumerate(pdus):
-                if self._e2e_ok(SIM_TICK_ID, pdu):
-                    out_at.append(int(at[j + 2 * i + 1]))
-                    out.append((SIM_TICK_ID, pdu))
-            if pdus:
-                j += 2 * len(pdus)
+            n = runs[j]
+            ticks = cols.data[at[j: j + 2 * n: 2]]
+            n = self._verified(ticks, cols.data[at[j + 1: j + 2 * n: 2]])
+            if n:
+                usable = self._usable(ticks[:n])
+                places.append(at[j + 1: j + 2 * n: 2][usable])
+                passed.append(FrameColumns(np.full(len(usable), SIM_TICK_ID), ticks[usable], np.full(len(usable), 8)))
+                j += 2 * n
                 continue
             got = self.frames(*cols.frame(at[j]))
-            out_at += [int(at[j])] * len(got)
-            out += got
+            places.append(np.full(len(got), at[j]))
+            passed.append(FrameColumns.of(got))
             j += 1
-        merged = FrameColumns.concat([cols.take(keep), FrameColumns.of(out)])
-        return merged.take(np.argsort(np.concatenate((np.flatnonzero(keep), out_at)), kind="stable"))
+        return FrameColumns.concat(passed).take(np.argsort(np.concatenate(places), kind="stable"))
 
-    def _tick_run(self, cols: FrameColumns, at: np.ndarray, ids: list[int], full: list[bool],
-                  j: int) -> list[bytes]:
-        """The ticks of the pairs (tick, its authenticator) from checked frame j on that
-        verify simply (hil.bus.secoc_run), the tick receiver advanced past them."""
+    def _tick_pairs(self, ids: list[int], full: list[bool]) -> list[int]:
+        """For each checked frame, how many (tick, its authenticator) pairs of 8-byte frames
+        follow one another from it on (none until fcc's trip is known)."""
+        runs = [0] * (len(ids) + 2)
         if self.endpoint.trip is None:
-            return []
-        m = 0
-        while (j + 2 * m + 1 < len(ids) and ids[j + 2 * m] == SIM_TICK_ID and full[j + 2 * m]
-               and ids[j + 2 * m + 1] == self.tick_auth_id and full[j + 2 * m + 1]):
-            m += 1
-        if not m:
-            return []
-        blob = cols.data[at[j: j + 2 * m]].tobytes()
-        pdus = [blob[i: i + 8] for i in range(0, len(blob), 16)]
-        self.ticks.trip = self.endpoint.trip
-        return pdus[: verify_run(self.ticks, pdus, [blob[i: i + 8] for i in range(8, len(blob), 16)])]
+            return runs
+        for j in range(len(ids) - 2, -1, -1):
+            if ids[j] == SIM_TICK_ID and ids[j + 1] == self.tick_auth_id and full[j] and full[j + 1]:
+                runs[j] = 1 + runs[j + 2]
+        return runs
+
+    def _verified(self, ticks: np.ndarray, auths: np.ndarray) -> int:
+        """How many leading pairs verify simply (hil.bus.runcheck.verify_run)."""
+        trip = self.endpoint.trip
+        if not len(ticks) or trip is None:
+            return 0
+        self.ticks.trip = trip
+        tb, ab = ticks.tobytes(), auths.tobytes()
+        return verify_run(self.ticks, [tb[i: i + 8] for i in range(0, len(tb), 8)],
+                          [ab[i: i + 8] for i in range(0, len(ab), 8)])
+
+    def _usable(self, ticks: np.ndarray) -> list[int]:
+        """Which of these verified ticks pass E2E: runs of OK ones at once
+        (hil.bus.runcheck.check_run), any other one as frames() checks it."""
+        usable: list[int] = []
+        i = 0
+        while i < len(ticks):
+            n = check_run(self.e2e[SIM_TICK_ID], ticks[i:])
+            usable += range(i, i + n)
+            i += n
+            if i < len(ticks):
+                if self._e2e_ok(SIM_TICK_ID, ticks[i].tobytes()):
+                    usable.append(i)
+                i += 1
+        return usable
 
 
 def app_of(frame_id: int) -> int | None:

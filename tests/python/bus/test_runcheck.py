@@ -1,4 +1,4 @@
-"""A run of recorded (frame, authenticator) pairs verified in one call (hil.bus.secoc_run):
+"""A run of recorded (frame, authenticator) pairs verified in one call (hil.bus.runcheck):
 the pairs it takes, and the receiver after them, are those hold() and verify() give pair by
 pair; it stops before the first pair they would decide otherwise."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import dataclasses
 import pytest
 
 from hil.bus.secoc import Receiver, Sender, Verdict
-from hil.bus.secoc_run import verify_run
+from hil.bus.runcheck import verify_run
 
 KEY, DATA_ID, TRIP = bytes(range(16)), 0x0211, 7
 

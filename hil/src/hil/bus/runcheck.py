@@ -1,0 +1,62 @@
+"""A run of recorded frames checked in one call, as the live link's receivers check them one at
+a time: the ticks of a lockstep flight (SecOC pair, then E2E) are half the frames a bus log's
+reader checks, and a call per frame was most of reading the log.
+
+Each function takes the leading frames that pass in the simplest way and advances the receiver
+exactly as the frame-by-frame calls would; it stops before the first frame that does not, which
+the caller hands to those calls (they decide and count it as they always do).
+
+* verify_run: pairs (the secured frame, then its authenticator) of one PDU, Receiver.hold then
+  Receiver.verify, while nothing else is held and each authenticator carries the next message
+  counter (FV's low 16 bits one above the last accepted counter's) with a MAC that verifies.
+* check_run: frames of one E2E-protected message, E2EReceiver.check, while each is OK: its CRC
+  right and its alive counter one above the last (any, for the first after a reset).
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from hil.bus.e2e import COUNTER_MODULO, FRAME_LENGTH, E2EReceiver, E2EStatus, protect_many
+from hil.bus.secoc import FV_TRUNC_BITS, Receiver
+
+_COUNTER_MAX = 0xFFFFFFFF
+
+
+def verify_run(rx: Receiver, pdus: Sequence[bytes], auths: Sequence[bytes]) -> int:
+    """How many of the leading pairs (pdus[i], auths[i]) verify one after the other from rx's
+    state (module docstring); rx is advanced past them."""
+    if rx.held:
+        return 0
+    keyed, data_id, fv0, c0 = rx.keyed, rx.data_id, rx.trip << 32, rx.counter
+    low = (1 << FV_TRUNC_BITS) - 1
+    n = 0
+    for pdu, auth in zip(pdus, auths):
+        c = c0 + n + 1
+        if (c > _COUNTER_MAX or len(pdu) != 8 or len(auth) != 8
+                or int.from_bytes(auth[:2], "little") != c & low
+                or keyed.mac(data_id, pdu, fv0 | c) != auth[2:]):
+            break
+        n += 1
+    rx.counter += n
+    rx.counters.verified += n
+    return n
+
+
+def check_run(rx: E2EReceiver, frames: np.ndarray) -> int:
+    """How many of the leading frames ((n, 8) uint8) rx classifies OK one after the other
+    (module docstring); rx is advanced past them."""
+    if frames.ndim != 2 or frames.shape[1] != FRAME_LENGTH or not len(frames):
+        return 0
+    counters = frames[:, 1] & 0x0F
+    first = int(counters[0]) if not rx.synced else (rx.last_counter + 1) % COUNTER_MODULO
+    ok = ((protect_many(rx.data_id, frames, counters)[:, 0] == frames[:, 0])   # the CRC
+          & (counters == (first + np.arange(len(frames))) % COUNTER_MODULO))
+    n = int(np.argmin(ok)) if not ok.all() else len(frames)
+    if n:
+        rx.frames_this_period += n
+        rx.counts[E2EStatus.OK] += n
+        rx.last_status = E2EStatus.OK
+        rx.synced, rx.last_counter = True, int(counters[n - 1])
+    return n

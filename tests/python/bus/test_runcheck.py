@@ -1,14 +1,17 @@
-"""A run of recorded (frame, authenticator) pairs verified in one call (hil.bus.runcheck):
-the pairs it takes, and the receiver after them, are those hold() and verify() give pair by
-pair; it stops before the first pair they would decide otherwise."""
+"""Runs of recorded frames checked in one call (hil.bus.runcheck): the (frame, authenticator)
+pairs verify_run takes and the E2E frames check_run takes, and the receivers after them, are
+those hold()/verify() and check() give one by one; each stops before the first they would
+decide otherwise."""
 from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
 import pytest
 
+from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus
+from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Receiver, Sender, Verdict
-from hil.bus.runcheck import verify_run
 
 KEY, DATA_ID, TRIP = bytes(range(16)), 0x0211, 7
 
@@ -71,3 +74,40 @@ def test_nothing_is_taken_while_a_frame_is_held():
     rx.hold(b"\x00" * 8)
     before = state(rx)
     assert verify_run(rx, [p for p, _ in run], [x for _, x in run]) == 0 and state(rx) == before
+
+
+def e2e_frames(n: int, first: int = 0) -> list[bytes]:
+    tx = E2ESender(0x0123, first)
+    return [tx.protect(bytes([0, 0x10, k & 0xFF, k >> 8, 0, 0, 0, 0])) for k in range(n)]
+
+
+def e2e_state(rx: E2EReceiver) -> tuple:
+    return rx.synced, rx.last_counter, rx.frames_this_period, rx.last_status, dict(rx.counts), rx.lost_frames
+
+
+def e2e_one_by_one(rx: E2EReceiver, frames: list[bytes]) -> int:
+    for i, f in enumerate(frames):
+        if rx.check(f) is not E2EStatus.OK:
+            return i
+    return len(frames)
+
+
+@pytest.mark.parametrize("how", ["none", "crc", "repeat", "skip", "back"])
+@pytest.mark.parametrize("synced", [False, True])
+def test_e2e_run_is_what_check_gives_frame_by_frame(how, synced):
+    frames = e2e_frames(40, first=5)
+    if how == "crc":
+        frames[17] = bytes([frames[17][0] ^ 0x40]) + frames[17][1:]
+    elif how == "repeat":
+        frames[17] = frames[16]
+    elif how == "skip":
+        del frames[17]
+    elif how == "back":
+        frames[17] = frames[12]
+    a, b, c = (E2EReceiver(0x0123) for _ in range(3))
+    for rx in (a, b, c):
+        if synced:
+            rx.check(e2e_frames(5)[-1])   # counter 4: the run's first (5) is the next
+    n = check_run(a, np.frombuffer(b"".join(frames), np.uint8).reshape(-1, 8))
+    assert n == e2e_one_by_one(b, frames) == (40 if how == "none" else 17)
+    assert e2e_one_by_one(c, frames[:n]) == n and e2e_state(a) == e2e_state(c)

@@ -100,37 +100,36 @@ def _block_columns(block: bytes, before: int) -> tuple[FrameColumns, int]:
     if not block.endswith(b"\n"):
         ends = np.append(ends, len(buf))
     starts = np.concatenate(([0], ends[:-1] + 1))
-    lens = ends - starts
-    n = len(lens)
-    frame_id = np.zeros(n, np.int64)
-    data = np.zeros((n, MAX_DATA), np.uint8)
-    length = np.zeros(n, np.int64)
-    fast = _plain_lines(buf, starts, lens, frame_id, data, length)
-    keep = fast.copy()
-    for i in np.flatnonzero(~fast).tolist():
+    plain, cols = _plain_lines(buf, starts, ends - starts)
+    if len(plain) == len(ends):   # every line (the rig's logs)
+        return cols, len(ends)
+    others = np.ones(len(ends), bool)
+    others[plain] = False
+    at: list[int] = []
+    frames: list[tuple[int, bytes]] = []
+    for i in np.flatnonzero(others).tolist():
         text = block[starts[i]: ends[i]].decode("ascii", "replace")
         if not text.strip():
             continue
         fr = parse_line(text, before + i + 1)
         if fr.classic_data:
-            frame_id[i], length[i], keep[i] = fr.frame_id, len(fr.data), True
-            data[i, : len(fr.data)] = np.frombuffer(fr.data, np.uint8)
-    return FrameColumns(frame_id, data, length).take(keep), n
+            at.append(i)
+            frames.append((fr.frame_id, fr.data))
+    order = np.argsort(np.concatenate((plain, np.array(at, np.int64))), kind="stable")
+    return FrameColumns.concat([cols, FrameColumns.of(frames)]).take(order), len(ends)
 
 
-def _plain_lines(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, frame_id: np.ndarray,
-                 data: np.ndarray, length: np.ndarray) -> np.ndarray:
-    """Which lines have the block's common layout (module docstring); their frames are
-    written into frame_id, data and length."""
-    fast = np.zeros(len(lens), bool)
+def _plain_lines(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray) -> tuple[np.ndarray, FrameColumns]:
+    """Which lines have the block's common layout (module docstring), and their frames."""
+    none = (np.zeros(0, np.int64), FrameColumns.of([]))
     if not len(lens):
-        return fast
+        return none
     width = int(np.bincount(lens).argmax())
     same = np.flatnonzero(lens == width)
     ref = buf[starts[same[0]]: starts[same[0]] + width].tobytes()
     m = _LAYOUT.fullmatch(ref)
     if m is None:
-        return fast
+        return none
     if len(same) == len(lens) and len(buf) == len(lens) * (width + 1):   # a view of the block
         rows = buf.reshape(-1, width + 1)[:, :width]
     else:
@@ -138,14 +137,14 @@ def _plain_lines(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray, frame_id
     digits = np.r_[m.start(1): m.end(1), m.start(2): m.end(2)] if m.group(2) else np.r_[m.start(1): m.end(1)]
     hexes = np.r_[m.start(3): m.end(3), m.start(4): m.end(4)]
     fixed = np.setdiff1d(np.arange(width), np.concatenate((digits, hexes)))
-    nibbles = _HEX[rows[:, hexes]]
+    nib = _HEX[rows[:, hexes]]
     ok = ((rows[:, fixed] == np.frombuffer(ref, np.uint8)[fixed]).all(axis=1)
           & ((rows[:, digits] - np.uint8(ord("0"))) < 10).all(axis=1)   # (below '0' wraps high)
-          & (nibbles < 16).all(axis=1))
-    lines, nib = same[ok], nibbles[ok].astype(np.int64)
-    fast[lines] = True
-    frame_id[lines] = nib[:, 0] << 8 | nib[:, 1] << 4 | nib[:, 2]
+          & (nib < 16).all(axis=1))
+    if not ok.all():
+        same, nib = same[ok], nib[ok]
     n_bytes = (nib.shape[1] - 3) // 2
-    data[lines, :n_bytes] = (nib[:, 3::2] << 4 | nib[:, 4::2]).astype(np.uint8)
-    length[lines] = n_bytes
-    return fast
+    data = np.zeros((len(same), MAX_DATA), np.uint8)
+    data[:, :n_bytes] = nib[:, 3::2] << 4 | nib[:, 4::2]
+    return same, FrameColumns(nib[:, 0].astype(np.int64) << 8 | nib[:, 1] << 4 | nib[:, 2], data,
+                              np.full(len(same), n_bytes, np.int64))

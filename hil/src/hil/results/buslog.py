@@ -15,6 +15,7 @@ forged or replayed tick moves no step (``BusAuth``).
 """
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -320,45 +321,47 @@ def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
     return raw.astype(float) if sig.is_integer else raw * sig.scale + sig.offset
 
 
+@functools.lru_cache(maxsize=4)
+def _sid_layout(spec: BusSpec) -> tuple[tuple[str, ...],
+                                        tuple[tuple[int, SignalSpec | None, tuple[tuple[SignalSpec, str], ...]], ...]]:
+    """The identification outputs' array names ('<filter>_<signal>', in order) and, per frame
+    id, its step signal (None: it has none) and its other signals with their arrays' names."""
+    names: list[str] = []
+    ids = []
+    for flt in FILTERS:
+        for part in SID_PARTS:
+            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
+            step = next((sig for sig in msg.signals if sig.name == "step"), None)
+            names += [f"{flt}_{sig.name}" for sig in msg.signals if sig is not step or part != "STATE"]
+            ids.append((msg.frame_id, step, tuple((sig, f"{flt}_{sig.name}") for sig in msg.signals if sig is not step)))
+    return tuple(names), tuple(ids)
+
+
 def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                check_step: bool = True) -> dict[str, np.ndarray]:
     """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
     (NaN where a frame is missing or, lockstep, its step field does not match the tick;
     realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
-    out: dict[str, np.ndarray] = {}
-    # per frame id: its step signal (None: it has none) and (signal, its column) of the others
-    ids: dict[int, tuple[SignalSpec | None, list[tuple[SignalSpec, np.ndarray]]]] = {}
-    for flt in FILTERS:
-        for part in SID_PARTS:
-            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
-            step_sig, cols = None, []
-            for sig in msg.signals:
-                if sig.name == "step":
-                    step_sig = sig
-                    if part == "STATE":
-                        continue
-                col = out[f"{flt}_{sig.name}"] = np.full(n_steps, np.nan)
-                if sig.name != "step":
-                    cols.append((sig, col))
-            ids[msg.frame_id] = (step_sig if check_step else None, cols)
+    names, layout = _sid_layout(spec)
+    out = {name: np.full(n_steps, np.nan) for name in names}
     # each frame id's frames of steps 0..n-1, in the log's order: their steps and their bytes,
     # decoded a signal at a time over all of them (numpy) instead of a frame at a time
     all_steps, frames = flight.outputs(0)
     usable = (all_steps < n_steps) & (frames.length == 8)
     mismatched = 0
-    for fid, (step_sig, cols) in ids.items():
+    for fid, step_sig, sigs in layout:
         which = usable & (frames.frame_id == fid)
         if not which.any():
             continue
         steps, bits = all_steps[which], frames.data[which].view("<u8").ravel()
-        if step_sig is not None:
+        if step_sig is not None and check_step:
             ok = _column(step_sig, bits).astype(np.int64) == (steps & 0xFFF)
             mismatched += int(np.count_nonzero(~ok))
             steps, bits = steps[ok], bits[ok]
         # a step's last frame wins (a step field written twice, realtime)
         last = len(steps) - 1 - np.unique(steps[::-1], return_index=True)[1]
         steps, bits = steps[last], bits[last]
-        for sig, col in cols:
-            col[steps] = _column(sig, bits)
+        for sig, name in sigs:
+            out[name][steps] = _column(sig, bits)
     out["_mismatched"] = np.array([mismatched])
     return out

@@ -333,7 +333,8 @@ def _sid_layout(spec: BusSpec) -> tuple[tuple[str, ...],
             msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
             step = next((sig for sig in msg.signals if sig.name == "step"), None)
             names += [f"{flt}_{sig.name}" for sig in msg.signals if sig is not step or part != "STATE"]
-            ids.append((msg.frame_id, step, tuple((sig, f"{flt}_{sig.name}") for sig in msg.signals if sig is not step)))
+            others = tuple((sig, f"{flt}_{sig.name}") for sig in msg.signals if sig is not step)
+            ids.append((msg.frame_id, step, others))
     return tuple(names), tuple(ids)
 
 

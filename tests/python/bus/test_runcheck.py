@@ -10,16 +10,23 @@ import numpy as np
 import pytest
 
 from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus
-from hil.bus.runcheck import check_run, verify_run
-from hil.bus.secoc import Receiver, Sender, Verdict
+from hil.bus.runcheck import check_run, truncated_macs, verify_run
+from hil.bus.secoc import KeyedCmac, Receiver, Sender, Verdict
 
 KEY, DATA_ID, TRIP = bytes(range(16)), 0x0211, 7
 
 
-def pairs(n: int, first_counter: int = 0) -> list[tuple[bytes, bytes]]:
-    tx = Sender(KEY, DATA_ID, TRIP, first_counter)
+def pairs(n: int, first_counter: int = 0, trip: int = TRIP) -> list[tuple[bytes, bytes]]:
+    tx = Sender(KEY, DATA_ID, trip, first_counter)
     pdus = [bytes([k & 0xFF, k >> 8, 1, 2, 3, 4, 5, 6]) for k in range(n)]
     return [(p, tx.protect(p)) for p in pdus]
+
+
+def run_of(pairs: list[tuple[bytes, bytes]]) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs as verify_run takes them (a frame shorter than 8 bytes: none)."""
+    pairs = pairs[: next((i for i, (p, a) in enumerate(pairs) if len(p) != 8 or len(a) != 8), len(pairs))]
+    return tuple(np.frombuffer(b"".join(col), np.uint8).reshape(-1, 8) for col in zip(*pairs)) \
+        if pairs else (np.zeros((0, 8), np.uint8), np.zeros((0, 8), np.uint8))
 
 
 def state(rx: Receiver) -> tuple:
@@ -35,11 +42,12 @@ def one_by_one(rx: Receiver, run: list[tuple[bytes, bytes]]) -> int:
     return len(run)
 
 
+@pytest.mark.parametrize("trip", [TRIP, 0xFFFFFFFF])
 @pytest.mark.parametrize("first_counter", [0, 0xFFF0, 0xFFFFFFF0])
-def test_genuine_pairs_verify_as_one_by_one(first_counter):
-    run = pairs(40, first_counter)
-    a, b, c = (Receiver(KEY, DATA_ID, TRIP, counter=first_counter) for _ in range(3))
-    n = verify_run(a, [p for p, _ in run], [x for _, x in run])
+def test_genuine_pairs_verify_as_one_by_one(first_counter, trip):
+    run = pairs(40, first_counter, trip)
+    a, b, c = (Receiver(KEY, DATA_ID, trip, counter=first_counter) for _ in range(3))
+    n = verify_run(a, *run_of(run))
     assert n == one_by_one(b, run) == one_by_one(c, run[:n]) and state(a) == state(c)
     assert n == (15 if first_counter == 0xFFFFFFF0 else 40)   # the counter's end: no more
 
@@ -63,7 +71,7 @@ def forge(run, i, how):
 def test_it_stops_before_the_first_pair_decided_otherwise(how):
     run = forge(pairs(30), 12, how)
     rx = Receiver(KEY, DATA_ID, TRIP)
-    assert verify_run(rx, [p for p, _ in run], [x for _, x in run]) == 12
+    assert verify_run(rx, *run_of(run)) == 12
     ref = Receiver(KEY, DATA_ID, TRIP)
     assert one_by_one(ref, run[:12]) == 12 and state(rx) == state(ref)
 
@@ -73,7 +81,7 @@ def test_nothing_is_taken_while_a_frame_is_held():
     rx = Receiver(KEY, DATA_ID, TRIP)
     rx.hold(b"\x00" * 8)
     before = state(rx)
-    assert verify_run(rx, [p for p, _ in run], [x for _, x in run]) == 0 and state(rx) == before
+    assert verify_run(rx, *run_of(run)) == 0 and state(rx) == before
 
 
 def e2e_frames(n: int, first: int = 0) -> list[bytes]:
@@ -111,3 +119,19 @@ def test_e2e_run_is_what_check_gives_frame_by_frame(how, synced):
     n = check_run(a, np.frombuffer(b"".join(frames), np.uint8).reshape(-1, 8))
     assert n == e2e_one_by_one(b, frames) == (40 if how == "none" else 17)
     assert e2e_one_by_one(c, frames[:n]) == n and e2e_state(a) == e2e_state(c)
+
+
+def test_the_run_macs_are_cryptographys_cmac():
+    """truncated_macs (the AES of cryptography, the CMAC's two blocks by hand) against
+    cryptography's own CMAC (KeyedCmac), 2000 messages: keys, data IDs, frames and FVs drawn
+    at random, FVs up to 2**64 - 1."""
+    rng = np.random.default_rng(26)
+    for _ in range(20):
+        key = rng.bytes(16)
+        data_id = int(rng.integers(0, 1 << 16))
+        pdus = rng.integers(0, 256, (100, 8), dtype=np.uint8)
+        fvs = rng.integers(0, 1 << 64, 100, dtype=np.uint64, endpoint=False)
+        fvs[:3] = [0, (1 << 64) - 1, 0xFFFFFFFF]
+        keyed = KeyedCmac(key)
+        want = [keyed.mac(data_id, p.tobytes(), int(fv)) for p, fv in zip(pdus, fvs)]
+        assert [m.tobytes() for m in truncated_macs(key, data_id, pdus, fvs)] == want

@@ -177,9 +177,7 @@ class _Gate:
         if not len(ticks) or trip is None:
             return 0
         self.ticks.trip = trip
-        tb, ab = ticks.tobytes(), auths.tobytes()
-        return verify_run(self.ticks, [tb[i: i + 8] for i in range(0, len(tb), 8)],
-                          [ab[i: i + 8] for i in range(0, len(ab), 8)])
+        return verify_run(self.ticks, ticks, auths)
 
     def _usable(self, ticks: np.ndarray) -> list[int]:
         """Which of these verified ticks pass E2E: runs of OK ones at once

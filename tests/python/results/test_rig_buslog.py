@@ -120,3 +120,76 @@ def test_the_gate_takes_what_the_live_link_takes(tmp_path, monkeypatch, attack):
     assert np.flatnonzero(np.isnan(a["azkf_alpha_hat"])).tolist() == missing
     assert a["_mismatched"][0] == 0
     assert np.allclose(np.delete(a["azkf_alpha_hat"], missing), np.delete(0.01 * np.arange(40) + 1, missing))
+
+
+def flights_one_by_one(frames: list[tuple[int, bytes]]) -> list[tuple[int, dict]]:
+    """The attribution frame by frame, as iter_flights did it before it read columns: each
+    flight's output count and {app: {step: [frames in log order]}}."""
+    from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+    from hil.results.buslog import app_of
+
+    flights: list[tuple[int, dict]] = []
+    tick: dict[int, int] = {}
+    ticked: set[int] = set()
+    for fid, data in frames:
+        if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
+            flights.append((0, {}))
+            tick, ticked = {}, set()
+            continue
+        if not flights:
+            continue
+        if fid == SIM_TICK_ID and len(data) == 8:
+            tick[(data[1] >> 4) & 0x3] = int.from_bytes(data[2:6], "little")
+            ticked.add((data[1] >> 4) & 0x3)
+            continue
+        if fid in SENSOR_APP and len(data) == 8 and SENSOR_APP[fid] not in ticked:
+            low, prev = int.from_bytes(data[2:4], "little"), tick.get(SENSOR_APP[fid], -1)
+            tick[SENSOR_APP[fid]] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
+            continue
+        app = app_of(fid)
+        if app is None:
+            continue
+        count, by_app = flights[-1]
+        flights[-1] = (count + 1, by_app)
+        if app in tick:
+            by_app.setdefault(app, {}).setdefault(tick[app], []).append((fid, data))
+    return flights
+
+
+def test_steps_are_attributed_as_frame_by_frame(tmp_path, monkeypatch):
+    """Random logs of resets, ticks of any application (some short), sensor samples before and
+    after ticks, outputs of both applications and other frames, read in small blocks: every
+    flight's outputs get the steps the frame-by-frame reading gives them."""
+    from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+
+    monkeypatch.setattr("hil.bus.logcolumns.BLOCK_BYTES", 700)
+    rng = np.random.default_rng(26)
+    sensors, outputs = sorted(SENSOR_APP), [*range(0x110, 0x140), 0x030, 0x100]
+    for _ in range(30):
+        frames: list[tuple[int, bytes]] = []
+        for _ in range(300):
+            kind, data = rng.integers(0, 9), bytearray(rng.integers(0, 256, 8, dtype=np.uint8).tobytes())
+            if kind == 0:
+                data[1] = (COMMAND_RESET << 4) | (data[1] & 0xF) if rng.random() < 0.7 else data[1]
+                frames.append((SIM_CONTROL_ID, bytes(data)))
+            elif kind in (1, 2):
+                data[1] = (int(rng.integers(0, 4)) << 4) | (data[1] & 0xF)
+                frames.append((SIM_TICK_ID, bytes(data[: 8 if rng.random() < 0.9 else 7])))
+            elif kind in (3, 4):
+                frames.append((int(rng.choice(sensors)), bytes(data[: 8 if rng.random() < 0.9 else 6])))
+            elif kind in (5, 6, 7):
+                frames.append((int(rng.choice(outputs)), bytes(data[: int(rng.integers(0, 9))])))
+            else:
+                frames.append((int(rng.integers(0, 0x800)), bytes(data)))
+        write_log(tmp_path / "bus.log", frames)
+        got = split_flights(tmp_path / "bus.log")
+        want = flights_one_by_one(frames)
+        assert len(got) == len(want)
+        for fl, (count, by_app) in zip(got, want):
+            assert fl.frames == count
+            for app in (0, 1):
+                steps, cols = fl.outputs(app)
+                mine: dict[int, list] = {}
+                for k, frame in zip(steps.tolist(), cols.tuples()):
+                    mine.setdefault(k, []).append(frame)
+                assert mine == by_app.get(app, {})

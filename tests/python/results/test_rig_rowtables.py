@@ -64,3 +64,21 @@ def test_the_replays_rows_must_be_whole() -> None:
         read_rows("t,filter,alpha_hat\n0,kf,0.1\n0.02,kf\n")
     assert read_rows("t,filter,alpha_hat\n") == {} and read_rows("") == {}
     assert read_rows("t,filter,alpha_hat\n0,kf,0.5")["kf"]["alpha_hat"].tolist() == [0.5]
+
+
+@pytest.mark.parametrize("sig", ["alpha", "q", "de", "q_g", "n_a"])
+def test_readings_as_fcc_decodes_them_value_by_value(sig: str) -> None:
+    """The replay's input, a column at a time: the very floats to_raw then to_phys give one by
+    one (ties, signed zeros, NaN and infinities included)."""
+    import numpy as np
+    from hil.sim.drivers import SIGNAL_FRAMES
+
+    spec = load()
+    frame, name = SIGNAL_FRAMES[sig]
+    s = next(x for x in spec.by_name(frame).signals if x.name == name)
+    rng = np.random.default_rng(26)
+    v = np.concatenate([rng.normal(0, 1, 20000), rng.normal(0, 1e-6, 2000),
+                        (np.arange(-500, 500) + 0.5) / s.inv_scale,
+                        [0.0, -0.0, np.nan, np.inf, -np.inf, -1e-9, 1e300, -1e300, 0.49999999999999994 / s.inv_scale]])
+    want = np.array([x if not np.isfinite(x) else float(s.to_phys(s.to_raw(float(x)))) for x in v])
+    assert rowtables._received(spec, sig, v).tobytes() == want.tobytes()

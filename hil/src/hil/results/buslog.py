@@ -11,45 +11,61 @@ Nothing the bus says is taken on trust: given the run's key (and fcc's trip), th
 read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and
 MSL_ELEV_CMD count only once their authenticator verified under the key and the trip, and
 SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset starts no flight, a
-forged or replayed tick moves no step (``BusAuth``; ``FlightFrames.rejected`` counts them).
+forged or replayed tick moves no step (``BusAuth``).
 """
 from __future__ import annotations
 
-import re
-from collections import defaultdict
+import functools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from hil.bus.candump import LogFrame, parse_line
+from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
+from hil.bus.logcolumns import FrameColumns, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
-from hil.bus.secoc import Endpoint
+from hil.bus.secoc import Endpoint, Receiver, Verdict
+from hil.bus.runcheck import check_run, verify_run
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
-# the sensor frames of each application (hil.bus.protocol.SENSOR_APP): their bytes 2-3 are
-# the low 16 bits of the step
+#: the output frames of each application (0 CDRW, 1 missile)
+_OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
 
-#: a candump -L line of a classic data frame with a standard identifier, single spaces: nearly
-#: every line of a rig's log, read by one regular-expression pass over a block of the text
-#: (group 1 the identifier, 2 the data); any other line is group 3, for candump.parse_line
-_PLAIN_LINE = re.compile(r"^\(\d+(?:\.\d+)?\) \S+ ([0-9A-Fa-f]{3})#((?:[0-9A-Fa-f]{2}){0,8})$|^(.*)$",
-                         re.MULTILINE)
-#: the text read per pass (whole lines): the log of a long campaign is never held at once
-_BLOCK_CHARS = 1 << 20
+
+def _by_id(apps: dict[int, int]) -> np.ndarray:
+    """An application per standard identifier (-1: none), for a column of identifiers."""
+    table = np.full(0x1000, -1, np.int64)
+    table[list(apps)] = list(apps.values())
+    return table
+
+
+#: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:
+#: their bytes 2-3 are the low 16 bits of the step), by identifier
+_OUTPUT_OF, _SENSOR_OF = _by_id(_OUTPUT_APP), _by_id(SENSOR_APP)
 
 
 @dataclass
 class FlightFrames:
-    """fcc's output frames of one flight (between two resets), by application and step."""
+    """fcc's output frames of one flight (between two resets): per application, the frames
+    that have a step (lockstep: their application's last tick; realtime: its newest sample)
+    with that step, in log order; `frames` counts them all."""
 
     index: int
-    by_step: dict[int, dict[int, list[tuple[int, bytes]]]] = field(
-        default_factory=lambda: defaultdict(lambda: defaultdict(list)))
     frames: int = 0
+    _parts: dict[int, list[tuple[np.ndarray, FrameColumns]]] = field(default_factory=dict, repr=False)
+
+    def add(self, app: int, steps: np.ndarray, frames: FrameColumns) -> None:
+        self._parts.setdefault(app, []).append((steps, frames))
+
+    def outputs(self, app: int) -> tuple[np.ndarray, FrameColumns]:
+        """An application's frames with a step: (their steps, the frames)."""
+        parts = self._parts.get(app) or [(np.zeros(0, np.int64), FrameColumns.of([]))]
+        if len(parts) > 1:
+            parts[:] = [(np.concatenate([s for s, _ in parts]), FrameColumns.concat(f for _, f in parts))]
+        return parts[0]
 
 
 @dataclass(frozen=True)
@@ -62,43 +78,126 @@ class BusAuth:
 
 
 class _Gate:
-    """The live link's checks on the recorded frames: what passes is what fcc acted on."""
+    """The live link's checks on the recorded frames: what passes is what fcc acted on.  The
+    ticks (half the frames checked) have a receiver of the gate's own, so that a run of them
+    is checked in one call (columns: hil.bus.runcheck); the endpoint verifies the others."""
 
     def __init__(self, auth: BusAuth) -> None:
         spec = load()
         self.endpoint = Endpoint(spec, auth.key, ())   # every authenticator is verified here
         if auth.trip is not None:
             self.endpoint.set_trip(auth.trip)
+        tick_auth = next(m for m in spec.messages if m.secoc_pdus == ("SIM_TICK",))
+        self.tick_auth_id = tick_auth.frame_id
+        self.ticks = Receiver(auth.key, tick_auth.secoc_data_id, 0)
         self.e2e = {m.frame_id: E2EReceiver(m.data_id, m.max_delta_counter)
                     for m in (spec.by_name("SIM_CONTROL"), spec.by_name("SIM_TICK"))}
         self.rejected = 0
         #: the frames these checks look at (secured, authenticators, E2E): all others pass as
         #: they are (the bulk of a log: fcc's identification outputs)
-        self.checked = frozenset({*self.e2e, *self.endpoint.auth_ids,
-                                  *(m.frame_id for m in spec.messages if self.endpoint.is_secured(m.frame_id))})
+        self.checked = np.array(sorted({*self.e2e, *self.endpoint.auth_ids, *(
+            m.frame_id for m in spec.messages if self.endpoint.is_secured(m.frame_id))}))
 
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
-        got = self.endpoint.receive(fid, data)
-        out = []
-        for i, d in got:
-            rx = self.e2e.get(i)
-            if rx is not None:
-                if not rx.check(d).data_usable:
-                    self.rejected += 1
-                    continue
-                if i == SIM_CONTROL_ID and (d[1] >> 4) == COMMAND_RESET:
-                    self.e2e[SIM_TICK_ID].reset()   # fcc resynchronises on a reset
-            out.append((i, d))
-        return out
+        """What one frame gives fcc to act on (nothing, or the frames its authenticator
+        verified)."""
+        if fid == SIM_TICK_ID:
+            if len(data) == 8:
+                self.ticks.hold(data)
+            got = []
+        elif fid == self.tick_auth_id:
+            got = self._tick(data)
+        else:
+            got = self.endpoint.receive(fid, data)
+        return [(i, d) for i, d in got if self._e2e_ok(i, d)]
+
+    def _tick(self, auth: bytes) -> list[tuple[int, bytes]]:
+        """A tick's authenticator, as Endpoint.receive takes a secured frame's."""
+        rx = self.ticks
+        if len(auth) != 8 or self.endpoint.trip is None:
+            rx.counters.mac_failed += 1
+            return []
+        rx.trip = self.endpoint.trip
+        verdict, pdu = rx.verify(auth)
+        return [(SIM_TICK_ID, pdu)] if verdict is Verdict.VERIFIED and pdu is not None else []
+
+    def _e2e_ok(self, fid: int, data: bytes) -> bool:
+        rx = self.e2e.get(fid)
+        if rx is None:
+            return True
+        if not rx.check(data).data_usable:
+            self.rejected += 1
+            return False
+        if fid == SIM_CONTROL_ID and (data[1] >> 4) == COMMAND_RESET:
+            self.e2e[SIM_TICK_ID].reset()   # fcc resynchronises on a reset
+        return True
+
+    def columns(self, cols: FrameColumns) -> FrameColumns:
+        """A block's frames fcc acted on: what frames() gives frame by frame, each in its
+        authenticator's place; a run of ticks that passes simply is taken at once."""
+        at = np.flatnonzero(np.isin(cols.frame_id, self.checked))
+        if not len(at):
+            return cols
+        keep = np.ones(len(cols), bool)
+        keep[at] = False
+        ids, full = cols.frame_id[at].tolist(), (cols.length[at] == 8).tolist()
+        places, passed = [np.flatnonzero(keep)], [cols.take(keep)]   # where each frame goes
+        runs = self._tick_pairs(ids, full)
+        j = 0
+        while j < len(at):
+            n = runs[j]
+            ticks = cols.data[at[j: j + 2 * n: 2]]
+            n = self._verified(ticks, cols.data[at[j + 1: j + 2 * n: 2]])
+            if n:
+                usable = self._usable(ticks[:n])
+                places.append(at[j + 1: j + 2 * n: 2][usable])
+                passed.append(FrameColumns(np.full(len(usable), SIM_TICK_ID), ticks[usable], np.full(len(usable), 8)))
+                j += 2 * n
+                continue
+            got = self.frames(*cols.frame(at[j]))
+            places.append(np.full(len(got), at[j]))
+            passed.append(FrameColumns.of(got))
+            j += 1
+        return FrameColumns.concat(passed).take(np.argsort(np.concatenate(places), kind="stable"))
+
+    def _tick_pairs(self, ids: list[int], full: list[bool]) -> list[int]:
+        """For each checked frame, how many (tick, its authenticator) pairs of 8-byte frames
+        follow one another from it on (none until fcc's trip is known)."""
+        runs = [0] * (len(ids) + 2)
+        if self.endpoint.trip is None:
+            return runs
+        for j in range(len(ids) - 2, -1, -1):
+            if ids[j] == SIM_TICK_ID and ids[j + 1] == self.tick_auth_id and full[j] and full[j + 1]:
+                runs[j] = 1 + runs[j + 2]
+        return runs
+
+    def _verified(self, ticks: np.ndarray, auths: np.ndarray) -> int:
+        """How many leading pairs verify simply (hil.bus.runcheck.verify_run)."""
+        trip = self.endpoint.trip
+        if not len(ticks) or trip is None:
+            return 0
+        self.ticks.trip = trip
+        return verify_run(self.ticks, ticks, auths)
+
+    def _usable(self, ticks: np.ndarray) -> list[int]:
+        """Which of these verified ticks pass E2E: runs of OK ones at once
+        (hil.bus.runcheck.check_run), any other one as frames() checks it."""
+        usable: list[int] = []
+        i = 0
+        while i < len(ticks):
+            n = check_run(self.e2e[SIM_TICK_ID], ticks[i:])
+            usable += range(i, i + n)
+            i += n
+            if i < len(ticks):
+                if self._e2e_ok(SIM_TICK_ID, ticks[i].tobytes()):
+                    usable.append(i)
+                i += 1
+        return usable
 
 
 def app_of(frame_id: int) -> int | None:
     """Which application produced an output frame (None: not an output)."""
     return _OUTPUT_APP.get(frame_id)
-
-
-#: the output frames of each application (0 CDRW, 1 missile)
-_OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
 
 
 def split_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> list[FlightFrames]:
@@ -118,75 +217,94 @@ def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogF
             yield LogFrame(f.timestamp, f.channel, fid, data)
 
 
-def data_frames(path: Path) -> Iterator[tuple[int, bytes]]:
-    """(identifier, data) of the classic data frames of a candump -L log, in order: what
-    candump.read_log gives without its frame objects (a LogFrame per line costs more than
-    the rest of a flight's read-back), as strict (a malformed line raises LogFormatError)."""
-    before = 0   # lines of the blocks before this one
-    with open(path, encoding="ascii", errors="replace") as f:
-        while block := f.read(_BLOCK_CHARS):
-            block += f.readline()   # whole lines only
-            for lineno, (ident, data, other) in enumerate(_PLAIN_LINE.findall(block), before + 1):
-                if ident:
-                    yield int(ident, 16), bytes.fromhex(data)
-                elif other.strip():
-                    fr = parse_line(other, lineno)
-                    if fr.classic_data:
-                        yield fr.frame_id, fr.data
-            before += block.count("\n") + (not block.endswith("\n"))
+def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[FrameColumns]:
+    """The classic data frames of a log (its path: a block at a time) that pass the gate."""
+    blocks = read_columns(log) if isinstance(log, Path) else iter(
+        [FrameColumns.of((f.frame_id, f.data) for f in log if f.classic_data)])
+    for cols in blocks:
+        yield cols if gate is None else gate.columns(cols)
 
 
-def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[tuple[int, bytes]]:
-    frames = data_frames(log) if isinstance(log, Path) else (
-        (f.frame_id, f.data) for f in log if f.classic_data)
-    if gate is None:
-        yield from frames
-        return
-    checked = gate.checked
-    for fid, data in frames:
-        if fid in checked:
-            yield from gate.frames(fid, data)
-        else:
-            yield fid, data
+def _le(data: np.ndarray, first: int, n: int) -> np.ndarray:
+    """Bytes first..first+n-1 of each frame as a little-endian whole number."""
+    out = np.zeros(len(data), np.int64)
+    for i in range(n):
+        out |= data[:, first + i].astype(np.int64) << (8 * i)
+    return out
+
+
+class _Flights:
+    """Flights cut from the frames fcc acted on, a block at a time (iter_flights)."""
+
+    def __init__(self) -> None:
+        self.n = 0
+        self.cur: FlightFrames | None = None
+        self.tick: dict[int, int] = {}     # application -> the step its outputs belong to
+        self.ticked: set[int] = set()      # applications with a tick in this flight
+
+    def feed(self, cols: FrameColumns) -> Iterator[FlightFrames]:
+        """The flights that end in this block (at a reset), the frames of the current one
+        kept."""
+        resets = np.flatnonzero((cols.frame_id == SIM_CONTROL_ID) & (cols.length == 8)
+                                & ((cols.data[:, 1] >> 4) == COMMAND_RESET))
+        start = 0
+        for r in resets.tolist():
+            self._segment(cols.take(slice(start, r)))
+            if self.cur is not None:
+                yield self.cur
+            self.cur = FlightFrames(self.n)
+            self.n += 1
+            self.tick, self.ticked = {}, set()
+            start = r + 1
+        self._segment(cols.take(slice(start, len(cols))))
+
+    def _segment(self, seg: FrameColumns) -> None:
+        """Frames of the current flight without a reset: each output frame gets its
+        application's step: its last tick's (lockstep), or, before the flight's first tick of
+        that application, the newest sensor sample's (realtime)."""
+        if self.cur is None or not len(seg):
+            return
+        fid, data, full = seg.frame_id, seg.data, seg.length == 8
+        out_app = _OUTPUT_OF[fid]
+        self.cur.frames += int(np.count_nonzero(out_app >= 0))
+        tick_app = np.where((fid == SIM_TICK_ID) & full, (data[:, 1] >> 4) & 0x3, -1)
+        for app in (0, 1):
+            ticks = np.flatnonzero(tick_app == app)
+            events, values = ticks, _le(data[ticks], 2, 4)
+            if app not in self.ticked:
+                samples = np.flatnonzero(full & (_SENSOR_OF[fid] == app))
+                samples = samples[samples < ticks[0]] if len(ticks) else samples
+                if len(samples):
+                    events = np.concatenate((samples, events))
+                    values = np.concatenate((self._unwrap(app, _le(data[samples], 2, 2)), values))
+            outs = np.flatnonzero(out_app == app)
+            # the step of each output: the newest event's before it, or the one carried in
+            chain = np.concatenate(([self.tick.get(app, -1)], values))
+            steps = chain[np.searchsorted(events, outs)]
+            known = steps >= 0
+            if known.any():
+                self.cur.add(app, steps[known], seg.take(outs[known]))
+            if len(values):
+                self.tick[app] = int(values[-1])
+            if len(ticks):
+                self.ticked.add(app)
+
+    def _unwrap(self, app: int, low: np.ndarray) -> np.ndarray:
+        """Steps from the low 16 bits of successive samples: each the smallest step at or above
+        the previous one with those bits (the first's: its bits, or above the carried step)."""
+        prev = self.tick.get(app, -1)
+        first = int(low[0]) if prev < 0 else prev + ((int(low[0]) - prev) & 0xFFFF)
+        return first + np.concatenate(([0], np.cumsum(np.diff(low) & 0xFFFF)))
 
 
 def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
     """The flights of a bus log one by one (a campaign's log holds 100 of them); auth: only
     authenticated, E2E-valid commands and ticks count (without it, every frame does)."""
-    n = 0
-    cur: FlightFrames | None = None
-    tick: dict[int, int] = {}
-    ticked: set[int] = set()
-    gate = _Gate(auth) if auth is not None else None
-    for fid, data in _authentic(log, gate):
-        if fid == SIM_CONTROL_ID and len(data) == 8 and (data[1] >> 4) == COMMAND_RESET:
-            if cur is not None:
-                yield cur
-            cur = FlightFrames(n)
-            n += 1
-            tick, ticked = {}, set()
-            continue
-        if cur is None:
-            continue
-        if fid == SIM_TICK_ID and len(data) == 8:
-            tick[(data[1] >> 4) & 0x3] = int.from_bytes(data[2:6], "little")
-            ticked.add((data[1] >> 4) & 0x3)
-            continue
-        if fid in SENSOR_APP and len(data) == 8 and SENSOR_APP[fid] not in ticked:
-            # realtime (no ticks): outputs belong to the newest sample sent before them
-            sensor_app = SENSOR_APP[fid]
-            low = int.from_bytes(data[2:4], "little")
-            prev = tick.get(sensor_app, -1)
-            tick[sensor_app] = low if prev < 0 else prev + ((low - prev) & 0xFFFF)
-            continue
-        app = _OUTPUT_APP.get(fid)
-        if app is None:
-            continue
-        cur.frames += 1
-        if app in tick:
-            cur.by_step[app][tick[app]].append((fid, data))
-    if cur is not None:
-        yield cur
+    flights = _Flights()
+    for cols in _authentic(log, _Gate(auth) if auth is not None else None):
+        yield from flights.feed(cols)
+    if flights.cur is not None:
+        yield flights.cur
 
 
 def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
@@ -201,52 +319,48 @@ def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
     return raw.astype(float) if sig.is_integer else raw * sig.scale + sig.offset
 
 
+@functools.lru_cache(maxsize=4)
+def _sid_layout(spec: BusSpec) -> tuple[tuple[str, ...],
+                                        tuple[tuple[int, SignalSpec | None, tuple[tuple[SignalSpec, str], ...]], ...]]:
+    """The identification outputs' array names ('<filter>_<signal>', in order) and, per frame
+    id, its step signal (None: it has none) and its other signals with their arrays' names."""
+    names: list[str] = []
+    ids = []
+    for flt in FILTERS:
+        for part in SID_PARTS:
+            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
+            step = next((sig for sig in msg.signals if sig.name == "step"), None)
+            names += [f"{flt}_{sig.name}" for sig in msg.signals if sig is not step or part != "STATE"]
+            others = tuple((sig, f"{flt}_{sig.name}") for sig in msg.signals if sig is not step)
+            ids.append((msg.frame_id, step, others))
+    return tuple(names), tuple(ids)
+
+
 def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                check_step: bool = True) -> dict[str, np.ndarray]:
     """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
     (NaN where a frame is missing or, lockstep, its step field does not match the tick;
     realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
-    out: dict[str, np.ndarray] = {}
-    # per frame id: its step signal (None: it has none) and (signal, its column) of the others
-    ids: dict[int, tuple[SignalSpec | None, list[tuple[SignalSpec, np.ndarray]]]] = {}
-    for flt in FILTERS:
-        for part in SID_PARTS:
-            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
-            step_sig, cols = None, []
-            for sig in msg.signals:
-                if sig.name == "step":
-                    step_sig = sig
-                    if part == "STATE":
-                        continue
-                col = out[f"{flt}_{sig.name}"] = np.full(n_steps, np.nan)
-                if sig.name != "step":
-                    cols.append((sig, col))
-            ids[msg.frame_id] = (step_sig if check_step else None, cols)
+    names, layout = _sid_layout(spec)
+    out = {name: np.full(n_steps, np.nan) for name in names}
     # each frame id's frames of steps 0..n-1, in the log's order: their steps and their bytes,
     # decoded a signal at a time over all of them (numpy) instead of a frame at a time
-    found: dict[int, tuple[list[int], list[bytes]]] = {fid: ([], []) for fid in ids}
-    for k, frames in flight.by_step.get(0, {}).items():
-        if k < n_steps:
-            for fid, data in frames:
-                if fid in found and len(data) == 8:
-                    ks, datas = found[fid]
-                    ks.append(k)
-                    datas.append(data)
+    all_steps, frames = flight.outputs(0)
+    usable = (all_steps < n_steps) & (frames.length == 8)
     mismatched = 0
-    for fid, (ks, datas) in found.items():
-        if not ks:
+    for fid, step_sig, sigs in layout:
+        which = usable & (frames.frame_id == fid)
+        if not which.any():
             continue
-        steps = np.array(ks)
-        bits = np.frombuffer(b"".join(datas), dtype="<u8")
-        step_sig, cols = ids[fid]
-        if step_sig is not None:
+        steps, bits = all_steps[which], frames.data[which].view("<u8").ravel()
+        if step_sig is not None and check_step:
             ok = _column(step_sig, bits).astype(np.int64) == (steps & 0xFFF)
             mismatched += int(np.count_nonzero(~ok))
             steps, bits = steps[ok], bits[ok]
         # a step's last frame wins (a step field written twice, realtime)
         last = len(steps) - 1 - np.unique(steps[::-1], return_index=True)[1]
         steps, bits = steps[last], bits[last]
-        for sig, col in cols:
-            col[steps] = _column(sig, bits)
+        for sig, name in sigs:
+            out[name][steps] = _column(sig, bits)
     out["_mismatched"] = np.array([mismatched])
     return out

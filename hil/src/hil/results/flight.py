@@ -111,6 +111,32 @@ class CdrwRecord:
     injected: dict[str, int]
 
 
+class _ModelColumns:
+    """The true local model's columns of a flight (rho, rho_static, A, B by sample), from its
+    samples' linearisations.  A campaign's flights share the clean flight's linearisations
+    (hil.sim.cdrw_flight: the very objects, faults act on readings only), and their spectral
+    radii were most of a record's cost: the last flight's columns are kept with its
+    linearisations and given again (copies) when every sample's is the very same object."""
+
+    def __init__(self) -> None:
+        self._lins: list[Any] = []
+        self._columns: Series = {}
+
+    def get(self, lins: list[Any]) -> Series:
+        if not (len(lins) == len(self._lins) and all(a is b for a, b in zip(lins, self._lins))):
+            a = np.array([x.A for x in lins], dtype=float).reshape(-1, 4)
+            b = np.array([x.B for x in lins], dtype=float).reshape(-1, 2)
+            self._lins = lins
+            self._columns = {"rho_true": np.array([x.rho for x in lins]),
+                             "rho_static": np.array([x.rho_static for x in lins]),
+                             **{f"{name}_true": a[:, i].copy() for i, name in enumerate(("a11", "a12", "a21", "a22"))},
+                             "b1_true": b[:, 0].copy(), "b2_true": b[:, 1].copy()}
+        return {k: v.copy() for k, v in self._columns.items()}
+
+
+_model_columns = _ModelColumns()
+
+
 def cdrw_record(driver: CdrwDriver) -> CdrwRecord:
     sm = driver.samples
     s: Series = {"t": np.array([x.t for x in sm])}
@@ -123,12 +149,7 @@ def cdrw_record(driver: CdrwDriver) -> CdrwRecord:
     s["alpha_ff"] = np.array([x.meas_faultfree["alpha"] for x in sm])
     s["q_ff"] = np.array([x.meas_faultfree["q"] for x in sm])
     s["fault"] = np.array([int(x.fault_active) for x in sm])
-    s["rho_true"] = np.array([x.lin.rho for x in sm])
-    s["rho_static"] = np.array([x.lin.rho_static for x in sm])
-    for i, name in enumerate(("a11", "a12", "a21", "a22")):
-        s[f"{name}_true"] = np.array([x.lin.A.flat[i] for x in sm])
-    s["b1_true"] = np.array([x.lin.B[0] for x in sm])
-    s["b2_true"] = np.array([x.lin.B[1] for x in sm])
+    s.update(_model_columns.get([x.lin for x in sm]))
     n = driver.n_steps
     acked = np.zeros(n, dtype=np.int8)
     degraded = np.zeros(n, dtype=np.int8)

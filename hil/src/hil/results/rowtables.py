@@ -75,10 +75,18 @@ def sid_options(fcc_args: Sequence[str]) -> tuple[str, list[str]]:
 
 
 def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
+    """The readings as fcc decodes them (NaN and infinities as they are): what
+    float(s.to_phys(s.to_raw(v))) gives value by value, a column at a time (the same float
+    operations: half away from zero as hil.util.rounding, then raw / inv_scale; every reading's
+    signal is a scaled one)."""
     frame, name = SIGNAL_FRAMES[sig]
     s = next(x for x in spec.by_name(frame).signals if x.name == name)
-    return np.array([v if not np.isfinite(v) else float(s.to_phys(s.to_raw(float(v))))
-                     for v in values])
+    with np.errstate(invalid="ignore"):
+        x = values * s.inv_scale
+        mag = np.abs(x)
+        whole = np.floor(mag)
+        raw = np.copysign(whole + (mag - whole >= 0.5), x) + 0.0   # (+ 0.0: a 0 is unsigned)
+    return np.where(np.isfinite(values), raw / s.inv_scale, values)
 
 
 class Replay:

@@ -63,7 +63,8 @@ def read_binary_rows(data: bytes, all_rows: bool) -> dict[str, dict[str, np.ndar
     names = [f"{m}/{f}" for m in ROW_MODES for f in BINARY_FILTERS] if all_rows else list(BINARY_FILTERS)
     out: dict[str, dict[str, np.ndarray]] = {}
     codes = rows[:, 1]
-    for code in dict.fromkeys(codes.tolist()):
+    unique, first = np.unique(codes, return_index=True)
+    for code in unique[np.argsort(first)].tolist():   # in the order they first appear
         if not (code.is_integer() and 0 <= code < len(names)):
             raise ValueError(f"sid_replay --binary output: a row of filter code {code!r}")
         picked = rows[codes == code]

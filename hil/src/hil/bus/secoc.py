@@ -322,6 +322,11 @@ class Endpoint:
         return Sender(self.key, self._send_groups[auth_name], self.trip)
 
     # -- receiving
+    def receiver(self, auth_id: int) -> Receiver | GroupReceiver:
+        """The receiving side of the authenticator auth_id (a reader that checks a run of its
+        frames at once advances it: hil.bus.runcheck)."""
+        return self._receivers[auth_id]
+
     def is_secured(self, frame_id: int) -> bool:
         """A frame fcc sends that counts only once its authenticator verified."""
         return frame_id in self._rx_single or frame_id in self._group_of

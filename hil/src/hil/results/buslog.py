@@ -27,8 +27,8 @@ from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
 from hil.bus.logcolumns import FrameColumns, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
-from hil.bus.secoc import Endpoint, Receiver, Verdict
 from hil.bus.runcheck import check_run, verify_run
+from hil.bus.secoc import Endpoint, Receiver
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
 #: the output frames of each application (0 CDRW, 1 missile)
@@ -78,9 +78,9 @@ class BusAuth:
 
 
 class _Gate:
-    """The live link's checks on the recorded frames: what passes is what fcc acted on.  The
-    ticks (half the frames checked) have a receiver of the gate's own, so that a run of them
-    is checked in one call (columns: hil.bus.runcheck); the endpoint verifies the others."""
+    """The live link's checks on the recorded frames: what passes is what fcc acted on.  A run
+    of ticks (half the frames checked) is verified in one call on the endpoint's receiver of
+    their authenticator (columns: hil.bus.runcheck); any other frame one by one."""
 
     def __init__(self, auth: BusAuth) -> None:
         spec = load()
@@ -89,7 +89,9 @@ class _Gate:
             self.endpoint.set_trip(auth.trip)
         tick_auth = next(m for m in spec.messages if m.secoc_pdus == ("SIM_TICK",))
         self.tick_auth_id = tick_auth.frame_id
-        self.ticks = Receiver(auth.key, tick_auth.secoc_data_id, 0)
+        ticks = self.endpoint.receiver(self.tick_auth_id)
+        assert isinstance(ticks, Receiver)
+        self.ticks = ticks
         self.e2e = {m.frame_id: E2EReceiver(m.data_id, m.max_delta_counter)
                     for m in (spec.by_name("SIM_CONTROL"), spec.by_name("SIM_TICK"))}
         self.rejected = 0
@@ -101,25 +103,7 @@ class _Gate:
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
         """What one frame gives fcc to act on (nothing, or the frames its authenticator
         verified)."""
-        if fid == SIM_TICK_ID:
-            if len(data) == 8:
-                self.ticks.hold(data)
-            got = []
-        elif fid == self.tick_auth_id:
-            got = self._tick(data)
-        else:
-            got = self.endpoint.receive(fid, data)
-        return [(i, d) for i, d in got if self._e2e_ok(i, d)]
-
-    def _tick(self, auth: bytes) -> list[tuple[int, bytes]]:
-        """A tick's authenticator, as Endpoint.receive takes a secured frame's."""
-        rx = self.ticks
-        if len(auth) != 8 or self.endpoint.trip is None:
-            rx.counters.mac_failed += 1
-            return []
-        rx.trip = self.endpoint.trip
-        verdict, pdu = rx.verify(auth)
-        return [(SIM_TICK_ID, pdu)] if verdict is Verdict.VERIFIED and pdu is not None else []
+        return [(i, d) for i, d in self.endpoint.receive(fid, data) if self._e2e_ok(i, d)]
 
     def _e2e_ok(self, fid: int, data: bytes) -> bool:
         rx = self.e2e.get(fid)
@@ -176,7 +160,6 @@ class _Gate:
         trip = self.endpoint.trip
         if not len(ticks) or trip is None:
             return 0
-        self.ticks.trip = trip
         return verify_run(self.ticks, ticks, auths)
 
     def _usable(self, ticks: np.ndarray) -> list[int]:

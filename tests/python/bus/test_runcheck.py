@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus
-from hil.bus.runcheck import check_run, truncated_macs, verify_run
-from hil.bus.secoc import KeyedCmac, Receiver, Sender, Verdict
+from hil.bus.runcheck import check_run, verify_run
+from hil.bus.secoc import KeyedCmac, Receiver, Sender, Verdict, authenticator, authenticators, truncated_macs
 
 KEY, DATA_ID, TRIP = bytes(range(16)), 0x0211, 7
 
@@ -135,3 +135,13 @@ def test_the_run_macs_are_cryptographys_cmac():
         keyed = KeyedCmac(key)
         want = [keyed.mac(data_id, p.tobytes(), int(fv)) for p, fv in zip(pdus, fvs)]
         assert [m.tobytes() for m in truncated_macs(key, data_id, pdus, fvs)] == want
+
+
+def test_a_run_of_authenticators_is_each_one_in_turn():
+    """authenticators (the tick plan's) against authenticator frame by frame, the counter
+    across 2**16 (its low 16 bits are the frame's first two bytes)."""
+    rng = np.random.default_rng(27)
+    key, pdus = rng.bytes(16), rng.integers(0, 256, (50, 8), dtype=np.uint8)
+    got = authenticators(key, 0x123, pdus, 0xDEADBEEF, 0xFFE0)
+    assert [a.tobytes() for a in got] == [authenticator(key, 0x123, p.tobytes(), 0xDEADBEEF, 0xFFE0 + i)
+                                          for i, p in enumerate(pdus)]

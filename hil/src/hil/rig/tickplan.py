@@ -24,7 +24,7 @@ from hil.bus import FrameCodec
 from hil.bus.batch import pack_many
 from hil.bus.e2e import COUNTER_MODULO, protect_many
 from hil.bus.rawcan import CAN_FRAME, DATA_OFFSET, pack_frame
-from hil.bus.secoc import Endpoint, authenticator
+from hil.bus.secoc import Endpoint, authenticators
 
 TICK = "SIM_TICK"
 
@@ -53,16 +53,14 @@ class TickPlan:
         payloads, _ = pack_many(msg, {"app": np.full(len(ks), app), "step": ks}, len(ks), saturate=False)
         counters = (self._e2e0 + np.arange(len(ks))) % COUNTER_MODULO
         frames = protect_many(msg.data_id, payloads, counters)
-        keyed, data_id = self._sec.keyed, self._sec.data_id
         blob = frames.tobytes()
         datas = [blob[i: i + 8] for i in range(0, len(blob), 8)]
-        auths = b"".join([authenticator(keyed, data_id, d, self._trip, self._sec0 + i + 1)
-                          for i, d in enumerate(datas)])
+        auths = authenticators(self._sec.key, self._sec.data_id, frames, self._trip, self._sec0 + 1)
         # each step's two struct can_frames side by side: the frames' headers, then their data
         wire = np.empty((len(datas), 2 * CAN_FRAME.size), np.uint8)
         for col, frame_id, data in ((0, msg.frame_id, frames),
                                     (CAN_FRAME.size, security.auth_id(msg.frame_id),
-                                     np.frombuffer(auths, np.uint8).reshape(-1, 8))):
+                                     auths)):
             wire[:, col: col + CAN_FRAME.size] = np.frombuffer(pack_frame(frame_id, bytes(8)), np.uint8)
             wire[:, col + DATA_OFFSET: col + CAN_FRAME.size] = data
         w, n = wire.tobytes(), CAN_FRAME.size

@@ -9,7 +9,7 @@ the caller hands to those calls (they decide and count it as they always do).
 * verify_run: pairs (the secured frame, then its authenticator) of one PDU, Receiver.hold then
   Receiver.verify, while nothing else is held and each authenticator carries the next message
   counter (FV's low 16 bits one above the last accepted counter's) with a MAC that verifies
-  (the MACs of the run computed together: hil.bus.secoc.truncated_macs).
+  (the MACs of the run computed together: hil.bus.secoc_batch.truncated_macs).
 * check_run: frames of one E2E-protected message, E2EReceiver.check, while each is OK: its CRC
   right and its alive counter one above the last (any, for the first after a reset).
 """
@@ -18,7 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from hil.bus.e2e import COUNTER_MODULO, FRAME_LENGTH, E2EReceiver, E2EStatus, protect_many
-from hil.bus.secoc import FV_TRUNC_BITS, Receiver, truncated_macs
+from hil.bus.secoc import FV_TRUNC_BITS, Receiver
+from hil.bus.secoc_batch import truncated_macs
 
 _COUNTER_MAX = 0xFFFFFFFF
 

@@ -24,14 +24,10 @@ import os
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from hil.bus.dbc import BusSpec
 from hil.io.paths import DATA
 from hil.util.bounded import TooLarge, read_bounded
-
-if TYPE_CHECKING:
-    import numpy as np
 
 KEY_BYTES = 16
 MAC_BYTES = 6
@@ -96,46 +92,6 @@ def authenticator(key: bytes | KeyedCmac, data_id: int, pdu: bytes, trip: int, c
     """The 8 bytes of the authenticator frame for pdu at message counter `counter`."""
     keyed = key if isinstance(key, KeyedCmac) else KeyedCmac(key)
     return (counter & 0xFFFF).to_bytes(2, "little") + keyed.mac(data_id, bytes(pdu), (trip << 32) | counter)
-
-
-def authenticators(key: bytes, data_id: int, pdus: np.ndarray, trip: int, first: int) -> np.ndarray:
-    """authenticator(key, data_id, pdus[i], trip, first + i) of n 8-byte pdus ((n, 8) uint8)
-    at once: (n, 8) uint8."""
-    import numpy as np
-    counters = first + np.arange(len(pdus), dtype=np.int64)
-    out = np.empty((len(pdus), 8), np.uint8)
-    out[:, 0], out[:, 1] = counters & 0xFF, counters >> 8 & 0xFF
-    out[:, 2:] = truncated_macs(key, data_id, pdus, np.uint64(trip << 32) | counters.astype(np.uint64))
-    return out
-
-
-def truncated_macs(key: bytes, data_id: int, pdus: np.ndarray, fvs: np.ndarray) -> np.ndarray:
-    """KeyedCmac(key).mac(data_id, pdus[i], fvs[i]) for every 8-byte pdu, at once: (n, 6)
-    uint8.  AES-128-CMAC (NIST SP 800-38B) of the 18-byte message data ID | pdu | FV, two
-    blocks: T = E(E(M1) xor (M2 | 80 00.. xor K2)), the subkey K2 = dbl(dbl(E(0))); the AES
-    is cryptography's, every block in one call (KeyedCmac's context is per message)."""
-    import numpy as np
-    from cryptography.hazmat.primitives.ciphers import Cipher, algorithms, modes
-    aes = Cipher(algorithms.AES(key), modes.ECB()).encryptor()
-    k2 = _dbl(_dbl(int.from_bytes(aes.update(bytes(16)), "big"))).to_bytes(16, "big")
-    n = len(pdus)
-    fv = fvs.astype(">u8").view(np.uint8).reshape(n, 8)
-    m1 = np.empty((n, 16), np.uint8)
-    m1[:, :2] = np.frombuffer(data_id.to_bytes(2, "big"), np.uint8)
-    m1[:, 2:10] = pdus
-    m1[:, 10:] = fv[:, :6]
-    last = np.zeros((n, 16), np.uint8)
-    last[:, :2] = fv[:, 6:]
-    last[:, 2] = 0x80
-    last ^= np.frombuffer(k2, np.uint8)
-    x = np.frombuffer(aes.update(m1.tobytes()), np.uint8).reshape(n, 16) ^ last
-    return np.frombuffer(aes.update(x.tobytes()), np.uint8).reshape(n, 16)[:, :MAC_BYTES]
-
-
-def _dbl(block: int) -> int:
-    """The CMAC subkey step: the 128-bit block shifted left, xor 0x87 when a bit fell out."""
-    block <<= 1
-    return (block ^ 0x87) & ((1 << 128) - 1) if block >> 128 else block
 
 
 def read_key_file(path: str | Path) -> bytes:

@@ -24,7 +24,8 @@ from hil.bus import FrameCodec
 from hil.bus.batch import pack_many
 from hil.bus.e2e import COUNTER_MODULO, protect_many
 from hil.bus.rawcan import CAN_FRAME, DATA_OFFSET, pack_frame
-from hil.bus.secoc import Endpoint, authenticators
+from hil.bus.secoc import Endpoint
+from hil.bus.secoc_batch import authenticators
 
 TICK = "SIM_TICK"
 

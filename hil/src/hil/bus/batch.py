@@ -17,6 +17,7 @@ import numpy as np
 from hil.bus import dbc
 from hil.bus.codec import EncodeError, FrameCodec
 from hil.bus.e2e import COUNTER_MODULO, protect_many
+from hil.util.rounding import round_half_away_many
 
 
 def _raw_column(sig: dbc.SignalSpec, values: np.ndarray, saturate: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -36,9 +37,7 @@ def _raw_column(sig: dbc.SignalSpec, values: np.ndarray, saturate: bool) -> tupl
         else:
             # an overflow to +-inf or a value far outside the field becomes just outside it
             scaled = np.clip(x * sig.inv_scale, sig.raw_min - 1, sig.raw_max + 1)
-            mag = np.abs(scaled)
-            whole = np.floor(mag)
-            raw = np.copysign(whole + (mag - whole >= 0.5), scaled).astype(np.int64)
+            raw = round_half_away_many(scaled).astype(np.int64)
     clamped = (raw < sig.raw_min) | (raw > sig.raw_max)
     if clamped.any() and not saturate:
         v = values[clamped][0]

@@ -26,6 +26,7 @@ from hil.results import metrics
 from hil.results.sidrows import ESTIMATES, ROW_MODES, read_binary_rows
 from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
 from hil.sim.sid_csv import sid_csv
+from hil.util.rounding import round_half_away_many
 
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)
 SYMMETRIC = ("prior", "posterior")
@@ -77,15 +78,12 @@ def sid_options(fcc_args: Sequence[str]) -> tuple[str, list[str]]:
 def _received(spec: BusSpec, sig: str, values: np.ndarray) -> np.ndarray:
     """The readings as fcc decodes them (NaN and infinities as they are): what
     float(s.to_phys(s.to_raw(v))) gives value by value, a column at a time (the same float
-    operations: half away from zero as hil.util.rounding, then raw / inv_scale; every reading's
+    operations: hil.util.rounding.round_half_away_many, then raw / inv_scale; every reading's
     signal is a scaled one)."""
     frame, name = SIGNAL_FRAMES[sig]
     s = next(x for x in spec.by_name(frame).signals if x.name == name)
-    with np.errstate(invalid="ignore"):
-        x = values * s.inv_scale
-        mag = np.abs(x)
-        whole = np.floor(mag)
-        raw = np.copysign(whole + (mag - whole >= 0.5), x) + 0.0   # (+ 0.0: a 0 is unsigned)
+    with np.errstate(invalid="ignore"):   # (NaN and infinities: given back as they are below)
+        raw = round_half_away_many(values * s.inv_scale) + 0.0   # (+ 0.0: a 0 is unsigned)
     return np.where(np.isfinite(values), raw / s.inv_scale, values)
 
 

@@ -2,6 +2,10 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 def round_half_away(x: float) -> int:
@@ -10,3 +14,13 @@ def round_half_away(x: float) -> int:
     f = math.floor(abs(x))
     r = f + (1 if abs(x) - f >= 0.5 else 0)
     return int(math.copysign(r, x)) if r else 0
+
+
+def round_half_away_many(x: np.ndarray) -> np.ndarray:
+    """round_half_away of every value of a float array, as floats, the fraction split off the
+    same way (a zero keeps the sign of its value; NaN and infinities give NaN or themselves).
+    numpy is imported here: the bus codec imports this module on every command's path."""
+    import numpy as np
+    mag = np.abs(x)
+    whole = np.floor(mag)
+    return np.copysign(whole + (mag - whole >= 0.5), x)

@@ -131,7 +131,7 @@ class _Gate:
         while j < len(at):
             n = runs[j]
             ticks = cols.data[at[j: j + 2 * n: 2]]
-            n = self._verified(ticks, cols.data[at[j + 1: j + 2 * n: 2]])
+            n = verify_run(self.ticks, ticks, cols.data[at[j + 1: j + 2 * n: 2]])
             if n:
                 usable = self._usable(ticks[:n])
                 places.append(at[j + 1: j + 2 * n: 2][usable])
@@ -154,13 +154,6 @@ class _Gate:
             if ids[j] == SIM_TICK_ID and ids[j + 1] == self.tick_auth_id and full[j] and full[j + 1]:
                 runs[j] = 1 + runs[j + 2]
         return runs
-
-    def _verified(self, ticks: np.ndarray, auths: np.ndarray) -> int:
-        """How many leading pairs verify simply (hil.bus.runcheck.verify_run)."""
-        trip = self.endpoint.trip
-        if not len(ticks) or trip is None:
-            return 0
-        return verify_run(self.ticks, ticks, auths)
 
     def _usable(self, ticks: np.ndarray) -> list[int]:
         """Which of these verified ticks pass E2E: runs of OK ones at once

@@ -19,6 +19,7 @@ scenario's sub-steps; without a usable command of step k the previous code stays
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -168,16 +169,15 @@ class CdrwDriver(AppDriver):
                                 self.injector.outgoing(s.t, self._messages(s)))
 
     @staticmethod
-    def _batches(samples: list[CdrwSample]) -> list[Batch]:
-        """_messages of every sample, a column per signal: the readings that are finite."""
+    def _batches(samples: list[CdrwSample]) -> Iterator[Batch]:
+        """_messages of every sample, a column per signal: the readings that are finite (made
+        as outgoing_flight takes them: not at all when a frame fault sends step by step)."""
         steps = np.array([s.k for s in samples], dtype=np.int64) & 0xFFFF
-        out: list[Batch] = []
         for sig in ("alpha", "q", "de"):
             v = np.array([s.meas[sig] for s in samples], dtype=np.float64)
             sends = np.isfinite(v)
             frame, field_name = SIGNAL_FRAMES[sig]
-            out.append((frame, sends, {"step": steps[sends], field_name: v[sends]}))
-        return out
+            yield frame, sends, {"step": steps[sends], field_name: v[sends]}
 
     def _messages(self, s: CdrwSample) -> list[Message]:
         msgs: list[Message] = []

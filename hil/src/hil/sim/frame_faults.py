@@ -196,12 +196,12 @@ class FrameInjector:
         self.counts["sent"] += len(out)
         return out
 
-    def outgoing_flight(self, n_steps: int, batches: Sequence[Batch]) -> list[list[TxFrame]] | None:
+    def outgoing_flight(self, n_steps: int, batches: Iterable[Batch]) -> list[list[TxFrame]] | None:
         """Every step's frames of a flight whose messages are all known before it starts, made
         at once (hil.bus.batch): what outgoing(t_k, messages of step k) would give step by step,
         with the same counts and E2E counters.  None when the scenario has a frame or bus
         fault (they act on single frames, some with random draws: the caller goes step by
-        step)."""
+        step), the batches then not taken (a generator's columns are never made)."""
         if self.faults:
             return None
         steps: list[list[TxFrame]] = [[] for _ in range(n_steps)]

@@ -9,7 +9,7 @@ the caller hands to those calls (they decide and count it as they always do).
 * verify_run: pairs (the secured frame, then its authenticator) of one PDU, Receiver.hold then
   Receiver.verify, while nothing else is held and each authenticator carries the next message
   counter (FV's low 16 bits one above the last accepted counter's) with a MAC that verifies
-  (the MACs of the run computed together: hil.bus.secoc_batch.truncated_macs).
+  (the run's authenticators made together: hil.bus.secoc_batch.authenticators).
 * check_run: frames of one E2E-protected message, E2EReceiver.check, while each is OK: its CRC
   right and its alive counter one above the last (any, for the first after a reset).
 """
@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 
 from hil.bus.e2e import COUNTER_MODULO, FRAME_LENGTH, E2EReceiver, E2EStatus, protect_many
-from hil.bus.secoc import FV_TRUNC_BITS, Receiver
-from hil.bus.secoc_batch import truncated_macs
+from hil.bus.secoc import Receiver
+from hil.bus.secoc_batch import authenticators
 
 _COUNTER_MAX = 0xFFFFFFFF
 
@@ -30,11 +30,9 @@ def verify_run(rx: Receiver, pdus: np.ndarray, auths: np.ndarray) -> int:
     n = len(pdus)
     if rx.held or not n or pdus.shape != (n, 8) or auths.shape != (n, 8):
         return 0
-    counters = rx.counter + 1 + np.arange(n, dtype=np.int64)
-    fresh = ((auths[:, 0].astype(np.int64) | auths[:, 1].astype(np.int64) << 8)
-             == counters & ((1 << FV_TRUNC_BITS) - 1)) & (counters <= _COUNTER_MAX)
-    fvs = np.uint64(rx.trip << 32) | counters.astype(np.uint64)
-    ok = fresh & (truncated_macs(rx.key, rx.data_id, pdus, fvs) == auths[:, 2:]).all(axis=1)
+    # each the authenticator the sender makes at the next counter: its low bits, then the MAC
+    expected = authenticators(rx.key, rx.data_id, pdus, rx.trip, rx.counter + 1)
+    ok = (expected == auths).all(axis=1) & (rx.counter + 1 + np.arange(n) <= _COUNTER_MAX)
     n = int(np.argmin(ok)) if not ok.all() else n
     rx.counter += n
     rx.counters.verified += n

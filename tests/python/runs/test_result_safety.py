@@ -46,6 +46,56 @@ def test_csv_and_json_go_through_a_temporary_file(tmp_path, monkeypatch):
     assert all(s.startswith(".") and ".tmp-" in s for s, _ in seen)
 
 
+def test_a_run_is_on_the_disk_before_it_is_published(tmp_path, monkeypatch):
+    """Files in the staging directory are not fsynced one by one as they are written: the
+    whole directory is made durable once (syncfs) before the rename that publishes it."""
+    synced: list[int] = []
+    real_fsync, real_durable = os.fsync, rundir.make_durable
+    monkeypatch.setattr(rundir.os, "fsync", lambda fd: (synced.append(fd), real_fsync(fd)))
+    events: list[str] = []
+
+    def durable(root: Path) -> None:
+        events.append(f"durable {sorted(p.name for p in root.iterdir())} out exists: {out.exists()}")
+        real_durable(root)
+    monkeypatch.setattr(rundir, "make_durable", durable)
+    out = tmp_path / "out"
+    with staged_run(out, "test") as stage:
+        write_json(stage / "summary.json", {"k": 1})
+        write_csv(stage / "x.csv", {"t": [0.0]})
+        assert synced == []
+    assert events == [f"durable {sorted([MANIFEST, 'summary.json', 'x.csv'])} out exists: False"]
+    assert read_json(out / "summary.json") == {"k": 1}
+    synced.clear()                              # (the publishing rename's directory)
+    write_json(out / "later.json", {"k": 2})   # outside a staging directory: at once
+    assert len(synced) == 2                     # the file and its directory
+
+
+def test_a_full_disk_at_publication_publishes_nothing(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    _publish(out, {"summary.json": "good"})
+
+    def full(root: Path) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device", str(root))
+    monkeypatch.setattr(rundir, "make_durable", full)
+    with pytest.raises(OSError, match="No space left"):
+        _publish(out, {"summary.json": "new"})
+    assert (out / "summary.json").read_text() == "good"
+
+
+def test_make_durable_without_syncfs_fsyncs_every_file_and_directory(tmp_path, monkeypatch):
+    (tmp_path / "d").mkdir()
+    (tmp_path / "a.csv").write_text("1")
+    (tmp_path / "d" / "b.csv").write_text("2")
+    synced: list[int] = []
+    real_fsync = os.fsync
+    monkeypatch.setattr(rundir.os, "fsync", lambda fd: (synced.append(fd), real_fsync(fd)))
+    rundir.make_durable(tmp_path)               # syncfs: one call, no fsync
+    assert synced == []
+    monkeypatch.setattr(rundir.ctypes, "CDLL", lambda *a, **k: object())   # a libc without it
+    rundir.make_durable(tmp_path)
+    assert len(synced) == 4                     # 2 files, 2 directories
+
+
 def _publish(out: Path, files: dict[str, str], force: bool = False) -> None:
     with staged_run(out, "test", force=force) as stage:
         assert stage != out and stage.parent == out.parent

@@ -5,8 +5,11 @@ Every file a run writes goes first into a new staging directory next to ``--out`
 mkdir, which fails rather than share a directory -- PIDs repeat across fresh guests and
 machines); when the run is done, that directory is renamed into place in one
 step, so ``--out`` holds either the previous complete results or the new complete ones, never
-a mixture.  Each file inside is itself written atomically (temporary file, fsync, rename), so
-even a copy made while a run writes never sees half a CSV.
+a mixture.  Each file inside is itself written atomically (temporary file, rename), so even a
+copy made while a run writes never sees half a CSV.  What a run wrote is on the disk before it
+is published: one syncfs(2) of the staging directory's filesystem then, rather than an fsync
+of every file and of its directory as it is written (11 of them in a `hil run cdrw`, 2-12 ms
+each in the UML guest); a file written anywhere else is fsynced at once.
 
 What ``--out`` may already be:
   * missing or empty: the staging directory is renamed onto it;
@@ -23,6 +26,7 @@ same ``--out`` meanwhile, its results are left where they are (one line, exit 1)
 """
 from __future__ import annotations
 
+import ctypes
 import json
 import os
 import re
@@ -66,14 +70,17 @@ def _fsync_dir(path: Path) -> None:
 
 def atomic_write(path: Path, data: bytes) -> Path:
     """Write a whole file or nothing: a temporary file beside it, fsync, rename over it.  A
-    full disk or a kill leaves the old file (or none), never a truncated one."""
+    full disk or a kill leaves the old file (or none), never a truncated one.  In a staging
+    directory the fsyncs wait for its publication (make_durable)."""
     path = Path(path)
+    now = published_path(path) == path   # not in a staging directory: durable at once
     tmp = path.with_name(f".{path.name}.tmp-{unique_tag()}")
     try:
         with open(tmp, "wb") as fh:
             fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
+            if now:
+                fh.flush()
+                os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -81,8 +88,30 @@ def atomic_write(path: Path, data: bytes) -> Path:
         except OSError:
             pass
         raise
-    _fsync_dir(path.parent)
+    if now:
+        _fsync_dir(path.parent)
     return path
+
+
+def make_durable(root: Path) -> None:
+    """Everything written under root on the disk: syncfs(2) of its filesystem, one call
+    (Linux); elsewhere an fsync of each file and directory under it.  OSError when the data
+    could not be written (a full disk: the files are not published)."""
+    syncfs = getattr(ctypes.CDLL(None, use_errno=True), "syncfs", None)
+    if syncfs is not None:
+        fd = os.open(root, os.O_RDONLY | os.O_DIRECTORY)
+        try:
+            if syncfs(fd) != 0:
+                err = ctypes.get_errno()
+                raise OSError(err, os.strerror(err), str(root))
+        finally:
+            os.close(fd)
+        return
+    for dirpath, _, filenames in os.walk(root):
+        for name in filenames:
+            with open(os.path.join(dirpath, name), "rb") as fh:
+                os.fsync(fh.fileno())
+        _fsync_dir(Path(dirpath))
 
 
 def atomic_write_text(path: Path, text: str, encoding: str = "utf-8") -> Path:
@@ -248,6 +277,7 @@ def staged_run(out: Path, command: str, *, force: bool = False) -> Iterator[Path
         first = str(e).splitlines()[0] if str(e) else type(e).__name__
         try:
             atomic_write_text(stage / FAILED, f"hil {command} failed: {first}\n")
+            make_durable(stage)
             os.rename(stage, kept)
         except OSError:
             kept = stage
@@ -255,4 +285,5 @@ def staged_run(out: Path, command: str, *, force: bool = False) -> Iterator[Path
         e.add_note(f"{what} kept in {kept}")
         raise
     _write_manifest(stage, command)
+    make_durable(stage)
     _publish(stage, out, force)

@@ -8,18 +8,24 @@
 """
 from __future__ import annotations
 
-from hil.targets.device import Device
-from hil.targets.external import ExternalDevice
-from hil.targets.host import HostFcc
-from hil.targets.qemu_m4f import QemuM4f
+import importlib
+from typing import TYPE_CHECKING
 
-DEVICES: dict[str, type[Device]] = {"host": HostFcc, "qemu-m4f": QemuM4f, "external": ExternalDevice}
+if TYPE_CHECKING:
+    from hil.targets.device import Device
+
+#: each target's module and Device class, imported when the target is used (a host run does
+#: not load the emulator's and the board's modules)
+DEVICES: dict[str, tuple[str, str]] = {"host": ("hil.targets.host", "HostFcc"),
+                                       "qemu-m4f": ("hil.targets.qemu_m4f", "QemuM4f"),
+                                       "external": ("hil.targets.external", "ExternalDevice")}
 TARGETS = tuple(DEVICES)
 
 
 def device_class(target: str) -> type[Device]:
     """The Device class of a target name."""
     try:
-        return DEVICES[target]
+        module, name = DEVICES[target]
     except KeyError:
         raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {target!r}") from None
+    return getattr(importlib.import_module(module), name)

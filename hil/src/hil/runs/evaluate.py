@@ -73,10 +73,9 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     out = cfg.out_dir
     drivers = flown.drivers
     spec = load()
-    log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
-    flights = split_flights(log, flown.auth)
+    flights = split_flights(out / "bus.log", flown.auth)
     if cfg.mode == "realtime":
-        count_babbled(log, drivers)
+        count_babbled(read_log(out / "bus.log"), drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []
@@ -111,7 +110,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
     if cfg.mode == "realtime":
         summary["sync"] = sync_summary(flown.status, flown.info.get("time_master"))
-    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
+    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate)
     if cdrw is not None:
         summary["cdrw"] = _cdrw_block(*cdrw)
     write_json(out / "summary.json", summary)

@@ -179,7 +179,8 @@ def _plain_lines(buf: np.ndarray, starts: np.ndarray, lens: np.ndarray) -> tuple
         rows = buf[starts[same][:, None] + np.arange(width)]
     digits = np.r_[m.start(1): m.end(1), m.start(2): m.end(2)] if m.group(2) else np.r_[m.start(1): m.end(1)]
     hexes = np.r_[m.start(3): m.end(3), m.start(4): m.end(4)]
-    fixed = np.setdiff1d(np.arange(width), np.concatenate((digits, hexes)))
+    fixed = np.ones(width, bool)   # (not np.setdiff1d: its first call imports numpy.ma, 35 ms)
+    fixed[digits] = fixed[hexes] = False
     nib = _HEX[rows[:, hexes]]
     ok = ((rows[:, fixed] == np.frombuffer(ref, np.uint8)[fixed]).all(axis=1)
           & ((rows[:, digits] - np.uint8(ord("0"))) < 10).all(axis=1)   # (below '0' wraps high)

@@ -18,6 +18,8 @@ from datetime import datetime
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from hil.bus.candump import LogFrame, format_line, read_log
 from hil.bus.logcolumns import LogBlock
 
@@ -87,14 +89,23 @@ def write_candump(path: str | Path, frames: Iterable[LogFrame]) -> int:
 def retimed(block: LogBlock, times: Sequence[float]) -> bytes:
     """A block of a candump -L log again, each frame at its new time, as write_candump writes
     it: a line of the block's common layout is copied but for its timestamp (format_line
-    writes it so), any other frame is written from its fields."""
-    text, ends, tails, odd = block.text, block.ends.tolist(), block.tails.tolist(), block.odd
+    writes it so), any other frame is written from its fields.  A time is written to the
+    microsecond ("%.6f": the same digits as of the time rounded to the microsecond)."""
+    text, n = block.text, len(block)
+    ends, tails = block.ends, block.tails
+    if n and not block.odd and len(text) == n * (int(ends[0]) + 1) and b"%" not in text:
+        # every line one width (the rig's logs): one format for the whole block
+        rows = np.frombuffer(text, np.uint8).reshape(n, -1)[:, int(tails[0]):]
+        fmt = np.empty((n, 5 + rows.shape[1]), np.uint8)
+        fmt[:, :5] = np.frombuffer(b"(%.6f", np.uint8)
+        fmt[:, 5:] = rows
+        return fmt.tobytes() % tuple(times)
     out = []
     for i, t in enumerate(times):
         if tails[i] >= 0:
             out.append(b"(%.6f%s" % (t, text[tails[i]: ends[i] + 1]))
-        elif not (odd[i].error or odd[i].fd):
-            out.append(b"%s\n" % _candump_line(t, odd[i]).encode("ascii"))
+        elif not (block.odd[i].error or block.odd[i].fd):
+            out.append(b"%s\n" % _candump_line(t, block.odd[i]).encode("ascii"))
     return b"".join(out)
 
 

@@ -47,12 +47,13 @@ def simulated(frames: Iterable[LogFrame], periods: Mapping[int, float],
     while chunk := list(itertools.islice(it, CHUNK_FRAMES)):
         for t, f in zip(clock.times(LogBlock.of(chunk)), chunk):
             # (not dataclasses.replace: 4x slower, and a log has thousands of frames)
-            yield LogFrame(t, f.channel, f.frame_id, f.data, f.extended, f.remote, f.error, f.fd)
+            yield LogFrame(round(t, 6), f.channel, f.frame_id, f.data, f.extended, f.remote, f.error, f.fd)
 
 
 #: frames given as objects are timed this many at a time (simulated)
 CHUNK_FRAMES = 4096
-#: the frames' kinds for the clock: any other, a reset, a tick, a sensor sample
+#: the frames' kinds for the clock (SimClock.times: as numbers): any other, a reset, a tick, a
+#: sensor sample
 _OTHER, _RESET, _TICK, _SENSOR = range(4)
 #: worst-case bits on the wire by [extended, data bytes]
 _BITS = np.array([[worst_case_bits(n, ext) for n in range(MAX_DATA + 1)] for ext in (False, True)])
@@ -74,28 +75,29 @@ class SimClock:
         self.last_step: dict[int, int] = {}
 
     def times(self, block: LogBlock) -> list[float]:
-        """Each frame's simulated time (s, rounded to the microsecond)."""
+        """Each frame's simulated time (s; a log shows it to the microsecond)."""
         kind, app, value, cost = self._columns(block)
         period, last_step = self.period, self.last_step
         offset, t_step, bus_free = self.offset, self.t_step, self.bus_free
         out = []
         for k, a, v, c in zip(kind, app, value, cost):
-            if k == _RESET:
-                offset = math.ceil(bus_free / FLIGHT_GRID_S - 1e-9) * FLIGHT_GRID_S
-                t_step, last_step = offset, {}
-                if v > 0:   # a new LQG period (1e-4 s)
-                    period[APP_MISSILE] = v * 1e-4
-            elif k == _TICK:
-                t_step = max(t_step, offset + v * period.get(a, 0.0))
-                last_step[a] = v
-            elif k == _SENSOR:   # the step from its low 16 bits, next to the app's last tick
-                prev = last_step.get(a)
-                v = v if prev is None else prev + ((v - prev + 0x8000) & 0xFFFF) - 0x8000
-                t_step = max(t_step, offset + v * period.get(a, 0.0))
-            t = max(t_step, bus_free)
+            if k:   # (most frames are none of these: fcc's outputs)
+                if k == 1:   # a reset
+                    offset = math.ceil(bus_free / FLIGHT_GRID_S - 1e-9) * FLIGHT_GRID_S
+                    t_step, last_step = offset, {}
+                    if v > 0:   # a new LQG period (1e-4 s)
+                        period[APP_MISSILE] = v * 1e-4
+                elif k == 2:   # a tick
+                    t_step = max(t_step, offset + v * period.get(a, 0.0))
+                    last_step[a] = v
+                else:   # a sensor sample: its step from its low 16 bits, next to the app's last tick
+                    prev = last_step.get(a)
+                    v = v if prev is None else prev + ((v - prev + 0x8000) & 0xFFFF) - 0x8000
+                    t_step = max(t_step, offset + v * period.get(a, 0.0))
+            t = bus_free if bus_free > t_step else t_step   # max(t_step, bus_free)
             if c is not None:
                 bus_free = t + c
-            out.append(round(t, 6))
+            out.append(t)
         self.offset, self.t_step, self.bus_free, self.last_step = offset, t_step, bus_free, last_step
         return out
 

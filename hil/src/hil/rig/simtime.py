@@ -129,32 +129,41 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
                    baudrate: int) -> Path:
     """The run's bus log as users read it: lockstep -> bus.<fmt> in simulated time and the
     recorder's wall-clock log renamed bus_wall.log; realtime -> bus.<fmt> in wall-clock time.
-    Returns the path of bus.<fmt>."""
+    Returns the path of bus.<fmt> (a log that cannot be read raises: no half-written one)."""
     if fmt not in RUN_FORMATS:
         raise ValueError(f"log format must be one of {', '.join(RUN_FORMATS)}, not {fmt!r}")
     raw = run_dir / "bus.log"
     out = run_dir / f"bus.{fmt}"
     tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
-    if mode == "lockstep":
-        wall = run_dir / WALL_LOG
-        os.replace(raw, wall)
-        if fmt == "log":   # each line as recorded but for its time
-            clock = SimClock(periods, baudrate)
-            with open(tmp, "wb") as f:
-                for block in read_blocks(wall):
-                    f.write(retimed(block, clock.times(block)))
+    try:
+        if mode == "lockstep":
+            wall = run_dir / WALL_LOG
+            os.replace(raw, wall)
+            _write_simulated(wall, tmp, periods, baudrate)
+        elif fmt != "log":
+            write_frames(tmp, read_log(raw), received=sent_by_fcc())
         else:
-            recorded = read_log(wall)
-            first = next(recorded, None)  # its simulated time is 0: the log starts at its wall time
-            write_frames(tmp, simulated(itertools.chain(() if first is None else (first,), recorded),
-                                        periods, baudrate),
-                         received=sent_by_fcc(), start=None if first is None else first.timestamp)
+            return out
         os.replace(tmp, out)
-    elif fmt != "log":
-        write_frames(tmp, read_log(raw), received=sent_by_fcc())
-        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    if mode != "lockstep":
         raw.unlink()
     return out
+
+
+def _write_simulated(wall: Path, path: Path, periods: Mapping[int, float], baudrate: int) -> None:
+    """A lockstep run's log in simulated time, in the format of the path's suffix."""
+    if path.suffix == ".log":   # each line as recorded but for its time
+        clock = SimClock(periods, baudrate)
+        with open(path, "wb") as f:
+            for block in read_blocks(wall):
+                f.write(retimed(block, clock.times(block)))
+        return
+    recorded = read_log(wall)
+    first = next(recorded, None)  # its simulated time is 0: the log starts at its wall time
+    write_frames(path, simulated(itertools.chain(() if first is None else (first,), recorded), periods, baudrate),
+                 received=sent_by_fcc(), start=None if first is None else first.timestamp)
 
 
 def sent_by_fcc() -> Callable[[LogFrame], bool]:

@@ -104,7 +104,7 @@ ODD = ["(1795701787.900000) vcan0 12345678#0102", "(1795701787.900001) vcan0 123
        "(1795701787.900004) vcan0 110##1" + "00" * 12, "  (1795701787.9) vcan0   028#0102030405060708  ",
        "", "(1795701787.900005) can1 133#0102", "(1795701787.900006) vcan0 9ABCDEF0#11",
        "(1795701787.900007) vcan0 1FFFFFFF#R", "(1795701787.900008) vcan0 010##0",
-       "(1795701787) vcan0 701#", "(1795701787.900009) vcan0 050#3105070048650200".lower(),
+       "(1795701787) vcan0 701#", "(1795701787.900009) vcan0 05a#31050700486502ab",
        "(1795701787.900010) v%can0 050#3105070048650200", "(1795701787.900011) vcan0 12345678#R"]
 
 
@@ -124,9 +124,10 @@ def finished(tmp_path: Path, lines: list[str], periods: Mapping[int, float], new
 
 @pytest.mark.parametrize("odd", [False, True])
 @pytest.mark.parametrize("block_bytes", [1 << 20, 700])
-def test_the_simulated_log_is_the_frame_by_frame_rules(tmp_path, monkeypatch, odd, block_bytes):
+@pytest.mark.parametrize("channel", ["vcan0", "v%an0"])
+def test_the_simulated_log_is_the_frame_by_frame_rules(tmp_path, monkeypatch, odd, block_bytes, channel):
     monkeypatch.setattr("hil.bus.logcolumns.BLOCK_BYTES", block_bytes)   # state carried over blocks
-    lines = with_odd_lines(lockstep_log()) if odd else lockstep_log()
+    lines = [ln.replace("vcan0", channel) for ln in (with_odd_lines(lockstep_log()) if odd else lockstep_log())]
     got, want = finished(tmp_path, lines, {0: 0.02, 1: 0.1})
     assert got == want
     assert got.count(b"\n") == len(lines) - (4 if odd else 0)   # blank, error and FD lines left out

@@ -115,7 +115,8 @@ def with_odd_lines(lines: list[str]) -> list[str]:
     return out
 
 
-def finished(tmp_path: Path, lines: list[str], periods: Mapping[int, float], newline: str = "\n") -> tuple[bytes, bytes]:
+def finished(tmp_path: Path, lines: list[str], periods: Mapping[int, float],
+             newline: str = "\n") -> tuple[bytes, bytes]:
     """(bus.log as finish_bus_log writes it, as the reference writes it)."""
     (tmp_path / "bus.log").write_bytes((newline.join(lines) + newline).encode("latin-1"))
     out = finish_bus_log(tmp_path, "lockstep", periods, "log", SPEC.baudrate)

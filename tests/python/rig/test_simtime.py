@@ -98,14 +98,15 @@ def lockstep_log(t0: float = 1795701787.25) -> list[str]:
 
 #: every other kind of line candump.read_log reads: extended (one with bits above the 29),
 #: remote, error, FD, other spacing, lower case, blank, another channel (one with a '%'), no
-#: fraction, no data
+#: fraction, no data, the largest 3-digit identifier
 ODD = ["(1795701787.900000) vcan0 12345678#0102", "(1795701787.900001) vcan0 123#R",
        "(1795701787.900002) vcan0 700#R8", "(1795701787.900003) vcan0 20000004#0000000000000000",
        "(1795701787.900004) vcan0 110##1" + "00" * 12, "  (1795701787.9) vcan0   028#0102030405060708  ",
        "", "(1795701787.900005) can1 133#0102", "(1795701787.900006) vcan0 9ABCDEF0#11",
        "(1795701787.900007) vcan0 1FFFFFFF#R", "(1795701787.900008) vcan0 010##0",
        "(1795701787) vcan0 701#", "(1795701787.900009) vcan0 05a#31050700486502ab",
-       "(1795701787.900010) v%can0 050#3105070048650200", "(1795701787.900011) vcan0 12345678#R"]
+       "(1795701787.900010) v%can0 050#3105070048650200", "(1795701787.900011) vcan0 12345678#R",
+       "(1795701787.900012) vcan0 FFF#0102030405060708"]
 
 
 def with_odd_lines(lines: list[str]) -> list[str]:

@@ -19,9 +19,9 @@ import os
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 
-from hil.bus.busload import worst_case_bits
 import numpy as np
 
+from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import load
 from hil.bus.logcolumns import MAX_DATA, LogBlock, read_blocks
@@ -57,8 +57,9 @@ CHUNK_FRAMES = 4096
 _OTHER, _RESET, _TICK, _SENSOR = range(4)
 #: worst-case bits on the wire by [extended, data bytes]
 _BITS = np.array([[worst_case_bits(n, ext) for n in range(MAX_DATA + 1)] for ext in (False, True)])
-#: the application of each sensor frame by identifier (-1: not a sensor frame)
-_SENSOR_OF = np.full(0x800, -1, np.int64)
+#: the application of each sensor frame by identifier (-1: not a sensor frame; a candump
+#: line's 3 digits go up to 0xFFF)
+_SENSOR_OF = np.full(0x1000, -1, np.int64)
 _SENSOR_OF[list(SENSOR_APP)] = list(SENSOR_APP.values())
 
 
@@ -80,14 +81,15 @@ class SimClock:
         period, last_step = self.period, self.last_step
         offset, t_step, bus_free = self.offset, self.t_step, self.bus_free
         out = []
+        reset, tick = _RESET, _TICK
         for k, a, v, c in zip(kind, app, value, cost):
             if k:   # (most frames are none of these: fcc's outputs)
-                if k == 1:   # a reset
+                if k == reset:
                     offset = math.ceil(bus_free / FLIGHT_GRID_S - 1e-9) * FLIGHT_GRID_S
                     t_step, last_step = offset, {}
                     if v > 0:   # a new LQG period (1e-4 s)
                         period[APP_MISSILE] = v * 1e-4
-                elif k == 2:   # a tick
+                elif k == tick:
                     t_step = max(t_step, offset + v * period.get(a, 0.0))
                     last_step[a] = v
                 else:   # a sensor sample: its step from its low 16 bits, next to the app's last tick

@@ -128,10 +128,12 @@ class SimClock:
 
 
 def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: str,
-                   baudrate: int) -> Path:
+                   baudrate: int, blocks: Iterable[LogBlock] | None = None) -> Path:
     """The run's bus log as users read it: lockstep -> bus.<fmt> in simulated time and the
     recorder's wall-clock log renamed bus_wall.log; realtime -> bus.<fmt> in wall-clock time.
-    Returns the path of bus.<fmt> (a log that cannot be read raises: no half-written one)."""
+    `blocks`: the recorder's log already read (read_blocks; a bus.log is retimed from them,
+    else it is read here).  Returns the path of bus.<fmt> (a log that cannot be read raises:
+    no half-written one)."""
     if fmt not in RUN_FORMATS:
         raise ValueError(f"log format must be one of {', '.join(RUN_FORMATS)}, not {fmt!r}")
     raw = run_dir / "bus.log"
@@ -141,7 +143,7 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
         if mode == "lockstep":
             wall = run_dir / WALL_LOG
             os.replace(raw, wall)
-            _write_simulated(wall, tmp, periods, baudrate)
+            _write_simulated(wall, tmp, periods, baudrate, blocks)
         elif fmt != "log":
             write_frames(tmp, read_log(raw), received=sent_by_fcc())
         else:
@@ -154,12 +156,13 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
     return out
 
 
-def _write_simulated(wall: Path, path: Path, periods: Mapping[int, float], baudrate: int) -> None:
+def _write_simulated(wall: Path, path: Path, periods: Mapping[int, float], baudrate: int,
+                     blocks: Iterable[LogBlock] | None) -> None:
     """A lockstep run's log in simulated time, in the format of the path's suffix."""
     if path.suffix == ".log":   # each line as recorded but for its time
         clock = SimClock(periods, baudrate)
         with open(path, "wb") as f:
-            for block in read_blocks(wall):
+            for block in read_blocks(wall) if blocks is None else blocks:
                 f.write(retimed(block, clock.times(block)))
         return
     recorded = read_log(wall)

@@ -10,6 +10,7 @@ from typing import Any
 
 from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
+from hil.bus.logcolumns import read_blocks
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
@@ -73,7 +74,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     out = cfg.out_dir
     drivers = flown.drivers
     spec = load()
-    flights = split_flights(out / "bus.log", flown.auth)
+    log = list(read_blocks(out / "bus.log"))   # read once: the flights, then the finished log
+    flights = split_flights(log, flown.auth)
     if cfg.mode == "realtime":
         count_babbled(read_log(out / "bus.log"), drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
@@ -110,7 +112,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         info["realtime"] = summary["realtime"] = _realtime_timing(out, flown, missiles[0])
     if cfg.mode == "realtime":
         summary["sync"] = sync_summary(flown.status, flown.info.get("time_master"))
-    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate)
+    finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
     if cdrw is not None:
         summary["cdrw"] = _cdrw_block(*cdrw)
     write_json(out / "summary.json", summary)

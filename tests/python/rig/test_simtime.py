@@ -16,6 +16,7 @@ import pytest
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFormatError, LogFrame, format_line, read_log
+from hil.bus.logcolumns import read_blocks
 from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.rig.simtime import FLIGHT_GRID_S, WALL_LOG, WALL_PACED, finish_bus_log, simulated
 
@@ -182,3 +183,13 @@ def test_a_malformed_line_is_refused_as_read_log_refuses_it(tmp_path):
 def test_an_empty_log(tmp_path):
     got, want = finished(tmp_path, [], {0: 0.02})
     assert got == want == b""
+
+
+def test_blocks_already_read_give_the_same_log(tmp_path, monkeypatch):
+    """evaluate_flight's way: the recorder's log read once (read_blocks), retimed from that."""
+    monkeypatch.setattr("hil.bus.logcolumns.BLOCK_BYTES", 700)
+    lines = with_odd_lines(lockstep_log())
+    (tmp_path / "bus.log").write_text("\n".join(lines) + "\n", encoding="latin-1")
+    blocks = list(read_blocks(tmp_path / "bus.log"))
+    out = finish_bus_log(tmp_path, "lockstep", {0: 0.02, 1: 0.1}, "log", SPEC.baudrate, blocks)
+    assert len(blocks) > 10 and out.read_bytes() == reference_log(tmp_path / WALL_LOG, {0: 0.02, 1: 0.1})

@@ -7,7 +7,7 @@ import random
 import pytest
 
 from hil.bus.candump import LogFormatError, read_log
-from hil.bus.logcolumns import FrameColumns, read_columns
+from hil.bus.logcolumns import FrameColumns, read_blocks, read_columns
 
 #: a rig's log: one layout, line after line
 PLAIN = [f"(1795751968.{505391 + i:06d}) vcan0 {0x110 + i % 36:03X}#{(i * 0x0123456789ABCDEF) % (1 << 64):016X}"
@@ -85,3 +85,29 @@ def test_any_one_changed_byte_reads_or_fails_as_read_log(tmp_path):
             assert columns(log) == want, bytes(raw)
             outcomes.add("read")
     assert outcomes == {"read", "refused"}
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_blocks_hold_every_frame_of_read_log(tmp_path, monkeypatch, newline):
+    """read_blocks: every frame read_log gives, in order; a frame of the common layout as
+    columns, its line's text after the timestamp kept, any other as read_log reads it."""
+    monkeypatch.setattr("hil.bus.logcolumns.BLOCK_BYTES", 100)
+    log = tmp_path / "bus.log"
+    write(log, PLAIN[:50] + ODD * 4 + PLAIN[50:], newline, newline)
+    got = []
+    for block in read_blocks(log):
+        for i in range(len(block)):
+            if i in block.odd:
+                assert block.tails[i] == -1
+                got.append(block.odd[i])
+            else:
+                text = block.text[block.tails[i]: block.ends[i]].decode()
+                fid, data = block.frames.frame(i)
+                got.append(("plain", fid, data, text))
+    want = list(read_log(log))
+    assert len(got) == len(want) == 300 + 4 * 11
+    for g, w in zip(got, want):
+        if isinstance(g, tuple):
+            assert g[1:] == (w.frame_id, w.data, f") {w.channel} {w.frame_id:03X}#{w.data.hex().upper()}")
+        else:
+            assert g == w

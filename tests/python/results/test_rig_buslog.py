@@ -10,6 +10,7 @@ import pytest
 
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line, read_log
+from hil.bus.logcolumns import LogBlock
 from hil.bus.secoc import Endpoint
 from hil.results.buslog import BusAuth, authentic_frames, sid_arrays, split_flights
 
@@ -108,7 +109,7 @@ def test_the_gate_takes_what_the_live_link_takes(tmp_path, monkeypatch, attack):
     write_log(tmp_path / "bus.log", secured_flights(attack))
     auth = BusAuth(KEY, TRIP)
     flights = split_flights(tmp_path / "bus.log", auth)
-    one_by_one = split_flights(list(authentic_frames(read_log(tmp_path / "bus.log"), auth)))
+    one_by_one = split_flights([LogBlock.of(list(authentic_frames(read_log(tmp_path / "bus.log"), auth)))])
     assert len(flights) == len(one_by_one) == 2
     for fl, ref in zip(flights, one_by_one):
         steps, frames = fl.outputs(0)

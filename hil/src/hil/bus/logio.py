@@ -4,7 +4,7 @@ python-can import), and every format python-can's LogReader / Logger know (.asc,
 
     read_frames(path)            -> iterator of candump.LogFrame, any format
     write_frames(path, frames)   the format the suffix names
-    write_candump(path, timed)   candump -L of (timestamp, frame) pairs
+    retimed(block, times)        a block of a candump -L log at new times (lines copied)
     run_log(run_dir)             the bus log of a run directory, whichever format it has
 """
 from __future__ import annotations
@@ -13,12 +13,15 @@ import functools
 import itertools
 import math
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from datetime import datetime
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from hil.bus.candump import LogFrame, format_line, read_log
+from hil.bus.logcolumns import LogBlock
 
 #: hil run --log-format choices (file bus.<fmt> in the run directory)
 RUN_FORMATS = ("log", "asc", "blf")
@@ -66,22 +69,44 @@ def write_frames(path: str | Path, frames: Iterable[LogFrame], *, start: float |
     None: every frame Rx (a listener's log)."""
     path = Path(path)
     if path.suffix.lower() in CANDUMP_SUFFIXES:
-        return write_candump(path, ((fr.timestamp, fr) for fr in frames))
+        return write_candump(path, frames)
     return _write_vector(path, frames, start, received)
 
 
-def write_candump(path: str | Path, timed: Iterable[tuple[float, LogFrame]]) -> int:
-    """Write (timestamp, frame) pairs as a candump -L log, each frame at the timestamp given
-    with it (a retimed log needs no new frame objects); error and FD frames are left out.
-    Returns the count written."""
+def write_candump(path: str | Path, frames: Iterable[LogFrame]) -> int:
+    """Write frames as a candump -L log; error and FD frames are left out. Returns the count
+    written."""
     n = 0
     with open(path, "w", encoding="ascii") as f:
-        for t, fr in timed:
+        for fr in frames:
             if fr.error or fr.fd:
                 continue
-            f.write(_candump_line(t, fr) + "\n")
+            f.write(_candump_line(fr.timestamp, fr) + "\n")
             n += 1
     return n
+
+
+def retimed(block: LogBlock, times: Sequence[float]) -> bytes:
+    """A block of a candump -L log again, each frame at its new time, as write_candump writes
+    it: a line of the block's common layout is copied but for its timestamp (format_line
+    writes it so), any other frame is written from its fields.  A time is written to the
+    microsecond ("%.6f": the same digits as of the time rounded to the microsecond)."""
+    text, n = block.text, len(block)
+    ends, tails = block.ends, block.tails
+    if n and not block.odd and len(text) == n * (int(ends[0]) + 1) and b"%" not in text:
+        # every line one width (the rig's logs): one format for the whole block
+        rows = np.frombuffer(text, np.uint8).reshape(n, -1)[:, int(tails[0]):]
+        fmt = np.empty((n, 5 + rows.shape[1]), np.uint8)
+        fmt[:, :5] = np.frombuffer(b"(%.6f", np.uint8)
+        fmt[:, 5:] = rows
+        return fmt.tobytes() % tuple(times)
+    out = []
+    for i, t in enumerate(times):
+        if tails[i] >= 0:
+            out.append(b"(%.6f%s" % (t, text[tails[i]: ends[i] + 1]))
+        elif not (block.odd[i].error or block.odd[i].fd):
+            out.append(b"%s\n" % _candump_line(t, block.odd[i]).encode("ascii"))
+    return b"".join(out)
 
 
 def _candump_line(t: float, fr: LogFrame) -> str:

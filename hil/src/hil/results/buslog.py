@@ -25,7 +25,7 @@ import numpy as np
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
-from hil.bus.logcolumns import FrameColumns, read_columns
+from hil.bus.logcolumns import FrameColumns, LogBlock, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Endpoint, Receiver
@@ -176,9 +176,10 @@ def app_of(frame_id: int) -> int | None:
     return _OUTPUT_APP.get(frame_id)
 
 
-def split_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> list[FlightFrames]:
+def split_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> list[FlightFrames]:
     """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
-    path or its frames already read; auth: only frames that verify under it count."""
+    path or its blocks already read (hil.bus.logcolumns.read_blocks); auth: only frames that
+    verify under it count."""
     return list(iter_flights(log, auth))
 
 
@@ -193,10 +194,9 @@ def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogF
             yield LogFrame(f.timestamp, f.channel, fid, data)
 
 
-def _authentic(log: Path | Iterable[LogFrame], gate: _Gate | None) -> Iterator[FrameColumns]:
+def _authentic(log: Path | Iterable[LogBlock], gate: _Gate | None) -> Iterator[FrameColumns]:
     """The classic data frames of a log (its path: a block at a time) that pass the gate."""
-    blocks = read_columns(log) if isinstance(log, Path) else iter(
-        [FrameColumns.of((f.frame_id, f.data) for f in log if f.classic_data)])
+    blocks = read_columns(log) if isinstance(log, Path) else (b.classic() for b in log)
     for cols in blocks:
         yield cols if gate is None else gate.columns(cols)
 
@@ -273,7 +273,7 @@ class _Flights:
         return first + np.concatenate(([0], np.cumsum(np.diff(low) & 0xFFFF)))
 
 
-def iter_flights(log: Path | Iterable[LogFrame], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
+def iter_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
     """The flights of a bus log one by one (a campaign's log holds 100 of them); auth: only
     authenticated, E2E-valid commands and ticks count (without it, every frame does)."""
     flights = _Flights()

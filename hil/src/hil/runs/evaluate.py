@@ -10,6 +10,7 @@ from typing import Any
 
 from hil.bus import load
 from hil.bus.candump import LogFrame, read_log
+from hil.bus.logcolumns import read_blocks
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
@@ -73,10 +74,10 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     out = cfg.out_dir
     drivers = flown.drivers
     spec = load()
-    log = list(read_log(out / "bus.log"))   # read once: the flights, then the finished log
+    log = list(read_blocks(out / "bus.log"))   # read once: the flights, then the finished log
     flights = split_flights(log, flown.auth)
     if cfg.mode == "realtime":
-        count_babbled(log, drivers)
+        count_babbled(read_log(out / "bus.log"), drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []

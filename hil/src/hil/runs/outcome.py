@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
-from hil.bus.candump import LogFrame
 from hil.io.output import write_csv
 from hil.io.rundir import atomic_write_text
 from hil.results.flight import MissileResult
@@ -65,11 +64,10 @@ def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
     return periods
 
 
-def finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None,
-            log: Sequence[LogFrame] | None = None) -> Outcome:
-    """The bus log finished (`log`: its frames when already read) and the report."""
+def finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None) -> Outcome:
+    """The bus log finished and the report."""
     if periods is not None:   # None: no bus log in `out` (flights on several rigs, hil.parallel)
-        finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate, log)
+        finish_bus_log(out, cfg.mode, periods, cfg.log_format, load().baudrate)
     return report_outcome(cfg, out, summary)
 
 

@@ -8,8 +8,9 @@ step, so ``--out`` holds either the previous complete results or the new complet
 a mixture.  Each file inside is itself written atomically (temporary file, rename), so even a
 copy made while a run writes never sees half a CSV.  What a run wrote is on the disk before it
 is published: one syncfs(2) of the staging directory's filesystem then, rather than an fsync
-of every file and of its directory as it is written (11 of them in a `hil run cdrw`, 2-12 ms
-each in the UML guest); a file written anywhere else is fsynced at once.
+of every file and of its directory as it is written (11 of them in a `hil run cdrw`: 2-4 ms in
+all on a quiet disk, ~60 ms beside other writers, in the UML guest); a file written anywhere
+else is fsynced at once.
 
 What ``--out`` may already be:
   * missing or empty: the staging directory is renamed onto it;

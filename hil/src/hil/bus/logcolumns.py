@@ -80,6 +80,15 @@ class FrameColumns:
                             np.concatenate([p.length for p in parts]))
 
 
+def le_uint(data: np.ndarray, first: int, n: int) -> np.ndarray:
+    """Bytes first..first+n-1 of each frame's data (rows of FrameColumns.data) as one
+    little-endian whole number (int64)."""
+    out = np.zeros(len(data), np.int64)
+    for i in range(n):
+        out |= data[:, first + i].astype(np.int64) << (8 * i)
+    return out
+
+
 @dataclass(frozen=True)
 class LogBlock:
     """A block of a candump -L log: every frame in log order (blank lines left out), as

@@ -25,7 +25,7 @@ import numpy as np
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
-from hil.bus.logcolumns import FrameColumns, LogBlock, read_columns
+from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Endpoint, Receiver
@@ -201,14 +201,6 @@ def _authentic(log: Path | Iterable[LogBlock], gate: _Gate | None) -> Iterator[F
         yield cols if gate is None else gate.columns(cols)
 
 
-def _le(data: np.ndarray, first: int, n: int) -> np.ndarray:
-    """Bytes first..first+n-1 of each frame as a little-endian whole number."""
-    out = np.zeros(len(data), np.int64)
-    for i in range(n):
-        out |= data[:, first + i].astype(np.int64) << (8 * i)
-    return out
-
-
 class _Flights:
     """Flights cut from the frames fcc acted on, a block at a time (iter_flights)."""
 
@@ -246,13 +238,13 @@ class _Flights:
         tick_app = np.where((fid == SIM_TICK_ID) & full, (data[:, 1] >> 4) & 0x3, -1)
         for app in (0, 1):
             ticks = np.flatnonzero(tick_app == app)
-            events, values = ticks, _le(data[ticks], 2, 4)
+            events, values = ticks, le_uint(data[ticks], 2, 4)
             if app not in self.ticked:
                 samples = np.flatnonzero(full & (_SENSOR_OF[fid] == app))
                 samples = samples[samples < ticks[0]] if len(ticks) else samples
                 if len(samples):
                     events = np.concatenate((samples, events))
-                    values = np.concatenate((self._unwrap(app, _le(data[samples], 2, 2)), values))
+                    values = np.concatenate((self._unwrap(app, le_uint(data[samples], 2, 2)), values))
             outs = np.flatnonzero(out_app == app)
             # the step of each output: the newest event's before it, or the one carried in
             chain = np.concatenate(([self.tick.get(app, -1)], values))

@@ -24,7 +24,7 @@ import numpy as np
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import load
-from hil.bus.logcolumns import MAX_DATA, LogBlock, read_blocks
+from hil.bus.logcolumns import MAX_DATA, LogBlock, le_uint, read_blocks
 from hil.bus.logio import RUN_FORMATS, retimed, write_frames
 from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
@@ -117,8 +117,7 @@ class SimClock:
                           plain & (fid == SIM_TICK_ID), plain & (sensor_app >= 0)],
                          [_RESET, _TICK, _SENSOR], _OTHER)
         app = np.where(kind == _TICK, (data[:, 1] >> 4) & 0x3, sensor_app)
-        low = data[:, 2] | data[:, 3] << 8
-        value = np.where(kind == _TICK, low | data[:, 4] << 16 | data[:, 5] << 24, low)
+        value = np.where(kind == _TICK, le_uint(data, 2, 4), le_uint(data, 2, 2))
         bits = np.where(silent, 0, _BITS[extended.astype(int), np.where(remote | silent, 0, cols.length)])
         paced = plain & (fid >= WALL_PACED[0]) & (fid <= WALL_PACED[1])
         cost: list[float | None] = (bits / self.baudrate).tolist()

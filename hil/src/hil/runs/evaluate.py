@@ -8,9 +8,10 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from hil.bus import load
-from hil.bus.candump import LogFrame, read_log
-from hil.bus.logcolumns import read_blocks
+from hil.bus.logcolumns import LogBlock, read_blocks
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
@@ -33,17 +34,15 @@ from hil.scenario.faults import Flood
 from hil.scenario.file import Scenario, is_paper_scenario
 from hil.sim.drivers import AppDriver, CdrwDriver, MissileDriver
 
-def count_babbled(log: Iterable[LogFrame], drivers: Sequence[AppDriver]) -> None:
+def count_babbled(log: Iterable[LogBlock], drivers: Sequence[AppDriver]) -> None:
     """Realtime floods come from cangen, on its own: its frames are counted in the bus log
     (frames_injected "flood" and "sent", as lockstep counts the frames it sends itself)."""
 
     ids = {f.can_id for d in drivers for f in d.injector.faults if isinstance(f, Flood)}
     if not ids:
         return
-    seen = dict.fromkeys(ids, 0)
-    for fr in log:
-        if fr.frame_id in seen:
-            seen[fr.frame_id] += 1
+    frame_ids = np.concatenate([b.frames.frame_id for b in log] or [np.zeros(0, np.int64)])
+    seen = {i: int(np.count_nonzero(frame_ids == i)) for i in ids}
     for d in drivers:
         mine = {f.can_id for f in d.injector.faults if isinstance(f, Flood)}
         n = sum(seen.pop(i, 0) for i in mine)
@@ -77,7 +76,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     log = list(read_blocks(out / "bus.log"))   # read once: the flights, then the finished log
     flights = split_flights(log, flown.auth)
     if cfg.mode == "realtime":
-        count_babbled(read_log(out / "bus.log"), drivers)
+        count_babbled(log, drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []

@@ -84,3 +84,30 @@ def test_a_signal_stops_the_guest_and_everything_in_it(sig):
     finally:
         if p.poll() is None:
             p.kill()
+
+
+def boot_log() -> str:
+    out = subprocess.run([str(WITH_VCAN), "--uml", "dmesg"], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return out.stdout
+
+
+def test_the_boot_skips_the_measurements_the_guest_does_not_need():
+    """The RAID-6 benchmark is never run; the delay loop is calibrated once per CPU model (lpj
+    kept in the kernel's directory), and a kept value that is not a number is not used."""
+    kept = UML / "lpj"
+    before = kept.read_bytes() if kept.exists() else None
+    try:
+        kept.write_text("not-a-number whatever CPU\n")
+        first = boot_log()
+        assert "initcall raid6_init blacklisted" in first and "raid6: using" not in first
+        assert "Calibrating delay loop... " in first and "preset value" not in first
+        lpj = kept.read_text().split()[0]
+        assert lpj.isdigit() and f"lpj={lpj})" in first
+        second = boot_log()
+        assert "Calibrating delay loop (skipped) preset value.. " in second and f"lpj={lpj})" in second
+    finally:
+        if before is None:
+            kept.unlink(missing_ok=True)
+        else:
+            kept.write_bytes(before)

@@ -27,7 +27,6 @@ the old entry or the new one.
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import math
 import os
@@ -36,6 +35,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from cryptography.hazmat.primitives import hashes
 
 from hil.io.paths import user_cache
 from hil.io.rundir import unique_tag
@@ -82,12 +82,20 @@ def _usable_dir(d: Path) -> bool:
     return stat.S_ISDIR(st.st_mode) and st.st_uid == os.getuid() and not st.st_mode & 0o077
 
 
+def _sha256_hex(data: bytes) -> str:
+    h = hashes.Hash(hashes.SHA256())
+    h.update(data)
+    return h.finalize().hex()
+
+
 @functools.lru_cache(maxsize=1)
-def _code_hash() -> hashlib._Hash:
+def _code_hash() -> hashes.Hash:
     """The digest's state after the source of the modules that compute the flight: read once
     per process, as the code that runs is the code imported (a campaign's flights would read
-    and hash ten files each, system calls that cost in the rig's guest)."""
-    h = hashlib.sha256()
+    and hash ten files each, system calls that cost in the rig's guest).  SHA-256 from
+    cryptography, which the bus's authentication has loaded already (hashlib would load the
+    system's OpenSSL besides it: 13 ms in the guest)."""
+    h = hashes.Hash(hashes.SHA256())
     for mod in _CODE:
         h.update(Path(mod.__file__ or "").read_bytes())
     return h
@@ -98,7 +106,7 @@ def entry_key(scenario: Scenario) -> str:
     unreadable)."""
     h = _code_hash().copy()
     h.update(f"{np.__version__}\0{sys.version}\0{fault_free(scenario)!r}".encode())
-    return h.hexdigest()
+    return h.finalize().hex()
 
 
 def _encode(key: str, samples: list[CdrwSample]) -> bytes | None:
@@ -113,12 +121,12 @@ def _encode(key: str, samples: list[CdrwSample]) -> bytes | None:
     events = [[s.k, e.t, e.action, e.index] for s in samples for e in s.events]
     head = json.dumps({"key": key, "n": len(samples), "readings": names, "events": events})
     body = head.encode() + b"\n" + np.array(rows, dtype="<f8").tobytes()
-    return hashlib.sha256(body).hexdigest().encode() + b"\n" + body
+    return _sha256_hex(body).encode() + b"\n" + body
 
 
 def _decode(data: bytes, key: str, scenario: Scenario, n: int) -> list[CdrwSample]:
     digest, _, body = data.partition(b"\n")
-    if digest != hashlib.sha256(body).hexdigest().encode():
+    if digest != _sha256_hex(body).encode():
         raise ValueError("digest")
     head_line, _, block = body.partition(b"\n")
     head = json.loads(head_line)

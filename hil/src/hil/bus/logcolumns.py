@@ -16,7 +16,7 @@ with read_log's message and line number.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -78,6 +78,14 @@ class FrameColumns:
         return FrameColumns(np.concatenate([p.frame_id for p in parts]),
                             np.concatenate([p.data for p in parts]),
                             np.concatenate([p.length for p in parts]))
+
+
+def per_identifier(values: Mapping[int, int]) -> np.ndarray:
+    """A value per standard identifier (-1: none; a candump line's 3 digits go up to 0xFFF),
+    to look a column of identifiers up in at once."""
+    table = np.full(0x1000, -1, np.int64)
+    table[list(values)] = list(values.values())
+    return table
 
 
 def le_uint(data: np.ndarray, first: int, n: int) -> np.ndarray:

@@ -25,7 +25,7 @@ import numpy as np
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver
-from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, read_columns
+from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, per_identifier, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Endpoint, Receiver
@@ -35,16 +35,9 @@ from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 _OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
 
 
-def _by_id(apps: dict[int, int]) -> np.ndarray:
-    """An application per standard identifier (-1: none), for a column of identifiers."""
-    table = np.full(0x1000, -1, np.int64)
-    table[list(apps)] = list(apps.values())
-    return table
-
-
 #: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:
 #: their bytes 2-3 are the low 16 bits of the step), by identifier
-_OUTPUT_OF, _SENSOR_OF = _by_id(_OUTPUT_APP), _by_id(SENSOR_APP)
+_OUTPUT_OF, _SENSOR_OF = per_identifier(_OUTPUT_APP), per_identifier(SENSOR_APP)
 
 
 @dataclass

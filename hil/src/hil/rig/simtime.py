@@ -24,7 +24,7 @@ import numpy as np
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import load
-from hil.bus.logcolumns import MAX_DATA, LogBlock, le_uint, read_blocks
+from hil.bus.logcolumns import MAX_DATA, LogBlock, le_uint, per_identifier, read_blocks
 from hil.bus.logio import RUN_FORMATS, retimed, write_frames
 from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 
@@ -57,10 +57,8 @@ CHUNK_FRAMES = 4096
 _OTHER, _RESET, _TICK, _SENSOR = range(4)
 #: worst-case bits on the wire by [extended, data bytes]
 _BITS = np.array([[worst_case_bits(n, ext) for n in range(MAX_DATA + 1)] for ext in (False, True)])
-#: the application of each sensor frame by identifier (-1: not a sensor frame; a candump
-#: line's 3 digits go up to 0xFFF)
-_SENSOR_OF = np.full(0x1000, -1, np.int64)
-_SENSOR_OF[list(SENSOR_APP)] = list(SENSOR_APP.values())
+#: the application of each sensor frame by identifier (-1: not a sensor frame)
+_SENSOR_OF = per_identifier(SENSOR_APP)
 
 
 class SimClock:

@@ -135,16 +135,16 @@ def finish_bus_log(run_dir: Path, mode: str, periods: Mapping[int, float], fmt: 
         raise ValueError(f"log format must be one of {', '.join(RUN_FORMATS)}, not {fmt!r}")
     raw = run_dir / "bus.log"
     out = run_dir / f"bus.{fmt}"
+    if mode != "lockstep" and fmt == "log":   # the recorder's log is the run's as it is
+        return out
     tmp = out.with_name(f".{out.name}.tmp{out.suffix}")
     try:
         if mode == "lockstep":
             wall = run_dir / WALL_LOG
             os.replace(raw, wall)
             _write_simulated(wall, tmp, periods, baudrate, blocks)
-        elif fmt != "log":
-            write_frames(tmp, read_log(raw), received=sent_by_fcc())
         else:
-            return out
+            write_frames(tmp, read_log(raw), received=sent_by_fcc())
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)

@@ -103,3 +103,13 @@ def test_in_the_guest_a_missing_or_down_interface(tmp_path: Path, argv: list[str
             assert not (tmp_path / iface).exists()
     finally:
         subprocess.run(["ip", "link", "del", "dev", down], check=True)
+
+
+def test_an_installed_package_names_its_own_launcher(monkeypatch: pytest.MonkeyPatch) -> None:
+    # without the clone (an installed package), scripts/with-vcan does not exist: hil-vcan does
+    import hil.bus.canif as canif
+    monkeypatch.setattr(canif, "source_tree", lambda: None)
+    line = open_error("vcan0", OSError(errno.EAFNOSUPPORT, os.strerror(errno.EAFNOSUPPORT)))
+    assert "hil-vcan CMD" in line and "scripts/with-vcan" not in line
+    line = open_error("vcan0", OSError(errno.ENODEV, os.strerror(errno.ENODEV)))
+    assert "hil-vcan CMD" in line and "scripts/with-vcan" not in line

@@ -11,8 +11,20 @@ import errno
 import os
 from pathlib import Path
 
-WITH_VCAN = "run it inside scripts/with-vcan (scripts/with-vcan CMD...: a kernel with vcan0)"
+from hil.io.paths import source_tree
+
 IFF_UP = 0x1
+
+
+def vcan_launcher() -> str:
+    """What runs a command where vcan0 exists, as this installation has it: the clone's
+    scripts/with-vcan, or the installed package's hil-vcan."""
+    return "scripts/with-vcan" if source_tree() is not None else "hil-vcan"
+
+
+def with_vcan_hint() -> str:
+    launcher = vcan_launcher()
+    return f"run it inside {launcher} ({launcher} CMD...: a kernel with vcan0)"
 
 
 def _errno(e: BaseException) -> int | None:
@@ -31,10 +43,10 @@ def open_error(channel: str, e: BaseException) -> str:
     create = (f"sudo modprobe vcan && sudo ip link add dev {channel} type vcan "
               f"&& sudo ip link set {channel} up")
     if code == errno.EAFNOSUPPORT:
-        why = f"the kernel has no CAN (AF_CAN not supported); {WITH_VCAN}, or load it: {create}"
+        why = f"the kernel has no CAN (AF_CAN not supported); {with_vcan_hint()}, or load it: {create}"
     elif code == errno.ENODEV:
         why = (f"there is no interface {channel!r}; create it: {create} "
-               "(scripts/with-vcan CMD... runs CMD where vcan0 exists)")
+               f"({vcan_launcher()} CMD... runs CMD where vcan0 exists)")
     elif code == errno.ENETDOWN:
         why = f"the interface is down; bring it up: sudo ip link set {channel} up"
     else:

@@ -85,9 +85,9 @@ def test_the_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert (rc, err) == (0, "")
     lines = out.splitlines()
     assert "at 500000 bit/s (the DBC's Baudrate)" in lines[0]
-    assert lines[1].split()[:3] == ["id", "name", "sender"]
+    assert lines[2].split()[:3] == ["id", "name", "sender"]
     tick = next(ln for ln in lines if " SIM_TICK " in ln).split()
-    assert tick[0] == "0x20" and tick[2] == "SIM" and tick[3] == "20" and tick[-1] == "met"
+    assert tick[0] == "0x020" and tick[2] == "SIM" and tick[3] == "20" and tick[-1] == "met"
     assert lines[-1].startswith("bus utilisation 0.")
 
 

@@ -90,13 +90,14 @@ def _verdict(r: Response) -> str:
 def _table(path: Path, bitrate: int, source: str, jitter: float, u: float,
            responses: list[Response]) -> str:
     lines = [f"{len(responses)} cyclic frames of {path.name} at {bitrate} bit/s ({source}), "
-             f"queuing jitter {jitter:g} s; every node priority-queued (Davis et al. 2007), "
-             f"C the worst-case frame time",
+             f"queuing jitter {jitter:g} s",
+             "C: the worst-case frame time; WCRT: Davis et al. 2007, every node priority-queued",
              f"{'id':>6}  {'name':<20} {'sender':<18} {'period ms':>9} {'C us':>7} {'WCRT ms':>9}  deadline"]
     for r in responses:
         f = r.frame
         wcrt = "unbounded" if r.wcrt_s is None else f"{float(r.wcrt_s) * 1e3:.3f}"
-        lines.append(f"{f.frame_id:#6x}  {f.name:<20} {f.sender:<18} {float(f.period_s) * 1e3:9g} "
+        ident = f"0x{f.frame_id:08x}" if f.extended else f"0x{f.frame_id:03x}"
+        lines.append(f"{ident:>6}  {f.name:<20} {f.sender:<18} {float(f.period_s) * 1e3:9g} "
                      f"{float(r.c_s) * 1e6:7.1f} {wcrt:>9}  {_verdict(r)}")
     met = sum(r.deadline_met for r in responses)
     lines.append(f"bus utilisation {u:.3f} (sum of C/T); {met} of {len(responses)} frames meet "

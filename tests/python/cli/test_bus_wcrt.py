@@ -20,7 +20,8 @@ FRAME_KEYS = {"id": int, "name": str, "period_s": float, "c_s": float, "deadline
 @pytest.fixture(autouse=True)
 def _packaged_dbc(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     """--dbc holds for the process (hil.bus.dbc.set_default): each test starts without one."""
-    monkeypatch.delenv(dbc.DBC_ENV, raising=False)
+    monkeypatch.setenv(dbc.DBC_ENV, "")  # recorded, so restored after the test as it was
+    monkeypatch.delenv(dbc.DBC_ENV)
     dbc.set_default(None)
     yield
     dbc.set_default(None)
@@ -140,3 +141,10 @@ def test_a_scenario_sets_its_aircrafts_periods(capsys: pytest.CaptureFixture[str
     (tmp_path / "bad.toml").write_text('aircraft = "missile"\n[lqg]\nperiod = 9\n')
     rc, out, err = run(capsys, "--scenario", str(tmp_path / "bad.toml"))
     assert (rc, out) == (EXIT_USAGE, "") and "period" in one_line(err)
+
+
+@pytest.mark.parametrize(("argv", "words"), [([], "required: COMMAND"), (["nope"], "invalid choice: 'nope'")])
+def test_hil_bus_needs_a_command(capsys: pytest.CaptureFixture[str], argv: list[str], words: str) -> None:
+    rc = main(["bus", *argv])
+    out, err = capsys.readouterr()
+    assert (rc, out) == (EXIT_USAGE, "") and words in one_line(err)

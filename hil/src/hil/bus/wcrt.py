@@ -25,7 +25,7 @@ must not round into one more interfering instance.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from fractions import Fraction
 
@@ -114,12 +114,12 @@ def with_jitter(frames: Sequence[Frame], jitter_s: Fraction) -> list[Frame]:
     return [replace(f, jitter_s=jitter_s) for f in frames]
 
 
-def _fixed_point(start: Fraction, step: object) -> Fraction:
+def _fixed_point(start: Fraction, step: Callable[[Fraction], Fraction]) -> Fraction:
     """Iterate x = step(x) from start until it stops changing (it is monotone and bounded
     when the utilisation is below 1)."""
     x = start
     while True:
-        nxt = step(x)  # type: ignore[operator]
+        nxt = step(x)
         if nxt == x:
             return x
         x = nxt
@@ -139,8 +139,12 @@ def _response(m: Frame, hp: Sequence[Frame], blocking: Fraction, c: Mapping[str,
     instances = math.ceil((busy + m.jitter_s) / m.period_s)
     worst = Fraction(0)
     for q in range(instances):
-        w = _fixed_point(blocking + q * cm,
-                         lambda w, q=q: blocking + q * cm + _interference(w, hp, c, tau_bit))
+        before = blocking + q * cm  # the blocking and the q earlier instances of m
+
+        def delay(w: Fraction, before: Fraction = before) -> Fraction:
+            return before + _interference(w, hp, c, tau_bit)
+
+        w = _fixed_point(before, delay)
         worst = max(worst, m.jitter_s + w - q * m.period_s + cm)
     return worst
 

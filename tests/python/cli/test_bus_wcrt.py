@@ -148,3 +148,12 @@ def test_hil_bus_needs_a_command(capsys: pytest.CaptureFixture[str], argv: list[
     rc = main(["bus", *argv])
     out, err = capsys.readouterr()
     assert (rc, out) == (EXIT_USAGE, "") and words in one_line(err)
+
+
+def test_a_cdrw_scenario_sets_its_frames_at_its_step(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    scenario = tmp_path / "cdrw.toml"
+    scenario.write_text('aircraft = "cdrw"\n[plant]\ndt = 0.01\n')
+    rc, doc, _ = as_json(capsys, "--scenario", str(scenario))
+    periods = {f["name"]: f["period_s"] for f in doc["frames"]}
+    assert periods["CDRW_AOA"] == periods["SID_KF_STATE"] == periods["FCC_ACK"] == 0.01
+    assert periods["MSL_RATE_GYRO"] == 0.05 and periods["TSYNC_SYNC"] == 0.1

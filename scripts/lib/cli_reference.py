@@ -127,13 +127,15 @@ def _arguments_table(parser: argparse.ArgumentParser) -> list[str]:
     return ["| argument | meaning | default |", "|---|---|---|", *rows]
 
 
-def _subcommands(parser: argparse.ArgumentParser) -> list[tuple[str, str, argparse.ArgumentParser]]:
+def _subcommands(parser: argparse.ArgumentParser, prefix: str = "") -> list[tuple[str, str, argparse.ArgumentParser]]:
+    """(name, help, parser) of every subcommand, a group's (`hil bus wcrt`) after the group."""
     out = []
     for a in parser._actions:
         if isinstance(a, argparse._SubParsersAction):
             helps = {c.dest: c.help or "" for c in a._choices_actions}
             for name, sub in a.choices.items():
-                out.append((name, helps.get(name, ""), sub))
+                out.append((prefix + name, helps.get(name, ""), sub))
+                out += _subcommands(sub, f"{prefix}{name} ")
     return out
 
 

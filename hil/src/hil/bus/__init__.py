@@ -5,6 +5,7 @@
 * hil.bus.codec  -- FrameCodec: encode/decode with E2E and range checks, counters
 * hil.bus.node   -- BusNode: a FrameCodec on a python-can bus with one Notifier
 * hil.bus.busload -- frame lengths (exact bit stuffing) and bus load
+* hil.bus.wcrt   -- worst-case response times of the cyclic frames (Davis et al. 2007)
 * hil.bus.candump -- candump -L log reading/writing
 * hil.bus.diag   -- scripts/diag: per-message rate, jitter, E2E classes, bus load
 * hil.bus.secoc  -- SecOC: AES-128-CMAC authenticators, freshness, the bus key

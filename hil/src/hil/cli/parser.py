@@ -102,10 +102,12 @@ DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
 
 
 def bitrate(text: str) -> int:
+    """Bits per second: 500000, or with a k or M suffix (500k, 1M)."""
+    scale = {"k": 1_000, "M": 1_000_000}.get(text[-1:], 1)
     try:
-        v = int(text)
+        v = int(text[:-1] if scale > 1 else text) * scale
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected bits per second, e.g. 500000, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected bits per second, e.g. 500000 or 500k, got {text!r}") from None
     if not 10_000 <= v <= 1_000_000:
         raise argparse.ArgumentTypeError(f"expected 10000 to 1000000 bit/s, got {v}")
     return v
@@ -158,6 +160,37 @@ def add_parallel(p: argparse.ArgumentParser) -> None:
                         "fcc and recorder; Dask)")
     g.add_argument("--scheduler", metavar="ADDRESS",
                    help="fly on a running Dask cluster, e.g. tcp://host:8786 (README: Clusters)")
+
+
+def nonnegative(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
+    return v
+
+
+def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
+    """`hil bus COMMAND`: the bus's own tools, one module each in hil.cli.bus."""
+    b = sub.add_parser("bus", help="the bus's timing from the DBC: `hil bus wcrt`")
+    bsub = b.add_subparsers(dest="bus_command", required=True, parser_class=Parser, metavar="COMMAND")
+    w = bsub.add_parser("wcrt", help="every cyclic frame's worst-case response time (Davis et al. "
+                        "2007, priority-queued nodes) and the bus utilisation, from the DBC",
+                        epilog="exit status: 0 every frame meets its deadline; 1 a frame misses it "
+                        "or has no bound; 2 bad command line, DBC or scenario")
+    w.add_argument("--bitrate", type=bitrate, metavar="BIT/S",
+                   help="the bus's bit rate, e.g. 125k, 250k, 500k, 1M or 500000 (default: the "
+                        "DBC's Baudrate, else 500000)")
+    w.add_argument("--scenario", type=Path, metavar="FILE",
+                   help="take the periods of a scenario's aircraft from it: the missile's frames "
+                        "at its [lqg] period, the CDRW's at its [plant] dt")
+    w.add_argument("--jitter", type=nonnegative, default=0.0, metavar="S",
+                   help="queuing jitter of every frame, in s (default 0)")
+    w.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    w.add_argument("--dbc", type=Path, metavar="PATH",
+                   help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
 
 def build() -> argparse.ArgumentParser:
@@ -244,6 +277,8 @@ def build() -> argparse.ArgumentParser:
                     help="redraw in place even when stdout is not a terminal (e.g. inside scripts/with-vcan)")
     lv.add_argument("--dbc", type=Path, metavar="PATH",
                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+
+    add_bus(sub)
 
     fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")
     fl.add_argument("kinds", nargs="*", metavar="KIND", help="only these kinds")

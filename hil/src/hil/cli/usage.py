@@ -25,7 +25,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
     (EXIT_FAILED, "the run failed: interface missing or down, fcc failed to start (or refused its "
                   "options), another fcc already on the bus or a second fcc heard during the run, "
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "
-                  "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference"),
+                  "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference; "
+                  "`hil bus wcrt`: a frame misses its deadline or has no bounded response time"),
     (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
                  "the simulator does not send for that aircraft), a flight too long for the memory "
                  "available, a foreign `--out`, a user's file `--force` would overwrite, a file "

@@ -142,6 +142,7 @@ BAD = [
     ('aircraft = "missile"\n[plant]\ngust0 = true',
      "[plant]: field 'gust0': expected a number or a string, got boolean True"),
     ('aircraft = "cdrw"\n[plant]\ndt = 0.02\n[plant]\ndt = 0.01', "not valid TOML"),
+    ('aircraft = "cdrw"\nfaults = ' + "[" * 100_000, "not valid TOML: nested too deeply"),
 ]
 
 

@@ -165,6 +165,28 @@ def test_a_case_lqg_is_checked_as_a_scenario_lqg_and_as_fcc_takes_it(tmp_path, l
     assert str(e.value).startswith(f"{p}: case[0] c1: ") and why in str(e.value)
 
 
+@pytest.mark.parametrize("aircraft, why", [
+    ("[]", "field 'aircraft': name cdrw and/or missile, once each"),
+    ('["cdrw", "cdrw"]', "field 'aircraft': name cdrw and/or missile, once each"),
+    ('["plane"]', "field 'aircraft'[0]: must be one of cdrw, missile, got 'plane'"),
+    ('"cdrw"', "field 'aircraft': expected an array, got string 'cdrw'"),
+])
+def test_a_case_names_each_aircraft_it_flies_once(tmp_path, aircraft, why):
+    p = write_suite(tmp_path, '"overruns == 0"')
+    p.write_text(p.read_text().replace('aircraft = ["cdrw"]', f"aircraft = {aircraft}"))
+    with pytest.raises(suite.SuiteError) as e:
+        suite.load(p)
+    assert str(e.value).startswith(f"{p}: case[0] c1: ") and why in str(e.value)
+
+
+@pytest.mark.parametrize("case_id", ["../../escape", "", ".hidden", "a/b", "x" * 65])
+def test_a_case_id_names_a_directory_inside_the_report_only(tmp_path, case_id):
+    p = write_suite(tmp_path)
+    p.write_text(p.read_text().replace('id = "c1"', f"id = {json.dumps(case_id)}"))
+    with pytest.raises(suite.SuiteError, match=r"field 'id': letters, digits and \. _ -"):
+        suite.load(p)
+
+
 def test_a_case_flies_its_faults_on_the_aircraft_they_belong_to(tmp_path):
     p = write_suite(tmp_path, '"missile.unanswered_steps == 0"',
                     'aircraft = ["cdrw", "missile"]\nduration = 3.0\ndefault_faults = false\n'
@@ -187,8 +209,10 @@ def test_the_top_of_a_suite_is_checked_too(tmp_path):
     for bad, why in [("[suite]", "unknown field 'suites' (allowed: suite, requirement, case)"),
                      ('name = "t"', "[suite]: missing field 'name'"),
                      ('source = "firmware/app/README.md"', "requirement[0]: missing field 'source'"),
-                     ("[[case]]", "key 'case': expected an array of tables ([[case]])")]:
-        p.write_text(text.replace(bad, {"[suite]": "[suites]", "[[case]]": "[case]"}.get(bad, "")))
+                     ("[[case]]", "key 'case': expected an array of tables ([[case]])"),
+                     ('id = "c1"', "case[0]: missing field 'id'"),
+                     ('id = "R1"', "requirement[0]: missing field 'id'")]:
+        p.write_text(text.replace(bad, {"[suite]": "[suites]", "[[case]]": "[case]"}.get(bad, ""), 1))
         with pytest.raises(suite.SuiteError) as e:
             suite.load(p)
         assert why in str(e.value), bad
@@ -204,7 +228,13 @@ def test_undeclared_and_untested_requirements_and_bad_files_are_refused(tmp_path
     with pytest.raises(suite.SuiteError, match="R9 verified by no case"):
         suite.load(p)
     p.write_text("not = [toml")
-    with pytest.raises(suite.SuiteError, match="not a TOML suite"):
+    with pytest.raises(suite.SuiteError, match="not valid TOML"):
+        suite.load(p)
+    p.write_text("a = " + "[" * 100_000)   # (tomllib recurses)
+    with pytest.raises(suite.SuiteError, match="s.toml: not valid TOML: nested too deeply"):
+        suite.load(p)
+    p.write_bytes(b"\xff\xfe")
+    with pytest.raises(suite.SuiteError, match="s.toml: not UTF-8 text"):
         suite.load(p)
     p.write_bytes(b"#" * (suite.MAX_SUITE_BYTES + 1))
     with pytest.raises(suite.SuiteError, match="larger than"):

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,7 +31,7 @@ from typing import Any
 from hil.bus import load
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
-from hil.scenario.schema import ScenarioError, build
+from hil.scenario.schema import ScenarioError, build, parse_toml
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from hil.util.bounded import TooLarge, read_bounded
 
@@ -301,11 +300,7 @@ def load_scenario(path: str | Path, known_frames: Collection[str] | None = None)
 
 def loads_scenario(text: str, source: str = "<scenario>",
                    known_frames: Collection[str] | None = None) -> Scenario:
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise ScenarioError(f"{source}: not valid TOML: {e}") from None
-    return scenario_from_dict(data, source, known_frames)
+    return scenario_from_dict(parse_toml(text, source), source, known_frames)
 
 
 def default_scenario_text(aircraft: str) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import tomllib
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -22,6 +23,17 @@ MISSING = dataclasses.MISSING
 
 class ScenarioError(ValueError):
     """A scenario file, section, fault or command-line fault is invalid (message = one line)."""
+
+
+def parse_toml(text: str, where: str) -> dict[str, Any]:
+    """The TOML document of text; ScenarioError naming `where` when it is not one (tomllib
+    recurses: a document nested deeper than Python's recursion limit is refused too)."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ScenarioError(f"{where}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise ScenarioError(f"{where}: not valid TOML: nested too deeply") from None
 
 
 def spec(default: Any = MISSING, *, gt: float | None = None, ge: float | None = None,

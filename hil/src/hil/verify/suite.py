@@ -31,6 +31,7 @@ a case flying both, is refused).  An error is one line naming the file, the case
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass
@@ -41,7 +42,7 @@ from hil.bus import load as load_dbc
 from hil.rig.flight import check_missile
 from hil.runs.budget import check_memory
 from hil.scenario.file import AIRCRAFT, Scenario, default_scenario_text, parse_flight_fault, scenario_from_dict
-from hil.scenario.schema import ScenarioError, build, check_keys, field_names, spec
+from hil.scenario.schema import ScenarioError, build, check_keys, field_names, parse_toml, spec
 from hil.util.bounded import TooLarge, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
@@ -52,6 +53,8 @@ MAX_SUITE_BYTES = 1 << 20
 MODES = ("lockstep", "realtime")
 #: a case's values that are its scenario's: checked as a scenario file's are (hil.scenario.file)
 FLIGHT_KEYS = ("seed", "duration", "lqg")
+#: what an id may be
+ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")
 
 
 class SuiteError(ValueError):
@@ -66,11 +69,20 @@ class _Head:
     title: str = spec("")
 
 
+def _check_id(value: str) -> None:
+    """A case's id names its run directory (cases/ID), a requirement's the report's anchors."""
+    if not ID.fullmatch(value):
+        raise ValueError(f"field 'id': letters, digits and . _ - (not first), got {value!r}")
+
+
 @dataclass(frozen=True)
 class Requirement:
     id: str
     text: str
     source: str
+
+    def __post_init__(self) -> None:
+        _check_id(self.id)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -86,6 +98,7 @@ class _CaseFields:
     attack: str | None = spec(None, choices=tuple(ATTACKS))
 
     def __post_init__(self) -> None:
+        _check_id(self.id)
         if not self.aircraft or len(set(self.aircraft)) != len(self.aircraft):
             raise ValueError(f"field 'aircraft': name {' and/or '.join(AIRCRAFT)}, once each")
 
@@ -221,9 +234,11 @@ def _read(path: Path) -> dict[str, Any]:
     except OSError as e:
         raise SuiteError(f"{path}: {e.strerror or e}") from None
     try:
-        return tomllib.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
-        raise SuiteError(f"{path}: not a TOML suite: {e}") from None
+        return parse_toml(data.decode("utf-8"), str(path))
+    except UnicodeDecodeError as e:
+        raise SuiteError(f"{path}: not UTF-8 text (byte {e.start}: {e.reason})") from None
+    except ScenarioError as e:
+        raise SuiteError(str(e)) from None
 
 
 def load(path: Path) -> Suite:

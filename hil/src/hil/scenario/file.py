@@ -16,8 +16,10 @@ A scenario is a TOML file (or the embedded defaults, ``load_default_scenario("cd
     magnitude = 0.15
 
 Faults can also come from the command line: ``spike:signal=alpha,start=4,duration=0.1,
-magnitude=0.15`` (parse_fault_spec).  Every error is a ScenarioError with one line that names
-the file (or "command line"), the fault (its index and kind) and the field.
+magnitude=0.15`` (parse_fault_spec), or from a `hil verify` case flying one or both aircraft,
+which gives each to the aircraft its signal or frame belongs to (parse_flight_fault).  Every
+error is a ScenarioError with one line that names the file (or "command line"), the fault (its
+index and kind) and the field.
 """
 from __future__ import annotations
 

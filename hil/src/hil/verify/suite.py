@@ -165,7 +165,8 @@ def _flights(case: _CaseFields, raw: Mapping[str, Any], where: str,
         scenarios[aircraft] = scenario_from_dict(data, where, frames)
     durations = {a: sc.duration for a, sc in scenarios.items()}
     for i, text in enumerate(case.faults):
-        aircraft, fault = parse_flight_fault(text, durations, f"{where}: faults[{i}] {text!r}", frames)
+        shown = repr(text) if len(text) <= 80 else f"{text[:80]!r}..."
+        aircraft, fault = parse_flight_fault(text, durations, f"{where}: faults[{i}] {shown}", frames)
         scenarios[aircraft] = scenarios[aircraft].replace(faults=scenarios[aircraft].faults + (fault,))
     for sc in scenarios.values():
         if sc.aircraft == "missile":

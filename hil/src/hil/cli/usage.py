@@ -26,7 +26,7 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                   "options), another fcc already on the bus or a second fcc heard during the run, "
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "
                   "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference"),
-    (EXIT_USAGE, "bad command line, scenario or `hil verify` suite (not UTF-8, out-of-range field, a fault on a frame "
+    (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
                  "the simulator does not send for that aircraft), a flight too long for the memory "
                  "available, a foreign `--out`, a user's file `--force` would overwrite, a file "
                  "argument too large (`/dev/zero`), `--workers` outside 1..64, `--workers` with "

@@ -9,7 +9,8 @@ import pytest
 from hil.scenario.faults import BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS
 from hil.sim.sensor_faults import FaultTimeline, SensorFaultInjector
 from hil.scenario.schema import ScenarioError
-from hil.scenario.file import parse_fault_spec
+from hil.bus import load
+from hil.scenario.file import parse_fault_spec, parse_flight_fault
 
 T = np.round(np.arange(0.0, 2.0, 0.02), 10)
 BASE = {"alpha": 0.2, "q": 0.05, "de": -0.04}
@@ -168,3 +169,50 @@ def test_timeline_refuses_time_going_back():
     tl.update(1.5)
     with pytest.raises(ValueError, match="backwards"):
         tl.update(1.0)
+
+
+# ---- a fault of a flight of one or more aircraft: whose it is -----------------------------------
+BOTH = {"cdrw": 7.0, "missile": 10.0}
+ALL_FRAMES = {m.name for m in load().messages}
+
+
+@pytest.mark.parametrize("spec, owner", [
+    ("spike:signal=alpha,start=1,duration=0.1,magnitude=1", "cdrw"),
+    ("bias:signal=q_g,start=1,duration=0.1,magnitude=1", "missile"),
+    ("bad_crc:frame=CDRW_AOA,start=1,duration=0.5", "cdrw"),
+    ("replay:frame=MSL_RATE_GYRO,start=3,duration=1,age=0.5", "missile"),
+    ("out_of_range:frame=MSL_ACCELEROMETER,signal=n_a,start=1,duration=1", "missile"),
+    ("drift:signal=q,start=6.9,duration=1,rate=1", "cdrw"),
+])
+def test_a_flight_fault_belongs_to_the_aircraft_its_signal_or_frame_names(spec, owner):
+    aircraft, fault = parse_flight_fault(spec, BOTH, "s.toml: case[0] c", ALL_FRAMES)
+    assert aircraft == owner and fault.describe().split(":")[0] == spec.split(":")[0]
+
+
+def test_a_fault_of_any_run_belongs_to_the_one_aircraft_flown():
+    for spec in ("loss:start=1,duration=1", "silence:start=1,duration=1",
+                 "delay:frame=SIM_TICK,start=1,duration=1,delay=0.01"):
+        assert parse_flight_fault(spec, {"missile": 10.0}, "w", ALL_FRAMES)[0] == "missile"
+
+
+@pytest.mark.parametrize("spec, durations, message", [
+    ("spike:signal=alpa,start=4,duration=0.1,magnitude=0.15", BOTH,
+     "(spike): field 'signal': unknown signal 'alpa' for aircraft cdrw (signals: alpha, q, de); "
+     "unknown signal 'alpa' for aircraft missile (signals: q_g, n_a)"),
+    ("spkie:signal=alpha,start=4,duration=0.1,magnitude=0.15", BOTH, "field 'kind': unknown fault kind 'spkie'"),
+    ("spike:signal=alpha,start=9,duration=0.1,magnitude=0.15", BOTH,
+     "(spike): field 'start': 9.0 s is not before the end of the run (7.0 s)"),
+    ("bias:signal=q_g,start=1,duration=1,magnitude=1", {"cdrw": 7.0},
+     "(bias): field 'signal': a missile fault, and the flight is cdrw (unknown signal 'q_g'"),
+    ("loss:frame=MSL_RATE_GYRO,start=1,duration=1", {"cdrw": 7.0},
+     "(loss): field 'frame': a missile fault, and the flight is cdrw (the simulator does not send"),
+    ("loss:frame=NOPE,start=1,duration=1", BOTH, "(loss): field 'frame': unknown frame 'NOPE'"),
+    ("loss:start=1,duration=1", BOTH, "(loss): acts in a cdrw and a missile run alike"),
+    ("flood:start=1,duration=1", BOTH, "(flood): acts in a cdrw and a missile run alike"),
+    ("spike:signal=alpha,start=1,duration=0,magnitude=1", BOTH, "(spike): field 'duration': must be > 0.0, got 0.0"),
+])
+def test_a_flight_fault_of_no_aircraft_or_of_either_is_refused(spec, durations, message):
+    with pytest.raises(ScenarioError) as err:
+        parse_flight_fault(spec, durations, "s.toml: case[0] c: faults[0]", ALL_FRAMES)
+    text = str(err.value)
+    assert text.startswith("s.toml: case[0] c: faults[0]") and message in text and "\n" not in text

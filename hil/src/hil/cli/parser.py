@@ -300,8 +300,9 @@ def build() -> argparse.ArgumentParser:
 
     v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
                        "a verdict per case and requirement, JUnit XML, an HTML report",
-                       epilog="exit status: 0 every case passed; 1 a case failed; 2 bad command line or "
-                       "suite (nothing flew); 6 a case could not run (error: no device, time-out, crash)")
+                       epilog="exit status: 0 every case passed; 1 a case failed, or the CAN interface "
+                       "cannot be opened (nothing flew); 2 bad command line or suite (nothing flew); 6 a "
+                       "case could not run (error: no device, time-out, crash; the report is not published)")
     v.add_argument("suites", nargs="*", metavar="SUITE",
                    help="a shipped suite's name (hil verify --list) or a suite TOML file")
     v.add_argument("--case", action="append", default=[], metavar="ID", help="only these cases (repeatable)")

@@ -39,7 +39,7 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
     (EXIT_DIED, "fcc died during the run, or the serial line to the Cortex-M4F image lost "
                 "frames (`--target qemu-m4f`)"),
     (EXIT_VERIFY_ERROR, "`hil verify`: a case could not run (no device, a time-out, a crash): "
-                        "never a pass"),
+                        "never a pass; its report is kept in OUT.failed-TIME, not published"),
     (EXIT_SYNC, "`hil run --mode realtime`: the flight finished, but its time synchronisation "
                 "was attacked (forged or replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), "
                 "refused (the authenticated master implausible against fcc's clock) or lost; "

@@ -4,9 +4,10 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import shlex
+import sys
 
 from hil.cli.common import rig_config
-from hil.cli.usage import EXIT_VERIFY_ERROR, UsageError
+from hil.cli.usage import EXIT_VERIFY_ERROR, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.verify import fields, report, runner, suite
 
@@ -42,17 +43,37 @@ def run(args: argparse.Namespace) -> int:
     device = [f"--target={args.target}"] + ([f"--fcc-args={args.fcc_args}"] if args.fcc_args else []) \
         + ([f"--key-file={args.key_file}"] if args.key_file else [])
     command = shlex.join(["hil", "verify", *args.suites, *device])
-    with staged_run(out, "verify", force=args.force) as stage:
-        base = dataclasses.replace(rig_config(args, stage), progress=False)
-        results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
-                                    lambda r: print(report.line(r), flush=True))
-        report.html_report(results, suites, stage, args.target, command)
+    try:
+        with staged_run(out, "verify", force=args.force) as stage:
+            base = dataclasses.replace(rig_config(args, stage), progress=False)
+            results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
+                                        lambda r: print(report.line(r), flush=True))
+            report.html_report(results, suites, stage, args.target, command)
+            n = report.counts(results)
+            if n[runner.ERROR]:   # kept aside by staged_run: the last report stays as it was
+                if args.junit is not None:
+                    report.junit(results, suites, stage / "junit.xml", args.target)
+                raise Unpublished(f"{n[runner.ERROR]} case(s) could not run: the report is not published")
+    except Unpublished as e:
+        _summary(results, suites, n, "not published: the previous one is kept")
+        print(f"{PROG}: verify: {e}; {out} and --junit are as they were "
+              f"({'; '.join(getattr(e, '__notes__', ()))})", file=sys.stderr)
+        return EXIT_VERIFY_ERROR
     if args.junit is not None:
         report.junit(results, suites, args.junit, args.target)
-    n = report.counts(results)
+    _summary(results, suites, n, str(out / "index.html"))
+    return 1 if n[runner.FAIL] else 0
+
+
+class Unpublished(Exception):
+    """A case could not run: the run's report is kept in OUT.failed-TIME (hil.io.rundir)."""
+
+
+def _summary(results: list[runner.CaseResult], suites: list[suite.Suite], n: dict[str, int],
+             report_at: str) -> None:
+    """The traceability matrix and the counts, after the cases' lines."""
     print()
     print(report.traceability(results, suites))
     print()
     print(f"verify: {n[runner.PASS]} passed, {n[runner.FAIL]} failed, {n[runner.ERROR]} errors "
-          f"(report: {out / 'index.html'})")
-    return EXIT_VERIFY_ERROR if n[runner.ERROR] else 1 if n[runner.FAIL] else 0
+          f"(report: {report_at})")

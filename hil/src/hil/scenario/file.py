@@ -16,14 +16,15 @@ A scenario is a TOML file (or the embedded defaults, ``load_default_scenario("cd
     magnitude = 0.15
 
 Faults can also come from the command line: ``spike:signal=alpha,start=4,duration=0.1,
-magnitude=0.15`` (parse_fault_spec).  Every error is a ScenarioError with one line that names
-the file (or "command line"), the fault (its index and kind) and the field.
+magnitude=0.15`` (parse_fault_spec), or from a `hil verify` case flying one or both aircraft,
+which gives each to the aircraft its signal or frame belongs to (parse_flight_fault).  Every
+error is a ScenarioError with one line that names the file (or "command line"), the fault (its
+index and kind) and the field.
 """
 from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,7 +33,7 @@ from typing import Any
 from hil.bus import load
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
-from hil.scenario.schema import ScenarioError, build
+from hil.scenario.schema import ScenarioError, build, parse_toml
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from hil.util.bounded import TooLarge, read_bounded
 
@@ -100,42 +101,65 @@ class Scenario:
 # ---------------------------------------------------------------------------------------------
 # faults
 # ---------------------------------------------------------------------------------------------
-def _check_target(fault: Fault, aircraft: str, known_frames: Collection[str] | None,
-                  where: str) -> None:
+def _target_problem(fault: Fault, aircraft: str,
+                    known_frames: Collection[str] | None) -> tuple[str, str] | None:
+    """(field, why) when the fault cannot act in a run of this aircraft, else None."""
     if isinstance(fault, SensorFault) and fault.signal not in SIGNALS[aircraft]:
-        raise ScenarioError(f"{where}: field 'signal': unknown signal {fault.signal!r} for "
-                            f"aircraft {aircraft} (signals: {', '.join(SIGNALS[aircraft])})")
+        return "signal", (f"unknown signal {fault.signal!r} for aircraft {aircraft} "
+                          f"(signals: {', '.join(SIGNALS[aircraft])})")
     if not isinstance(fault, FrameFault) or fault.frame == "*":
         if isinstance(fault, OutOfRange):
-            raise ScenarioError(f"{where}: field 'frame': out_of_range needs one frame, not '*'")
-        return
+            return "frame", "out_of_range needs one frame, not '*'"
+        return None
     sent = SENSOR_FRAMES[aircraft] + RIG_FRAMES
     if known_frames is not None and fault.frame not in known_frames:
-        raise ScenarioError(f"{where}: field 'frame': unknown frame {fault.frame!r} "
-                            f"(frames: *, {', '.join(sorted(known_frames))})")
+        return "frame", (f"unknown frame {fault.frame!r} "
+                         f"(frames: *, {', '.join(sorted(known_frames))})")
     if fault.frame not in sent:  # a DBC frame, but nobody the rig plays sends it
-        raise ScenarioError(f"{where}: field 'frame': the simulator does not send "
-                            f"{fault.frame} in a {aircraft} run (frames: *, {', '.join(sent)})")
+        return "frame", (f"the simulator does not send {fault.frame} in a {aircraft} run "
+                         f"(frames: *, {', '.join(sent)})")
     if isinstance(fault, OutOfRange):  # the DBC names the frame's signals
         signals = [sig.name for sig in load().by_name(fault.frame).data_signals]
         if fault.signal not in signals:
-            raise ScenarioError(f"{where}: field 'signal': {fault.frame} has no signal "
-                                f"{fault.signal!r} (signals: {', '.join(signals)})")
+            return "signal", (f"{fault.frame} has no signal {fault.signal!r} "
+                              f"(signals: {', '.join(signals)})")
+    return None
 
 
-def fault_from_table(table: Mapping[str, Any], aircraft: str, where: str,
-                     known_frames: Collection[str] | None = None) -> Fault:
-    """One fault from a TOML table / parsed fields; `where` names it in errors."""
+def _check_target(fault: Fault, aircraft: str, known_frames: Collection[str] | None,
+                  where: str) -> None:
+    problem = _target_problem(fault, aircraft, known_frames)
+    if problem is not None:
+        raise ScenarioError(f"{where}: field {problem[0]!r}: {problem[1]}")
+
+
+def check_fault_start(fault: Fault, duration: float, where: str) -> None:
+    """A fault that starts at or after the end of the run would never fly: refused."""
+    if fault.start >= duration:
+        raise ScenarioError(f"{where}: field 'start': {fault.start} s is not before the end "
+                            f"of the run ({duration} s)")
+
+
+def _build_fault(table: Mapping[str, Any], where: str) -> tuple[Fault, str]:
+    """The fault of a table (kind and every parameter checked, not yet its target) and
+    `where` with its kind, for the errors that follow."""
     if not isinstance(table, Mapping):
         raise ScenarioError(f"{where}: expected a table, got {type(table).__name__}")
     kind = table.get("kind")
     if kind is None:
         raise ScenarioError(f"{where}: missing field 'kind' (kinds: {', '.join(KINDS)})")
     if not isinstance(kind, str) or kind not in KINDS:
-        raise ScenarioError(f"{where}: unknown fault kind {kind!r} (kinds: {', '.join(KINDS)})")
+        raise ScenarioError(f"{where}: field 'kind': unknown fault kind {kind!r} "
+                            f"(kinds: {', '.join(KINDS)})")
     where = f"{where} ({kind})"
     fields = {k: v for k, v in table.items() if k != "kind"}
-    fault = build(KINDS[kind], fields, where)
+    return build(KINDS[kind], fields, where), where
+
+
+def fault_from_table(table: Mapping[str, Any], aircraft: str, where: str,
+                     known_frames: Collection[str] | None = None) -> Fault:
+    """One fault from a TOML table / parsed fields; `where` names it in errors."""
+    fault, where = _build_fault(table, where)
     _check_target(fault, aircraft, known_frames, where)
     return fault
 
@@ -156,10 +180,8 @@ def _scalar(text: str) -> Any:
     return text.strip()
 
 
-def parse_fault_spec(text: str, aircraft: str, known_frames: Collection[str] | None = None,
-                     source: str = "command line") -> Fault:
-    """Parse 'kind:key=value,key=value,...' (the form Fault.describe() prints)."""
-    where = f"{source}: fault {text!r}"
+def _spec_table(text: str, where: str) -> dict[str, Any]:
+    """'kind:key=value,key=value,...' as a fault table."""
     kind, sep, body = text.partition(":")
     if not sep:
         raise ScenarioError(f"{where}: expected KIND:key=value,... (kinds: {', '.join(KINDS)})")
@@ -171,7 +193,38 @@ def parse_fault_spec(text: str, aircraft: str, known_frames: Collection[str] | N
         if key.strip() in table:
             raise ScenarioError(f"{where}: field {key.strip()!r} given twice")
         table[key.strip()] = _scalar(value)
-    return fault_from_table(table, aircraft, where, known_frames)
+    return table
+
+
+def parse_fault_spec(text: str, aircraft: str, known_frames: Collection[str] | None = None,
+                     source: str = "command line") -> Fault:
+    """Parse 'kind:key=value,key=value,...' (the form Fault.describe() prints)."""
+    where = f"{source}: fault {text!r}"
+    return fault_from_table(_spec_table(text, where), aircraft, where, known_frames)
+
+
+def parse_flight_fault(text: str, durations: Mapping[str, float], where: str,
+                       known_frames: Collection[str] | None = None) -> tuple[str, Fault]:
+    """A fault spec of a flight of one or more aircraft (durations: each one's, s): the
+    aircraft it belongs to, decided by its kind and target (signal, frame), and the fault.
+    Refused: a fault that acts in none of them (a misspelt signal, another aircraft's frame),
+    one that could act in several (frame '*', the rig's frames, a bus fault: name one
+    aircraft's frame, or fly it in a case of its own) and one that starts after the end."""
+    fault, where = _build_fault(_spec_table(text, where), where)
+    problems = {a: _target_problem(fault, a, known_frames) for a in durations}
+    owners = [a for a, problem in problems.items() if problem is None]
+    if not owners:   # (every aircraft has a problem: the first one's field, each one's why)
+        found = [problem for problem in problems.values() if problem is not None]
+        whys = "; ".join(dict.fromkeys(why for _, why in found))
+        others = [a for a in AIRCRAFT if a not in durations and _target_problem(fault, a, known_frames) is None]
+        if others:
+            whys = f"a {others[0]} fault, and the flight is {' and '.join(durations)} ({whys})"
+        raise ScenarioError(f"{where}: field {found[0][0]!r}: {whys}")
+    if len(owners) > 1:
+        raise ScenarioError(f"{where}: acts in a {' and a '.join(owners)} run alike: which one "
+                            "is meant? name one aircraft's frame, or fly it in a case of its own")
+    check_fault_start(fault, durations[owners[0]], where)
+    return owners[0], fault
 
 
 # ---------------------------------------------------------------------------------------------
@@ -212,9 +265,7 @@ def scenario_from_dict(data: Mapping[str, Any], source: str = "<scenario>",
     faults = tuple(fault_from_table(t, aircraft, f"{source}: faults[{i}]", known_frames)
                    for i, t in enumerate(raw_faults))
     for i, f in enumerate(faults):
-        if f.start >= duration:
-            raise ScenarioError(f"{source}: faults[{i}] ({f.kind}): field 'start': {f.start} s is "
-                                f"not before the end of the run ({duration} s)")
+        check_fault_start(f, duration, f"{source}: faults[{i}] ({f.kind})")
     return Scenario(aircraft=aircraft, duration=duration, seed=head.seed, plant=plant,
                     sensors=sensors, lqg=lqg, faults=faults, name=head.name,
                     description=head.description, source=source)
@@ -251,11 +302,7 @@ def load_scenario(path: str | Path, known_frames: Collection[str] | None = None)
 
 def loads_scenario(text: str, source: str = "<scenario>",
                    known_frames: Collection[str] | None = None) -> Scenario:
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise ScenarioError(f"{source}: not valid TOML: {e}") from None
-    return scenario_from_dict(data, source, known_frames)
+    return scenario_from_dict(parse_toml(text, source), source, known_frames)
 
 
 def default_scenario_text(aircraft: str) -> str:

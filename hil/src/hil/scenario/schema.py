@@ -5,15 +5,17 @@ Field constraints ride in dataclass field metadata, written with ``spec()``:
     x: float = spec(1.0, gt=0.0)            # > 0
     n: int = spec(8, ge=8)                  # >= 8
     kind: str = spec("uniform", choices=("uniform", "triangular"))
+    apps: tuple[str, ...] = spec(choices=("cdrw", "missile"))   # an array, each item checked
     duration: float = spec(gt=0.0, allow_inf=True)   # required, may be inf
 """
 from __future__ import annotations
 
 import dataclasses
 import math
+import tomllib
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 MISSING = dataclasses.MISSING
@@ -21,6 +23,17 @@ MISSING = dataclasses.MISSING
 
 class ScenarioError(ValueError):
     """A scenario file, section, fault or command-line fault is invalid (message = one line)."""
+
+
+def parse_toml(text: str, where: str) -> dict[str, Any]:
+    """The TOML document of text; ScenarioError naming `where` when it is not one (tomllib
+    recurses: a document nested deeper than Python's recursion limit is refused too)."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ScenarioError(f"{where}: not valid TOML: {e}") from None
+    except RecursionError:
+        raise ScenarioError(f"{where}: not valid TOML: nested too deeply") from None
 
 
 def spec(default: Any = MISSING, *, gt: float | None = None, ge: float | None = None,
@@ -70,6 +83,11 @@ def _coerce(value: Any, hint: Any, meta: Mapping[str, Any], where: str) -> Any:
             raise matching
         names = " or ".join(_hint_name(h) for h in members)
         raise ScenarioError(f"{where}: expected {names}, got {_show(value)}")
+    if origin is tuple and typing.get_args(hint)[1:] == (Ellipsis,):   # tuple[X, ...]: any length
+        if not isinstance(value, (list, tuple)):
+            raise ScenarioError(f"{where}: expected an array, got {_show(value)}")
+        item = typing.get_args(hint)[0]
+        return tuple(_coerce(v, item, meta, f"{where}[{i}]") for i, v in enumerate(value))
     if origin is tuple:
         args = typing.get_args(hint)
         if not isinstance(value, (list, tuple)):
@@ -137,14 +155,19 @@ def field_names(cls: type) -> tuple[str, ...]:
     return tuple(f.name for f in dataclasses.fields(cls) if f.init)
 
 
+def check_keys(table: Mapping[str, Any], allowed: Sequence[str], where: str) -> None:
+    """ScenarioError naming the first key of table that is not allowed."""
+    for key in table:
+        if key not in allowed:
+            raise ScenarioError(f"{where}: unknown field {key!r} (allowed: {', '.join(allowed)})")
+
+
 def build(cls: type, table: Mapping[str, Any], where: str, *, skip: tuple[str, ...] = ()) -> Any:
     """cls(**table) after checking every key and value; errors name ``where`` and the field."""
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     allowed = [n for n in fields if n not in skip]
-    for key in table:
-        if key not in allowed:
-            raise ScenarioError(f"{where}: unknown field {key!r} (allowed: {', '.join(allowed)})")
+    check_keys(table, allowed, where)
     kwargs = {}
     for name in allowed:
         fld = fields[name]
@@ -165,10 +188,9 @@ def replace_fields(obj: Any, table: Mapping[str, Any], where: str) -> Any:
     """dataclasses.replace(obj, **table) with the same checks (for parameter overrides)."""
     hints = typing.get_type_hints(type(obj))
     fields = {f.name: f for f in dataclasses.fields(obj) if f.init}
+    check_keys(table, list(fields), where)
     changes = {}
     for key, value in table.items():
-        if key not in fields:
-            raise ScenarioError(f"{where}: unknown field {key!r} (allowed: {', '.join(fields)})")
         changes[key] = _coerce(value, hints[key], fields[key].metadata, f"{where}: field {key!r}")
     try:
         return dataclasses.replace(obj, **changes)

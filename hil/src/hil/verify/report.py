@@ -1,6 +1,8 @@
 """What a verification run says: one line per case, JUnit XML for CI, an HTML report for a
 review (summary, traceability matrix, each case with its measured values, figures and the
-command to re-fly it)."""
+command to re-fly it).  Each file is written whole or not at all (a temporary sibling renamed
+over it); the report's directory is staged and published by hil.io.rundir, and a run with a
+case that could not run is not published (hil.cli.verify)."""
 from __future__ import annotations
 
 import html
@@ -9,6 +11,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
 
+from hil.io.rundir import atomic_write, atomic_write_text
 from hil.verify.runner import ERROR, FAIL, PASS, CaseResult
 from hil.verify.suite import Suite
 
@@ -68,7 +71,7 @@ def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, ta
                 f"{_WORD[c.verdict]} {c.requirement} {c.text}: {c.measured}" for c in r.checks)
     ET.indent(root)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
+    atomic_write(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))  # never half a file
 
 
 _CSS = """body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse;margin:1em 0}
@@ -127,9 +130,7 @@ def html_report(results: Sequence[CaseResult], suites: Sequence[Suite], report_d
     page = ("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>hil verify</title>"
             f"<style>{_CSS}</style></head><body>\n" + "\n".join(b for b in body if b) + "\n</body></html>\n")
     report_dir.mkdir(parents=True, exist_ok=True)
-    path = report_dir / "index.html"
-    path.write_text(page, encoding="utf-8")
-    return path
+    return atomic_write_text(report_dir / "index.html", page)
 
 
 def traceability(results: Sequence[CaseResult], suites: Sequence[Suite]) -> str:

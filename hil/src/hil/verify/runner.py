@@ -10,9 +10,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from hil.bus import load
-from hil.scenario.file import Scenario, load_default_scenario, with_extra_faults
 from hil.rig.config import RigConfig
+from hil.rig.link import CanLink
 from hil.runs.run import run_flight
 from hil.verify.attack import ATTACKS, Attacker
 from hil.verify.expr import Expectation, evaluate, measured
@@ -53,37 +52,6 @@ class CaseResult:
         return [c for c in self.checks if c.verdict != PASS]
 
 
-def scenarios(case: Case) -> list[Scenario]:
-    """The case's flight: each aircraft's embedded scenario with the case's changes."""
-    frames = {m.name for m in load().messages}
-    out = []
-    for aircraft in case.aircraft:
-        sc = load_default_scenario(aircraft, frames)
-        if not case.default_faults:
-            sc = sc.replace(faults=())
-        if case.duration is not None:
-            sc = sc.replace(duration=float(case.duration))
-        if case.seed is not None:
-            sc = sc.replace(seed=int(case.seed))
-        if aircraft == "missile" and case.lqg:
-            assert sc.lqg is not None
-            sc = sc.replace(lqg=dataclasses.replace(sc.lqg, **case.lqg))
-        mine = [f for f in case.faults if _fault_aircraft(f, sc, frames)]
-        if mine:
-            sc = with_extra_faults(sc, mine, frames)
-        out.append(sc)
-    return out
-
-
-def _fault_aircraft(spec: str, sc: Scenario, frames: set[str]) -> bool:
-    """Whether a fault spec applies to this aircraft (a case flying both gives each its own)."""
-    try:
-        with_extra_faults(sc, [spec], frames)
-        return True
-    except ValueError:   # (ScenarioError) the other aircraft's fault
-        return False
-
-
 def judge(expect: Sequence[tuple[str, Expectation]], run: dict[str, Any]) -> list[Check]:
     checks = []
     for req, exp in expect:
@@ -101,15 +69,12 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
     res = CaseResult(suite.name, case, ERROR, run_dir=run_dir, command=refly)
     t0 = time.monotonic()
     try:
-        scs = scenarios(case)
-        if len(case.aircraft) != len({sc.aircraft for sc in scs}):
-            raise ValueError("a fault of the case applies to no aircraft it flies")
         attacker = Attacker(ATTACKS[case.attack], pause=ATTACK_PAUSE_S, iface=cfg.iface) \
             if case.attack else None
         if attacker is not None:
             attacker.start()
         try:
-            outcome = run_flight(scs, cfg, "verify", witness=attacker)
+            outcome = run_flight(case.flights, cfg, "verify", witness=attacker)
         finally:
             if attacker is not None:
                 attacker.stop_now()
@@ -124,8 +89,16 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
     return res
 
 
+def check_bus(cfg: RigConfig) -> None:
+    """The CAN interface opens as a flight opens it; else LinkError, the one line `hil run`
+    gives (exit 1), before anything flies -- not one error per case."""
+    CanLink(cfg.iface, (), interface=cfg.interface, bitrate=cfg.bitrate).close()
+
+
 def run_suites(suites: Sequence[Suite], base: RigConfig, out: Path, refly: Callable[[Suite, Case], str],
                show: Callable[[CaseResult], None]) -> list[CaseResult]:
+    """Every case, in order (the bus checked first)."""
+    check_bus(base)
     results = []
     for suite in suites:
         for case in suite.cases:

@@ -22,28 +22,57 @@
     [case.expect]                             # per requirement: the case verifies these
     SID-DET-1 = ["detector.latency_steps <= 2", "detector.false_alarm_steps == 0"]
     NODE-RT-1 = ["overruns == 0"]
+
+Every value is checked when the suite is loaded, before anything flies, by the validator of
+scenario files (hil.scenario.schema): a case's flight is each aircraft's embedded scenario with
+the case's seed, duration, lqg and faults, built by hil.scenario.file as a scenario file is;
+each fault goes to the aircraft its signal or frame belongs to (one of neither, or of both in
+a case flying both, is refused).  An error is one line naming the file, the case and the field.
 """
 from __future__ import annotations
 
+import re
 import tomllib
-from dataclasses import dataclass, field
+from collections.abc import Collection, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from hil.bus import load as load_dbc
+from hil.rig.flight import check_missile
+from hil.runs.budget import check_memory
+from hil.scenario.file import AIRCRAFT, Scenario, default_scenario_text, parse_flight_fault, scenario_from_dict
+from hil.scenario.schema import ScenarioError, build, check_keys, field_names, parse_toml, spec
+from hil.util.bounded import TooLarge, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
 
 SUITES_DIR = Path(__file__).resolve().parent.parent / "suites"
 MAX_SUITE_BYTES = 1 << 20
-AIRCRAFT = ("cdrw", "missile")
 MODES = ("lockstep", "realtime")
-CASE_KEYS = {"id", "title", "aircraft", "faults", "default_faults", "seed", "duration",
-             "lqg", "mode", "attack", "expect"}
+#: a case's values that are its scenario's: checked as a scenario file's are (hil.scenario.file)
+FLIGHT_KEYS = ("seed", "duration", "lqg")
+#: what an id may be
+ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")
 
 
 class SuiteError(ValueError):
-    """A suite that cannot be run as written (one line: file, item, what is wrong)."""
+    """A suite that cannot be run as written (one line: file, item, field, what is wrong)."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Head:
+    """[suite]"""
+
+    name: str = spec()
+    title: str = spec("")
+
+
+def _check_id(value: str) -> None:
+    """A case's id names its run directory (cases/ID), a requirement's the report's anchors."""
+    if not ID.fullmatch(value):
+        raise ValueError(f"field 'id': letters, digits and . _ - (not first), got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -51,6 +80,30 @@ class Requirement:
     id: str
     text: str
     source: str
+
+    def __post_init__(self) -> None:
+        _check_id(self.id)
+
+
+@dataclass(frozen=True, kw_only=True)
+class _CaseFields:
+    """A [[case]]'s own fields (besides FLIGHT_KEYS and expect)."""
+
+    id: str = spec()
+    title: str = spec("")
+    aircraft: tuple[str, ...] = spec(choices=AIRCRAFT)
+    faults: tuple[str, ...] = spec(default_factory=tuple)
+    default_faults: bool = spec(True)
+    mode: str = spec("lockstep", choices=MODES)
+    attack: str | None = spec(None, choices=tuple(ATTACKS))
+
+    def __post_init__(self) -> None:
+        _check_id(self.id)
+        if not self.aircraft or len(set(self.aircraft)) != len(self.aircraft):
+            raise ValueError(f"field 'aircraft': name {' and/or '.join(AIRCRAFT)}, once each")
+
+
+CASE_KEYS = (*field_names(_CaseFields), *FLIGHT_KEYS, "expect")
 
 
 @dataclass(frozen=True)
@@ -60,11 +113,8 @@ class Case:
     aircraft: tuple[str, ...]
     #: (requirement id, expectation), in the suite's order
     expect: tuple[tuple[str, Expectation], ...]
-    faults: tuple[str, ...] = ()
-    default_faults: bool = True
-    seed: int | None = None
-    duration: float | None = None
-    lqg: dict[str, Any] = field(default_factory=dict)
+    #: what flies: each aircraft's scenario, its faults among them, checked when loaded
+    flights: tuple[Scenario, ...]
     mode: str = "lockstep"
     attack: str | None = None
 
@@ -98,48 +148,47 @@ def find(name_or_path: str) -> Path:
     return known[name_or_path]
 
 
-def _str_list(where: str, v: Any, key: str) -> tuple[str, ...]:
-    if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
-        raise SuiteError(f"{where}: {key!r} must be a list of strings")
-    return tuple(v)
+def _flights(case: _CaseFields, raw: Mapping[str, Any], where: str,
+             frames: Collection[str]) -> tuple[Scenario, ...]:
+    """Each aircraft's embedded scenario with the case's seed, duration, lqg and faults, checked
+    by the scenario files' validator (the same messages) and as the rig checks a flight.  A
+    fault goes to the aircraft its kind and target say; one of neither is refused."""
+    scenarios = {}
+    for aircraft in case.aircraft:
+        data = tomllib.loads(default_scenario_text(aircraft))
+        data.update({k: raw[k] for k in ("seed", "duration") if k in raw})
+        if "lqg" in raw and (aircraft == "missile" or "missile" not in case.aircraft):
+            lqg = raw["lqg"]   # (a cdrw-only case's lqg: refused by the validator, as in a file)
+            data["lqg"] = {**data.get("lqg", {}), **lqg} if isinstance(lqg, Mapping) else lqg
+        if not case.default_faults:
+            data["faults"] = []
+        scenarios[aircraft] = scenario_from_dict(data, where, frames)
+    durations = {a: sc.duration for a, sc in scenarios.items()}
+    for i, text in enumerate(case.faults):
+        shown = repr(text) if len(text) <= 80 else f"{text[:80]!r}..."
+        aircraft, fault = parse_flight_fault(text, durations, f"{where}: faults[{i}] {shown}", frames)
+        scenarios[aircraft] = scenarios[aircraft].replace(faults=scenarios[aircraft].faults + (fault,))
+    for sc in scenarios.values():
+        if sc.aircraft == "missile":
+            check_missile(sc)
+    check_memory(list(scenarios.values()))
+    return tuple(scenarios.values())
 
 
-def _case(where: str, raw: dict[str, Any], req_ids: set[str]) -> Case:
-    unknown = set(raw) - CASE_KEYS
-    if unknown:
-        raise SuiteError(f"{where}: unknown key(s) {', '.join(sorted(unknown))}")
-    for key in ("id", "aircraft", "expect"):
-        if key not in raw:
-            raise SuiteError(f"{where}: {key!r} is required")
-    if not isinstance(raw["expect"], dict) or not raw["expect"]:
-        raise SuiteError(f"{where}: 'expect' must be a table: requirement id = [expectations]; "
+def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str]) -> tuple[tuple[str, Expectation], ...]:
+    if not isinstance(raw, Mapping) or not raw:
+        raise SuiteError(f"{where}: field 'expect': a table, requirement id = [expectations]; "
                          "a case without an expectation proves nothing")
-    missing = [r for r in raw["expect"] if r not in req_ids]
+    missing = [r for r in raw if r not in req_ids]
     if missing:
-        raise SuiteError(f"{where}: expect: requirement(s) {', '.join(missing)} not declared in the suite")
-    aircraft = _str_list(where, raw["aircraft"], "aircraft")
-    if not aircraft or set(aircraft) - set(AIRCRAFT) or len(set(aircraft)) != len(aircraft):
-        raise SuiteError(f"{where}: 'aircraft' must name cdrw and/or missile once each")
-    mode = raw.get("mode", "lockstep")
-    if mode not in MODES:
-        raise SuiteError(f"{where}: 'mode' must be one of {', '.join(MODES)}")
-    attack = raw.get("attack")
-    if attack is not None and attack not in ATTACKS:
-        raise SuiteError(f"{where}: unknown attack {attack!r} (known: {', '.join(ATTACKS)})")
-    sources = {"node", *aircraft} | ({"attack"} if attack else set())
+        raise SuiteError(f"{where}: field 'expect': requirement(s) {', '.join(missing)} not declared "
+                         "in the suite")
     expect = []
-    for req, texts in raw["expect"].items():
-        texts = _str_list(f"{where}: expect.{req}", texts, "expect")
-        if not texts:
-            raise SuiteError(f"{where}: expect.{req} is empty")
-        expect += [(req, _expectation(where, text, sources)) for text in texts]
-    lqg = raw.get("lqg", {})
-    if not isinstance(lqg, dict) or set(lqg) - {"period", "bits", "closed_loop"}:
-        raise SuiteError(f"{where}: 'lqg' takes period, bits, closed_loop")
-    return Case(id=str(raw["id"]), title=str(raw.get("title", "")), aircraft=aircraft,
-                expect=tuple(expect), faults=_str_list(where, raw.get("faults", []), "faults"),
-                default_faults=bool(raw.get("default_faults", True)), seed=raw.get("seed"),
-                duration=raw.get("duration"), lqg=dict(lqg), mode=mode, attack=attack)
+    for req, texts in raw.items():
+        if not isinstance(texts, list) or not texts or not all(isinstance(t, str) for t in texts):
+            raise SuiteError(f"{where}: field 'expect.{req}': expected an array of expectations (strings)")
+        expect += [(req, _expectation(f"{where}: field 'expect.{req}'", text, sources)) for text in texts]
+    return tuple(expect)
 
 
 def _expectation(where: str, text: str, sources: set[str]) -> Expectation:
@@ -147,42 +196,76 @@ def _expectation(where: str, text: str, sources: set[str]) -> Expectation:
     try:
         exp = parse(text)
     except ExpressionError as e:
-        raise SuiteError(f"{where}: expect: {e}") from None
+        raise SuiteError(f"{where}: {e}") from None
     for name in sorted(exp.fields):
         if name not in FIELDS:
-            raise SuiteError(f"{where}: expect {text!r}: unknown field {name!r} (hil verify --fields)")
+            raise SuiteError(f"{where}: {text!r}: unknown field {name!r} (hil verify --fields)")
         if FIELDS[name].source not in sources:
-            raise SuiteError(f"{where}: expect {text!r}: field {name!r} needs a {FIELDS[name].source} "
+            raise SuiteError(f"{where}: {text!r}: field {name!r} needs a {FIELDS[name].source} "
                              f"flight, this case has {', '.join(sorted(sources))}")
     return exp
 
 
-def load(path: Path) -> Suite:
-    """Parse and validate a suite file (bounded read: a suite is a small text file)."""
+def _case(where: str, raw: Mapping[str, Any], req_ids: set[str], frames: Collection[str]) -> Case:
+    check_keys(raw, CASE_KEYS, where)
+    own = build(_CaseFields, {k: v for k, v in raw.items() if k in field_names(_CaseFields)}, where)
+    flights = _flights(own, raw, where, frames)
+    if "expect" not in raw:
+        raise SuiteError(f"{where}: missing field 'expect'")
+    sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set())
+    return Case(id=own.id, title=own.title, aircraft=own.aircraft,
+                expect=_expect(where, raw["expect"], req_ids, sources), flights=flights,
+                mode=own.mode, attack=own.attack)
+
+
+def _tables(raw: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, Any]]:
+    """The [[key]] array of tables."""
+    items = raw.get(key, [])
+    if not isinstance(items, list) or not all(isinstance(t, Mapping) for t in items):
+        raise SuiteError(f"{where}: key {key!r}: expected an array of tables ([[{key}]])")
+    return items
+
+
+def _read(path: Path) -> dict[str, Any]:
+    """The suite file's TOML (bounded read: a suite is a small text file)."""
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_SUITE_BYTES + 1)
+        data = read_bounded(path, MAX_SUITE_BYTES, "suite")
+    except TooLarge as e:
+        raise SuiteError(str(e)) from None
     except OSError as e:
-        raise SuiteError(f"{path}: {e.strerror}") from None
-    if len(data) > MAX_SUITE_BYTES:
-        raise SuiteError(f"{path}: larger than {MAX_SUITE_BYTES} bytes: not a suite")
+        raise SuiteError(f"{path}: {e.strerror or e}") from None
     try:
-        raw = tomllib.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
-        raise SuiteError(f"{path}: not a TOML suite: {e}") from None
-    head = raw.get("suite", {})
-    if "name" not in head:
-        raise SuiteError(f"{path}: [suite] needs a name")
-    reqs = []
-    for i, r in enumerate(raw.get("requirement", [])):
-        if not {"id", "text", "source"} <= set(r):
-            raise SuiteError(f"{path}: requirement[{i}]: id, text and source are required")
-        reqs.append(Requirement(str(r["id"]), str(r["text"]), str(r["source"])))
+        return parse_toml(data.decode("utf-8"), str(path))
+    except UnicodeDecodeError as e:
+        raise SuiteError(f"{path}: not UTF-8 text (byte {e.start}: {e.reason})") from None
+    except ScenarioError as e:
+        raise SuiteError(str(e)) from None
+
+
+def load(path: Path) -> Suite:
+    """Parse and validate a suite file: every value, every case's flight, every expectation,
+    before anything flies (SuiteError: one line naming the file, the case and the field)."""
+    raw = _read(path)
+    try:
+        return _suite(path, raw)
+    except ScenarioError as e:
+        raise SuiteError(str(e)) from None
+
+
+def _suite(path: Path, raw: Mapping[str, Any]) -> Suite:
+    check_keys(raw, ("suite", "requirement", "case"), str(path))
+    head_table = raw.get("suite", {})
+    if not isinstance(head_table, Mapping):
+        raise SuiteError(f"{path}: key 'suite': expected a table ([suite])")
+    head = build(_Head, head_table, f"{path}: [suite]")
+    reqs = tuple(build(Requirement, r, f"{path}: requirement[{i}]")
+                 for i, r in enumerate(_tables(raw, "requirement", str(path))))
     ids = [r.id for r in reqs]
     if len(set(ids)) != len(ids):
         raise SuiteError(f"{path}: requirement ids repeat")
-    cases = tuple(_case(f"{path}: case[{i}] {c.get('id', '')!s}".rstrip(), c, set(ids))
-                  for i, c in enumerate(raw.get("case", [])))
+    frames = {m.name for m in load_dbc().messages}
+    cases = tuple(_case(f"{path}: case[{i}] {c.get('id', '')!s}".rstrip(), c, set(ids), frames)
+                  for i, c in enumerate(_tables(raw, "case", str(path))))
     if not cases:
         raise SuiteError(f"{path}: no [[case]]")
     if len({c.id for c in cases}) != len(cases):
@@ -190,4 +273,4 @@ def load(path: Path) -> Suite:
     untested = [r.id for r in reqs if not any(r.id in c.requirements for c in cases)]
     if untested:
         raise SuiteError(f"{path}: requirement(s) {', '.join(untested)} verified by no case")
-    return Suite(str(head["name"]), str(head.get("title", "")), path, tuple(reqs), cases)
+    return Suite(head.name, head.title, path, reqs, cases)

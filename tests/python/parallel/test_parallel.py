@@ -6,6 +6,9 @@ its own UML guest (or vcanK) with its own fcc and recorder.
   in one fcc (fcc's counters included);
 * a worker killed in the middle of a flight: the flight is flown again elsewhere, same results,
   and run_info counts the retried flights and the lost worker;
+* fcc or a worker's guest killed in the middle of a chunk (a test hook, at a given flight):
+  the flights it finished are kept, only the one in the air is flown again, run_info says why
+  (the process, its signal or status, its last lines) and which worker lost its rig;
 * a flight that fails on its rig is retried once and then reported (exit 1, one line);
 * a sweep's (T, N) points on 2 workers = the sequential sweep.
 
@@ -179,6 +182,62 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     assert info["retried"] == 2 and info["workers_lost"] == 1 and info["failed"] == 0
 
 
+def _campaign_with_rig_failure(out: Path, rig_dir: Path, what: str, monkeypatch) -> dict:
+    """The module's 4-flight campaign on 1 worker (one chunk of 4) whose fcc or rig is killed
+    before the last step of flight 1 (hil.parallel.flights.FAILURE_HOOK: deterministic, once);
+    its run_info's `parallel`."""
+    monkeypatch.setenv("HIL_TEST_RIG_FAILURE", f"{what} 1")   # the workers and guests inherit it
+    for old in rig_dir.glob("hil-test-failure-*"):
+        old.unlink()
+    rc, _ = campaign(out, "--workers", "1")
+    assert rc == 0
+    assert (rig_dir / "hil-test-failure-1").exists()            # the hook did fire
+    return json.loads((out / "run_info.json").read_text())["parallel"]
+
+
+def _same_table_as_undisturbed(out: Path, one_worker: Path) -> None:
+    """Table 5 and every per-flight file byte for byte as the undisturbed campaign; fcc's
+    counters of flight 0 (flown by the session that failed) are lost, and said so."""
+    for name in ("campaign.csv", "faults.log", "cdrw_run0.csv"):
+        assert (out / name).read_bytes() == (one_worker / name).read_bytes(), name
+    got, want = (json.loads((d / "summary.json").read_text()) for d in (out, one_worker))
+    assert got["cdrw"] == want["cdrw"] and "failed_runs" not in got
+    assert got["firmware_uncounted"] == [0] and "firmware_uncounted" not in want
+    assert got["firmware"]["steps"]["cdrw"] == (RUNS - 1) * 351
+
+
+@needs_rig
+def test_killed_fcc_costs_one_flight_and_says_why(one_worker, tmp_path, rig_dir, monkeypatch):
+    """fcc killed (SIGKILL) in flight 1 of the chunk 0..3: flight 0 is kept, flights 1..3 are
+    flown by a new session: one flight flown again (was: the whole chunk)."""
+    info = _campaign_with_rig_failure(tmp_path, rig_dir, "fcc", monkeypatch)
+    assert info["retried"] == 1 and info["failed"] == 0
+    assert sum(info["flights_by_worker"].values()) == RUNS
+    [f] = info["failures"]
+    assert f["flights"] == [0, 3] and f["in_flight"] == 1 and f["finished"] == 1 and f["kept"] == 1
+    assert f["reflown"] == 1 and f["process"] == "fcc" and f["signal"] == "SIGKILL" and f["status"] is None
+    assert f["error"].startswith("FccDied: ") and "SIGKILL" in f["error"]
+    assert f["last_lines"] and any("fcc" in ln for ln in f["last_lines"])   # fcc.log's last words
+    assert f["rig_lost"] is False and info["lost_workers"] == [] and info["workers_lost"] == 0
+    _same_table_as_undisturbed(tmp_path, one_worker)
+
+
+@needs_rig
+def test_killed_guest_costs_one_flight_and_the_worker_is_named(one_worker, tmp_path, rig_dir, monkeypatch):
+    """The rig itself killed in flight 1 (its server: the guest ends): flight 0 is read from the
+    recorder's file the guest left, flights 1..3 flown by the rig booted again; the worker that
+    lost its rig is in lost_workers (was: [], only workers that left Dask counted)."""
+    info = _campaign_with_rig_failure(tmp_path, rig_dir, "rig", monkeypatch)
+    assert info["retried"] == 1 and info["failed"] == 0
+    [f] = info["failures"]
+    assert f["in_flight"] == 1 and f["kept"] == 1 and f["reflown"] == 1
+    assert f["process"] == "rig" and f["rig_lost"] is True
+    assert f["status"] is not None or f["signal"] is not None
+    assert "the rig stopped during a flight" in f["error"]
+    assert info["lost_workers"] == [f["worker"]] and info["workers_lost"] == 1
+    _same_table_as_undisturbed(tmp_path, one_worker)
+
+
 @needs_rig
 def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
     """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
@@ -188,6 +247,7 @@ def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1
     assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
+    assert "FccDied" in err[0] or "RigError" in err[0]
     # the failed flights' files stay for a look, in the module's rig dir (not in /tmp)
     assert any(rig_dir.glob("hil-rig-*/flights/task-*/fcc.log"))
 

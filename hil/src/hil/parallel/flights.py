@@ -37,8 +37,9 @@ from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
 
 #: a test's deterministic rig failure (tests/python/parallel): "fcc N" kills fcc, "rig N" the
-#: rig's own server process (its guest then ends), before the last step of campaign flight N;
-#: once per $HIL_RIG_DIR (the first rig to reach flight N claims the marker file there)
+#: rig's own server process (its guest then ends; once its recorder has written the flights
+#: before), before the last step of campaign flight N; once per $HIL_RIG_DIR (the first rig
+#: to reach flight N claims the marker file there)
 FAILURE_HOOK = "HIL_TEST_RIG_FAILURE"
 
 
@@ -78,31 +79,47 @@ def _record_path(out: Path, index: int) -> Path:
 class _FailureHook:
     """The rig's step counter (LockstepRunner's progress): kills fcc or the rig before the last
     step of the flight FAILURE_HOOK names, once (tests only; without the variable it only
-    counts).  Late in the flight, so that the previous flight's frames are surely in the
-    recorder's file when a guest dies (see salvage_campaign_flights)."""
+    counts).  The rig is killed once its recorder's file holds the flights before (the
+    recorder lags the bus; salvage_campaign_flights keeps only what it wrote): one flight in
+    the air, as a fcc's death always is."""
 
-    def __init__(self, rig: RigSession) -> None:
-        self.rig = rig
+    def __init__(self, rig: RigSession, out: Path) -> None:
+        self.rig, self.out = rig, out
         what, _, at = os.environ.get(FAILURE_HOOK, "").partition(" ")
         self.what, self.at = what, int(at) if at.isdigit() else -1
-        self.steps, self.kill_at = 0, -1
+        self.steps, self.kill_at, self.before = 0, -1, 0
 
-    def arm(self, index: int, n_steps: int) -> None:
+    def arm(self, index: int, n_steps: int, before: int) -> None:
         if index != self.at:
             return
         try:   # one failure per campaign: the first rig there claims it
             os.close(os.open(rig_root() / f"hil-test-failure-{self.at}", os.O_CREAT | os.O_EXCL))
         except FileExistsError:
             return
-        self.kill_at = self.steps + n_steps - 1
+        self.kill_at, self.before = self.steps + n_steps - 1, before
+
+    def _recorded(self) -> int:
+        """How many whole flights the recorder's file holds (as salvage_campaign_flights reads it)."""
+        log = _cut_log(self.out)
+        if log is None:
+            return 0
+        flights = iter_flights(log, BusAuth(self.rig.security.key, self.rig.security.trip))
+        return sum(1 for _ in _whole_flights(flights, whole=False))
 
     def update(self, n: int) -> None:
         self.steps += n
-        if self.steps == self.kill_at:
-            assert self.rig.fcc is not None
-            pids = self.rig.fcc.local_pids() if self.what == "fcc" else (os.getpid(),)
-            for pid in pids:
-                os.kill(pid, signal.SIGKILL)
+        if self.steps != self.kill_at:
+            return
+        assert self.rig.fcc is not None
+        if self.what == "fcc":
+            pids = self.rig.fcc.local_pids()
+        else:
+            deadline = time.monotonic() + 60.0     # a bound, not the condition
+            while self._recorded() < self.before and time.monotonic() < deadline:
+                time.sleep(0.01)
+            pids = (os.getpid(),)
+        for pid in pids:
+            os.kill(pid, signal.SIGKILL)
 
 
 def _failed(e: Exception, rig: RigSession | None, out: Path) -> RigFailed:
@@ -127,7 +144,7 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     a failure after the flights (fcc's shutdown, the log's end) keeps none."""
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    records = []
+    records: list[CdrwRecord] = []
     t0 = time.perf_counter()
     rig = None
     flying = 0.0
@@ -135,10 +152,10 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
         with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
             flying = time.perf_counter()
             runner = None
-            steps = _FailureHook(rig)
+            steps = _FailureHook(rig, out)
             for i, fault_start in flights:
                 d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
-                steps.arm(i, d.n_steps)
+                steps.arm(i, d.n_steps, len(records))
                 runner = fly(rig, [d], cfg, steps, runner)
                 records.append(cdrw_record(d))
                 write_atomic(_record_path(out, i), pickle.dumps(records[-1], protocol=pickle.HIGHEST_PROTOCOL))
@@ -242,23 +259,23 @@ def salvage_campaign_flights(out: Path, scenario: Scenario, flights: Sequence[tu
     key (session.key).  A flight is kept when its record is there and its frames are whole in
     the log: every one with a record when the session closed (bus.log: fcc died or hung, the
     recorder stopped after its end marker), else all but the log's last (the guest died: its
-    recorder's file ends where its last 64 KiB block was written, ~1,500 frames or more behind
-    the bus: a guest that dies in the first third or so of a flight takes the end of the
-    flight before with it, and that one is flown again too).  None is kept when fcc reported
-    a failed step.  fcc's counters of these flights are lost (firmware None): its last
-    heartbeat came mid-flight."""
+    recorder's file ends where its last 64 KiB block was written, and the recorder lags the
+    bus, by more than a flight under load: the flights it had not written are flown again
+    too).  None is kept when fcc reported a failed step.  fcc's counters of these flights
+    are lost (firmware None): its last heartbeat came mid-flight."""
     records = []
     for i, t in flights:
         path = _record_path(out, i)
         if not path.exists():
             break
         records.append((i, t, pickle.loads(path.read_bytes())))
-    kept: list[tuple[int, float, Any]] = []
     key = out / KEPT_KEY
+    if not records or not key.exists() or _reported_failed_step(out / "fcc.log"):
+        return Salvaged(None, 0, len(records))
     whole = (out / "bus.log").exists()
     log = out / "bus.log" if whole else _cut_log(out)
-    failed_steps = _reported_failed_step(out / "fcc.log")
-    if records and log is not None and key.exists() and not failed_steps:
+    kept: list[tuple[int, float, Any]] = []
+    if log is not None:
         try:
             kept, _ = _evaluate(log, BusAuth(read_key_file(key)), records, scenario, cfg, whole)
         finally:

@@ -5,12 +5,13 @@ inputs: not on which worker flies it, nor on what that worker flew before.
 
 A chunk whose rig fails part-way (fcc died or hung, the guest died) keeps the flights it
 finished: the rig leaves each finished flight's record in the chunk's directory as it
-finishes (flight-N.pkl), and salvage_campaign_flights evaluates those whose frames are whole
+finishes (appended to records.pkl), and salvage_campaign_flights evaluates those whose frames are whole
 in the session's bus log; the engine flies the rest again (hil.parallel.engine)."""
 from __future__ import annotations
 
 import dataclasses
 import functools
+import io
 import os
 import pickle
 import shutil
@@ -72,8 +73,9 @@ def worker_config(cfg: RigConfig) -> RigConfig:
     return dataclasses.replace(cfg, key_file=None)
 
 
-def _record_path(out: Path, index: int) -> Path:
-    return out / f"flight-{index:06d}.pkl"
+#: a session's finished flights' records, appended as they finish: (index, CdrwRecord) pickles
+#: (one write each; a file per flight, written and renamed, cost twice as much in the guest)
+RECORDS = "records.pkl"
 
 
 class _FailureHook:
@@ -149,7 +151,8 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     rig = None
     flying = 0.0
     try:
-        with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
+        with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig, \
+                open(out / RECORDS, "wb", buffering=0) as kept:
             flying = time.perf_counter()
             runner = None
             steps = _FailureHook(rig, out)
@@ -158,14 +161,13 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
                 steps.arm(i, d.n_steps, len(records))
                 runner = fly(rig, [d], cfg, steps, runner)
                 records.append(cdrw_record(d))
-                write_atomic(_record_path(out, i), pickle.dumps(records[-1], protocol=pickle.HIGHEST_PROTOCOL))
+                kept.write(pickle.dumps((i, records[-1]), protocol=pickle.HIGHEST_PROTOCOL))
             flying = time.perf_counter() - flying
             rig.shutdown()
         require_log(rig)
     except Exception as e:  # noqa: BLE001 - every failure goes back with its cause
         if len(records) == len(flights) or rig is None or not rig.log_complete:
-            for i, _ in flights:   # failed after the flights, or the log misses frames: none kept
-                _record_path(out, i).unlink(missing_ok=True)
+            (out / RECORDS).unlink(missing_ok=True)   # failed after the flights, or the log misses frames
         raise _failed(e, rig, out) from None
     session_s = time.perf_counter() - t0 - flying
     return SessionDone([(i, t, rec) for (i, t), rec in zip(flights, records)],
@@ -232,6 +234,25 @@ def _cut_log(out: Path) -> Path | None:
     return path
 
 
+def _finished_records(out: Path, flights: Sequence[tuple[int, float]]) -> list[tuple[int, float, CdrwRecord]]:
+    """The records a session left in records.pkl, of `flights` in order, up to the first
+    missing or cut off where its rig died (a pickle without its end does not load)."""
+    try:
+        stream = io.BytesIO((out / RECORDS).read_bytes())
+    except OSError:
+        return []
+    records = []
+    for i, t in flights:
+        try:
+            j, rec = pickle.load(stream)
+        except Exception:  # noqa: BLE001 - EOFError, UnpicklingError, ...: the end of what was written
+            break
+        if j != i:
+            break
+        records.append((i, t, rec))
+    return records
+
+
 def _reported_failed_step(fcc_log: Path) -> bool:
     """Did fcc report a failed step (its event line, as it happened: a killed fcc writes no
     exit summary)?  fcc's event lines are rate-limited: its log stays small (read up to 16 MiB)."""
@@ -255,20 +276,16 @@ class Salvaged:
 def salvage_campaign_flights(out: Path, scenario: Scenario, flights: Sequence[tuple[int, float]],
                              cfg: RigConfig) -> Salvaged:
     """The flights a failed session finished, from what it left in its directory `out`: their
-    records (flight-N.pkl, in flight order), and fcc's outputs from the session's log under its
-    key (session.key).  A flight is kept when its record is there and its frames are whole in
-    the log: every one with a record when the session closed (bus.log: fcc died or hung, the
-    recorder stopped after its end marker), else all but the log's last (the guest died: its
-    recorder's file ends where its last 64 KiB block was written, and the recorder lags the
-    bus, by more than a flight under load: the flights it had not written are flown again
-    too).  None is kept when fcc reported a failed step.  fcc's counters of these flights
-    are lost (firmware None): its last heartbeat came mid-flight."""
-    records = []
-    for i, t in flights:
-        path = _record_path(out, i)
-        if not path.exists():
-            break
-        records.append((i, t, pickle.loads(path.read_bytes())))
+    records (records.pkl, in flight order; one cut off where the rig died is not one), and
+    fcc's outputs from the session's log under its key (session.key).  A flight is kept when
+    its record is there and its frames are whole in the log: every one with a record when the
+    session closed (bus.log: fcc died or hung, the recorder stopped after its end marker),
+    else all but the log's last (the guest died: its recorder's file ends where its last
+    64 KiB block was written, and the recorder lags the bus, by more than a flight under
+    load: the flights it had not written are flown again too).  None is kept when fcc
+    reported a failed step.  fcc's counters of these flights are lost (firmware None): its
+    last heartbeat came mid-flight."""
+    records = _finished_records(out, flights)
     key = out / KEPT_KEY
     if not records or not key.exists() or _reported_failed_step(out / "fcc.log"):
         return Salvaged(None, 0, len(records))

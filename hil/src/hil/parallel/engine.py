@@ -271,14 +271,15 @@ class Cluster:
                 if done.failure is None:
                     continue
                 res.failures.append(done.failure)
-                retried += done.failure["reflown"]
                 if done.failure["rig_lost"]:
                     rigs_lost.add(done.worker)
                 rest, tries = fl.rest(done.kept), (0 if done.kept else tries + 1)
                 if tries < TRIES:
+                    retried += done.failure["reflown"]
                     bar.set_postfix(retried=retried)
                     ac.add(submit(rest, tries, done.worker))
                     continue
+                done.failure["reflown"] = 0          # given up: its flights are reported
                 for k in range(rest.first, rest.first + rest.count):
                     res.failed[k] = done.failure["error"] + f" (worker {done.worker}, host {done.failure['host']})"
                 bar.update(rest.count)

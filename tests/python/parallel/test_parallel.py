@@ -100,6 +100,61 @@ def test_one_session_counters_do_not_depend_on_the_chunking():
     assert flights_counters(session(1)) == {"e2e": {"ok": 1411, "error": 0}, "steps": {"cdrw": 351}}
 
 
+def test_the_rest_of_a_failed_chunk_is_its_unfinished_flights():
+    from hil.parallel.engine import Flight
+    fl = Flight(3, print, ("scenario", [(i, 0.5 * i) for i in range(10, 15)]), count=5, first=10)
+    rest = fl.rest(2)
+    assert rest.args == ("scenario", [(12, 6.0), (13, 6.5), (14, 7.0)]) and rest.count == 3
+    assert (rest.first, rest.part, rest.index) == (12, 1, 3)
+    again = rest.rest(0)
+    assert again.args == rest.args and again.count == 3 and again.part == 2
+
+
+def test_a_failure_says_which_flights_and_why():
+    from hil.parallel.engine import Flight, failure_record
+    from hil.parallel.guest import RigDown
+    fl = Flight(0, print, ("s", list(range(20, 30))), count=10, first=20)
+    e = RigDown("the rig stopped during a flight (x)", {"signal": "SIGKILL", "last_lines": ["bye"]})
+    f = failure_record(fl, e, "tcp://w:1", flown=4, kept=3)
+    assert f["flights"] == [20, 29] and f["in_flight"] == 24 and f["reflown"] == 2   # flight 23 cut off too
+    assert f["process"] == "rig" and f["signal"] == "SIGKILL" and f["last_lines"] == ["bye"]
+    assert f["rig_lost"] is True and f["error"] == "the rig stopped during a flight (x)"
+    done = failure_record(fl, ValueError("after the flights\nmore"), "tcp://w:1", flown=10, kept=0)
+    assert done["in_flight"] is None and done["reflown"] == 10 and done["rig_lost"] is False
+    assert done["error"] == "ValueError: after the flights" and done["process"] is None
+
+
+def test_records_cut_off_where_the_rig_died_are_not_read(tmp_path):
+    """records.pkl as a rig leaves it when it dies in the middle of a write: the records before
+    are read, the cut one and those after are not; a record of another flight stops the read."""
+    import pickle
+
+    from hil.parallel.flights import RECORDS, _finished_records
+    blobs = [pickle.dumps((i, {"flight": i, "data": list(range(1000))})) for i in (5, 6, 7)]
+    (tmp_path / RECORDS).write_bytes(blobs[0] + blobs[1] + blobs[2][: len(blobs[2]) // 2])
+    got = _finished_records(tmp_path, [(5, 0.5), (6, 0.6), (7, 0.7), (8, 0.8)])
+    assert [(i, t, r["flight"]) for i, t, r in got] == [(5, 0.5, 5), (6, 0.6, 6)]
+    assert _finished_records(tmp_path, [(6, 0.6)]) == []
+    assert _finished_records(tmp_path / "none", [(5, 0.5)]) == []
+
+
+def test_a_cut_off_log_keeps_the_flights_a_later_start_follows():
+    from hil.parallel.flights import _whole_flights
+    assert list(_whole_flights(iter("abc"), whole=True)) == ["a", "b", "c"]
+    assert list(_whole_flights(iter("abc"), whole=False)) == ["a", "b"]
+    assert list(_whole_flights(iter(""), whole=False)) == []
+
+
+def test_last_lines_and_exit_cause(tmp_path):
+    from hil.parallel.files import TAIL_BYTES, exit_cause, last_lines
+    log = tmp_path / "fcc.log"
+    log.write_text("x" * (3 * TAIL_BYTES) + "\n" + "".join(f"line {k}\n\n" for k in range(30)))
+    assert last_lines(log) == [f"line {k}" for k in range(20, 30)]
+    assert last_lines(log, 2) == ["line 28", "line 29"] and last_lines(tmp_path / "none") == []
+    assert exit_cause(-9) == {"status": None, "signal": "SIGKILL"}
+    assert exit_cause(137) == {"status": 137, "signal": None} and exit_cause(None)["status"] is None
+
+
 def campaign(out: Path, *extra: str) -> tuple[int, str]:
     argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
             "--quiet", "--no-plots", *extra]

@@ -83,7 +83,7 @@ class _FailureHook:
     step of the flight FAILURE_HOOK names, once (tests only; without the variable it only
     counts).  The rig is killed once its recorder's file holds the flights before (the
     recorder lags the bus; salvage_campaign_flights keeps only what it wrote): one flight in
-    the air, as a fcc's death always is."""
+    the air, as fcc's death always is."""
 
     def __init__(self, rig: RigSession, out: Path) -> None:
         self.rig, self.out = rig, out
@@ -125,7 +125,9 @@ class _FailureHook:
 
 
 def _failed(e: Exception, rig: RigSession | None, out: Path) -> RigFailed:
-    """A failed session's exception, with why (fcc's exit and its last lines) for the engine."""
+    """A failed session's exception, with why for the engine: how fcc ended (as it died, or,
+    when it hung or the session failed otherwise, as the session's end stopped it) and its
+    last lines."""
     fcc = rig.fcc if rig is not None else None
     rc = fcc.poll() if fcc is not None else None
     msg = str(e).splitlines()[0] if str(e) else ""

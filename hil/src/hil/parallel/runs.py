@@ -13,12 +13,15 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
+from hil.bus.secoc import Counters
 from hil.io.output import write_json
 from hil.parallel.engine import Cluster, Flight
 from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_sweep_point, one_session_counters,
                                   salvage_campaign_flights)
+from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
+from hil.rig.status import StatusCounters
 from hil.runs.campaign import write_campaign
 from hil.runs.outcome import Outcome, finish
 from hil.runs.sweep import sweep_points, write_sweep
@@ -72,9 +75,10 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
     if not done:
         raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
     # fcc's counters of the sessions that ended (a failed session's are lost with its last
-    # heartbeat: those flights are named in the summary, firmware_uncounted)
+    # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
     counted = [d for d in done if d.firmware is not None]
-    firmware = one_session_counters([d.firmware for d in counted]) if counted else {}
+    firmware = (one_session_counters([d.firmware for d in counted]) if counted
+                else firmware_summary(StatusCounters(), Counters().as_dict()))
     uncounted = [fl.index for d in done if d.firmware is None for _, _, fl in d.flights]
     # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
     # a chunk beside its flights' (scripts/bench parallel models the chunking from it)

@@ -6,6 +6,9 @@ its own UML guest (or vcanK) with its own fcc and recorder.
   in one fcc (fcc's counters included);
 * a worker killed in the middle of a flight: the flight is flown again elsewhere, same results,
   and run_info counts the retried flights and the lost worker;
+* fcc or a worker's guest killed in the middle of a chunk (a test hook, at a given flight):
+  the flights it finished are kept, only the one in the air is flown again, run_info says why
+  (the process, its signal or status, its last lines) and which worker lost its rig;
 * a flight that fails on its rig is retried once and then reported (exit 1, one line);
 * a sweep's (T, N) points on 2 workers = the sequential sweep.
 
@@ -97,6 +100,61 @@ def test_one_session_counters_do_not_depend_on_the_chunking():
     assert flights_counters(session(1)) == {"e2e": {"ok": 1411, "error": 0}, "steps": {"cdrw": 351}}
 
 
+def test_the_rest_of_a_failed_chunk_is_its_unfinished_flights():
+    from hil.parallel.engine import Flight
+    fl = Flight(3, print, ("scenario", [(i, 0.5 * i) for i in range(10, 15)]), count=5, first=10)
+    rest = fl.rest(2)
+    assert rest.args == ("scenario", [(12, 6.0), (13, 6.5), (14, 7.0)]) and rest.count == 3
+    assert (rest.first, rest.part, rest.index) == (12, 1, 3)
+    again = rest.rest(0)
+    assert again.args == rest.args and again.count == 3 and again.part == 2
+
+
+def test_a_failure_says_which_flights_and_why():
+    from hil.parallel.engine import Flight, failure_record
+    from hil.parallel.guest import RigDown
+    fl = Flight(0, print, ("s", list(range(20, 30))), count=10, first=20)
+    e = RigDown("the rig stopped during a flight (x)", {"signal": "SIGKILL", "last_lines": ["bye"]})
+    f = failure_record(fl, e, "tcp://w:1", flown=4, kept=3)
+    assert f["flights"] == [20, 29] and f["in_flight"] == 24 and f["reflown"] == 2   # flight 23 cut off too
+    assert f["process"] == "rig" and f["signal"] == "SIGKILL" and f["last_lines"] == ["bye"]
+    assert f["rig_lost"] is True and f["error"] == "the rig stopped during a flight (x)"
+    done = failure_record(fl, ValueError("after the flights\nmore"), "tcp://w:1", flown=10, kept=0)
+    assert done["in_flight"] is None and done["reflown"] == 10 and done["rig_lost"] is False
+    assert done["error"] == "ValueError: after the flights" and done["process"] is None
+
+
+def test_records_cut_off_where_the_rig_died_are_not_read(tmp_path):
+    """records.pkl as a rig leaves it when it dies in the middle of a write: the records before
+    are read, the cut one and those after are not; a record of another flight stops the read."""
+    import pickle
+
+    from hil.parallel.flights import RECORDS, _finished_records
+    blobs = [pickle.dumps((i, {"flight": i, "data": list(range(1000))})) for i in (5, 6, 7)]
+    (tmp_path / RECORDS).write_bytes(blobs[0] + blobs[1] + blobs[2][: len(blobs[2]) // 2])
+    got = _finished_records(tmp_path, [(5, 0.5), (6, 0.6), (7, 0.7), (8, 0.8)])
+    assert [(i, t, r["flight"]) for i, t, r in got] == [(5, 0.5, 5), (6, 0.6, 6)]
+    assert _finished_records(tmp_path, [(6, 0.6)]) == []
+    assert _finished_records(tmp_path / "none", [(5, 0.5)]) == []
+
+
+def test_a_cut_off_log_keeps_the_flights_a_later_start_follows():
+    from hil.parallel.flights import _whole_flights
+    assert list(_whole_flights(iter("abc"), whole=True)) == ["a", "b", "c"]
+    assert list(_whole_flights(iter("abc"), whole=False)) == ["a", "b"]
+    assert list(_whole_flights(iter(""), whole=False)) == []
+
+
+def test_last_lines_and_exit_cause(tmp_path):
+    from hil.parallel.files import TAIL_BYTES, exit_cause, last_lines
+    log = tmp_path / "fcc.log"
+    log.write_text("x" * (3 * TAIL_BYTES) + "\n" + "".join(f"line {k}\n\n" for k in range(30)))
+    assert last_lines(log) == [f"line {k}" for k in range(20, 30)]
+    assert last_lines(log, 2) == ["line 28", "line 29"] and last_lines(tmp_path / "none") == []
+    assert exit_cause(-9) == {"status": None, "signal": "SIGKILL"}
+    assert exit_cause(137) == {"status": 137, "signal": None} and exit_cause(None)["status"] is None
+
+
 def campaign(out: Path, *extra: str) -> tuple[int, str]:
     argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
             "--quiet", "--no-plots", *extra]
@@ -179,6 +237,62 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     assert info["retried"] == 2 and info["workers_lost"] == 1 and info["failed"] == 0
 
 
+def _campaign_with_rig_failure(out: Path, rig_dir: Path, what: str, monkeypatch) -> dict:
+    """The module's 4-flight campaign on 1 worker (one chunk of 4) whose fcc or rig is killed
+    before the last step of flight 1 (hil.parallel.flights.FAILURE_HOOK: deterministic, once);
+    its run_info's `parallel`."""
+    monkeypatch.setenv("HIL_TEST_RIG_FAILURE", f"{what} 1")   # the workers and guests inherit it
+    for old in rig_dir.glob("hil-test-failure-*"):
+        old.unlink()
+    rc, _ = campaign(out, "--workers", "1")
+    assert rc == 0
+    assert (rig_dir / "hil-test-failure-1").exists()            # the hook did fire
+    return json.loads((out / "run_info.json").read_text())["parallel"]
+
+
+def _same_table_as_undisturbed(out: Path, one_worker: Path) -> None:
+    """Table 5 and every per-flight file byte for byte as the undisturbed campaign; fcc's
+    counters of flight 0 (flown by the session that failed) are lost, and said so."""
+    for name in ("campaign.csv", "faults.log", "cdrw_run0.csv"):
+        assert (out / name).read_bytes() == (one_worker / name).read_bytes(), name
+    got, want = (json.loads((d / "summary.json").read_text()) for d in (out, one_worker))
+    assert got["cdrw"] == want["cdrw"] and "failed_runs" not in got
+    assert got["firmware_uncounted"] == [0] and "firmware_uncounted" not in want
+    assert got["firmware"]["steps"]["cdrw"] == (RUNS - 1) * 351
+
+
+@needs_rig
+def test_killed_fcc_costs_one_flight_and_says_why(one_worker, tmp_path, rig_dir, monkeypatch):
+    """fcc killed (SIGKILL) in flight 1 of the chunk 0..3: flight 0 is kept, flights 1..3 are
+    flown by a new session: one flight flown again (was: the whole chunk)."""
+    info = _campaign_with_rig_failure(tmp_path, rig_dir, "fcc", monkeypatch)
+    assert info["retried"] == 1 and info["failed"] == 0
+    assert sum(info["flights_by_worker"].values()) == RUNS
+    [f] = info["failures"]
+    assert f["flights"] == [0, 3] and f["in_flight"] == 1 and f["finished"] == 1 and f["kept"] == 1
+    assert f["reflown"] == 1 and f["process"] == "fcc" and f["signal"] == "SIGKILL" and f["status"] is None
+    assert f["error"].startswith("FccDied: ") and "SIGKILL" in f["error"]
+    assert f["last_lines"] and any("fcc" in ln for ln in f["last_lines"])   # fcc.log's last words
+    assert f["rig_lost"] is False and info["lost_workers"] == [] and info["workers_lost"] == 0
+    _same_table_as_undisturbed(tmp_path, one_worker)
+
+
+@needs_rig
+def test_killed_guest_costs_one_flight_and_the_worker_is_named(one_worker, tmp_path, rig_dir, monkeypatch):
+    """The rig itself killed in flight 1 (its server: the guest ends): flight 0 is read from the
+    recorder's file the guest left, flights 1..3 flown by the rig booted again; the worker that
+    lost its rig is in lost_workers (was: [], only workers that left Dask counted)."""
+    info = _campaign_with_rig_failure(tmp_path, rig_dir, "rig", monkeypatch)
+    assert info["retried"] == 1 and info["failed"] == 0
+    [f] = info["failures"]
+    assert f["in_flight"] == 1 and f["kept"] == 1 and f["reflown"] == 1
+    assert f["process"] == "rig" and f["rig_lost"] is True
+    assert f["status"] is not None or f["signal"] is not None
+    assert "the rig stopped during a flight" in f["error"]
+    assert info["lost_workers"] == [f["worker"]] and info["workers_lost"] == 1
+    _same_table_as_undisturbed(tmp_path, one_worker)
+
+
 @needs_rig
 def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
     """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
@@ -188,6 +302,7 @@ def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1
     assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]
+    assert "FccDied" in err[0] or "RigError" in err[0]
     # the failed flights' files stay for a look, in the module's rig dir (not in /tmp)
     assert any(rig_dir.glob("hil-rig-*/flights/task-*/fcc.log"))
 

@@ -7,7 +7,8 @@
 * guest   -- the host side of a worker's rig: boots it once, hands it flights, restarts it
              when it dies or hangs
 * engine  -- Dask distributed: a local cluster of N workers or a running cluster's scheduler,
-             one progress bar, one retry elsewhere, results merged in flight order
+             one progress bar, a failed task's finished flights kept and the rest flown
+             elsewhere, each failure's cause, results merged in flight order
 * runs    -- `hil campaign/sweep --workers/--scheduler`: the flights, the merged run directory
 
 Every flight gets everything it depends on (scenario, fault time, seed) from the coordinator,

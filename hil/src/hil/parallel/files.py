@@ -8,17 +8,47 @@ it (hil.parallel.server), in a directory both see:
                      changed for LEASE_S (the host process was killed) or when DIR/stop appears
 
 Files are written under a temporary name and renamed, so a reader never sees half of one.
+Also here: what a failed rig leaves to say why (last_lines of a log, exit_cause of a process).
 """
 from __future__ import annotations
 
 import os
+import signal
 from pathlib import Path
+from typing import Any
 
 LEASE_S = 20.0
 POLL_S = 0.01
+#: how many of a failed process's last lines a failure keeps, and how much of its log is read
+LAST_LINES = 10
+TAIL_BYTES = 8192
 
 
 def write_atomic(path: Path, data: bytes) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_bytes(data)
     os.replace(tmp, path)
+
+
+def last_lines(path: Path, n: int = LAST_LINES) -> list[str]:
+    """The last n non-blank lines of a log (its last TAIL_BYTES only; [] when unreadable)."""
+    try:
+        with open(path, "rb") as f:
+            f.seek(max(0, f.seek(0, os.SEEK_END) - TAIL_BYTES))
+            tail = f.read(TAIL_BYTES)
+    except OSError:
+        return []
+    lines = [ln.strip() for ln in tail.decode(errors="replace").splitlines() if ln.strip()]
+    return lines[-n:]
+
+
+def exit_cause(returncode: int | None) -> dict[str, Any]:
+    """A process's end as a failure records it: {"status": N} or {"signal": "SIGKILL"}
+    (Popen's negative return code), {"status": None} while it runs."""
+    if returncode is None or returncode >= 0:
+        return {"status": returncode, "signal": None}
+    try:
+        name = signal.Signals(-returncode).name
+    except ValueError:
+        name = f"signal {-returncode}"
+    return {"status": None, "signal": name}

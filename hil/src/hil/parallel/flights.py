@@ -1,29 +1,47 @@
 """Flights inside one rig: a chunk of a campaign's CDRW flights, or a sweep's missile flight,
 in a session of its own (candump, fcc, the simulator's socket; fcc reset between the
 flights of a chunk as in the sequential campaign), so a result depends on nothing but its
-inputs: not on which worker flies it, nor on what that worker flew before."""
+inputs: not on which worker flies it, nor on what that worker flew before.
+
+A chunk whose rig fails part-way (fcc died or hung, the guest died) keeps the flights it
+finished: the rig leaves each finished flight's record in the chunk's directory as it
+finishes (appended to records.pkl), and salvage_campaign_flights evaluates those whose frames are whole
+in the session's bus log; the engine flies the rest again (hil.parallel.engine)."""
 from __future__ import annotations
 
 import dataclasses
 import functools
+import io
+import os
+import pickle
 import shutil
+import signal
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 from hil.bus import load as load_spec
-from hil.results.buslog import BusAuth, iter_flights
-from hil.results.flight import CdrwResult, cdrw_record, cdrw_result, missile_result
+from hil.bus.secoc import read_key_file
+from hil.parallel.files import exit_cause, last_lines, write_atomic
+from hil.parallel.guest import RigFailed, rig_root
+from hil.results.buslog import BusAuth, FlightFrames, iter_flights
+from hil.results.flight import CdrwRecord, CdrwResult, cdrw_record, cdrw_result, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import fcc_args, fly, require_log
-from hil.rig.session import RigSession
+from hil.rig.session import KEPT_KEY, RigSession
 from hil.runs.campaign import CampaignFlight, evaluate_flights
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
+
+#: a test's deterministic rig failure (tests/python/parallel): "fcc N" kills fcc, "rig N" the
+#: rig's own server process (its guest then ends; once its recorder has written the flights
+#: before), before the last step of campaign flight N; once per $HIL_RIG_DIR (the first rig
+#: to reach flight N claims the marker file there)
+FAILURE_HOOK = "HIL_TEST_RIG_FAILURE"
 
 
 @dataclasses.dataclass
@@ -43,7 +61,7 @@ class SessionDone:
     the key its frames verify under (fcc's outputs are read from it on the worker)."""
 
     flights: list[tuple[int, float, Any]]
-    firmware: dict[str, Any]
+    firmware: dict[str, Any] | None  # None: a failed session's (fcc's last heartbeat is lost)
     session_s: float = 0.0       # the session's own start and end, paid once per chunk
     run_dir: Path | None = None  # the rig's session directory (bus.log), until evaluated
     auth: BusAuth | None = None
@@ -55,6 +73,68 @@ def worker_config(cfg: RigConfig) -> RigConfig:
     return dataclasses.replace(cfg, key_file=None)
 
 
+#: a session's finished flights' records, appended as they finish: (index, CdrwRecord) pickles
+#: (one write each; a file per flight, written and renamed, cost twice as much in the guest)
+RECORDS = "records.pkl"
+
+
+class _FailureHook:
+    """The rig's step counter (LockstepRunner's progress): kills fcc or the rig before the last
+    step of the flight FAILURE_HOOK names, once (tests only; without the variable it only
+    counts).  The rig is killed once its recorder's file holds the flights before (the
+    recorder lags the bus; salvage_campaign_flights keeps only what it wrote): one flight in
+    the air, as fcc's death always is."""
+
+    def __init__(self, rig: RigSession, out: Path) -> None:
+        self.rig, self.out = rig, out
+        what, _, at = os.environ.get(FAILURE_HOOK, "").partition(" ")
+        self.what, self.at = what, int(at) if at.isdigit() else -1
+        self.steps, self.kill_at, self.before = 0, -1, 0
+
+    def arm(self, index: int, n_steps: int, before: int) -> None:
+        if index != self.at:
+            return
+        try:   # one failure per campaign: the first rig there claims it
+            os.close(os.open(rig_root() / f"hil-test-failure-{self.at}", os.O_CREAT | os.O_EXCL))
+        except FileExistsError:
+            return
+        self.kill_at, self.before = self.steps + n_steps - 1, before
+
+    def _recorded(self) -> int:
+        """How many whole flights the recorder's file holds (as salvage_campaign_flights reads it)."""
+        log = _cut_log(self.out)
+        if log is None:
+            return 0
+        flights = iter_flights(log, BusAuth(self.rig.security.key, self.rig.security.trip))
+        return sum(1 for _ in _whole_flights(flights, whole=False))
+
+    def update(self, n: int) -> None:
+        self.steps += n
+        if self.steps != self.kill_at:
+            return
+        assert self.rig.fcc is not None
+        if self.what == "fcc":
+            pids = self.rig.fcc.local_pids()
+        else:
+            deadline = time.monotonic() + 60.0     # a bound, not the condition
+            while self._recorded() < self.before and time.monotonic() < deadline:
+                time.sleep(0.01)
+            pids = (os.getpid(),)
+        for pid in pids:
+            os.kill(pid, signal.SIGKILL)
+
+
+def _failed(e: Exception, rig: RigSession | None, out: Path) -> RigFailed:
+    """A failed session's exception, with why for the engine: how fcc ended (as it died, or,
+    when it hung or the session failed otherwise, as the session's end stopped it) and its
+    last lines."""
+    fcc = rig.fcc if rig is not None else None
+    rc = fcc.poll() if fcc is not None else None
+    msg = str(e).splitlines()[0] if str(e) else ""
+    return RigFailed(f"{type(e).__name__}: {msg}", {"process": "fcc", **exit_cause(rc),
+                                                   "last_lines": last_lines(out / "fcc.log")})
+
+
 def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]],
                          cfg: RigConfig) -> SessionDone:
     """Campaign flights (index, fault start) one after the other in one fresh session in
@@ -62,54 +142,165 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
     depends only on its inputs).  Returns the simulator's records and the session's
     directory: fcc's outputs are read from its bus.log off the rig (campaign_flights, on the
     worker: the guest's one CPU is the rig's scarcest, and reading a log there costs about
-    twice the host's); the directory stays until then (and when the session fails)."""
+    twice the host's); the directory stays until then (and when the session fails).  Each
+    finished flight's record is also left there as it finishes: when the session fails
+    (RigFailed, with its cause), the worker keeps those flights (salvage_campaign_flights);
+    a failure after the flights (fcc's shutdown, the log's end) keeps none."""
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    records = []
+    records: list[CdrwRecord] = []
     t0 = time.perf_counter()
-    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
-        flying = time.perf_counter()
-        runner = None
-        for _, fault_start in flights:
-            d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
-            with progress_bar(d.n_steps, False, "") as bar:
-                runner = fly(rig, [d], cfg, bar, runner)
-            records.append(cdrw_record(d))
-        flying = time.perf_counter() - flying
-        rig.shutdown()
+    rig = None
+    flying = 0.0
+    try:
+        with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig, \
+                open(out / RECORDS, "wb", buffering=0) as kept:
+            flying = time.perf_counter()
+            runner = None
+            steps = _FailureHook(rig, out)
+            for i, fault_start in flights:
+                d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
+                steps.arm(i, d.n_steps, len(records))
+                runner = fly(rig, [d], cfg, steps, runner)
+                records.append(cdrw_record(d))
+                kept.write(pickle.dumps((i, records[-1]), protocol=pickle.HIGHEST_PROTOCOL))
+            flying = time.perf_counter() - flying
+            rig.shutdown()
+        require_log(rig)
+    except Exception as e:  # noqa: BLE001 - every failure goes back with its cause
+        if len(records) == len(flights) or rig is None or not rig.log_complete:
+            (out / RECORDS).unlink(missing_ok=True)   # failed after the flights, or the log misses frames
+        raise _failed(e, rig, out) from None
     session_s = time.perf_counter() - t0 - flying
-    require_log(rig)
     return SessionDone([(i, t, rec) for (i, t), rec in zip(flights, records)],
                        flights_counters(firmware_summary(rig.status, rig.security.counters())),
                        session_s, out, BusAuth(rig.security.key, rig.security.trip))
 
 
-def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
-    """A session's flights as Table 5 needs them (CampaignFlight): fcc's outputs read from
-    the session's bus.log (one pass, a flight at a time) and joined with the simulator's
-    records, then the symmetric tables (one `sid_replay --all-rows` per flight, running
-    while the next flight is read: hil.runs.campaign.evaluate_flights); on the worker, where
-    starting a process is cheap, not inside the rig's guest.  The session's directory is
-    removed once its flights are evaluated."""
-    assert done.run_dir is not None
-    log = done.run_dir / "bus.log"
+def _whole_flights(flights: Iterable[FlightFrames], whole: bool) -> Iterator[FlightFrames]:
+    """A bus log's flights; of a log cut off where its rig died (whole=False), only those a
+    later flight's start follows (the last one's frames may end anywhere)."""
+    if whole:
+        yield from flights
+        return
+    held = None
+    for fl in flights:
+        if held is not None:
+            yield held
+        held = fl
+
+
+def _evaluate(log: Path | Iterable[Any], auth: BusAuth | None, flown: Sequence[tuple[int, float, CdrwRecord]],
+              scenario: Scenario, cfg: RigConfig, whole: bool = True) -> tuple[list[tuple[int, float, Any]], int]:
+    """fcc's outputs of the flights `flown` read from the session's bus log (one pass, a
+    flight at a time) and joined with the simulator's records, then the symmetric tables (one
+    `sid_replay --all-rows` per flight, running while the next flight is read:
+    hil.runs.campaign.evaluate_flights).  (The CampaignFlights, flights in the log.)"""
     spec = load_spec()
-    args = fcc_args([scenario], cfg)
     recorded = 0
 
     def results() -> Iterator[tuple[int, float, CdrwResult]]:
         nonlocal recorded
-        for fl in iter_flights(log, done.auth):
-            if recorded < len(done.flights):
-                i, t, rec = done.flights[recorded]
+        for fl in _whole_flights(iter_flights(log, auth), whole):
+            if recorded < len(flown):
+                i, t, rec = flown[recorded]
                 yield i, t, cdrw_result(spec, rec, fl)
             recorded += 1
 
-    evaluated = [(fl.index, fl.fault_start, fl) for fl in evaluate_flights(results(), args)]
+    return [(fl.index, fl.fault_start, fl) for fl in evaluate_flights(results(), fcc_args([scenario], cfg))], recorded
+
+
+def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
+    """A session's flights as Table 5 needs them (CampaignFlight), read and evaluated
+    (_evaluate) on the worker, where starting a process is cheap, not inside the rig's
+    guest.  The session's directory is removed once its flights are evaluated."""
+    assert done.run_dir is not None
+    log = done.run_dir / "bus.log"
+    evaluated, recorded = _evaluate(log, done.auth, done.flights, scenario, cfg)
     if recorded != len(done.flights):
         raise RigError(f"{log}: {recorded} flights recorded, expected {len(done.flights)}")
     shutil.rmtree(done.run_dir, ignore_errors=True)
     return SessionDone(evaluated, done.firmware, done.session_s)
+
+
+def _cut_log(out: Path) -> Path | None:
+    """The bus log a failed session left: bus.log when the session closed (after its end
+    marker: whole), else the recorder's own file cut where its rig died (hil.rig.recorder's
+    private directory; written in blocks), up to its last whole line, as bus.cut.log."""
+    cut = sorted(out.glob(".canrec-*/canrec.log")) + sorted(out.glob(".candump-*/candump-*.log"))
+    if not cut:
+        return None
+    data = cut[-1].read_bytes()
+    path = out / "bus.cut.log"
+    write_atomic(path, data[:data.rfind(b"\n") + 1])
+    return path
+
+
+def _finished_records(out: Path, flights: Sequence[tuple[int, float]]) -> list[tuple[int, float, CdrwRecord]]:
+    """The records a session left in records.pkl, of `flights` in order, up to the first
+    missing or cut off where its rig died (a pickle without its end does not load)."""
+    try:
+        stream = io.BytesIO((out / RECORDS).read_bytes())
+    except OSError:
+        return []
+    records = []
+    for i, t in flights:
+        try:
+            j, rec = pickle.load(stream)
+        except Exception:  # noqa: BLE001 - EOFError, UnpicklingError, ...: the end of what was written
+            break
+        if j != i:
+            break
+        records.append((i, t, rec))
+    return records
+
+
+def _reported_failed_step(fcc_log: Path) -> bool:
+    """Did fcc report a failed step (its event line, as it happened: a killed fcc writes no
+    exit summary)?  fcc's event lines are rate-limited: its log stays small (read up to 16 MiB)."""
+    try:
+        with open(fcc_log, "rb") as f:
+            return b"step error" in f.read(1 << 24)
+    except OSError:
+        return False
+
+
+@dataclasses.dataclass
+class Salvaged:
+    """What a failed session finished: `value` (its kept flights evaluated, a SessionDone;
+    None when none), `kept` flights, of `flown` that it finished (the others were cut off)."""
+
+    value: SessionDone | None
+    kept: int
+    flown: int
+
+
+def salvage_campaign_flights(out: Path, scenario: Scenario, flights: Sequence[tuple[int, float]],
+                             cfg: RigConfig) -> Salvaged:
+    """The flights a failed session finished, from what it left in its directory `out`: their
+    records (records.pkl, in flight order; one cut off where the rig died is not one), and
+    fcc's outputs from the session's log under its key (session.key).  A flight is kept when
+    its record is there and its frames are whole in the log: every one with a record when the
+    session closed (bus.log: fcc died or hung, the recorder stopped after its end marker),
+    else all but the log's last (the guest died: its recorder's file ends where its last
+    64 KiB block was written, and the recorder lags the bus, by more than a flight under
+    load: the flights it had not written are flown again too).  None is kept when fcc
+    reported a failed step.  fcc's counters of these flights are lost (firmware None): its
+    last heartbeat came mid-flight."""
+    records = _finished_records(out, flights)
+    key = out / KEPT_KEY
+    if not records or not key.exists() or _reported_failed_step(out / "fcc.log"):
+        return Salvaged(None, 0, len(records))
+    whole = (out / "bus.log").exists()
+    log = out / "bus.log" if whole else _cut_log(out)
+    kept: list[tuple[int, float, Any]] = []
+    if log is not None:
+        try:
+            kept, _ = _evaluate(log, BusAuth(read_key_file(key)), records, scenario, cfg, whole)
+        finally:
+            (out / "bus.cut.log").unlink(missing_ok=True)
+    value = SessionDone(kept, None) if kept else None
+    return Salvaged(value, len(kept), len(records))
 
 
 def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
@@ -119,11 +310,15 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     out.mkdir(parents=True, exist_ok=True)
     lqg = scenario.lqg
     assert lqg is not None
-    with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
-        d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
-        with progress_bar(0, False, "") as bar:
-            fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
-        rig.shutdown()
+    rig = None
+    try:
+        with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
+            d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
+            with progress_bar(0, False, "") as bar:
+                fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
+            rig.shutdown()
+    except Exception as e:  # noqa: BLE001 - the failure goes back with its cause
+        raise _failed(e, rig, out) from None
     done = FlightDone(missile_result(d, reference=cfg.mode == "lockstep"),
                       flights_counters(firmware_summary(rig.status, rig.security.counters())))
     shutil.rmtree(out, ignore_errors=True)
@@ -155,5 +350,6 @@ def one_session_counters(shares: Sequence[dict[str, Any]]) -> dict[str, Any]:
     return add_counters(total, SESSION_END)
 
 
-__all__ = ["CampaignFlight", "FlightDone", "SessionDone", "add_counters", "campaign_flights",
-           "flights_counters", "fly_campaign_flights", "fly_sweep_point", "one_session_counters"]
+__all__ = ["CampaignFlight", "FlightDone", "Salvaged", "SessionDone", "add_counters", "campaign_flights",
+           "flights_counters", "fly_campaign_flights", "fly_sweep_point", "one_session_counters",
+           "salvage_campaign_flights"]

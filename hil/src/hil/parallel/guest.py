@@ -6,7 +6,8 @@ with its own vcan0.  Either way it runs hil.parallel.server, boots once (about 3
 guest) and flies many flights; each flight has its own candump and fcc inside it.
 
 A rig that dies or does not answer within the flight timeout is killed and booted again for
-the next flight; the flight itself fails (the engine retries it elsewhere).
+the next flight; the task fails with its cause (RigDown.cause: the rig process's exit status or
+signal and its last lines), and the engine keeps what the task finished (hil.parallel.engine).
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.io.paths import with_vcan
-from hil.parallel.files import LEASE_S, POLL_S, write_atomic
+from hil.parallel.files import LEASE_S, POLL_S, exit_cause, last_lines, write_atomic
 from hil.rig.errors import RigError
 
 BOOT_TIMEOUT_S = 120.0
@@ -33,8 +34,21 @@ BOOT_TIMEOUT_S = 120.0
 GUEST_LIFETIME_S = 7 * 24 * 3600
 
 
-class RigDown(RigError):
-    """The rig died, hung or could not start: the flight it had is lost (and retried)."""
+class RigFailed(RigError):
+    """A task failed in a rig; `cause` says why, for run_info (which process: "fcc" or
+    "rig", its exit status or signal, its last lines)."""
+
+    def __init__(self, message: str, cause: dict[str, Any] | None = None) -> None:
+        super().__init__(message)
+        self.cause = dict(cause or {})
+
+
+class RigDown(RigFailed):
+    """The rig died, hung or could not start: the flight it had is lost (and flown again).
+    `cause`: the rig process's exit (exit_cause) and the last lines of its log."""
+
+    def __init__(self, message: str, cause: dict[str, Any] | None = None) -> None:
+        super().__init__(message, {"process": "rig", **(cause or {})})
 
 
 def rig_root() -> Path:
@@ -108,10 +122,10 @@ class GuestRig:
         deadline = time.monotonic() + self.boot_timeout
         while not (d / "ready").exists():
             if self.proc.poll() is not None:
-                raise RigDown(f"the rig did not start ({self._last_words()})")
+                raise RigDown(f"the rig did not start ({self._last_words()})", self._cause())
             if time.monotonic() > deadline:
                 self.kill()
-                raise RigDown(f"the rig did not start within {self.boot_timeout:g} s")
+                raise RigDown(f"the rig did not start within {self.boot_timeout:g} s", self._cause())
             time.sleep(0.05)
 
     def _renew(self) -> None:
@@ -129,11 +143,14 @@ class GuestRig:
         return self.proc is not None and self.proc.poll() is None
 
     def _last_words(self) -> str:
-        try:
-            lines = [ln for ln in (self.dir / "rig.log").read_text(errors="replace").splitlines() if ln.strip()]  # type: ignore[operator]
-        except OSError:
-            lines = []
-        return lines[-1].strip() if lines else f"exit status {self.proc.returncode if self.proc else '?'}"
+        lines = last_lines(self.dir / "rig.log", 1) if self.dir is not None else []
+        return lines[-1] if lines else f"exit status {self.proc.returncode if self.proc else '?'}"
+
+    def _cause(self) -> dict[str, Any]:
+        """Why the rig is down: its process's exit and the last lines of its log (the guest's
+        console: the server's and the kernel's last words)."""
+        rc = self.proc.poll() if self.proc is not None else None
+        return {**exit_cause(rc), "last_lines": last_lines(self.dir / "rig.log") if self.dir is not None else []}
 
     def kill(self) -> None:
         """Stop the rig at once (the guest and everything in it)."""
@@ -181,10 +198,11 @@ class GuestRig:
             deadline = time.monotonic() + self.flight_timeout
             while not res.exists():
                 if self.proc.poll() is not None:
-                    raise RigDown(f"the rig stopped during a flight ({self._last_words()})")
+                    raise RigDown(f"the rig stopped during a flight ({self._last_words()})", self._cause())
                 if time.monotonic() > deadline:
                     self.kill()
-                    raise RigDown(f"the rig did not answer within {self.flight_timeout:g} s; killed")
+                    raise RigDown(f"the rig did not answer within {self.flight_timeout:g} s; killed",
+                                  {**self._cause(), "timeout_s": self.flight_timeout})
                 time.sleep(POLL_S)
             status, value, seconds = pickle.loads(res.read_bytes())
             res.unlink()

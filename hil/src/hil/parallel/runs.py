@@ -13,11 +13,15 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
+from hil.bus.secoc import Counters
 from hil.io.output import write_json
 from hil.parallel.engine import Cluster, Flight
-from hil.parallel.flights import campaign_flights, fly_campaign_flights, fly_sweep_point, one_session_counters
+from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_sweep_point, one_session_counters,
+                                  salvage_campaign_flights)
+from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
+from hil.rig.status import StatusCounters
 from hil.runs.campaign import write_campaign
 from hil.runs.outcome import Outcome, finish
 from hil.runs.sweep import sweep_points, write_sweep
@@ -29,8 +33,8 @@ from hil.scenario.schema import ScenarioError
 #: round idle on any rig (40 chunks of 25 on 32 rigs left 38 % idle); more only pays more
 #: session starts (recorder, fcc, its first heartbeat, shutdown: once per chunk)
 TASKS_PER_WORKER = 4
-#: most flights one rig session flies in a row: a failed chunk is flown again whole, and the
-#: rig's answer timeout grows with the chunk
+#: most flights one rig session flies in a row (the rig's answer timeout grows with the chunk;
+#: a failed chunk keeps the flights it finished: hil.parallel.engine)
 SESSION_FLIGHTS_MAX = 100
 
 
@@ -62,20 +66,25 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
     with Cluster(workers, scheduler) as cluster:
         chunks = session_chunks(runs, max(1, len(cluster.workers())))
         tasks = [Flight(c, fly_campaign_flights, (scenario, [(i, float(starts[i])) for i in chunk]),
-                        count=len(chunk), post=campaign_flights, post_args=(scenario,))
+                        count=len(chunk), post=campaign_flights, post_args=(scenario,), first=chunk.start,
+                        salvage=salvage_campaign_flights)
                  for c, chunk in enumerate(chunks)]
         res = cluster.run(tasks, cfg, progress=cfg.progress, desc="hil campaign")
-    done = [res.values[c] for c in sorted(res.values)]
-    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[c]}
-              for c in sorted(res.failed) for i in chunks[c]]
+    done = [d for c in sorted(res.values) for d in res.values[c]]
+    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
     if not done:
         raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
-    firmware = one_session_counters([d.firmware for d in done])
+    # fcc's counters of the sessions that ended (a failed session's are lost with its last
+    # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
+    counted = [d for d in done if d.firmware is not None]
+    firmware = (one_session_counters([d.firmware for d in counted]) if counted
+                else firmware_summary(StatusCounters(), Counters().as_dict()))
+    uncounted = [fl.index for d in done if d.firmware is None for _, _, fl in d.flights]
     # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
     # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
-    res.info["session_s_per_task"] = sum(d.session_s for d in done) / len(done)
+    res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
     summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
-                             firmware, cfg.mode, failed)
+                             firmware, cfg.mode, failed, uncounted)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
     return finish(cfg, out, summary, None)
@@ -89,11 +98,11 @@ def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Seque
     (summary.json failed_runs) and missing from the table."""
     points = sweep_points(scenario, periods, bits)
     out = Path(cfg.out_dir)
-    flights = [Flight(i, fly_sweep_point, (sc,)) for i, sc in enumerate(points)]
+    flights = [Flight(i, fly_sweep_point, (sc,), first=i) for i, sc in enumerate(points)]
     t0 = time.perf_counter()
     with Cluster(workers, scheduler) as cluster:
         res = cluster.run(flights, cfg, progress=cfg.progress, desc="hil sweep")
-    done = [res.values[i] for i in sorted(res.values)]
+    done = [res.values[i][0] for i in sorted(res.values)]
     if not done:
         raise RigError(f"all {len(points)} sweep flights failed twice; first: {res.failed[0]}")
     firmware = one_session_counters([d.firmware for d in done])

@@ -112,10 +112,12 @@ def _campaign_modes(flights: Sequence[CampaignFlight]) -> dict[str, Any]:
 
 def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
                    flights: Sequence[CampaignFlight], firmware: dict[str, Any], mode: str,
-                   failed: Sequence[dict[str, Any]] = ()) -> dict[str, Any]:
+                   failed: Sequence[dict[str, Any]] = (), uncounted: Sequence[int] = ()) -> dict[str, Any]:
     """Table 5 from the campaign's flights (in any order; merged by index): campaign.csv,
     cdrw_run0.csv, faults.log and summary.json.  `failed`: flights that gave no result
-    (listed in the summary; Table 5 is then the mean over the others)."""
+    (listed in the summary; Table 5 is then the mean over the others).  `uncounted`: flights
+    in Table 5 whose share of fcc's counters is not in `firmware` (flown by a rig session that
+    failed after them: fcc's last heartbeat, mid-flight, is lost; hil.parallel)."""
     flights = sorted(flights, key=lambda f: f.index)
     if not flights:
         raise RigError(f"{out}: no campaign flight gave a result")
@@ -147,6 +149,8 @@ def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
         "firmware": firmware}
     if failed:
         summary["failed_runs"] = list(failed)
+    if uncounted:
+        summary["firmware_uncounted"] = sorted(uncounted)
     write_json(out / "summary.json", summary)
     return summary
 

@@ -5,8 +5,8 @@ receive stamp) to that step's MSL_ELEV_CMD leaving.  candump, on the same bus, s
 frames in the kernel.  Two measurements of the same frames: their medians must agree (within
 20 us), whatever the machine's speed.  fcc follows the test's time master and both
 applications fly at 50 Hz on its grid, so each wake releases the missile's step and then the
-CDRW's: work that follows the command in the same wake (a command stamped after it was 120 us
-late).
+CDRW's: work that follows the command in the same wake (stamped by the loop's clock read after
+it, fcc said 202-252 us where the kernel's stamps said 117-182 us).
 
     FCC_BUILD_DIR=$PWD/build scripts/with-vcan .venv/bin/python -m pytest -m vcan \
         tests/python/fcc/test_fcc_latency.py

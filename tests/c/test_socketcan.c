@@ -4,7 +4,8 @@
  * the batched send (sendmmsg) and receive (recvmmsg) on a datagram socket pair,
  * the same system calls as on a CAN socket: order and bytes, a full queue
  * retried then dropped, an I/O error ending the batch, frames read ahead, a drained
- * queue not asked again until the descriptor is readable.  The port's traffic is tested over vcan0 by
+ * queue not asked again until the descriptor is readable; the kernel's receive stamps on
+ * the monotonic clock, a command's send stamp taken at its send.  The port's traffic is tested over vcan0 by
  * tests/python/bus/test_bus_vcan.py (can_echo) and every vcan test of fcc.
  */
 #include "fcc_test.h"
@@ -15,6 +16,9 @@
 
 #include <linux/can.h>
 
+#include "fcc_bus_msgs.h"
+#include "fcc_hostclock.h"
+#include "fcc_hostport.h"
 #include "fcc_socketcan.h"
 
 static void test_open_bad_names(void **state)
@@ -324,6 +328,94 @@ static void test_drained_queue_not_asked_again_until_readable(void **state)
     (void)close(peer);
 }
 
+/* Generous against the conversions' own errors (the realtime-monotonic offset's half
+ * bracket, the counter's extrapolation: microseconds), small against the work after a send. */
+#define AGREE_US 100u
+#define LATER_WORK_US 2000u
+
+static void enable_kernel_stamps(int fd)
+{
+    const int one = 1;
+    assert_int_equal(setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one), 0);
+}
+
+/* The kernel's receive stamp of a frame, as the port hands it out (CLOCK_REALTIME moved to
+ * CLOCK_MONOTONIC), lies between the monotonic clock read before and after its send. */
+static void test_kernel_stamp_moved_to_the_monotonic_clock(void **state)
+{
+    (void)state;
+    fcc_socketcan_t s;
+    int peer;
+    pair_port(&s, &peer, 1000u);
+    enable_kernel_stamps(s.fd);
+    struct can_frame cf;
+    memset(&cf, 0, sizeof cf);
+    cf.can_id = 0x040u;
+    cf.len = 8u;
+    for (int i = 0; i < 3; ++i) { /* the first one also measures the offset */
+        const uint64_t before = fcc_hostclock_monotonic_us();
+        assert_int_equal(write(peer, &cf, sizeof cf), (ssize_t)sizeof cf);
+        const uint64_t after = fcc_hostclock_monotonic_us();
+        fcc_assert_ok(fcc_socketcan_wait(&s, 1000));
+        fcc_can_frame_t f;
+        fcc_assert_ok(fcc_socketcan_recv(&s, &f));
+        assert_true(f.t_us + AGREE_US >= before);
+        assert_true(f.t_us <= after + AGREE_US);
+    }
+    fcc_socketcan_close(&s);
+    (void)close(peer);
+}
+
+/* A command's send time is taken when its batch is handed to the kernel: not after the
+ * kernel's own stamp of it (as the bus's port converts it), and not moved by whatever the
+ * loop does before it takes the command (the old stamp, the loop's next clock read, put
+ * that work into the data age). */
+static void test_command_stamped_at_its_send(void **state)
+{
+    (void)state;
+    fcc_hostport_t hp;
+    fcc_assert_ok(fcc_hostport_init(&hp, "vcan0", NULL, NULL));
+    int peer;
+    pair_port(&hp.sc, &peer, 1000u);
+    hp.up = true;
+    fcc_socketcan_t bus; /* the other end, as an observer on the bus would stamp it */
+    memset(&bus, 0, sizeof bus);
+    bus.fd = peer;
+    enable_kernel_stamps(peer);
+    const fcc_port_t port = fcc_hostport_port(&hp);
+    const fcc_can_frame_t out[2] = {frame(FCC_MSG_MSL_ELEV_CMD_ID, 8u), frame(0x31u, 8u)};
+    fcc_status_t st[2];
+    for (int i = 0; i < 3; ++i) {
+        const uint64_t before = fcc_hostport_now(&hp);
+        fcc_assert_ok(port.can.send_many(port.can.ctx, out, 2u, st));
+        assert_true(hp.cmd_untaken);
+        const uint64_t sent_us = hp.cmd_sent_us;
+        assert_true(sent_us >= before);
+        /* the rest of the wake: another send, work */
+        fcc_assert_ok(port.can.send_many(port.can.ctx, &out[1], 1u, st));
+        const uint64_t until = fcc_hostclock_monotonic_us() + LATER_WORK_US;
+        while (fcc_hostclock_monotonic_us() < until) {
+        }
+        fcc_hostport_take_command(&hp);
+        assert_false(hp.cmd_untaken);
+        assert_int_equal(hp.cmd_sends, (uint32_t)i + 1u);
+        assert_int_equal(hp.cmd_sent_us, sent_us);
+        fcc_can_frame_t f;
+        fcc_assert_ok(fcc_socketcan_wait(&bus, 1000));
+        fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
+        assert_int_equal(f.id, FCC_MSG_MSL_ELEV_CMD_ID);
+        assert_true(sent_us <= f.t_us + AGREE_US);
+        assert_true(f.t_us <= sent_us + AGREE_US);
+        fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
+        fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
+    }
+    /* a batch without the command leaves its stamp alone */
+    fcc_assert_ok(port.can.send_many(port.can.ctx, &out[1], 1u, st));
+    assert_false(hp.cmd_untaken);
+    fcc_socketcan_close(&bus);
+    fcc_hostport_close(&hp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -335,6 +427,8 @@ int main(void)
         cmocka_unit_test(test_send_many_io_error_ends_the_batch),
         cmocka_unit_test(test_recv_reads_ahead_in_arrival_order),
         cmocka_unit_test(test_drained_queue_not_asked_again_until_readable),
+        cmocka_unit_test(test_kernel_stamp_moved_to_the_monotonic_clock),
+        cmocka_unit_test(test_command_stamped_at_its_send),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -112,11 +112,10 @@ void fcc_hostport_readable(fcc_hostport_t *hp)
     }
 }
 
-void fcc_hostport_stamp_command(fcc_hostport_t *hp, uint64_t now_us)
+void fcc_hostport_take_command(fcc_hostport_t *hp)
 {
-    if (hp != NULL && hp->cmd_unstamped) {
-        hp->cmd_unstamped = false;
-        hp->cmd_sent_us = now_us;
+    if (hp != NULL && hp->cmd_untaken) {
+        hp->cmd_untaken = false;
         ++hp->cmd_sends;
     }
 }
@@ -184,6 +183,12 @@ static fcc_status_t port_send_many(void *ctx, const fcc_can_frame_t *frames, uin
         }
         return (n > 0u) ? FCC_ERR_IO : FCC_OK;
     }
+    bool has_cmd = false;
+    for (uint32_t i = 0u; i < n; ++i) {
+        has_cmd = has_cmd || frames[i].id == hp->cmd_id;
+    }
+    /* the command's send time: handed to the kernel now (fcc_hostport.h) */
+    const uint64_t handed_us = has_cmd ? fcc_hostport_now(hp) : 0u;
     const fcc_status_t first = fcc_socketcan_send_many(&hp->sc, frames, n, st);
     bool cmd_sent = false;
     bool io_error = false;
@@ -191,7 +196,10 @@ static fcc_status_t port_send_many(void *ctx, const fcc_can_frame_t *frames, uin
         cmd_sent = cmd_sent || (st[i] == FCC_OK && frames[i].id == hp->cmd_id);
         io_error = io_error || st[i] == FCC_ERR_IO;
     }
-    hp->cmd_unstamped = hp->cmd_unstamped || cmd_sent; /* on the bus: the loop stamps it */
+    if (cmd_sent) { /* on the bus */
+        hp->cmd_sent_us = handed_us;
+        hp->cmd_untaken = true;
+    }
     if (io_error) {
         fcc_hostport_lost(hp);
     }

@@ -12,12 +12,16 @@
  * backwards.
  *
  * It sends a batch of frames (a step's outputs, the node's queue) with one
- * sendmmsg (fcc_socketcan_send_many).  The send of an MSL_ELEV_CMD is stamped
- * by the loop's own clock read after the frames it was handling
- * (fcc_hostport_stamp_command): CLOCK_MONOTONIC, the clock of the receive time
- * stamps (the kernel's SO_TIMESTAMPNS, moved to CLOCK_MONOTONIC by
- * fcc_socketcan), for the data age sensor frame received -> command sent.  Not a
- * clock read of its own: under User-Mode Linux each one is a system call.
+ * sendmmsg (fcc_socketcan_send_many).  A batch that carries an MSL_ELEV_CMD is
+ * stamped by a clock read just before it is handed to the kernel (cmd_sent_us):
+ * CLOCK_MONOTONIC, the clock of the receive time stamps (the kernel's SO_TIMESTAMPNS,
+ * moved to CLOCK_MONOTONIC by fcc_socketcan), for the data age sensor frame
+ * received -> command sent.  At the send, not later: whatever the loop does after
+ * it (the other application's step in the same wake, event lines, a preemption)
+ * is not the command's age; stamped by the loop's next clock read the figure was
+ * 120 us and more above the kernel's own stamps of the same frames.  The read is
+ * the time-stamp counter's (no system call); the kernel stamps the command a few
+ * microseconds later, inside the send.
  *
  * Its clock (now_us, and the loop's reads through fcc_hostport_now) is CLOCK_MONOTONIC
  * read through the CPU's time-stamp counter where it is invariant (fcc_hostclock.h): the
@@ -46,9 +50,9 @@ typedef struct {
     uint32_t downs;                   /* times the interface was lost */
     uint32_t reopens;                 /* times it came back */
     uint32_t cmd_id;                  /* identifier whose send is stamped */
-    bool cmd_unstamped;               /* a batch with one has left since the last stamp */
-    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC of the last stamp */
-    uint32_t cmd_sends;               /* sends stamped so far */
+    bool cmd_untaken;                 /* one has left since fcc_hostport_take_command */
+    uint64_t cmd_sent_us;             /* CLOCK_MONOTONIC: the last one handed to the kernel */
+    uint32_t cmd_sends;               /* sends taken so far */
     void (*event)(void *ctx, const fcc_event_t *ev);
     void *event_ctx;
 } fcc_hostport_t;
@@ -80,9 +84,9 @@ bool fcc_hostport_pending(const fcc_hostport_t *hp);
 /* The loop's poll() found the descriptor readable (fcc_socketcan_readable). */
 void fcc_hostport_readable(fcc_hostport_t *hp);
 
-/* now_us (CLOCK_MONOTONIC, read after the frames were handled) is the send time of
- * the commands that left since the last call: cmd_sent_us, one more cmd_sends. */
-void fcc_hostport_stamp_command(fcc_hostport_t *hp, uint64_t now_us);
+/* The loop takes the commands that left since the last call (cmd_untaken): one more
+ * cmd_sends, cmd_sent_us the last one's send time. */
+void fcc_hostport_take_command(fcc_hostport_t *hp);
 
 /* An I/O error was seen: close the socket and start probing. */
 void fcc_hostport_lost(fcc_hostport_t *hp);

@@ -13,9 +13,10 @@
  * System calls are the cost here (under User-Mode Linux each one costs about as
  * much as a lockstep step's arithmetic), so an iteration makes only those its
  * work needs: the wait, one receive for the frames that woke it (the port knows
- * when the kernel's queue is empty), one send per step, a clock read after each
- * command (its send time), and one after the work when time matters to it (a timer
- * came due, the interface is down, the realtime schedule, the time sync's timeouts);
+ * when the kernel's queue is empty), one send per step (the port stamps a command's
+ * send time there: a counter read), a clock read after each command, and one after
+ * the work when time matters to it (a timer came due, the interface is down, the
+ * realtime schedule, the time sync's timeouts);
  * the timer is re-armed only when the next wake moves (or it expired: setting it clears
  * the expiration, no read).  The rest of a wake for frames needs no clock: whatever is
  * due at a time has the timer armed for it.  The clock is the port's (fcc_hostclock.h:
@@ -66,7 +67,7 @@ typedef struct {
     uint32_t seen_cmd_sends;
     fcc_hist_t exec[FCC_N_APPS];
     fcc_hist_t jitter[FCC_N_APPS];
-    fcc_hist_t latency; /* missile: newest sensor frame received -> command sent */
+    fcc_hist_t latency; /* missile: newest sensor frame used received -> command sent */
     fcc_hist_t delay;   /* missile, synced: sampling instant -> command sent */
     fcc_hist_t sync_offset; /* |sync residual| per sample used */
     uint32_t seen_sync_samples;
@@ -91,16 +92,17 @@ static void measure_steps(host_t *h)
     }
 }
 
-/* After the loop's clock read stamped the command sent (if any): its data age,
+/* After a command was sent (if any; stamped at its send by the port): its data age,
  * and the time sync's residual. */
 static void measure_command(host_t *h)
 {
     if (h->hp.cmd_sends != h->seen_cmd_sends) {
         h->seen_cmd_sends = h->hp.cmd_sends;
+        /* every command computed from a sample, a held one too (its age is what the
+         * command used): the commands an observer on the bus times, each from the
+         * newest sensor frame before it */
         const fcc_app_msl_result_t *r = &h->node.msl.last;
-        const bool fresh = r->input_state[FCC_APP_MSL_IN_GYRO] == FCC_SENSOR_OK &&
-                           r->input_state[FCC_APP_MSL_IN_ACCEL] == FCC_SENSOR_OK;
-        if (fresh && r->newest_rx_us != 0u && h->hp.cmd_sent_us >= r->newest_rx_us) {
+        if (r->newest_rx_us != 0u && h->hp.cmd_sent_us >= r->newest_rx_us) {
             fcc_hist_add(&h->latency, h->hp.cmd_sent_us - r->newest_rx_us);
         }
         const fcc_node_rt_t *rt = &h->rt[FCC_APP_MSL];
@@ -116,12 +118,12 @@ static void measure_command(host_t *h)
     }
 }
 
-/* A command has left since the last stamp: the clock after it is its send time (one
- * read per command, which the loop's later work reuses). */
-static void stamp_command(host_t *h, uint64_t now)
+/* The loop's clock read now: the commands sent since the last one measured (their send
+ * times stamped by the port at the send). */
+static void take_command(host_t *h, uint64_t now)
 {
     h->now_us = now;
-    fcc_hostport_stamp_command(&h->hp, now);
+    fcc_hostport_take_command(&h->hp);
     measure_command(h);
 }
 
@@ -133,8 +135,8 @@ static void handle_frames(host_t *h, uint32_t budget)
         uint32_t n = 0u;
         (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
         measure_steps(h);
-        if (h->hp.cmd_unstamped) { /* before the next frame can run the next step */
-            stamp_command(h, fcc_hostport_now(&h->hp));
+        if (h->hp.cmd_untaken) { /* before the next frame can run the next step */
+            take_command(h, fcc_hostport_now(&h->hp));
         }
         if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
             return;
@@ -273,10 +275,10 @@ static bool loop_once(host_t *h)
     }
     rt_run_due(h);
     const bool timed = timer_due || !h->hp.up || sync_timed(h) ||
-                       h->cli.node.mode == FCC_MODE_REALTIME || h->hp.cmd_unstamped;
+                       h->cli.node.mode == FCC_MODE_REALTIME || h->hp.cmd_untaken;
     if (timed) {
         const uint64_t now = fcc_hostport_now(&h->hp); /* the iteration's one clock read */
-        stamp_command(h, now);
+        take_command(h, now);
         send_status_if_due(h, now);
         (void)fcc_hostport_service(&h->hp, now);
         sync_poll_if_due(h, now);

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from hil.util.bounded import UnfitFile, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
@@ -160,12 +161,11 @@ def _expectation(where: str, text: str, sources: set[str]) -> Expectation:
 def load(path: Path) -> Suite:
     """Parse and validate a suite file (bounded read: a suite is a small text file)."""
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_SUITE_BYTES + 1)
+        data = read_bounded(path, MAX_SUITE_BYTES, "suite")
+    except UnfitFile as e:
+        raise SuiteError(str(e)) from None
     except OSError as e:
         raise SuiteError(f"{path}: {e.strerror}") from None
-    if len(data) > MAX_SUITE_BYTES:
-        raise SuiteError(f"{path}: larger than {MAX_SUITE_BYTES} bytes: not a suite")
     try:
         raw = tomllib.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:

@@ -21,6 +21,25 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(f"{message} (see `{self.prog} --help`)")
 
 
+class CommandParser(Parser):
+    """A subcommand's parser: its positionals and options in any order.  argparse alone fills
+    the positionals it sees together at once, an optional one empty: `hil run missile --quiet
+    S.toml` left S.toml over ("unrecognized arguments"); the intermixed parse takes the options
+    first, then the positionals wherever they stood."""
+
+    _intermixing = False
+
+    def parse_known_args(self, args: Sequence[str] | None = None,  # type: ignore[override]
+                         namespace: argparse.Namespace | None = None) -> tuple[argparse.Namespace, list[str]]:
+        if self._intermixing:  # the intermixed parse's own two passes
+            return super().parse_known_args(args, namespace)
+        self._intermixing = True
+        try:
+            return self.parse_known_intermixed_args(args, namespace)
+        finally:
+            self._intermixing = False
+
+
 def floats(text: str) -> list[float]:
     try:
         vals = [float(x) for x in text.split(",") if x.strip()]
@@ -165,7 +184,7 @@ def build() -> argparse.ArgumentParser:
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.",
                epilog=exit_status_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action=VersionAction)
-    sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=CommandParser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
     r.add_argument("aircraft", choices=("cdrw", "missile"))

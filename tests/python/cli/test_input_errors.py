@@ -211,3 +211,13 @@ def test_a_second_scenario_is_still_refused(capsys):
     from hil.cli import main
     assert main(["run", "missile", "--quiet", "A.toml", "B.toml"]) == usage.EXIT_USAGE
     assert "unrecognized arguments: B.toml" in one_line(capsys.readouterr().err)
+
+
+def test_a_fifo_as_an_out_directorys_manifest_makes_it_no_hil_run(tmp_path):
+    """--out's manifest (.hil-run.json) is read as every file is: a FIFO there is no manifest
+    (the directory is not hil's own, so not replaced), not a read that waits."""
+    from hil.io import rundir
+    out = tmp_path / "o"
+    out.mkdir()
+    os.mkfifo(out / rundir.MANIFEST)
+    assert not rundir.is_own_run(out)

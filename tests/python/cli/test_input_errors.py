@@ -221,3 +221,12 @@ def test_a_fifo_as_an_out_directorys_manifest_makes_it_no_hil_run(tmp_path):
     out.mkdir()
     os.mkfifo(out / rundir.MANIFEST)
     assert not rundir.is_own_run(out)
+
+
+@pytest.mark.parametrize("log", [b"this is not candump\n", b"(1.0) vcan0 7F0#012\n"])
+def test_report_of_a_malformed_bus_log_is_one_line(capsys, tmp_path, log):
+    from hil.cli import main
+    (tmp_path / "summary.json").write_text('{"command": "run"}')
+    (tmp_path / "bus.log").write_bytes(log)
+    assert main(["report", str(tmp_path), "--bus", "--no-plots"]) == usage.EXIT_USAGE
+    assert f"{tmp_path / 'bus.log'}: not a bus log hil can read: line 1" in one_line(capsys.readouterr().err)

@@ -126,8 +126,8 @@ def test_a_scenario_nested_too_deeply_is_bad_input(tmp_path):
     sc = tmp_path / "deep.toml"
     sc.write_text('aircraft = "missile"\nx = ' + "[" * 5000 + "]" * 5000 + "\n")
     rc, err = hil("run", "missile", str(sc), "--out", str(tmp_path / "o"))
-    assert rc == usage.EXIT_USAGE
-    assert one_line(err) == f"hil: {sc}: too large or nested too deeply to read (RecursionError)"
+    line = one_line(err)
+    assert rc == usage.EXIT_USAGE and line.startswith(f"hil: {sc}: ") and "nested too deeply" in line, line
 
 
 def test_memory_exhausted_is_one_line(capsys, monkeypatch):

@@ -5,7 +5,7 @@ import argparse
 import dataclasses
 import shlex
 
-from hil.cli.common import reading, rig_config
+from hil.cli.common import rig_config
 from hil.cli.usage import EXIT_VERIFY_ERROR, UsageError
 from hil.io.rundir import staged_run
 from hil.verify import fields, report, runner, suite
@@ -16,8 +16,7 @@ def _suites(args: argparse.Namespace) -> list[suite.Suite]:
     if not args.suites:
         raise UsageError("verify: name at least one suite (hil verify --list shows the shipped ones)")
     try:
-        with reading(f"verify: {' '.join(args.suites)}"):
-            suites = [suite.load(suite.find(name)) for name in args.suites]
+        suites = [suite.load(suite.find(name)) for name in args.suites]
     except suite.SuiteError as e:
         raise UsageError(f"verify: {e}") from None
     if not args.case:

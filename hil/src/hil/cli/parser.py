@@ -17,22 +17,21 @@ from hil.results.fig3_grid import FIG3_PERIODS
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> NoReturn:  # one line, not argparse's usage block
-        raise UsageError(f"{message} (see `{self.prog} --help`)")
-
-
-class CommandParser(Parser):
-    """A subcommand's parser: its positionals and options in any order.  argparse alone fills
-    the positionals it sees together at once, an optional one empty: `hil run missile --quiet
-    S.toml` left S.toml over ("unrecognized arguments"); the intermixed parse takes the options
-    first, then the positionals wherever they stood."""
+    """argparse with one-line errors, and a command's positionals and options in any order:
+    argparse alone fills the positionals it sees together at once, an optional one empty, so
+    `hil run missile --quiet S.toml` left S.toml over ("unrecognized arguments"); a parser
+    without subcommands (every command's own) parses intermixed: the options first, then the
+    positionals wherever they stood."""
 
     _intermixing = False
 
+    def error(self, message: str) -> NoReturn:  # one line, not argparse's usage block
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
+
     def parse_known_args(self, args: Sequence[str] | None = None,  # type: ignore[override]
                          namespace: argparse.Namespace | None = None) -> tuple[argparse.Namespace, list[str]]:
-        if self._intermixing:  # the intermixed parse's own two passes
-            return super().parse_known_args(args, namespace)
+        if self._intermixing or self._subparsers is not None:  # the intermixed parse's own passes;
+            return super().parse_known_args(args, namespace)  # subcommands: argparse's own parse
         self._intermixing = True
         try:
             return self.parse_known_intermixed_args(args, namespace)
@@ -184,7 +183,7 @@ def build() -> argparse.ArgumentParser:
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.",
                epilog=exit_status_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action=VersionAction)
-    sub = p.add_subparsers(dest="command", required=True, parser_class=CommandParser, metavar="COMMAND")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
     r.add_argument("aircraft", choices=("cdrw", "missile"))

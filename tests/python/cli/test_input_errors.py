@@ -96,7 +96,7 @@ def _edits() -> dict[str, bytes]:
 @pytest.mark.parametrize("edit, words", [
     ("empty", "an empty file, not a DBC"),
     ("binary", "not a DBC: byte "),
-    ("truncated", "not a valid DBC: Invalid syntax at line "),
+    ("truncated", "not a DBC this rig reads: Invalid syntax at line "),
     ("identifier too large", "Standard frame id 0x1869f is more than 11 bits"),
     ("identifier taken", "SID_AZKF_STATE and SID_AZKF_BOUNDS have the same identifier 0x111"),
     ("message renamed", "no message 'SID_AZKF_STATE'"),

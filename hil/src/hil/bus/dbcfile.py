@@ -66,7 +66,7 @@ def parse_dbc(path: Path) -> Database:
     try:
         db = cantools.database.load_string(text, database_format=fmt, strict=True)
     except Exception as e:  # noqa: BLE001 - see above
-        raise DbcError(f"{path}: not a valid {fmt.upper() if fmt else 'CAN database'}: {_quote(e, fmt)}") from None
+        raise DbcError(f"{path}: not a DBC this rig reads: {_quote(e, fmt)}") from None
     finally:
         log.setLevel(level)
     if not isinstance(db, cantools.database.can.Database):  # e.g. a diagnostics (.cdd) file

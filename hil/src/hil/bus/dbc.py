@@ -41,6 +41,8 @@ DEFAULT_DBC = PACKAGED_DBC
 DBC_ENV = "FCC_HIL_DBC"
 _dbc_override: Path | None = None
 E2E_SIGNALS = ("crc", "counter")
+
+
 @dataclass(frozen=True)
 class SignalSpec:
     """One signal: how raw and physical values relate, and the raw range allowed."""

@@ -9,6 +9,10 @@
 #   lib/        the C library it was built against
 #   modules/    its CAN modules (net/can, drivers/net/can), loaded by full path
 #   release     the kernel's release (e.g. 7.2.7); packages: the two packages' versions
+#   .provisioned-by-fcc-hil   the marker that the directory is setup's to replace
+# A directory setup did not provision is never replaced: a non-empty one without the marker
+# (or, from before the marker, without the kernel's own three files) is refused before anything
+# is downloaded.
 # Why not the system's user-mode-linux: bookworm's 6.1 and trixie's 6.12 panic on hosts whose CPU
 # has AVX-512 and AMX ("ptrace set fp regs failed"), and where 6.1 boots a system call in its
 # guest costs 2.5x what it costs in 7.2 with seccomp (docs: performance).
@@ -22,10 +26,28 @@ uml_ready() {
     && [ "$(patchelf --print-interpreter "$dir/linux.uml" 2>/dev/null)" = "$dir/lib/ld-linux-x86-64.so.2" ]
 }
 
+UML_MARKER=.provisioned-by-fcc-hil
+
+# Whether DIR may be replaced by a provisioned kernel: absent, empty, or one setup provisioned
+# (its marker, or a kernel directory from before the marker: linux.uml, release and the loader).
+# Otherwise print one line on stderr (prefixed with the caller's $prog) and return 1.
+uml_ours() {
+  local dir=$1
+  if [ ! -e "$dir" ] && [ ! -L "$dir" ]; then return 0; fi
+  if [ -d "$dir" ]; then
+    [ -z "$(ls -A "$dir")" ] || [ -f "$dir/$UML_MARKER" ] && return 0
+    [ -f "$dir/linux.uml" ] && [ -f "$dir/release" ] && [ -f "$dir/lib/ld-linux-x86-64.so.2" ] && return 0
+  fi
+  echo "${prog:-uml}: refusing to put the User-Mode Linux kernel into $dir: it is not empty and was not provisioned by setup (no $UML_MARKER); name a new or empty directory in WITH_VCAN_UML_DIR" >&2
+  return 1
+}
+
 # Download and unpack the kernel into DIR; on failure print one line on stderr and return 1.
+# DIR is replaced only when uml_ours allows it, checked before anything is downloaded.
 uml_provision() {
   local dir=$1 suite=${UML_DEBIAN_SUITE:-sid} mirror=${UML_DEBIAN_MIRROR:-http://deb.debian.org/debian}
   local keyring=/usr/share/keyrings/debian-archive-keyring.gpg
+  uml_ours "$dir" || return 1
   local why="cannot provision User-Mode Linux >= 7 from Debian $suite ($mirror)"
   local fix="set UML_DEBIAN_MIRROR to a reachable Debian mirror, or run on a kernel with vcan (modprobe vcan)"
   [ -r "$keyring" ] || { echo "$why: $keyring is missing (install debian-archive-keyring)" >&2; return 1; }
@@ -54,15 +76,15 @@ uml_provision() {
     rm -rf "$tmp"; return 1
   fi
   local modules; modules=$(echo "$tmp"/root/usr/lib/uml/modules/*/)
-  local stage=$dir.new.$$
-  rm -rf "$stage"; mkdir -p "$stage/lib" "$stage/modules/kernel/net" "$stage/modules/kernel/drivers/net"
+  local stage; stage=$(mktemp -d "$dir.new.XXXXXX") || { rm -rf "$tmp"; return 1; }
+  mkdir -p "$stage/lib" "$stage/modules/kernel/net" "$stage/modules/kernel/drivers/net"
   cp -a "$tmp"/root/usr/lib/x86_64-linux-gnu/*.so* "$stage/lib/" &&
     cp -a "$modules/kernel/net/can" "$stage/modules/kernel/net/" &&
     cp -a "$modules/kernel/drivers/net/can" "$stage/modules/kernel/drivers/net/" &&
     cp "$tmp/root/usr/bin/linux.uml" "$stage/linux.uml" &&
     basename "$modules" > "$stage/release" &&
     dpkg-deb --showformat='${Package} ${Version}\n' -W "$tmp"/debs/*.deb > "$stage/packages" &&
-    rm -rf "$dir" && mv "$stage" "$dir" &&
+    touch "$stage/$UML_MARKER" && uml_ours "$dir" && rm -rf "$dir" && mv "$stage" "$dir" &&
     patchelf --set-interpreter "$dir/lib/ld-linux-x86-64.so.2" --set-rpath "$dir/lib" "$dir/linux.uml"
   local status=$?
   rm -rf "$tmp" "$stage"

@@ -215,3 +215,15 @@ def test_a_faulty_flight_shares_the_clean_samples_where_no_fault_acts(scenario, 
     shared = [a is b for a, b in zip(faulty, clean)]
     touched = [s.fault_active or bool(s.events) for s in faulty]
     assert shared == [not t for t in touched] and any(touched)
+
+
+def test_what_the_cache_does_not_promise_an_entry_its_owner_rewrote_is_used(scenario, computed, cache) -> None:
+    """The limit the module's docstring and docs/security.md state: the digest is unkeyed, so
+    an entry rewritten by someone who writes as the user, digest and all, is the flight the run
+    gets.  (Were it ever keyed, this test and those two texts change together.)"""
+    entry = _stored(scenario, computed, cache)
+    clean = cdrw_cache.compute(cdrw_cache.fault_free(scenario))      # what an entry holds
+    doctored = [dataclasses.replace(s, alpha=s.alpha + 1.0) for s in clean]
+    entry.write_bytes(cdrw_cache._encode(cdrw_cache.entry_key(scenario), doctored))
+    got = cdrw_cache.open_loop(scenario, len(computed))
+    assert [s.alpha for s in got] == [s.alpha + 1.0 for s in computed]

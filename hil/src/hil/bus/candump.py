@@ -6,10 +6,14 @@ CAN FD frames ("123##1...", recognised and flagged, not decoded).
 """
 from __future__ import annotations
 
+import io
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import BinaryIO
+
+from hil.util.bounded import open_regular
 
 CAN_ERR_FLAG = 0x20000000
 CAN_EFF_MASK = 0x1FFFFFFF
@@ -18,6 +22,16 @@ _LINE = re.compile(
     r"^\((?P<ts>\d+(?:\.\d+)?)\)\s+(?P<chan>\S+)\s+"
     r"(?P<id>[0-9A-Fa-f]{3}|[0-9A-Fa-f]{8})"
     r"(?P<sep>##?)(?P<data>R\d?|[0-9A-Fa-f]*)\s*$")
+
+
+#: a bus log larger than this is no run's (a minute of a loaded 500 kbit/s bus is ~20 MB)
+LOG_MAX_BYTES = 4 << 30
+
+
+def open_log(path: str | Path) -> BinaryIO:
+    """A bus log to read: a regular file of at most LOG_MAX_BYTES (hil.util.bounded: a FIFO or
+    a device is one line, not a hang)."""
+    return open_regular(path, LOG_MAX_BYTES, "bus log")
 
 
 class LogFormatError(ValueError):
@@ -68,7 +82,7 @@ def parse_line(line: str, lineno: int = 0) -> LogFrame:
 
 def read_log(path: str | Path) -> Iterator[LogFrame]:
     """Frames of a candump -L log; blank lines skipped, anything else malformed raises."""
-    with open(path, encoding="ascii", errors="replace") as f:
+    with io.TextIOWrapper(open_log(path), encoding="ascii", errors="replace") as f:
         for lineno, line in enumerate(f, 1):
             if line.strip():
                 yield parse_line(line, lineno)

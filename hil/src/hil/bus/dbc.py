@@ -24,6 +24,7 @@ from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from hil.bus.dbcfile import DbcError, DbcMissing, parse_dbc, read_dbc
 from hil.bus.e2e import DEFAULT_MAX_DELTA_COUNTER
 from hil.util.rounding import round_half_away
 
@@ -129,14 +130,14 @@ class MessageSpec:
         """cantools' Message (parsed on first use: comments, cantools' codec)."""
         if self.dbc_path is None:
             raise ValueError(f"{self.name}: no DBC to parse")
-        return _parse(self.dbc_path).get_message_by_name(self.name)
+        return parse_dbc(self.dbc_path).get_message_by_name(self.name)
 
     def signal(self, name: str) -> SignalSpec:
         """The signal of that name."""
         for sig in self.signals:
             if sig.name == name:
                 return sig
-        raise KeyError(f"{self.name} has no signal {name!r}")
+        raise DbcMissing(f"{self.dbc_path or 'the DBC'}: {self.name} has no signal {name!r}")
 
     def encode_raw(self, raw: dict[str, int]) -> bytes:
         """Raw values of every signal -> the 8 bytes."""
@@ -260,12 +261,12 @@ class BusSpec:
         try:
             return self._by_name[name]
         except KeyError:
-            raise KeyError(f"no message {name!r} in {self.path.name}") from None
+            raise DbcMissing(f"{self.path}: no message {name!r} (hil needs it)") from None
 
     @property
     def db(self) -> Database:
         """cantools' Database of the DBC (parsed on first use)."""
-        return _parse(self.path)
+        return parse_dbc(self.path)
 
 
 def set_default(path: Path | None) -> None:
@@ -293,34 +294,45 @@ def load(path: str | Path | None = None) -> BusSpec:
 
 @lru_cache(maxsize=8)
 def _load(path: Path) -> BusSpec:
-    if not path.is_file():
-        raise FileNotFoundError(f"DBC file {path} does not exist")
-    return _from_spec_file(path) or _parsed(path)
+    data = read_dbc(path)
+    try:
+        return _from_spec_file(path, data=data) or _parsed(path)
+    except DbcError:
+        raise
+    except ValueError as e:  # a check of the bus layer's: name the file
+        raise DbcError(f"{path}: {e}") from None
+
+
+def check_contract(spec: BusSpec) -> None:
+    """A DBC other than the packaged one names every message and signal of the packaged one
+    (hil's simulator and evaluation use them by name; identifiers and layouts may differ):
+    DbcMissing names the first one it lacks, before anything flies rather than mid-flight."""
+    ours = _load(PACKAGED_DBC)
+    for m in ours.messages:
+        theirs = spec._by_name.get(m.name)
+        if theirs is None:
+            raise DbcMissing(f"{spec.path}: no message {m.name!r} (hil's bus has it: {PACKAGED_DBC.name})")
+        for sig in m.signals:
+            theirs.signal(sig.name)
 
 
 def _parsed(path: Path) -> BusSpec:
     """The BusSpec of the DBC parsed by cantools, checked."""
-    db = _parse(path)
+    db = parse_dbc(path)
     messages = tuple(sorted((_message_spec(m, path) for m in db.messages), key=lambda m: m.frame_id))
     for m in messages:
         if m.length != 8 or m.message.is_extended_frame or m.frame_id > 0x7FF:
             raise ValueError(f"{m.name}: only 8-byte frames with 11-bit IDs are supported")
     names = {m.name for m in messages}
+    for a, b in zip(messages, messages[1:]):
+        if a.frame_id == b.frame_id:
+            raise ValueError(f"{a.name} and {b.name} have the same identifier 0x{a.frame_id:03X}")
     for m in messages:
         if m.is_authenticator and (not m.secoc_pdus or not set(m.secoc_pdus) <= names):
             raise ValueError(f"{m.name}: SecOC_Pdus must name the frames it authenticates")
     bus = db.buses[0] if db.buses else None
     return BusSpec(path, messages, tuple(n.name for n in db.nodes),
                    int(bus.baudrate) if bus and bus.baudrate else 500_000)
-
-
-@lru_cache(maxsize=8)
-def _parse(path: Path) -> Database:
-    import cantools  # slow to import (python-can with it): only when the DBC must be parsed
-    db = cantools.database.load_file(str(path), strict=True)
-    if not isinstance(db, cantools.database.can.Database):  # e.g. a diagnostics (.cdd) file
-        raise ValueError(f"{path}: not a CAN database")
-    return db
 
 
 # ---- the digested specification (data/fcc_hil.spec.json) --------------------------------
@@ -332,7 +344,7 @@ def _fingerprint(data: bytes) -> str:
 
 def spec_document(spec: BusSpec) -> dict[str, Any]:
     """The JSON document of a loaded DBC's specification (the digest dbc/generate writes)."""
-    return {"format": SPEC_FORMAT, "dbc": _fingerprint(spec.path.read_bytes()),
+    return {"format": SPEC_FORMAT, "dbc": _fingerprint(read_dbc(spec.path)),
             "nodes": list(spec.nodes), "baudrate": spec.baudrate,
             "messages": [_message_document(m) for m in spec.messages]}
 
@@ -344,11 +356,14 @@ def _message_document(m: MessageSpec) -> dict[str, Any]:
     return doc
 
 
-def _from_spec_file(path: Path, spec_file: Path | None = None) -> BusSpec | None:
-    """The BusSpec of path from the digest, when the digest was made from these bytes."""
+def _from_spec_file(path: Path, spec_file: Path | None = None,
+                    data: bytes | None = None) -> BusSpec | None:
+    """The BusSpec of path (its bytes: data) from the digest, when the digest was made from
+    these bytes."""
     try:
         doc = json.loads((spec_file or PACKAGED_SPEC).read_text(encoding="utf-8"))
-        if doc.get("format") != SPEC_FORMAT or doc.get("dbc") != _fingerprint(path.read_bytes()):
+        dbc = read_dbc(path) if data is None else data
+        if doc.get("format") != SPEC_FORMAT or doc.get("dbc") != _fingerprint(dbc):
             return None
         messages = tuple(MessageSpec(**{**m, "senders": tuple(m["senders"]),
                                         "receivers": tuple(m["receivers"]),

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hil.bus.candump import LogFrame, parse_line
+from hil.bus.candump import LogFrame, open_log, parse_line
 
 #: most bytes of a classic frame
 MAX_DATA = 8
@@ -139,7 +139,7 @@ def read_blocks(path: str | Path) -> Iterator[LogBlock]:
     """Every frame of a candump -L log, a block of lines at a time; as strict as
     candump.read_log (blank lines skipped, a malformed line raises LogFormatError)."""
     before = 0   # lines of the blocks before this one
-    with open(path, "rb") as f:
+    with open_log(path) as f:
         while block := f.read(BLOCK_BYTES):
             block += f.readline()   # whole lines only
             # read_log's universal newlines: "\r\n" and "\r" end a line too

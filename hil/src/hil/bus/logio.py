@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from hil.bus.candump import LogFrame, format_line, read_log
+from hil.bus.candump import LogFrame, format_line, open_log, read_log
 from hil.bus.logcolumns import LogBlock
 
 #: hil run --log-format choices (file bus.<fmt> in the run directory)
@@ -46,6 +46,7 @@ def read_frames(path: str | Path) -> Iterator[LogFrame]:
         return
     import can  # only the other formats need python-can (slow to import)
 
+    open_log(path).close()  # python-can opens it itself: a regular file, as read_log reads
     try:
         reader = can.LogReader(str(path))
     except ValueError as e:  # unknown suffix

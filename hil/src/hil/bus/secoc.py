@@ -27,7 +27,7 @@ from pathlib import Path
 
 from hil.bus.dbc import BusSpec
 from hil.io.paths import DATA
-from hil.util.bounded import TooLarge, read_bounded
+from hil.util.bounded import UnfitFile, read_bounded
 
 KEY_BYTES = 16
 MAC_BYTES = 6
@@ -98,7 +98,7 @@ def read_key_file(path: str | Path) -> bytes:
     """A key file: one line of 32 hex digits (lines starting with # are comments)."""
     try:
         text = read_bounded(path, 4096, "key file").decode("ascii")
-    except TooLarge as exc:
+    except UnfitFile as exc:
         raise KeyFileError(str(exc)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise KeyFileError(f"cannot read key file {path}: {exc}") from None

@@ -30,6 +30,8 @@ and hil.cli:entry).
 """
 from __future__ import annotations
 
+# first of all: a signal while the rest is imported ends hil at once, in one line (hil.util.startup)
+from hil.util import startup
 import argparse
 import gc
 import importlib
@@ -41,6 +43,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from hil.bus import dbc
+from hil.bus.dbcfile import DbcError
 from hil.cli import needs
 from hil.cli.parser import build
 from hil.cli.usage import EXIT_SIGINT, EXIT_USAGE, PROG, UsageError
@@ -49,6 +52,10 @@ from hil.io.paths import ToolNotFound
 from hil.io.rundir import OutDirRefused
 from hil.rig.errors import RigError
 from hil.scenario.schema import ScenarioError
+from hil.util.bounded import UnfitFile
+
+startup.started()  # from here on main()'s handlers, and Python's KeyboardInterrupt for SIGINT
+
 
 def dispatch(args: argparse.Namespace) -> int:
     """The chosen subcommand: its module in hil.cli (named as the subcommand), imported now, so
@@ -63,10 +70,13 @@ def _apply_paths(args: argparse.Namespace) -> None:
             raise UsageError(f"--build-dir {build_dir}: no such directory")
         os.environ[paths.BUILD_ENV] = str(build_dir.resolve())  # the run's workers look there too
     dbc_path = getattr(args, "dbc", None)
-    if dbc_path is not None:
-        if not dbc_path.is_file():
-            raise UsageError(f"--dbc {dbc_path}: no such file")
-        dbc.set_default(dbc_path)
+    if dbc_path is not None or os.environ.get(dbc.DBC_ENV):
+        try:  # a DBC hil cannot use is one line now, before anything starts
+            dbc.check_contract(dbc.load(dbc_path))  # None: $FCC_HIL_DBC's
+        except DbcError as e:
+            raise UsageError(f"{'--dbc' if dbc_path is not None else '$' + dbc.DBC_ENV}: {e}") from None
+        if dbc_path is not None:
+            dbc.set_default(dbc_path)
     fcc_path = getattr(args, "fcc", None)
     paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
     if fcc_path is not None:
@@ -119,7 +129,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     old: dict[signal.Signals, object] = {}
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGTERM, signal.SIGHUP):
-            old[sig] = signal.signal(sig, _terminate)
+            if signal.getsignal(sig) != signal.SIG_IGN:  # `nohup hil ...` goes on after a hangup
+                old[sig] = signal.signal(sig, _terminate)
     build_env = os.environ.get(paths.BUILD_ENV)
     try:
         return _main(argv)
@@ -137,9 +148,8 @@ def _main(argv: Sequence[str] | None) -> int:
         args = build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         _apply_paths(args)
         return dispatch(args)
-    except Terminated as e:
-        print(f"{PROG}: terminated by {signal.Signals(e.signum).name}{_notes(e)}", file=sys.stderr)
-        return 128 + e.signum
+    except KeyboardInterrupt as e:
+        return _stopped(e)
     except BrokenPipeError:
         # the results are already in place when the tables are printed: not a failed run
         _quiet_stdout()
@@ -147,11 +157,18 @@ def _main(argv: Sequence[str] | None) -> int:
     except UsageError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt as e:
-        print(f"{PROG}: interrupted{_notes(e)}", file=sys.stderr)
-        return EXIT_SIGINT
     except Exception as e:  # noqa: BLE001 - every failure is one line for the user
         return _fail(e)
+
+
+def _stopped(e: KeyboardInterrupt) -> int:
+    """SIGINT (Python's KeyboardInterrupt), SIGTERM or SIGHUP (Terminated): one line, 128 + the
+    signal's number."""
+    if isinstance(e, Terminated):
+        print(f"{PROG}: terminated by {signal.Signals(e.signum).name}{_notes(e)}", file=sys.stderr)
+        return 128 + e.signum
+    print(f"{PROG}: interrupted{_notes(e)}", file=sys.stderr)
+    return EXIT_SIGINT
 
 
 def _notes(e: BaseException) -> str:
@@ -173,11 +190,13 @@ def _fail(e: Exception) -> int:
     if isinstance(e, OSError) and type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
                                               NotADirectoryError, FileExistsError) and e.errno is not None:
         msg = _os_message(e)
-    if isinstance(e, (ScenarioError, OutDirRefused)):
+    if isinstance(e, (MemoryError, RecursionError)):  # what no reader of an input turned into its own
+        msg = "out of memory (MemoryError)" if isinstance(e, MemoryError) else "nested too deeply (RecursionError)"
+    if isinstance(e, (ScenarioError, OutDirRefused, UnfitFile, DbcError)):
         code = EXIT_USAGE
     elif isinstance(e, RigError):
         code = e.exit_code
-    elif isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError)):
+    elif isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError, MemoryError)):
         code = 1
     else:
         raise e
@@ -187,7 +206,10 @@ def _fail(e: Exception) -> int:
 
 def entry() -> NoReturn:
     """The `hil` program (tests call main() instead)."""
-    code = main()
+    try:
+        code = main()
+    except KeyboardInterrupt as e:  # before main's try or after it (its handlers' moments)
+        code = _stopped(e)
     # The interpreter's exit collects the objects still alive, all of which (the modules,
     # numpy's among them) live to the end: frozen, the collections skip them (0.03-0.05 s of
     # a `hil run` in the UML guest, measured)

@@ -6,7 +6,8 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 from hil.bus import load
@@ -18,9 +19,20 @@ from hil.rig.config import RigConfig
 from hil.scenario.file import load_default_scenario, load_scenario, with_extra_faults
 
 
+@contextmanager
+def reading(what: object) -> Iterator[None]:
+    """A user's file too large or nested too deeply for its parser (the TOML and JSON parsers
+    recurse per level of nesting: `x = [[[...]]]`): one line, a usage error (exit 2)."""
+    try:
+        yield
+    except (RecursionError, MemoryError) as e:
+        raise UsageError(f"{what}: too large or nested too deeply to read ({type(e).__name__})") from None
+
+
 def scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
     frames = {m.name for m in load().messages}
-    sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
+    with reading(path or "the default scenario"):
+        sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
     if sc.aircraft != aircraft:
         raise UsageError(f"{sc.source}: a scenario for aircraft {sc.aircraft!r}, not {aircraft!r}")
     if faults:

@@ -17,8 +17,26 @@ from hil.results.fig3_grid import FIG3_PERIODS
 
 
 class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors, and a command's positionals and options in any order:
+    argparse alone fills the positionals it sees together at once, an optional one empty, so
+    `hil run missile --quiet S.toml` left S.toml over ("unrecognized arguments"); a parser
+    without subcommands (every command's own) parses intermixed: the options first, then the
+    positionals wherever they stood."""
+
+    _intermixing = False
+
     def error(self, message: str) -> NoReturn:  # one line, not argparse's usage block
         raise UsageError(f"{message} (see `{self.prog} --help`)")
+
+    def parse_known_args(self, args: Sequence[str] | None = None,  # type: ignore[override]
+                         namespace: argparse.Namespace | None = None) -> tuple[argparse.Namespace, list[str]]:
+        if self._intermixing or self._subparsers is not None:  # the intermixed parse's own passes;
+            return super().parse_known_args(args, namespace)  # subcommands: argparse's own parse
+        self._intermixing = True
+        try:
+            return self.parse_known_intermixed_args(args, namespace)
+        finally:
+            self._intermixing = False
 
 
 def floats(text: str) -> list[float]:

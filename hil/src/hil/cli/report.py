@@ -50,7 +50,10 @@ def run(args: argparse.Namespace) -> int:
         log = run_log(args.dir)
         if log is None:
             raise UsageError(f"{args.dir}: no bus log (bus.log, bus.asc or bus.blf)")
-        print(render(analyse(read_frames(log), load())))
+        try:
+            print(render(analyse(read_frames(log), load())))
+        except (ValueError, OSError) as e:  # a malformed log (a line not candump's, not a file)
+            raise UsageError(f"{log}: not a bus log hil can read: {str(e).splitlines()[0]}") from None
     if not args.no_plots:
         try:
             theirs = users_files(args.dir)

@@ -28,12 +28,16 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                   "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference; "
                   "`hil bus wcrt`: a frame misses its deadline or has no bounded response time"),
     (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
-                 "the simulator does not send for that aircraft), a flight too long for the memory "
-                 "available, a foreign `--out`, a user's file `--force` would overwrite, a file "
-                 "argument too large (`/dev/zero`), `--workers` outside 1..64, `--workers` with "
+                 "the simulator does not send for that aircraft, nested too deeply), a flight too "
+                 "long for the memory available, a foreign `--out`, a user's file `--force` would "
+                 "overwrite, a file argument that is not a regular file (a FIFO, a device, a "
+                 "directory) or too large, a DBC hil cannot use (`--dbc`, `$FCC_HIL_DBC`: empty, "
+                 "binary, truncated, not parsed, a message or signal of hil's missing, two messages "
+                 "on one identifier), `--workers` outside 1..64, `--workers` with "
                  "`--log-format asc|blf` or inside the `scripts/with-vcan` guest, a firmware program "
                  "or an extra of the package missing; `hil replay` of a run whose bus key is not "
-                 "kept: nothing is started"),
+                 "kept, whose bus log or `run_info.json` is malformed, or with no step to replay: "
+                 "nothing is started"),
     (EXIT_TIMEOUT, "fcc did not answer a lockstep step within `--timeout` (after resending the "
                    "tick at `--timeout`/2)"),
     (EXIT_DIED, "fcc died during the run, or the serial line to the Cortex-M4F image lost "
@@ -45,7 +49,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                 "refused (the authenticated master implausible against fcc's clock) or lost; "
                 "one line names it, summary.json's `sync` has the counters"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
-                  "file removed, partial results kept marked `FAILED`"),
+                  "file removed, partial results kept marked `FAILED`; while hil is still starting "
+                  "(before it has started anything), the one line at once"),
     (EXIT_SIGTERM, "SIGTERM: as SIGINT"),
     (EXIT_SIGHUP, "SIGHUP: as SIGINT"),
 )

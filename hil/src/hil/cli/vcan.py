@@ -21,7 +21,7 @@ from hil.io import paths
 #: provisions the kernel unless the host has vcan or it is there already (scripts/setup's rule)
 _PROVISION = r'''
 source "$1"
-dir=$(uml_dir)
+prog=hil-vcan dir=$(uml_dir)
 [ -e /sys/class/net/vcan0 ] || modprobe -q vcan 2>/dev/null || uml_ready "$dir" && exit 0
 echo "hil-vcan: no vcan in this kernel: installing Debian's user-mode-linux >= 7 into $dir (once)" >&2
 uml_provision "$dir"

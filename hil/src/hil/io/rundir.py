@@ -38,8 +38,12 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from hil.util.bounded import read_bounded
+
 #: the list of files a complete hil run wrote (what makes a directory "hil's own")
 MANIFEST = ".hil-run.json"
+#: a manifest lists a run's files: a few kB (one larger, or not a regular file, is not hil's)
+MANIFEST_MAX_BYTES = 16 << 20
 #: in a failed run's directory: why it failed
 FAILED = "FAILED"
 _STAGE = re.compile(r"\.(.+)\.partial-[A-Za-z0-9_.-]+?-\d+-[0-9a-f]{16}")
@@ -131,7 +135,7 @@ def _files(root: Path) -> list[str]:
 
 def _manifest(path: Path) -> set[str] | None:
     try:
-        doc = json.loads((path / MANIFEST).read_text(encoding="utf-8"))
+        doc = json.loads(read_bounded(path / MANIFEST, MANIFEST_MAX_BYTES, "run manifest"))
         files = doc["files"]
     except (OSError, ValueError, KeyError, TypeError):
         return None

@@ -23,6 +23,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hil.bus import load
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec
 from hil.bus.logio import read_frames, run_log
@@ -34,14 +35,20 @@ from hil.results.buslog import BusAuth, authentic_frames
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.simtime import WALL_LOG
 from hil.targets.host import HostFcc
+from hil.util.bounded import UnfitFile, read_bounded
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
 WALL_CLOCK_IDS = 0x700          # heartbeat and rig frames from here up: not compared
 SKIP_SIGNALS = {"FCC_ACK": ("exec_us", "crc")}
 
 
+#: run_info.json: a few kB
+RUN_INFO_MAX_BYTES = 1 << 20
+
+
 class ReplayError(ValueError):
-    """The run directory cannot be replayed (one line, exit 2)."""
+    """The run directory cannot be replayed: not a lockstep run, its bus key not kept, its
+    run_info.json or bus log malformed (one line, exit 2: nothing is started)."""
 
 
 @dataclass
@@ -68,14 +75,30 @@ class Difference:
                 f"{fmt(self.recorded)}, replayed {fmt(self.replayed)}")
 
 
+def run_info(run_dir: Path) -> dict:
+    """The recorded run's run_info.json (ReplayError: one line why it cannot be read)."""
+    path = run_dir / "run_info.json"
+    try:
+        info = json.loads(read_bounded(path, RUN_INFO_MAX_BYTES, "run_info.json"))
+    except UnfitFile as e:
+        raise ReplayError(str(e)) from None
+    except OSError as e:
+        raise ReplayError(f"{path}: cannot be read: {e.strerror or e}") from None
+    except (ValueError, RecursionError, MemoryError) as e:  # not JSON (nor UTF-8), or nested too deeply
+        raise ReplayError(f"{path}: not valid JSON: {type(e).__name__}: {str(e)[:120]}") from None
+    if not isinstance(info, dict):
+        raise ReplayError(f"{path}: not a run_info object")
+    return info
+
+
 def recorded_fcc_args(run_dir: Path) -> list[str]:
     """fcc's options of the recorded run, without the interface, key file and trip."""
-    info_path = run_dir / "run_info.json"
+    info = run_info(run_dir)
     try:
-        info = json.loads(info_path.read_text())
         cmd = shlex.split(info["fcc_command"])
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise ReplayError(f"{info_path}: no fcc command line ({type(e).__name__}: {e})") from None
+    except (ValueError, KeyError, TypeError, AttributeError) as e:
+        raise ReplayError(f"{run_dir / 'run_info.json'}: no fcc command line "
+                          f"({type(e).__name__}: {e})") from None
     if info.get("mode") != "lockstep":
         raise ReplayError(f"{run_dir}: a {info.get('mode')} run; only lockstep runs replay")
     args = cmd[1:]
@@ -99,8 +122,7 @@ def recorded_key(run_dir: Path) -> bytes:
     try:
         if kept.is_file():
             return read_key_file(kept)
-        info = json.loads((run_dir / "run_info.json").read_text())
-        key_file = info.get("key_file") if isinstance(info, dict) else None
+        key_file = run_info(run_dir).get("key_file")
         if key_file:
             return read_key_file(key_file)
     except (KeyFileError, OSError, ValueError) as e:
@@ -108,6 +130,25 @@ def recorded_key(run_dir: Path) -> bytes:
                           f"authenticated frames may be replayed") from None
     raise ReplayError(f"{run_dir}: the run's bus key is not kept ({KEPT_KEY}, or run_info.json's "
                       f"key_file): its authenticated frames cannot be told from forged ones")
+
+
+def recorded_segments(run_dir: Path, log: Path, spec: BusSpec) -> list[Segment]:
+    """The recording's authentic frames cut at fcc's acknowledges, read before anything starts:
+    a malformed log (a line not candump -L, a file python-can cannot read, not a regular file)
+    is a ReplayError naming the log, not a difference."""
+    key = recorded_key(run_dir)
+    try:
+        segs = segments(authentic_frames(read_frames(log), BusAuth(key)), spec)
+    except UnfitFile as e:
+        raise ReplayError(str(e)) from None
+    except OSError as e:
+        raise ReplayError(f"{log}: cannot be read: {e.strerror or e}") from None
+    except Exception as e:  # noqa: BLE001 - the log's parsers (candump's, python-can's) raise many kinds
+        raise ReplayError(f"{log}: not a bus log hil can replay: "
+                          f"{str(e).splitlines()[0] if str(e) else type(e).__name__}") from None
+    if not any(seg.ack for seg in segs):
+        raise ReplayError(f"{log}: no step fcc acknowledged under the run's key: nothing to replay")
+    return segs
 
 
 def segments(frames: Iterator[LogFrame], spec: BusSpec) -> list[Segment]:
@@ -164,10 +205,10 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
     if log is None:
         raise ReplayError(f"{run_dir}: no bus log (bus_wall.log, bus.log, bus.asc, bus.blf)")
     args = recorded_fcc_args(run_dir) + list(extra_args)
+    spec = load()
+    segs = recorded_segments(run_dir, log, spec)
     rig = RigSession(out_dir, args, RigConfig(out_dir=out_dir, iface=iface, fcc_binary=fcc_binary),
-                     record=False)
-    spec = rig.spec
-    segs = segments(authentic_frames(read_frames(log), BusAuth(recorded_key(run_dir))), spec)
+                     record=False, spec=spec)
     fcc_ids = {m.frame_id for m in spec.messages
                if not SIM_SENDERS.intersection(m.senders) and m.frame_id < WALL_CLOCK_IDS}
     rig.fcc_ids = tuple(sorted(fcc_ids | set(rig.fcc_ids)))

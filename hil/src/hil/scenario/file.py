@@ -35,7 +35,7 @@ from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFaul
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build, parse_toml
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
-from hil.util.bounded import TooLarge, read_bounded
+from hil.util.bounded import UnfitFile, read_bounded
 
 #: the embedded scenarios (package data, beside the packaged DBC)
 PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
@@ -291,7 +291,7 @@ def load_scenario(path: str | Path, known_frames: Collection[str] | None = None)
     p = Path(path)
     try:
         text = read_bounded(p, SCENARIO_MAX_BYTES, "scenario file").decode("utf-8")
-    except TooLarge as e:
+    except UnfitFile as e:
         raise ScenarioError(str(e)) from None
     except OSError as e:
         raise ScenarioError(f"{p}: cannot read scenario: {e.strerror or e}") from None

@@ -23,6 +23,17 @@ An entry is used only when it is the user's own regular file (not a link), its d
 count and size match; anything else (a corrupt, truncated, foreign or older entry) is
 ignored and rebuilt.  Writes rename a complete file into place, so a concurrent run reads
 the old entry or the new one.
+
+What the cache promises: the flight it gives is the one the code would compute, against
+accident -- a torn or truncated write, a corrupt disk, an entry of another scenario, another
+version of this code, numpy or Python, another user's file, a link -- each of which is
+rebuilt.  It promises nothing against someone who can write as the user: the digest is
+unkeyed, so an entry rewritten with a matching digest is used without a word.  Such a person
+can as well rewrite hil's own source, the key file or fcc; the cache is as trusted as the
+user's home directory.  A keyed digest would not change that: its key would have to be kept
+where the user's processes read it, so whoever can rewrite an entry can read the key and
+digest the new entry with it (a key elsewhere -- a keyring, a token -- is more than a cache of
+a computation is worth).  FCC_HIL_CACHE=off computes every flight (docs/security.md).
 """
 from __future__ import annotations
 

@@ -43,7 +43,7 @@ from hil.rig.flight import check_missile
 from hil.runs.budget import check_memory
 from hil.scenario.file import AIRCRAFT, Scenario, default_scenario_text, parse_flight_fault, scenario_from_dict
 from hil.scenario.schema import ScenarioError, build, check_keys, field_names, parse_toml, spec
-from hil.util.bounded import TooLarge, read_bounded
+from hil.util.bounded import UnfitFile, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
@@ -230,7 +230,7 @@ def _read(path: Path) -> dict[str, Any]:
     """The suite file's TOML (bounded read: a suite is a small text file)."""
     try:
         data = read_bounded(path, MAX_SUITE_BYTES, "suite")
-    except TooLarge as e:
+    except UnfitFile as e:
         raise SuiteError(str(e)) from None
     except OSError as e:
         raise SuiteError(f"{path}: {e.strerror or e}") from None

@@ -14,6 +14,7 @@ from hil.io.output import read_json
 from hil.io.rundir import note_written, users_files
 from hil.plots import plot_run_dir
 from hil.results.report import summary_tables
+from hil.results.verdict import lines as verdict_lines
 
 
 #: the names of the figures hil draws (hil.plots)
@@ -40,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"{summary_path}: not a hil summary: expected a JSON object, got "
                          f"{type(summary).__name__ if summary is not None else 'null'}")
     try:
-        tables = [] if args.plots_only else summary_tables(summary)
+        tables = [] if args.plots_only else [*verdict_lines(summary), *summary_tables(summary)]
     except (KeyError, TypeError, AttributeError, ValueError, IndexError) as e:
         raise not_a_summary(summary_path, e) from None
     for t in tables:

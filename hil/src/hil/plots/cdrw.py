@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hil.plots.faults import flag_spans, shade
 from hil.plots.mpl import plt, save
 
 Series = dict[str, np.ndarray]
@@ -21,15 +22,7 @@ STALL_DEG = 15.0
 
 
 def _shade_faults(ax, s: Series) -> None:
-    f = s.get("fault")
-    if f is None or not np.any(f > 0):
-        return
-    t = s["t"]
-    dt = t[1] - t[0] if len(t) > 1 else 0.02
-    on = np.flatnonzero(np.diff(np.concatenate([[0], (f > 0).astype(int), [0]])))
-    for i, (a, b) in enumerate(zip(on[::2], on[1::2])):
-        ax.axvspan(t[a], t[b - 1] + dt, color="0.85", zorder=0, lw=0,
-                   label="sensor fault active" if i == 0 else None)
+    shade(ax, flag_spans(s["t"], s.get("fault")), "sensor fault active")
 
 
 #: the series key plot_run_dir sets to say which flight a figure shows (campaigns)

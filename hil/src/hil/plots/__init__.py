@@ -123,12 +123,12 @@ def _families(run_dir: Path, out: Path) -> Iterator[tuple[str, Figure]]:
         if len(periods) > 1 and not summary.get("responses"):  # a 3 s response is no RMS
             yield "fig3", partial(missile.fig3_rms, runs, out)
     by_period: dict[float, dict[int | None, dict[str, np.ndarray]]] = {}
-    for f in sorted(run_dir.glob("missile_T*_fine.csv")):
-        m = _FINE.match(f.name)
+    for fine in sorted(run_dir.glob("missile_T*_fine.csv")):
+        m = _FINE.match(fine.name)
         if m is None:
             continue
         bits = None if m["b"] == "open" else int(m["b"][1:])
-        by_period.setdefault(float(m["T"]), {})[bits] = read_csv(f)
+        by_period.setdefault(float(m["T"]), {})[bits] = read_csv(fine)
     responses = summary.get("responses") or {}
     subtitle = ("deterministic: q0 = 0.1 rad/s, α_T0 = 0, no gust, no sensor noise "
                 "(the design keeps its nominal R)") if responses.get("deterministic") else ""

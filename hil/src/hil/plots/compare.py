@@ -53,10 +53,16 @@ def compare_figures(runs: Sequence[Run], out: Path) -> list[Path]:
     return [p for p in written if p is not None]
 
 
+#: the columns the overlays draw (a run without them, e.g. a trimmed copy, is left out)
+CDRW_COLUMNS = {"t", "alpha_true", "q_true", "azkf_alpha_hat", "azkf_q_hat"}
+MISSILE_COLUMNS = {"t", "q", "alpha_T", "q_hat", "alpha_T_hat", "u"}
+
+
 def _cdrw_csv(run: Run) -> Series | None:
     for name in ("cdrw.csv", "cdrw_run0.csv"):
         if (run.path / name).is_file():
-            return read_csv(run.path / name)
+            s = read_csv(run.path / name)
+            return s if set(s) >= CDRW_COLUMNS else None
     return None
 
 
@@ -97,7 +103,10 @@ def _missile_steps(run: Run) -> tuple[Series, Series | None] | None:
         return None
     m = found[0]
     fine = run.path / f"missile_T{m['T']}_b{m['b']}_fine.csv"
-    return read_csv(run.path / m.group(0)), (read_csv(fine) if fine.is_file() else None)
+    steps = read_csv(run.path / m.group(0))
+    if not set(steps) >= MISSILE_COLUMNS:
+        return None
+    return steps, (read_csv(fine) if fine.is_file() else None)
 
 
 def _missile_series(runs: Sequence[Run], out: Path) -> Path | None:

@@ -162,6 +162,7 @@ def time_response(period: float, curves: Mapping[int | None, Series],
         for ax in axs:
             shade(ax, spans)
         name_windows(axs[0], windows, t_end)
+        axs[0].legend(fontsize=7, ncol=4, loc="upper right")
     ax_q.set_ylabel("q (rad/s)")
     ax_a.set_ylabel("α_T (rad)")
     if steps:
@@ -187,7 +188,6 @@ def _sensor_panel(ax, e: Series, fine: Series | None, bits: int) -> None:
             label="fcc's estimate q̂ (MSL_STATE_EST)")
     ax.set_ylabel("q (rad/s)")
     ax.set_title(f"closed loop, {bits}-bit D/A: measured, true and estimated pitch rate", fontsize=9)
-    ax.legend(fontsize=7, ncol=4, loc="upper right")
 
 
 def _same_trace(a: Series, b: Series) -> bool:

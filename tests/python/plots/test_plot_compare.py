@@ -13,7 +13,7 @@ import pytest
 
 from browser import PNG_MAGIC, screenshot
 from hil.io.rundir import MANIFEST
-from hil.plots import missile
+from hil.plots import cdrw, missile
 from hil.plots.mpl import caption_path, plt
 from hil.results.faultwindows import FaultWindow
 from rig_helpers import cli
@@ -99,5 +99,20 @@ def test_the_missile_figure_shades_each_fault_window_and_shows_gyro_truth_and_es
     fig = missile.time_response(0.1, {8: fine}, {8: steps})
     try:
         assert [(round(p.get_x(), 6), round(p.get_x() + p.get_width(), 6)) for p in fig.axes[0].patches] == [(3.0, 4.0)]
+    finally:
+        plt.close(fig)
+
+
+def test_cdrw_figures_shade_every_faults_window_else_the_sensor_fault_flag() -> None:
+    t = np.arange(100) * 0.02
+    s = {"t": t, "fault": ((t >= 1.0) & (t < 1.2)).astype(int)}
+    windows = [FaultWindow("flood", "bus", 0.4, 0.6), FaultWindow("replay", "CDRW_AOA", 1.5, None)]
+    fig, (a, b) = plt.subplots(2, 1)
+    try:
+        cdrw.shade_faults(a, {**s, cdrw.WINDOWS_KEY: windows})
+        cdrw.shade_faults(b, s)
+        assert [(round(p.get_x(), 6), round(p.get_x() + p.get_width(), 6)) for p in a.patches] == \
+            [(0.4, 0.6), (1.5, 1.98)]
+        assert [(round(p.get_x(), 6), round(p.get_x() + p.get_width(), 6)) for p in b.patches] == [(1.0, 1.2)]
     finally:
         plt.close(fig)

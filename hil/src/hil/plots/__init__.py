@@ -99,6 +99,8 @@ def figures(run_dir: Path, out: Path | None = None, only: Iterable[str] | None =
 def _families(run_dir: Path, out: Path) -> Iterator[tuple[str, Figure]]:
     from hil.plots import cdrw, missile, realtime, tables  # they import matplotlib: only when drawing
 
+    summary_path = run_dir / "summary.json"
+    summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
     for name in ("cdrw.csv", "cdrw_run0.csv"):
         if (run_dir / name).is_file():
             note = ""
@@ -106,13 +108,14 @@ def _families(run_dir: Path, out: Path) -> Iterator[tuple[str, Figure]]:
                 c = read_csv(run_dir / "campaign.csv")
                 note = (f"campaign flight 0 of {len(c['run'])} (fault at "
                         f"{float(c['fault_start'][0]):.2f} s); the tables are over all flights")
-            for f in cdrw.all_figures(read_csv(run_dir / name), out, note):
+            # the flight's fault windows (a campaign's flight 0 has no events: its fault flag)
+            events = flight_events(summary, "cdrw") if name == "cdrw.csv" else []
+            windows = from_events(events) if events else None
+            for f in cdrw.all_figures(read_csv(run_dir / name), out, note, windows):
                 yield "cdrw", f
             break
     if (run_dir / "campaign.csv").is_file():
         yield "campaign", partial(cdrw.campaign_figure, read_csv(run_dir / "campaign.csv"), out)
-    summary_path = run_dir / "summary.json"
-    summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
     if isinstance(summary.get("cdrw"), dict):
         yield "tables", partial(tables.table_bars, summary["cdrw"], out)
     if (run_dir / "fig3.json").is_file():

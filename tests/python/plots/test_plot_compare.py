@@ -44,6 +44,7 @@ def test_plot_redraws_the_table_bars_into_out_and_the_caption_names_the_run(tmp_
     (["plot", "RUN", "--figures", "timing", "--out", "OUT"], "RUN: no figures to draw of timing"),
     (["compare", "RUN"], "compare: give two run directories or more"),
     (["compare", "RUN", "NOPE", "--out", "OUT"], "NOPE: no such run directory"),
+    (["compare", "RUN", "RUN", "--out", "RUN"], "--out RUN: holds the compared run RUN; the comparison goes elsewhere"),
 ])
 def test_errors_are_one_line_and_exit_2(tmp_path, capsys, argv, message) -> None:
     (tmp_path / "EMPTY").mkdir()

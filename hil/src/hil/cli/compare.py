@@ -34,6 +34,10 @@ def run(args: argparse.Namespace) -> int:
     if len(args.dirs) < 2:
         raise UsageError("compare: give two run directories or more")
     runs = label_runs(args.dirs, [_checked(d) for d in args.dirs])
+    out = args.out.resolve()
+    for d in args.dirs:
+        if out == d.resolve() or out in d.resolve().parents:
+            raise UsageError(f"--out {args.out}: holds the compared run {d}; the comparison goes elsewhere")
     command = shlex.join([PROG, "compare", *map(str, args.dirs), "--out", str(args.out)])
     with staged_run(args.out, "compare", force=args.force) as stage:
         try:

@@ -23,7 +23,7 @@ def _cdrw_series(n: int = 200) -> dict:
 def test_fig10_shares_its_y_axis_and_has_a_caption(tmp_path: Path) -> None:
     png = cdrw.fig10_bounds(_cdrw_series(), tmp_path)
     cap = caption_path(png).read_text()
-    assert cap.startswith("Fig. 10") and f"hil report {tmp_path}" in cap and cap.count("\n") == 1
+    assert cap.startswith("Fig. 10") and f"hil plot {tmp_path}" in cap and cap.count("\n") == 1
 
 
 def test_gust_flight_is_not_titled_figs_4_6_and_hidden_trace_is_said(tmp_path: Path) -> None:

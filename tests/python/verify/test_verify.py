@@ -4,7 +4,6 @@ Cortex-M4F image, and fail naming the right requirement against deliberately wro
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -17,6 +16,7 @@ from hil.verify import expr, suite
 from hil.verify.fields import FIELDS, NEVER
 from hil.verify.report import html_report, junit, requirement_verdict, traceability
 from hil.verify.runner import ERROR, FAIL, PASS, CaseResult, Check
+from browser import PNG_MAGIC, screenshot
 from rig_helpers import cli
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -373,13 +373,8 @@ def test_the_html_report_opens_in_a_real_browser(tmp_path):
     page = html_report(rs, suites, tmp_path / "report", "host", "hil verify seed1-identification")
     text = page.read_text()
     assert "1 passed, 1 failed, 1 errors" in text and "SID-DET-1" in text and "fcc did not answer" in text
-    browser = shutil.which("chromium") or shutil.which("chromium-browser")
-    assert browser, "chromium is not installed (scripts/setup installs it)"
-    shot = tmp_path / "shot.png"
-    subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--window-size=1200,900",
-                    f"--screenshot={shot}", page.as_uri()], check=True, capture_output=True, timeout=120)
-    data = shot.read_bytes()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000   # a page was drawn, not a blank
+    data = screenshot(page, tmp_path / "shot.png")
+    assert data[:8] == PNG_MAGIC and len(data) > 10_000   # a page was drawn, not a blank
 
 
 # ---- on the bus ---------------------------------------------------------------------------------

@@ -260,6 +260,21 @@ def build() -> argparse.ArgumentParser:
     rep.add_argument("--dbc", type=Path, metavar="PATH",
                      help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
+    pl = sub.add_parser("plot", help="redraw a run directory's figures from its CSV files and summary.json")
+    pl.add_argument("dir", type=Path, metavar="RUN_DIR")
+    pl.add_argument("--figures", type=lambda t: [x for x in t.split(",") if x], metavar="NAME,...",
+                    help="only these (default all): cdrw (Figs. 5-10), campaign, tables (Table 4/5 "
+                    "bars), fig3, missile (time responses), timing (a realtime run's)")
+    pl.add_argument("--out", type=Path, metavar="DIR", help="into DIR, a new directory (default RUN_DIR)")
+    pl.add_argument("--force", action="store_true", help="write into an --out that holds other files (kept)")
+
+    cm = sub.add_parser("compare", help="runs overlaid: time series on shared axes, tables side by "
+                        "side with their differences; PNG files and compare.html")
+    cm.add_argument("dirs", nargs="+", type=Path, metavar="RUN_DIR", help="two runs or more")
+    cm.add_argument("--out", type=Path, default=Path("out/compare"), metavar="DIR",
+                    help="where the comparison goes (default out/compare)")
+    cm.add_argument("--force", action="store_true", help="write into an --out that holds other files (kept)")
+
     st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance "
                         "analysis and a quantiser Monte Carlo; cdrw = Table 5 with its controls")
     st.add_argument("study", choices=("missile-rms", "cdrw"))

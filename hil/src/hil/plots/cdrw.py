@@ -1,7 +1,8 @@
 """Seed 1's figures from a CDRW time series (cdrw.csv): Figs. 5 to 10.
 
 Angles are drawn in degrees and rates in deg/s, as the paper draws them; the series are in
-rad and rad/s.  The fault interval (sensor fault active) is shaded in every figure.
+rad and rad/s.  Every fault window of the flight (its events: sensor, frame and bus faults;
+else the series' sensor-fault flag) is shaded in every figure.
 """
 from __future__ import annotations
 
@@ -11,7 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
+from hil.plots.faults import flag_spans, shade, window_spans
 from hil.plots.mpl import plt, save
+from hil.results.faultwindows import FaultWindow
 
 Series = dict[str, np.ndarray]
 DEG = 180.0 / np.pi
@@ -20,20 +23,20 @@ LABELS = {"azkf": "MLS-AZKF", "zkf": "MLS-ZKF", "kf": "MLS-KF"}
 STALL_DEG = 15.0
 
 
-def _shade_faults(ax, s: Series) -> None:
-    f = s.get("fault")
-    if f is None or not np.any(f > 0):
-        return
-    t = s["t"]
-    dt = t[1] - t[0] if len(t) > 1 else 0.02
-    on = np.flatnonzero(np.diff(np.concatenate([[0], (f > 0).astype(int), [0]])))
-    for i, (a, b) in enumerate(zip(on[::2], on[1::2])):
-        ax.axvspan(t[a], t[b - 1] + dt, color="0.85", zorder=0, lw=0,
-                   label="sensor fault active" if i == 0 else None)
+def shade_faults(ax, s: Series) -> None:
+    """The flight's fault windows (all kinds, from its events) where the run has them, else
+    the series' sensor-fault flag (a campaign's flight 0)."""
+    windows = s.get(WINDOWS_KEY)
+    if isinstance(windows, list):
+        shade(ax, window_spans(windows, float(s["t"][-1])))
+    else:
+        shade(ax, flag_spans(s["t"], s.get("fault")), "sensor fault active")
 
 
 #: the series key plot_run_dir sets to say which flight a figure shows (campaigns)
 NOTE_KEY = "_figure_note"
+#: the series key plot_run_dir sets to the flight's fault windows (hil.results.faultwindows)
+WINDOWS_KEY = "_fault_windows"
 
 
 def _note(s: Series) -> str:
@@ -50,7 +53,7 @@ def _stall_times(s: Series) -> list[float]:
 def fig5_alpha_q(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5.5))
     for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
-        _shade_faults(ax, s)
+        shade_faults(ax, s)
         ax.plot(s["t"], s[f"{key}_meas"] * DEG, ".", ms=2.5, color="0.35", label="measured")
         ax.plot(s["t"], s[f"{key}_true"] * DEG, "-", lw=1.2, color="k", label="true")
         ax.set_ylabel(f"{'α' if key == 'alpha' else 'q'} ({unit})")
@@ -66,7 +69,7 @@ def fig6_model(s: Series, out: Path) -> Path | None:
     names = ("a11", "a12", "a21", "a22", "b1", "b2")
     fig, axs = plt.subplots(3, 2, sharex=True, figsize=(9, 7))
     for ax, n in zip(axs.flat, names):
-        _shade_faults(ax, s)
+        shade_faults(ax, s)
         for f in ("kf", "zkf", "azkf"):
             ax.plot(s["t"], s[f"{f}_{n}"], color=COLORS[f], lw=1, label=LABELS[f])
         ax.plot(s["t"], s[f"{n}_true"], "k--", lw=1, label="true (local linearisation)")
@@ -83,7 +86,7 @@ def fig6_model(s: Series, out: Path) -> Path | None:
 
 def fig7_rho(s: Series, out: Path) -> Path | None:
     fig, ax = plt.subplots(figsize=(8, 4))
-    _shade_faults(ax, s)
+    shade_faults(ax, s)
     for f in ("kf", "zkf", "azkf"):
         ax.plot(s["t"], s[f"{f}_rho"], color=COLORS[f], lw=1, label=f"ρ(A_k), {LABELS[f]}")
     ax.plot(s["t"], s["rho_true"], "k--", lw=1.2, label="ρ(A) true, separation state held")
@@ -102,7 +105,7 @@ def fig7_rho(s: Series, out: Path) -> Path | None:
 def fig8_estimates(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
     for ax, key, unit in ((axs[0], "alpha", "deg"), (axs[1], "q", "deg/s")):
-        _shade_faults(ax, s)
+        shade_faults(ax, s)
         ax.plot(s["t"], s[f"{key}_meas"] * DEG, ".", ms=2.5, color="0.5", label="measured (with fault)")
         ax.plot(s["t"], s[f"{key}_ff"] * DEG, "-", lw=0.8, color="0.2", label="measured, fault-free")
         for f in ("kf", "zkf", "azkf"):
@@ -118,14 +121,14 @@ def fig8_estimates(s: Series, out: Path) -> Path | None:
 def fig9_gains(s: Series, out: Path) -> Path | None:
     fig, axs = plt.subplots(2, 1, sharex=True, figsize=(8, 5), height_ratios=(2, 1))
     ax = axs[0]
-    _shade_faults(ax, s)
+    shade_faults(ax, s)
     for f in ("kf", "zkf", "azkf"):
         ax.plot(s["t"], s[f"{f}_gain_norm"], color=COLORS[f], lw=1.1,
                 label=("‖K_k‖₂, " if f == "kf" else "‖G_k‖₂, ") + LABELS[f])
     ax.set_ylabel("gain norm")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    _shade_faults(axs[1], s)
+    shade_faults(axs[1], s)
     axs[1].step(s["t"], s["azkf_order"], where="post", color=COLORS["azkf"], lw=1, label="AZKF order q")
     axs[1].set_yscale("symlog")
     axs[1].set_ylabel("order")
@@ -149,7 +152,7 @@ def fig10_bounds(s: Series, out: Path) -> Path | None:
     (the hull of the AZKF against the KF's 3 sigma) with their medians."""
     fig, axs = plt.subplots(3, 1, sharex=True, figsize=(8, 8))
     for ax, f in zip(axs[:2], ("azkf", "kf")):
-        _shade_faults(ax, s)
+        shade_faults(ax, s)
         ax.fill_between(s["t"], s[f"{f}_alpha_lo"] * DEG, s[f"{f}_alpha_hi"] * DEG,
                         color=COLORS[f], alpha=0.25, lw=0,
                         label="interval hull of the zonotope" if f != "kf" else "±3σ")
@@ -164,7 +167,7 @@ def fig10_bounds(s: Series, out: Path) -> Path | None:
     for ax in axs[:2]:
         ax.set_ylim(lo - pad, hi + pad)  # the same y range in both panels
     ax = axs[2]
-    _shade_faults(ax, s)
+    shade_faults(ax, s)
     meds = []
     for f in ("azkf", "kf"):
         half = (s[f"{f}_alpha_hi"] - s[f"{f}_alpha_lo"]) / 2 * DEG
@@ -181,10 +184,13 @@ def fig10_bounds(s: Series, out: Path) -> Path | None:
     return save(fig, out / "fig10_bounds.png")
 
 
-def all_figures(s: Series, out: Path, note: str = "") -> list[Callable[[], Path | None]]:
+def all_figures(s: Series, out: Path, note: str = "",
+                windows: list[FaultWindow] | None = None) -> list[Callable[[], Path | None]]:
     """Figs. 5-10, to draw (hil.plots.draw); note (e.g. which campaign flight) goes under
-    every title."""
+    every title; windows (the flight's faults) are shaded, else the series' fault flag."""
     s = {**s, NOTE_KEY: note} if note else s  # type: ignore[dict-item]
+    if windows is not None:
+        s = {**s, WINDOWS_KEY: windows}  # type: ignore[dict-item]
     return [partial(f, s, out) for f in (fig5_alpha_q, fig6_model, fig7_rho, fig8_estimates,
                                          fig9_gains, fig10_bounds)]
 

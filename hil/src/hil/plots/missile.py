@@ -9,7 +9,9 @@ from typing import Any
 
 import numpy as np
 
+from hil.plots.faults import flag_spans, name_windows, shade, window_spans
 from hil.plots.mpl import plt, save
+from hil.results.faultwindows import FaultWindow
 
 Series = dict[str, np.ndarray]
 BITS_COLORS = {6: "tab:red", 8: "tab:green", 12: "tab:blue"}
@@ -109,13 +111,29 @@ def fig3_covariance(doc: Mapping[str, Any], out: Path,
 
 
 def fig_time_response(period: float, curves: Mapping[int | None, Series], out: Path,
-                      elevator: Mapping[int | None, Series] | None = None,
-                      subtitle: str = "", deterministic: bool = False) -> Path | None:
-    """q(t) and alpha_T(t) at one period for each word length, against the open loop; the
-    applied elevator (D/A output, held) below when the per-step series are given.  The
-    legend sits outside the axes, clear of the curves."""
-    n = 3 if elevator else 2
+                      steps: Mapping[int | None, Series] | None = None,
+                      subtitle: str = "", deterministic: bool = False,
+                      faults: Sequence[FaultWindow] | None = None) -> Path | None:
+    """The time response at one period (time_response), written."""
+    fig = time_response(period, curves, steps, subtitle, deterministic, faults)
+    name = (f"fig4-6_missile_response_T{period:.3f}.png" if deterministic
+            else f"missile_gust_flight_T{period:.3f}.png")
+    return save(fig, out / name)
+
+
+def time_response(period: float, curves: Mapping[int | None, Series],
+                  steps: Mapping[int | None, Series] | None = None, subtitle: str = "",
+                  deterministic: bool = False, faults: Sequence[FaultWindow] | None = None) -> plt.Figure:
+    """q(t) and alpha_T(t) at one period for each word length, against the open loop.  With
+    the per-step series (steps: missile_T*_b*.csv): on top, what the closed loop of the
+    longest word saw -- the gyro reading as sent (faults in it), the true q and fcc's estimate
+    q_hat (MSL_STATE_EST) -- and below, the applied elevator (D/A output, held).  Every panel
+    shades the fault windows (faults: the flight's events; else the series' fault flag)."""
+    sensed = max((b for b in steps or {} if b is not None and "q_hat" in (steps or {})[b]), default=None)
+    n = 2 + (sensed is not None) + bool(steps)
     fig, axs = plt.subplots(n, 1, sharex=True, figsize=(9, 2.4 * n + 0.8))
+    top = sensed is not None
+    ax_q, ax_a = axs[int(top)], axs[int(top) + 1]
     order = sorted(curves, key=lambda b: (b is None, b or 0))
     for i, bits in enumerate(order):
         s = curves[bits]
@@ -128,27 +146,48 @@ def fig_time_response(period: float, curves: Mapping[int | None, Series], out: P
                 + ", drawn over it dashed)"
             lw = 1.6
         ls = "--" if same else "-"
-        axs[0].plot(s["t"], s["q"], color=_color(bits), lw=lw, ls=ls, label=label)
-        axs[1].plot(s["t"], s["alpha_T"], color=_color(bits), lw=lw, ls=ls, label=label)
-        if elevator and bits is not None and bits in elevator:
-            e = elevator[bits]
-            axs[2].step(e["t"], e["u"], where="post", color=_color(bits), lw=lw, label=label)
-    axs[0].set_ylabel("q (rad/s)")
-    axs[1].set_ylabel("α_T (rad)")
-    if elevator:
-        axs[2].set_ylabel("elevator (rad)")
+        ax_q.plot(s["t"], s["q"], color=_color(bits), lw=lw, ls=ls, label=label)
+        ax_a.plot(s["t"], s["alpha_T"], color=_color(bits), lw=lw, ls=ls, label=label)
+        if steps and bits is not None and bits in steps:
+            e = steps[bits]
+            axs[-1].step(e["t"], e["u"], where="post", color=_color(bits), lw=lw, label=label)
+    t_end = max(float(s["t"][-1]) for s in curves.values() if len(s["t"]))
+    if sensed is not None:
+        e = (steps or {})[sensed]
+        _sensor_panel(axs[0], e, curves.get(sensed), sensed)
+        ax_a.step(e["t"], e["alpha_T_hat"], where="post", color=_color(sensed), lw=0.9, ls=":",
+                  label=f"fcc's estimate α̂_T ({sensed}-bit)")
+        windows = list(faults or [])
+        spans = window_spans(windows, t_end) if faults is not None else flag_spans(e["t"], e.get("fault"))
+        for ax in axs:
+            shade(ax, spans)
+        name_windows(axs[0], windows, t_end)
+        axs[0].legend(fontsize=7, ncol=4, loc="upper right")
+    ax_q.set_ylabel("q (rad/s)")
+    ax_a.set_ylabel("α_T (rad)")
+    if steps:
+        axs[-1].set_ylabel("elevator (rad)")
     axs[-1].set_xlabel("t (s)")
     for ax in axs:
         ax.grid(alpha=0.3)
-    axs[0].legend(fontsize=8, ncol=4, loc="lower center", bbox_to_anchor=(0.5, 1.02),
-                  frameon=False)
+    ax_q.legend(fontsize=7, ncol=4, loc="upper right")
+    ax_a.legend(fontsize=7, ncol=2, loc="upper right")
     title = (f"Figs. 4–6 — missile time response at T = {period:g} s" if deterministic else
              f"Missile flight in gusts with sensor noise at T = {period:g} s (not the paper's "
              "Figs. 4–6, which are deterministic)")
     fig.suptitle(title + (f"\n{subtitle}" if subtitle else ""), fontsize=10)
-    name = (f"fig4-6_missile_response_T{period:.3f}.png" if deterministic
-            else f"missile_gust_flight_T{period:.3f}.png")
-    return save(fig, out / name)
+    return fig
+
+
+def _sensor_panel(ax, e: Series, fine: Series | None, bits: int) -> None:
+    """The gyro reading fcc received, the true pitch rate and fcc's estimate of it."""
+    ax.plot(e["t"], e["q_g"], ".", ms=3, color="0.4", label="gyro q_g as sent (noise, faults)")
+    truth = fine if fine is not None else e
+    ax.plot(truth["t"], truth["q"], "-", color="k", lw=1.1, label="true q")
+    ax.step(e["t"], e["q_hat"], where="post", color="tab:orange", lw=1.3,
+            label="fcc's estimate q̂ (MSL_STATE_EST)")
+    ax.set_ylabel("q (rad/s)")
+    ax.set_title(f"closed loop, {bits}-bit D/A: measured, true and estimated pitch rate", fontsize=9)
 
 
 def _same_trace(a: Series, b: Series) -> bool:

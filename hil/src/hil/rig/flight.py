@@ -19,7 +19,7 @@ from hil.bus import FrameCodec
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
-from hil.rig.session import RigSession
+from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.status import StatusCounters
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
@@ -129,11 +129,27 @@ def require_log(rig: RigSession) -> None:
                        f"not evaluated")
 
 
+def lasting_command(cmd: Sequence[str], run_dir: Path, cfg: RigConfig) -> str:
+    """fcc's command line as run_info.json keeps it, naming only files that outlive the run:
+    the session's own key (a temporary file) as its copy kept in the run directory
+    (KEPT_KEY), the files written into the run directory (bootcfg.bin, a log) relative to it
+    (the run is written in a staging directory, renamed when done: hil.io.rundir)."""
+    inside = f"{Path(run_dir).resolve()}{os.sep}", f"{run_dir}{os.sep}"
+    out: list[str] = []
+    for i, arg in enumerate(cmd):
+        if i > 0 and cmd[i - 1] == "--key-file" and cfg.key_file is None:
+            arg = KEPT_KEY
+        for prefix in inside:
+            arg = arg.replace(prefix, "")
+        out.append(arg)
+    return shlex.join(out)
+
+
 def run_info(rig: RigSession, cfg: RigConfig, runner: Any, t_wall: float) -> dict[str, Any]:
     st = rig.status
     info: dict[str, Any] = {
         "mode": cfg.mode, "target": cfg.target, "interface": cfg.interface, "iface": cfg.iface,
-        "bitrate": cfg.bitrate, "fcc_command": shlex.join(rig.fcc.cmd) if rig.fcc else "",
+        "bitrate": cfg.bitrate, "fcc_command": lasting_command(rig.fcc.cmd, rig.run_dir, cfg) if rig.fcc else "",
         # the bus key: a --key-file's path (hil replay reads it), else the session's own key
         # kept in the run directory (hil.rig.session.KEPT_KEY)
         "key_file": str(Path(cfg.key_file).resolve()) if cfg.key_file else None,

@@ -24,6 +24,7 @@ from hil.io.output import write_csv
 from hil.io.rundir import atomic_write_text
 from hil.results.flight import MissileResult
 from hil.results.report import summary_tables
+from hil.results.verdict import lines as verdict_lines
 from hil.rig.config import RigConfig
 from hil.rig.simtime import finish_bus_log
 from hil.scenario.file import Scenario
@@ -72,8 +73,8 @@ def finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int
 
 
 def report_outcome(cfg: RigConfig, out: Path, summary: dict[str, Any]) -> Outcome:
-    """The summary's tables and, unless off, the figures of the run directory."""
-    tables = summary_tables(summary)
+    """The summary's verdict line and tables and, unless off, the figures of the run directory."""
+    tables = [*verdict_lines(summary), *summary_tables(summary)]
     if cfg.plots:
         from hil.plots import plot_run_dir  # (its multiprocessing: the figures only)
         names = [p.name for p in plot_run_dir(out)]

@@ -114,7 +114,7 @@ static void requests_and_background_designs(void **state)
     offer(1u, FCC_R(0.01), FCC_R(0.5));
     fcc_assert_ok(fcc_app_msl_step(&g_app, 1u, true, 3u, &g_res));
     assert_true(g_res.switched);
-    fcc_assert_close(g_res.period, 0.1, 0, 0);
+    fcc_assert_close(g_res.period, (double)FCC_R(0.1), 0, 0);
     assert_int_equal(g_res.bits, 12u);
     /* a T the configured delay does not fit under */
     g_app.cfg.delay = FCC_R(0.03);

@@ -66,14 +66,14 @@ static void dac_refusals_and_clamps(void **state)
     assert_int_equal(code, dac.code_max);
     fcc_assert_ok(fcc_lqg_dac_convert(&dac, -BIG, &code, &u));
     assert_int_equal(code, dac.code_min);
-    fcc_assert_close(u, -0.4, 0, 0); /* -2^15 LSB of 0.8 / 2^16 */
+    fcc_assert_close(u, -(double)FCC_LQG_U_MAX, 0, 0); /* -2^15 LSB of 0.8 / 2^16 */
     /* a code's value, clamped to the range */
     fcc_assert_ok(fcc_lqg_dac_value(&dac, 100000, &u));
-    fcc_assert_close(u, (double)dac.code_max * (double)dac.lsb, 0, 0);
+    fcc_assert_close(u, (double)((fcc_real_t)dac.code_max * dac.lsb), 0, 0);
     fcc_assert_ok(fcc_lqg_dac_value(&dac, -100000, &u));
-    fcc_assert_close(u, -0.4, 0, 0);
+    fcc_assert_close(u, -(double)FCC_LQG_U_MAX, 0, 0);
     fcc_assert_ok(fcc_lqg_dac_value(&dac, 3, &u));
-    fcc_assert_close(u, 3.0 * (double)dac.lsb, 0, 0);
+    fcc_assert_close(u, (double)((fcc_real_t)3 * dac.lsb), 0, 0);
 }
 
 static void init_refuses_what_is_not_finite(void **state)
@@ -116,7 +116,7 @@ static void commands_follow_the_gains(void **state)
     fcc_assert_ok(fcc_lqg_ctrl_reset(&g_c, x1));
     fcc_assert_ok(fcc_lqg_ctrl_predict(&g_c, &out));
     assert_true(out.saturated);
-    fcc_assert_close(out.u_sat, -0.4, 0, 0);
+    fcc_assert_close(out.u_sat, -(double)FCC_LQG_U_MAX, 0, 0);
     /* a measurement through L = [1 0; 0 0; 0 0] replaces x1 by y1 (H = 0) */
     g_c.l[0] = FCC_R(1.0);
     fcc_assert_ok(fcc_lqg_ctrl_reset(&g_c, NULL));

@@ -194,7 +194,7 @@ static void norms_of_degenerate_matrices(void **state)
     const fcc_mat_t b = FCC_MAT(2, 2, g_b);
     fcc_assert_ok(fcc_mat_rel_diff(&a, &b, &v));
     fcc_assert_close(v, 0.2, FCC_TEST_TOL(1e-15, 1e-6), 0);
-    memset(g_b, 0, sizeof bv);
+    memset(g_b, 0, sizeof g_b);
     fcc_assert_ok(fcc_mat_rel_diff(&a, &b, &v));
     fcc_assert_close(v, 4.0, 0, 0);
     g_a[2] = (fcc_real_t)INFINITY; /* the difference is not finite */

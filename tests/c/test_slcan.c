@@ -335,6 +335,62 @@ static void test_device_random_bytes(void **state)
     assert_int_equal(f.data[0], 0xFF);
 }
 
+/* Each refusal decided by one argument or one character on its own (scripts/test coverage). */
+static void test_each_refusal_alone(void **state)
+{
+    (void)state;
+    fcc_slcan_msg_t m;
+    char longline[FCC_SLCAN_LINE_MAX + 1u];
+    memset(longline, 'O', sizeof longline);
+    assert_int_equal(fcc_slcan_parse(longline, sizeof longline, &m), FCC_ERR_FORMAT);
+    /* S and Z: two characters, a digit in range */
+    assert_int_equal(fcc_slcan_parse("S", 1u, &m), FCC_ERR_FORMAT);
+    assert_int_equal(fcc_slcan_parse("S/", 2u, &m), FCC_ERR_FORMAT);
+    assert_int_equal(fcc_slcan_parse("S9", 2u, &m), FCC_ERR_FORMAT);
+    assert_int_equal(fcc_slcan_parse("Z2", 2u, &m), FCC_ERR_FORMAT);
+    assert_int_equal(fcc_slcan_parse("S8", 2u, &m), FCC_OK);
+    assert_int_equal(m.cmd, FCC_SLCAN_CMD_BITRATE);
+    assert_int_equal(m.arg, 8u);
+    assert_int_equal(fcc_slcan_parse("Z1", 2u, &m), FCC_OK);
+    assert_int_equal(m.cmd, FCC_SLCAN_CMD_TIMESTAMP);
+    assert_int_equal(m.arg, 1u);
+    /* encode */
+    fcc_can_frame_t f;
+    memset(&f, 0, sizeof f);
+    char out[32];
+    size_t n = 0u;
+    assert_int_equal(fcc_slcan_encode(NULL, false, out, sizeof out, &n), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_encode(&f, false, NULL, sizeof out, &n), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_encode(&f, false, out, sizeof out, NULL), FCC_ERR_ARG);
+    /* the device: each argument of init, then of byte and send */
+    fcc_slcan_dev_t dev;
+    line_t l;
+    memset(&l, 0, sizeof l);
+    assert_int_equal(fcc_slcan_dev_init(NULL, line_write, &l, "V0110", "NFCC1"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, NULL, &l, "V0110", "NFCC1"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, NULL, "NFCC1"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, "V0110", NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, "V011", "NFCC1"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, "X0110", "NFCC1"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, "V0110", "NFCC"), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_init(&dev, line_write, &l, "V0110", "MFCC1"), FCC_ERR_ARG);
+    dev_start(&dev, &l);
+    assert_int_equal(fcc_slcan_dev_byte(NULL, 'O', &f), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_byte(&dev, 'O', NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_send(NULL, &f), FCC_ERR_ARG);
+    assert_int_equal(fcc_slcan_dev_send(&dev, NULL), FCC_ERR_ARG);
+    assert_false(fcc_slcan_dev_take_opened(NULL));
+    /* an LF is skipped only where it ends a CR LF pair: after noise it is noise too */
+    assert_int_equal(FEED(&dev, "\n", NULL), 0);
+    assert_int_equal(l.n, 0u);
+    static const char noisy_lf[] = {'\x01', '\n', '\r'};
+    assert_int_equal(feed(&dev, noisy_lf, sizeof noisy_lf, NULL), 0);
+    expect_line(&l, "\a");
+    assert_int_equal(FEED(&dev, "V\nx\r", NULL), 0); /* inside a line: noise */
+    expect_line(&l, "\a");
+    assert_int_equal(dev.cnt.noise, 2u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -342,6 +398,7 @@ int main(void)
         cmocka_unit_test(test_parse_rejects),       cmocka_unit_test(test_encode_round_trip),
         cmocka_unit_test(test_device_session),      cmocka_unit_test(test_device_garbage),
         cmocka_unit_test(test_device_writer_full),  cmocka_unit_test(test_device_random_bytes),
+        cmocka_unit_test(test_each_refusal_alone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -550,6 +550,218 @@ static void candidates_are_bounded(void **state)
     assert_int_equal(verify(out_s, &t, out_f, auth), FCC_SECOC_MAC_FAILED);
 }
 
+/* ---- each condition deciding on its own (MC/DC, scripts/test coverage) ---------------- */
+
+/* Each of fcc_tsync_init's limits refuses a configuration by itself; the lock bound may equal
+ * the step bound. */
+static void each_config_limit_alone(void **state)
+{
+    (void)state;
+    fcc_tsync_config_t ok;
+    fcc_assert_ok(fcc_tsync_config_default(&ok));
+    fcc_tsync_config_t c = ok;
+    c.step_us = 0u;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c = ok;
+    c.lock_count = 0u;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c = ok;
+    c.jump_count = 0u;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c = ok;
+    c.loss_intervals = 0u;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c = ok;
+    c.max_rate_ppb = 0;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c.max_rate_ppb = -1;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    c = ok;
+    c.max_step_us = 0u;
+    assert_int_equal(fcc_tsync_init(&g_ts, &c), FCC_ERR_RANGE);
+    assert_int_equal(fcc_tsync_init(&g_ts, NULL), FCC_ERR_ARG);
+    c = ok;
+    c.lock_us = c.step_us;
+    fcc_assert_ok(fcc_tsync_init(&g_ts, &c));
+}
+
+/* Time is told only from a reference, in a state that keeps one; to_local undoes to_master. */
+static void time_needs_a_reference(void **state)
+{
+    (void)state;
+    uint64_t out = 0u;
+    assert_false(fcc_tsync_has_time(NULL));
+    start(&g_ts);
+    assert_int_equal(fcc_tsync_to_master(NULL, 0u, &out), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_to_master(&g_ts, 0u, NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_to_local(NULL, 0u, &out), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_to_local(&g_ts, 0u, NULL), FCC_ERR_ARG);
+    master_t m = {3000000.0, 50.0, 1u, 0u};
+    uint64_t l = 1000000u;
+    run(&g_ts, &m, &l, 40);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+    uint64_t master = 0u;
+    uint64_t local = 0u;
+    fcc_assert_ok(fcc_tsync_to_master(&g_ts, l + 12345u, &master));
+    fcc_assert_ok(fcc_tsync_to_local(&g_ts, master, &local));
+    assert_true(local + 1u >= l + 12345u && local <= l + 12345u + 1u);
+    /* every state that keeps the reference tells time; a state that does not, never (even
+     * with a reference left in memory) */
+    const fcc_tsync_state_t with_time[] = {FCC_TSYNC_LOCKING, FCC_TSYNC_LOCKED, FCC_TSYNC_HOLDOVER,
+                                           FCC_TSYNC_REFUSED};
+    for (size_t i = 0; i < sizeof with_time / sizeof with_time[0]; ++i) {
+        g_ts.state = with_time[i];
+        assert_true(fcc_tsync_has_time(&g_ts));
+    }
+    g_ts.state = FCC_TSYNC_FREE_RUN;
+    assert_false(fcc_tsync_has_time(&g_ts));
+    g_ts.state = FCC_TSYNC_LOST;
+    assert_false(fcc_tsync_has_time(&g_ts));
+    assert_int_equal(fcc_tsync_to_master(&g_ts, l, &out), FCC_ERR_AGAIN);
+}
+
+/* A follow-up is refused for each of its faults alone: nothing pending, another sequence
+ * number, nanoseconds out of range; the one that matches is then taken. */
+static void follow_up_faults_alone(void **state)
+{
+    (void)state;
+    start(&g_ts);
+    assert_int_equal(fcc_tsync_on_sync(NULL, 1u, 0u, 100u, 0u, 0u), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_on_follow_up(NULL, 1u, 0u, false, 0u), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_rebase(NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_rejected(NULL), 0u);
+    assert_int_equal(fcc_tsync_on_follow_up(&g_ts, 1u, 7u, false, 0u), FCC_ERR_AGAIN);
+    fcc_assert_ok(fcc_tsync_on_sync(&g_ts, 1u, 7u, 100u, 5u, 1000000u));
+    assert_int_equal(fcc_tsync_on_follow_up(&g_ts, 1u, 8u, false, 0u), FCC_ERR_AGAIN);
+    assert_int_equal(fcc_tsync_on_follow_up(&g_ts, 1u, 7u, false, 1000000000u), FCC_ERR_AGAIN);
+    assert_int_equal(g_ts.cnt.orphan_fup, 3u);
+    fcc_assert_ok(fcc_tsync_on_follow_up(&g_ts, 1u, 7u, true, 999999999u)); /* 6.999999 s */
+    uint64_t master = 0u;
+    fcc_assert_ok(fcc_tsync_to_master(&g_ts, 1000000u, &master));
+    assert_int_equal(master, 6999999u);
+    /* a rebase is only for a refused or lost master */
+    assert_int_equal(fcc_tsync_rebase(&g_ts), FCC_ERR_AGAIN);
+}
+
+/* Residuals: two outliers on opposite sides start the outlier run again (no jump from two
+ * different errors); a pair whose local time is not after the last one's is not "backwards"
+ * (the master did not go back in the own clock's time) and not used; a pair at the same local
+ * time as the last moves the phase but not the rate; a pair 2^40 us later neither. */
+static void residual_edges(void **state)
+{
+    (void)state;
+    start(&g_ts);
+    master_t m = {0.0, 0.0, 1u, 0u};
+    uint64_t l = 1000000u;
+    run(&g_ts, &m, &l, 10);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKED);
+    l += INTERVAL_US;
+    /* 1010 us: beyond the servo's step bound (1000 us), within the plausibility bound (1000 us
+     * and 200 ppm of the 0.1 s since the last accepted pair) */
+    assert_int_equal(pair(&g_ts, &m, l, l - 1010u), FCC_ERR_AGAIN); /* in the past */
+    l += INTERVAL_US;
+    assert_int_equal(pair(&g_ts, &m, l, l + 1010u), FCC_ERR_AGAIN); /* in the future */
+    l += INTERVAL_US;
+    assert_int_equal(pair(&g_ts, &m, l, l - 1010u), FCC_ERR_AGAIN);
+    assert_int_equal(g_ts.cnt.jumps, 0u); /* never 3 alike in a row */
+    assert_int_equal(g_ts.outlier_run, 1u);
+    assert_int_equal(g_ts.cnt.past, 2u);
+    assert_int_equal(g_ts.cnt.future, 1u);
+    run(&g_ts, &m, &l, 5);
+    /* 0.5 ms later on the own clock, the master's time not moved on: backwards, not used */
+    const uint64_t last_master = g_ts.last_sample_master_us;
+    assert_int_equal(pair(&g_ts, &m, l + 500u, last_master), FCC_ERR_AGAIN);
+    assert_int_equal(g_ts.cnt.backwards, 1u);
+    const uint32_t backwards = g_ts.cnt.backwards;
+    assert_int_equal(pair(&g_ts, &m, l, l - 10u), FCC_ERR_AGAIN); /* same local, earlier master */
+    assert_int_equal(g_ts.cnt.backwards, backwards);
+    const int32_t rate = g_ts.rate_ppb;
+    fcc_assert_ok(pair(&g_ts, &m, l, l + 20u)); /* same local time, 20 us later */
+    assert_int_equal(g_ts.rate_ppb, rate);
+    l += (1ull << 40);
+    fcc_assert_ok(pair(&g_ts, &m, l, l + 20u));
+    assert_int_equal(g_ts.rate_ppb, rate);
+}
+
+/* Holdover and release need the quiet time to have passed on the own clock: a poll at a time
+ * before the last good pair (a clock read out of order) changes nothing; a lost master may be
+ * rebased. */
+static void poll_out_of_order(void **state)
+{
+    (void)state;
+    start(&g_ts);
+    master_t m = {0.0, 0.0, 1u, 0u};
+    uint64_t l = 1000000u;
+    run(&g_ts, &m, &l, 1);
+    assert_int_equal(g_ts.state, FCC_TSYNC_LOCKING);
+    assert_int_equal(fcc_tsync_poll(&g_ts, l - 1u), FCC_TSYNC_LOCKING);
+    assert_int_equal(fcc_tsync_poll(&g_ts, l + 10u * INTERVAL_US), FCC_TSYNC_HOLDOVER);
+    assert_int_equal(fcc_tsync_poll(&g_ts, l - 1u), FCC_TSYNC_HOLDOVER);
+    assert_int_equal(fcc_tsync_poll(&g_ts, l + 100u * INTERVAL_US), FCC_TSYNC_LOST);
+    fcc_assert_ok(fcc_tsync_rebase(&g_ts));
+    assert_int_equal(g_ts.state, FCC_TSYNC_FREE_RUN);
+}
+
+/* The authenticated receiver's refusals, each alone: nothing to hold into, nothing to verify
+ * with; a FOLLOW_UP of another master or sequence number is no candidate. */
+static void auth_refusals_alone(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], auth[8], other[8], out_f[8];
+    fcc_tsync_held_t h;
+    assert_int_equal(fcc_tsync_auth_init(NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_auth_hold_sync(NULL, sync, 0u), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_auth_hold_sync(&g_a.ta, NULL, 0u), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_auth_hold_follow_up(NULL, fup), FCC_ERR_ARG);
+    assert_int_equal(fcc_tsync_auth_hold_follow_up(&g_a.ta, NULL), FCC_ERR_ARG);
+    tsync_frame(1u, 30u, 1u, sync);
+    tsync_frame(1u, 30u, 2u, fup);
+    master_auth(&g_a.tx, sync, fup, auth);
+    assert_int_equal(fcc_tsync_auth_verify(NULL, &g_a.rx, g_a.i, auth, &h, out_f), FCC_SECOC_NO_PDU);
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, NULL, g_a.i, auth, &h, out_f), FCC_SECOC_NO_PDU);
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, NULL, &h, out_f), FCC_SECOC_NO_PDU);
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, NULL, out_f), FCC_SECOC_NO_PDU);
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, NULL), FCC_SECOC_NO_PDU);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 5u));
+    tsync_frame(2u, 30u, 2u, other); /* another master, same sequence number */
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, other));
+    tsync_frame(1u, 31u, 2u, other); /* same master, another sequence number */
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, other));
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, out_f), FCC_SECOC_NO_PDU);
+    assert_int_equal(g_a.ta.cnt.mac_failed, 1u);
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, out_f), FCC_SECOC_VERIFIED);
+    assert_int_equal(h.t_us, 5u);
+    assert_memory_equal(out_f, fup, 8u);
+}
+
+/* The candidate pairs stop at FCC_SECOC_CANDIDATES inside a FOLLOW_UP's row too: SYNCs
+ * [A41 B40 C40 D40], FOLLOW_UPs [F40 G41]: G41-A41, then F40 with D40, C40, B40 -- the fourth
+ * pair ends the search before the last SYNC of F40's row would be looked at. */
+static void candidates_stop_inside_a_row(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t s41[8], s40[3][8], f40[8], g41[8], auth[8], out_f[8];
+    fcc_tsync_held_t h;
+    tsync_frame(1u, 41u, 1u, s41);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, s41, 10u));
+    for (uint8_t k = 0u; k < 3u; ++k) {
+        tsync_frame(1u, 40u, (uint8_t)(2u + k), s40[k]);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, s40[k], 11u + k));
+    }
+    tsync_frame(1u, 40u, 7u, f40);
+    tsync_frame(1u, 41u, 8u, g41);
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, f40));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, g41));
+    master_auth(&g_a.tx, s40[1], f40, auth); /* C40 + F40: the third candidate */
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, out_f), FCC_SECOC_VERIFIED);
+    assert_memory_equal(h.data, s40[1], 8u);
+    assert_int_equal(h.t_us, 12u);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 2u); /* A41 and B40, held before C40 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -565,6 +777,13 @@ int main(void)
         cmocka_unit_test(follow_up_faults_are_counted),
         cmocka_unit_test(second_master_is_ignored),
         cmocka_unit_test(loss_and_recovery),
+        cmocka_unit_test(each_config_limit_alone),
+        cmocka_unit_test(time_needs_a_reference),
+        cmocka_unit_test(follow_up_faults_alone),
+        cmocka_unit_test(residual_edges),
+        cmocka_unit_test(poll_out_of_order),
+        cmocka_unit_test(auth_refusals_alone),
+        cmocka_unit_test(candidates_stop_inside_a_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

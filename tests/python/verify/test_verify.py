@@ -365,7 +365,7 @@ def test_junit_xml_is_valid_and_names_the_requirement(tmp_path):
     assert cases["spike-at-2s"].find("error").get("message") == "fcc did not answer step 3"
     assert cases["fault-free"].find("failure") is None
     reqs = [p.get("value") for p in cases["paper-spike"].iter("property") if p.get("name") == "requirement"]
-    assert reqs == ["SID-DET-1", "SID-EST-1", "SID-BND-1", "SID-REF-1"]
+    assert reqs == ["SID-DET-1", "SID-EST-1", "SID-BND-1", "SID-BND-2", "SID-REF-1"]
 
 
 def test_the_html_report_opens_in_a_real_browser(tmp_path):

@@ -1,0 +1,52 @@
+"""A windowed check's evidence figure: the signal around its window, the window shaded, the
+band (settling_time) or target, and the measured value marked -- beside the check in the
+report (hil.verify.report)."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from hil.verify.window import Check, Measured
+
+#: how much of the signal is drawn either side of the window (a fraction of its length)
+MARGIN = 0.5
+#: measures whose value is a time after the window's start (marked by a vertical line)
+TIMES = ("settling_time", "time_to_true", "rise_time")
+
+
+def draw(check: Check, got: Measured, verdict: str, title: str, path: Path, made_by: str) -> Path | None:
+    """The figure of one check, written to path (hil.plots.mpl.save: the PNG and its caption)."""
+    from hil.plots.mpl import plt, save   # matplotlib only when drawing
+
+    span = max(got.t_to - got.t_from, 1e-3)
+    t, x = got.series.t, got.series.x
+    near = (t >= got.t_from - MARGIN * span) & (t <= got.t_to + MARGIN * span)
+    fig, ax = plt.subplots(figsize=(6.4, 2.8))
+    ax.step(t[near], x[near], where="post", lw=1.0, color="#1f4e9c", label=check.signal.text[:60])
+    ax.axvspan(got.t_from, got.t_to, color="#f0c040", alpha=0.3, label=f"window: {check.window.describe()}")
+    if check.band is not None:
+        ax.axhspan(*check.band, color="#40a040", alpha=0.2, label=f"band [{check.band[0]:g}, {check.band[1]:g}]")
+    if check.target is not None:
+        ax.axhline(check.target, color="#40a040", ls="--", lw=1.0, label=f"target {check.target:g}")
+    _mark(ax, check, got)
+    ax.set_xlabel("t (s from the flight's start)")
+    ax.set_title(f"{verdict.upper()}  {title}"[:90], fontsize=9)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    return save(fig, path, made_by=made_by)
+
+
+def _mark(ax: object, check: Check, got: Measured) -> None:
+    """The measured value: a time as a vertical line, a level as a horizontal one."""
+    label = f"{check.measure} = {got.value:.4g}"
+    if check.measure in TIMES:
+        if math.isfinite(got.value):
+            ax.axvline(got.t_from + got.value, color="#c03030", lw=1.2, label=label)  # type: ignore[attr-defined]
+        else:
+            ax.plot([], [], " ", label=label)  # type: ignore[attr-defined]
+    elif check.measure in ("max", "min", "mean", "rms", "peak", "first", "last") and np.isfinite(got.value):
+        ax.axhline(got.value, color="#c03030", lw=1.0, ls=":", label=label)  # type: ignore[attr-defined]
+    else:
+        ax.plot([], [], " ", label=label)  # type: ignore[attr-defined]

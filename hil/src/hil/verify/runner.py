@@ -13,7 +13,7 @@ from typing import Any
 from hil.rig.config import RigConfig
 from hil.rig.link import CanLink
 from hil.runs.run import run_flight
-from hil.verify.attack import ATTACKS, Attacker
+from hil.verify.attack import ATTACKS, LIVE_REPLAYS, Attacker
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
 from hil.verify.figure import draw
@@ -103,8 +103,8 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
     res = CaseResult(suite.name, case, ERROR, run_dir=run_dir, command=refly)
     t0 = time.monotonic()
     try:
-        attacker = Attacker(ATTACKS[case.attack], pause=ATTACK_PAUSE_S, iface=cfg.iface) \
-            if case.attack else None
+        attacker = Attacker(ATTACKS[case.attack], case.attack in LIVE_REPLAYS, pause=ATTACK_PAUSE_S,
+                            iface=cfg.iface, record=LIVE_REPLAYS.get(case.attack, ())) if case.attack else None
         if attacker is not None:
             attacker.start()
         try:

@@ -230,13 +230,20 @@ def _expectation(where: str, text: str, sources: set[str], extra: Collection[str
     return exp
 
 
+def _realtime(case: _CaseFields) -> set[str]:
+    """A realtime flight's sources: its sync, and its timing if it flies the missile."""
+    if case.mode != "realtime":
+        return set()
+    return {"sync", "realtime"} if "missile" in case.aircraft else {"sync"}
+
+
 def _case(where: str, raw: Mapping[str, Any], req_ids: set[str], frames: Collection[str]) -> Case:
     check_keys(raw, CASE_KEYS, where)
     own = build(_CaseFields, {k: v for k, v in raw.items() if k in field_names(_CaseFields)}, where)
     flights = _flights(own, raw, where, frames)
     if "expect" not in raw:
         raise SuiteError(f"{where}: missing field 'expect'")
-    sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set())
+    sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set()) | _realtime(own)
     return Case(id=own.id, title=own.title, aircraft=own.aircraft,
                 expect=_expect(where, raw["expect"], req_ids, sources, flights), flights=flights,
                 mode=own.mode, attack=own.attack)

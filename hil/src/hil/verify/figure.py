@@ -28,6 +28,8 @@ def draw(check: Check, got: Measured, verdict: str, title: str, path: Path, made
     ax.axvspan(got.t_from, got.t_to, color="#f0c040", alpha=0.3, label=f"window: {check.window.describe()}")
     if check.band is not None:
         ax.axhspan(*check.band, color="#40a040", alpha=0.2, label=f"band [{check.band[0]:g}, {check.band[1]:g}]")
+        for edge in check.band:   # (a band of one value has no area)
+            ax.axhline(edge, color="#40a040", lw=0.8, ls="--")
     if check.target is not None:
         ax.axhline(check.target, color="#40a040", ls="--", lw=1.0, label=f"target {check.target:g}")
     _mark(ax, check, got)

@@ -240,17 +240,17 @@ class _CheckFields:
     signal: str = spec()
     measure: str = spec(choices=tuple(MEASURES))
     expect: str = spec()
-    band: tuple[float, ...] | None = spec(None)
+    band: tuple[float, ...] = spec(default_factory=tuple)   # (): none
     target: float | None = spec(None)
 
     def __post_init__(self) -> None:
         takes = MEASURES[self.measure].params
-        for name in ("band", "target"):
-            if getattr(self, name) is not None and name not in takes:
+        for name, given in (("band", bool(self.band)), ("target", self.target is not None)):
+            if given and name not in takes:
                 raise ValueError(f"field {name!r}: measure {self.measure!r} takes no {name}")
-        if "band" in takes and self.band is None:
+        if "band" in takes and not self.band:
             raise ValueError(f"missing field 'band' (measure {self.measure!r}: band = [low, high])")
-        if self.band is not None and (len(self.band) != 2 or self.band[0] > self.band[1]):
+        if self.band and (len(self.band) != 2 or self.band[0] > self.band[1]):
             raise ValueError(f"field 'band': [low, high] with low <= high, got {list(self.band)}")
 
 
@@ -300,7 +300,7 @@ def check(raw: Mapping[str, Any], faults: Sequence[Fault], aircraft: Collection[
     if start.at is not None and math.isinf(start.at) and w.offset_s >= 0:
         raise WindowError(f"{where}: window: event 'end' needs offset_s < 0 (the last -offset_s "
                           "seconds of the flight)")
-    band = (own.band[0], own.band[1]) if own.band is not None else None
+    band = (own.band[0], own.band[1]) if own.band else None
     return Check(sig, Window(start, w.offset_s, w.length_s, until), own.measure, band, own.target), own.expect
 
 

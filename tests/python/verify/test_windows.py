@@ -272,15 +272,36 @@ def verify(*args: str, tmp: Path) -> tuple[int, str, dict[str, str]]:
 
 
 @pytest.mark.vcan
+def test_the_time_sync_attacks_are_refused_counted_and_named(tmp_path):
+    """Behaviour, whatever the machine's load: each attack reached fcc and was refused as the
+    firmware documents it (FCC_SYNC_REFUSALS), fcc followed only the rig's master (every
+    heartbeat's FCC_SYNC_STATUS.master is 1), and the run's sync verdict is the one `hil run`
+    exits 7 on."""
+    rc, out, _ = verify("time-sync", "--case", "foreign-master", "--case", "replayed-master", "--no-plots",
+                        tmp=tmp_path)
+    assert rc in (0, 1), out
+    for case, refused in (("foreign-master", "mac_failed"), ("replayed-master", "freshness_failed")):
+        sync = json.loads((tmp_path / "report" / "cases" / case / "summary.json").read_text())["sync"]
+        assert sync["verdict"] == "attacked" and sync["refused"]["unauthenticated"] >= 2, sync
+        assert sync["refused"]["freshness_failed"] + sync["refused"][refused] >= 1, sync
+        assert sync["refused"]["step_refused"] == sync["refused"]["rate_refused"] == 0, sync
+    lines = [ln for tc in ET.parse(tmp_path / "j.xml").getroot().iter("testcase")
+             for ln in tc.find("system-out").text.splitlines()]
+    followed = [ln for ln in lines if "max of bus.FCC_SYNC_STATUS.master" in ln]
+    assert len(followed) == 2 and all(ln.startswith("PASS ") and ": value = 1 in [" in ln for ln in followed), lines
+    assert all(ln.startswith("PASS") for ln in lines if "sync.verdict.attacked" in ln or "attack.forged" in ln)
+
+
+@pytest.mark.vcan
+@pytest.mark.timing
 def test_time_sync_and_realtime_timing_pass_on_the_host_build(tmp_path):
+    """Speed-dependent (a realtime flight in a UML guest on a shared host): on a machine that
+    keeps the rig's schedule, both suites pass (measured 2026-12-02 at load 6.6-8.6 on 2
+    cores: time-sync 4/4; realtime-timing failed its T0.05 case at load 7.5 and 11, the
+    simulator itself 5-19 steps late: RT-RIG-1)."""
     rc, out, verdicts = verify("time-sync", "realtime-timing", "--no-plots", tmp=tmp_path)
     assert rc == 0, out
     assert len(verdicts) == 10 and set(verdicts.values()) == {"PASS"}, out
-    # the attacks were counted as the firmware documents them, and named as `hil run` names them
-    for case, refused in (("foreign-master", "mac_failed"), ("replayed-master", "freshness_failed")):
-        sync = json.loads((tmp_path / "report" / "cases" / case / "summary.json").read_text())["sync"]
-        assert sync["verdict"] == "attacked" and sync["state"] == "LOCKED", sync
-        assert sync["refused"]["freshness_failed"] + sync["refused"][refused] >= 1, sync
 
 
 @pytest.mark.vcan

@@ -37,7 +37,7 @@ from hil.verify.series import RunSeries, Series, SeriesError, Signal, signal
 NEVER = math.inf
 #: the name the measured value has in the expectation
 VALUE = "value"
-_FAULT_EVENT = re.compile(r"fault\[([A-Za-z0-9_]+)\]\.(start|end)")
+_FAULT_EVENT = re.compile(r"fault\[([A-Za-z0-9_]{1,32})\]\.(start|end)")
 
 
 class WindowError(ValueError):

@@ -13,6 +13,7 @@ from typing import Any
 from hil.rig.config import RigConfig
 from hil.rig.link import CanLink
 from hil.runs.run import run_flight
+from hil.targets.registry import device_class
 from hil.verify.attack import ATTACKS, LIVE_REPLAYS, Attacker
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
@@ -115,7 +116,8 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
                 attacker.bus.shutdown()
         info = json.loads((run_dir / "run_info.json").read_text(encoding="utf-8"))
         attack = {"forged": float(attacker.sent)} if attacker is not None else None
-        res.checks = judge(case.expect, read_run(run_dir, outcome.summary, info, attack), RunSeries(run_dir))
+        key_file = device_class(cfg.target).bus_key_file(cfg.key_file)
+        res.checks = judge(case.expect, read_run(run_dir, outcome.summary, info, attack), RunSeries(run_dir, key_file))
         if cfg.plots:
             draw_checks(res.checks, run_dir, refly)
         res.verdict = PASS if all(c.verdict == PASS for c in res.checks) else FAIL

@@ -29,6 +29,7 @@ import numpy as np
 from hil.bus import load as load_dbc
 from hil.bus.logio import read_frames, run_log
 from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID
+from hil.bus.secoc import KeyFileError, read_key_file
 from hil.io.output import read_csv
 from hil.results.buslog import BusAuth, authentic_frames
 from hil.runs.replay import ReplayError, recorded_key
@@ -166,8 +167,11 @@ def evaluate(node: ast.expr, columns: Mapping[str, np.ndarray]) -> np.ndarray:
 class RunSeries:
     """A run directory's series, read when first asked for (each file once)."""
 
-    def __init__(self, run_dir: Path) -> None:
+    def __init__(self, run_dir: Path, key_file: Path | None = None) -> None:
+        """key_file: the bus key the run used if the run directory does not keep it (a target
+        with a key of its own: the qemu-m4f image's published test key)."""
         self.run_dir = run_dir
+        self.key_file = key_file
         self._csv: dict[str, dict[str, np.ndarray]] = {}
         self._bus: dict[str, list[tuple[float, bytes]]] | None = None
         self.t0 = 0.0
@@ -200,10 +204,7 @@ class RunSeries:
             log = run_log(self.run_dir)
             if log is None:
                 raise SeriesError(f"{self.run_dir}: no bus log")
-            try:
-                auth = BusAuth(recorded_key(self.run_dir))
-            except ReplayError as e:
-                raise SeriesError(str(e)) from None
+            auth = BusAuth(self._key())
             spec = load_dbc()
             by_name: dict[str, list[tuple[float, bytes]]] = {}
             start = None
@@ -218,6 +219,17 @@ class RunSeries:
                 raise SeriesError(f"{log}: no authenticated flight start (SIM_CONTROL reset)")
             self.t0, self._bus = start, by_name
         return self._bus
+
+    def _key(self) -> bytes:
+        try:
+            return recorded_key(self.run_dir)
+        except ReplayError as e:
+            if self.key_file is None:
+                raise SeriesError(str(e)) from None
+        try:
+            return read_key_file(self.key_file)
+        except (KeyFileError, OSError) as e:
+            raise SeriesError(f"{self.key_file}: the run's bus key cannot be read ({e})") from None
 
     def _message(self, name: str) -> dict[str, np.ndarray]:
         frames = self._frames().get(name, [])

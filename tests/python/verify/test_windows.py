@@ -232,6 +232,13 @@ def test_the_shipped_suites_have_a_windowed_requirement_each_where_the_papers_ma
 
 
 # ---- the report: the evidence figure beside its check ---------------------------------------------
+@pytest.mark.parametrize("text, bound", [("value <= 0.1", 0.1), ("2 > value", 2.0), ("value == 1", 1.0),
+                                         ("value < 0.5 * missile.rms_q", None), ("0 < value < 3", None)])
+def test_the_figure_draws_the_limit_of_a_plain_comparison(text, bound):
+    from hil.verify.figure import limit
+    assert limit(expr.parse(text)) == bound
+
+
 def test_each_windowed_check_is_drawn_beside_it_in_the_report(tmp_path):
     s = load(tmp_path)
     (case,) = s.cases

@@ -17,7 +17,7 @@ from hil.targets.registry import device_class
 from hil.verify.attack import ATTACKS, LIVE_REPLAYS, Attacker
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
-from hil.verify.figure import draw
+from hil.verify.figure import draw, limit
 from hil.verify.series import RunSeries
 from hil.verify.suite import Case, Suite, shipped
 from hil.verify.window import VALUE, Measured, NoWindow, Windowed, measure
@@ -93,7 +93,7 @@ def draw_checks(checks: Sequence[Check], run_dir: Path, made_by: str) -> None:
     for i, c in enumerate(checks):
         if c.windowed is not None and c.evidence is not None:
             c.figure = draw(c.windowed.check, c.evidence, c.verdict, f"{c.requirement}: {c.windowed.exp.text}",
-                            run_dir / f"check-{i}.png", made_by)
+                            run_dir / f"check-{i}.png", made_by, limit(c.windowed.exp))
 
 
 def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -> CaseResult:

@@ -359,3 +359,29 @@ def test_no_edit_of_a_windowed_suite_makes_loading_raise_anything_but_one_line(t
             assert "\n" not in str(e) and str(e).startswith(str(p)), str(e)
             outcomes["refused"] += 1
     assert outcomes["loaded"] and outcomes["refused"]
+
+
+# ---- DBC signals from a recorded bus log (a 1 s lockstep missile flight, its session key) -----------
+BUS_RUN = ROOT / "tests" / "vectors" / "verify-bus"
+
+
+def test_a_dbc_signal_is_decoded_from_the_frames_the_rig_acted_on(tmp_path):
+    """The elevator command on the bus is the D/A code the simulator recorded, step for step,
+    from the flight's SIM_CONTROL reset on; a forged command (no valid authenticator) in the
+    log is no sample; without the run's key nothing is read."""
+    run = series.RunSeries(BUS_RUN)
+    bus = run.of(series.signal("bus.MSL_ELEV_CMD.da_code", ["missile"]))
+    csv = run.of(series.signal("missile.code", ["missile"]))
+    assert bus.x.tolist() == csv.x.tolist() == [0, -2, -3, -1, 2, 1, 3, 1, -1, 1]
+    assert np.all((bus.t - csv.t >= 0) & (bus.t - csv.t < 0.01))          # each within its step
+    forged = tmp_path / "forged"
+    forged.mkdir()
+    lines = (BUS_RUN / "bus.log").read_text().splitlines()
+    at = next(i for i, ln in enumerate(lines) if ln.startswith("(0.5"))
+    lines[at:at] = ["(0.500100) vcan0 030#B3010100FF7F0800", "(0.500200) vcan0 031#0600000000000000"]
+    (forged / "bus.log").write_text("\n".join(lines) + "\n")
+    assert sum(" 030#" in ln for ln in lines) == 11          # (the forged command, code 127, is on the bus)
+    with pytest.raises(series.SeriesError, match="the run.s bus key"):
+        series.RunSeries(forged).of(series.signal("bus.MSL_ELEV_CMD.da_code", ["missile"]))
+    got = series.RunSeries(forged, BUS_RUN / "session.key").of(series.signal("bus.MSL_ELEV_CMD.da_code", ["missile"]))
+    assert got.x.tolist() == bus.x.tolist() and got.t.tolist() == bus.t.tolist()

@@ -23,8 +23,8 @@
     SID-DET-1 = ["detector.latency_steps <= 2", "detector.false_alarm_steps == 0"]
     NODE-RT-1 = ["overruns == 0"]
     SID-BND-2 = [{ signal = "cdrw.azkf_alpha_lo <= cdrw.alpha_true <= cdrw.azkf_alpha_hi",
-                   window = { event = "fault[0].end", length_s = 1.0 },
-                   measure = "steps_to_true", expect = "value <= 3" }]   # hil.verify.window
+                   window = { event = "fault[0].end", length_s = 1.0 }, measure = "settling_time",
+                   band = [1, 1], expect = "value <= 0.1" }]   # hil.verify.window
 
 Every value is checked when the suite is loaded, before anything flies, by the validator of
 scenario files (hil.scenario.schema): a case's flight is each aircraft's embedded scenario with

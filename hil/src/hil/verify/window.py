@@ -3,7 +3,7 @@
     [case.expect]
     SID-BND-2 = [{ signal = "cdrw.azkf_alpha_lo <= cdrw.alpha_true <= cdrw.azkf_alpha_hi",
                    window = { event = "fault[0].end", offset_s = 0.0, length_s = 1.0 },
-                   measure = "steps_to_true", expect = "value <= 3" }]
+                   measure = "settling_time", band = [1, 1], expect = "value <= 0.1" }]
 
 A window starts at an event plus offset_s and lasts length_s (default: to `until`, an event,
 or to the end of the run).  An event is

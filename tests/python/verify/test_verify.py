@@ -121,7 +121,8 @@ def write_suite(tmp_path: Path, expect: str = '"cdrw.unanswered_steps == 0"', ex
 
 def test_the_shipped_suites_load_and_trace_every_requirement():
     names = suite.shipped()
-    assert set(names) == {"fcc-node-conformance", "seed1-identification", "seed2-autopilot"}
+    assert set(names) == {"fcc-node-conformance", "seed1-identification", "seed2-autopilot", "time-sync",
+                          "realtime-timing"}
     for path in names.values():
         s = suite.load(path)
         for req in s.requirements:
@@ -365,7 +366,7 @@ def test_junit_xml_is_valid_and_names_the_requirement(tmp_path):
     assert cases["spike-at-2s"].find("error").get("message") == "fcc did not answer step 3"
     assert cases["fault-free"].find("failure") is None
     reqs = [p.get("value") for p in cases["paper-spike"].iter("property") if p.get("name") == "requirement"]
-    assert reqs == ["SID-DET-1", "SID-EST-1", "SID-BND-1", "SID-REF-1"]
+    assert reqs == ["SID-DET-1", "SID-EST-1", "SID-BND-1", "SID-BND-2", "SID-REF-1"]
 
 
 def test_the_html_report_opens_in_a_real_browser(tmp_path):
@@ -396,7 +397,7 @@ def test_the_shipped_suites_pass_on_the_host_build_and_the_m4f_image(tmp_path, t
     rc, out, verdicts = verify("fcc-node-conformance", "seed1-identification", "seed2-autopilot",
                                "--target", target, tmp=tmp_path)
     assert rc == 0, out
-    assert len(verdicts) == 18 and set(verdicts.values()) == {"PASS"}, out
+    assert len(verdicts) == 20 and set(verdicts.values()) == {"PASS"}, out
     ts = ET.parse(tmp_path / "j.xml").getroot().findall("testsuite")
     assert [int(t.get("tests")) for t in ts] == [8, 3, 2]
     assert all(t.get("failures") == "0" and t.get("errors") == "0" for t in ts)
@@ -451,6 +452,12 @@ def test_summary_fields_exist_for_every_documented_source():
     info = json.loads((sample / "run_info.json").read_text())
     from hil.verify.fields import read_run, values
     run = read_run(sample, summary, info, {"forged": 3.0})
-    got = values(run, frozenset(FIELDS))
+    got = values(run, frozenset(n for n, f in FIELDS.items() if f.source not in ("realtime", "sync")))
     assert got["detector.latency_steps"] == 0 and got["attack.forged"] == 3.0
     assert got["steps.cdrw"] == got["cdrw.steps"] == 351
+    rt = ROOT / "tests" / "vectors" / "verify-realtime"     # realtime-timing's T0.1, 2026-12-02
+    run = read_run(rt, json.loads((rt / "summary.json").read_text()), json.loads((rt / "run_info.json").read_text()),
+                   None)
+    got = values(run, frozenset(n for n, f in FIELDS.items() if f.source in ("realtime", "sync", "missile")))
+    assert got["realtime.period_us"] == 100_000 and got["sync.verdict.ok"] == 1 and got["sync.locked"] == 1
+    assert 0 < got["realtime.latency_p50_us"] <= got["realtime.latency_p99_us"] <= got["realtime.latency_max_us"]

@@ -8,6 +8,9 @@ error (the case could not run: no device, a timeout, a crash -- never a pass).
 
     expr     -- the expression language of expectations (a safe subset of Python's)
     fields   -- the documented result fields and how each is read from a run directory
+    series   -- a run's time series by name (DBC signals from the bus log, the CSVs' columns)
+    window   -- events, windows around them and the measures of a windowed expectation
+    figure   -- a windowed check's evidence figure
     suite    -- loading and validating suites (before anything flies)
     attack   -- a second node that sends forged frames during a case
     runner   -- running cases and judging them

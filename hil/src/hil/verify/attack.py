@@ -8,7 +8,7 @@ from __future__ import annotations
 import random
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 from pathlib import Path
 
 from hil.bus import load
@@ -90,6 +90,27 @@ def flood(rng: random.Random) -> Frames:
         yield rng.choice(ids), rng.randbytes(8)
 
 
+def forge_sync(rng: random.Random) -> Frames:
+    """A foreign time master (master 2): SYNC / FOLLOW_UP pairs with valid E2E, a time 50 ms
+    off the rig's and sequence numbers of its own, each followed by a TSYNC_AUTH with a guessed
+    freshness value and a random MAC (fcc refuses the pair unauthenticated, the authenticator
+    as forged or replayed: FCC_SYNC_REFUSALS)."""
+    sync, fup = SPEC.by_name("TSYNC_SYNC"), SPEC.by_name("TSYNC_FOLLOW_UP")
+    for i in range(MAX_FRAMES // 3):
+        seq, sec, ns = i & 0xFF, 1 + i // 10, (i % 10) * 100_000_000 + 50_000_000
+        raw = sync.message.encode({"crc": 0, "counter": 0, "master": 2, "seq": seq, "interval_ms": 100,
+                                   "sec": sec})
+        yield ID["TSYNC_SYNC"], protect(sync.data_id, raw, i % 15)
+        raw = fup.message.encode({"crc": 0, "counter": 0, "master": 2, "seq": seq, "sec_carry": 0, "ns": ns})
+        yield ID["TSYNC_FOLLOW_UP"], protect(fup.data_id, raw, i % 15)
+        yield ID["TSYNC_AUTH"], forged_auth(rng)
+
+
+def no_frames(_rng: random.Random) -> Frames:
+    """Nothing of its own (a live replay only replays what it records)."""
+    yield from ()
+
+
 def replay_recording(log: Path, heartbeats: bool = True) -> Callable[[random.Random], Frames]:
     """The secured frames and authenticators of an earlier run (same key, another fcc
     session) in recorded order: the commands and ticks first, then its heartbeats (unless
@@ -119,7 +140,8 @@ class Attacker(threading.Thread):
     `replay_live`, it also records this session's ticks and plays them back late."""
 
     def __init__(self, frames: Callable[[random.Random], Frames], replay_live: bool = False,
-                 pause: float = PAUSE_S, iface: str = "vcan0") -> None:
+                 pause: float = PAUSE_S, iface: str = "vcan0", record: Collection[int] = ()) -> None:
+        """record: what a live replay records and plays back late (default: the ticks)."""
         import can  # python-can: only when an attack flies
         super().__init__(daemon=True)
         self._can = can
@@ -127,6 +149,7 @@ class Attacker(threading.Thread):
         self.bus = can.Bus(interface="socketcan", channel=iface, receive_own_messages=False)
         self.frames = frames(random.Random(13))
         self.replay_live = replay_live
+        self.record = frozenset(record) or frozenset({ID["SIM_TICK"], ID["SIM_TICK_AUTH"]})
         self.stop = threading.Event()
         self.sent = 0
         self.recorded: list[tuple[int, bytes]] = []
@@ -143,7 +166,6 @@ class Attacker(threading.Thread):
 
     def run(self) -> None:
         """From fcc's first heartbeat on (frames sent before it listens would prove nothing)."""
-        ticks = {ID["SIM_TICK"], ID["SIM_TICK_AUTH"]}
         deadline = time.monotonic() + 30.0
         while not self.stop.is_set() and time.monotonic() < deadline:
             m = self.bus.recv(0.05)
@@ -166,10 +188,10 @@ class Attacker(threading.Thread):
             for _ in range(64):
                 if m is None:
                     break
-                if m.arbitration_id in ticks:
+                if m.arbitration_id in self.record:
                     self.recorded.append((m.arbitration_id, bytes(m.data)))
                 m = self.bus.recv(0)
-            if len(self.recorded) >= 40:          # this session's own ticks, 20 steps late
+            if len(self.recorded) >= 40:          # this session's own frames, 20 frames late
                 for f in self.recorded[:20]:
                     self._send(*f)
                 del self.recorded[:20]
@@ -195,5 +217,11 @@ class Attacker(threading.Thread):
 #: the attacks a verification case can name
 ATTACKS: dict[str, Callable[[random.Random], Frames]] = {
     "forged-control": forge_control, "forged-commands": forge_command,
-    "forged-status": forge_status, "flood": flood,
+    "forged-status": forge_status, "flood": flood, "foreign-sync-master": forge_sync,
+    "replayed-sync": no_frames,
+}
+#: the attacks that replay this session's own frames late: what they record (the time
+#: master's SYNC, FOLLOW_UP and TSYNC_AUTH: fcc refuses the replayed authenticator as not fresh)
+LIVE_REPLAYS: dict[str, frozenset[int]] = {
+    "replayed-sync": frozenset(ID[n] for n in ("TSYNC_SYNC", "TSYNC_FOLLOW_UP", "TSYNC_AUTH")),
 }

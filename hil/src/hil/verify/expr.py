@@ -43,12 +43,12 @@ class Expectation:
     fields: frozenset[str]
 
 
-def _dotted(node: ast.expr) -> str | None:
+def dotted(node: ast.expr) -> str | None:
     """`a.b.c` as one field name, or None if node is not a plain dotted name."""
     if isinstance(node, ast.Name):
         return node.id
     if isinstance(node, ast.Attribute):
-        head = _dotted(node.value)
+        head = dotted(node.value)
         return f"{head}.{node.attr}" if head else None
     return None
 
@@ -109,7 +109,7 @@ def _check_divisor(node: ast.BinOp, fields: set[str]) -> None:
 
 def _check(node: ast.expr, fields: set[str]) -> None:
     """Every node in the language (fields: the names it reads, collected)."""
-    name = _dotted(node)
+    name = dotted(node)
     if name is not None:
         fields.add(name)
     elif isinstance(node, ast.Constant):
@@ -158,7 +158,7 @@ def parse(text: str) -> Expectation:
 
 
 def evaluate(node: ast.expr, values: Mapping[str, float]) -> float | bool:
-    name = _dotted(node)
+    name = dotted(node)
     if name is not None:
         return values[name]
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):  # all _check admits
@@ -196,7 +196,7 @@ def measured(exp: Expectation, values: Mapping[str, float]) -> str:
         for side in sides:
             v = evaluate(side, values)
             text = ast.unparse(side)
-            parts.append(f"{text} = {_fmt(v)}" if _dotted(side) or not isinstance(side, ast.Constant) else text)
+            parts.append(f"{text} = {_fmt(v)}" if dotted(side) or not isinstance(side, ast.Constant) else text)
         return "; ".join(p for p in parts if "=" in p) or exp.text
     return "; ".join(f"{f} = {_fmt(values[f])}" for f in sorted(exp.fields))
 

@@ -102,6 +102,58 @@ for _k in ("commands_missing", "commands_late", "commands_rejected", "unanswered
     _add(_k if _k.startswith("commands") else f"missile.{_k}", "missile", f"missile {_k.replace('_', ' ')}",
          _at("summary", "missile", "runs", "0", _k))
 
+# ---- a realtime flight's timing (mode = "realtime", the missile: hil.results.timing) -----------
+def _rt(*path: str) -> Callable[[Mapping[str, Any]], float]:
+    """A timing percentile; one with no sample (n = 0: null) is inf, which no bound holds."""
+    read = _at("summary", "realtime", *path)
+
+    def get(run: Mapping[str, Any]) -> float:
+        try:
+            return read(run)
+        except TypeError:
+            return NEVER
+    return get
+
+
+for _p in ("p50", "p99", "max"):
+    _add(f"realtime.latency_{_p}_us", "realtime", f"sensor to command in fcc, its own clock ({_p}, us)",
+         _rt("fcc", "latency_us missile", _p))
+    _add(f"realtime.cmd_delay_{_p}_us", "realtime", f"sampling instant to the command on the bus, master "
+         f"time ({_p}, us)", _rt("bus", "cmd_delay", _p))
+    _add(f"realtime.data_age_{_p}_us", "realtime", f"age of the newest sensor frame when the command "
+         f"went out, on the bus ({_p}, us)", _rt("bus", "data_age", _p))
+    _add(f"realtime.sim_jitter_{_p}_us", "realtime", f"|sensor frame - its sampling instant| on the bus, "
+         f"master time ({_p}, us)", _rt("bus", "sim_jitter", _p))
+    _add(f"realtime.sync_offset_{_p}_us", "realtime", f"|fcc's sync residual| in its heartbeats ({_p}, us)",
+         _rt("bus", "sync_offset", _p))
+_add("realtime.period_us", "realtime", "the missile's step period (us): the deadline of a step",
+     lambda run: 1e6 * float(run["summary"]["missile"]["runs"][0]["period"]))
+_add("realtime.late_steps", "realtime", "steps the simulator sent after their instant",
+     _at("summary", "realtime", "simulator", "late_steps"))
+_add("realtime.late_frames", "realtime", "sensor frames the simulator's transmitter sent late",
+     _at("summary", "realtime", "simulator", "transmitter", "late"))
+
+# ---- a realtime flight's time synchronisation (hil.results.sync: `hil run` exits 7 unless ok) ----
+for _k in ("mac_failed", "freshness_failed", "unauthenticated", "step_refused", "rate_refused"):
+    _add(f"sync.refused.{_k}", "sync", f"fcc's FCC_SYNC_REFUSALS.{_k} at its last heartbeat",
+         _at("summary", "sync", "refused", _k))
+_add("sync.losses", "sync", "times fcc lost the sync (FCC_SYNC_STATUS.losses)", _at("summary", "sync", "losses"))
+_add("sync.rejected", "sync", "sync pairs fcc rejected (FCC_SYNC_STATUS.rejected)", _at("summary", "sync", "rejected"))
+_add("sync.master_unpaired_frames", "sync", "the rig's master's frames no TSYNC_AUTH covered (a SYNC whose "
+     "echo never came)", _at("summary", "sync", "master_unpaired_frames"))
+_add("sync.forged_frames", "sync", "SYNC/FOLLOW_UP frames fcc refused unauthenticated beyond the master's "
+     "unpaired ones: forged", lambda run: float(max(0, run["summary"]["sync"]["refused"]["unauthenticated"]
+                                                      - run["summary"]["sync"]["master_unpaired_frames"])))
+_add("sync.locked", "sync", "1 if fcc was LOCKED at its last heartbeat", lambda run: float(
+    run["summary"]["sync"]["state"] == "LOCKED"))
+def _verdict(v: str) -> Callable[[Mapping[str, Any]], float]:
+    return lambda run: float(run["summary"]["sync"]["verdict"] == v)
+
+
+for _v in ("ok", "attacked", "refused", "lost"):
+    _add(f"sync.verdict.{_v}", "sync", f"1 if the run's sync verdict is {_v!r} (`hil run` exits 7 unless ok)",
+         _verdict(_v))
+
 # ---- the case's attacker ----------------------------------------------------------------------
 _add("attack.forged", "attack", "forged frames the attacker put on the bus", _at("attack", "forged"))
 

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.io.rundir import atomic_write, atomic_write_text
-from hil.verify.runner import ERROR, FAIL, PASS, CaseResult
+from hil.verify.runner import ERROR, FAIL, PASS, CaseResult, Check
 from hil.verify.suite import Suite
 
 NOT_RUN = "not run"
@@ -78,11 +78,19 @@ _CSS = """body{font-family:sans-serif;margin:2em;max-width:70em}table{border-col
 td,th{border:1px solid #bbb;padding:.3em .6em;text-align:left;vertical-align:top}
 .pass{background:#d9f2d9}.fail{background:#f8d0d0}.error{background:#ffe9b3}.not-run{color:#888}
 code{font-size:90%}
-img{max-width:32em;margin:.3em;border:1px solid #ddd}"""
+img{max-width:32em;margin:.3em;border:1px solid #ddd}img.evidence{max-width:28em}"""
 
 
 def _cell(verdict: str) -> str:
     return f'<td class="{verdict.replace(" ", "-")}">{_WORD[verdict]}</td>'
+
+
+def _evidence(c: Check, report_dir: Path) -> str:
+    """A windowed check's figure (the window shaded, the band, the value marked), in its row."""
+    if c.figure is None:
+        return ""
+    rel = html.escape(os.path.relpath(c.figure, report_dir))
+    return f'<br><a href="{rel}"><img class="evidence" src="{rel}" alt="evidence: {html.escape(c.requirement)}"></a>'
 
 
 def _case_html(r: CaseResult, report_dir: Path) -> list[str]:
@@ -97,11 +105,12 @@ def _case_html(r: CaseResult, report_dir: Path) -> list[str]:
         out.append(f'<p class="error">Could not run: {e(r.error)}</p>')
     if r.checks:
         out.append("<table><tr><th>requirement</th><th>expectation</th><th>measured</th><th>verdict</th></tr>")
-        out += [f"<tr><td>{e(c.requirement)}</td><td><code>{e(c.text)}</code></td><td>{e(c.measured)}</td>"
-                f"{_cell(c.verdict)}</tr>" for c in r.checks]
+        out += [f"<tr><td>{e(c.requirement)}</td><td><code>{e(c.text)}</code></td><td>{e(c.measured)}"
+                f"{_evidence(c, report_dir)}</td>{_cell(c.verdict)}</tr>" for c in r.checks]
         out.append("</table>")
+    drawn = {c.figure for c in r.checks if c.figure is not None}
     if r.run_dir is not None and r.run_dir.is_dir():
-        for png in sorted(r.run_dir.glob("*.png")):
+        for png in sorted(p for p in r.run_dir.glob("*.png") if p not in drawn):
             rel = os.path.relpath(png, report_dir)
             out.append(f'<a href="{e(rel)}"><img src="{e(rel)}" alt="{e(png.name)}"></a>')
     return out

@@ -13,10 +13,14 @@ from typing import Any
 from hil.rig.config import RigConfig
 from hil.rig.link import CanLink
 from hil.runs.run import run_flight
-from hil.verify.attack import ATTACKS, Attacker
+from hil.targets.registry import device_class
+from hil.verify.attack import ATTACKS, LIVE_REPLAYS, Attacker
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
+from hil.verify.figure import draw, limit
+from hil.verify.series import RunSeries
 from hil.verify.suite import Case, Suite, shipped
+from hil.verify.window import VALUE, Measured, NoWindow, Windowed, measure
 
 PASS, FAIL, ERROR = "pass", "fail", "error"
 #: a case's attacker sends a forged frame every 20 ms: a forgery, not a flood (measured: at the
@@ -34,6 +38,10 @@ class Check:
     text: str
     verdict: str
     measured: str
+    #: a windowed check: what was measured in which window, and its figure (if drawn)
+    windowed: Windowed | None = None
+    evidence: Measured | None = None
+    figure: Path | None = None
 
 
 @dataclass
@@ -52,13 +60,40 @@ class CaseResult:
         return [c for c in self.checks if c.verdict != PASS]
 
 
-def judge(expect: Sequence[tuple[str, Expectation]], run: dict[str, Any]) -> list[Check]:
+def judge(expect: Sequence[tuple[str, Expectation | Windowed]], run: dict[str, Any],
+          series: RunSeries | None = None) -> list[Check]:
+    """Every expectation of a case on its flight (series: the run's time series, for the
+    windowed ones)."""
     checks = []
     for req, exp in expect:
+        if isinstance(exp, Windowed):
+            assert series is not None, "a windowed expectation needs the run's series"
+            checks.append(_judge_windowed(req, exp, run, series))
+            continue
         vals = values(run, exp.fields)
         ok = bool(evaluate(exp.tree, vals))
         checks.append(Check(req, exp.text, PASS if ok else FAIL, measured(exp, vals)))
     return checks
+
+
+def _judge_windowed(req: str, w: Windowed, run: dict[str, Any], series: RunSeries) -> Check:
+    """Measured in its window; an event that never came, an empty window: a failure, saying so."""
+    try:
+        got = measure(w.check, series)
+    except NoWindow as e:
+        return Check(req, w.text, FAIL, str(e), w)
+    vals = values(run, w.exp.fields - {VALUE}) | {VALUE: got.value}
+    ok = bool(evaluate(w.exp.tree, vals))
+    return Check(req, w.text, PASS if ok else FAIL,
+                 f"{measured(w.exp, vals)} in [{got.t_from:.4g}, {got.t_to:.4g}] s", w, got)
+
+
+def draw_checks(checks: Sequence[Check], run_dir: Path, made_by: str) -> None:
+    """Each windowed check's evidence figure, check-N.png in the case's run directory."""
+    for i, c in enumerate(checks):
+        if c.windowed is not None and c.evidence is not None:
+            c.figure = draw(c.windowed.check, c.evidence, c.verdict, f"{c.requirement}: {c.windowed.exp.text}",
+                            run_dir / f"check-{i}.png", made_by, limit(c.windowed.exp))
 
 
 def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -> CaseResult:
@@ -69,8 +104,8 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
     res = CaseResult(suite.name, case, ERROR, run_dir=run_dir, command=refly)
     t0 = time.monotonic()
     try:
-        attacker = Attacker(ATTACKS[case.attack], pause=ATTACK_PAUSE_S, iface=cfg.iface) \
-            if case.attack else None
+        attacker = Attacker(ATTACKS[case.attack], case.attack in LIVE_REPLAYS, pause=ATTACK_PAUSE_S,
+                            iface=cfg.iface, record=LIVE_REPLAYS.get(case.attack, ())) if case.attack else None
         if attacker is not None:
             attacker.start()
         try:
@@ -81,7 +116,10 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
                 attacker.bus.shutdown()
         info = json.loads((run_dir / "run_info.json").read_text(encoding="utf-8"))
         attack = {"forged": float(attacker.sent)} if attacker is not None else None
-        res.checks = judge(case.expect, read_run(run_dir, outcome.summary, info, attack))
+        key_file = device_class(cfg.target).bus_key_file(cfg.key_file)
+        res.checks = judge(case.expect, read_run(run_dir, outcome.summary, info, attack), RunSeries(run_dir, key_file))
+        if cfg.plots:
+            draw_checks(res.checks, run_dir, refly)
         res.verdict = PASS if all(c.verdict == PASS for c in res.checks) else FAIL
     except Exception as e:  # noqa: BLE001 - a case that could not run is an error, with its reason
         res.error = (str(e).splitlines() or [type(e).__name__])[0]

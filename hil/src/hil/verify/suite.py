@@ -22,6 +22,9 @@
     [case.expect]                             # per requirement: the case verifies these
     SID-DET-1 = ["detector.latency_steps <= 2", "detector.false_alarm_steps == 0"]
     NODE-RT-1 = ["overruns == 0"]
+    SID-BND-2 = [{ signal = "cdrw.azkf_alpha_lo <= cdrw.alpha_true <= cdrw.azkf_alpha_hi",
+                   window = { event = "fault[0].end", length_s = 1.0 }, measure = "settling_time",
+                   band = [1, 1], expect = "value <= 0.1" }]   # hil.verify.window
 
 Every value is checked when the suite is loaded, before anything flies, by the validator of
 scenario files (hil.scenario.schema): a case's flight is each aircraft's embedded scenario with
@@ -47,6 +50,7 @@ from hil.util.bounded import UnfitFile, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
+from hil.verify.window import VALUE, Windowed, WindowError, check
 
 SUITES_DIR = Path(__file__).resolve().parent.parent / "suites"
 MAX_SUITE_BYTES = 1 << 20
@@ -112,7 +116,7 @@ class Case:
     title: str
     aircraft: tuple[str, ...]
     #: (requirement id, expectation), in the suite's order
-    expect: tuple[tuple[str, Expectation], ...]
+    expect: tuple[tuple[str, Expectation | Windowed], ...]
     #: what flies: each aircraft's scenario, its faults among them, checked when loaded
     flights: tuple[Scenario, ...]
     mode: str = "lockstep"
@@ -175,7 +179,8 @@ def _flights(case: _CaseFields, raw: Mapping[str, Any], where: str,
     return tuple(scenarios.values())
 
 
-def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str]) -> tuple[tuple[str, Expectation], ...]:
+def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str],
+            flights: tuple[Scenario, ...]) -> tuple[tuple[str, Expectation | Windowed], ...]:
     if not isinstance(raw, Mapping) or not raw:
         raise SuiteError(f"{where}: field 'expect': a table, requirement id = [expectations]; "
                          "a case without an expectation proves nothing")
@@ -183,21 +188,40 @@ def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str]) -> tuple
     if missing:
         raise SuiteError(f"{where}: field 'expect': requirement(s) {', '.join(missing)} not declared "
                          "in the suite")
-    expect = []
-    for req, texts in raw.items():
-        if not isinstance(texts, list) or not texts or not all(isinstance(t, str) for t in texts):
-            raise SuiteError(f"{where}: field 'expect.{req}': expected an array of expectations (strings)")
-        expect += [(req, _expectation(f"{where}: field 'expect.{req}'", text, sources)) for text in texts]
+    expect: list[tuple[str, Expectation | Windowed]] = []
+    for req, items in raw.items():
+        if not isinstance(items, list) or not items or \
+                not all(isinstance(t, (str, Mapping)) for t in items):
+            raise SuiteError(f"{where}: field 'expect.{req}': expected an array of expectations "
+                             "(strings, or tables of a windowed check)")
+        for i, item in enumerate(items):
+            at = f"{where}: field 'expect.{req}'"
+            expect.append((req, _expectation(at, item, sources) if isinstance(item, str)
+                           else _windowed(f"{at}[{i}]", item, sources, flights)))
     return tuple(expect)
 
 
-def _expectation(where: str, text: str, sources: set[str]) -> Expectation:
-    """One expectation, parsed, every field documented and available in this case."""
+def _windowed(where: str, raw: Mapping[str, Any], sources: set[str], flights: tuple[Scenario, ...]) -> Windowed:
+    """A windowed check (hil.verify.window) and its expectation over `value`."""
+    faults = [f for sc in flights for f in sc.faults]
+    try:
+        c, text = check(raw, faults, [sc.aircraft for sc in flights], min(sc.duration for sc in flights), where)
+    except WindowError as e:
+        raise SuiteError(str(e)) from None
+    exp = _expectation(f"{where}: field 'expect'", text, sources, {VALUE})
+    if VALUE not in exp.fields:
+        raise SuiteError(f"{where}: field 'expect': {text!r} does not name {VALUE!r}, the measured value")
+    return Windowed(c, exp)
+
+
+def _expectation(where: str, text: str, sources: set[str], extra: Collection[str] = ()) -> Expectation:
+    """One expectation, parsed, every field documented and available in this case (or one of
+    the extra names)."""
     try:
         exp = parse(text)
     except ExpressionError as e:
         raise SuiteError(f"{where}: {e}") from None
-    for name in sorted(exp.fields):
+    for name in sorted(exp.fields - set(extra)):
         if name not in FIELDS:
             raise SuiteError(f"{where}: {text!r}: unknown field {name!r} (hil verify --fields)")
         if FIELDS[name].source not in sources:
@@ -206,15 +230,22 @@ def _expectation(where: str, text: str, sources: set[str]) -> Expectation:
     return exp
 
 
+def _realtime(case: _CaseFields) -> set[str]:
+    """A realtime flight's sources: its sync, and its timing if it flies the missile."""
+    if case.mode != "realtime":
+        return set()
+    return {"sync", "realtime"} if "missile" in case.aircraft else {"sync"}
+
+
 def _case(where: str, raw: Mapping[str, Any], req_ids: set[str], frames: Collection[str]) -> Case:
     check_keys(raw, CASE_KEYS, where)
     own = build(_CaseFields, {k: v for k, v in raw.items() if k in field_names(_CaseFields)}, where)
     flights = _flights(own, raw, where, frames)
     if "expect" not in raw:
         raise SuiteError(f"{where}: missing field 'expect'")
-    sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set())
+    sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set()) | _realtime(own)
     return Case(id=own.id, title=own.title, aircraft=own.aircraft,
-                expect=_expect(where, raw["expect"], req_ids, sources), flights=flights,
+                expect=_expect(where, raw["expect"], req_ids, sources, flights), flights=flights,
                 mode=own.mode, attack=own.attack)
 
 

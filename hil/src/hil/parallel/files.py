@@ -2,7 +2,10 @@
 it (hil.parallel.server), in a directory both see:
 
     DIR/ready        written once the loop runs
-    DIR/req/N.pkl    a request: pickled (function, args); taken and removed by the loop
+    DIR/token        the rig's secret (owner-only), written by the host before the loop starts
+    DIR/req/N.pkl    a request: the token's line, then pickled (function, args); taken and
+                     removed by the loop, which answers one without the token with an error
+                     and never unpickles it
     DIR/res/N.pkl    its answer: pickled ("ok", value, seconds) or ("error", exception, seconds)
     DIR/lease        touched by the host while it wants the rig; the loop ends when it has not
                      changed for LEASE_S (the host process was killed) or when DIR/stop appears
@@ -13,7 +16,11 @@ Also here: what a failed rig leaves to say why (last_lines of a log, exit_cause 
 from __future__ import annotations
 
 import os
+import pickle
+import secrets
 import signal
+import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +35,48 @@ def write_atomic(path: Path, data: bytes) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_bytes(data)
     os.replace(tmp, path)
+
+
+def new_token(root: Path) -> str:
+    """A fresh secret for the rig in `root`, written to root/token readable by its owner only."""
+    token = secrets.token_hex(16)
+    fd = os.open(root / "token", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(token + "\n")
+    return token
+
+
+def write_request(path: Path, token: str, fn: Any, args: tuple[Any, ...]) -> None:
+    """A request for the loop: fn(*args), under the rig's token."""
+    write_atomic(path, token.encode() + b"\n" + pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
+
+
+class Unauthentic(PermissionError):
+    """A request without the rig's token (never unpickled)."""
+
+
+def read_request(path: Path, token: str) -> tuple[Any, tuple[Any, ...]]:
+    """(fn, args) of a request written under `token`; Unauthentic otherwise."""
+    data = path.read_bytes()
+    line, _, body = data.partition(b"\n")
+    if not secrets.compare_digest(line, token.encode()):
+        raise Unauthentic(f"{path.name}: a request without the rig's token: refused")
+    fn, args = pickle.loads(body)
+    return fn, args
+
+
+def await_answer(res: Path, check: Callable[[], None]) -> tuple[Any, float]:
+    """The answer in `res` once the loop has written it: (fn's value, seconds it took in the
+    rig), or what fn raised; check() is called at each poll until then and raises when the
+    rig is down or the wait is over."""
+    while not res.exists():
+        check()
+        time.sleep(POLL_S)
+    status, value, seconds = pickle.loads(res.read_bytes())
+    res.unlink()
+    if status != "ok":
+        raise value
+    return value, seconds
 
 
 def last_lines(path: Path, n: int = LAST_LINES) -> list[str]:

@@ -28,9 +28,10 @@ from pathlib import Path
 
 import pytest
 
+from hil.cli import usage
 from hil.parallel import forked
 from hil.parallel.files import Unauthentic, read_request, write_request
-from hil.parallel.warm import LOCK, STATE, read_state, state_dir
+from hil.parallel.warm import LOCK, STATE, RigBusy, RigNotUp, pid_alive, read_state, state_dir
 
 REPO = Path(__file__).resolve().parents[3]
 HIL = str(Path(sys.executable).with_name("hil"))
@@ -102,6 +103,10 @@ def test_a_state_file_whose_keeper_is_gone_is_removed(runtime):
     (d / STATE).write_text(json.dumps({"pid": dead.pid, "dir": "/nonexistent", "token": "t", "target": "host",
                                        "iface": "vcan0", "started": 0.0, "idle_timeout": 1.0, "guest": dead.pid}))
     assert read_state(d) is None and not (d / STATE).exists()
+
+
+def test_the_rigs_statuses_are_the_tables():
+    assert (RigBusy.exit_code, RigNotUp.exit_code) == (usage.EXIT_RIG_BUSY, usage.EXIT_USAGE)
 
 
 def test_rig_option_with_no_rig_up_is_one_line(runtime):
@@ -215,6 +220,7 @@ def test_the_rig_stops_by_itself_leaving_nothing(runtime, how):
     assert state is not None
     if how == "SIGTERM":
         os.kill(state.pid, signal.SIGTERM)
-    wait_for(lambda: read_state(state_dir()) is None and not guest_processes(state.guest), "the rig stops")
+    wait_for(lambda: not pid_alive(state.pid), "the keeper stops")
+    assert read_state(state_dir()) is None and not guest_processes(state.guest)
     log = (state_dir() / "keeper.log").read_text()
     assert ("stopped by SIGTERM" if how == "SIGTERM" else "idle for 1 s") in log

@@ -18,6 +18,8 @@ hil.parallel.warmup readies the loop before its first command.
 from __future__ import annotations
 
 import os
+import pickle
+import select
 import signal
 import sys
 import time
@@ -25,13 +27,15 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from hil.parallel.files import POLL_S, write_atomic
+from hil.parallel.files import write_atomic
 
 RUNNING, CANCEL, RUNS = "running", "cancel", "runs"
 #: set in the child: the command runs in the rig (its --rig is already served)
 IN_RIG = "HIL_IN_RIG"
 #: what the child keeps of the guest's environment
 GUEST_ENV = ("WITH_VCAN_UML", "PYTHONUNBUFFERED")
+#: how often a running command's cancellation is looked for
+CANCEL_POLL_S = 0.1
 #: after SIGTERM, how long the child has to stop its session before SIGKILL
 STOP_GRACE_S = 30.0
 
@@ -73,19 +77,24 @@ def _child(fn: Callable[..., int], args: tuple[Any, ...], cwd: str, env: dict[st
 
 def _wait(pid: int, root: Path, name: str) -> int:
     """The child's exit status (128 + signal when killed); SIGTERM to it when the request is
-    cancelled, SIGKILL when it has not stopped STOP_GRACE_S later."""
+    cancelled, SIGKILL when it has not stopped STOP_GRACE_S later.  Woken by the child's end
+    (its pidfd), looking for a cancellation every CANCEL_POLL_S meanwhile."""
     cancelled, term_at = root / CANCEL, None
-    while True:
-        done, status = os.waitpid(pid, os.WNOHANG)
-        if done:
-            return os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else 128 + os.WTERMSIG(status)
-        sig = _cancelled(cancelled, name) if term_at is None else None
-        if sig is not None:
-            os.kill(pid, sig)
-            term_at = time.monotonic()
-        elif term_at is not None and time.monotonic() - term_at > STOP_GRACE_S:
-            os.kill(pid, signal.SIGKILL)
-        time.sleep(POLL_S)
+    pidfd = os.pidfd_open(pid)
+    try:
+        while True:
+            select.select([pidfd], [], [], CANCEL_POLL_S)
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                return os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else 128 + os.WTERMSIG(status)
+            sig = _cancelled(cancelled, name) if term_at is None else None
+            if sig is not None:
+                os.kill(pid, sig)
+                term_at = time.monotonic()
+            elif term_at is not None and time.monotonic() - term_at > STOP_GRACE_S:
+                os.kill(pid, signal.SIGKILL)
+    finally:
+        os.close(pidfd)
 
 
 def cancel(root: Path, name: str, sig: int = signal.SIGTERM) -> None:
@@ -102,21 +111,66 @@ def _cancelled(path: Path, name: str) -> int | None:
         return None
 
 
+#: a child forked ahead of its command, waiting for it on a pipe: (its pid, the pipe's write
+#: end).  Forking the loop costs about 0.1 s in the guest (its page tables copied by the UML
+#: kernel): paid while the loop is idle, after an answer (the loop calls after_answer), not
+#: while a client waits.
+_spare: tuple[int, int] | None = None
+_keep_spare = False
+
+
+def refill() -> None:
+    """Fork the next command's child now, unless there is one (and keep one from now on)."""
+    global _spare, _keep_spare  # noqa: PLW0603 - the loop's one spare child
+    _keep_spare = True
+    if _spare is not None:
+        return
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.close(w)
+        with os.fdopen(r, "rb") as f:
+            job = f.read()
+        if not job:          # the loop ended without a command for it
+            os._exit(0)
+        _child(*pickle.loads(job))
+    os.close(r)
+    _spare = pid, w
+
+
+def after_answer() -> None:
+    """The loop has answered a request: the next command's child forked, if one is kept."""
+    if _keep_spare:
+        refill()
+
+
+def _start(job: tuple[Any, ...]) -> int:
+    """The pid of the child that runs `job` (_child's arguments): the spare, else a new one."""
+    global _spare  # noqa: PLW0603 - the loop's one spare child
+    refill()
+    assert _spare is not None
+    pid, w = _spare
+    _spare = None
+    try:
+        with os.fdopen(w, "wb") as f:
+            f.write(pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL))
+    except BrokenPipeError:  # the spare died: a new one
+        os.waitpid(pid, 0)
+        return _start(job)
+    return pid
+
+
 def command(root: str, name: str, client_pid: int, fn: Callable[..., int], args: tuple[Any, ...],
             cwd: str, env: dict[str, str]) -> int:
     """fn(*args) in a forked child (above), as request `name` of the client `client_pid`:
     its exit status."""
     d = Path(root)
     (d / "io").mkdir(exist_ok=True)
-    out, err = io_paths(d, name)
     write_atomic(d / RUNNING, f"{client_pid} {name}\n".encode())
     try:
-        for stream in (sys.stdout, sys.stderr):
-            stream.flush()
-        pid = os.fork()
-        if pid == 0:
-            _child(fn, args, cwd, env, out, err)
-        return _wait(pid, d, name)
+        return _wait(_start((fn, args, cwd, env, *io_paths(d, name))), d, name)
     finally:
         (d / RUNNING).unlink(missing_ok=True)
         write_atomic(d / RUNS, f"{runs(d) + 1}\n".encode())

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import hil.parallel.flights  # noqa: F401 - the requests' functions, loaded before "ready"
+from hil.parallel import forked
 from hil.parallel.files import LEASE_S, POLL_S, read_request, write_atomic
 
 
@@ -64,6 +65,7 @@ def serve(root: Path, lease_s: float = LEASE_S) -> int:
             continue
         for req in reqs:
             _answer(req, res_dir, token)
+            forked.after_answer()
     return 0
 
 

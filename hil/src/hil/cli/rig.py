@@ -42,6 +42,9 @@ def wanted(args: argparse.Namespace) -> bool:
 def on_rig(main: Callable[..., int], args: argparse.Namespace) -> int:
     """`hil ... --rig`: main(parsed=args) run by the warm rig (the command line parsed here,
     not again there); its exit status."""
+    state = read_state(state_dir())
+    if state is not None and args.iface == "vcan0":   # the default bus: the rig's own (a vcanK of
+        args.iface = state.iface                      # its own on a kernel with vcan)
     return fly(main, (None, args), args.target)
 
 

@@ -30,7 +30,8 @@ import pytest
 
 from hil.cli import usage
 from hil.parallel import forked
-from hil.parallel.files import Unauthentic, read_request, write_request
+from hil.parallel.files import write_request
+from hil.parallel.server import Unauthentic, read_request
 from hil.parallel.warm import LOCK, STATE, RigBusy, RigNotUp, pid_alive, read_state, state_dir
 
 REPO = Path(__file__).resolve().parents[3]

@@ -41,7 +41,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from hil.bus import dbc
-from hil.cli import needs, rig
+from hil.cli import needs, onrig
 from hil.cli.parser import build
 from hil.cli.usage import EXIT_SIGINT, EXIT_USAGE, PROG, UsageError
 from hil.io import paths
@@ -138,8 +138,8 @@ def _main(argv: Sequence[str] | None, parsed: argparse.Namespace | None) -> int:
     try:
         args = parsed or build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         _apply_paths(args)
-        if rig.wanted(args):   # --rig: the command runs on the warm rig (hil.cli.rig)
-            return rig.on_rig(main, args)
+        if onrig.wanted(args):   # --rig: the command runs on the warm rig (hil.cli.onrig)
+            return onrig.on_rig(main, args)
         return dispatch(args)
     except Terminated as e:
         print(f"{PROG}: terminated by {signal.Signals(e.signum).name}{_notes(e)}", file=sys.stderr)

@@ -1,5 +1,5 @@
-"""`hil rig up|status|down`: a warm rig (hil.parallel.keeper), and `--rig`: a command flown on
-it from the host shell (hil.parallel.warm), the guest's boot and Python's imports paid once.
+"""`hil rig up|status|down`: a warm rig (hil.parallel.keeper), for the commands flown on it
+with --rig (hil.cli.onrig), the guest's boot and Python's imports paid once.
 
     hil rig up [--target host|qemu-m4f] [--idle-timeout S]   (returns once the rig is ready)
     hil rig status                                         (0 up, 1 down)
@@ -13,11 +13,10 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 
 from hil.cli.usage import EXIT_FAILED, PROG
 from hil.parallel import forked
-from hil.parallel.warm import STATE, State, client_attached, fly, pid_alive, read_state, state_dir
+from hil.parallel.warm import STATE, State, client_attached, pid_alive, read_state, state_dir
 
 #: the modules a rig's loop imports before its first command (what `hil run|verify|campaign`
 #: import on their way: the commands then start with them loaded)
@@ -32,20 +31,6 @@ PRELOAD = ("hil.cli", "hil.cli.run", "hil.cli.campaign", "hil.cli.verify", "hil.
 #: how long `hil rig down` waits for the keeper to stop the guest before killing both
 DOWN_WAIT_S = 60.0
 KEEPER_LOG = "keeper.log"
-
-
-def wanted(args: argparse.Namespace) -> bool:
-    """--rig given, and not already inside the rig (where the command itself runs)."""
-    return bool(getattr(args, "rig", False)) and not os.environ.get(forked.IN_RIG)
-
-
-def on_rig(main: Callable[..., int], args: argparse.Namespace) -> int:
-    """`hil ... --rig`: main(parsed=args) run by the warm rig (the command line parsed here,
-    not again there); its exit status."""
-    state = read_state(state_dir())
-    if state is not None and args.iface == "vcan0":   # the default bus: the rig's own (a vcanK of
-        args.iface = state.iface                      # its own on a kernel with vcan)
-    return fly(main, (None, args), args.target)
 
 
 def run(args: argparse.Namespace) -> int:

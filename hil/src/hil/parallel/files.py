@@ -11,13 +11,14 @@ it (hil.parallel.server), in a directory both see:
                      changed for LEASE_S (the host process was killed) or when DIR/stop appears
 
 Files are written under a temporary name and renamed, so a reader never sees half of one.
+Light to import (a warm rig's client imports it with every `hil` command): the token is made
+by the host side (hil.parallel.guest) and checked by the loop.
 Also here: what a failed rig leaves to say why (last_lines of a log, exit_cause of a process).
 """
 from __future__ import annotations
 
 import os
 import pickle
-import secrets
 import signal
 import time
 from collections.abc import Callable
@@ -37,32 +38,10 @@ def write_atomic(path: Path, data: bytes) -> None:
     os.replace(tmp, path)
 
 
-def new_token(root: Path) -> str:
-    """A fresh secret for the rig in `root`, written to root/token readable by its owner only."""
-    token = secrets.token_hex(16)
-    fd = os.open(root / "token", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-    with os.fdopen(fd, "w") as f:
-        f.write(token + "\n")
-    return token
-
-
 def write_request(path: Path, token: str, fn: Any, args: tuple[Any, ...]) -> None:
-    """A request for the loop: fn(*args), under the rig's token."""
+    """A request for the loop: fn(*args), under the rig's token (the loop reads it:
+    hil.parallel.server.read_request)."""
     write_atomic(path, token.encode() + b"\n" + pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
-
-
-class Unauthentic(PermissionError):
-    """A request without the rig's token (never unpickled)."""
-
-
-def read_request(path: Path, token: str) -> tuple[Any, tuple[Any, ...]]:
-    """(fn, args) of a request written under `token`; Unauthentic otherwise."""
-    data = path.read_bytes()
-    line, _, body = data.partition(b"\n")
-    if not secrets.compare_digest(line, token.encode()):
-        raise Unauthentic(f"{path.name}: a request without the rig's token: refused")
-    fn, args = pickle.loads(body)
-    return fn, args
 
 
 def await_answer(res: Path, check: Callable[[], None]) -> tuple[Any, float]:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import secrets
 import shutil
 import signal
 import subprocess
@@ -25,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.io.paths import with_vcan
-from hil.parallel.files import LEASE_S, await_answer, exit_cause, last_lines, new_token, write_request
+from hil.parallel.files import LEASE_S, await_answer, exit_cause, last_lines, write_request
 from hil.rig.errors import RigError
 
 BOOT_TIMEOUT_S = 120.0
@@ -54,6 +55,16 @@ def rig_root() -> Path:
     """Where rigs keep their request/answer files and flight directories: $HIL_RIG_DIR, or
     the temporary directory (a UML guest sees the host's whole file system)."""
     return Path(os.environ.get("HIL_RIG_DIR") or tempfile.gettempdir())
+
+
+def new_token(root: Path) -> str:
+    """A fresh secret for the rig in `root`, written to root/token readable by its owner only
+    (the loop runs only requests that carry it: hil.parallel.server)."""
+    token = secrets.token_hex(16)
+    fd = os.open(root / "token", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(token + "\n")
+    return token
 
 
 def _native_iface() -> str | None:

@@ -8,6 +8,7 @@ rig's token (DIR/token); a warm rig's commands (hil.parallel.forked) come throug
 """
 from __future__ import annotations
 
+import hmac
 import os
 import pickle
 import sys
@@ -18,7 +19,21 @@ from typing import Any
 
 import hil.parallel.flights  # noqa: F401 - the requests' functions, loaded before "ready"
 from hil.parallel import forked
-from hil.parallel.files import LEASE_S, POLL_S, read_request, write_atomic
+from hil.parallel.files import LEASE_S, POLL_S, write_atomic
+
+
+class Unauthentic(PermissionError):
+    """A request without the rig's token (never unpickled)."""
+
+
+def read_request(path: Path, token: str) -> tuple[Any, tuple[Any, ...]]:
+    """(fn, args) of a request written under `token` (hil.parallel.files.write_request);
+    Unauthentic, unread, otherwise."""
+    line, _, body = path.read_bytes().partition(b"\n")
+    if not hmac.compare_digest(line, token.encode()):
+        raise Unauthentic(f"{path.name}: a request without the rig's token: refused")
+    fn, args = pickle.loads(body)
+    return fn, args
 
 
 def _answer(req: Path, res_dir: Path, token: str) -> None:

@@ -7,8 +7,9 @@ scripts/with-vcan.  Each rig's state lives in a directory of the test's ($HIL_RU
 
 * the requests' token, the forked command's cancellation, the state file's checks: no guest;
 * a life cycle: up, up again, status, a run whose deterministic files equal a cold run's
-  (scripts/with-vcan hil run), a second client refused (exit 8), a client killed mid-command
-  (its command cancelled, the next one flies), down with no process of the guest left;
+  (scripts/with-vcan hil run), a second client refused (exit 8), a client interrupted (its
+  command stops as an interrupted run does: 130) and one killed mid-command (its command
+  cancelled, the next one flies), down with no process of the guest left;
 * SIGTERM to the keeper and the idle timeout stop the rig as `hil rig down` does.
 
 Bounded: three guests of about 4 s each, and a few 7 s flights.
@@ -187,6 +188,17 @@ def test_life_cycle(rig, tmp_path):
     assert r.returncode == 8 and r.stdout == "" and len(r.stderr.strip().splitlines()) == 1
     assert "flying another client's command" in r.stderr and not (tmp_path / "second").exists()
 
+    # Ctrl-C on a client: its command stops as an interrupted cold run does, with its status
+    stopped = subprocess.Popen([HIL, "campaign", "cdrw", "--runs", "50", "--rig", "--no-plots", "--quiet",
+                                "--out", str(tmp_path / "stopped")], env=env, cwd=REPO,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    wait_for(lambda: (forked.running(state.root) or (0, ""))[0] == stopped.pid, "the campaign runs on the rig")
+    wait_for(lambda: any(tmp_path.glob(".stopped.partial-*/*")), "the campaign writes its files")
+    stopped.send_signal(signal.SIGINT)
+    _, err = stopped.communicate(timeout=WAIT_S)
+    assert stopped.returncode == usage.EXIT_SIGINT and err.startswith("hil: interrupted"), err
+    assert not (tmp_path / "stopped").exists() and list(tmp_path.glob("stopped.failed-*"))
+
     # a client killed mid-command: its command is cancelled (partial results kept as a
     # cold run's interrupted ones are), and the next command flies
     doomed = subprocess.Popen([HIL, "campaign", "cdrw", "--runs", "50", "--rig", "--no-plots", "--quiet",
@@ -194,6 +206,7 @@ def test_life_cycle(rig, tmp_path):
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     wait_for(lambda: (forked.running(state.root) or (0, ""))[0] == doomed.pid, "the campaign runs on the rig")
     assert f"client: pid {doomed.pid}" in hil("rig", "status", env=env).stdout
+    wait_for(lambda: any(tmp_path.glob(".doomed.partial-*/*")), "the campaign writes its files")
     doomed.kill()
     doomed.wait()
     wait_for(lambda: forked.running(state.root) is None, "the dead client's command stops")
@@ -203,7 +216,7 @@ def test_life_cycle(rig, tmp_path):
     assert r.returncode == 0, r.stderr
     for name in DETERMINISTIC:
         assert (tmp_path / "after" / name).read_bytes() == (cold / name).read_bytes(), name
-    assert "commands run: 3" in hil("rig", "status", env=env).stdout
+    assert "commands run: 4" in hil("rig", "status", env=env).stdout
 
     r = hil("rig", "down", env=env)
     assert r.returncode == 0 and r.stdout == f"rig: down (pid {state.pid} stopped)\n"

@@ -117,6 +117,8 @@ def test_rig_option_with_no_rig_up_is_one_line(runtime):
     assert r.stderr.strip().splitlines() == ["hil: --rig: no rig is up (start one with `hil rig up`)"]
     r = hil("rig", "status", env=runtime)
     assert r.returncode == 1 and r.stdout == "rig: down\n"
+    r = hil("campaign", "cdrw", "--rig", "--workers", "2", env=runtime)
+    assert r.returncode == 2 and r.stderr.startswith("hil: --rig flies in the warm rig's one guest")
 
 
 def _sleeps(seconds: float) -> int:

@@ -129,13 +129,17 @@ def refill() -> None:
         stream.flush()
     r, w = os.pipe()
     pid = os.fork()
-    if pid == 0:
-        os.close(w)
-        with os.fdopen(r, "rb") as f:
-            job = f.read()
-        if not job:          # the loop ended without a command for it
-            os._exit(0)
-        _child(*pickle.loads(job))
+    if pid == 0:             # (never back into the loop, whatever happens)
+        code = 1
+        try:
+            os.close(w)
+            with os.fdopen(r, "rb") as f:
+                job = f.read()
+            if job:
+                _child(*pickle.loads(job))
+            code = 0         # the loop ended without a command for it
+        finally:
+            os._exit(code)
     os.close(r)
     _spare = pid, w
 

@@ -44,7 +44,7 @@ from typing import NoReturn
 
 from hil.bus import dbc
 from hil.bus.dbcfile import DbcError
-from hil.cli import needs
+from hil.cli import needs, onrig
 from hil.cli.parser import build
 from hil.cli.usage import EXIT_SIGINT, EXIT_USAGE, PROG, UsageError
 from hil.io import paths
@@ -125,7 +125,9 @@ def _terminate(signum: int, _frame: object) -> None:
     raise Terminated(signum)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv: Sequence[str] | None = None, parsed: argparse.Namespace | None = None) -> int:
+    """`hil` with `argv` (default sys.argv), or the command line `parsed` already (a warm
+    rig's command: hil.cli.rig)."""
     old: dict[signal.Signals, object] = {}
     if threading.current_thread() is threading.main_thread():
         for sig in (signal.SIGTERM, signal.SIGHUP):
@@ -133,7 +135,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 old[sig] = signal.signal(sig, _terminate)
     build_env = os.environ.get(paths.BUILD_ENV)
     try:
-        return _main(argv)
+        return _main(argv, parsed)
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler)  # type: ignore[arg-type]
@@ -143,10 +145,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             os.environ[paths.BUILD_ENV] = build_env
 
 
-def _main(argv: Sequence[str] | None) -> int:
+def _main(argv: Sequence[str] | None, parsed: argparse.Namespace | None) -> int:
     try:
-        args = build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
+        args = parsed or build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         _apply_paths(args)
+        if onrig.wanted(args):   # --rig: the command runs on the warm rig (hil.cli.onrig)
+            return onrig.on_rig(main, args)
         return dispatch(args)
     except KeyboardInterrupt as e:
         return _stopped(e)

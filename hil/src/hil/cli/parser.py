@@ -180,6 +180,23 @@ def add_parallel(p: argparse.ArgumentParser) -> None:
                    help="fly on a running Dask cluster, e.g. tcp://host:8786 (README: Clusters)")
 
 
+def add_rig(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--rig", action="store_true",
+                   help="fly on the warm rig `hil rig up` started (no guest to boot; docs/rig.md)")
+
+
+def add_rig_commands(sub: argparse._SubParsersAction[Parser]) -> None:
+    rg = sub.add_parser("rig", help="a warm rig: a guest with its bus kept up for `--rig` commands")
+    rsub = rg.add_subparsers(dest="rig_command", required=True, parser_class=Parser, metavar="ACTION")
+    u = rsub.add_parser("up", help="start the rig and return once it is ready")
+    u.add_argument("--target", choices=("host", "qemu-m4f"), default="host",
+                   help="the device under test the rig's commands fly (default host)")
+    u.add_argument("--idle-timeout", type=positive, default=1800.0, metavar="S",
+                   help="stop after S seconds without a command (default 1800)")
+    rsub.add_parser("status", help="up or down, target, uptime, commands run, client (exit 1: down)")
+    rsub.add_parser("down", help="stop the rig and its guest")
+
+
 def nonnegative(text: str) -> float:
     try:
         v = float(text)
@@ -225,6 +242,7 @@ def build() -> argparse.ArgumentParser:
                    help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
     r.add_argument("--seed", type=seed, help="override the scenario's seed")
     add_common(r, "out/run-<aircraft>")
+    add_rig(r)
 
     c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
     c.add_argument("aircraft", choices=("cdrw",))
@@ -239,6 +257,7 @@ def build() -> argparse.ArgumentParser:
                         "guest; every run records with it) or candump (can-utils)")
     add_parallel(c)
     add_common(c, "out/campaign-cdrw")
+    add_rig(c)
 
     s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
     s.add_argument("aircraft", choices=("missile",))
@@ -345,4 +364,6 @@ def build() -> argparse.ArgumentParser:
     v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
     v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
     add_common(v, "out/verify")
+    add_rig(v)
+    add_rig_commands(sub)
     return p

@@ -16,6 +16,8 @@ EXIT_DIED = 4
 EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
+#: --rig: the warm rig is flying another client's command (hil.parallel.warm.RigBusy)
+EXIT_RIG_BUSY = 8
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 
@@ -36,8 +38,9 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                  "on one identifier), `--workers` outside 1..64, `--workers` with "
                  "`--log-format asc|blf` or inside the `scripts/with-vcan` guest, a firmware program "
                  "or an extra of the package missing; `hil replay` of a run whose bus key is not "
-                 "kept, whose bus log or `run_info.json` is malformed, or with no step to replay: "
-                 "nothing is started"),
+                 "kept, whose bus log or `run_info.json` is malformed, or with no step to replay; "
+                 "`--rig` with no warm rig up, or one up for another `--target`: nothing is "
+                 "started"),
     (EXIT_TIMEOUT, "fcc did not answer a lockstep step within `--timeout` (after resending the "
                    "tick at `--timeout`/2)"),
     (EXIT_DIED, "fcc died during the run, or the serial line to the Cortex-M4F image lost "
@@ -48,6 +51,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                 "was attacked (forged or replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), "
                 "refused (the authenticated master implausible against fcc's clock) or lost; "
                 "one line names it, summary.json's `sync` has the counters"),
+    (EXIT_RIG_BUSY, "`--rig`: the warm rig is flying another client's command: nothing is started "
+                    "(one command at a time; try again when it is done)"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
                   "file removed, partial results kept marked `FAILED`; while hil is still starting "
                   "(before it has started anything), the one line at once"),

@@ -2,18 +2,26 @@
 it (hil.parallel.server), in a directory both see:
 
     DIR/ready        written once the loop runs
-    DIR/req/N.pkl    a request: pickled (function, args); taken and removed by the loop
+    DIR/token        the rig's secret (owner-only), written by the host before the loop starts
+    DIR/req/N.pkl    a request: the token's line, then pickled (function, args); taken and
+                     removed by the loop, which answers one without the token with an error
+                     and never unpickles it
     DIR/res/N.pkl    its answer: pickled ("ok", value, seconds) or ("error", exception, seconds)
     DIR/lease        touched by the host while it wants the rig; the loop ends when it has not
                      changed for LEASE_S (the host process was killed) or when DIR/stop appears
 
 Files are written under a temporary name and renamed, so a reader never sees half of one.
+Light to import (a warm rig's client imports it with every `hil` command): the token is made
+by the host side (hil.parallel.guest) and checked by the loop.
 Also here: what a failed rig leaves to say why (last_lines of a log, exit_cause of a process).
 """
 from __future__ import annotations
 
 import os
+import pickle
 import signal
+import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +36,26 @@ def write_atomic(path: Path, data: bytes) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_bytes(data)
     os.replace(tmp, path)
+
+
+def write_request(path: Path, token: str, fn: Any, args: tuple[Any, ...]) -> None:
+    """A request for the loop: fn(*args), under the rig's token (the loop reads it:
+    hil.parallel.server.read_request)."""
+    write_atomic(path, token.encode() + b"\n" + pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def await_answer(res: Path, check: Callable[[], None]) -> tuple[Any, float]:
+    """The answer in `res` once the loop has written it: (fn's value, seconds it took in the
+    rig), or what fn raised; check() is called at each poll until then and raises when the
+    rig is down or the wait is over."""
+    while not res.exists():
+        check()
+        time.sleep(POLL_S)
+    status, value, seconds = pickle.loads(res.read_bytes())
+    res.unlink()
+    if status != "ok":
+        raise value
+    return value, seconds
 
 
 def last_lines(path: Path, n: int = LAST_LINES) -> list[str]:

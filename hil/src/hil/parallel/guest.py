@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import itertools
 import os
-import pickle
+import secrets
 import shutil
 import signal
 import subprocess
@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.io.paths import with_vcan
-from hil.parallel.files import LEASE_S, POLL_S, exit_cause, last_lines, write_atomic
+from hil.parallel.files import LEASE_S, await_answer, exit_cause, last_lines, write_request
 from hil.rig.errors import RigError
 
 BOOT_TIMEOUT_S = 120.0
@@ -55,6 +55,16 @@ def rig_root() -> Path:
     """Where rigs keep their request/answer files and flight directories: $HIL_RIG_DIR, or
     the temporary directory (a UML guest sees the host's whole file system)."""
     return Path(os.environ.get("HIL_RIG_DIR") or tempfile.gettempdir())
+
+
+def new_token(root: Path) -> str:
+    """A fresh secret for the rig in `root`, written to root/token readable by its owner only
+    (the loop runs only requests that carry it: hil.parallel.server)."""
+    token = secrets.token_hex(16)
+    fd = os.open(root / "token", os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    with os.fdopen(fd, "w") as f:
+        f.write(token + "\n")
+    return token
 
 
 def _native_iface() -> str | None:
@@ -88,6 +98,7 @@ class GuestRig:
         self.iface = "vcan0"
         self.native = False
         self.proc: subprocess.Popen[bytes] | None = None
+        self.token = ""
         self.boots = 0
         self._seq = itertools.count()
         self._lock = threading.Lock()
@@ -101,6 +112,7 @@ class GuestRig:
         (d / "req").mkdir(parents=True)
         (d / "res").mkdir()
         (d / "lease").touch()
+        self.token = new_token(d)
         self.dir = d
         server = [sys.executable, "-m", "hil.parallel.server", str(d)]
         iface = _native_iface()
@@ -193,22 +205,19 @@ class GuestRig:
                 self.start()
             assert self.dir is not None and self.proc is not None
             name = f"{next(self._seq):09d}.pkl"
-            write_atomic(self.dir / "req" / name, pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
-            res = self.dir / "res" / name
+            write_request(self.dir / "req" / name, self.token, fn, args)
             deadline = time.monotonic() + self.flight_timeout
-            while not res.exists():
-                if self.proc.poll() is not None:
-                    raise RigDown(f"the rig stopped during a flight ({self._last_words()})", self._cause())
-                if time.monotonic() > deadline:
-                    self.kill()
-                    raise RigDown(f"the rig did not answer within {self.flight_timeout:g} s; killed",
-                                  {**self._cause(), "timeout_s": self.flight_timeout})
-                time.sleep(POLL_S)
-            status, value, seconds = pickle.loads(res.read_bytes())
-            res.unlink()
-        if status != "ok":
-            raise value
-        return value, seconds
+            return await_answer(self.dir / "res" / name, lambda: self._check(deadline))
+
+    def _check(self, deadline: float) -> None:
+        """RigDown when the rig died, or did not answer by `deadline` (then it is killed)."""
+        assert self.proc is not None
+        if self.proc.poll() is not None:
+            raise RigDown(f"the rig stopped during a flight ({self._last_words()})", self._cause())
+        if time.monotonic() > deadline:
+            self.kill()
+            raise RigDown(f"the rig did not answer within {self.flight_timeout:g} s; killed",
+                          {**self._cause(), "timeout_s": self.flight_timeout})
 
     def work_dir(self, name: str) -> Path:
         """A directory for one flight's files (kept there when the flight fails)."""

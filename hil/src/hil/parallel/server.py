@@ -3,10 +3,12 @@
 Runs where the rig's CAN interface is (a UML guest started by scripts/with-vcan, or the host
 with its own vcanK).  DIR is shared with the host side (hil.parallel.guest): its files are hil.parallel.files'.
 The flights' modules (hil.parallel.flights) are imported with this one, before DIR/ready is
-written: at the rig's boot, not at its first flight's time.
+written: at the rig's boot, not at its first flight's time.  A request is run only under the
+rig's token (DIR/token); a warm rig's commands (hil.parallel.forked) come through here too.
 """
 from __future__ import annotations
 
+import hmac
 import os
 import pickle
 import sys
@@ -16,14 +18,31 @@ from pathlib import Path
 from typing import Any
 
 import hil.parallel.flights  # noqa: F401 - the requests' functions, loaded before "ready"
+from hil.parallel import forked
 from hil.parallel.files import LEASE_S, POLL_S, write_atomic
 
 
-def _answer(req: Path, res_dir: Path) -> None:
+class Unauthentic(PermissionError):
+    """A request without the rig's token (never unpickled)."""
+
+
+def read_request(path: Path, token: str) -> tuple[Any, tuple[Any, ...]]:
+    """(fn, args) of a request written under `token` (hil.parallel.files.write_request);
+    Unauthentic, unread, otherwise."""
+    line, _, body = path.read_bytes().partition(b"\n")
+    if not hmac.compare_digest(line, token.encode()):
+        raise Unauthentic(f"{path.name}: a request without the rig's token: refused")
+    fn, args = pickle.loads(body)
+    return fn, args
+
+
+def _answer(req: Path, res_dir: Path, token: str) -> None:
     t0 = time.perf_counter()
     try:
-        fn, args = pickle.loads(req.read_bytes())
-        req.unlink()
+        try:
+            fn, args = read_request(req, token)
+        finally:
+            req.unlink()
         out: tuple[Any, ...] = ("ok", fn(*args), 0.0)
     except Exception as e:  # noqa: BLE001 - every failure goes back to the host
         try:
@@ -41,6 +60,7 @@ def _answer(req: Path, res_dir: Path) -> None:
 def serve(root: Path, lease_s: float = LEASE_S) -> int:
     req_dir, res_dir = root / "req", root / "res"
     lease = root / "lease"
+    token = (root / "token").read_text().strip()
     write_atomic(root / "ready", f"{os.getpid()}\n".encode())
     last_lease, seen_at = None, time.monotonic()
     while not (root / "stop").exists():
@@ -59,7 +79,8 @@ def serve(root: Path, lease_s: float = LEASE_S) -> int:
             time.sleep(POLL_S)
             continue
         for req in reqs:
-            _answer(req, res_dir)
+            _answer(req, res_dir, token)
+            forked.after_answer()
     return 0
 
 

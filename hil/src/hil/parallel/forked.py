@@ -1,0 +1,197 @@
+"""A warm rig's command, inside its guest: `hil run|verify|campaign ... --rig` run by a child
+forked from the rig's loop (hil.parallel.server), whose modules are imported already, so the
+command pays neither the guest's boot nor Python's imports -- and, a process of its own,
+leaves nothing in the loop that the next command could see.
+
+The child works in the client's directory with the client's environment (the guest's own
+WITH_VCAN_UML kept: the command knows it flies in a guest); its stdout and stderr go to
+files the client copies to its own as they grow.  While it runs, DIR/running names the
+client's pid and the request; the rig's keeper (hil.parallel.keeper) writes that name to
+DIR/cancel when the client died (the child then gets SIGTERM), and the client itself with the
+signal it got (SIGINT, SIGTERM, SIGHUP) when it is interrupted: the child ends as an
+interrupted `hil` run does (fcc and the recorder stopped, the partial results kept marked
+FAILED, 128 + the signal).  DIR/runs counts the commands run.
+
+Imported by the client (a small module: its requests name these functions) and by the loop;
+hil.parallel.warmup readies the loop before its first command.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import select
+import signal
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from hil.parallel.files import write_atomic
+
+RUNNING, CANCEL, RUNS = "running", "cancel", "runs"
+#: set in the child: the command runs in the rig (its --rig is already served)
+IN_RIG = "HIL_IN_RIG"
+#: what the child keeps of the guest's environment
+GUEST_ENV = ("WITH_VCAN_UML", "PYTHONUNBUFFERED")
+#: how often a running command's cancellation is looked for
+CANCEL_POLL_S = 0.1
+#: after SIGTERM, how long the child has to stop its session before SIGKILL
+STOP_GRACE_S = 30.0
+
+
+def io_paths(root: Path, name: str) -> tuple[Path, Path]:
+    """Where the child of request `name` writes its stdout and stderr."""
+    return root / "io" / f"{name}.out", root / "io" / f"{name}.err"
+
+
+def _child(fn: Callable[..., int], args: tuple[Any, ...], cwd: str, env: dict[str, str],
+           out: Path, err: Path) -> None:
+    """In the forked child: fn(*args) as a command runs, then exit with its status."""
+    code = 1
+    try:
+        keep = {k: os.environ[k] for k in GUEST_ENV if k in os.environ}
+        os.environ.clear()
+        os.environ.update({**env, **keep, IN_RIG: "1"})
+        os.chdir(cwd)
+        for fd, path, name in ((1, out, "stdout"), (2, err, "stderr")):
+            f = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+            os.dup2(f, fd)
+            os.close(f)
+            setattr(sys, name, open(fd, "w", encoding="utf-8", errors="backslashreplace",  # noqa: SIM115
+                                    closefd=False, buffering=1))
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        code = fn(*args)
+    except SystemExit as e:
+        code = e.code if isinstance(e.code, int) else 1
+    except BaseException as e:  # noqa: BLE001 - the child never returns into the loop
+        print(f"hil: {type(e).__name__}: {e}", file=sys.stderr)
+    finally:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except Exception:  # noqa: BLE001, S110 - a closed stream: nothing more to say
+                pass
+        os._exit(code if isinstance(code, int) else 1)
+
+
+def _wait(pid: int, root: Path, name: str) -> int:
+    """The child's exit status (128 + signal when killed); SIGTERM to it when the request is
+    cancelled, SIGKILL when it has not stopped STOP_GRACE_S later.  Woken by the child's end
+    (its pidfd), looking for a cancellation every CANCEL_POLL_S meanwhile."""
+    cancelled, term_at = root / CANCEL, None
+    pidfd = os.pidfd_open(pid)
+    try:
+        while True:
+            select.select([pidfd], [], [], CANCEL_POLL_S)
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                return os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else 128 + os.WTERMSIG(status)
+            sig = _cancelled(cancelled, name) if term_at is None else None
+            if sig is not None:
+                os.kill(pid, sig)
+                term_at = time.monotonic()
+            elif term_at is not None and time.monotonic() - term_at > STOP_GRACE_S:
+                os.kill(pid, signal.SIGKILL)
+    finally:
+        os.close(pidfd)
+
+
+def cancel(root: Path, name: str, sig: int = signal.SIGTERM) -> None:
+    """Stop request `name`'s command with `sig` (it is run to its end when it has ended)."""
+    write_atomic(root / CANCEL, f"{name} {int(sig)}\n".encode())
+
+
+def _cancelled(path: Path, name: str) -> int | None:
+    """The signal request `name` is cancelled with, or None."""
+    try:
+        what, sig = path.read_text().split()
+        return int(sig) if what == name else None
+    except (OSError, ValueError):
+        return None
+
+
+#: a child forked ahead of its command, waiting for it on a pipe: (its pid, the pipe's write
+#: end).  Forking the loop costs about 0.1 s in the guest (its page tables copied by the UML
+#: kernel): paid while the loop is idle, after an answer (the loop calls after_answer), not
+#: while a client waits.
+_spare: tuple[int, int] | None = None
+_keep_spare = False
+
+
+def refill() -> None:
+    """Fork the next command's child now, unless there is one (and keep one from now on)."""
+    global _spare, _keep_spare  # noqa: PLW0603 - the loop's one spare child
+    _keep_spare = True
+    if _spare is not None:
+        return
+    for stream in (sys.stdout, sys.stderr):
+        stream.flush()
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:             # (never back into the loop, whatever happens)
+        code = 1
+        try:
+            os.close(w)
+            with os.fdopen(r, "rb") as f:
+                job = f.read()
+            if job:
+                _child(*pickle.loads(job))
+            code = 0         # the loop ended without a command for it
+        finally:
+            os._exit(code)
+    os.close(r)
+    _spare = pid, w
+
+
+def after_answer() -> None:
+    """The loop has answered a request: the next command's child forked, if one is kept."""
+    if _keep_spare:
+        refill()
+
+
+def _start(job: tuple[Any, ...]) -> int:
+    """The pid of the child that runs `job` (_child's arguments): the spare, else a new one."""
+    global _spare  # noqa: PLW0603 - the loop's one spare child
+    refill()
+    assert _spare is not None
+    pid, w = _spare
+    _spare = None
+    try:
+        with os.fdopen(w, "wb") as f:
+            f.write(pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL))
+    except BrokenPipeError:  # the spare died: a new one
+        os.waitpid(pid, 0)
+        return _start(job)
+    return pid
+
+
+def command(root: str, name: str, client_pid: int, fn: Callable[..., int], args: tuple[Any, ...],
+            cwd: str, env: dict[str, str]) -> int:
+    """fn(*args) in a forked child (above), as request `name` of the client `client_pid`:
+    its exit status."""
+    d = Path(root)
+    (d / "io").mkdir(exist_ok=True)
+    write_atomic(d / RUNNING, f"{client_pid} {name}\n".encode())
+    try:
+        return _wait(_start((fn, args, cwd, env, *io_paths(d, name))), d, name)
+    finally:
+        (d / RUNNING).unlink(missing_ok=True)
+        write_atomic(d / RUNS, f"{runs(d) + 1}\n".encode())
+
+
+def runs(root: Path) -> int:
+    """How many commands the rig in `root` has run."""
+    try:
+        return int((root / RUNS).read_text())
+    except (OSError, ValueError):
+        return 0
+
+
+def running(root: Path) -> tuple[int, str] | None:
+    """(client pid, request) of the command running in the rig, or None."""
+    try:
+        pid, name = (root / RUNNING).read_text().split()
+        return int(pid), name
+    except (OSError, ValueError):
+        return None

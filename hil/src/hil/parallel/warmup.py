@@ -1,0 +1,34 @@
+"""A warm rig's loop made ready for its commands, once, before the first: what every command
+would otherwise do again at its start, done in the loop, whose forked children inherit it
+(hil.parallel.forked).
+
+* the commands' modules imported (the list is the CLI's: hil.cli.rig.PRELOAD);
+* the CDRW's fault-free flight of the default scenario decoded from the flight cache
+  (hil.sim.cdrw_cache keeps the last entry used in memory: a child's `hil run cdrw` skips
+  decoding it, and still reads and compares the entry's bytes, so a changed entry is never
+  trusted);
+* the first command's child forked (hil.parallel.forked.refill: and each next one's after an
+  answer).
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Sequence
+
+from hil.bus import load as load_spec
+from hil.parallel import forked
+from hil.scenario.file import load_default_scenario
+from hil.sim.cdrw_cache import open_loop
+from hil.sim.cdrw_flight import CdrwSimulation
+
+
+def warm_up(modules: Sequence[str]) -> int:
+    """Import `modules`, decode the default CDRW flight, fork the first command's child: how
+    many modules are loaded."""
+    for name in modules:
+        importlib.import_module(name)
+    scenario = load_default_scenario("cdrw", {m.name for m in load_spec().messages})
+    open_loop(scenario, CdrwSimulation(scenario).n_samples)
+    forked.refill()
+    return len(sys.modules)

@@ -2,8 +2,9 @@
 
 The specification is in dbc/README.md ("Authentication"); in short:
 
-* a secured frame (SIM_CONTROL, SIM_TICK, MSL_ELEV_CMD, or the heartbeat group) is followed
-  by its authenticator frame (the DBC's ``SecOC_Pdus`` / ``SecOC_DataID`` attributes);
+* a secured frame (SIM_CONTROL, SIM_TICK) or group (fcc's heartbeat; fcc's outputs of one step:
+  the 12 identification frames, the missile's command + estimate) is followed by its
+  authenticator frame (the DBC's ``SecOC_Pdus`` / ``SecOC_DataID`` attributes);
 * freshness value FV = trip << 32 | message counter (one counter per secured PDU, from 1);
   fcc draws the trip at start and publishes it in ``FCC_SEC_SESSION``;
 * authenticator = FV mod 2**16 (little-endian) + the first 6 bytes of
@@ -20,6 +21,7 @@ loop authenticates a tick every step.
 from __future__ import annotations
 
 import enum
+import itertools
 import os
 from collections import deque
 from dataclasses import dataclass, field
@@ -199,7 +201,8 @@ class Receiver:
         fv = (self.trip << 32) | cand
         for i, pdu in enumerate(self.held):
             if same_mac(self.keyed.mac(self.data_id, pdu, fv), bytes(auth[2:8])):
-                self.counters.unpaired += i
+                if not isinstance(self, GroupReceiver):   # (a group counts its copies itself)
+                    self.counters.unpaired += i
                 for _ in range(i + 1):
                     self.held.popleft()
                 self.counter = cand
@@ -209,27 +212,63 @@ class Receiver:
         return Verdict.MAC_FAILED, None
 
 
+#: a group's authenticator is tried against at most this many combinations of the copies held
+#: (a forger that doubles k members makes 2**k): beyond it the group fails its MAC
+GROUP_TRIES = 256
+
+
 @dataclass
 class GroupReceiver(Receiver):
-    """A secured PDU of several frames (fcc's heartbeat): the latest copy of each is held and
-    the authenticator covers their concatenation in DBC order."""
+    """A secured PDU of several frames (fcc's heartbeat, its outputs of a step): the copies of
+    each member since the last authenticator are held (up to CANDIDATES distinct ones; an exact
+    repeat is the same copy), and the authenticator is tried on their concatenations in DBC
+    order, the earliest copies first, at most GROUP_TRIES of them.  fcc sends each member once
+    per authenticator, so a second, different copy is another node's (``conflicts``): the
+    genuine group still verifies, and the copy that was not used counts as unpaired."""
 
     pdu_ids: tuple[int, ...] = ()
-    latest: dict[int, bytes] = field(default_factory=dict)
+    copies: dict[int, list[bytes]] = field(default_factory=dict)
+    #: different second copies of a member before its authenticator (forged frames)
+    conflicts: int = 0
 
     def hold_frame(self, frame_id: int, data: bytes) -> None:
-        self.latest[frame_id] = bytes(data)
+        got = self.copies.setdefault(frame_id, [])
+        data = bytes(data)
+        if data in got:
+            return
+        if got:
+            self.conflicts += 1
+        if len(got) == CANDIDATES:
+            got.pop(0)
+            self.counters.unpaired += 1
+        got.append(data)
+
+    @property
+    def latest(self) -> dict[int, bytes]:
+        """The newest copy of each member held."""
+        return {i: c[-1] for i, c in self.copies.items()}
+
+    def pending(self) -> int:
+        """Copies held that no authenticator has verified yet."""
+        return sum(len(c) for c in self.copies.values())
 
     def verify_group(self, auth: bytes) -> tuple[Verdict, list[tuple[int, bytes]]]:
-        frames = [(i, self.latest[i]) for i in self.pdu_ids if i in self.latest]
-        self.latest = {}
-        if len(frames) != len(self.pdu_ids):
+        copies, self.copies = self.copies, {}
+        held = sum(len(c) for c in copies.values())
+        if any(i not in copies for i in self.pdu_ids):
             self.counters.mac_failed += 1
+            self.counters.unpaired += held
             return Verdict.NO_PDU, []
-        self.held = deque([b"".join(d for _, d in frames)])
-        verdict, _ = self.verify(auth)
+        choices = [copies[i] for i in self.pdu_ids]
+        combos = itertools.islice(itertools.product(*choices), GROUP_TRIES)
+        self.held = deque(b"".join(c) for c in combos)
+        verdict, pdu = self.verify(auth)
         self.held.clear()
-        return verdict, frames if verdict is Verdict.VERIFIED else []
+        if verdict is not Verdict.VERIFIED or pdu is None:
+            self.counters.unpaired += held
+            return verdict, []
+        self.counters.unpaired += held - len(self.pdu_ids)
+        return verdict, [(i, pdu[8 * j: 8 * j + 8]) for j, i in enumerate(self.pdu_ids)]
 
 
 class Endpoint:
@@ -354,7 +393,7 @@ class Endpoint:
             if self.trip is None:   # the first heartbeat: try the trip it carries
                 session = r.latest.get(self.session_id)
                 if session is None:
-                    r.latest = {}
+                    r.copies = {}
                     return []
                 r.trip = int.from_bytes(session[:4], "little")
             verdict, frames = r.verify_group(data)

@@ -8,10 +8,14 @@ against it.  In realtime mode there are no ticks: frames are kept in order with 
 timestamps and their own step field.
 
 Nothing the bus says is taken on trust: given the run's key (and fcc's trip), the frames are
-read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and
-MSL_ELEV_CMD count only once their authenticator verified under the key and the trip, and
-SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset starts no flight, a
-forged or replayed tick moves no step (``BusAuth``).
+read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and fcc's
+outputs (the 12 identification frames of a step under SID_OUT_AUTH, the missile's command and
+estimate under MSL_ELEV_CMD_AUTH) count only once their authenticator verified under the key
+and the trip, and SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset
+starts no flight, a forged or replayed tick moves no step, a forged estimate, bound or flag
+reaches no table (``BusAuth``); what was refused on fcc's identifiers is counted
+(``Forgeries``: the run reports it, hil.results.trust).  A second, different frame for a step
+already seen is refused too (``DuplicateOutput``): lockstep, fcc sends a step's outputs once.
 """
 from __future__ import annotations
 
@@ -28,11 +32,42 @@ from hil.bus.e2e import E2EReceiver
 from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, per_identifier, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
-from hil.bus.secoc import Endpoint, Receiver
+from hil.bus.secoc import Endpoint, GroupReceiver, Receiver
+from hil.rig.errors import RigError
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
-#: the output frames of each application (0 CDRW, 1 missile)
-_OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
+#: fcc's outputs of one step of each application: the group each authenticator covers
+OUTPUT_AUTH = {0: "SID_OUT_AUTH", 1: "MSL_ELEV_CMD_AUTH"}
+#: the output frames of each application (0 CDRW, 1 missile), by identifier
+_OUTPUT_APP = {load().by_name(p).frame_id: app for app, auth in OUTPUT_AUTH.items()
+               for p in load().by_name(auth).secoc_pdus}
+
+
+class DuplicateOutput(RigError):
+    """Two different frames of fcc's for one lockstep step (exit 1): fcc sends a step's outputs
+    once, so one of them is not fcc's, and the step has no single value to report."""
+
+
+@dataclass
+class Forgeries:
+    """What the reading refused on fcc's output identifiers: per authenticator (SID_OUT_AUTH,
+    MSL_ELEV_CMD_AUTH), the frames and authenticators that did not verify (forged, replayed,
+    or a genuine frame displaced by them), and the different second copies of a frame before
+    its authenticator (``conflicts``)."""
+
+    refused: dict[str, int] = field(default_factory=dict)
+    conflicts: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def total(self) -> int:
+        return sum(self.refused.values()) + sum(self.conflicts.values())
+
+    def describe(self) -> str:
+        """'SID_OUT_AUTH: 12 refused, 3 conflicting copies; ...' (empty: nothing forged)."""
+        return "; ".join(f"{name}'s group: {self.refused.get(name, 0)} refused, "
+                         f"{self.conflicts.get(name, 0)} conflicting copies"
+                         for name in sorted({*self.refused, *self.conflicts})
+                         if self.refused.get(name) or self.conflicts.get(name))
 
 
 #: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:
@@ -92,6 +127,16 @@ class _Gate:
         #: they are (the bulk of a log: fcc's identification outputs)
         self.checked = np.array(sorted({*self.e2e, *self.endpoint.auth_ids, *(
             m.frame_id for m in spec.messages if self.endpoint.is_secured(m.frame_id))}))
+
+    def forgeries(self) -> Forgeries:
+        """What was refused on fcc's output identifiers so far (Forgeries)."""
+        out = Forgeries()
+        for name in OUTPUT_AUTH.values():
+            r = self.endpoint.receiver(load().by_name(name).frame_id)
+            c = r.counters
+            out.refused[name] = c.mac_failed + c.freshness_failed + c.unpaired
+            out.conflicts[name] = r.conflicts if isinstance(r, GroupReceiver) else 0
+        return out
 
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
         """What one frame gives fcc to act on (nothing, or the frames its authenticator
@@ -169,22 +214,34 @@ def app_of(frame_id: int) -> int | None:
     return _OUTPUT_APP.get(frame_id)
 
 
-def split_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> list[FlightFrames]:
+def split_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None,
+                  forgeries: Forgeries | None = None) -> list[FlightFrames]:
     """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
     path or its blocks already read (hil.bus.logcolumns.read_blocks); auth: only frames that
-    verify under it count."""
-    return list(iter_flights(log, auth))
+    verify under it count (forgeries: what was refused, as iter_flights)."""
+    return list(iter_flights(log, auth, forgeries))
 
 
-def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogFrame]:
+def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth, own_time: bool = False) -> Iterator[LogFrame]:
     """The frames fcc acted on (what iter_flights reads with auth), as log frames: secured
-    ones at their authenticator's place (its time), authenticators not at all."""
+    ones at their authenticator's place (its time; own_time: their own, the first copy's),
+    authenticators not at all."""
     gate = _Gate(auth)
+    first_seen: dict[tuple[int, bytes], float] = {}
     for f in frames:
         if not f.classic_data:
             continue
+        if own_time and gate.endpoint.is_secured(f.frame_id):
+            first_seen.setdefault((f.frame_id, bytes(f.data)), f.timestamp)
+            if len(first_seen) > _FIRST_SEEN_MAX:   # forged copies never verify: bounded
+                del first_seen[next(iter(first_seen))]
         for fid, data in gate.frames(f.frame_id, f.data):
-            yield LogFrame(f.timestamp, f.channel, fid, data)
+            t = first_seen.pop((fid, data), f.timestamp) if own_time else f.timestamp
+            yield LogFrame(t, f.channel, fid, data)
+
+
+#: secured frames remembered with their own time until their authenticator (authentic_frames)
+_FIRST_SEEN_MAX = 4096
 
 
 def _authentic(log: Path | Iterable[LogBlock], gate: _Gate | None) -> Iterator[FrameColumns]:
@@ -258,14 +315,21 @@ class _Flights:
         return first + np.concatenate(([0], np.cumsum(np.diff(low) & 0xFFFF)))
 
 
-def iter_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
+def iter_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None,
+                 forgeries: Forgeries | None = None) -> Iterator[FlightFrames]:
     """The flights of a bus log one by one (a campaign's log holds 100 of them); auth: only
-    authenticated, E2E-valid commands and ticks count (without it, every frame does)."""
+    authenticated, E2E-valid commands, ticks and outputs count (without it, every frame does);
+    forgeries (with auth): filled in, once the log is read, with what was refused on fcc's
+    output identifiers."""
     flights = _Flights()
-    for cols in _authentic(log, _Gate(auth) if auth is not None else None):
+    gate = _Gate(auth) if auth is not None else None
+    for cols in _authentic(log, gate):
         yield from flights.feed(cols)
     if flights.cur is not None:
         yield flights.cur
+    if gate is not None and forgeries is not None:
+        got = gate.forgeries()
+        forgeries.refused, forgeries.conflicts = got.refused, got.conflicts
 
 
 def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
@@ -300,8 +364,11 @@ def _sid_layout(spec: BusSpec) -> tuple[tuple[str, ...],
 def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
                check_step: bool = True) -> dict[str, np.ndarray]:
     """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
-    (NaN where a frame is missing or, lockstep, its step field does not match the tick;
-    realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
+    (NaN where a frame is missing or, lockstep, its step field does not match the tick).
+    Lockstep (check_step): a second, different frame for a step is refused (DuplicateOutput);
+    an exact copy is the same frame.  Realtime: fcc counts its own steps on its own clock and
+    the step is the newest sample's, so two of fcc's authenticated steps may land on one
+    sample: the field is not compared and the later frame is the step's."""
     names, layout = _sid_layout(spec)
     out = {name: np.full(n_steps, np.nan) for name in names}
     # each frame id's frames of steps 0..n-1, in the log's order: their steps and their bytes,
@@ -318,10 +385,26 @@ def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
             ok = _column(step_sig, bits).astype(np.int64) == (steps & 0xFFF)
             mismatched += int(np.count_nonzero(~ok))
             steps, bits = steps[ok], bits[ok]
-        # a step's last frame wins (a step field written twice, realtime)
+        if check_step:
+            _refuse_duplicates(spec, fid, steps, bits)
+        # realtime: a step's last frame (two of fcc's steps on one sample)
         last = len(steps) - 1 - np.unique(steps[::-1], return_index=True)[1]
         steps, bits = steps[last], bits[last]
         for sig, name in sigs:
             out[name][steps] = _column(sig, bits)
     out["_mismatched"] = np.array([mismatched])
     return out
+
+
+def _refuse_duplicates(spec: BusSpec, fid: int, steps: np.ndarray, bits: np.ndarray) -> None:
+    """DuplicateOutput when one step has two different frames of identifier fid."""
+    order = np.lexsort((bits, steps))
+    st, bt = steps[order], bits[order]
+    clash = np.flatnonzero((st[1:] == st[:-1]) & (bt[1:] != bt[:-1]))
+    if len(clash):
+        i = int(clash[0])
+        msg = spec.by_id(fid)
+        raise DuplicateOutput(
+            f"bus.log: two different {msg.name if msg else hex(fid)} frames for step {int(st[i])} "
+            f"({int(bt[i]):016x}, {int(bt[i + 1]):016x}): one is not fcc's; the flight is not "
+            f"evaluated")

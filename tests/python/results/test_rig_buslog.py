@@ -12,8 +12,8 @@ from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line, read_log
 from hil.bus.logcolumns import LogBlock
 from hil.bus.secoc import Endpoint, Sender
-from hil.results.buslog import (BusAuth, DuplicateOutput, Forgeries, authentic_frames, sid_arrays,
-                                split_flights)
+from hil.results.buslog import BusAuth, DuplicateOutput, authentic_frames, sid_arrays, split_flights
+from hil.results.trust import Forgeries
 
 SPEC = load()
 SID_AUTH = SPEC.by_name("SID_OUT_AUTH")

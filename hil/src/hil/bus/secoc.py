@@ -212,8 +212,7 @@ class Receiver:
         return Verdict.MAC_FAILED, None
 
 
-#: a group's authenticator is tried against at most this many combinations of the copies held
-#: (a forger that doubles k members makes 2**k): beyond it the group fails its MAC
+#: combinations of the copies held a group's authenticator is tried on (k members doubled: 2**k)
 GROUP_TRIES = 256
 
 
@@ -242,15 +241,6 @@ class GroupReceiver(Receiver):
             got.pop(0)
             self.counters.unpaired += 1
         got.append(data)
-
-    @property
-    def latest(self) -> dict[int, bytes]:
-        """The newest copy of each member held."""
-        return {i: c[-1] for i, c in self.copies.items()}
-
-    def pending(self) -> int:
-        """Copies held that no authenticator has verified yet."""
-        return sum(len(c) for c in self.copies.values())
 
     def verify_group(self, auth: bytes) -> tuple[Verdict, list[tuple[int, bytes]]]:
         copies, self.copies = self.copies, {}
@@ -391,11 +381,11 @@ class Endpoint:
             return []
         if isinstance(r, GroupReceiver):
             if self.trip is None:   # the first heartbeat: try the trip it carries
-                session = r.latest.get(self.session_id)
-                if session is None:
+                session = r.copies.get(self.session_id)
+                if not session:
                     r.copies = {}
                     return []
-                r.trip = int.from_bytes(session[:4], "little")
+                r.trip = int.from_bytes(session[-1][:4], "little")
             verdict, frames = r.verify_group(data)
             if verdict is Verdict.VERIFIED and self.trip is None:
                 self.set_trip(r.trip)

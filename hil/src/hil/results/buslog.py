@@ -33,6 +33,7 @@ from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, per_identifier, 
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Endpoint, GroupReceiver, Receiver
+from hil.results.trust import Forgeries
 from hil.rig.errors import RigError
 from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
 
@@ -46,28 +47,6 @@ _OUTPUT_APP = {load().by_name(p).frame_id: app for app, auth in OUTPUT_AUTH.item
 class DuplicateOutput(RigError):
     """Two different frames of fcc's for one lockstep step (exit 1): fcc sends a step's outputs
     once, so one of them is not fcc's, and the step has no single value to report."""
-
-
-@dataclass
-class Forgeries:
-    """What the reading refused on fcc's output identifiers: per authenticator (SID_OUT_AUTH,
-    MSL_ELEV_CMD_AUTH), the frames and authenticators that did not verify (forged, replayed,
-    or a genuine frame displaced by them), and the different second copies of a frame before
-    its authenticator (``conflicts``)."""
-
-    refused: dict[str, int] = field(default_factory=dict)
-    conflicts: dict[str, int] = field(default_factory=dict)
-
-    @property
-    def total(self) -> int:
-        return sum(self.refused.values()) + sum(self.conflicts.values())
-
-    def describe(self) -> str:
-        """'SID_OUT_AUTH: 12 refused, 3 conflicting copies; ...' (empty: nothing forged)."""
-        return "; ".join(f"{name}'s group: {self.refused.get(name, 0)} refused, "
-                         f"{self.conflicts.get(name, 0)} conflicting copies"
-                         for name in sorted({*self.refused, *self.conflicts})
-                         if self.refused.get(name) or self.conflicts.get(name))
 
 
 #: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:

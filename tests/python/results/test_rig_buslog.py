@@ -12,7 +12,8 @@ from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line, read_log
 from hil.bus.logcolumns import LogBlock
 from hil.bus.secoc import Endpoint, Sender
-from hil.results.buslog import BusAuth, DuplicateOutput, authentic_frames, sid_arrays, split_flights
+from hil.results.buslog import BusAuth, authentic_frames, split_flights
+from hil.results.sidframes import DuplicateOutput, sid_arrays
 from hil.results.trust import Forgeries
 
 SPEC = load()

@@ -14,7 +14,8 @@ import numpy as np
 from hil.bus import dbc as dbc_spec
 from hil.bus.dbc import BusSpec
 from hil.results import metrics
-from hil.results.buslog import FlightFrames, sid_arrays
+from hil.results.buslog import FlightFrames
+from hil.results.sidframes import sid_arrays
 from hil.rig.errors import RigError
 from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
 from hil.sim.missile_cov import closed_loop_rms, open_loop_rms

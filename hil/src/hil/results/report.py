@@ -92,6 +92,9 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
             if "max_abs_bound_difference" in rc:   # (summaries before 2026-12-02: estimates only)
                 line += (f", bound difference {rc['max_abs_bound_difference']:.2e}, fault flags "
                          f"differing at {rc['fault_flag_mismatches']} steps")
+            applied = (summary.get("bus_trust") or {}).get("cross_check", "")
+            if applied.startswith("not applied"):   # the replay is not fcc's input: say so
+                line += f" ({applied})"
             tables.append(line)
     trust = summary.get("bus_trust")
     if isinstance(trust, dict) and trust.get("verdict", "ok") != "ok":

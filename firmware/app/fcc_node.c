@@ -68,6 +68,32 @@ static void send_frames(fcc_node_t *node, const fcc_can_frame_t *frames, uint32_
     }
 }
 
+/* A secured group of fcc's (the DBC's SecOC_Pdus of auth_msg): frames[0..n) must be
+ * its PDUs in their order; sent followed by their authenticator, or -- all or
+ * nothing, a partial group would not verify -- not at all (FCC_ERR_ARG). */
+static fcc_status_t send_authenticated(fcc_node_t *node, fcc_msg_t auth_msg,
+                                       const fcc_can_frame_t *frames, uint32_t n, uint32_t app)
+{
+    uint32_t a;
+    if (!fcc_secoc_auth_index(auth_msg, &a) || n != fcc_secoc_table[a].n_pdus) {
+        return FCC_ERR_ARG;
+    }
+    uint8_t pdu[FCC_SECOC_PDU_BYTES];
+    for (uint32_t i = 0u; i < n; ++i) {
+        if (frames[i].id != fcc_bus_msg_table[fcc_secoc_table[a].pdus[i]].id || frames[i].dlc != 8u) {
+            return FCC_ERR_ARG;
+        }
+        memcpy(&pdu[8u * i], frames[i].data, 8u);
+    }
+    fcc_can_frame_t auth;
+    const fcc_status_t st = fcc_secoc_protect(&node->sec, a, pdu, 8u * n, &auth);
+    if (st == FCC_OK) {
+        send_frames(node, frames, n, app);
+        send_frame(node, &auth, app);
+    }
+    return st;
+}
+
 /* The application a consumed message belongs to, or FCC_N_APPS. */
 static uint32_t app_of(fcc_msg_t msg)
 {
@@ -421,8 +447,12 @@ static void handle_frame(fcc_node_t *node, const fcc_can_frame_t *frame)
     ++node->cnt.rx_frames;
     fcc_msg_t msg;
     uint32_t a;
-    const bool known = fcc_bus_find(frame->id, &msg) == FCC_OK &&
-                       (node->bus.consumes & MSG_BIT(msg)) != 0u && frame->dlc == 8u;
+    const bool listed = fcc_bus_find(frame->id, &msg) == FCC_OK;
+    if (listed && (node->bus.produces & MSG_BIT(msg)) != 0u) {
+        /* fcc never receives its own frames: another node sends on fcc's identifier */
+        ++node->cnt.own_id;
+    }
+    const bool known = listed && (node->bus.consumes & MSG_BIT(msg)) != 0u && frame->dlc == 8u;
     if (known && (msg == FCC_MSG_TSYNC_SYNC || msg == FCC_MSG_TSYNC_FOLLOW_UP ||
                   msg == FCC_MSG_TSYNC_AUTH)) {
         handle_tsync(node, msg, frame);
@@ -531,10 +561,11 @@ static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool
                                              node->oracle_fault, &res);
     fcc_can_frame_t frames[FCC_APP_SID_N_FRAMES];
     uint32_t n = 0u;
-    if (fcc_app_sid_encode(&res, &node->bus, frames, &n) != FCC_OK) {
-        emit(node, FCC_EV_TX_REFUSED, FCC_APP_CDRW, FCC_EV_NO_MSG, (int32_t)n);
+    /* the step's 12 outputs under one authenticator (SID_OUT_AUTH), or none of them */
+    if (fcc_app_sid_encode(&res, &node->bus, frames, &n) != FCC_OK ||
+        send_authenticated(node, FCC_MSG_SID_OUT_AUTH, frames, n, FCC_APP_CDRW) != FCC_OK) {
+        emit(node, FCC_EV_TX_REFUSED, FCC_APP_CDRW, FCC_MSG_SID_OUT_AUTH_ID, (int32_t)n);
     }
-    send_frames(node, frames, n, FCC_APP_CDRW);
     report_sensors(node, FCC_APP_CDRW, k_sid_inputs, FCC_APP_SID_N_INPUTS, before);
     *degraded = res.degraded;
     return st;
@@ -548,19 +579,10 @@ static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool
     const fcc_status_t st = fcc_app_msl_step(&node->msl, k, check_step, node->cfg.stale_limit, &res);
     fcc_can_frame_t frames[2];
     uint32_t n = 0u;
-    if (fcc_app_msl_encode(&res, &node->bus, frames, &n) != FCC_OK) {
+    /* command and estimate under one authenticator (MSL_ELEV_CMD_AUTH), or neither */
+    if (fcc_app_msl_encode(&res, &node->bus, frames, &n) != FCC_OK ||
+        send_authenticated(node, FCC_MSG_MSL_ELEV_CMD_AUTH, frames, n, FCC_APP_MSL) != FCC_OK) {
         emit(node, FCC_EV_TX_REFUSED, FCC_APP_MSL, FCC_MSG_MSL_ELEV_CMD_ID, (int32_t)n);
-    }
-    for (uint32_t i = 0u; i < n; ++i) {
-        send_frame(node, &frames[i], FCC_APP_MSL);
-        uint32_t a;
-        fcc_msg_t msg;
-        if (fcc_bus_find(frames[i].id, &msg) == FCC_OK && fcc_secoc_secured_index(msg, &a)) {
-            fcc_can_frame_t auth; /* the command's authenticator follows it */
-            if (fcc_secoc_protect(&node->sec, a, frames[i].data, 8u, &auth) == FCC_OK) {
-                send_frame(node, &auth, FCC_APP_MSL);
-            }
-        }
     }
     if (res.switched) {
         ++node->cnt.configs_applied;
@@ -650,8 +672,8 @@ static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fc
     s->worst_step_us = (uint16_t)((worst > 0xFFFFu) ? 0xFFFFu : worst);
 }
 
-static void fill_counts(const fcc_bus_counters_t *bc, const fcc_can_port_counters_t *pc,
-                        fcc_msg_t msg, fcc_msg_data_t *d)
+static void fill_counts(const fcc_node_t *node, const fcc_bus_counters_t *bc,
+                        const fcc_can_port_counters_t *pc, fcc_msg_t msg, fcc_msg_data_t *d)
 {
     switch (msg) {
     case FCC_MSG_FCC_E2E_COUNTS:
@@ -664,6 +686,7 @@ static void fill_counts(const fcc_bus_counters_t *bc, const fcc_can_port_counter
         d->fcc_e2_e_faults.error = wrap16(bc->e2e[FCC_E2E_ERROR]);
         d->fcc_e2_e_faults.no_new_data = wrap16(bc->e2e[FCC_E2E_NO_NEW_DATA]);
         d->fcc_e2_e_faults.stale_now = wrap16(bc->stale_now);
+        d->fcc_e2_e_faults.own_id = wrap16(node->cnt.own_id);
         break;
     case FCC_MSG_FCC_REJECT_COUNTS:
         d->fcc_reject_counts.unknown_id = wrap16(bc->unknown_id);
@@ -748,8 +771,7 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
         (void)node->port.can.counters(node->port.can.ctx, &pc);
     }
     fcc_status_t first = FCC_OK;
-    fcc_can_frame_t frames[FCC_SECOC_MAX_PDUS + 1u];
-    uint8_t pdu[FCC_SECOC_PDU_BYTES];
+    fcc_can_frame_t frames[FCC_SECOC_MAX_PDUS];
     memset(frames, 0, sizeof frames);
     for (unsigned int i = 0u; i < group->n_pdus; ++i) {
         const fcc_msg_t msg = group->pdus[i];
@@ -764,20 +786,16 @@ fcc_status_t fcc_node_send_status(fcc_node_t *node)
         } else if (msg == FCC_MSG_FCC_SYNC_REFUSALS) {
             fill_sync_refusals(node, &d);
         } else {
-            fill_counts(&bc, &pc, msg, &d);
+            fill_counts(node, &bc, &pc, msg, &d);
         }
         /* the sync status saturates (offset and rate are gauges that may leave their range) */
         const fcc_status_t st = (msg == FCC_MSG_FCC_SYNC_STATUS)
                                     ? fcc_bus_encode_sat(&node->bus, msg, &d, &frames[i])
                                     : fcc_bus_encode(&node->bus, msg, &d, &frames[i]);
         first = (first == FCC_OK) ? st : first;
-        memcpy(&pdu[8u * i], frames[i].data, 8u);
     }
-    const fcc_status_t st = fcc_secoc_protect(&node->sec, ai, pdu, 8u * group->n_pdus,
-                                              &frames[group->n_pdus]);
-    first = (first == FCC_OK) ? st : first;
     if (first == FCC_OK) { /* all or nothing: a partial heartbeat would not verify */
-        send_frames(node, frames, group->n_pdus + 1u, FCC_N_APPS);
+        first = send_authenticated(node, FCC_MSG_FCC_STATUS_AUTH, frames, group->n_pdus, FCC_N_APPS);
         flush_tx(node);
     }
     node->e2e_fault_flag = false;

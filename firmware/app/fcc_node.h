@@ -101,6 +101,7 @@ typedef struct {
     uint32_t oracle_events;    /* good SIM_EVENT frames */
     uint32_t mode_refused;     /* authenticated commands and ticks refused in the current mode */
     uint32_t mode_changes;
+    uint32_t own_id;           /* frames received on an identifier fcc sends (impersonation) */
 } fcc_node_counters_t;
 
 typedef struct {

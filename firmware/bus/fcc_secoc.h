@@ -5,9 +5,11 @@
  * dbc/README.md ("Authentication"); hil/src/hil/bus/secoc.py is the same in
  * Python.  In short:
  *
- *   - a secured frame (SIM_CONTROL, SIM_TICK, MSL_ELEV_CMD), or group (the
- *     heartbeat; the time master's SYNC + FOLLOW_UP), is followed by its authenticator frame from the same sender (the
- *     DBC's SecOC_Pdus / SecOC_DataID attributes, fcc_secoc_table);
+ *   - a secured frame (SIM_CONTROL, SIM_TICK), or group (the heartbeat; the time
+ *     master's SYNC + FOLLOW_UP; fcc's outputs of one step: the 12 identification
+ *     frames, the missile's command + estimate) is followed by its authenticator
+ *     frame from the same sender (the DBC's SecOC_Pdus / SecOC_DataID attributes,
+ *     fcc_secoc_table);
  *   - freshness value FV = trip << 32 | message counter; the counter counts the
  *     authenticator frames of one secured PDU, from 1; trip is drawn by fcc at
  *     start and published in FCC_SEC_SESSION;

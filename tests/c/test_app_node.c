@@ -15,6 +15,7 @@ static fcc_node_t g_node;
 static mem_port_t g_mem;
 static fcc_sid_t g_ref_sid[3];
 static bool g_batched; /* the port has send_many: the node queues and flushes */
+static fcc_secoc_t g_rx;  /* the simulator's receiver of fcc's authenticated outputs */
 
 static void run(void);
 
@@ -34,6 +35,7 @@ static void start(const fcc_node_config_t *cfg)
     }
     mem_secure(&c);
     fcc_assert_ok(fcc_node_init(&g_node, &c, &port));
+    fcc_assert_ok(fcc_secoc_init(&g_rx, c.security.key, c.security.trip));
     mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT, 0.0, 0u);
     run();
     assert_int_equal(fcc_node_op_mode(&g_node), FCC_OP_FLIGHT);
@@ -98,6 +100,36 @@ static double quantised(fcc_msg_t msg, double v)
     }
 }
 
+/* The simulator's side of fcc's authenticated outputs: the frames tx[first ..
+ * first + n_pdus) and their authenticator right after them verify under the test
+ * key and trip at the next message counter (g_rx keeps the counters). */
+
+static void assert_authenticated(size_t first, fcc_msg_t auth_msg)
+{
+    uint32_t a;
+    assert_true(fcc_secoc_auth_index(auth_msg, &a));
+    const fcc_secoc_desc_t *d = &fcc_secoc_table[a];
+    uint8_t pdu[FCC_SECOC_PDU_BYTES];
+    for (uint32_t i = 0u; i < d->n_pdus; ++i) {
+        assert_int_equal(g_mem.tx[first + i].id, fcc_bus_msg_table[d->pdus[i]].id);
+        memcpy(&pdu[8u * i], g_mem.tx[first + i].data, 8u);
+    }
+    const fcc_can_frame_t *auth = &g_mem.tx[first + d->n_pdus];
+    assert_int_equal(auth->id, fcc_bus_msg_table[auth_msg].id);
+    uint32_t match = 1u;
+    assert_int_equal(fcc_secoc_verify_pdus(&g_rx, a, auth->data, pdu, 1u, 8u * d->n_pdus, &match),
+                     FCC_SECOC_VERIFIED);
+    assert_int_equal(match, 0u);
+    /* one bit of any frame changed: the authenticator no longer verifies (a fresh receiver) */
+    fcc_secoc_t other;
+    fcc_assert_ok(fcc_secoc_init(&other, k_mem_key, MEM_TRIP));
+    other.chan[a] = g_rx.chan[a];
+    other.chan[a].counter -= 1u;
+    pdu[8u * (d->n_pdus - 1u) + 3u] ^= 0x10u;
+    assert_int_equal(fcc_secoc_verify_pdus(&other, a, auth->data, pdu, 1u, 8u * d->n_pdus, &match),
+                     FCC_SECOC_MAC_FAILED);
+}
+
 /* ---- identification ------------------------------------------------------------ */
 
 static void test_cdrw_steps_match_the_sid_loops(void **state)
@@ -125,12 +157,13 @@ static void test_cdrw_steps_match_the_sid_loops(void **state)
         const size_t first = g_mem.tx_n;
         push_flight_step(k);
         run();
-        assert_int_equal(g_mem.tx_n - first, 13u);
+        assert_int_equal(g_mem.tx_n - first, 14u); /* 12 outputs, their authenticator, ACK */
         for (unsigned int i = 0u; i < 12u; ++i) {
             assert_int_equal(g_mem.tx[first + i].id, order[i]);
         }
-        const fcc_msg_data_t ack = mem_decode_tx(&g_mem, (long)(first + 12u));
-        assert_int_equal(g_mem.tx[first + 12u].id, FCC_MSG_FCC_ACK_ID);
+        assert_authenticated(first, FCC_MSG_SID_OUT_AUTH);
+        const fcc_msg_data_t ack = mem_decode_tx(&g_mem, (long)(first + 13u));
+        assert_int_equal(g_mem.tx[first + 13u].id, FCC_MSG_FCC_ACK_ID);
         assert_int_equal(ack.fcc_ack.app, FCC_APP_CDRW);
         assert_int_equal(ack.fcc_ack.step, k);
         assert_false(ack.fcc_ack.degraded);
@@ -209,8 +242,8 @@ static long msl_step(uint32_t k, bool gyro, bool accel)
     run();
     assert_int_equal(g_mem.tx_n - first, 4u);
     assert_int_equal(g_mem.tx[first].id, FCC_MSG_MSL_ELEV_CMD_ID);
-    assert_int_equal(g_mem.tx[first + 1u].id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
-    assert_int_equal(g_mem.tx[first + 2u].id, FCC_MSG_MSL_STATE_EST_ID);
+    assert_int_equal(g_mem.tx[first + 1u].id, FCC_MSG_MSL_STATE_EST_ID);
+    assert_authenticated(first, FCC_MSG_MSL_ELEV_CMD_AUTH); /* command + estimate */
     assert_int_equal(g_mem.tx[first + 3u].id, FCC_MSG_FCC_ACK_ID);
     return (long)first;
 }
@@ -228,7 +261,7 @@ static void test_missile_commands_match_the_lqg(void **state)
         fcc_lqg_output_t out;
         fcc_assert_ok(fcc_lqg_ctrl_step(&ref, y, &out));
         const fcc_msg_data_t cmd = mem_decode_tx(&g_mem, i);
-        const fcc_msg_data_t est = mem_decode_tx(&g_mem, i + 2);
+        const fcc_msg_data_t est = mem_decode_tx(&g_mem, i + 1);
         assert_int_equal(cmd.msl_elev_cmd.da_code, out.code);
         assert_int_equal(cmd.msl_elev_cmd.da_bits, 8u);
         assert_int_equal(cmd.msl_elev_cmd.step, k);
@@ -340,7 +373,7 @@ static void test_bad_frames_degrade_and_are_counted(void **state)
     size_t first = g_mem.tx_n;
     run();
     assert_true(mem_decode_tx(&g_mem, (long)first).sid_azkf_state.degraded);
-    assert_true(mem_decode_tx(&g_mem, (long)first + 12).fcc_ack.degraded);
+    assert_true(mem_decode_tx(&g_mem, (long)first + 13).fcc_ack.degraded);
     assert_int_equal(g_node.sid.last.input_state[FCC_APP_SID_IN_ALPHA], FCC_SENSOR_REJECTED);
     assert_false(g_node.sid.last.measurement_valid);
     assert_int_equal(g_mem.ev_count[FCC_EV_E2E_ERROR], 1u);
@@ -379,13 +412,14 @@ static void test_bad_frames_degrade_and_are_counted(void **state)
     assert_int_equal(g_mem.ev_count[FCC_EV_OUT_OF_RANGE], 1u);
     assert_int_equal(g_mem.ev_count[FCC_EV_WRONG_DLC], 1u);
     assert_int_equal(g_mem.ev_count[FCC_EV_UNKNOWN_ID], 2u);
+    assert_int_equal(g_node.cnt.own_id, 1u); /* SID_KF_STATE is fcc's own: impersonation */
     assert_int_equal(g_node.app[FCC_APP_CDRW].degraded_steps, 4u);
     /* recovery: good frames, the next step is clean */
     mem_push_cdrw(&g_mem, 4u, 0.1, 0.01, 0.0);
     mem_push_tick(&g_mem, FCC_APP_CDRW, 4u);
     first = g_mem.tx_n;
     run();
-    assert_false(mem_decode_tx(&g_mem, (long)first + 12).fcc_ack.degraded);
+    assert_false(mem_decode_tx(&g_mem, (long)first + 13).fcc_ack.degraded);
     assert_true(g_node.sid.last.measurement_valid);
 }
 
@@ -514,7 +548,7 @@ static void test_reset_and_shutdown(void **state)
         const size_t first = g_mem.tx_n;
         push_flight_step(k);
         run();
-        assert_int_equal(g_mem.tx_n - first, 13u);
+        assert_int_equal(g_mem.tx_n - first, 14u);
         if (k == 1u) { /* the same output as the first flight's step 1 */
             const fcc_msg_data_t again = mem_decode_tx(&g_mem, (long)first);
             fcc_assert_close(again.sid_azkf_state.alpha_hat, step0.sid_azkf_state.alpha_hat, 0.0, 0.0);
@@ -685,6 +719,16 @@ static void test_heartbeat_frames(void **state)
     assert_int_equal(f.fcc_e2_e_faults.no_new_data, 1u);
     assert_int_equal(f.fcc_e2_e_faults.stale_now, 1u);
     assert_int_equal(b.fcc_bus_counts.bus_errors, 7u);
+    assert_int_equal(f.fcc_e2_e_faults.own_id, 0u);
+    /* a frame on fcc's own identifier (its command): counted as impersonation */
+    const uint8_t junk[8] = {0};
+    mem_push_raw(&g_mem, FCC_MSG_MSL_ELEV_CMD_ID, junk, 8u);
+    mem_push_raw(&g_mem, FCC_MSG_SID_OUT_AUTH_ID, junk, 8u);
+    run();
+    const size_t again = g_mem.tx_n;
+    fcc_assert_ok(fcc_node_send_status(&g_node));
+    assert_int_equal(mem_decode_tx(&g_mem, (long)again + 2).fcc_e2_e_faults.own_id, 2u);
+    assert_int_equal(mem_decode_tx(&g_mem, (long)again + 3).fcc_reject_counts.unknown_id, 2u);
     /* the since-last-heartbeat flag is cleared */
     fcc_assert_ok(fcc_node_send_status(&g_node));
     assert_false(mem_decode_tx(&g_mem, (long)first + 10).fcc_status.e2e_fault);
@@ -861,12 +905,12 @@ static void test_batched_one_port_call_per_step(void **state)
     const uint32_t before = g_mem.batches;
     push_flight_step(0u);
     run();
-    assert_int_equal(g_mem.batches - before, 1u); /* 12 outputs and the ACK together */
-    assert_int_equal(g_mem.batch_len[before], FCC_APP_SID_N_FRAMES + 1u);
+    assert_int_equal(g_mem.batches - before, 1u); /* 12 outputs, their MAC, the ACK together */
+    assert_int_equal(g_mem.batch_len[before], FCC_APP_SID_N_FRAMES + 2u);
     assert_int_equal(g_mem.tx[g_mem.tx_n - 1u].id, FCC_MSG_FCC_ACK_ID);
     (void)msl_step(0u, true, true);
     assert_int_equal(g_mem.batches - before, 2u);
-    assert_int_equal(g_mem.batch_len[before + 1u], 4u); /* command, its MAC, estimate, ACK */
+    assert_int_equal(g_mem.batch_len[before + 1u], 4u); /* command, estimate, their MAC, ACK */
     mem_push_tick(&g_mem, FCC_APP_MSL, 0u); /* repeated: its ACK alone, at once */
     run();
     assert_int_equal(g_mem.batches - before, 3u);
@@ -897,8 +941,9 @@ static void test_batched_failures_counted_per_frame(void **state)
     mem_push_accel(&g_mem, 0u, 1.0);
     mem_push_tick(&g_mem, FCC_APP_MSL, 0u);
     run();
-    assert_int_equal(g_mem.tx_n, 3u); /* the MAC, estimate and ACK after it still left */
-    assert_int_equal(g_mem.tx[0].id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
+    assert_int_equal(g_mem.tx_n, 3u); /* the estimate, MAC and ACK after it still left */
+    assert_int_equal(g_mem.tx[0].id, FCC_MSG_MSL_STATE_EST_ID);
+    assert_int_equal(g_mem.tx[1].id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
     assert_int_equal(g_mem.tx[2].id, FCC_MSG_FCC_ACK_ID);
     assert_int_equal(g_node.cnt.tx_failed, 1u);
     assert_int_equal(g_node.cnt.tx_frames, 3u);
@@ -914,8 +959,9 @@ static void test_batched_failures_counted_per_frame(void **state)
     push_flight_step(0u);
     run();
     assert_int_equal(g_mem.tx_n, 3u);
-    assert_int_equal(g_node.cnt.tx_failed, 1u + FCC_APP_SID_N_FRAMES + 1u);
-    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 1u + FCC_APP_SID_N_FRAMES + 1u);
+    /* the 12 outputs, their authenticator, the ACK */
+    assert_int_equal(g_node.cnt.tx_failed, 1u + FCC_APP_SID_N_FRAMES + 2u);
+    assert_int_equal(g_mem.ev_count[FCC_EV_TX_FAILED], 1u + FCC_APP_SID_N_FRAMES + 2u);
     assert_int_equal(g_mem.last_ev[FCC_EV_TX_FAILED].can_id, FCC_MSG_FCC_ACK_ID);
     assert_int_equal(g_mem.last_ev[FCC_EV_TX_FAILED].app, FCC_APP_CDRW);
 }

@@ -62,7 +62,16 @@ static void test_table_matches_dbc(void **state)
     assert_true(fcc_secoc_secured_index(FCC_MSG_SIM_TICK, &i));
     assert_int_equal(fcc_secoc_table[i].auth, FCC_MSG_SIM_TICK_AUTH);
     assert_true(fcc_secoc_secured_index(FCC_MSG_SIM_CONTROL, &i));
-    assert_true(fcc_secoc_secured_index(FCC_MSG_MSL_ELEV_CMD, &i));
+    /* fcc's outputs of a step: groups under one authenticator each */
+    assert_false(fcc_secoc_secured_index(FCC_MSG_MSL_ELEV_CMD, &i));
+    assert_true(fcc_secoc_auth_index(FCC_MSG_MSL_ELEV_CMD_AUTH, &i));
+    assert_int_equal(fcc_secoc_table[i].n_pdus, 2u);
+    assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_MSL_ELEV_CMD);
+    assert_int_equal(fcc_secoc_table[i].pdus[1], FCC_MSG_MSL_STATE_EST);
+    assert_true(fcc_secoc_auth_index(FCC_MSG_SID_OUT_AUTH, &i));
+    assert_int_equal(fcc_secoc_table[i].n_pdus, 12u);
+    assert_int_equal(fcc_secoc_table[i].pdus[0], FCC_MSG_SID_AZKF_STATE);
+    assert_int_equal(fcc_secoc_table[i].pdus[11], FCC_MSG_SID_KF_MODEL_B);
     assert_false(fcc_secoc_secured_index(FCC_MSG_CDRW_AOA, &i));
     assert_false(fcc_secoc_secured_index(FCC_MSG_FCC_STATUS, &i)); /* a group, not single */
     assert_true(fcc_secoc_auth_index(FCC_MSG_FCC_STATUS_AUTH, &i));

@@ -153,21 +153,6 @@ static int pack_msl_elev_cmd(uint8_t data[8], const void *raw)
     return fcc_hil_msl_elev_cmd_pack(data, raw, 8u);
 }
 
-static const fcc_bus_signal_desc_t sig_msl_elev_cmd_auth[] = {
-    {"fv", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
-    {"mac", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
-};
-
-static int unpack_msl_elev_cmd_auth(void *raw, const uint8_t data[8])
-{
-    return fcc_hil_msl_elev_cmd_auth_unpack(raw, data, 8u);
-}
-
-static int pack_msl_elev_cmd_auth(uint8_t data[8], const void *raw)
-{
-    return fcc_hil_msl_elev_cmd_auth_pack(data, raw, 8u);
-}
-
 static const fcc_bus_signal_desc_t sig_msl_rate_gyro[] = {
     {"step", (uint16_t)offsetof(fcc_msg_msl_rate_gyro_t, step), (uint16_t)offsetof(struct fcc_hil_msl_rate_gyro_t, step), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"q_g", (uint16_t)offsetof(fcc_msg_msl_rate_gyro_t, q_g), (uint16_t)offsetof(struct fcc_hil_msl_rate_gyro_t, q_g), FCC_FIELD_REAL, FCC_FIELD_I32, FCC_R(100000.0), INT64_C(-2000000), INT64_C(2000000)},
@@ -258,6 +243,21 @@ static int unpack_msl_state_est(void *raw, const uint8_t data[8])
 static int pack_msl_state_est(uint8_t data[8], const void *raw)
 {
     return fcc_hil_msl_state_est_pack(data, raw, 8u);
+}
+
+static const fcc_bus_signal_desc_t sig_msl_elev_cmd_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_msl_elev_cmd_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_msl_elev_cmd_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_msl_elev_cmd_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_msl_elev_cmd_auth_unpack(raw, data, 8u);
+}
+
+static int pack_msl_elev_cmd_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_msl_elev_cmd_auth_pack(data, raw, 8u);
 }
 
 static const fcc_bus_signal_desc_t sig_sid_azkf_state[] = {
@@ -470,6 +470,21 @@ static int pack_sid_kf_model_b(uint8_t data[8], const void *raw)
     return fcc_hil_sid_kf_model_b_pack(data, raw, 8u);
 }
 
+static const fcc_bus_signal_desc_t sig_sid_out_auth[] = {
+    {"fv", (uint16_t)offsetof(fcc_msg_sid_out_auth_t, fv), (uint16_t)offsetof(struct fcc_hil_sid_out_auth_t, fv), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"mac", (uint16_t)offsetof(fcc_msg_sid_out_auth_t, mac), (uint16_t)offsetof(struct fcc_hil_sid_out_auth_t, mac), FCC_FIELD_U64, FCC_FIELD_U64, FCC_R(1.0), INT64_C(0), INT64_C(281474976710655)},
+};
+
+static int unpack_sid_out_auth(void *raw, const uint8_t data[8])
+{
+    return fcc_hil_sid_out_auth_unpack(raw, data, 8u);
+}
+
+static int pack_sid_out_auth(uint8_t data[8], const void *raw)
+{
+    return fcc_hil_sid_out_auth_pack(data, raw, 8u);
+}
+
 static const fcc_bus_signal_desc_t sig_fcc_status[] = {
     {"mode", (uint16_t)offsetof(fcc_msg_fcc_status_t, mode), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, mode), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"cdrw_degraded", (uint16_t)offsetof(fcc_msg_fcc_status_t, cdrw_degraded), (uint16_t)offsetof(struct fcc_hil_fcc_status_t, cdrw_degraded), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
@@ -516,6 +531,7 @@ static const fcc_bus_signal_desc_t sig_fcc_e2_e_faults[] = {
     {"error", (uint16_t)offsetof(fcc_msg_fcc_e2_e_faults_t, error), (uint16_t)offsetof(struct fcc_hil_fcc_e2_e_faults_t, error), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"no_new_data", (uint16_t)offsetof(fcc_msg_fcc_e2_e_faults_t, no_new_data), (uint16_t)offsetof(struct fcc_hil_fcc_e2_e_faults_t, no_new_data), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
     {"stale_now", (uint16_t)offsetof(fcc_msg_fcc_e2_e_faults_t, stale_now), (uint16_t)offsetof(struct fcc_hil_fcc_e2_e_faults_t, stale_now), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
+    {"own_id", (uint16_t)offsetof(fcc_msg_fcc_e2_e_faults_t, own_id), (uint16_t)offsetof(struct fcc_hil_fcc_e2_e_faults_t, own_id), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},
 };
 
 static int unpack_fcc_e2_e_faults(void *raw, const uint8_t data[8])
@@ -706,13 +722,13 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"SIM_TICK_AUTH", 0x021u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_SIM), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_sim_tick_auth / sizeof sig_sim_tick_auth[0]), sig_sim_tick_auth, unpack_sim_tick_auth, pack_sim_tick_auth},
     {"FCC_ACK", 0x028u, 0x1028u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_ack / sizeof sig_fcc_ack[0]), sig_fcc_ack, unpack_fcc_ack, pack_fcc_ack},
     {"MSL_ELEV_CMD", 0x030u, 0x1030u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_elev_cmd / sizeof sig_msl_elev_cmd[0]), sig_msl_elev_cmd, unpack_msl_elev_cmd, pack_msl_elev_cmd},
-    {"MSL_ELEV_CMD_AUTH", 0x031u, 0x0000u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_elev_cmd_auth / sizeof sig_msl_elev_cmd_auth[0]), sig_msl_elev_cmd_auth, unpack_msl_elev_cmd_auth, pack_msl_elev_cmd_auth},
     {"MSL_RATE_GYRO", 0x040u, 0x1040u, 3u, 50u, (1u << FCC_BUS_NODE_MSL_GYRO), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_msl_rate_gyro / sizeof sig_msl_rate_gyro[0]), sig_msl_rate_gyro, unpack_msl_rate_gyro, pack_msl_rate_gyro},
     {"MSL_ACCELEROMETER", 0x041u, 0x1041u, 3u, 50u, (1u << FCC_BUS_NODE_MSL_ACCEL), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_msl_accelerometer / sizeof sig_msl_accelerometer[0]), sig_msl_accelerometer, unpack_msl_accelerometer, pack_msl_accelerometer},
     {"CDRW_AOA", 0x050u, 0x1050u, 3u, 20u, (1u << FCC_BUS_NODE_CDRW_AOA_SENSOR), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_cdrw_aoa / sizeof sig_cdrw_aoa[0]), sig_cdrw_aoa, unpack_cdrw_aoa, pack_cdrw_aoa},
     {"CDRW_PITCH_RATE", 0x051u, 0x1051u, 3u, 20u, (1u << FCC_BUS_NODE_CDRW_GYRO), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_cdrw_pitch_rate / sizeof sig_cdrw_pitch_rate[0]), sig_cdrw_pitch_rate, unpack_cdrw_pitch_rate, pack_cdrw_pitch_rate},
     {"CDRW_ELEVATOR", 0x052u, 0x1052u, 3u, 20u, (1u << FCC_BUS_NODE_CDRW_ELEV_SENSOR), (1u << FCC_BUS_NODE_FCC), (uint8_t)(sizeof sig_cdrw_elevator / sizeof sig_cdrw_elevator[0]), sig_cdrw_elevator, unpack_cdrw_elevator, pack_cdrw_elevator},
     {"MSL_STATE_EST", 0x100u, 0x0000u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_state_est / sizeof sig_msl_state_est[0]), sig_msl_state_est, unpack_msl_state_est, pack_msl_state_est},
+    {"MSL_ELEV_CMD_AUTH", 0x101u, 0x0000u, 3u, 50u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_msl_elev_cmd_auth / sizeof sig_msl_elev_cmd_auth[0]), sig_msl_elev_cmd_auth, unpack_msl_elev_cmd_auth, pack_msl_elev_cmd_auth},
     {"SID_AZKF_STATE", 0x110u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_azkf_state / sizeof sig_sid_azkf_state[0]), sig_sid_azkf_state, unpack_sid_azkf_state, pack_sid_azkf_state},
     {"SID_AZKF_BOUNDS", 0x111u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_azkf_bounds / sizeof sig_sid_azkf_bounds[0]), sig_sid_azkf_bounds, unpack_sid_azkf_bounds, pack_sid_azkf_bounds},
     {"SID_AZKF_MODEL_A", 0x112u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_azkf_model_a / sizeof sig_sid_azkf_model_a[0]), sig_sid_azkf_model_a, unpack_sid_azkf_model_a, pack_sid_azkf_model_a},
@@ -725,6 +741,7 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"SID_KF_BOUNDS", 0x131u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_kf_bounds / sizeof sig_sid_kf_bounds[0]), sig_sid_kf_bounds, unpack_sid_kf_bounds, pack_sid_kf_bounds},
     {"SID_KF_MODEL_A", 0x132u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_kf_model_a / sizeof sig_sid_kf_model_a[0]), sig_sid_kf_model_a, unpack_sid_kf_model_a, pack_sid_kf_model_a},
     {"SID_KF_MODEL_B", 0x133u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_kf_model_b / sizeof sig_sid_kf_model_b[0]), sig_sid_kf_model_b, unpack_sid_kf_model_b, pack_sid_kf_model_b},
+    {"SID_OUT_AUTH", 0x134u, 0x0000u, 3u, 20u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_sid_out_auth / sizeof sig_sid_out_auth[0]), sig_sid_out_auth, unpack_sid_out_auth, pack_sid_out_auth},
     {"FCC_STATUS", 0x700u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_status / sizeof sig_fcc_status[0]), sig_fcc_status, unpack_fcc_status, pack_fcc_status},
     {"FCC_E2E_COUNTS", 0x701u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_e2_e_counts / sizeof sig_fcc_e2_e_counts[0]), sig_fcc_e2_e_counts, unpack_fcc_e2_e_counts, pack_fcc_e2_e_counts},
     {"FCC_E2E_FAULTS", 0x702u, 0x0000u, 3u, 100u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_fcc_e2_e_faults / sizeof sig_fcc_e2_e_faults[0]), sig_fcc_e2_e_faults, unpack_fcc_e2_e_faults, pack_fcc_e2_e_faults},
@@ -744,6 +761,7 @@ const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {
     {FCC_MSG_TSYNC_AUTH, 0x2001u, 2u, {FCC_MSG_TSYNC_SYNC, FCC_MSG_TSYNC_FOLLOW_UP}},
     {FCC_MSG_SIM_CONTROL_AUTH, 0x2010u, 1u, {FCC_MSG_SIM_CONTROL}},
     {FCC_MSG_SIM_TICK_AUTH, 0x2020u, 1u, {FCC_MSG_SIM_TICK}},
-    {FCC_MSG_MSL_ELEV_CMD_AUTH, 0x2030u, 1u, {FCC_MSG_MSL_ELEV_CMD}},
+    {FCC_MSG_MSL_ELEV_CMD_AUTH, 0x2101u, 2u, {FCC_MSG_MSL_ELEV_CMD, FCC_MSG_MSL_STATE_EST}},
+    {FCC_MSG_SID_OUT_AUTH, 0x2134u, 12u, {FCC_MSG_SID_AZKF_STATE, FCC_MSG_SID_AZKF_BOUNDS, FCC_MSG_SID_AZKF_MODEL_A, FCC_MSG_SID_AZKF_MODEL_B, FCC_MSG_SID_ZKF_STATE, FCC_MSG_SID_ZKF_BOUNDS, FCC_MSG_SID_ZKF_MODEL_A, FCC_MSG_SID_ZKF_MODEL_B, FCC_MSG_SID_KF_STATE, FCC_MSG_SID_KF_BOUNDS, FCC_MSG_SID_KF_MODEL_A, FCC_MSG_SID_KF_MODEL_B}},
     {FCC_MSG_FCC_STATUS_AUTH, 0x2700u, 9u, {FCC_MSG_FCC_STATUS, FCC_MSG_FCC_E2E_COUNTS, FCC_MSG_FCC_E2E_FAULTS, FCC_MSG_FCC_REJECT_COUNTS, FCC_MSG_FCC_BUS_COUNTS, FCC_MSG_FCC_SYNC_STATUS, FCC_MSG_FCC_SEC_COUNTS, FCC_MSG_FCC_SEC_SESSION, FCC_MSG_FCC_SYNC_REFUSALS}},
 };

@@ -35,13 +35,13 @@ typedef enum {
     FCC_MSG_SIM_TICK_AUTH = 6, /* 0x021 */
     FCC_MSG_FCC_ACK = 7, /* 0x028 */
     FCC_MSG_MSL_ELEV_CMD = 8, /* 0x030 */
-    FCC_MSG_MSL_ELEV_CMD_AUTH = 9, /* 0x031 */
-    FCC_MSG_MSL_RATE_GYRO = 10, /* 0x040 */
-    FCC_MSG_MSL_ACCELEROMETER = 11, /* 0x041 */
-    FCC_MSG_CDRW_AOA = 12, /* 0x050 */
-    FCC_MSG_CDRW_PITCH_RATE = 13, /* 0x051 */
-    FCC_MSG_CDRW_ELEVATOR = 14, /* 0x052 */
-    FCC_MSG_MSL_STATE_EST = 15, /* 0x100 */
+    FCC_MSG_MSL_RATE_GYRO = 9, /* 0x040 */
+    FCC_MSG_MSL_ACCELEROMETER = 10, /* 0x041 */
+    FCC_MSG_CDRW_AOA = 11, /* 0x050 */
+    FCC_MSG_CDRW_PITCH_RATE = 12, /* 0x051 */
+    FCC_MSG_CDRW_ELEVATOR = 13, /* 0x052 */
+    FCC_MSG_MSL_STATE_EST = 14, /* 0x100 */
+    FCC_MSG_MSL_ELEV_CMD_AUTH = 15, /* 0x101 */
     FCC_MSG_SID_AZKF_STATE = 16, /* 0x110 */
     FCC_MSG_SID_AZKF_BOUNDS = 17, /* 0x111 */
     FCC_MSG_SID_AZKF_MODEL_A = 18, /* 0x112 */
@@ -54,19 +54,20 @@ typedef enum {
     FCC_MSG_SID_KF_BOUNDS = 25, /* 0x131 */
     FCC_MSG_SID_KF_MODEL_A = 26, /* 0x132 */
     FCC_MSG_SID_KF_MODEL_B = 27, /* 0x133 */
-    FCC_MSG_FCC_STATUS = 28, /* 0x700 */
-    FCC_MSG_FCC_E2E_COUNTS = 29, /* 0x701 */
-    FCC_MSG_FCC_E2E_FAULTS = 30, /* 0x702 */
-    FCC_MSG_FCC_REJECT_COUNTS = 31, /* 0x703 */
-    FCC_MSG_FCC_BUS_COUNTS = 32, /* 0x704 */
-    FCC_MSG_FCC_SYNC_STATUS = 33, /* 0x705 */
-    FCC_MSG_FCC_SEC_COUNTS = 34, /* 0x706 */
-    FCC_MSG_FCC_SEC_SESSION = 35, /* 0x707 */
-    FCC_MSG_FCC_SYNC_REFUSALS = 36, /* 0x708 */
-    FCC_MSG_FCC_STATUS_AUTH = 37, /* 0x709 */
-    FCC_MSG_SIM_EVENT = 38, /* 0x710 */
-    FCC_MSG_RIG_PING = 39, /* 0x7F0 */
-    FCC_MSG_RIG_PONG = 40, /* 0x7F1 */
+    FCC_MSG_SID_OUT_AUTH = 28, /* 0x134 */
+    FCC_MSG_FCC_STATUS = 29, /* 0x700 */
+    FCC_MSG_FCC_E2E_COUNTS = 30, /* 0x701 */
+    FCC_MSG_FCC_E2E_FAULTS = 31, /* 0x702 */
+    FCC_MSG_FCC_REJECT_COUNTS = 32, /* 0x703 */
+    FCC_MSG_FCC_BUS_COUNTS = 33, /* 0x704 */
+    FCC_MSG_FCC_SYNC_STATUS = 34, /* 0x705 */
+    FCC_MSG_FCC_SEC_COUNTS = 35, /* 0x706 */
+    FCC_MSG_FCC_SEC_SESSION = 36, /* 0x707 */
+    FCC_MSG_FCC_SYNC_REFUSALS = 37, /* 0x708 */
+    FCC_MSG_FCC_STATUS_AUTH = 38, /* 0x709 */
+    FCC_MSG_SIM_EVENT = 39, /* 0x710 */
+    FCC_MSG_RIG_PING = 40, /* 0x7F0 */
+    FCC_MSG_RIG_PONG = 41, /* 0x7F1 */
     FCC_MSG_COUNT
 } fcc_msg_t;
 
@@ -80,13 +81,13 @@ typedef enum {
 #define FCC_MSG_SIM_TICK_AUTH_ID 0x021u
 #define FCC_MSG_FCC_ACK_ID 0x028u
 #define FCC_MSG_MSL_ELEV_CMD_ID 0x030u
-#define FCC_MSG_MSL_ELEV_CMD_AUTH_ID 0x031u
 #define FCC_MSG_MSL_RATE_GYRO_ID 0x040u
 #define FCC_MSG_MSL_ACCELEROMETER_ID 0x041u
 #define FCC_MSG_CDRW_AOA_ID 0x050u
 #define FCC_MSG_CDRW_PITCH_RATE_ID 0x051u
 #define FCC_MSG_CDRW_ELEVATOR_ID 0x052u
 #define FCC_MSG_MSL_STATE_EST_ID 0x100u
+#define FCC_MSG_MSL_ELEV_CMD_AUTH_ID 0x101u
 #define FCC_MSG_SID_AZKF_STATE_ID 0x110u
 #define FCC_MSG_SID_AZKF_BOUNDS_ID 0x111u
 #define FCC_MSG_SID_AZKF_MODEL_A_ID 0x112u
@@ -99,6 +100,7 @@ typedef enum {
 #define FCC_MSG_SID_KF_BOUNDS_ID 0x131u
 #define FCC_MSG_SID_KF_MODEL_A_ID 0x132u
 #define FCC_MSG_SID_KF_MODEL_B_ID 0x133u
+#define FCC_MSG_SID_OUT_AUTH_ID 0x134u
 #define FCC_MSG_FCC_STATUS_ID 0x700u
 #define FCC_MSG_FCC_E2E_COUNTS_ID 0x701u
 #define FCC_MSG_FCC_E2E_FAULTS_ID 0x702u
@@ -220,12 +222,6 @@ typedef struct {
     uint8_t da_bits; /* [1, 16] bit. D/A word length N in bits used to compute da_code. */
 } fcc_msg_msl_elev_cmd_t;
 
-/* MSL_ELEV_CMD_AUTH (0x031, 50 ms, FCC -> SIM): SecOC authenticator of MSL_ELEV_CMD: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
-typedef struct {
-    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
-    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
-} fcc_msg_msl_elev_cmd_auth_t;
-
 /* MSL_RATE_GYRO (0x040, 50 ms, MSL_GYRO -> FCC, E2E data ID 0x1040): Missile rate gyro sample q_g = q + v_g, taken at the sampling instant of step k. */
 typedef struct {
     uint16_t step; /* [0, 65535]. Step index k (low 16 bits) of the sample, for lockstep alignment. */
@@ -263,6 +259,12 @@ typedef struct {
     fcc_real_t w_g_hat; /* [-327.68, 327.67] ft/s, LSB 0.01. Estimated vertical gust velocity w_g. */
     uint8_t step; /* [0, 255]. Step index k (low 8 bits). */
 } fcc_msg_msl_state_est_t;
+
+/* MSL_ELEV_CMD_AUTH (0x101, 50 ms, FCC -> SIM): SecOC authenticator of the missile outputs of one step (MSL_ELEV_CMD, MSL_STATE_EST, concatenated in this order): sent by the FCC right after MSL_STATE_EST, before FCC_ACK. The simulator acts on the command, and the rig reports the estimate, only once this authenticator verified both. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | MSL_ELEV_CMD's 8 bytes | MSL_STATE_EST's 8 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_msl_elev_cmd_auth_t;
 
 /* SID_AZKF_STATE (0x110, 20 ms, FCC -> SIM): MLS-AZKF (adaptive-order zonotopic Kalman filter) state estimate, order in use and flags at step k. */
 typedef struct {
@@ -366,6 +368,12 @@ typedef struct {
     fcc_real_t gain_norm; /* [0, 6.5535], LSB 0.0001. Spectral norm of the Kalman gain K_k. */
 } fcc_msg_sid_kf_model_b_t;
 
+/* SID_OUT_AUTH (0x134, 20 ms, FCC -> SIM): SecOC authenticator of the identification outputs of one CDRW step (the 12 frames SID_AZKF_STATE to SID_KF_MODEL_B, concatenated in identifier order): sent by the FCC right after SID_KF_MODEL_B, before FCC_ACK. The rig reports an estimate, bound, model or flag only once this authenticator verified the whole step; a step sent incompletely (a value that cannot be encoded) is not sent at all. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the 12 frames' 96 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication. */
+typedef struct {
+    uint16_t fv; /* [0, 65535]. Truncated freshness value: the low 16 bits of the message counter. */
+    uint64_t mac; /* [0, 281474976710655]. Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order. */
+} fcc_msg_sid_out_auth_t;
+
 /* FCC_STATUS (0x700, 100 ms, FCC -> SIM): FCC heartbeat at 10 Hz: mode, step counters, overruns, worst step time and health flags. Counters wrap. */
 typedef struct {
     uint8_t mode; /* [0, 1]. 0 lockstep (steps on SIM_TICK), 1 real time (steps on its own clock). */
@@ -390,11 +398,12 @@ typedef struct {
     uint16_t wrong_sequence; /* [0, 65535]. Frames classified WRONG_SEQUENCE (counter jumped beyond the maximum delta or went back); data not used, receiver resynchronises. */
 } fcc_msg_fcc_e2_e_counts_t;
 
-/* FCC_E2E_FAULTS (0x702, 100 ms, FCC -> SIM): FCC receiver E2E error and staleness counters (wrap). */
+/* FCC_E2E_FAULTS (0x702, 100 ms, FCC -> SIM): FCC receiver E2E error and staleness counters, and frames impersonating the FCC (wrap). */
 typedef struct {
     uint16_t error; /* [0, 65535]. Frames classified ERROR (CRC mismatch); data not used. */
     uint16_t no_new_data; /* [0, 65535]. Receive periods that ended without any frame of a monitored message (NO_NEW_DATA). */
     uint16_t stale_now; /* [0, 65535]. Number of monitored messages whose last period ended without a frame. */
+    uint16_t own_id; /* [0, 65535]. Frames received on an identifier the FCC itself sends (its outputs, authenticators, heartbeat): the FCC never receives its own frames, so each was sent by another node impersonating it. Counted in unknown_id as well. A run in which it is not 0 fails (hil: exit 1). */
 } fcc_msg_fcc_e2_e_faults_t;
 
 /* FCC_REJECT_COUNTS (0x703, 100 ms, FCC -> SIM): FCC frame rejection counters, one per class (wrap). */
@@ -486,13 +495,13 @@ typedef union {
     fcc_msg_sim_tick_auth_t sim_tick_auth;
     fcc_msg_fcc_ack_t fcc_ack;
     fcc_msg_msl_elev_cmd_t msl_elev_cmd;
-    fcc_msg_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     fcc_msg_msl_rate_gyro_t msl_rate_gyro;
     fcc_msg_msl_accelerometer_t msl_accelerometer;
     fcc_msg_cdrw_aoa_t cdrw_aoa;
     fcc_msg_cdrw_pitch_rate_t cdrw_pitch_rate;
     fcc_msg_cdrw_elevator_t cdrw_elevator;
     fcc_msg_msl_state_est_t msl_state_est;
+    fcc_msg_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     fcc_msg_sid_azkf_state_t sid_azkf_state;
     fcc_msg_sid_azkf_bounds_t sid_azkf_bounds;
     fcc_msg_sid_azkf_model_a_t sid_azkf_model_a;
@@ -505,6 +514,7 @@ typedef union {
     fcc_msg_sid_kf_bounds_t sid_kf_bounds;
     fcc_msg_sid_kf_model_a_t sid_kf_model_a;
     fcc_msg_sid_kf_model_b_t sid_kf_model_b;
+    fcc_msg_sid_out_auth_t sid_out_auth;
     fcc_msg_fcc_status_t fcc_status;
     fcc_msg_fcc_e2_e_counts_t fcc_e2_e_counts;
     fcc_msg_fcc_e2_e_faults_t fcc_e2_e_faults;
@@ -531,13 +541,13 @@ typedef union {
     struct fcc_hil_sim_tick_auth_t sim_tick_auth;
     struct fcc_hil_fcc_ack_t fcc_ack;
     struct fcc_hil_msl_elev_cmd_t msl_elev_cmd;
-    struct fcc_hil_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     struct fcc_hil_msl_rate_gyro_t msl_rate_gyro;
     struct fcc_hil_msl_accelerometer_t msl_accelerometer;
     struct fcc_hil_cdrw_aoa_t cdrw_aoa;
     struct fcc_hil_cdrw_pitch_rate_t cdrw_pitch_rate;
     struct fcc_hil_cdrw_elevator_t cdrw_elevator;
     struct fcc_hil_msl_state_est_t msl_state_est;
+    struct fcc_hil_msl_elev_cmd_auth_t msl_elev_cmd_auth;
     struct fcc_hil_sid_azkf_state_t sid_azkf_state;
     struct fcc_hil_sid_azkf_bounds_t sid_azkf_bounds;
     struct fcc_hil_sid_azkf_model_a_t sid_azkf_model_a;
@@ -550,6 +560,7 @@ typedef union {
     struct fcc_hil_sid_kf_bounds_t sid_kf_bounds;
     struct fcc_hil_sid_kf_model_a_t sid_kf_model_a;
     struct fcc_hil_sid_kf_model_b_t sid_kf_model_b;
+    struct fcc_hil_sid_out_auth_t sid_out_auth;
     struct fcc_hil_fcc_status_t fcc_status;
     struct fcc_hil_fcc_e2_e_counts_t fcc_e2_e_counts;
     struct fcc_hil_fcc_e2_e_faults_t fcc_e2_e_faults;
@@ -569,8 +580,8 @@ extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
 
 /* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
  * SecOC_Pdus); firmware/bus/fcc_secoc.h. */
-#define FCC_SECOC_N_AUTH 5u
-#define FCC_SECOC_MAX_PDUS 9u
+#define FCC_SECOC_N_AUTH 6u
+#define FCC_SECOC_MAX_PDUS 12u
 typedef struct {
     fcc_msg_t auth;       /* the authenticator frame */
     uint16_t data_id;     /* SecOC data ID in the MAC input */

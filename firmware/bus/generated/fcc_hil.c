@@ -1066,81 +1066,6 @@ bool fcc_hil_msl_elev_cmd_da_bits_is_in_phys_range(double value)
     return ((value >= 1.0) && (value <= 16.0));
 }
 
-int fcc_hil_msl_elev_cmd_auth_pack(
-    uint8_t *dst_p,
-    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
-    size_t size)
-{
-    if (size < 8u) {
-        return (-EINVAL);
-    }
-
-    memset(&dst_p[0], 0, 8);
-
-    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
-    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
-    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
-    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
-    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
-    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
-    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
-    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
-
-    return (8);
-}
-
-int fcc_hil_msl_elev_cmd_auth_unpack(
-    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
-    const uint8_t *src_p,
-    size_t size)
-{
-    if (size < 8u) {
-        return (-EINVAL);
-    }
-
-    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
-    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
-    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
-    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
-
-    return (0);
-}
-
-int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p)
-{
-    if (msg_p == NULL) return -1;
-
-    memset(msg_p, 0, sizeof(struct fcc_hil_msl_elev_cmd_auth_t));
-
-    return 0;
-}
-
-bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value)
-{
-    (void)value;
-
-    return (true);
-}
-
-bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 65535.0));
-}
-
-bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value)
-{
-    return (value <= 281474976710655ull);
-}
-
-bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value)
-{
-    return ((value >= 0.0) && (value <= 281474976710655.0));
-}
-
 int fcc_hil_msl_rate_gyro_pack(
     uint8_t *dst_p,
     const struct fcc_hil_msl_rate_gyro_t *src_p,
@@ -1777,6 +1702,81 @@ bool fcc_hil_msl_state_est_step_is_in_range(uint8_t value)
 bool fcc_hil_msl_state_est_step_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 255.0));
+}
+
+int fcc_hil_msl_elev_cmd_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_msl_elev_cmd_auth_unpack(
+    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_msl_elev_cmd_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
 }
 
 int fcc_hil_sid_azkf_state_pack(
@@ -3249,6 +3249,81 @@ bool fcc_hil_sid_kf_model_b_gain_norm_is_in_phys_range(double value)
     return ((value >= 0.0) && (value <= 6.5535));
 }
 
+int fcc_hil_sid_out_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sid_out_auth_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    memset(&dst_p[0], 0, 8);
+
+    dst_p[0] |= pack_left_shift_u16(src_p->fv, 0u, 0xffu);
+    dst_p[1] |= pack_right_shift_u16(src_p->fv, 8u, 0xffu);
+    dst_p[2] |= pack_left_shift_u64(src_p->mac, 0u, 0xffu);
+    dst_p[3] |= pack_right_shift_u64(src_p->mac, 8u, 0xffu);
+    dst_p[4] |= pack_right_shift_u64(src_p->mac, 16u, 0xffu);
+    dst_p[5] |= pack_right_shift_u64(src_p->mac, 24u, 0xffu);
+    dst_p[6] |= pack_right_shift_u64(src_p->mac, 32u, 0xffu);
+    dst_p[7] |= pack_right_shift_u64(src_p->mac, 40u, 0xffu);
+
+    return (8);
+}
+
+int fcc_hil_sid_out_auth_unpack(
+    struct fcc_hil_sid_out_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size)
+{
+    if (size < 8u) {
+        return (-EINVAL);
+    }
+
+    dst_p->fv = unpack_right_shift_u16(src_p[0], 0u, 0xffu);
+    dst_p->fv |= unpack_left_shift_u16(src_p[1], 8u, 0xffu);
+    dst_p->mac = unpack_right_shift_u64(src_p[2], 0u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[3], 8u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[4], 16u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[5], 24u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[6], 32u, 0xffu);
+    dst_p->mac |= unpack_left_shift_u64(src_p[7], 40u, 0xffu);
+
+    return (0);
+}
+
+int fcc_hil_sid_out_auth_init(struct fcc_hil_sid_out_auth_t *msg_p)
+{
+    if (msg_p == NULL) return -1;
+
+    memset(msg_p, 0, sizeof(struct fcc_hil_sid_out_auth_t));
+
+    return 0;
+}
+
+bool fcc_hil_sid_out_auth_fv_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_sid_out_auth_fv_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_sid_out_auth_mac_is_in_range(uint64_t value)
+{
+    return (value <= 281474976710655ull);
+}
+
+bool fcc_hil_sid_out_auth_mac_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 281474976710655.0));
+}
+
 int fcc_hil_fcc_status_pack(
     uint8_t *dst_p,
     const struct fcc_hil_fcc_status_t *src_p,
@@ -3560,6 +3635,8 @@ int fcc_hil_fcc_e2_e_faults_pack(
     dst_p[3] |= pack_right_shift_u16(src_p->no_new_data, 8u, 0xffu);
     dst_p[4] |= pack_left_shift_u16(src_p->stale_now, 0u, 0xffu);
     dst_p[5] |= pack_right_shift_u16(src_p->stale_now, 8u, 0xffu);
+    dst_p[6] |= pack_left_shift_u16(src_p->own_id, 0u, 0xffu);
+    dst_p[7] |= pack_right_shift_u16(src_p->own_id, 8u, 0xffu);
 
     return (8);
 }
@@ -3579,6 +3656,8 @@ int fcc_hil_fcc_e2_e_faults_unpack(
     dst_p->no_new_data |= unpack_left_shift_u16(src_p[3], 8u, 0xffu);
     dst_p->stale_now = unpack_right_shift_u16(src_p[4], 0u, 0xffu);
     dst_p->stale_now |= unpack_left_shift_u16(src_p[5], 8u, 0xffu);
+    dst_p->own_id = unpack_right_shift_u16(src_p[6], 0u, 0xffu);
+    dst_p->own_id |= unpack_left_shift_u16(src_p[7], 8u, 0xffu);
 
     return (0);
 }
@@ -3624,6 +3703,18 @@ bool fcc_hil_fcc_e2_e_faults_stale_now_is_in_range(uint16_t value)
 }
 
 bool fcc_hil_fcc_e2_e_faults_stale_now_is_in_phys_range(double value)
+{
+    return ((value >= 0.0) && (value <= 65535.0));
+}
+
+bool fcc_hil_fcc_e2_e_faults_own_id_is_in_range(uint16_t value)
+{
+    (void)value;
+
+    return (true);
+}
+
+bool fcc_hil_fcc_e2_e_faults_own_id_is_in_phys_range(double value)
 {
     return ((value >= 0.0) && (value <= 65535.0));
 }

@@ -54,13 +54,13 @@ extern "C" {
 #define FCC_HIL_SIM_TICK_AUTH_FRAME_ID (0x21u)
 #define FCC_HIL_FCC_ACK_FRAME_ID (0x28u)
 #define FCC_HIL_MSL_ELEV_CMD_FRAME_ID (0x30u)
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_FRAME_ID (0x31u)
 #define FCC_HIL_MSL_RATE_GYRO_FRAME_ID (0x40u)
 #define FCC_HIL_MSL_ACCELEROMETER_FRAME_ID (0x41u)
 #define FCC_HIL_CDRW_AOA_FRAME_ID (0x50u)
 #define FCC_HIL_CDRW_PITCH_RATE_FRAME_ID (0x51u)
 #define FCC_HIL_CDRW_ELEVATOR_FRAME_ID (0x52u)
 #define FCC_HIL_MSL_STATE_EST_FRAME_ID (0x100u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_FRAME_ID (0x101u)
 #define FCC_HIL_SID_AZKF_STATE_FRAME_ID (0x110u)
 #define FCC_HIL_SID_AZKF_BOUNDS_FRAME_ID (0x111u)
 #define FCC_HIL_SID_AZKF_MODEL_A_FRAME_ID (0x112u)
@@ -73,6 +73,7 @@ extern "C" {
 #define FCC_HIL_SID_KF_BOUNDS_FRAME_ID (0x131u)
 #define FCC_HIL_SID_KF_MODEL_A_FRAME_ID (0x132u)
 #define FCC_HIL_SID_KF_MODEL_B_FRAME_ID (0x133u)
+#define FCC_HIL_SID_OUT_AUTH_FRAME_ID (0x134u)
 #define FCC_HIL_FCC_STATUS_FRAME_ID (0x700u)
 #define FCC_HIL_FCC_E2_E_COUNTS_FRAME_ID (0x701u)
 #define FCC_HIL_FCC_E2_E_FAULTS_FRAME_ID (0x702u)
@@ -97,13 +98,13 @@ extern "C" {
 #define FCC_HIL_SIM_TICK_AUTH_LENGTH (8u)
 #define FCC_HIL_FCC_ACK_LENGTH (8u)
 #define FCC_HIL_MSL_ELEV_CMD_LENGTH (8u)
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_LENGTH (8u)
 #define FCC_HIL_MSL_RATE_GYRO_LENGTH (8u)
 #define FCC_HIL_MSL_ACCELEROMETER_LENGTH (8u)
 #define FCC_HIL_CDRW_AOA_LENGTH (8u)
 #define FCC_HIL_CDRW_PITCH_RATE_LENGTH (8u)
 #define FCC_HIL_CDRW_ELEVATOR_LENGTH (8u)
 #define FCC_HIL_MSL_STATE_EST_LENGTH (8u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_LENGTH (8u)
 #define FCC_HIL_SID_AZKF_STATE_LENGTH (8u)
 #define FCC_HIL_SID_AZKF_BOUNDS_LENGTH (8u)
 #define FCC_HIL_SID_AZKF_MODEL_A_LENGTH (8u)
@@ -116,6 +117,7 @@ extern "C" {
 #define FCC_HIL_SID_KF_BOUNDS_LENGTH (8u)
 #define FCC_HIL_SID_KF_MODEL_A_LENGTH (8u)
 #define FCC_HIL_SID_KF_MODEL_B_LENGTH (8u)
+#define FCC_HIL_SID_OUT_AUTH_LENGTH (8u)
 #define FCC_HIL_FCC_STATUS_LENGTH (8u)
 #define FCC_HIL_FCC_E2_E_COUNTS_LENGTH (8u)
 #define FCC_HIL_FCC_E2_E_FAULTS_LENGTH (8u)
@@ -140,13 +142,13 @@ extern "C" {
 #define FCC_HIL_SIM_TICK_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_FCC_ACK_IS_EXTENDED (0)
 #define FCC_HIL_MSL_ELEV_CMD_IS_EXTENDED (0)
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_MSL_RATE_GYRO_IS_EXTENDED (0)
 #define FCC_HIL_MSL_ACCELEROMETER_IS_EXTENDED (0)
 #define FCC_HIL_CDRW_AOA_IS_EXTENDED (0)
 #define FCC_HIL_CDRW_PITCH_RATE_IS_EXTENDED (0)
 #define FCC_HIL_CDRW_ELEVATOR_IS_EXTENDED (0)
 #define FCC_HIL_MSL_STATE_EST_IS_EXTENDED (0)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_SID_AZKF_STATE_IS_EXTENDED (0)
 #define FCC_HIL_SID_AZKF_BOUNDS_IS_EXTENDED (0)
 #define FCC_HIL_SID_AZKF_MODEL_A_IS_EXTENDED (0)
@@ -159,6 +161,7 @@ extern "C" {
 #define FCC_HIL_SID_KF_BOUNDS_IS_EXTENDED (0)
 #define FCC_HIL_SID_KF_MODEL_A_IS_EXTENDED (0)
 #define FCC_HIL_SID_KF_MODEL_B_IS_EXTENDED (0)
+#define FCC_HIL_SID_OUT_AUTH_IS_EXTENDED (0)
 #define FCC_HIL_FCC_STATUS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_E2_E_COUNTS_IS_EXTENDED (0)
 #define FCC_HIL_FCC_E2_E_FAULTS_IS_EXTENDED (0)
@@ -181,13 +184,13 @@ extern "C" {
 #define FCC_HIL_SIM_TICK_AUTH_CYCLE_TIME_MS (20u)
 #define FCC_HIL_FCC_ACK_CYCLE_TIME_MS (20u)
 #define FCC_HIL_MSL_ELEV_CMD_CYCLE_TIME_MS (50u)
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_CYCLE_TIME_MS (50u)
 #define FCC_HIL_MSL_RATE_GYRO_CYCLE_TIME_MS (50u)
 #define FCC_HIL_MSL_ACCELEROMETER_CYCLE_TIME_MS (50u)
 #define FCC_HIL_CDRW_AOA_CYCLE_TIME_MS (20u)
 #define FCC_HIL_CDRW_PITCH_RATE_CYCLE_TIME_MS (20u)
 #define FCC_HIL_CDRW_ELEVATOR_CYCLE_TIME_MS (20u)
 #define FCC_HIL_MSL_STATE_EST_CYCLE_TIME_MS (50u)
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_CYCLE_TIME_MS (50u)
 #define FCC_HIL_SID_AZKF_STATE_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SID_AZKF_BOUNDS_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SID_AZKF_MODEL_A_CYCLE_TIME_MS (20u)
@@ -200,6 +203,7 @@ extern "C" {
 #define FCC_HIL_SID_KF_BOUNDS_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SID_KF_MODEL_A_CYCLE_TIME_MS (20u)
 #define FCC_HIL_SID_KF_MODEL_B_CYCLE_TIME_MS (20u)
+#define FCC_HIL_SID_OUT_AUTH_CYCLE_TIME_MS (20u)
 #define FCC_HIL_FCC_STATUS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_E2_E_COUNTS_CYCLE_TIME_MS (100u)
 #define FCC_HIL_FCC_E2_E_FAULTS_CYCLE_TIME_MS (100u)
@@ -269,13 +273,13 @@ extern "C" {
 #define FCC_HIL_SIM_TICK_AUTH_NAME "SIM_TICK_AUTH"
 #define FCC_HIL_FCC_ACK_NAME "FCC_ACK"
 #define FCC_HIL_MSL_ELEV_CMD_NAME "MSL_ELEV_CMD"
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_NAME "MSL_ELEV_CMD_AUTH"
 #define FCC_HIL_MSL_RATE_GYRO_NAME "MSL_RATE_GYRO"
 #define FCC_HIL_MSL_ACCELEROMETER_NAME "MSL_ACCELEROMETER"
 #define FCC_HIL_CDRW_AOA_NAME "CDRW_AOA"
 #define FCC_HIL_CDRW_PITCH_RATE_NAME "CDRW_PITCH_RATE"
 #define FCC_HIL_CDRW_ELEVATOR_NAME "CDRW_ELEVATOR"
 #define FCC_HIL_MSL_STATE_EST_NAME "MSL_STATE_EST"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_NAME "MSL_ELEV_CMD_AUTH"
 #define FCC_HIL_SID_AZKF_STATE_NAME "SID_AZKF_STATE"
 #define FCC_HIL_SID_AZKF_BOUNDS_NAME "SID_AZKF_BOUNDS"
 #define FCC_HIL_SID_AZKF_MODEL_A_NAME "SID_AZKF_MODEL_A"
@@ -288,6 +292,7 @@ extern "C" {
 #define FCC_HIL_SID_KF_BOUNDS_NAME "SID_KF_BOUNDS"
 #define FCC_HIL_SID_KF_MODEL_A_NAME "SID_KF_MODEL_A"
 #define FCC_HIL_SID_KF_MODEL_B_NAME "SID_KF_MODEL_B"
+#define FCC_HIL_SID_OUT_AUTH_NAME "SID_OUT_AUTH"
 #define FCC_HIL_FCC_STATUS_NAME "FCC_STATUS"
 #define FCC_HIL_FCC_E2_E_COUNTS_NAME "FCC_E2E_COUNTS"
 #define FCC_HIL_FCC_E2_E_FAULTS_NAME "FCC_E2E_FAULTS"
@@ -343,8 +348,6 @@ extern "C" {
 #define FCC_HIL_MSL_ELEV_CMD_STEP_NAME "step"
 #define FCC_HIL_MSL_ELEV_CMD_DA_CODE_NAME "da_code"
 #define FCC_HIL_MSL_ELEV_CMD_DA_BITS_NAME "da_bits"
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_FV_NAME "fv"
-#define FCC_HIL_MSL_ELEV_CMD_AUTH_MAC_NAME "mac"
 #define FCC_HIL_MSL_RATE_GYRO_CRC_NAME "crc"
 #define FCC_HIL_MSL_RATE_GYRO_COUNTER_NAME "counter"
 #define FCC_HIL_MSL_RATE_GYRO_STEP_NAME "step"
@@ -369,6 +372,8 @@ extern "C" {
 #define FCC_HIL_MSL_STATE_EST_ALPHA_T_HAT_NAME "alpha_t_hat"
 #define FCC_HIL_MSL_STATE_EST_W_G_HAT_NAME "w_g_hat"
 #define FCC_HIL_MSL_STATE_EST_STEP_NAME "step"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_FV_NAME "fv"
+#define FCC_HIL_MSL_ELEV_CMD_AUTH_MAC_NAME "mac"
 #define FCC_HIL_SID_AZKF_STATE_ALPHA_HAT_NAME "alpha_hat"
 #define FCC_HIL_SID_AZKF_STATE_Q_HAT_NAME "q_hat"
 #define FCC_HIL_SID_AZKF_STATE_ORDER_NAME "order"
@@ -423,6 +428,8 @@ extern "C" {
 #define FCC_HIL_SID_KF_MODEL_B_B2_NAME "b2"
 #define FCC_HIL_SID_KF_MODEL_B_RHO_NAME "rho"
 #define FCC_HIL_SID_KF_MODEL_B_GAIN_NORM_NAME "gain_norm"
+#define FCC_HIL_SID_OUT_AUTH_FV_NAME "fv"
+#define FCC_HIL_SID_OUT_AUTH_MAC_NAME "mac"
 #define FCC_HIL_FCC_STATUS_MODE_NAME "mode"
 #define FCC_HIL_FCC_STATUS_CDRW_DEGRADED_NAME "cdrw_degraded"
 #define FCC_HIL_FCC_STATUS_MSL_DEGRADED_NAME "msl_degraded"
@@ -442,6 +449,7 @@ extern "C" {
 #define FCC_HIL_FCC_E2_E_FAULTS_ERROR_NAME "error"
 #define FCC_HIL_FCC_E2_E_FAULTS_NO_NEW_DATA_NAME "no_new_data"
 #define FCC_HIL_FCC_E2_E_FAULTS_STALE_NOW_NAME "stale_now"
+#define FCC_HIL_FCC_E2_E_FAULTS_OWN_ID_NAME "own_id"
 #define FCC_HIL_FCC_REJECT_COUNTS_UNKNOWN_ID_NAME "unknown_id"
 #define FCC_HIL_FCC_REJECT_COUNTS_WRONG_DLC_NAME "wrong_dlc"
 #define FCC_HIL_FCC_REJECT_COUNTS_OUT_OF_RANGE_NAME "out_of_range"
@@ -925,33 +933,6 @@ struct fcc_hil_msl_elev_cmd_t {
 };
 
 /**
- * Signals in message MSL_ELEV_CMD_AUTH.
- *
- * SecOC authenticator of MSL_ELEV_CMD: sent right after it by the same sender. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the authentic frame bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
- *
- * All signal values are as on the CAN bus.
- */
-struct fcc_hil_msl_elev_cmd_auth_t {
-    /**
-     * Truncated freshness value: the low 16 bits of the message counter.
-     *
-     * Range: 0..65535 (0..65535 -)
-     * Scale: 1
-     * Offset: 0
-     */
-    uint16_t fv;
-
-    /**
-     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
-     *
-     * Range: 0..281474976710655 (0..281474976710655 -)
-     * Scale: 1
-     * Offset: 0
-     */
-    uint64_t mac;
-};
-
-/**
  * Signals in message MSL_RATE_GYRO.
  *
  * Missile rate gyro sample q_g = q + v_g, taken at the sampling instant of step k.
@@ -1219,6 +1200,33 @@ struct fcc_hil_msl_state_est_t {
      * Offset: 0
      */
     uint8_t step;
+};
+
+/**
+ * Signals in message MSL_ELEV_CMD_AUTH.
+ *
+ * SecOC authenticator of the missile outputs of one step (MSL_ELEV_CMD, MSL_STATE_EST, concatenated in this order): sent by the FCC right after MSL_STATE_EST, before FCC_ACK. The simulator acts on the command, and the rig reports the estimate, only once this authenticator verified both. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | MSL_ELEV_CMD's 8 bytes | MSL_STATE_EST's 8 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_msl_elev_cmd_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
 };
 
 /**
@@ -1816,6 +1824,33 @@ struct fcc_hil_sid_kf_model_b_t {
 };
 
 /**
+ * Signals in message SID_OUT_AUTH.
+ *
+ * SecOC authenticator of the identification outputs of one CDRW step (the 12 frames SID_AZKF_STATE to SID_KF_MODEL_B, concatenated in identifier order): sent by the FCC right after SID_KF_MODEL_B, before FCC_ACK. The rig reports an estimate, bound, model or flag only once this authenticator verified the whole step; a step sent incompletely (a value that cannot be encoded) is not sent at all. fv = low 16 bits of the 64-bit freshness value (trip << 32 | message counter), mac = the first 48 bits of AES-128-CMAC(key, SecOC_DataID (2 bytes, big-endian) | the 12 frames' 96 bytes | the full freshness value (8 bytes, big-endian)). See dbc/README.md, Authentication.
+ *
+ * All signal values are as on the CAN bus.
+ */
+struct fcc_hil_sid_out_auth_t {
+    /**
+     * Truncated freshness value: the low 16 bits of the message counter.
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t fv;
+
+    /**
+     * Truncated MAC: the first 6 bytes of the AES-128-CMAC, in bytes 2 to 7 in order.
+     *
+     * Range: 0..281474976710655 (0..281474976710655 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint64_t mac;
+};
+
+/**
  * Signals in message FCC_STATUS.
  *
  * FCC heartbeat at 10 Hz: mode, step counters, overruns, worst step time and health flags. Counters wrap.
@@ -1980,7 +2015,7 @@ struct fcc_hil_fcc_e2_e_counts_t {
 /**
  * Signals in message FCC_E2E_FAULTS.
  *
- * FCC receiver E2E error and staleness counters (wrap).
+ * FCC receiver E2E error and staleness counters, and frames impersonating the FCC (wrap).
  *
  * All signal values are as on the CAN bus.
  */
@@ -2011,6 +2046,15 @@ struct fcc_hil_fcc_e2_e_faults_t {
      * Offset: 0
      */
     uint16_t stale_now;
+
+    /**
+     * Frames received on an identifier the FCC itself sends (its outputs, authenticators, heartbeat): the FCC never receives its own frames, so each was sent by another node impersonating it. Counted in unknown_id as well. A run in which it is not 0 fails (hil: exit 1).
+     *
+     * Range: 0..65535 (0..65535 -)
+     * Scale: 1
+     * Offset: 0
+     */
+    uint16_t own_id;
 };
 
 /**
@@ -3677,87 +3721,6 @@ bool fcc_hil_msl_elev_cmd_da_bits_is_in_range(uint8_t value);
 bool fcc_hil_msl_elev_cmd_da_bits_is_in_phys_range(double value);
 
 /**
- * Pack message MSL_ELEV_CMD_AUTH.
- *
- * @param[out] dst_p Buffer to pack the message into.
- * @param[in] src_p Data to pack.
- * @param[in] size Size of dst_p.
- *
- * @return Size of packed data, or negative error code.
- */
-int fcc_hil_msl_elev_cmd_auth_pack(
-    uint8_t *dst_p,
-    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
-    size_t size);
-
-/**
- * Unpack message MSL_ELEV_CMD_AUTH.
- *
- * @param[out] dst_p Object to unpack the message into.
- * @param[in] src_p Message to unpack.
- * @param[in] size Size of src_p.
- *
- * @return zero(0) or negative error code.
- */
-int fcc_hil_msl_elev_cmd_auth_unpack(
-    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
-    const uint8_t *src_p,
-    size_t size);
-
-/**
- * Init message fields to default values from MSL_ELEV_CMD_AUTH.
- *
- * @param[in] msg_p Message to init.
- *
- * @return zero(0) on success or (-1) in case of nullptr argument.
- */
-int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value);
-
-/**
- * Check that given signal is in allowed range.
- *
- * @param[in] value Signal to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value);
-
-/**
- * Check that given physical value is in allowed range before encoding.
- *
- * Use this BEFORE calling _encode() to avoid silent integer overflow:
- *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
- *   is_in_phys_range(-1.0) correctly returns false.
- *
- * @param[in] value Physical signal value to check.
- *
- * @return true if in range, false otherwise.
- */
-bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value);
-
-/**
  * Pack message MSL_RATE_GYRO.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -4506,6 +4469,87 @@ bool fcc_hil_msl_state_est_step_is_in_range(uint8_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_msl_state_est_step_is_in_phys_range(double value);
+
+/**
+ * Pack message MSL_ELEV_CMD_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_msl_elev_cmd_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_msl_elev_cmd_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message MSL_ELEV_CMD_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_msl_elev_cmd_auth_unpack(
+    struct fcc_hil_msl_elev_cmd_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from MSL_ELEV_CMD_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_msl_elev_cmd_auth_init(struct fcc_hil_msl_elev_cmd_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_msl_elev_cmd_auth_mac_is_in_phys_range(double value);
 
 /**
  * Pack message SID_AZKF_STATE.
@@ -6140,6 +6184,87 @@ bool fcc_hil_sid_kf_model_b_gain_norm_is_in_range(uint16_t value);
 bool fcc_hil_sid_kf_model_b_gain_norm_is_in_phys_range(double value);
 
 /**
+ * Pack message SID_OUT_AUTH.
+ *
+ * @param[out] dst_p Buffer to pack the message into.
+ * @param[in] src_p Data to pack.
+ * @param[in] size Size of dst_p.
+ *
+ * @return Size of packed data, or negative error code.
+ */
+int fcc_hil_sid_out_auth_pack(
+    uint8_t *dst_p,
+    const struct fcc_hil_sid_out_auth_t *src_p,
+    size_t size);
+
+/**
+ * Unpack message SID_OUT_AUTH.
+ *
+ * @param[out] dst_p Object to unpack the message into.
+ * @param[in] src_p Message to unpack.
+ * @param[in] size Size of src_p.
+ *
+ * @return zero(0) or negative error code.
+ */
+int fcc_hil_sid_out_auth_unpack(
+    struct fcc_hil_sid_out_auth_t *dst_p,
+    const uint8_t *src_p,
+    size_t size);
+
+/**
+ * Init message fields to default values from SID_OUT_AUTH.
+ *
+ * @param[in] msg_p Message to init.
+ *
+ * @return zero(0) on success or (-1) in case of nullptr argument.
+ */
+int fcc_hil_sid_out_auth_init(struct fcc_hil_sid_out_auth_t *msg_p);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sid_out_auth_fv_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sid_out_auth_fv_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sid_out_auth_mac_is_in_range(uint64_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_sid_out_auth_mac_is_in_phys_range(double value);
+
+/**
  * Pack message FCC_STATUS.
  *
  * @param[out] dst_p Buffer to pack the message into.
@@ -6667,6 +6792,28 @@ bool fcc_hil_fcc_e2_e_faults_stale_now_is_in_range(uint16_t value);
  * @return true if in range, false otherwise.
  */
 bool fcc_hil_fcc_e2_e_faults_stale_now_is_in_phys_range(double value);
+
+/**
+ * Check that given signal is in allowed range.
+ *
+ * @param[in] value Signal to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_e2_e_faults_own_id_is_in_range(uint16_t value);
+
+/**
+ * Check that given physical value is in allowed range before encoding.
+ *
+ * Use this BEFORE calling _encode() to avoid silent integer overflow:
+ *   encode(-1.0) on a [0,100] signal wraps to 255 and passes is_in_range().
+ *   is_in_phys_range(-1.0) correctly returns false.
+ *
+ * @param[in] value Physical signal value to check.
+ *
+ * @return true if in range, false otherwise.
+ */
+bool fcc_hil_fcc_e2_e_faults_own_id_is_in_phys_range(double value);
 
 /**
  * Pack message FCC_REJECT_COUNTS.

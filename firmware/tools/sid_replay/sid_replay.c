@@ -34,8 +34,9 @@ static bool with_c; /* the c1,c2 columns are printed */
 static bool estimates_only; /* --estimates: t, filter and the six estimate columns only */
 static bool binary;         /* --binary: those as binary64 records, no header */
 
-/* A row of --binary: t, the row's filter code, the six estimates, as binary64. */
-#define BINARY_ROW_VALUES 8u
+/* A row of --binary: t, the row's filter code, the six estimates, the fault flag (0 or 1),
+ * as binary64. */
+#define BINARY_ROW_VALUES 9u
 
 static void print_header(void)
 {
@@ -61,11 +62,11 @@ static void print_reals(const fcc_real_t *v, size_t n)
 
 /* One --binary row; 0, or -1 when stdout refused it. */
 static int write_binary_row(double t, unsigned code, const fcc_real_t x[2], const fcc_real_t lo[2],
-                            const fcc_real_t hi[2])
+                            const fcc_real_t hi[2], bool fault)
 {
     const double row[BINARY_ROW_VALUES] = {t,           (double)code,  (double)x[0],
                                            (double)x[1], (double)lo[0], (double)hi[0],
-                                           (double)lo[1], (double)hi[1]};
+                                           (double)lo[1], (double)hi[1], fault ? 1.0 : 0.0};
     return fwrite(row, sizeof row[0], BINARY_ROW_VALUES, stdout) == BINARY_ROW_VALUES ? 0 : -1;
 }
 
@@ -190,7 +191,7 @@ static int step_loop(const sid_opts_t *o, size_t k, int r, int i)
     }
     if (binary) {
         const unsigned code = (unsigned)i + (o->all_rows ? 3u * (unsigned)r : 0u);
-        return write_binary_row(flight.t[k], code, out.x_hat, out.lo, out.hi) == 0
+        return write_binary_row(flight.t[k], code, out.x_hat, out.lo, out.hi, out.fault) == 0
                    ? 0
                    : die("cannot write the output");
     }

@@ -29,11 +29,12 @@ void sid_opts_usage(const char *prog)
            "                                pass; the filter column reads MODE/FILTER\n"
            "  --estimates                   only t,filter,alpha_hat,q_hat,alpha_lo,alpha_hi,\n"
            "                                q_lo,q_hi (what the rig reads; less to print)\n"
-           "  --binary                      with --estimates: each row as 8 native-endian\n"
+           "  --binary                      with --estimates: each row as 9 native-endian\n"
            "                                IEEE 754 binary64 values, no header: t, the\n"
            "                                filter (0 kf, 1 zkf, 2 azkf; --all-rows: + 3 x the\n"
            "                                mode, 0 paper, 1 prior, 2 posterior), the six\n"
-           "                                estimates (exact, nothing to format or parse)\n"
+           "                                estimates (exact, nothing to format or parse),\n"
+           "                                the fault flag (0 or 1)\n"
            "  --help                        this text\n",
            prog);
     fcc_opt_sid_usage(stdout);

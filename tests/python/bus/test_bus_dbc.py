@@ -120,16 +120,18 @@ def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]
 
 def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
     frames, pct = _load_pct(spec, 0.05)
-    assert frames == pytest.approx(1190)   # 1020 + 120 SecOC/security + 50 time sync
-    assert pct == pytest.approx(32.13)
+    # 1020 + 120 SecOC/security + 50 time sync + 50 SID_OUT_AUTH (fcc's outputs authenticated)
+    assert frames == pytest.approx(1240)
+    assert pct == pytest.approx(33.48)
     assert pct < 40.0
     frames_fast, pct_fast = _load_pct(spec, 0.02)
-    assert frames_fast == pytest.approx(1430)
+    assert frames_fast == pytest.approx(1480)
+    assert pct_fast == pytest.approx(39.96)   # MSL_STATE_EST under the command's authenticator
     assert pct_fast < 40.0
     readme = (DBC.parent / "README.md").read_text()
     assert f"**{pct:.1f} %**" in readme
-    assert f"**{pct_fast:.1f} %**" in readme
-    assert re.search(r"\*\*1190\*\*", readme)
+    assert f"**{pct_fast:.2f} %**" in readme
+    assert re.search(r"\*\*1240\*\*", readme)
 
 
 def test_secoc_attributes(spec: dbc.BusSpec) -> None:
@@ -142,6 +144,10 @@ def test_secoc_attributes(spec: dbc.BusSpec) -> None:
                        "FCC_SEC_SESSION", "FCC_SYNC_STATUS", "FCC_SYNC_REFUSALS", "TSYNC_SYNC",
                        "TSYNC_FOLLOW_UP"}
     assert auths["TSYNC_AUTH"].secoc_pdus == ("TSYNC_SYNC", "TSYNC_FOLLOW_UP")
+    # fcc's outputs of a step: every identification frame, the command and the estimate
+    assert auths["SID_OUT_AUTH"].secoc_pdus == tuple(
+        f"SID_{f}_{p}" for f in ("AZKF", "ZKF", "KF") for p in ("STATE", "BOUNDS", "MODEL_A", "MODEL_B"))
+    assert auths["MSL_ELEV_CMD_AUTH"].secoc_pdus == ("MSL_ELEV_CMD", "MSL_STATE_EST")
     assert len({m.secoc_data_id for m in auths.values()}) == len(auths)
     for m in auths.values():
         sigs = {s.name: (s.start, s.length) for s in m.signals}

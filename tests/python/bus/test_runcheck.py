@@ -146,3 +146,33 @@ def test_a_run_of_authenticators_is_each_one_in_turn():
     got = authenticators(key, 0x123, pdus, 0xDEADBEEF, 0xFFE0)
     assert [a.tobytes() for a in got] == [authenticator(key, 0x123, p.tobytes(), 0xDEADBEEF, 0xFFE0 + i)
                                           for i, p in enumerate(pdus)]
+
+
+def test_groups_verify_as_one_by_one() -> None:
+    """Groups of 12 frames (fcc's identification outputs of a step) with their authenticator:
+    verify_run takes the leading groups GroupReceiver.verify_group takes one by one, and stops
+    at a group with one byte changed; the MACs are cryptography's CMAC over the 96 bytes."""
+    from hil.bus.secoc import GroupReceiver
+    from hil.bus.secoc_batch import group_macs
+    ids = tuple(range(0x110, 0x11C))
+    tx = Sender(KEY, DATA_ID, TRIP)
+    rng = np.random.default_rng(34)
+    groups = [rng.integers(0, 256, 96, dtype=np.uint8).tobytes() for _ in range(30)]
+    auths = [tx.protect(g) for g in groups]
+    bad = bytearray(groups[20])
+    bad[50] ^= 1
+    groups[20] = bytes(bad)
+    fvs = (np.uint64(TRIP << 32) | np.arange(1, 31, dtype=np.uint64))
+    assert all(group_macs(KEY, DATA_ID, np.frombuffer(g, np.uint8).reshape(1, 96), fvs[i: i + 1])[0].tobytes()
+               == KeyedCmac(KEY).mac(DATA_ID, g, int(fvs[i])) for i, g in enumerate(groups[:3]))
+    batch = GroupReceiver(KEY, DATA_ID, TRIP, pdu_ids=ids)
+    n = verify_run(batch, np.frombuffer(b"".join(groups), np.uint8).reshape(30, 96),
+                   np.frombuffer(b"".join(auths), np.uint8).reshape(30, 8))
+    single = GroupReceiver(KEY, DATA_ID, TRIP, pdu_ids=ids)
+    verdicts = []
+    for g, a in zip(groups, auths):
+        for j, i in enumerate(ids):
+            single.hold_frame(i, g[8 * j: 8 * j + 8])
+        verdicts.append(single.verify_group(a)[0])
+    assert n == 20 == verdicts.index(Verdict.MAC_FAILED)
+    assert batch.counter == 20 and batch.counters.verified == 20

@@ -111,3 +111,43 @@ def test_a_keyed_cmac_carries_nothing_from_one_message_to_the_next() -> None:
     for n in (64, 0, 40, 16, 40, 64):
         assert keyed.digest(NIST_MSG[:n]) == cmac(NIST_KEY, NIST_MSG[:n])
     assert keyed.digest(NIST_MSG[:16]).hex() == "070a16b46b4d4144f79bdd9dd04a287c"
+
+
+def test_a_group_survives_forged_copies_forged_authenticators_and_a_lost_one() -> None:
+    """fcc's output group (12 frames, one authenticator): a forged copy of a member beside
+    fcc's (before or after it), a forged authenticator before fcc's, and a group whose
+    authenticator never came: every genuine group after them verifies, the forged copies
+    counted as conflicts and unpaired."""
+    from hil.bus.secoc import GroupReceiver, Sender, Verdict
+    key, data_id, trip = bytes(range(16)), 0x2134, 9
+    ids = tuple(range(0x110, 0x11C))
+    tx, rx = Sender(key, data_id, trip), GroupReceiver(key, data_id, trip, pdu_ids=ids)
+
+    def group(k: int) -> list[tuple[int, bytes]]:
+        return [(i, bytes([k, j]) + bytes(6)) for j, i in enumerate(ids)]
+
+    def send(frames: list[tuple[int, bytes]]) -> bytes:
+        return tx.protect(b"".join(d for _, d in frames))
+
+    forged = (0x110, b"\x66" * 8)
+    results = []
+    for k in range(8):
+        g, auth = group(k), send(group(k))
+        frames: list[tuple[int, bytes]] = list(g)
+        if k == 1:
+            frames.insert(3, forged)                     # a forged copy after fcc's 0x110
+        if k == 2:
+            frames.insert(0, forged)                     # ... and before it
+        for fid, data in frames:
+            rx.hold_frame(fid, data)
+        if k == 3:
+            assert rx.verify_group(bytes(2) + b"\x01" * 6)[0] is Verdict.FRESHNESS_FAILED
+            assert rx.verify_group(auth[:2] + b"\x01" * 6)[0] is Verdict.MAC_FAILED
+        if k == 5:
+            continue                                     # its authenticator lost
+        verdict, got = rx.verify_group(auth)
+        results.append(verdict)
+        assert got == g, k
+    assert results == [Verdict.VERIFIED] * 7
+    assert rx.conflicts == 2 + 12                        # the forgeries; group 5's copies beside 6's
+    assert rx.counters.unpaired == 2 + 12

@@ -66,10 +66,10 @@ def test_realtime_paces_both_applications(bin_path, tmp_path):
     assert s["jitter_us missile"]["n"] == s["missile"]["steps"]
     states = [d for d in received if d.name == "SID_AZKF_STATE" and d.ok]
     cmds = [d for d in received if d.name == "MSL_ELEV_CMD" and d.ok]
-    # every step published its outputs (fcc's own count: 12 frames per CDRW step, 3 per missile
-    # step (command, its authenticator, estimate), 10 per heartbeat with FCC_SYNC_STATUS and
-    # FCC_SYNC_REFUSALS) and they reached the simulator's socket
-    sent = 12 * s["cdrw"]["steps"] + 3 * s["missile"]["steps"] + 10 * s["control"]["heartbeats"]
+    # every step published its outputs (fcc's own count: 13 frames per CDRW step (12 and their
+    # authenticator), 3 per missile step (command, estimate, their authenticator), 10 per
+    # heartbeat with FCC_SYNC_STATUS and FCC_SYNC_REFUSALS) and they reached the simulator's socket
+    sent = 13 * s["cdrw"]["steps"] + 3 * s["missile"]["steps"] + 10 * s["control"]["heartbeats"]
     assert s["port"]["tx_frames"] == sent and s["port"]["tx_failed"] == 0
     # the receiver's socket queue holds a stall of the guest: every published output is seen
     assert len(states) == s["cdrw"]["steps"]

@@ -11,10 +11,13 @@ import pytest
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line, read_log
 from hil.bus.logcolumns import LogBlock
-from hil.bus.secoc import Endpoint
-from hil.results.buslog import BusAuth, authentic_frames, sid_arrays, split_flights
+from hil.bus.secoc import Endpoint, Sender
+from hil.results.buslog import BusAuth, authentic_frames, split_flights
+from hil.results.sidframes import DuplicateOutput, sid_arrays
+from hil.results.trust import Forgeries
 
 SPEC = load()
+SID_AUTH = SPEC.by_name("SID_OUT_AUTH")
 
 
 def sid_frames(k: int, alpha: float, step_field: int | None = None) -> list[tuple[int, bytes]]:
@@ -27,6 +30,27 @@ def sid_frames(k: int, alpha: float, step_field: int | None = None) -> list[tupl
         b = SPEC.by_name(f"SID_{flt}_MODEL_B")
         out.append((b.frame_id, b.message.encode({"b1": 0.01, "b2": -0.5, "rho": 0.9, "gain_norm": 0.3})))
     return out
+
+
+def all_sid_frames(k: int, alpha: float, fault: int = 0) -> list[tuple[int, bytes]]:
+    """The 12 identification frames of step k, in fcc's order (SID_OUT_AUTH's group)."""
+    values = {"STATE": {"alpha_hat": alpha, "q_hat": -alpha, "order": 2, "fault": fault,
+                        "degraded": 0, "step": k & 0xFFF},
+              "BOUNDS": {"alpha_lo": alpha - 0.01, "alpha_hi": alpha + 0.01, "q_lo": -0.5, "q_hi": 0.5},
+              "MODEL_A": {"a11": 0.9, "a12": 0.02, "a21": -0.4, "a22": 0.95},
+              "MODEL_B": {"b1": 0.01, "b2": -0.5, "rho": 0.9, "gain_norm": 0.3}}
+    out = []
+    for flt in ("AZKF", "ZKF", "KF"):
+        for part, v in values.items():
+            m = SPEC.by_name(f"SID_{flt}_{part}")
+            out.append((m.frame_id, m.message.encode(v)))
+    return out
+
+
+def fcc_outputs(sender: Sender, k: int, alpha: float) -> list[tuple[int, bytes]]:
+    """fcc's outputs of CDRW step k as it sends them: the 12 frames, then SID_OUT_AUTH."""
+    frames = all_sid_frames(k, alpha)
+    return frames + [(SID_AUTH.frame_id, sender.protect(b"".join(d for _, d in frames)))]
 
 
 def write_log(path, frames):
@@ -76,6 +100,7 @@ def secured_flights(attack: str) -> list[tuple[int, bytes]]:
     codec = FrameCodec(SPEC, SIM_NODES)
     sec = Endpoint(SPEC, KEY, SIM_NODES)
     sec.set_trip(TRIP)
+    fcc = Sender(KEY, SID_AUTH.secoc_data_id, TRIP)
     frames: list[tuple[int, bytes]] = []
     sent: list[list[tuple[int, bytes]]] = []
     for flight in range(2):
@@ -96,7 +121,7 @@ def secured_flights(attack: str) -> list[tuple[int, bytes]]:
                 if attack == "lost":         # a tick that never reached the bus
                     continue
             frames += tick
-            frames += sid_frames(k, 0.01 * k + flight)
+            frames += fcc_outputs(fcc, k, 0.01 * k + flight)
     return frames
 
 
@@ -194,3 +219,58 @@ def test_steps_are_attributed_as_frame_by_frame(tmp_path, monkeypatch):
                 for k, frame in zip(steps.tolist(), cols.tuples()):
                     mine.setdefault(k, []).append(frame)
                 assert mine == by_app.get(app, {})
+
+
+def forged_state(k: int, alpha: float, fault: int = 0) -> tuple[int, bytes]:
+    """A keyless node's SID_AZKF_STATE for step k: α̂ and the fault flag its own."""
+    return all_sid_frames(k, alpha, fault)[0]
+
+
+@pytest.mark.parametrize("where", ["before the authenticator", "after the authenticator"])
+def test_forged_outputs_reach_no_table_and_are_counted(tmp_path, where):
+    """A keyless node re-sends SID_AZKF_STATE with α̂ moved and the fault bit set at every step,
+    squeezed before fcc's authenticator or right after it: every estimate is fcc's, and each
+    forged copy is counted (refused, and a conflicting second copy of the frame)."""
+    codec = FrameCodec(SPEC, SIM_NODES)
+    sec = Endpoint(SPEC, KEY, SIM_NODES)
+    sec.set_trip(TRIP)
+    fcc = Sender(KEY, SID_AUTH.secoc_data_id, TRIP)
+    frames = sec.protect(*codec.encode("SIM_CONTROL", {"command": 2, "lqg_period": 0.0, "da_bits": 0}))
+    for k in range(30):
+        frames += sec.protect(*codec.encode("SIM_TICK", {"app": 0, "step": k}))
+        out = fcc_outputs(fcc, k, 0.01 * k)
+        forged = forged_state(k, 0.3, fault=1)
+        frames += out[:-1] + [forged, out[-1]] if where.startswith("before") else out + [forged]
+    write_log(tmp_path / "bus.log", frames)
+    forgeries = Forgeries()
+    (fl,) = split_flights(tmp_path / "bus.log", BusAuth(KEY, TRIP), forgeries)
+    a = sid_arrays(SPEC, fl, 30)
+    assert np.allclose(a["azkf_alpha_hat"], 0.01 * np.arange(30))
+    assert np.allclose(a["azkf_alpha_hi"], 0.01 * np.arange(30) + 0.01)
+    assert not a["azkf_fault"].any() and not a["kf_fault"].any()
+    # before: each step's forged copy conflicts with fcc's and is not used; after: it is held
+    # into the next step, where fcc's own frame conflicts with it (the last one never resolves)
+    assert forgeries.conflicts["SID_OUT_AUTH"] == (30 if where.startswith("before") else 29)
+    assert forgeries.refused["SID_OUT_AUTH"] == (30 if where.startswith("before") else 29)
+    assert forgeries.refused["MSL_ELEV_CMD_AUTH"] == 0
+    assert "SID_OUT_AUTH's group: " in forgeries.describe()
+
+
+def test_a_second_different_frame_for_a_step_is_refused(tmp_path):
+    """Read without the key, a lockstep step with two different SID_AZKF_STATE frames has no
+    value to report: the flight is refused (one line naming the frame and the step); an exact
+    copy of fcc's frame is the same frame."""
+    codec = FrameCodec(SPEC, SIM_NODES)
+    frames = [codec.encode("SIM_CONTROL", {"command": 2, "lqg_period": 0.0, "da_bits": 0})]
+    for k in range(5):
+        frames.append(codec.encode("SIM_TICK", {"app": 0, "step": k}))
+        frames += all_sid_frames(k, 0.1)
+        frames.append(all_sid_frames(k, 0.1)[0])            # an exact repeat: the same frame
+    write_log(tmp_path / "bus.log", frames)
+    (fl,) = split_flights(tmp_path / "bus.log")
+    assert np.allclose(sid_arrays(SPEC, fl, 5)["azkf_alpha_hat"], 0.1)
+    frames.append(forged_state(4, 0.1, fault=1))            # the fault bit set: different
+    write_log(tmp_path / "bus.log", frames)
+    (fl,) = split_flights(tmp_path / "bus.log")
+    with pytest.raises(DuplicateOutput, match=r"two different SID_AZKF_STATE frames for step 4"):
+        sid_arrays(SPEC, fl, 5)

@@ -16,13 +16,18 @@ from pathlib import Path
 
 import pytest
 
-from hil.bus.secoc import TEST_KEY_FILE
-from hil.verify.attack import (PAUSE_S, Attacker, Frames, flood, forge_command,  # the attacker
-                               forge_control, forge_status, replay_recording)
+from hil.bus import load
+from hil.bus.secoc import TEST_KEY_FILE, read_key_file
+from hil.results.buslog import BusAuth
+from hil.results.timing import bus_timing, summarise
+from hil.verify.attack import (ID, PAUSE_S, Attacker, Frames, flood,  # the attacker
+                               forge_command, forge_control, forge_status, replay_recording)
 from hil.rig.session import RigSession
 from rig_helpers import MISSILE_2S, fly, scenario
 
 pytestmark = pytest.mark.vcan
+SPEC = load()
+TEST_KEY = read_key_file(TEST_KEY_FILE)
 
 def no_frames(_rng: random.Random) -> Frames:
     yield from ()
@@ -95,6 +100,13 @@ def test_attack_is_rejected_counted_and_changes_nothing(name, clean, tmp_path):
     if where in ("rig", "both"):
         assert rig_refused > 0, sec
     assert sec["fcc"]["mode_refused"] == 0   # nothing forged ever got as far as the mode check
+    # frames on fcc's own identifiers (its command, its authenticator, its heartbeat): fcc
+    # counted them, and the run says the bus was attacked (`hil run`: exit 7)
+    own = s["firmware"]["rejected"]["own_id"]
+    if where in ("rig", "both"):
+        assert own > 0 and s["bus_trust"]["verdict"] != "ok", s["bus_trust"]
+    else:
+        assert own == 0 and s["bus_trust"]["verdict"] == "ok", s["bus_trust"]
     record(name, s)
 
 
@@ -141,6 +153,43 @@ def test_attacks_in_a_realtime_flight(tmp_path):
     assert run["bits"] == 8 and run["period"] == pytest.approx(0.05)
     assert s["firmware"]["steps"]["missile"] >= 10                       # flew, not shut down
     record("realtime: forged SIM_CONTROL + forged MSL_ELEV_CMD", s)
+
+
+#: the forger's FCC_SYNC_STATUS: fcc locked with a 30 ms residual (clean: a few us)
+FORGED_SYNC_STATUS = SPEC.by_name("FCC_SYNC_STATUS").message.encode(
+    {"state": 2, "master": 1, "offset_us": 30000, "rate_ppm": 0.0, "syncs": 1, "rejected": 0, "losses": 0})
+
+
+def forge_timing(rng: random.Random) -> Frames:
+    """What the realtime timing is measured from: fcc's sync status (a 30 ms offset) and its
+    commands (forge_command's), a keyless node's, interleaved."""
+    for status, command in zip(iter(lambda: (ID["FCC_SYNC_STATUS"], FORGED_SYNC_STATUS), None),
+                               forge_command(rng)):
+        yield status
+        yield command
+
+
+def test_forged_timing_frames_change_no_timing_figure(tmp_path):
+    """Realtime, forged FCC_SYNC_STATUS and MSL_ELEV_CMD (with forged authenticators) through
+    the flight: summary.json's timing is what the authentic frames of the same log give (the
+    log without the forger's frames, read under the key), never the forger's 30 ms; the run
+    says the bus was attacked."""
+    s = flight(tmp_path, forge_timing, mode="realtime")
+    assert s["_attack_frames"] > 0
+    forged = {(ID["FCC_SYNC_STATUS"], FORGED_SYNC_STATUS.hex().upper())} | {
+        (fid, data.hex().upper()) for fid, data in forge_command(random.Random(0))
+        if fid == ID["MSL_ELEV_CMD"]}
+    lines = (tmp_path / "bus.log").read_text().splitlines()
+    kept = [ln for ln in lines if not (len(p := ln.split()) >= 3 and "#" in p[2] and
+                                       (int(p[2].split("#")[0], 16), p[2].split("#")[1]) in forged)]
+    assert len(lines) - len(kept) > 10                     # the forger's frames were on the bus
+    (tmp_path / "authentic.log").write_text("\n".join(kept) + "\n")
+    want = summarise(bus_timing(tmp_path / "authentic.log", SPEC, 0.05, BusAuth(TEST_KEY)), "")
+    got = s["realtime"]["bus"]
+    assert got == want["bus"]
+    assert got["sync_offset"]["n"] > 0 and got["sync_offset"]["max"] < 30000
+    assert got["cmd_delay"]["n"] <= s["firmware"]["steps"]["missile"]
+    assert s["bus_trust"]["verdict"] != "ok" and s["firmware"]["rejected"]["own_id"] > 0
 
 
 def record(name: str, s: dict) -> None:

@@ -6,10 +6,11 @@ Each function takes the leading frames that pass in the simplest way and advance
 exactly as the frame-by-frame calls would; it stops before the first frame that does not, which
 the caller hands to those calls (they decide and count it as they always do).
 
-* verify_run: pairs (the secured frame, then its authenticator) of one PDU, Receiver.hold then
-  Receiver.verify, while nothing else is held and each authenticator carries the next message
-  counter (FV's low 16 bits one above the last accepted counter's) with a MAC that verifies
-  (the run's authenticators made together: hil.bus.secoc_batch.authenticators).
+* verify_run: pairs (the secured frame, or a group's frames, then its authenticator) of one
+  PDU, Receiver.hold then Receiver.verify (GroupReceiver.hold_frame then verify_group), while
+  nothing else is held and each authenticator carries the next message counter (FV's low 16
+  bits one above the last accepted counter's) with a MAC that verifies (the run's
+  authenticators made together: hil.bus.secoc_batch.authenticators).
 * check_run: frames of one E2E-protected message, E2EReceiver.check, while each is OK: its CRC
   right and its alive counter one above the last (any, for the first after a reset).
 """
@@ -25,10 +26,11 @@ _COUNTER_MAX = 0xFFFFFFFF
 
 
 def verify_run(rx: Receiver, pdus: np.ndarray, auths: np.ndarray) -> int:
-    """How many of the leading pairs (pdus[i], auths[i]: (n, 8) uint8 each) verify one after
-    the other from rx's state (module docstring); rx is advanced past them."""
+    """How many of the leading pairs (pdus[i], auths[i]: (n, 8) uint8 each; a group's pdus
+    (n, 8 m): its m frames concatenated, GroupReceiver.verify_group's) verify one after the
+    other from rx's state (module docstring); rx is advanced past them."""
     n = len(pdus)
-    if rx.held or not n or pdus.shape != (n, 8) or auths.shape != (n, 8):
+    if rx.held or not n or pdus.ndim != 2 or pdus.shape[1] % 8 or auths.shape != (n, 8):
         return 0
     # each the authenticator the sender makes at the next counter: its low bits, then the MAC
     expected = authenticators(rx.key, rx.data_id, pdus, rx.trip, rx.counter + 1)

@@ -2,8 +2,9 @@
 
 The specification is in dbc/README.md ("Authentication"); in short:
 
-* a secured frame (SIM_CONTROL, SIM_TICK, MSL_ELEV_CMD, or the heartbeat group) is followed
-  by its authenticator frame (the DBC's ``SecOC_Pdus`` / ``SecOC_DataID`` attributes);
+* a secured frame (SIM_CONTROL, SIM_TICK) or group (fcc's heartbeat; fcc's outputs of one step:
+  the 12 identification frames, the missile's command + estimate) is followed by its
+  authenticator frame (the DBC's ``SecOC_Pdus`` / ``SecOC_DataID`` attributes);
 * freshness value FV = trip << 32 | message counter (one counter per secured PDU, from 1);
   fcc draws the trip at start and publishes it in ``FCC_SEC_SESSION``;
 * authenticator = FV mod 2**16 (little-endian) + the first 6 bytes of
@@ -12,16 +13,17 @@ The specification is in dbc/README.md ("Authentication"); in short:
   low 16 bits; more than WINDOW ahead fails freshness, otherwise the MAC decides; it holds up
   to CANDIDATES secured frames and accepts the one the MAC verifies.
 
-The MAC is computed by the ``cryptography`` package (OpenSSL), independent of the C code.  A
-sender or receiver keeps its key's CMAC context (key schedule and subkeys) and copies it per
-message (``KeyedCmac``): 0.7 us a MAC instead of 3 us on the build machine, where the lockstep
-loop authenticates a tick every step.
+The MAC is cryptography's (OpenSSL), independent of the C code; a sender or receiver copies its
+key's CMAC context per message (``KeyedCmac``): 0.7 us a MAC instead of 3 us.
 """
 from __future__ import annotations
 
+import dataclasses
 import enum
+import itertools
 import os
 from collections import deque
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -137,8 +139,7 @@ class Counters:
     unpaired: int = 0
 
     def as_dict(self) -> dict[str, int]:
-        return {"verified": self.verified, "mac_failed": self.mac_failed,
-                "freshness_failed": self.freshness_failed, "unpaired": self.unpaired}
+        return dataclasses.asdict(self)
 
 
 @dataclass
@@ -199,7 +200,8 @@ class Receiver:
         fv = (self.trip << 32) | cand
         for i, pdu in enumerate(self.held):
             if same_mac(self.keyed.mac(self.data_id, pdu, fv), bytes(auth[2:8])):
-                self.counters.unpaired += i
+                if not isinstance(self, GroupReceiver):   # (a group counts its copies itself)
+                    self.counters.unpaired += i
                 for _ in range(i + 1):
                     self.held.popleft()
                 self.counter = cand
@@ -209,27 +211,54 @@ class Receiver:
         return Verdict.MAC_FAILED, None
 
 
+GROUP_TRIES = 256   # combinations of the copies held a group's authenticator is tried on
+
+
+def _combinations(choices: list[list[bytes]]) -> Iterator[bytes]:
+    """The concatenations of one copy per member (choices: each member's, newest first), the
+    fewest departures from the newest copies first: all newest, then one older copy, ..."""
+    for d in range(len(choices) + 1):
+        for where in itertools.combinations(range(len(choices)), d):
+            for older in itertools.product(*(range(1, len(choices[w])) for w in where)):
+                pick = dict(zip(where, older))
+                yield b"".join(c[pick.get(i, 0)] for i, c in enumerate(choices))
+
+
 @dataclass
 class GroupReceiver(Receiver):
-    """A secured PDU of several frames (fcc's heartbeat): the latest copy of each is held and
-    the authenticator covers their concatenation in DBC order."""
+    """A secured PDU of several frames (fcc's heartbeat, its outputs of a step): each member's
+    different copies since the last verified authenticator held (CANDIDATES, the oldest
+    dropped) and tried newest first (_combinations); a failed authenticator discards nothing.
+    A second, different copy is another node's (``conflicts``); an unused one is unpaired."""
 
     pdu_ids: tuple[int, ...] = ()
-    latest: dict[int, bytes] = field(default_factory=dict)
+    copies: dict[int, list[bytes]] = field(default_factory=dict)
+    #: different second copies of a member before its authenticator (forged frames)
+    conflicts: int = 0
 
     def hold_frame(self, frame_id: int, data: bytes) -> None:
-        self.latest[frame_id] = bytes(data)
+        got = self.copies.setdefault(frame_id, [])
+        if bytes(data) in got:
+            return
+        self.conflicts += bool(got)
+        if len(got) == CANDIDATES:
+            got.pop(0)
+            self.counters.unpaired += 1
+        got.append(bytes(data))
 
     def verify_group(self, auth: bytes) -> tuple[Verdict, list[tuple[int, bytes]]]:
-        frames = [(i, self.latest[i]) for i in self.pdu_ids if i in self.latest]
-        self.latest = {}
-        if len(frames) != len(self.pdu_ids):
+        if any(i not in self.copies for i in self.pdu_ids):
             self.counters.mac_failed += 1
             return Verdict.NO_PDU, []
-        self.held = deque([b"".join(d for _, d in frames)])
-        verdict, _ = self.verify(auth)
+        choices = [self.copies[i][::-1] for i in self.pdu_ids]
+        self.held = deque(itertools.islice(_combinations(choices), GROUP_TRIES))
+        verdict, pdu = self.verify(auth)
         self.held.clear()
-        return verdict, frames if verdict is Verdict.VERIFIED else []
+        if verdict is not Verdict.VERIFIED or pdu is None:
+            return verdict, []
+        self.counters.unpaired += sum(len(c) for c in self.copies.values()) - len(self.pdu_ids)
+        self.copies = {}
+        return verdict, [(i, pdu[8 * j: 8 * j + 8]) for j, i in enumerate(self.pdu_ids)]
 
 
 class Endpoint:
@@ -352,11 +381,11 @@ class Endpoint:
             return []
         if isinstance(r, GroupReceiver):
             if self.trip is None:   # the first heartbeat: try the trip it carries
-                session = r.latest.get(self.session_id)
-                if session is None:
-                    r.latest = {}
+                session = r.copies.get(self.session_id)
+                if not session:
+                    r.copies = {}
                     return []
-                r.trip = int.from_bytes(session[:4], "little")
+                r.trip = int.from_bytes(session[-1][:4], "little")
             verdict, frames = r.verify_group(data)
             if verdict is Verdict.VERIFIED and self.trip is None:
                 self.set_trip(r.trip)

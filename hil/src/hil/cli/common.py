@@ -74,12 +74,14 @@ def rig_config(args: argparse.Namespace, stage: Path):
 
 def sync_status(outcomes: Sequence) -> int:
     """0, or EXIT_SYNC with one line on stderr when a realtime run's time synchronisation was
-    attacked, refused or lost (its summary's `sync`, hil.results.sync)."""
+    attacked, refused or lost (its summary's `sync`, hil.results.sync), or fcc's outputs were
+    forged, impersonated or disagree with the reference (`bus_trust`, hil.results.trust)."""
     for outcome in outcomes:
-        sync = outcome.summary.get("sync") or {}
-        if sync.get("verdict", "ok") != "ok":
-            print(f"{PROG}: {sync['message']}", file=sys.stderr)
-            return EXIT_SYNC
+        for key in ("sync", "bus_trust"):
+            verdict = outcome.summary.get(key) or {}
+            if verdict.get("verdict", "ok") != "ok":
+                print(f"{PROG}: {verdict['message']}", file=sys.stderr)
+                return EXIT_SYNC
     return 0
 
 

@@ -47,10 +47,13 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                 "frames (`--target qemu-m4f`)"),
     (EXIT_VERIFY_ERROR, "`hil verify`: a case could not run (no device, a time-out, a crash): "
                         "never a pass; its report is kept in OUT.failed-TIME, not published"),
-    (EXIT_SYNC, "`hil run --mode realtime`: the flight finished, but its time synchronisation "
-                "was attacked (forged or replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), "
-                "refused (the authenticated master implausible against fcc's clock) or lost; "
-                "one line names it, summary.json's `sync` has the counters"),
+    (EXIT_SYNC, "`hil run`: the flight finished, every figure from authenticated frames, but "
+                "the bus was attacked: realtime, its time synchronisation was attacked (forged or "
+                "replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), refused (the "
+                "authenticated master implausible against fcc's clock) or lost; or frames forged "
+                "on fcc's outputs were refused, fcc counted frames on its own identifiers, or "
+                "fcc's rows disagree with sid_replay's beyond the bus's resolution; one line names "
+                "it, summary.json's `sync` or `bus_trust` has the counters"),
     (EXIT_RIG_BUSY, "`--rig`: the warm rig is flying another client's command: nothing is started "
                     "(one command at a time; try again when it is done)"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "

@@ -8,14 +8,17 @@ against it.  In realtime mode there are no ticks: frames are kept in order with 
 timestamps and their own step field.
 
 Nothing the bus says is taken on trust: given the run's key (and fcc's trip), the frames are
-read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and
-MSL_ELEV_CMD count only once their authenticator verified under the key and the trip, and
-SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset starts no flight, a
-forged or replayed tick moves no step (``BusAuth``).
+read as the live link reads them (hil.bus.secoc, hil.bus.e2e): SIM_CONTROL, SIM_TICK and fcc's
+outputs (the 12 identification frames of a step under SID_OUT_AUTH, the missile's command and
+estimate under MSL_ELEV_CMD_AUTH) count only once their authenticator verified under the key
+and the trip, and SIM_CONTROL and SIM_TICK only when their E2E check passes.  A forged reset
+starts no flight, a forged or replayed tick moves no step, a forged estimate, bound or flag
+reaches no table (``BusAuth``); what was refused on fcc's identifiers is counted
+(``Forgeries``: the run reports it, hil.results.trust).  A second, different frame for a step
+already seen is refused too (hil.results.sidframes): lockstep, fcc sends a step's outputs once.
 """
 from __future__ import annotations
 
-import functools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,16 +26,19 @@ from pathlib import Path
 import numpy as np
 
 from hil.bus.candump import LogFrame
-from hil.bus.dbc import BusSpec, SignalSpec, load
+from hil.bus.dbc import load
 from hil.bus.e2e import E2EReceiver
 from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, per_identifier, read_columns
 from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
-from hil.bus.secoc import Endpoint, Receiver
-from hil.sim.drivers import FILTERS, SID_PARTS, SID_PREFIX
+from hil.bus.secoc import Endpoint, GroupReceiver, Receiver
+from hil.results.trust import Forgeries
 
-#: the output frames of each application (0 CDRW, 1 missile)
-_OUTPUT_APP = {**dict.fromkeys(range(0x110, 0x140), 0), 0x030: 1, 0x100: 1}
+#: fcc's outputs of one step of each application: the group each authenticator covers
+OUTPUT_AUTH = {0: "SID_OUT_AUTH", 1: "MSL_ELEV_CMD_AUTH"}
+#: the output frames of each application (0 CDRW, 1 missile), by identifier
+_OUTPUT_APP = {load().by_name(p).frame_id: app for app, auth in OUTPUT_AUTH.items()
+               for p in load().by_name(auth).secoc_pdus}
 
 
 #: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:
@@ -72,8 +78,9 @@ class BusAuth:
 
 class _Gate:
     """The live link's checks on the recorded frames: what passes is what fcc acted on.  A run
-    of ticks (half the frames checked) is verified in one call on the endpoint's receiver of
-    their authenticator (columns: hil.bus.runcheck); any other frame one by one."""
+    of ticks, or of fcc's output groups (the 12 identification frames then SID_OUT_AUTH: most
+    of a log), is verified in one call on the endpoint's receiver of their authenticator
+    (columns: hil.bus.runcheck); any other frame one by one."""
 
     def __init__(self, auth: BusAuth) -> None:
         spec = load()
@@ -88,10 +95,25 @@ class _Gate:
         self.e2e = {m.frame_id: E2EReceiver(m.data_id, m.max_delta_counter)
                     for m in (spec.by_name("SIM_CONTROL"), spec.by_name("SIM_TICK"))}
         self.rejected = 0
+        #: fcc's output groups: (members, authenticator id, its receiver), verified a run at once
+        self.groups = [(ids, auth_id, r) for ids, auth_id, r in (
+            (tuple(spec.by_name(p).frame_id for p in spec.by_name(name).secoc_pdus),
+             spec.by_name(name).frame_id, self.endpoint.receiver(spec.by_name(name).frame_id))
+            for name in OUTPUT_AUTH.values()) if isinstance(r, GroupReceiver)]
         #: the frames these checks look at (secured, authenticators, E2E): all others pass as
-        #: they are (the bulk of a log: fcc's identification outputs)
+        #: they are
         self.checked = np.array(sorted({*self.e2e, *self.endpoint.auth_ids, *(
             m.frame_id for m in spec.messages if self.endpoint.is_secured(m.frame_id))}))
+
+    def forgeries(self) -> Forgeries:
+        """What was refused on fcc's output identifiers so far (Forgeries)."""
+        out = Forgeries()
+        for name in OUTPUT_AUTH.values():
+            r = self.endpoint.receiver(load().by_name(name).frame_id)
+            c = r.counters
+            out.refused[name] = c.mac_failed + c.freshness_failed + c.unpaired
+            out.conflicts[name] = r.conflicts if isinstance(r, GroupReceiver) else 0
+        return out
 
     def frames(self, fid: int, data: bytes) -> list[tuple[int, bytes]]:
         """What one frame gives fcc to act on (nothing, or the frames its authenticator
@@ -111,14 +133,20 @@ class _Gate:
 
     def columns(self, cols: FrameColumns) -> FrameColumns:
         """A block's frames fcc acted on: what frames() gives frame by frame, each in its
-        authenticator's place; a run of ticks that passes simply is taken at once."""
+        authenticator's place; a run of ticks, or of an output group, that passes simply is
+        taken at once."""
         at = np.flatnonzero(np.isin(cols.frame_id, self.checked))
         if not len(at):
             return cols
         keep = np.ones(len(cols), bool)
         keep[at] = False
-        ids, full = cols.frame_id[at].tolist(), (cols.length[at] == 8).tolist()
         places, passed = [np.flatnonzero(keep)], [cols.take(keep)]   # where each frame goes
+        if self.endpoint.trip is not None:   # (until it is known, every frame in bus order)
+            for group in self.groups:        # each group's receiver sees its own frames only
+                mine = np.isin(cols.frame_id[at], (*group[0], group[1]))
+                self._group_frames(cols, at[mine], group, places, passed)
+                at = at[~mine]
+        ids, full = cols.frame_id[at].tolist(), (cols.length[at] == 8).tolist()
         runs = self._tick_pairs(ids, full)
         j = 0
         while j < len(at):
@@ -131,11 +159,39 @@ class _Gate:
                 passed.append(FrameColumns(np.full(len(usable), SIM_TICK_ID), ticks[usable], np.full(len(usable), 8)))
                 j += 2 * n
                 continue
-            got = self.frames(*cols.frame(at[j]))
-            places.append(np.full(len(got), at[j]))
-            passed.append(FrameColumns.of(got))
+            self._one(cols, int(at[j]), places, passed)
             j += 1
         return FrameColumns.concat(passed).take(np.argsort(np.concatenate(places), kind="stable"))
+
+    def _one(self, cols: FrameColumns, i: int, places: list[np.ndarray], passed: list[FrameColumns]) -> None:
+        """Row i as frames() decides it, in its place."""
+        got = self.frames(*cols.frame(i))
+        places.append(np.full(len(got), i))
+        passed.append(FrameColumns.of(got))
+
+    def _group_frames(self, cols: FrameColumns, at: np.ndarray,
+                      group: tuple[tuple[int, ...], int, GroupReceiver],
+                      places: list[np.ndarray], passed: list[FrameColumns]) -> None:
+        """One output group's frames (cols' rows at, in bus order): runs of complete groups
+        (the members in order, then their authenticator) that verify one after the other are
+        taken at once, each group's frames at its authenticator's place; any other frame as
+        frames() decides it."""
+        members, auth_id, rx = group
+        width = len(members) + 1
+        runs = _pattern_runs(cols.frame_id[at], cols.length[at] == 8, (*members, auth_id))
+        j = 0
+        while j < len(at):
+            n = int(runs[j]) if not rx.copies else 0   # (a copy held: GroupReceiver decides)
+            rows = at[j: j + n * width].reshape(n, width)
+            n = verify_run(rx, cols.data[rows[:, :-1]].reshape(n, 8 * len(members)), cols.data[rows[:, -1]])
+            if n:
+                places.append(np.repeat(rows[:n, -1], len(members)))
+                passed.append(FrameColumns(np.tile(np.array(members, np.int64), n),
+                                           cols.data[rows[:n, :-1]].reshape(-1, 8), np.full(n * len(members), 8)))
+                j += n * width
+                continue
+            self._one(cols, int(at[j]), places, passed)
+            j += 1
 
     def _tick_pairs(self, ids: list[int], full: list[bool]) -> list[int]:
         """For each checked frame, how many (tick, its authenticator) pairs of 8-byte frames
@@ -164,27 +220,54 @@ class _Gate:
         return usable
 
 
+def _pattern_runs(ids: np.ndarray, full: np.ndarray, pattern: tuple[int, ...]) -> np.ndarray:
+    """For each position of ids (8-byte frames where full), how many copies of pattern follow
+    one another from it on."""
+    size, n = len(pattern), len(ids)
+    runs = np.zeros(n + size, np.int64)
+    if n < size:
+        return runs
+    match = np.ones(n - size + 1, bool)
+    for i, p in enumerate(pattern):
+        match &= (ids[i: n - size + 1 + i] == p) & full[i: n - size + 1 + i]
+    for j in np.flatnonzero(match)[::-1].tolist():
+        runs[j] = 1 + runs[j + size]
+    return runs
+
+
 def app_of(frame_id: int) -> int | None:
     """Which application produced an output frame (None: not an output)."""
     return _OUTPUT_APP.get(frame_id)
 
 
-def split_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> list[FlightFrames]:
+def split_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None,
+                  forgeries: Forgeries | None = None) -> list[FlightFrames]:
     """The flights of a bus log (segments that start with a SIM_CONTROL reset); `log` is its
     path or its blocks already read (hil.bus.logcolumns.read_blocks); auth: only frames that
-    verify under it count."""
-    return list(iter_flights(log, auth))
+    verify under it count (forgeries: what was refused, as iter_flights)."""
+    return list(iter_flights(log, auth, forgeries))
 
 
-def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth) -> Iterator[LogFrame]:
+def authentic_frames(frames: Iterable[LogFrame], auth: BusAuth, own_time: bool = False) -> Iterator[LogFrame]:
     """The frames fcc acted on (what iter_flights reads with auth), as log frames: secured
-    ones at their authenticator's place (its time), authenticators not at all."""
+    ones at their authenticator's place (its time; own_time: their own, the first copy's),
+    authenticators not at all."""
     gate = _Gate(auth)
+    first_seen: dict[tuple[int, bytes], float] = {}
     for f in frames:
         if not f.classic_data:
             continue
+        if own_time and gate.endpoint.is_secured(f.frame_id):
+            first_seen.setdefault((f.frame_id, bytes(f.data)), f.timestamp)
+            if len(first_seen) > _FIRST_SEEN_MAX:   # forged copies never verify: bounded
+                del first_seen[next(iter(first_seen))]
         for fid, data in gate.frames(f.frame_id, f.data):
-            yield LogFrame(f.timestamp, f.channel, fid, data)
+            t = first_seen.pop((fid, data), f.timestamp) if own_time else f.timestamp
+            yield LogFrame(t, f.channel, fid, data)
+
+
+#: secured frames remembered with their own time until their authenticator (authentic_frames)
+_FIRST_SEEN_MAX = 4096
 
 
 def _authentic(log: Path | Iterable[LogBlock], gate: _Gate | None) -> Iterator[FrameColumns]:
@@ -258,70 +341,18 @@ class _Flights:
         return first + np.concatenate(([0], np.cumsum(np.diff(low) & 0xFFFF)))
 
 
-def iter_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None) -> Iterator[FlightFrames]:
+def iter_flights(log: Path | Iterable[LogBlock], auth: BusAuth | None = None,
+                 forgeries: Forgeries | None = None) -> Iterator[FlightFrames]:
     """The flights of a bus log one by one (a campaign's log holds 100 of them); auth: only
-    authenticated, E2E-valid commands and ticks count (without it, every frame does)."""
+    authenticated, E2E-valid commands, ticks and outputs count (without it, every frame does);
+    forgeries (with auth): filled in, once the log is read, with what was refused on fcc's
+    output identifiers."""
     flights = _Flights()
-    for cols in _authentic(log, _Gate(auth) if auth is not None else None):
+    gate = _Gate(auth) if auth is not None else None
+    for cols in _authentic(log, gate):
         yield from flights.feed(cols)
     if flights.cur is not None:
         yield flights.cur
-
-
-def _column(sig: SignalSpec, bits: np.ndarray) -> np.ndarray:
-    """A signal's physical values from frames read as little-endian 64-bit integers: what
-    float(sig.scaled(sig.unpack(bits))) gives frame by frame, the same float operations (a
-    signal of at most 32 bits, as every identification signal: exact in int64 and float64)."""
-    if sig.length > 32:
-        raise ValueError(f"{sig.name}: a {sig.length}-bit signal is not decoded here")
-    raw = ((bits >> np.uint64(sig.start)) & np.uint64((1 << sig.length) - 1)).astype(np.int64)
-    if sig.signed:
-        raw = np.where(raw >> (sig.length - 1) != 0, raw - (1 << sig.length), raw)
-    return raw.astype(float) if sig.is_integer else raw * sig.scale + sig.offset
-
-
-@functools.lru_cache(maxsize=4)
-def _sid_layout(spec: BusSpec) -> tuple[tuple[str, ...],
-                                        tuple[tuple[int, SignalSpec | None, tuple[tuple[SignalSpec, str], ...]], ...]]:
-    """The identification outputs' array names ('<filter>_<signal>', in order) and, per frame
-    id, its step signal (None: it has none) and its other signals with their arrays' names."""
-    names: list[str] = []
-    ids = []
-    for flt in FILTERS:
-        for part in SID_PARTS:
-            msg = spec.by_name(f"{SID_PREFIX[flt]}_{part}")
-            step = next((sig for sig in msg.signals if sig.name == "step"), None)
-            names += [f"{flt}_{sig.name}" for sig in msg.signals if sig is not step or part != "STATE"]
-            others = tuple((sig, f"{flt}_{sig.name}") for sig in msg.signals if sig is not step)
-            ids.append((msg.frame_id, step, others))
-    return tuple(names), tuple(ids)
-
-
-def sid_arrays(spec: BusSpec, flight: FlightFrames, n_steps: int,
-               check_step: bool = True) -> dict[str, np.ndarray]:
-    """The identification outputs of steps 0..n-1 as arrays named '<filter>_<signal>'
-    (NaN where a frame is missing or, lockstep, its step field does not match the tick;
-    realtime: fcc counts its own steps, so the field is not compared, the last frame wins)."""
-    names, layout = _sid_layout(spec)
-    out = {name: np.full(n_steps, np.nan) for name in names}
-    # each frame id's frames of steps 0..n-1, in the log's order: their steps and their bytes,
-    # decoded a signal at a time over all of them (numpy) instead of a frame at a time
-    all_steps, frames = flight.outputs(0)
-    usable = (all_steps < n_steps) & (frames.length == 8)
-    mismatched = 0
-    for fid, step_sig, sigs in layout:
-        which = usable & (frames.frame_id == fid)
-        if not which.any():
-            continue
-        steps, bits = all_steps[which], frames.data[which].view("<u8").ravel()
-        if step_sig is not None and check_step:
-            ok = _column(step_sig, bits).astype(np.int64) == (steps & 0xFFF)
-            mismatched += int(np.count_nonzero(~ok))
-            steps, bits = steps[ok], bits[ok]
-        # a step's last frame wins (a step field written twice, realtime)
-        last = len(steps) - 1 - np.unique(steps[::-1], return_index=True)[1]
-        steps, bits = steps[last], bits[last]
-        for sig, name in sigs:
-            out[name][steps] = _column(sig, bits)
-    out["_mismatched"] = np.array([mismatched])
-    return out
+    if gate is not None and forgeries is not None:
+        got = gate.forgeries()
+        forgeries.refused, forgeries.conflicts = got.refused, got.conflicts

@@ -14,7 +14,8 @@ import numpy as np
 from hil.bus import dbc as dbc_spec
 from hil.bus.dbc import BusSpec
 from hil.results import metrics
-from hil.results.buslog import FlightFrames, sid_arrays
+from hil.results.buslog import FlightFrames
+from hil.results.sidframes import sid_arrays
 from hil.rig.errors import RigError
 from hil.sim.drivers import FILTERS, CdrwDriver, MissileDriver
 from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
@@ -236,11 +237,14 @@ def missile_open_loop(scenario: Any) -> MissileResult:
                          rms_q=r.rms_q, rms_alpha=r.rms_alpha, stationary={"rms_q": sq, "rms_alpha": sa})
 
 
-def require_estimates(res: CdrwResult, what: str, realtime: bool) -> None:
-    """A lockstep flight with answered steps whose estimates are not in bus.log is refused
-    (RigError, exit 1): every answered step has its estimates on the bus, so a gap is the
-    recorder's, and a table would average the flight over the steps that are left."""
+def require_estimates(res: CdrwResult, what: str, realtime: bool, forged: str = "") -> None:
+    """A lockstep flight with answered steps whose authenticated estimates are not in bus.log is
+    refused (RigError, exit 1): every answered step has its estimates on the bus, so a gap is
+    the recorder's, or forged frames displaced fcc's (forged: what the reading refused on fcc's
+    outputs, hil.results.buslog.Forgeries.describe), and a table would average the flight over
+    the steps that are left."""
     lost = res.missing_steps - res.unanswered_steps
     if lost > 0 and not realtime:
-        raise RigError(f"bus.log: {what} lacks fcc's estimates of {lost} answered steps (the "
-                       f"recorder lost frames); the flight is not evaluated")
+        why = f"forged frames displaced them: {forged}" if forged else "the recorder lost frames"
+        raise RigError(f"bus.log: {what} lacks fcc's estimates of {lost} answered steps ({why}); "
+                       f"the flight is not evaluated")

@@ -31,7 +31,9 @@ def firmware_summary(status: StatusCounters, rig_security: dict[str, int] | None
         "rejected": {"unknown_id": g("FCC_REJECT_COUNTS.unknown_id"),
                      "wrong_dlc": g("FCC_REJECT_COUNTS.wrong_dlc"),
                      "out_of_range": g("FCC_REJECT_COUNTS.out_of_range"),
-                     "tx_refused": g("FCC_REJECT_COUNTS.tx_refused")},
+                     "tx_refused": g("FCC_REJECT_COUNTS.tx_refused"),
+                     # frames on fcc's own identifiers: another node sent as fcc
+                     "own_id": g("FCC_E2E_FAULTS.own_id")},
         "bus": {"bus_errors": g("FCC_BUS_COUNTS.bus_errors"),
                 "rx_overflows": g("FCC_BUS_COUNTS.rx_overflows"),
                 "tx_dropped": g("FCC_BUS_COUNTS.tx_dropped"),
@@ -85,8 +87,18 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
             tables.append(f"prior/posterior tables not computed: {cd['replay_check']['not_computed']}")
         elif cd.get("replay_check"):
             rc = cd["replay_check"]
-            tables.append(f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
-                          f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")
+            line = (f"sid_replay --rows {rc['rows']} on the readings fcc received vs fcc's own "
+                    f"rows: largest estimate difference {rc['max_abs_estimate_difference']:.2e}")
+            if "max_abs_bound_difference" in rc:   # (summaries before 2026-12-02: estimates only)
+                line += (f", bound difference {rc['max_abs_bound_difference']:.2e}, fault flags "
+                         f"differing at {rc['fault_flag_mismatches']} steps")
+            applied = (summary.get("bus_trust") or {}).get("cross_check", "")
+            if applied.startswith("not applied"):   # the replay is not fcc's input: say so
+                line += f" ({applied})"
+            tables.append(line)
+    trust = summary.get("bus_trust")
+    if isinstance(trust, dict) and trust.get("verdict", "ok") != "ok":
+        tables.append(str(trust.get("message")))
     if summary.get("responses", {}).get("dead_zone"):
         tables.append(format_dead_zone(summary["responses"]["dead_zone"]))
     if summary.get("fig3"):

@@ -6,8 +6,9 @@ ZKF/AZKF before y_k, the paper's printed equations).  The other modes come from 
 firmware's own code offline: the flight's sensor readings, at the resolution fcc decodes
 them from their frames, replayed through `sid_replay --all-rows` with the same
 identification options.  The replay in fcc's own mode is compared with fcc's rows
-(`replay_check`: largest difference of the estimates, ~ the bus's 1e-5 rad resolution when
-the replay is faithful).
+(`replay_check`: largest difference of the estimates and of the bounds, each against its
+frame's resolution, and the steps whose fault flag differs; a faithful replay stays within one
+resolution step and agrees on every flag: hil.results.trust judges it).
 """
 from __future__ import annotations
 
@@ -24,7 +25,7 @@ from hil.bus.dbc import BusSpec
 from hil.io.paths import tool
 from hil.results import metrics
 from hil.results.sidrows import ESTIMATES, ROW_MODES, read_binary_rows
-from hil.sim.drivers import FILTERS, SIGNAL_FRAMES
+from hil.sim.drivers import FILTERS, SID_PREFIX, SIGNAL_FRAMES
 from hil.sim.sid_csv import sid_csv
 from hil.util.rounding import round_half_away_many
 
@@ -103,6 +104,7 @@ class Replay:
         self._input, self._output = tempfile.TemporaryFile(), tempfile.TemporaryFile()  # noqa: SIM115 - closed by close()
         self._input.write(csv.encode("ascii"))
         self._input.seek(0)
+        self.spec = spec
         self._proc = subprocess.Popen([str(tool("sid_replay")), "--all-rows", "--estimates", "--binary",
                                        *sid_args],
                                       stdin=self._input, stdout=self._output, stderr=subprocess.PIPE)
@@ -163,8 +165,40 @@ def symmetric_tables(series: Mapping[str, np.ndarray], dt: float, flown: str,
     for mode in SYMMETRIC:
         est = fcc_rows(series) if mode == flown else replays[mode]
         tables[mode] = mode_tables(series, est, dt)
-    mine = replays[flown]
-    ours = fcc_rows(series)
-    diff = max(float(np.nanmax(np.abs(mine[f][c] - ours[f][c]))) if np.any(np.isfinite(ours[f][c])) else 0.0
-               for f in FILTERS for c in ("alpha_hat", "q_hat"))
-    return tables, {"rows": flown, "max_abs_estimate_difference": diff}
+    return tables, {"rows": flown, **cross_check(replay.spec, replays[flown], series)}
+
+
+#: the replay_check's columns: the estimates, the bounds (each against its frame's signal)
+CHECKED = {"estimate": ("STATE", ("alpha_hat", "q_hat")),
+           "bound": ("BOUNDS", ("alpha_lo", "alpha_hi", "q_lo", "q_hi"))}
+
+
+def cross_check(spec: BusSpec, replay: Mapping[str, Mapping[str, np.ndarray]],
+                series: Mapping[str, np.ndarray]) -> dict[str, Any]:
+    """fcc's rows (series) against sid_replay's in the same mode on the same readings: the
+    largest |replay - fcc| of the estimates and of the bounds (the replay saturated to the
+    frame's range as fcc's encoder does; steps without fcc's frame left out), the resolution of
+    each (`resolution`), and the steps at which fcc's fault flag (every filter's row carries
+    the AZKF detector's) differs from the replay's AZKF detector."""
+    out: dict[str, Any] = {"resolution": {}}
+    for kind, (part, cols) in CHECKED.items():
+        worst = 0.0
+        for f in FILTERS:
+            msg = spec.by_name(f"{SID_PREFIX[f]}_{part}")
+            for c in cols:
+                sig = next(x for x in msg.signals if x.name == c)
+                lo, hi = sig.raw_min / sig.inv_scale, sig.raw_max / sig.inv_scale
+                ours = np.asarray(series[f"{f}_{c}"], float)
+                theirs = np.clip(np.asarray(replay[f][c], float)[: len(ours)], lo, hi)
+                d = np.abs(theirs - ours[: len(theirs)])
+                if np.any(np.isfinite(d)):
+                    worst = max(worst, float(np.nanmax(d)))
+                out["resolution"][kind] = 1.0 / sig.inv_scale
+        out[f"max_abs_{kind}_difference"] = worst
+    detector = np.asarray(replay["azkf"]["fault"], float)
+    mismatched = np.zeros(len(detector), bool)
+    for f in FILTERS:
+        flag = np.asarray(series[f"{f}_fault"], float)[: len(detector)]
+        mismatched[: len(flag)] |= np.isfinite(flag) & (flag != detector[: len(flag)])
+    out["fault_flag_mismatches"] = int(np.count_nonzero(mismatched))
+    return out

@@ -52,11 +52,11 @@ ROW_MODES = ("paper", "prior", "posterior")
 
 
 def read_binary_rows(data: bytes, all_rows: bool) -> dict[str, dict[str, np.ndarray]]:
-    """sid_replay --estimates --binary output (rows of 8 native binary64 values: t, the
-    filter's code, ESTIMATES) -> {filter: {column: array}} with the columns t and
-    ESTIMATES, as read_rows gives the text of --estimates (filter "MODE/FILTER" with
-    --all-rows): the same numbers, none formatted or parsed."""
-    width = 2 + len(ESTIMATES)
+    """sid_replay --estimates --binary output (rows of 9 native binary64 values: t, the
+    filter's code, ESTIMATES, the fault flag) -> {filter: {column: array}} with the columns t,
+    ESTIMATES and fault, as read_rows gives the text of --estimates (filter "MODE/FILTER"
+    with --all-rows) and its fault: the same numbers, none formatted or parsed."""
+    width = 2 + len(ESTIMATES) + 1
     if len(data) % (8 * width):
         raise ValueError(f"sid_replay --binary output: {len(data)} bytes, not rows of {width} values")
     rows = np.frombuffer(data, dtype=np.float64).reshape(-1, width)
@@ -69,5 +69,6 @@ def read_binary_rows(data: bytes, all_rows: bool) -> dict[str, dict[str, np.ndar
             raise ValueError(f"sid_replay --binary output: a row of filter code {code!r}")
         picked = rows[codes == code]
         out[names[int(code)]] = {"t": picked[:, 0].copy(),
-                                 **{c: picked[:, 2 + j].copy() for j, c in enumerate(ESTIMATES)}}
+                                 **{c: picked[:, 2 + j].copy() for j, c in enumerate(ESTIMATES)},
+                                 "fault": picked[:, -1].copy()}
     return out

@@ -12,6 +12,11 @@ time (median offset over the run):
 * data age at use: each command's time minus the newest missile sensor frame before it;
 * sync offset: FCC_SYNC_STATUS.offset_us (fcc's last residual), every heartbeat.
 
+Given the run's key (``BusAuth``), only authentic frames are measured, each at its own kernel
+stamp (hil.results.buslog.authentic_frames): the master's SYNC/FOLLOW_UP once TSYNC_AUTH
+verified them, MSL_ELEV_CMD once MSL_ELEV_CMD_AUTH did, FCC_SYNC_STATUS once its heartbeat's
+FCC_STATUS_AUTH did.  A forged status or command changes no figure.
+
 realtime_timing.csv holds every sample (columns ``what``, ``us``), for the histograms
 (hil.plots.realtime); ``summarise`` gives the percentiles written into summary.json and
 run_info.json, with fcc's own histograms (``fcc summary: ...`` lines of fcc.log).
@@ -27,6 +32,7 @@ import numpy as np
 
 from hil.bus.candump import read_log
 from hil.bus.dbc import BusSpec
+from hil.results.buslog import BusAuth, authentic_frames
 
 SYNC_ID, FOLLOW_UP_ID, SYNC_STATUS_ID = 0x001, 0x002, 0x705
 GYRO_ID, ACCEL_ID, CMD_ID = 0x040, 0x041, 0x030
@@ -35,8 +41,9 @@ CSV_NAME = "realtime_timing.csv"
 _FCC_HIST = re.compile(r"^fcc summary: (\w+) (\w+) n=(\d+) p50=(\d+) p99=(\d+) max=(\d+)$")
 
 
-def bus_timing(log: Path, spec: BusSpec, period: float) -> dict[str, np.ndarray]:
-    """Per-sample timing (us) of the missile at `period` from a bus log (see module doc)."""
+def bus_timing(log: Path, spec: BusSpec, period: float, auth: BusAuth | None = None) -> dict[str, np.ndarray]:
+    """Per-sample timing (us) of the missile at `period` from a bus log (see module doc); auth:
+    only the frames that verify under it (None: every frame)."""
     sync = spec.by_name("TSYNC_SYNC")
     fup = spec.by_name("TSYNC_FOLLOW_UP")
     status = spec.by_name("FCC_SYNC_STATUS")
@@ -46,7 +53,8 @@ def bus_timing(log: Path, spec: BusSpec, period: float) -> dict[str, np.ndarray]
     cmds: list[tuple[float, float]] = []   # (time, newest sensor time before it)
     sync_offset: list[float] = []
     last_sensor = None
-    for f in read_log(log):
+    frames = read_log(log) if auth is None else authentic_frames(read_log(log), auth, own_time=True)
+    for f in frames:
         if f.frame_id == SYNC_ID and len(f.data) == 8:
             v = sync.decode(f.data)
             sync_t[int(v["seq"])] = (f.timestamp, int(v["sec"]))

@@ -25,6 +25,7 @@ from hil.results.flight import (
 )
 from hil.results.report import firmware_summary
 from hil.results.sync import sync_summary
+from hil.results.trust import Forgeries, bus_trust, faithful_replay
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import Flown, fcc_args
@@ -74,7 +75,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     drivers = flown.drivers
     spec = load()
     log = list(read_blocks(out / "bus.log"))   # read once: the flights, then the finished log
-    flights = split_flights(log, flown.auth)
+    forgeries = Forgeries()   # what the reading refused on fcc's outputs (hil.results.trust)
+    flights = split_flights(log, flown.auth, forgeries)
     if cfg.mode == "realtime":
         count_babbled(log, drivers)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
@@ -87,7 +89,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
                 raise RigError("bus.log: no authenticated flight start (SIM_CONTROL reset); the "
                                "run is not evaluated")
             res = cdrw_result(spec, cdrw_record(d), flights[0])
-            require_estimates(res, f"hil {command}'s flight", cfg.mode == "realtime")
+            require_estimates(res, f"hil {command}'s flight", cfg.mode == "realtime",
+                              forgeries.describe())
             flown_rows, sid_args = rowtables.sid_options(fcc_args(scenarios, cfg))
             # sid_replay's symmetric tables run while the files are written
             cdrw = (res, flown_rows, rowtables.Replay(spec, res.series, sid_args),
@@ -114,6 +117,9 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     finish_bus_log(out, cfg.mode, step_periods(scenarios), cfg.log_format, spec.baudrate, log)
     if cdrw is not None:
         summary["cdrw"] = _cdrw_block(*cdrw)
+    summary["bus_trust"] = bus_trust(
+        forgeries, flown.status, summary["cdrw"]["replay_check"] if cdrw is not None else None,
+        faithful_replay(cfg.mode, cfg.target, int(np.sum(cdrw[0].series["degraded"])) if cdrw else 0))
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)
@@ -123,7 +129,7 @@ def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any
     """Offset, jitter and data age of a realtime missile flight (hil.results.timing), and the
     samples behind them in realtime_timing.csv (the histograms); the simulator's hand-over
     slack and its transmitter's send lateness."""
-    t = timing.bus_timing(out / "bus.log", load(), d.period)
+    t = timing.bus_timing(out / "bus.log", load(), d.period, flown.auth)
     timing.write_csv(out / timing.CSV_NAME, t)
     log = out / "fcc.log"
     rep = timing.summarise(t, log.read_text(errors="replace") if log.is_file() else "")

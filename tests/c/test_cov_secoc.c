@@ -180,7 +180,7 @@ static void duplicate_held_frame(void **state)
     (void)state;
     setup_pair(4u);
     uint32_t i = 0u;
-    assert_true(fcc_secoc_secured_index(FCC_MSG_MSL_ELEV_CMD, &i));
+    assert_true(fcc_secoc_secured_index(FCC_MSG_SIM_TICK, &i));
     uint8_t pdu[8];
     uint8_t out[8];
     fcc_can_frame_t auth;

@@ -296,10 +296,11 @@ static int deliver_until(bus_t *b, uint64_t t)
     return 0;
 }
 
-static void sleep_until(uint64_t t)
+/* true: t has come; false: a signal came first (EINTR). */
+static bool sleep_until(uint64_t t)
 {
     const struct timespec ts = {(time_t)(t / NS_PER_S), (long)(t % NS_PER_S)};
-    (void)clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL); /* EINTR: a signal */
+    return clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == 0;
 }
 
 /* Nothing on the bus: wait for a frame or a signal (blocked between the look at the flags
@@ -370,8 +371,8 @@ static int run(bus_t *b)
             wait_for_frames(b);
             continue;
         }
-        sleep_until(next);
-        if (is_eof && (rc = deliver_until(b, next)) != 0) {
+        /* woken early by a signal: nothing is due yet, the loop looks again */
+        if (sleep_until(next) && is_eof && (rc = deliver_until(b, next)) != 0) {
             return rc;
         }
     }

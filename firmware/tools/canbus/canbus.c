@@ -20,8 +20,9 @@
  *
  * A node's frames stay in the kernel's receive queue of its endpoint while
  * its queue in the core is full (its controller's queue: backpressure as a
- * qdisc gives it); frames the kernel drops there (SO_RXQ_OVFL) and
- * deliveries that fail are counted: exit 3.
+ * qdisc gives it); frames the kernel drops there (SO_RXQ_OVFL), frames a
+ * pair drops on the way (its interfaces' drop counters, read with each
+ * report) and deliveries that fail are counted: exit 3.
  *
  * Measured (canbus_stats.h): each frame's response time per identifier, and
  * how long after the model's end of frame its last write returned (the
@@ -75,6 +76,7 @@ typedef struct {
     canbus_stats_t stats;
     int sock[CANBUS_NODES_MAX];
     uint32_t drops_seen[CANBUS_NODES_MAX]; /* SO_RXQ_OVFL as last read */
+    uint64_t link_drops[CANBUS_NODES_MAX];  /* the pair's drop counters at the start */
     struct pollfd pfd[CANBUS_NODES_MAX];
     int64_t rt_offset;                      /* CLOCK_REALTIME - CLOCK_MONOTONIC, ns */
     uint64_t offset_at;
@@ -128,6 +130,45 @@ static void take_offset(bus_t *b, uint64_t now)
     b->offset_at = now;
 }
 
+/* One counter of /sys/class/net/IFACE/statistics (0 where it cannot be read). */
+static uint64_t link_stat(const char *iface, const char *name)
+{
+    char path[96];
+    unsigned long long v = 0u;
+    (void)snprintf(path, sizeof path, "/sys/class/net/%s/statistics/%s", iface, name);
+    FILE *f = fopen(path, "r");
+    if (f != NULL) {
+        if (fscanf(f, "%llu", &v) != 1) {
+            v = 0u;
+        }
+        (void)fclose(f);
+    }
+    return (uint64_t)v;
+}
+
+/* Frames the pair of endpoint i dropped on the way from the node to canbus or back (vxcan
+ * counts a frame the kernel's backlog refused as tx_dropped of the sending end, rx_dropped of
+ * the receiving one): both ends' counters.  The peer is found by its index (iflink). */
+static uint64_t link_drops(const char *iface)
+{
+    char path[96];
+    char peer[IF_NAMESIZE] = "";
+    unsigned idx = 0u;
+    (void)snprintf(path, sizeof path, "/sys/class/net/%s/iflink", iface);
+    FILE *f = fopen(path, "r");
+    if (f != NULL) {
+        if (fscanf(f, "%u", &idx) != 1 || if_indextoname(idx, peer) == NULL) {
+            peer[0] = '\0';
+        }
+        (void)fclose(f);
+    }
+    uint64_t n = link_stat(iface, "rx_dropped") + link_stat(iface, "tx_dropped");
+    if (peer[0] != '\0' && strcmp(peer, iface) != 0) {
+        n += link_stat(peer, "rx_dropped") + link_stat(peer, "tx_dropped");
+    }
+    return n;
+}
+
 /* canbus's end of one node's pair: classic frames, receive times, the drop counter, a
  * large receive queue, non-blocking; its own writes not looped back to it. */
 static int open_endpoint(bus_t *b, uint32_t i)
@@ -171,6 +212,7 @@ static int open_endpoint(bus_t *b, uint32_t i)
     }
     b->pfd[i].fd = s;
     b->pfd[i].events = POLLIN;
+    b->link_drops[i] = link_drops(iface);
     return 0;
 }
 
@@ -319,6 +361,21 @@ static void wait_for_frames(bus_t *b)
     (void)sigprocmask(SIG_SETMASK, &old, NULL);
 }
 
+/* What the pairs dropped since the start (on neither socket's counter): lost, and said. */
+static void count_link_drops(bus_t *b)
+{
+    for (uint32_t i = 0u; i < b->core.nodes; ++i) {
+        const uint64_t now = link_drops(b->o->node[i].iface);
+        if (now > b->link_drops[i]) {
+            b->stats.node[i].lost += now - b->link_drops[i];
+            fprintf(stderr, "canbus: %s: %llu frame%s dropped by the pair (ip -s link)\n",
+                    b->o->node[i].iface, (unsigned long long)(now - b->link_drops[i]),
+                    now - b->link_drops[i] == 1u ? "" : "s");
+        }
+        b->link_drops[i] = now;
+    }
+}
+
 static void fill_stats(bus_t *b)
 {
     canbus_stats_t *s = &b->stats;
@@ -337,6 +394,7 @@ static void fill_stats(bus_t *b)
 
 static int report(bus_t *b)
 {
+    count_link_drops(b);
     fill_stats(b);
     if (canbus_stats_json(&b->stats, stdout) != FCC_OK) {
         return fail("cannot write the statistics to", "stdout", errno != 0 ? errno : EIO);

@@ -1,0 +1,108 @@
+/*
+ * canbus_stats.c -- canbus's measurements and their JSON line (see canbus_stats.h).
+ */
+#include "canbus_stats.h"
+
+#include <string.h>
+
+void canbus_stats_init(canbus_stats_t *s, uint32_t bitrate)
+{
+    memset(s, 0, sizeof *s);
+    s->bitrate = bitrate;
+    canbus_hist_init(&s->delivery);
+}
+
+static canbus_id_stats_t *id_stats(canbus_stats_t *s, const canbus_frame_t *f)
+{
+    for (uint32_t i = 0u; i < s->ids; ++i) {
+        if (s->id[i].id == f->id && s->id[i].ext == f->ext) {
+            return &s->id[i];
+        }
+    }
+    if (s->ids == CANBUS_IDS_MAX) {
+        return NULL;
+    }
+    canbus_id_stats_t *n = &s->id[s->ids++];
+    n->id = f->id;
+    n->ext = f->ext;
+    canbus_hist_init(&n->response);
+    return n;
+}
+
+void canbus_stats_frame(canbus_stats_t *s, const canbus_done_t *d, uint64_t bit_ns)
+{
+    ++s->frames;
+    s->busy_ns += (uint64_t)d->bits * bit_ns;
+    if (d->node < s->nodes) {
+        ++s->node[d->node].sent;
+    }
+    canbus_id_stats_t *i = id_stats(s, &d->frame);
+    if (i == NULL) {
+        ++s->ids_untracked;
+        return;
+    }
+    canbus_hist_add(&i->response, d->t_eof - d->t_queued);
+}
+
+void canbus_stats_delivery(canbus_stats_t *s, uint64_t eof_ns, uint64_t delivered_ns)
+{
+    if (delivered_ns < eof_ns) {
+        ++s->early;
+        canbus_hist_add(&s->delivery, 0u);
+        return;
+    }
+    canbus_hist_add(&s->delivery, delivered_ns - eof_ns);
+}
+
+uint64_t canbus_stats_lost(const canbus_stats_t *s)
+{
+    uint64_t lost = 0u;
+    for (uint32_t i = 0u; i < s->nodes; ++i) {
+        lost += s->node[i].lost;
+    }
+    return lost;
+}
+
+static double seconds(uint64_t ns)
+{
+    return (double)ns * 1e-9;
+}
+
+/* "n", "p50_s", "p99_s", "max_s" of h (in the same units as summary.json's bus frames). */
+static void put_hist(FILE *out, const canbus_hist_t *h)
+{
+    fprintf(out, "{\"n\": %llu, \"p50_s\": %.9f, \"p99_s\": %.9f, \"max_s\": %.9f",
+            (unsigned long long)h->n, seconds(canbus_hist_quantile(h, 50u, 100u)),
+            seconds(canbus_hist_quantile(h, 99u, 100u)), seconds(h->max));
+}
+
+fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
+{
+    const double busy = seconds(s->busy_ns);
+    fprintf(out, "{\"bitrate\": %lu, \"frames\": %llu, \"busy_s\": %.9f, \"load\": %.4f, "
+            "\"wall_s\": %.6f, \"cpu_s\": %.6f, \"pending\": %llu, \"lost\": %llu, "
+            "\"late_queued\": %llu, \"delivery_error\": ",
+            (unsigned long)s->bitrate, (unsigned long long)s->frames, busy,
+            s->wall_s > 0.0 ? busy / s->wall_s : 0.0, s->wall_s, s->cpu_s,
+            (unsigned long long)s->pending, (unsigned long long)canbus_stats_lost(s),
+            (unsigned long long)s->late_queued);
+    put_hist(out, &s->delivery);
+    fprintf(out, ", \"early\": %llu}, \"nodes\": [", (unsigned long long)s->early);
+    for (uint32_t i = 0u; i < s->nodes; ++i) {
+        const canbus_node_stats_t *n = &s->node[i];
+        fprintf(out, "%s{\"iface\": \"%s\", \"policy\": \"%s\", \"sent\": %llu, "
+                "\"received\": %llu, \"lost\": %llu}", i > 0u ? ", " : "", n->iface,
+                n->policy == CANBUS_FIFO ? "fifo" : "prio", (unsigned long long)n->sent,
+                (unsigned long long)n->received, (unsigned long long)n->lost);
+    }
+    fputs("], \"ids\": {", out);
+    for (uint32_t i = 0u; i < s->ids; ++i) {
+        const canbus_id_stats_t *d = &s->id[i];
+        fprintf(out, d->ext ? "%s\"0x%08lX\": " : "%s\"0x%03lX\": ", i > 0u ? ", " : "",
+                (unsigned long)d->id);
+        put_hist(out, &d->response);
+        fputc('}', out);
+    }
+    fprintf(out, "}, \"ids_untracked\": %llu}\n", (unsigned long long)s->ids_untracked);
+    return fflush(out) == 0 && !ferror(out) ? FCC_OK : FCC_ERR_IO;
+}

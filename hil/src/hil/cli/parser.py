@@ -278,6 +278,16 @@ def build() -> argparse.ArgumentParser:
     lv.add_argument("--dbc", type=Path, metavar="PATH",
                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
+    ij = sub.add_parser("inject", help="a fault into a realtime flight while it flies (as --fault; "
+                        "without start: from the next step)")
+    ij.add_argument("fault", metavar="FAULT", help="e.g. stuck:signal=q_g,duration=1 (see `hil faults`)")
+    ij.add_argument("--out", type=Path, metavar="DIR",
+                    help="the run's --out (default: the one run flying under out/)")
+    ij.add_argument("--key-file", type=Path, metavar="PATH",
+                    help="the run's --key-file (default: its session.key)")
+    ij.add_argument("--timeout", type=positive, default=10.0, metavar="S",
+                    help="seconds to wait for the rig's answer (default 10)")
+
     add_bus(sub)
 
     fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")

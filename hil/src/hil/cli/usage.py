@@ -16,6 +16,8 @@ EXIT_DIED = 4
 EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
+#: `hil inject`: the request refused (no realtime run flying, not the run's key, the rig said no)
+EXIT_REFUSED = 8
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 
@@ -44,6 +46,9 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                 "was attacked (forged or replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), "
                 "refused (the authenticated master implausible against fcc's clock) or lost; "
                 "one line names it, summary.json's `sync` has the counters"),
+    (EXIT_REFUSED, "`hil inject`: refused, nothing injected: no realtime run flies into `--out` "
+                   "(none, or a lockstep one), no key or not the run's key, or the rig refused "
+                   "the request (replayed, a CDRW fault, after the end of the flight)"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
                   "file removed, partial results kept marked `FAILED`"),
     (EXIT_SIGTERM, "SIGTERM: as SIGINT"),

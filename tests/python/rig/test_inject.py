@@ -91,6 +91,20 @@ def test_applied_from_the_next_step_into_the_fault_list(missile):
     assert [(e.action, round(e.t, 3)) for e in d.events] == [("start", 0.3), ("end", 0.8)]
 
 
+def test_a_frame_fault_goes_to_the_frame_injector(missile):
+    d, ch = missile
+    rid, _ = _request(ch.dir, inject.with_start("loss:frame=MSL_ACCELEROMETER,duration=0.2"), KEY)
+    inject.apply_requests(ch, [d], {id(d): 0})
+    assert _ack(ch.dir, rid)["ok"] and [f.kind for f in d.injector.faults] == ["loss"]
+    names = []
+    for _ in range(3):
+        names.append({f.name for f in d.frames_for_step()})
+        d.sim.advance(0)
+        d.k += 1
+    assert ["MSL_ACCELEROMETER" in n for n in names] == [False, False, True]
+    assert all("MSL_RATE_GYRO" in n for n in names)
+
+
 def test_refused_without_the_key_replayed_or_after_the_end(missile):
     d, ch = missile
     rid, _ = _request(ch.dir, "stuck:signal=q_g,start=0,duration=1", bytes(16))

@@ -28,7 +28,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                   "options), another fcc already on the bus or a second fcc heard during the run, "
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "
                   "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference; "
-                  "`hil bus wcrt`: a frame misses its deadline or has no bounded response time"),
+                  "`hil bus wcrt`: a frame misses its deadline or has no bounded response time; "
+                  "`hil inject`: the rig did not answer within `--timeout`"),
     (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
                  "the simulator does not send for that aircraft), a flight too long for the memory "
                  "available, a foreign `--out`, a user's file `--force` would overwrite, a file "

@@ -12,7 +12,7 @@ import time
 from hil.bus import load
 from hil.bus.canif import check_up, open_error
 from hil.cli.usage import UsageError
-from hil.rig import live
+from hil.rig import live, liveplot
 
 
 def run(args: argparse.Namespace) -> int:
@@ -20,7 +20,6 @@ def run(args: argparse.Namespace) -> int:
     spec = load()
     chart = None
     if args.plot or args.log is not None or args.follow is not None:
-        from hil.rig import liveplot
         try:
             chart = liveplot.Chart(spec, [s for s in args.signals.split(",") if s.strip()])
         except ValueError as e:

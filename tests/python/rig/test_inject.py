@@ -120,7 +120,7 @@ def test_refused_without_the_key_replayed_or_after_the_end(missile):
     rid, _ = _request(ch.dir, "bias:signal=n_a,start=0,duration=1,magnitude=1", KEY)
     inject.apply_requests(ch, [d], {id(d): 100})   # the flight's 100 steps are made
     ack = _ack(ch.dir, rid)
-    assert not ack["ok"] and "ends at 10 s" in ack["line"] and len(d.scenario.faults) == 1
+    assert not ack["ok"] and "last step is at 9.9 s" in ack["line"] and len(d.scenario.faults) == 1
     rid, _ = _request(ch.dir, "stuck:signal=alpha,start=0,duration=1", KEY)
     inject.apply_requests(ch, [d], {id(d): 1})
     assert "field 'signal'" in _ack(ch.dir, rid)["line"]

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import os
 import re
 import shutil
@@ -41,6 +42,7 @@ from typing import TYPE_CHECKING, Any
 
 from hil.bus import load
 from hil.bus.secoc import KeyedCmac, same_mac
+from hil.scenario.faults import T_EPS
 from hil.scenario.file import parse_flight_fault
 from hil.scenario.schema import ScenarioError
 
@@ -53,7 +55,6 @@ STATE = "state.json"
 MAX_REQUEST = 4096
 #: a fault spec longer than this is refused
 MAX_FAULT = 512
-_ID = re.compile(r"[0-9a-f]{32}")
 _REQ = re.compile(r"req-([0-9a-f]{32})\.json")
 
 
@@ -107,7 +108,7 @@ class InjectChannel:
         one refused is answered)."""
         try:
             names = sorted(e.name for e in os.scandir(self.dir) if e.name.startswith("req-"))
-        except FileNotFoundError:
+        except OSError:   # the channel is gone or unreadable: the flight flies on without it
             return []
         out = []
         for name in names:
@@ -156,9 +157,12 @@ class InjectChannel:
         return fault, None
 
     def answer(self, rid: str, ok: bool, line: str, **facts: Any) -> None:
-        if not self.dir.is_dir():
-            return
-        _write_json(self.dir / f"ack-{rid}.json", {"ok": ok, "line": line, **facts})
+        """The answer `hil inject` waits for; one that cannot be written (the channel gone, a
+        full disk) is not: the flight flies on, the sender's wait ends in its time-out."""
+        try:
+            _write_json(self.dir / f"ack-{rid}.json", {"ok": ok, "line": line, **facts})
+        except OSError:
+            pass
 
     def close(self) -> None:
         """Requests not taken are refused by the removal (their sender sees no rig)."""
@@ -172,16 +176,16 @@ def apply_requests(channel: InjectChannel, drivers: Sequence[AppDriver], next_st
         try:
             d, fault = _fault_for(req.fault, drivers)
             k = next_step[id(d)]
-            start = max(fault.start, k * d.period)
-            if start >= d.scenario.duration:
-                raise ScenarioError(f"the {d.name}'s flight ends at {d.scenario.duration:g} s, "
-                                    f"before the fault could start ({start:g} s)")
-            fault = dataclasses.replace(fault, start=start)
+            # the first step at or after its start, not before the next one to be made
+            applied = max(k, math.ceil(fault.start / d.period - T_EPS))
+            if applied >= d.n_steps:
+                raise ScenarioError(f"the {d.name}'s last step is at {(d.n_steps - 1) * d.period:g} s: "
+                                    f"the fault would start after it")
+            fault = dataclasses.replace(fault, start=max(fault.start, k * d.period))
             d.inject(fault)
         except (ScenarioError, ValueError) as e:
             channel.answer(req.rid, False, str(e).splitlines()[0])
             continue
-        applied = next(j for j in range(k, d.n_steps + 1) if fault.active(j * d.period))
         channel.answer(req.rid, True, f"{d.name}: {fault.describe()} from step {applied} "
                        f"(t = {applied * d.period:.3f} s)", aircraft=d.name, fault=fault.describe(),
                        received_step=k, step=applied, t=applied * d.period)
@@ -243,6 +247,3 @@ def check_fault(text: str, state: Mapping[str, Any]) -> None:
     parse_flight_fault(text, {a: float(v["duration"]) for a, v in aircraft.items()},
                        "hil inject: fault " + repr(text), {m.name for m in load().messages})
 
-
-def valid_id(rid: str) -> bool:
-    return _ID.fullmatch(rid) is not None

@@ -4,7 +4,7 @@ Host: the rig's end of the channel on a real missile driver (applied from the ne
 its fault list; a request without the run's key, replayed, for the CDRW, after the end:
 refused and answered).  vcan: a realtime missile run takes a stuck gyro mid-flight (faults.log,
 the CSV, summary.json at the step it was applied; refused without the key, replayed, or for a
-lockstep run; exit 8 and one line).
+lockstep run; exit 9 and one line).
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """`hil inject FAULT`: a fault into a realtime flight while it flies (hil.rig.inject).
 
 One line on stdout when the rig applied it (the aircraft, the fault as applied, its step and
-time); one line on stderr and exit 8 (EXIT_REFUSED) when refused, 2 for a fault the flight
+time); one line on stderr and exit 9 (EXIT_REFUSED) when refused, 2 for a fault the flight
 cannot take, 1 when the rig did not answer in time.
 """
 from __future__ import annotations

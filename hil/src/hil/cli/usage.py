@@ -17,7 +17,7 @@ EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
 #: `hil inject`: the request refused (no realtime run flying, not the run's key, the rig said no)
-EXIT_REFUSED = 8
+EXIT_REFUSED = 9
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 

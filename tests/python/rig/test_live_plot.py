@@ -21,6 +21,7 @@ from hil.bus.candump import LogFrame
 from hil.bus.logio import write_candump
 from hil.cli.usage import EXIT_USAGE
 from hil.rig.liveplot import Chart
+from hil.sim.frame_faults import KIND_CODES
 from rig_helpers import cli
 
 SPEC = load()
@@ -53,7 +54,8 @@ def _serve(*args: str) -> tuple[subprocess.Popen, str]:
 
 
 def _recorded(path: Path, n: int) -> Path:
-    """A candump log of n missile steps at 10 Hz: the gyro and fcc's estimate, DBC-encoded."""
+    """A candump log of n missile steps at 10 Hz: the gyro and fcc's estimate, DBC-encoded (and,
+    from 20 steps on, a stuck gyro's SIM_EVENT start at step 10 and end at step 20)."""
     sim, fcc = FrameCodec(SPEC, SIM_NODES), FrameCodec(SPEC, "FCC")
     frames = []
     for k in range(n):
@@ -63,6 +65,10 @@ def _recorded(path: Path, n: int) -> Path:
         fid, data = fcc.encode("MSL_STATE_EST", {"q_hat": 0.01 * k, "alpha_t_hat": 0.0, "w_g_hat": 0.0,
                                                  "step": k & 0xFF})
         frames.append(LogFrame(t + 0.004, "vcan0", fid, data))
+        if k in (10, 20):   # a stuck gyro from step 10 to step 20, as the simulator says it
+            fid, data = sim.encode("SIM_EVENT", {"active": int(k == 10), "oracle_fault": 0, "fault_id": 0,
+                                                 "kind": KIND_CODES["stuck"], "target_id": 0x101, "step": k})
+            frames.append(LogFrame(t - 0.001, "vcan0", fid, data))
     write_candump(path, frames)
     return path
 
@@ -72,11 +78,13 @@ def test_chart_of_a_recorded_log_in_headless_chromium(tmp_path):
     proc, url = _serve("--log", str(log), "--seconds", "300", "--signals", "q_g,MSL_STATE_EST.q_hat")
     try:
         data = json.loads(urllib.request.urlopen(url + "data?since=0", timeout=10).read())
-        assert data["signals"] == ["MSL_RATE_GYRO.q_g", "MSL_STATE_EST.q_hat"] and data["seq"] == 100
+        assert data["signals"] == ["MSL_RATE_GYRO.q_g", "MSL_STATE_EST.q_hat"] and data["seq"] == 102
         assert data["points"]["MSL_RATE_GYRO.q_g"][49] == [pytest.approx(4.9), pytest.approx(0.49, abs=1e-3)]
+        assert data["faults"] == [[pytest.approx(0.999), pytest.approx(1.999), "stuck on 0x101"]]
         page = urllib.request.urlopen(url, timeout=10).read().decode()
         assert "<script" in page and "http" not in page.split("<script", 1)[1]   # nothing fetched elsewhere
-        assert _points_drawn(_browser_dom(url)) == 100
+        dom = _browser_dom(url)
+        assert _points_drawn(dom) == 100 and re.search(r'<canvas id="chart"[^>]*data-faults="1"', dom)
         req = urllib.request.Request(url, headers={"Host": "rebound.example:80"})
         with pytest.raises(urllib.error.HTTPError) as e:
             urllib.request.urlopen(req, timeout=10)
@@ -94,11 +102,12 @@ def test_signals_are_checked(tmp_path, capsys):
         Chart(SPEC, ["step"])
 
 
-def _seq_reaches(url: str, n: int) -> int:
+def _points_reach(url: str, n: int) -> int:
     """The chart's point count once it has n (or what it has after 30 s)."""
     seen, deadline = 0, time.monotonic() + 30
     while seen < n and time.monotonic() < deadline:
-        seen = json.loads(urllib.request.urlopen(url + "data?since=0", timeout=10).read())["seq"]
+        data = json.loads(urllib.request.urlopen(url + "data?since=0", timeout=10).read())
+        seen = sum(len(pts) for pts in data["points"].values())
         time.sleep(0.05)
     return seen
 
@@ -112,12 +121,12 @@ def test_follow_charts_a_growing_log_as_it_grows(tmp_path):
     proc, url = _serve("--follow", str(tmp_path / "run"), "--seconds", "300", "--signals", "q_g")
     try:
         with open(live, "w") as fh:
-            fh.write("".join(frames[:40]) + frames[40][:10])   # 20 steps and half a line
+            fh.write("".join(frames[:20]) + frames[20][:10])   # 10 steps and half a line
             fh.flush()
-            assert _seq_reaches(url, 20) == 20
-            fh.write(frames[40][10:] + "".join(frames[41:]))
+            assert _points_reach(url, 10) == 10
+            fh.write(frames[20][10:] + "".join(frames[21:]))
             fh.flush()
-            assert _seq_reaches(url, 40) == 40
+            assert _points_reach(url, 40) == 40
         assert _points_drawn(_browser_dom(url)) == 40
     finally:
         proc.kill()
@@ -139,7 +148,7 @@ def test_chart_of_a_flying_run(tmp_path, capsys):
         assert rc == 0 or (rc == 7 and "time sync lost" in err), err
         # the run is over: every frame of it was on the bus before its end; the chart has them
         # once `hil live` has read its socket's queue
-        assert _seq_reaches(url, 200) == 200   # the 100 steps' gyro readings and estimates
+        assert _points_reach(url, 200) == 200   # the 100 steps' gyro readings and estimates
         assert _points_drawn(_browser_dom(url)) > 0
     finally:
         proc.kill()

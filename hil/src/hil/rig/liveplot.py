@@ -8,12 +8,15 @@ in headless Chromium.  Everything is inline (the page's script draws on a canvas
 fetched but the page's own data, no CDN.
 
     GET /              the page: it asks for /data every 250 ms and draws the last WINDOW_S
-    GET /data?since=N  {"signals": [...], "seq": M, "points": {signal: [[t, value], ...]}}:
-                       the points after sequence number N (t: s since the first frame)
+    GET /data?since=N  {"signals": [...], "seq": M, "points": {signal: [[t, value], ...]},
+                       "faults": [[start, end, what], ...]}: the points after sequence number N
+                       (t: s since the first frame), and every fault window the simulator's
+                       SIM_EVENT frames told (end null: still active), shaded on the chart
 
-The page's canvas carries the number of points it drew in ``data-points`` (what the test
-reads).  A request whose Host is not this server's own address is refused (403): a web page
-of another site cannot read the bus through a DNS name rebound to 127.0.0.1.
+The page's canvas carries the number of points it drew in ``data-points`` and of fault
+windows it shaded in ``data-faults`` (what the test reads).  A request whose Host is not this
+server's own address is refused (403): a web page of another site cannot read the bus through a
+DNS name rebound to 127.0.0.1.
 """
 from __future__ import annotations
 
@@ -29,6 +32,7 @@ from urllib.parse import parse_qs, urlparse
 
 from hil.bus.candump import LogFrame, parse_line
 from hil.bus.dbc import BusSpec
+from hil.rig.live import KIND_NAMES
 
 #: what the chart shows unless told: the missile's measured pitch rate and fcc's estimate of
 #: it, the CDRW's measured angle of attack and the AZKF's estimate
@@ -77,10 +81,15 @@ class Chart:
         self._lock = threading.Lock()
         self._seq = 0
         self._t0: float | None = None
+        self._event_id = spec.by_name("SIM_EVENT").frame_id
+        #: the simulator's fault windows as its SIM_EVENT frames tell them: [start, end or
+        #: None, "kind on 0xID"], open ones by fault id
+        self.faults: list[list[Any]] = []
+        self._open: dict[int, list[Any]] = {}
 
     def add(self, frame_id: int, data: bytes, t: float) -> None:
         wanted = self._by_id.get(frame_id)
-        if not wanted:
+        if not wanted and frame_id != self._event_id:
             return
         msg = self.spec.by_id(frame_id)
         if msg is None or len(data) != msg.length:
@@ -89,9 +98,23 @@ class Chart:
         with self._lock:
             if self._t0 is None:
                 self._t0 = t
-            for label, sig in wanted:
+            if frame_id == self._event_id:
+                self._event(vals, t - self._t0)
+                return
+            for label, sig in wanted or ():
                 self._seq += 1
                 self._points[label].append((self._seq, t - self._t0, float(vals[sig])))
+
+    def _event(self, vals: dict[str, Any], t: float) -> None:
+        fid = int(vals["fault_id"])
+        if vals["active"] and fid not in self._open:
+            kind = KIND_NAMES.get(int(vals["kind"]), f"kind {int(vals['kind'])}")
+            window = [round(t, 6), None, f"{kind} on 0x{int(vals['target_id']):03X}"]
+            self.faults.append(window)
+            self._open[fid] = window
+        elif not vals["active"] and fid in self._open:
+            self._open.pop(fid)[1] = round(t, 6)
+        self._seq += 1   # the page asks again for what changed
 
     def load(self, frames: Iterable[LogFrame]) -> None:
         """A recorded bus log's frames, at their own times."""
@@ -103,7 +126,8 @@ class Chart:
         with self._lock:
             points = {label: [[round(t, 6), v] for s, t, v in pts if s > seq]
                       for label, pts in self._points.items()}
-            return {"signals": [label for label, _, _ in self.signals], "seq": self._seq, "points": points}
+            return {"signals": [label for label, _, _ in self.signals], "seq": self._seq, "points": points,
+                    "faults": [list(w) for w in self.faults]}
 
 
 def growing_log(out: Path) -> Path | None:
@@ -190,14 +214,14 @@ canvas { border: 1px solid #bbb; }
 <body>
 <h1 style="font-size:18px">hil live: the bus, last @WINDOW@ s</h1>
 <div id="legend"></div>
-<canvas id="chart" width="1100" height="460" data-points="0"></canvas>
+<canvas id="chart" width="1100" height="460" data-points="0" data-faults="0"></canvas>
 <p id="status">waiting for data</p>
 <script>
 "use strict";
 const WINDOW = @WINDOW@;
 const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf"];
 const series = {};
-let order = [], seq = 0;
+let order = [], seq = 0, faults = [];
 const canvas = document.getElementById("chart"), ctx = canvas.getContext("2d");
 
 function legend() {
@@ -230,6 +254,17 @@ function draw() {
     const t = tmin + span * i / 4;
     ctx.fillText(t.toFixed(1) + " s", Math.min(x(t) - 14, W - 50), H - 10);
   }
+  let shaded = 0;
+  ctx.fillStyle = "rgba(214, 39, 40, 0.12)";
+  for (const f of faults) {
+    const a = Math.max(f[0], tmin), b = f[1] === null ? tmax : Math.min(f[1], tmax);
+    if (b <= a) continue;
+    ctx.fillRect(x(a), T, x(b) - x(a), H - T - B);
+    ctx.fillStyle = "#a00"; ctx.fillText(f[2], x(a) + 3, T + 12 + 14 * (shaded % 3));
+    ctx.fillStyle = "rgba(214, 39, 40, 0.12)";
+    shaded++;
+  }
+  canvas.dataset.faults = String(shaded);
   let drawn = 0;
   order.forEach((s, i) => {
     ctx.strokeStyle = COLORS[i % COLORS.length]; ctx.lineWidth = 1.5; ctx.beginPath();
@@ -250,6 +285,7 @@ async function poll() {
     const j = await r.json();
     if (order.length === 0) { order = j.signals; for (const s of order) series[s] = []; legend(); }
     seq = j.seq;
+    faults = j.faults;
     for (const s of order) {
       const pts = series[s];
       for (const p of j.points[s] || []) pts.push(p);

@@ -329,6 +329,30 @@ def build() -> argparse.ArgumentParser:
                     help="redraw in place even when stdout is not a terminal (e.g. inside scripts/with-vcan)")
     lv.add_argument("--dbc", type=Path, metavar="PATH",
                     help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
+    lv.add_argument("--plot", action="store_true",
+                    help="also a chart of --signals in the browser, streaming (served on 127.0.0.1)")
+    lv.add_argument("--signals", default="MSL_RATE_GYRO.q_g,MSL_STATE_EST.q_hat,CDRW_AOA.alpha,"
+                    "SID_AZKF_STATE.alpha_hat", metavar="MSG.SIG,...",
+                    help="the chart's signals, MESSAGE.signal or a signal only one message has "
+                    "(default: the missile's q_g and q_hat, the CDRW's alpha and the AZKF's estimate)")
+    lv.add_argument("--port", type=int, default=8765, metavar="N",
+                    help="the chart's port on 127.0.0.1 (default 8765; 0: any free one)")
+    g = lv.add_mutually_exclusive_group()
+    g.add_argument("--log", type=Path, metavar="BUS.LOG",
+                   help="chart a recorded bus log (candump -L, ASC, BLF) instead of the bus")
+    g.add_argument("--follow", type=Path, metavar="OUT",
+                   help="chart the bus log of the run flying into --out OUT as it is recorded (e.g. "
+                   "the chart on the host, the run inside scripts/with-vcan)")
+
+    ij = sub.add_parser("inject", help="a fault into a realtime flight while it flies (as --fault; "
+                        "without start: from the next step)")
+    ij.add_argument("fault", metavar="FAULT", help="e.g. stuck:signal=q_g,duration=1 (see `hil faults`)")
+    ij.add_argument("--out", type=Path, metavar="DIR",
+                    help="the run's --out (default: the one run flying under out/)")
+    ij.add_argument("--key-file", type=Path, metavar="PATH",
+                    help="the run's --key-file (default: its session.key)")
+    ij.add_argument("--timeout", type=positive, default=10.0, metavar="S",
+                    help="seconds to wait for the rig's answer (default 10)")
 
     add_bus(sub)
 

@@ -18,6 +18,8 @@ EXIT_VERIFY_ERROR = 6
 EXIT_SYNC = 7
 #: --rig: the warm rig is flying another client's command (hil.parallel.warm.RigBusy)
 EXIT_RIG_BUSY = 8
+#: `hil inject`: the request refused (no realtime run flying, not the run's key, the rig said no)
+EXIT_REFUSED = 9
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 
@@ -28,7 +30,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                   "options), another fcc already on the bus or a second fcc heard during the run, "
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "
                   "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference; "
-                  "`hil bus wcrt`: a frame misses its deadline or has no bounded response time"),
+                  "`hil bus wcrt`: a frame misses its deadline or has no bounded response time; "
+                  "`hil inject`: the rig did not answer within `--timeout`"),
     (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
                  "the simulator does not send for that aircraft, nested too deeply), a flight too "
                  "long for the memory available, a foreign `--out`, a user's file `--force` would "
@@ -56,6 +59,9 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                 "it, summary.json's `sync` or `bus_trust` has the counters"),
     (EXIT_RIG_BUSY, "`--rig`: the warm rig is flying another client's command: nothing is started "
                     "(one command at a time; try again when it is done)"),
+    (EXIT_REFUSED, "`hil inject`: refused, nothing injected: no realtime run flies into `--out` "
+                   "(none, or a lockstep one), no key or not the run's key, or the rig refused "
+                   "the request (replayed, a CDRW fault, after the end of the flight)"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
                   "file removed, partial results kept marked `FAILED`; while hil is still starting "
                   "(before it has started anything), the one line at once"),

@@ -30,8 +30,10 @@ E2E = (("FCC_E2E_COUNTS", ("ok", "repeated", "ok_some_lost", "wrong_sequence")),
 class BusView:
     """The latest decoded value of every message, and message rates over the last second."""
 
-    def __init__(self, spec: BusSpec) -> None:
+    def __init__(self, spec: BusSpec, also: Callable[[int, bytes, float], None] | None = None) -> None:
+        """also: every frame goes there too (`hil live --plot`'s chart, hil.rig.liveplot)."""
         self.spec = spec
+        self.also = also
         self.values: dict[str, dict[str, Any]] = {}
         self.arrivals: dict[str, deque[float]] = defaultdict(lambda: deque(maxlen=2000))
         self.faults: dict[int, str] = {}
@@ -40,6 +42,8 @@ class BusView:
     def add(self, frame_id: int, data: bytes, t: float) -> None:
         msg = self.spec.by_id(frame_id)
         self.frames += 1
+        if self.also is not None:
+            self.also(frame_id, data, t)
         if msg is None or len(data) != msg.length:
             return
         vals = msg.decode(data)
@@ -84,13 +88,18 @@ class BusView:
 
 
 def run(iface: str, seconds: float, spec: BusSpec, force_rich: bool = False, refresh_s: float = 0.25,
-        recv: Callable[[float], Any] | None = None) -> BusView:
-    """Watch the bus for `seconds`; returns the final view."""
+        recv: Callable[[float], Any] | None = None,
+        also: Callable[[int, bytes, float], None] | None = None,
+        ready: Callable[[], None] | None = None) -> BusView:
+    """Watch the bus for `seconds`; returns the final view (also: as BusView's; ready: called
+    once the bus is open, every frame from then on is seen)."""
     import can
 
-    view = BusView(spec)
+    view = BusView(spec, also)
     fancy = force_rich or sys.stdout.isatty()
     with can.Bus(interface="socketcan", channel=iface) as bus:
+        if ready is not None:
+            ready()
         receive = recv or bus.recv
         end = time.monotonic() + seconds
         if fancy:

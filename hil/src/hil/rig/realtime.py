@@ -36,6 +36,7 @@ from collections.abc import Callable, Sequence
 
 from hil.bus.protocol import COMMAND_FLIGHT, SYNC_HAS_TIME, SYNC_LOCKED
 from hil.rig.errors import RigError
+from hil.rig.inject import apply_requests
 from hil.rig.session import RigSession
 from hil.rig.timesync import TimeMaster
 from hil.rig.txsched import TimedSender
@@ -133,6 +134,9 @@ class RealtimeRunner:
                 self._t0 - min(d.period for d in drivers) / 2)
             for d in drivers:
                 self._hand_over(d)
+            if rig.inject is not None:   # `hil inject` may send from now on
+                rig.inject.flying(drivers)
+            next_poll = 0.0
             while True:
                 due = [(self._cutoff(d), d) for d in drivers if self._open[id(d)] is not None]
                 if not due:
@@ -145,6 +149,9 @@ class RealtimeRunner:
                         self._close(d, io)
                         self._hand_over(d)
                 rig.check_alive("during a realtime flight")
+                if rig.inject is not None and now >= next_poll:   # once per step at most
+                    next_poll = now + min(d.period for d in drivers)
+                    apply_requests(rig.inject, drivers, self._next)
         finally:
             for b in self._babblers.values():
                 b.stop()

@@ -37,6 +37,7 @@ from hil.bus.protocol import (
 from hil.bus.secoc import Endpoint, KeyFileError, load_cmac, mac, read_key_file, same_mac, write_key_file
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied, FccTimeout, RigError
+from hil.rig.inject import InjectChannel
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
 from hil.rig.status import STATUS_FRAMES, StatusCounters
 from hil.rig.recorder import RECORDERS, BusRecorder
@@ -147,6 +148,8 @@ class RigSession:
         #: realtime: the simulator's time-triggered transmitter (hil.rig.txsched), with the master
         self.transmitter: TimedSender | None = None
         self.transmitter_stats: dict[str, object] = {}
+        #: `hil inject`'s channel into this run (hil.rig.inject; realtime flights read it)
+        self.inject: InjectChannel | None = None
 
     def _bus_key(self, key_file: Path | None) -> tuple[Endpoint, Path]:
         """The bus key: the given file, or a fresh random key for this session only (a file
@@ -189,6 +192,8 @@ class RigSession:
             self.fcc = self.device_class.start(DeviceStart(
                 self.run_dir, self.fcc_args, self.iface, self.fcc_binary, self.interface))
             self._wait_listening()
+            if self.record:
+                self.inject = InjectChannel(self.run_dir, self.mode, self.security.key)
             if self.mode == "lockstep":
                 self.batch_scheduled = run_as_batch(self._lockstep_pids())
         except BaseException:
@@ -393,6 +398,9 @@ class RigSession:
         """Stop the time master and fcc, then the recorder (bus.log is moved into place on
         every path, also when the interface is gone), then close the socket."""
         try:
+            if self.inject is not None:
+                self.inject.close()
+                self.inject = None
             if self.transmitter is not None:
                 self.transmitter_stats = self.transmitter.close()
                 self.transmitter = None

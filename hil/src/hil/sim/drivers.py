@@ -27,13 +27,13 @@ import numpy as np
 
 from hil.bus import FrameCodec
 from hil.bus.protocol import APP_CDRW, APP_MISSILE
-from hil.scenario.faults import SensorFault
+from hil.scenario.faults import Fault, SensorFault
 from hil.scenario.file import SENSOR_FRAMES, Scenario
 from hil.sim.cdrw_cache import open_loop
 from hil.sim.cdrw_flight import CdrwSimulation
 from hil.sim.frame_faults import KIND_CODES, Batch, FrameInjector, TxFrame
 from hil.sim.missile_runs import MissileSimulation
-from hil.sim.sensor_faults import FaultEvent
+from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
 
 if TYPE_CHECKING:
     from hil.sim.cdrw_flight import CdrwSample
@@ -125,6 +125,20 @@ class AppDriver:
                 "kind": KIND_CODES.get(ev.fault.kind, 0), "target_id": _target_id(self.codec, ev.fault),
                 "step": k & 0xFFFF}))
         return out
+
+    def inject(self, fault: Fault) -> None:
+        """A fault added during the flight (`hil inject`; its start not before the next step
+        to be made): in the scenario's list, so it is logged, evaluated and drawn as one of
+        its own."""
+        self.scenario = self.scenario.replace(faults=(*self.scenario.faults, fault))
+        self._fault_index[id(fault)] = len(self.scenario.faults) - 1
+        if isinstance(fault, SensorFault):
+            self._sensor_faults().add(fault)
+        else:
+            self.injector.add(fault)
+
+    def _sensor_faults(self) -> SensorFaultInjector:
+        raise ValueError(f"the {self.name}'s readings are made before its flight")
 
     def frames_for_step(self) -> list[TxFrame]:
         raise NotImplementedError
@@ -236,6 +250,9 @@ class MissileDriver(AppDriver):
         #: each command acts from t_k + delay (time-triggered actuator; fcc --lqg-delay)
         assert scenario.lqg is not None
         self.delay = scenario.lqg.resolved_delay(realtime)
+
+    def _sensor_faults(self) -> SensorFaultInjector:
+        return self.sim.faults
 
     def frames_for_step(self) -> list[TxFrame]:
         k = self.k

@@ -120,24 +120,16 @@ class FrameInjector:
         self.flood_frames = flood_frames
         self.codec = codec
         self.spec = codec.spec
-        self.faults = tuple(f for f in faults if f.level in ("frame", "bus"))
+        self.star = frozenset(star_frames)
+        self.faults: tuple[Fault, ...] = ()
         #: the faults that name each message (the tick's are looked up every step)
         self._naming: dict[str, list[tuple[int, Fault]]] = {}
-        for i, f in enumerate(self.faults):
-            name = getattr(f, "frame", "*")
-            if name != "*":
-                self.spec.by_name(name)  # KeyError names an unknown frame
-                self._naming.setdefault(name, []).append((i, f))
-            if isinstance(f, OutOfRange):
-                msg = self.spec.by_name(f.frame) if f.frame != "*" else None
-                if msg is None or f.signal not in {s.name for s in msg.data_signals}:
-                    raise ValueError(f"fault {f.describe()}: out_of_range needs frame = a DBC "
-                                     f"message and signal = one of its data signals")
-        self.star = frozenset(star_frames)
         #: the messages a replay fault may act on: only their history is kept
-        self._replayed = frozenset(n for f in self.faults if isinstance(f, FrameReplay)
-                                   for n in (self.star if f.frame == "*" else (f.frame,)))
-        self.timeline = FaultTimeline(self.faults)
+        self._replayed: frozenset[str] = frozenset()
+        self.timeline = FaultTimeline(())
+        for f in faults:
+            if f.level in ("frame", "bus"):
+                self.add(f)
         self._seed = int(seed)
         self._rng_made: np.random.Generator | None = None
         self._frozen: dict[int, int] = {}                 # fault index -> frozen counter
@@ -147,6 +139,23 @@ class FrameInjector:
         self._flood_sent: dict[int, int] = {}             # fault index -> frames so far
         self.counts = {"encoded": 0, "sent": 0, "dropped": 0, "flood": 0, "delayed": 0,
                        "duplicated": 0, "replayed": 0, "corrupted": 0}
+
+    def add(self, f: Fault) -> None:
+        """One more frame or bus fault, from the next update() on (the scenario's, or one
+        injected during a flight)."""
+        name = getattr(f, "frame", "*")
+        if name != "*":
+            self.spec.by_name(name)  # KeyError names an unknown frame
+            self._naming.setdefault(name, []).append((len(self.faults), f))
+        if isinstance(f, OutOfRange):
+            msg = self.spec.by_name(f.frame) if f.frame != "*" else None
+            if msg is None or f.signal not in {s.name for s in msg.data_signals}:
+                raise ValueError(f"fault {f.describe()}: out_of_range needs frame = a DBC "
+                                 f"message and signal = one of its data signals")
+        if isinstance(f, FrameReplay):
+            self._replayed |= self.star if f.frame == "*" else {f.frame}
+        self.faults = (*self.faults, f)
+        self.timeline.add(f)
 
     @property
     def _rng(self) -> np.random.Generator:

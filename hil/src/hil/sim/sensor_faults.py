@@ -65,6 +65,11 @@ class FaultTimeline:
         self.log.extend(events)
         return events
 
+    def add(self, fault: Fault) -> None:
+        """One more fault, from the next update() on (a fault injected during a flight)."""
+        self.faults = (*self.faults, fault)
+        self._on.append(False)
+
     @property
     def active(self) -> tuple[Fault, ...]:
         return tuple(f for f, on in zip(self.faults, self._on) if on)
@@ -83,6 +88,11 @@ class SensorFaultInjector:
     @property
     def log(self) -> list[FaultEvent]:
         return self.timeline.log
+
+    def add(self, fault: SensorFault) -> None:
+        """One more sensor fault, from the next apply() on."""
+        self.faults = (*self.faults, fault)
+        self.timeline.add(fault)
 
     @property
     def active(self) -> tuple[Fault, ...]:

@@ -373,6 +373,11 @@ static void print_summary(const host_t *h, uint64_t now_us)
             (unsigned long)pc.rx_overflows, (unsigned long)pc.tx_dropped,
             (unsigned long)pc.tx_retries, (unsigned long)h->hp.downs,
             (unsigned long)h->hp.reopens);
+    /* the clock's reads, and how many took a system call (clock_gettime: the counter's
+     * anchor too old, or no counter) */
+    fprintf(stderr, "fcc summary: clock reads=%llu real=%lu counter=%s\n",
+            (unsigned long long)h->hp.clock_reads, (unsigned long)h->hp.clock.samples,
+            h->hp.clock.counter ? "yes" : "no");
     fprintf(stderr, "fcc summary: control resets=%lu configs_accepted=%lu configs_applied=%lu "
             "configs_rejected=%lu heartbeats=%lu oracle_events=%lu\n",
             (unsigned long)n->cnt.resets, (unsigned long)n->cnt.configs_accepted,

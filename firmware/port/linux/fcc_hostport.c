@@ -15,6 +15,7 @@
 
 uint64_t fcc_hostport_now(fcc_hostport_t *hp)
 {
+    ++hp->clock_reads;
     return fcc_hostclock_now(&hp->clock);
 }
 

@@ -43,6 +43,7 @@
 typedef struct {
     fcc_socketcan_t sc;
     fcc_hostclock_t clock;            /* the port's clock (fcc_hostclock.h) */
+    uint64_t clock_reads;             /* its reads (clock.samples: those a system call served) */
     char ifname[32];
     bool up;                          /* socket open and working */
     uint64_t next_probe_us;           /* while down */

@@ -14,9 +14,9 @@
  * much as a lockstep step's arithmetic), so an iteration makes only those its
  * work needs: the wait, one receive for the frames that woke it (the port knows
  * when the kernel's queue is empty), one send per step (the port stamps a command's
- * send time there: a counter read), a clock read after each command, and one after
- * the work when time matters to it (a timer came due, the interface is down, the
- * realtime schedule, the time sync's timeouts);
+ * send time there: a clock read, which is also the loop's time after the command),
+ * and one clock read after the work when time matters to it (a timer came due, the
+ * interface is down, the realtime schedule, the time sync's timeouts);
  * the timer is re-armed only when the next wake moves (or it expired: setting it clears
  * the expiration, no read).  The rest of a wake for frames needs no clock: whatever is
  * due at a time has the timer armed for it.  The clock is the port's (fcc_hostclock.h:
@@ -118,8 +118,8 @@ static void measure_command(host_t *h)
     }
 }
 
-/* The loop's clock read now: the commands sent since the last one measured (their send
- * times stamped by the port at the send). */
+/* The loop's time now: the commands sent since the last one measured (their send times
+ * stamped by the port at the send). */
 static void take_command(host_t *h, uint64_t now)
 {
     h->now_us = now;
@@ -135,8 +135,9 @@ static void handle_frames(host_t *h, uint32_t budget)
         uint32_t n = 0u;
         (void)fcc_node_poll(&h->node, 1u, &n); /* an I/O error closes the port itself */
         measure_steps(h);
-        if (h->hp.cmd_untaken) { /* before the next frame can run the next step */
-            take_command(h, fcc_hostport_now(&h->hp));
+        if (h->hp.cmd_untaken) { /* before the next frame can run the next step; the loop's
+                                  * time is the command's send stamp (read as it went out) */
+            take_command(h, h->hp.cmd_sent_us);
         }
         if (n == 0u || fcc_node_shutdown_requested(&h->node)) {
             return;
@@ -372,6 +373,11 @@ static void print_summary(const host_t *h, uint64_t now_us)
             (unsigned long)pc.rx_overflows, (unsigned long)pc.tx_dropped,
             (unsigned long)pc.tx_retries, (unsigned long)h->hp.downs,
             (unsigned long)h->hp.reopens);
+    /* the clock's reads, and how many took a system call (clock_gettime: the counter's
+     * anchor too old, or no counter) */
+    fprintf(stderr, "fcc summary: clock reads=%llu real=%lu counter=%s\n",
+            (unsigned long long)h->hp.clock_reads, (unsigned long)h->hp.clock.samples,
+            h->hp.clock.counter ? "yes" : "no");
     fprintf(stderr, "fcc summary: control resets=%lu configs_accepted=%lu configs_applied=%lu "
             "configs_rejected=%lu heartbeats=%lu oracle_events=%lu\n",
             (unsigned long)n->cnt.resets, (unsigned long)n->cnt.configs_accepted,

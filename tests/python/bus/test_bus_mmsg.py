@@ -8,10 +8,11 @@ from collections.abc import Iterator
 
 import pytest
 
-from hil.bus.mmsg import FRAME_BYTES, BatchSender
+from hil.bus.mmsg import FRAME_BYTES, MSG_WAITFORONE, BatchReceiver, BatchSender
 from hil.bus.rawcan import pack_frame
 
-pytestmark = pytest.mark.skipif(not BatchSender.available(), reason="no sendmmsg in libc")
+pytestmark = pytest.mark.skipif(not (BatchSender.available() and BatchReceiver.available()),
+                                reason="no sendmmsg or recvmmsg in libc")
 
 
 @pytest.fixture
@@ -86,3 +87,37 @@ def test_a_failed_send_gives_its_errno() -> None:
         sender = BatchSender(unconnected.fileno())
         sender.load(frames(2))
         assert sender.send(0, 2) == -errno.EDESTADDRREQ
+
+
+# -- BatchReceiver: the datagrams queued on the receiver, in one recvmmsg(2)
+
+def test_one_receive_takes_every_queued_frame_in_order(pair: tuple[socket.socket, socket.socket]) -> None:
+    tx, rx = pair
+    batch = frames(4)
+    for raw in batch:
+        tx.send(raw)
+    receiver = BatchReceiver(rx.fileno())
+    got = receiver.receive(MSG_WAITFORONE)
+    assert got == 4 and receiver.frames(got) == batch
+    assert receiver.receive(socket.MSG_DONTWAIT) == -errno.EAGAIN   # the queue is empty now
+
+
+def test_a_receive_takes_at_most_capacity_frames(pair: tuple[socket.socket, socket.socket]) -> None:
+    tx, rx = pair
+    batch = frames(BatchReceiver.CAPACITY + 2)
+    for raw in batch:
+        tx.send(raw)
+    receiver = BatchReceiver(rx.fileno())
+    assert receiver.frames(receiver.receive(MSG_WAITFORONE)) == batch[:BatchReceiver.CAPACITY]
+    assert receiver.frames(receiver.receive(MSG_WAITFORONE)) == batch[BatchReceiver.CAPACITY:]
+
+
+def test_a_message_of_another_size_is_left_out(pair: tuple[socket.socket, socket.socket]) -> None:
+    tx, rx = pair
+    good = frames(2)
+    tx.send(good[0])
+    tx.send(b"short")
+    tx.send(good[1])
+    receiver = BatchReceiver(rx.fileno())
+    got = receiver.receive(MSG_WAITFORONE)
+    assert got == 3 and receiver.frames(got) == good

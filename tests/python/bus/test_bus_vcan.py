@@ -267,3 +267,24 @@ def test_link_send_many_batches_in_order() -> None:
             got.append(f)
     assert got == frames + [(0x123, b"x")]
     assert tx.tx_frames == len(frames) + 1 and tx.tx_dropped == 0
+
+
+def test_link_recv_takes_a_burst_in_one_call_and_every_receive_hands_out_the_rest() -> None:
+    """hil.rig.link's blocking receive (recvmmsg): a burst queued behind the first frame comes
+    in the same call (read ahead, counted as received), and whichever receive comes next --
+    recv, recv_wait, recv_stamped, drain -- hands out the frames read ahead first, in order."""
+    from hil.bus.mmsg import BatchReceiver
+    from hil.rig.link import CanLink, pack_frame
+    assert BatchReceiver.available()
+    frames = [(0x100 + i, bytes([i, 0xA5])) for i in range(6)]
+    with CanLink(IFACE, frame_ids=None) as rx, CanLink(IFACE, frame_ids=[]) as tx:
+        assert tx.send_many([pack_frame(fid, d) for fid, d in frames]) == 0
+        assert rx.recv_wait(1.0) is not None   # the burst is there (polled; then one frame read)
+        first = rx.recv()                      # the rest in one recvmmsg
+        assert first == frames[1] and rx.rx_frames == len(frames) and len(rx._ahead) == 4
+        assert rx.recv_wait(0.0) == frames[2]
+        stamped = rx.recv_stamped(0.0)
+        assert stamped is not None and stamped[:2] == frames[3]
+        assert rx.recv() == frames[4]
+        assert rx.drain() == [frames[5]]
+        assert rx.recv() is None and rx.rx_frames == len(frames)   # one slice, nothing more

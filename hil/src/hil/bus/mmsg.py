@@ -1,7 +1,8 @@
-"""Many CAN frames in one system call: sendmmsg(2) through ctypes on libc (the standard
-library's socket has sendmsg but no sendmmsg).  In the User-Mode Linux guest a system call
-costs ~5.7 us; the lockstep runner sends a step's frames (5 for a CDRW step) in one call
-(hil.rig.link.CanLink.send_many)."""
+"""Many CAN frames in one system call: sendmmsg(2) and recvmmsg(2) through ctypes on libc (the
+standard library's socket has neither).  In the User-Mode Linux guest a system call costs
+~6 us; the lockstep runner sends a step's frames (5 for a CDRW step) in one call
+(hil.rig.link.CanLink.send_many) and takes fcc's answer (4 frames for a missile step) in one
+(hil.rig.link.CanLink.recv)."""
 from __future__ import annotations
 
 import ctypes
@@ -26,25 +27,28 @@ class _Mmsghdr(ctypes.Structure):
     _fields_ = [("hdr", _Msghdr), ("len", ctypes.c_uint)]
 
 
-def _libc_sendmmsg() -> Callable[..., int] | None:
-    """libc's sendmmsg(2) through ctypes (None: not there, e.g. not Linux/glibc).  No
-    argtypes: converting four arguments through them doubled the call's cost (the lockstep
-    loop calls it once a step); the caller passes C-sized values (BatchSender.send)."""
+#: recvmmsg(2): wait for the first message only (linux/socket.h), then take what is there
+MSG_WAITFORONE = 0x10000
+
+
+def _libc(name: str) -> Callable[..., int] | None:
+    """libc's sendmmsg(2) or recvmmsg(2) through ctypes (None: not there, e.g. not
+    Linux/glibc).  No argtypes: converting the arguments through them doubled the call's cost
+    (the lockstep loop calls each once a step); the callers pass C-sized values."""
     try:
-        fn = ctypes.CDLL(None, use_errno=True).sendmmsg
+        fn = getattr(ctypes.CDLL(None, use_errno=True), name)
     except (OSError, AttributeError):
         return None
     fn.restype = ctypes.c_int
     return fn
 
 
-class BatchSender:
-    """Up to CAPACITY packed struct can_frames in one sendmmsg(2): a step's frames in one system
-    call instead of one send() each (the largest cost of the lockstep loop in the guest).  The
-    buffers and message headers are made once; a batch is one copy into them and one call."""
+class _Batch:
+    """CAPACITY packed struct can_frames and their message headers, made once: a batch is one
+    call and one copy in or out."""
 
     CAPACITY = 64
-    _fn = _libc_sendmmsg()
+    _fn: Callable[..., int] | None = None
 
     @classmethod
     def available(cls) -> bool:
@@ -70,6 +74,13 @@ class BatchSender:
         #: from that frame on: an int would be passed as a 32-bit C int without argtypes)
         self._from = [ctypes.c_void_p(self.addr + i * self.size) for i in range(n)]
 
+
+class BatchSender(_Batch):
+    """Up to CAPACITY packed struct can_frames in one sendmmsg(2): a step's frames in one system
+    call instead of one send() each (the largest cost of the lockstep loop in the guest)."""
+
+    _fn = _libc("sendmmsg")
+
     def load(self, raws: list[bytes]) -> int:
         """Copy up to CAPACITY frames in; how many."""
         n = min(len(raws), self.CAPACITY)
@@ -83,3 +94,22 @@ class BatchSender:
         """sendmmsg of frames first..n-1 loaded; how many went (-errno on failure of the first)."""
         got = self._fn(self.fd, self._from[first], n - first, 0)  # type: ignore[misc]
         return got if got >= 0 else -ctypes.get_errno()
+
+
+class BatchReceiver(_Batch):
+    """Up to CAPACITY struct can_frames in one recvmmsg(2): fcc's answer to a step (its frames
+    sent in one sendmmsg) in one system call instead of one recv() each."""
+
+    _fn = _libc("recvmmsg")
+
+    def receive(self, flags: int) -> int:
+        """recvmmsg with flags (MSG_WAITFORONE: block for the first frame as long as the socket's
+        SO_RCVTIMEO; MSG_DONTWAIT: none); how many frames came (-errno on failure)."""
+        got = self._fn(self.fd, self._from[0], self.CAPACITY, flags, None)  # type: ignore[misc]
+        return got if got >= 0 else -ctypes.get_errno()
+
+    def frames(self, n: int) -> list[bytes]:
+        """The n frames received, each a packed struct can_frame (a message of another size --
+        none on a CAN_RAW socket without CAN FD -- is left out)."""
+        return [self._bytes[i * FRAME_BYTES:(i + 1) * FRAME_BYTES].tobytes() for i in range(n)
+                if self.msgs[i].len == FRAME_BYTES]

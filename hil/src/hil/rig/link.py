@@ -3,9 +3,12 @@ other interface python-can's bus.
 
 Why not ``bus.send(can.Message)`` / ``bus.recv()``: in the User-Mode Linux guest every system
 call is slow, and python-can's receive path costs a ``select()`` plus a ``recvmsg()`` per
-frame.  Here a receive is one blocking ``recv()`` bounded by ``SO_RCVTIMEO`` (a short slice,
-so that the caller can notice a dead firmware or a deadline between slices), and a send is one
-``send()`` of a pre-packed ``struct can_frame``.  The socket is opened with the standard
+frame.  Here a receive is one blocking ``recvmmsg()`` bounded by ``SO_RCVTIMEO`` (a short
+slice, so that the caller can notice a dead firmware or a deadline between slices) that takes
+every frame already queued behind the first (fcc's answer to a step comes in one burst: one
+system call instead of one per frame; the others are handed out from the link's read-ahead by
+the next receives, whichever method), and a send is one ``send()`` of a pre-packed
+``struct can_frame``, or one ``sendmmsg()`` of a step's frames.  The socket is opened with the standard
 library (python-can alone costs about a second to import in the guest), with the settings
 python-can's SocketCAN bus would give it (hil.bus.rawcan).
 
@@ -23,13 +26,14 @@ import select
 import socket
 import struct
 import time
+from collections import deque
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
 from hil.bus.candump import format_line
 from hil.bus.canif import check_up, open_error
-from hil.bus.mmsg import BatchSender
+from hil.bus.mmsg import MSG_WAITFORONE, BatchReceiver, BatchSender
 from hil.bus.rawcan import CAN_FRAME, RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw, pack_frame
 
 if TYPE_CHECKING:
@@ -127,6 +131,9 @@ class CanLink:
         self._poll.register(self.sock, select.POLLIN)
         self._stamps: MonotonicStamps | None = None
         self._batch = BatchSender(self.sock.fileno()) if BatchSender.available() else None
+        self._batch_rx = BatchReceiver(self.sock.fileno()) if BatchReceiver.available() else None
+        #: frames a recvmmsg took behind the one it handed out: the next receives' first
+        self._ahead: deque[tuple[int, bytes]] = deque()
 
     def _open_generic(self, frame_ids: Iterable[int] | None, bitrate: int | None,
                       log_path: Path | None) -> None:
@@ -266,8 +273,28 @@ class CanLink:
         return self.send_raw(pack_frame(frame_id, data))
 
     # -- receive
+    @staticmethod
+    def _frame(raw: bytes) -> tuple[int, bytes]:
+        can_id, dlc, data = CAN_FRAME.unpack(raw)
+        return can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF, data[:dlc]
+
     def _recv_once(self, flags: int = 0) -> tuple[int, bytes] | None:
-        """One recv(2): the frame (id, data), or None when nothing was there (or in time)."""
+        """The frame read ahead, else one receive: the frame (id, data), or None when nothing
+        was there (or in time).  Blocking (flags 0) with recvmmsg: every frame queued behind
+        the first comes in the same call and is read ahead."""
+        if self._ahead:
+            return self._ahead.popleft()
+        batch = self._batch_rx
+        if batch is not None and flags == 0:
+            got = batch.receive(MSG_WAITFORONE)
+            if got < 0:
+                if -got in (errno.EAGAIN, errno.EINTR):
+                    return None
+                raise LinkError(f"{self.channel}: cannot receive: {errno.errorcode.get(-got, -got)}")
+            frames = [self._frame(raw) for raw in batch.frames(got)]
+            self.rx_frames += len(frames)
+            self._ahead.extend(frames[1:])
+            return frames[0] if frames else None
         try:
             raw = self.sock.recv(CAN_MTU, flags)
         except (BlockingIOError, TimeoutError, InterruptedError):
@@ -276,9 +303,8 @@ class CanLink:
             if e.errno in (errno.EAGAIN, errno.EINTR):
                 return None
             raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
-        can_id, dlc, data = CAN_FRAME.unpack(raw)
         self.rx_frames += 1
-        return can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF, data[:dlc]
+        return self._frame(raw)
 
     def recv(self) -> tuple[int, bytes] | None:
         """The next frame (id, data), or None when nothing came within one slice."""
@@ -291,16 +317,19 @@ class CanLink:
         rounded up to the kernel tick, 10-20 ms in the UML guest, too coarse for pacing)."""
         if self._generic:
             return self._recv_generic(timeout)
-        if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
+        if not self._ahead and not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
             return None
         return self._recv_once(socket.MSG_DONTWAIT)
 
     def recv_stamped(self, timeout: float) -> tuple[int, bytes, float] | None:
         """Like recv_wait, with the time the frame was on the bus: its kernel receive stamp
-        on CLOCK_MONOTONIC (python-can's interfaces: when it was read)."""
+        on CLOCK_MONOTONIC (python-can's interfaces, and a frame read ahead by recv(): when it
+        is handed out)."""
         if self._generic:
             got = self._recv_generic(timeout)
             return None if got is None else (*got, time.monotonic())
+        if self._ahead:
+            return (*self._ahead.popleft(), time.monotonic())
         if not self._poll.poll(max(0, int(timeout * 1000.0 + 0.5))):
             return None
         if self._stamps is None:
@@ -314,10 +343,8 @@ class CanLink:
         except OSError as e:
             raise LinkError(f"{self.channel}: cannot receive: {e.strerror}") from None
         at = self._stamps.of(anc)
-        can_id, dlc, data = CAN_FRAME.unpack(raw)
         self.rx_frames += 1
-        fid = can_id & 0x1FFFFFFF if can_id & CAN_EFF_FLAG else can_id & 0x7FF
-        return fid, data[:dlc], time.monotonic() if at is None else at
+        return (*self._frame(raw), time.monotonic() if at is None else at)
 
     def drain(self) -> list[tuple[int, bytes]]:
         """Every frame already queued, without waiting."""

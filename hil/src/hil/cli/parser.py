@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import NoReturn
 
 import hil
+from hil.cli import listing
 from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.results.fig3_grid import FIG3_PERIODS
 
@@ -114,6 +115,22 @@ def add_build_dir(p: argparse.ArgumentParser) -> None:
                         "tree, else $PATH)")
 
 
+SCENARIO_HELP = ("scenario TOML, or a shipped scenario's name (hil run --list-scenarios); "
+                 "default: the aircraft's default one")
+
+
+class ListScenarios(argparse.Action):
+    """--list-scenarios: the shipped scenarios, printed and exit (before the positionals are
+    checked, as --version)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kw: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="list the shipped scenarios and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(listing.scenarios())
+        parser.exit()
+
+
 TARGET_CHOICES = ("host", "qemu-m4f", "external")
 #: lockstep answer timeout by target (--timeout)
 DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
@@ -211,24 +228,45 @@ def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
 
+def add_logging(p: argparse.ArgumentParser, default: object) -> None:
+    """-v/--verbose and --debug (hil.util.log): hil's options, taken before the command or
+    after it (a command's own default SUPPRESS leaves hil's value in place)."""
+    p.add_argument("-v", "--verbose", action="count", default=0 if default is None else default,
+                   help="say what hil finds and does (the scenario, the programs, fcc's command line)")
+    p.add_argument("--debug", action="store_true", default=False if default is None else default,
+                   help="also the debug records, with their times and modules")
+
+
+def _commands(p: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """Every (sub)command's parser under p."""
+    found = []
+    for action in p._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sp in dict.fromkeys(action.choices.values()):
+                found += [sp, *_commands(sp)]
+    return found
+
+
 def build() -> argparse.ArgumentParser:
     p = Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.",
                epilog=exit_status_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action=VersionAction)
+    add_logging(p, None)
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
     r.add_argument("aircraft", choices=("cdrw", "missile"))
-    r.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    r.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     r.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
     r.add_argument("--seed", type=seed, help="override the scenario's seed")
+    r.add_argument("--list-scenarios", action=ListScenarios)
     add_common(r, "out/run-<aircraft>")
 
     c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
     c.add_argument("aircraft", choices=("cdrw",))
-    c.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    c.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
     c.add_argument("--seed", type=seed, default=1, help="seed of the fault times (default 1)")
     c.add_argument("--fault", action="append", default=[], metavar="SPEC",
@@ -242,7 +280,7 @@ def build() -> argparse.ArgumentParser:
 
     s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
     s.add_argument("aircraft", choices=("missile",))
-    s.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    s.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     s.add_argument("--periods", type=floats, default=[0.2, 0.1, 0.05], metavar="T,T,...",
                    help="sampling periods in s (default 0.2,0.1,0.05)")
     s.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
@@ -345,4 +383,6 @@ def build() -> argparse.ArgumentParser:
     v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
     v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
     add_common(v, "out/verify")
+    for command in _commands(p):
+        add_logging(command, argparse.SUPPRESS)
     return p

@@ -34,7 +34,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                  "directory) or too large, a DBC hil cannot use (`--dbc`, `$FCC_HIL_DBC`: empty, "
                  "binary, truncated, not parsed, a message or signal of hil's missing, two messages "
                  "on one identifier), `--workers` outside 1..64, `--workers` with "
-                 "`--log-format asc|blf` or inside the `scripts/with-vcan` guest, a firmware program "
+                 "`--log-format asc|blf` or inside the vcan launcher's guest (`hil-vcan`; in a clone "
+                 "`scripts/with-vcan`), a firmware program "
                  "or an extra of the package missing; `hil replay` of a run whose bus key is not "
                  "kept, whose bus log or `run_info.json` is malformed, or with no step to replay: "
                  "nothing is started"),

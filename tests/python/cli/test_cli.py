@@ -284,3 +284,18 @@ def test_verbose_and_debug(capsys, tmp_path, flags, shown):
             assert any(text in r for r in records), (text, err)
         if not flags:
             assert records == []
+
+
+@pytest.mark.parametrize("target, fcc_args, words", [
+    ("host", "--bogus", "--fcc-args: fcc refuses them: unknown option '--bogus' (try fcc --help)"),
+    ("host", "--lqg-bits 40", "--fcc-args: fcc refuses them: --lqg-bits"),
+    ("qemu-m4f", "--window 10", "--fcc-args: the M4F image takes no --window"),
+])
+def test_fcc_args_checked_before_start_up(capsys, tmp_path, target, fcc_args, words):
+    """A bad --fcc-args is one line and exit 2 before anything starts (fcc --check-args; the
+    image's boot configuration): no rig, no interface, no cross-build, no run directory."""
+    rc, out, err = run(capsys, "run", "cdrw", "--target", target, "--fcc-args", fcc_args,
+                       "--quiet", "--out", str(tmp_path / "o"))
+    assert rc == 2 and out == ""
+    assert one_line(err) == f"hil: {words}" if words.endswith(")") else words in one_line(err)
+    assert list(tmp_path.iterdir()) == []

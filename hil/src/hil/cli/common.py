@@ -17,6 +17,8 @@ from hil.cli.parser import DEFAULT_TIMEOUT_S
 from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
+from hil.targets.device import ArgsRefused
+from hil.targets.registry import device_class
 from hil.scenario.file import find_scenario, load_default_scenario, load_scenario, with_extra_faults
 
 _log = logging.getLogger(__name__)
@@ -71,10 +73,16 @@ def rig_config(args: argparse.Namespace, stage: Path):
             read_key_file(args.key_file)
         except KeyFileError as e:
             raise UsageError(f"--key-file: {e}") from None
+    device = device_class(args.target)
+    try:
+        device.check_args(args.fcc, extra, args.mode)
+    except ArgsRefused as e:
+        raise UsageError(f"--fcc-args: {e}") from None
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
-                     plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
+                     plots=not args.no_plots, log_format=args.log_format,
+                     fcc_binary=device.firmware(args.fcc, not args.quiet),
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
                      key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
 

@@ -34,6 +34,7 @@ import subprocess
 import time
 from collections.abc import Sequence
 from pathlib import Path
+from typing import BinaryIO
 
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
@@ -41,7 +42,8 @@ from hil.targets import qdisc
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
-from hil.targets.device import Device, DeviceStart
+from hil.targets.device import ArgsRefused, Device, DeviceStart
+from hil.util.progress import bar, say
 
 #: the trip of the Cortex-M4F PIL image (firmware/port/mps2_an386/m4f_main.c: no entropy on the board)
 PIL_TRIP = 0x4D344631
@@ -76,8 +78,9 @@ def m4f_build_dir() -> Path:
     return tree / "build-m4f"
 
 
-def build_image(build: Path | None = None) -> Path:
-    """The ELF image, cross-built (cmake + the M4F toolchain file) when missing or stale."""
+def build_image(build: Path | None = None, progress: bool = False) -> Path:
+    """The ELF image, cross-built (cmake + the M4F toolchain file) when missing or stale; with
+    progress, a line when the build starts and ends and its steps as the rig's progress."""
     tree = source_tree()
     if tree is None:  # installed: the image as it is, found as every program is (hil.io.paths)
         return build / "bin" / M4F_IMAGE if build else tool(M4F_IMAGE)
@@ -85,24 +88,53 @@ def build_image(build: Path | None = None) -> Path:
     log = build / "hil-build.log"
     steps = []
     if not (build / "CMakeCache.txt").is_file():
+        say(f"configuring the cross build of {M4F_IMAGE} in {build}", progress)
         steps.append(["cmake", "-S", str(tree), "-B", str(build), "-G", "Ninja",
                       f"-DCMAKE_TOOLCHAIN_FILE={tree / 'cmake' / 'arm-none-eabi-cortex-m4f.cmake'}"])
     steps.append(["cmake", "--build", str(build)])
     build.mkdir(parents=True, exist_ok=True)
+    t0 = time.monotonic()
     with open(log, "wb") as fh:
         for cmd in steps:
-            try:
-                rc = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT,
-                                    stdin=subprocess.DEVNULL).returncode
-            except OSError as e:
-                raise PilError(f"cannot run {cmd[0]}: {e.strerror}") from None
-            if rc != 0:
-                raise PilError(f"the Cortex-M4F cross build failed ({' '.join(cmd[:3])} ...); "
-                               f"see {log}")
+            built = follow_build(cmd, fh, progress, f"cross-building {M4F_IMAGE} in {build} (log: {log})")
+            if built:
+                say(f"cross-built {M4F_IMAGE}: {built} steps in {time.monotonic() - t0:.0f} s", progress)
     image = build / "bin" / M4F_IMAGE
     if not image.is_file():
         raise PilError(f"the cross build made no {image}")
     return image
+
+
+#: a build step as Ninja reports it: "[3/128] Building C object ..."
+NINJA_STEP = re.compile(rb"\[(\d+)/(\d+)\] ")
+
+
+def follow_build(cmd: Sequence[str], log: BinaryIO, progress: bool, what: str) -> int:
+    """Run a build command, its output into log; with progress, `what` once the first step
+    starts, then the steps as the rig's progress (hil.util.progress).  The steps it ran."""
+    try:
+        proc = subprocess.Popen(list(cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                stdin=subprocess.DEVNULL)
+    except OSError as e:
+        raise PilError(f"cannot run {cmd[0]}: {e.strerror}") from None
+    display, done = None, 0
+    assert proc.stdout is not None
+    with proc, proc.stdout:
+        for line in proc.stdout:
+            log.write(line)
+            step = NINJA_STEP.match(line)
+            if step is None:
+                continue
+            if display is None:
+                say(what, progress)
+                display = bar(int(step[2]), progress, "cross-build", unit="step")
+            display.update(int(step[1]) - done)
+            done = int(step[1])
+    if display is not None:
+        display.close()
+    if proc.returncode != 0:
+        raise PilError(f"the Cortex-M4F cross build failed ({' '.join(cmd[:3])} ...); see {log.name}")
+    return done
 
 
 #: the fcc options the boot configuration record carries (firmware/port/mps2_an386/README.md)
@@ -215,6 +247,19 @@ class QemuM4f(Device):
     def start(cls, how: DeviceStart) -> QemuM4f:
         return cls(how.run_dir, how.fcc_args, how.iface, how.log_path, image=how.firmware,
                    interface=how.interface)
+
+    @classmethod
+    def check_args(cls, given: Path | None, extra: Sequence[str], mode: str) -> None:
+        """The image's boot configuration record takes them (boot_record)."""
+        try:
+            boot_record(["--mode", mode, *extra])
+        except PilError as e:
+            raise ArgsRefused(str(e)) from None
+
+    @classmethod
+    def firmware(cls, given: Path | None, progress: bool) -> Path | None:
+        """The image given (--fcc), else the cross build's, brought up to date now."""
+        return given or build_image(progress=progress)
 
     @classmethod
     def bus_key_file(cls, requested: Path | None) -> Path | None:

@@ -260,7 +260,7 @@ def build() -> argparse.ArgumentParser:
     r.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     r.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
-    r.add_argument("--seed", type=seed, help="override the scenario's seed")
+    r.add_argument("--seed", type=seed, help="the random seed (noise, gusts): overrides the scenario's")
     r.add_argument("--list-scenarios", action=ListScenarios)
     add_common(r, "out/run-<aircraft>")
 
@@ -268,7 +268,7 @@ def build() -> argparse.ArgumentParser:
     c.add_argument("aircraft", choices=("cdrw",))
     c.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
-    c.add_argument("--seed", type=seed, default=1, help="seed of the fault times (default 1)")
+    c.add_argument("--seed", type=seed, default=1, help="random seed of the fault times (default 1)")
     c.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault (moved in time with the scenario's)")
     c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
@@ -285,7 +285,7 @@ def build() -> argparse.ArgumentParser:
                    help="sampling periods in s (default 0.2,0.1,0.05)")
     s.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
                    help="D/A word lengths (default 6,8,12)")
-    s.add_argument("--seed", type=seed, help="override the scenario's seed")
+    s.add_argument("--seed", type=seed, help="the random seed (noise, gusts): overrides the scenario's")
     s.add_argument("--fault", action="append", default=[], metavar="SPEC", help="extra fault")
     add_parallel(s)
     add_common(s, "out/sweep-missile")
@@ -365,7 +365,7 @@ def build() -> argparse.ArgumentParser:
                     help="fcc options added to the recorded ones, e.g. \"--ridge 0.01\"")
     add_paths(rp)
 
-    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
+    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then paper 2's (LQG) Figs. 4-6 "
                        "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
     add_common(d, "out/demo")
 

@@ -1,4 +1,4 @@
-"""The Cortex-M4F cross-build's progress (hil.targets.qemu_m4f.follow_build): a real Ninja build
+"""The Cortex-M4F cross-build's progress (hil.targets.m4f_image.follow_build): a real Ninja build
 (a small build.ninja of three steps) followed as `hil run --target qemu-m4f` follows cmake's:
 its output into the log, one line when it starts, its steps as the rig's progress, nothing at
 all when there is nothing to build or progress is off, one line naming the log when it fails."""
@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from hil.targets.qemu_m4f import PilError, follow_build
+from hil.targets.m4f_image import PilError, follow_build
 
 pytestmark = pytest.mark.skipif(shutil.which("ninja") is None, reason="needs ninja")
 

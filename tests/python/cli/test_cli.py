@@ -299,3 +299,9 @@ def test_fcc_args_checked_before_start_up(capsys, tmp_path, target, fcc_args, wo
     assert rc == 2 and out == ""
     assert one_line(err) == f"hil: {words}" if words.endswith(")") else words in one_line(err)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_replay_checks_fcc_args_first(capsys, tmp_path):
+    rc, _, err = run(capsys, "replay", str(tmp_path), "--fcc-args", "--bogus")
+    assert rc == 2 and one_line(err) == "hil: --fcc-args: fcc refuses them: unknown option '--bogus' (try fcc --help)"
+    assert list(tmp_path.iterdir()) == []

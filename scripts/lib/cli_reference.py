@@ -1,13 +1,22 @@
 """The command-line reference of the documentation, generated from the programs themselves.
 
-A MkDocs hook (mkdocs.yml `hooks:`): in a page, the line
+In a page (docs/cli.md), the block
 
-    <!-- generated: hil -->        becomes one section per `hil` subcommand, from its argparse parser
-    <!-- generated: scripts -->    becomes the `--help` of every script in scripts/
-    <!-- generated: hil-exit -->   becomes the table of `hil`'s exit statuses (hil.cli.usage.EXIT_STATUS,
+    <!-- generated: hil -->        one section per `hil` subcommand, from its argparse parser
+    <!-- generated: scripts -->    the `--help` of every script in scripts/
+    <!-- generated: hil-exit -->   the table of `hil`'s exit statuses (hil.cli.usage.EXIT_STATUS,
                                    the table `hil --help` prints)
+    ...the generated text...
+    <!-- end generated: NAME -->
 
-Also a program: `.venv/bin/python scripts/lib/cli_reference.py [hil|hil-exit|scripts]` prints the Markdown.
+holds the generated text, committed, so that the page reads as it is on GitHub or in an editor
+as well as on the site; tests/python/test_docs.py checks it is up to date, and
+
+    .venv/bin/python scripts/lib/cli_reference.py --write docs/cli.md
+
+brings it up to date.  The MkDocs hook (mkdocs.yml `hooks:`) renders the same blocks afresh,
+without their markers (a marker without its end line is filled in as well).  Also a program that prints the Markdown:
+`.venv/bin/python scripts/lib/cli_reference.py [hil|hil-exit|scripts]`.
 
 `hil`'s parser is found by module path at run time (PARSER_MODULES x PARSER_FACTORIES, the first
 that imports and builds an argparse parser).  When none does (the package was reorganised), the
@@ -32,7 +41,9 @@ PARSER_FACTORIES = ("build",)
 #: the scripts whose --help goes into the reference, in this order
 SCRIPTS = ("setup", "test", "hil-demo", "with-vcan", "diag", "bench")
 WIDTH = 100
-MARKER = re.compile(r"^<!-- generated: (hil-exit|hil|scripts) -->$", re.M)
+#: a generated block: its opening marker, then (when committed) its text and its end marker
+MARKER = re.compile(r"^<!-- generated: (hil-exit|hil|scripts) -->"
+                    r"(?:\n(?:(?!<!-- generated: ).*\n)*?<!-- end generated: \1 -->)?$", re.M)
 
 log = logging.getLogger("mkdocs.hooks.cli_reference")
 
@@ -105,10 +116,12 @@ def _name(action: argparse.Action) -> str:
     return f"`{action.metavar or action.dest}`"
 
 
-def _arguments_table(parser: argparse.ArgumentParser) -> list[str]:
+def _arguments_table(parser: argparse.ArgumentParser, shared: frozenset[str] = frozenset()) -> list[str]:
+    """The arguments' table; shared: hil's own options (-v, --debug) a subcommand also takes,
+    listed once, under hil."""
     rows = []
     for a in parser._actions:
-        if isinstance(a, (argparse._HelpAction, argparse._SubParsersAction)):
+        if isinstance(a, (argparse._HelpAction, argparse._SubParsersAction)) or a.dest in shared:
             continue
         text = _cell(a.help or "")
         if a.choices and not a.option_strings:
@@ -140,17 +153,18 @@ def _subcommands(parser: argparse.ArgumentParser, prefix: str = "") -> list[tupl
 
 
 def hil_markdown_from_parser(parser: argparse.ArgumentParser, source: str) -> str:
-    lines = [f"Generated at build time from `hil`'s argparse parser (`{source}`).", ""]
+    lines = [f"Generated from `hil`'s argparse parser (`{source}`) by scripts/lib/cli_reference.py.", ""]
     if parser.description:
         lines += [parser.description, ""]
     lines += ["```text", _usage(parser), "```", ""]
     lines += _arguments_table(parser) + [""]
+    shared = frozenset(a.dest for a in parser._actions if a.option_strings)
     for name, helptext, sub in _subcommands(parser):
         lines += [f"### hil {name}", ""]
         if helptext:
             lines += [helptext[0].upper() + helptext[1:] + ".", ""]
         lines += ["```text", _usage(sub), "```", ""]
-        lines += _arguments_table(sub) + [""]
+        lines += _arguments_table(sub, shared) + [""]
     return "\n".join(lines)
 
 
@@ -206,7 +220,7 @@ def exit_markdown() -> str:
 
 # ---- the scripts, from their --help -----------------------------------------------------------
 def scripts_markdown() -> str:
-    lines = ["Generated at build time from each script's `--help`.", ""]
+    lines = ["Generated from each script's `--help` by scripts/lib/cli_reference.py.", ""]
     for name in SCRIPTS:
         path = REPO / "scripts" / name
         if not path.exists():
@@ -218,13 +232,24 @@ def scripts_markdown() -> str:
 GENERATORS = {"hil": hil_markdown, "scripts": scripts_markdown, "hil-exit": exit_markdown}
 
 
-# ---- the MkDocs hook -------------------------------------------------------------------------
+# ---- the page and the MkDocs hook -------------------------------------------------------------
+def render(markdown: str, markers: bool = True) -> str:
+    """Every generated block of a page filled in afresh, between its markers (the committed
+    page), or in their place (the site's page)."""
+    def block(m: re.Match[str]) -> str:
+        name, text = m.group(1), GENERATORS[m.group(1)]().strip()
+        return f"<!-- generated: {name} -->\n\n{text}\n\n<!-- end generated: {name} -->" if markers else text
+    return MARKER.sub(block, markdown)
+
+
 def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001 - MkDocs' hook
-    if not MARKER.search(markdown):
-        return markdown
-    return MARKER.sub(lambda m: GENERATORS[m.group(1)](), markdown)
+    return render(markdown, markers=False) if MARKER.search(markdown) else markdown
 
 
 if __name__ == "__main__":
-    which = sys.argv[1:] or ["hil", "hil-exit", "scripts"]
-    print("\n".join(GENERATORS[w]() for w in which))
+    if sys.argv[1:2] == ["--write"]:
+        for page in map(Path, sys.argv[2:]):
+            page.write_text(render(page.read_text(encoding="utf-8")), encoding="utf-8")
+    else:
+        which = sys.argv[1:] or ["hil", "hil-exit", "scripts"]
+        print("\n".join(GENERATORS[w]() for w in which))

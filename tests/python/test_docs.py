@@ -241,6 +241,20 @@ def _generator():
     return mod
 
 
+def test_cli_reference_is_committed_up_to_date() -> None:
+    """docs/cli.md holds its generated blocks (plain Markdown reads them without MkDocs), as the
+    program generates them now; rendering a page with the blocks filled in changes nothing."""
+    gen = _generator()
+    page = (REPO / "docs" / "cli.md").read_text(encoding="utf-8")
+    for name in ("hil", "hil-exit", "scripts"):
+        assert f"<!-- generated: {name} -->\n\n" in page and f"<!-- end generated: {name} -->" in page
+    assert "### hil run\n" in page and "| `--out DIR` |" in page
+    assert gen.render(page) == page, ("docs/cli.md is stale: run `.venv/bin/python "
+                                      "scripts/lib/cli_reference.py --write docs/cli.md`")
+    bare = re.sub(r"(<!-- generated: (\S+) -->)\n.*?<!-- end generated: \2 -->", r"\1", page, flags=re.S)
+    assert bare != page and gen.render(bare) == page          # a bare marker is filled in alike
+
+
 def test_cli_reference_has_every_subcommand() -> None:
     gen = _generator()
     hil = Path(sys.executable).with_name("hil")

@@ -37,6 +37,8 @@ void fcc_cli_usage(FILE *out)
         "                                locked; 0 = normal scheduling (0)\n"
         "  --stale-limit N               missing frames bridged with the last value before a\n"
         "                                sensor is stale and the step degraded (%u)\n"
+        "  --check-args                  check the other options and exit: 0 valid, 2 not\n"
+        "                                (one line); opens nothing, needs no --key-file\n"
         "  --help                        this text\n"
         "missile autopilot:\n"
         "  --lqg-period T                sampling period, s, %g..%g (0.05)\n"
@@ -244,6 +246,10 @@ int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_l
             fcc_cli_usage(out);
             return 1;
         }
+        if (strcmp(arg, "--check-args") == 0) {
+            cli->check_only = true;
+            continue;
+        }
         if (strncmp(arg, "--", 2) != 0 || arg[2] == '\0') {
             return fcc_opt_fail(err, err_len, "unexpected argument '%s' (try fcc --help)", arg);
         }
@@ -256,9 +262,15 @@ int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_l
     if (check(cli, err, err_len) != 0) {
         return -1;
     }
+    if (cli->check_only && cli->key_file == NULL) {
+        return 1; /* the options are valid; the launcher gives the key */
+    }
     if (cli->key_file == NULL) {
         return fcc_opt_fail(err, err_len, "--key-file PATH is required: the AES-128 key that "
                             "authenticates commands on the bus (tests: tests/keys/secoc_test.key)");
     }
-    return fcc_keyfile_read(cli->key_file, cli->node.security.key, err, err_len);
+    if (fcc_keyfile_read(cli->key_file, cli->node.security.key, err, err_len) != 0) {
+        return -1;
+    }
+    return cli->check_only ? 1 : 0;
 }

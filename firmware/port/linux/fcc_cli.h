@@ -26,10 +26,12 @@ typedef struct {
     const char *key_file;     /* --key-file (required): read into node.security.key */
     uint32_t trip;            /* --trip: the session's trip from the launcher; 0 = draw one */
     bool lqg_delay_auto;      /* --lqg-delay auto (the default): node.msl.delay set by the mode */
+    bool check_only;          /* --check-args: parse and check, then exit (nothing opened) */
 } fcc_cli_t;
 
-/* 0: parsed and checked; 1: --help was asked (usage printed to out);
- * -1: one line in err (without the "fcc: " prefix). */
+/* 0: parsed and checked; 1: nothing to run: --help was asked (usage printed to
+ * out) or --check-args found the options valid; -1: one line in err (without
+ * the "fcc: " prefix). */
 int fcc_cli_parse(int argc, char **argv, fcc_cli_t *cli, char *err, size_t err_len, FILE *out);
 
 void fcc_cli_usage(FILE *out);

@@ -107,9 +107,21 @@ def test_in_the_guest_a_missing_or_down_interface(tmp_path: Path, argv: list[str
 
 def test_an_installed_package_names_its_own_launcher(monkeypatch: pytest.MonkeyPatch) -> None:
     # without the clone (an installed package), scripts/with-vcan does not exist: hil-vcan does
-    import hil.bus.canif as canif
-    monkeypatch.setattr(canif, "source_tree", lambda: None)
+    from hil.io import paths
+    monkeypatch.setattr(paths, "source_tree", lambda: None)
     line = open_error("vcan0", OSError(errno.EAFNOSUPPORT, os.strerror(errno.EAFNOSUPPORT)))
     assert "hil-vcan CMD" in line and "scripts/with-vcan" not in line
     line = open_error("vcan0", OSError(errno.ENODEV, os.strerror(errno.ENODEV)))
     assert "hil-vcan CMD" in line and "scripts/with-vcan" not in line
+    # and so do the CLI's messages that name it (hil.cli.many: --workers with an ASC log)
+    from hil.cli.many import parallel_options
+    from hil.cli.parser import build
+    from hil.cli.usage import UsageError
+    args = build().parse_args(["campaign", "cdrw", "--workers", "2", "--log-format", "asc"])
+    with pytest.raises(UsageError, match=r"fly the sequential form for one: hil-vcan hil campaign") as e:
+        parallel_options(args)
+    assert "scripts/with-vcan" not in str(e.value)
+    monkeypatch.setenv("WITH_VCAN_UML", "1")                   # inside the launcher's guest
+    args = build().parse_args(["campaign", "cdrw", "--workers", "2"])
+    with pytest.raises(UsageError, match=r"cannot inside hil-vcan's guest: run the command without hil-vcan"):
+        parallel_options(args)

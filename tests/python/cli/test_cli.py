@@ -87,6 +87,33 @@ def test_missing_scenario_file(capsys, tmp_path):
     assert rc == 2 and "cannot read scenario" in one_line(err)
 
 
+def test_shipped_scenario_by_name(capsys, tmp_path, monkeypatch):
+    """A shipped scenario's name resolves as a suite's does (hil.io.paths.find_shipped), from any
+    directory; an unknown name is one line naming the shipped ones; a path always wins."""
+    monkeypatch.chdir(tmp_path)
+    rc, _, err = run(capsys, "run", "cdrw", "cdrw_nope", "--out", "o")
+    line = one_line(err)
+    assert rc == 2 and "no scenario named 'cdrw_nope' (shipped: cdrw_bus_attack, " in line, line
+    assert "cdrw_multi_fault" in line and "missile_default" in line
+    rc, _, err = run(capsys, "campaign", "cdrw", "missile_default", "--out", "o")   # found: the shipped file's
+    line = one_line(err)
+    assert rc == 2 and "scenarios/missile_default.toml: a scenario for aircraft 'missile', not 'cdrw'" in line
+    Path("cdrw_multi_fault").write_text('aircraft = "missile"\n')                 # a file of that name wins
+    rc, _, err = run(capsys, "run", "cdrw", "cdrw_multi_fault", "--out", "o")
+    assert rc == 2 and one_line(err) == "hil: cdrw_multi_fault: a scenario for aircraft 'missile', not 'cdrw'"
+    assert not Path("o").exists()
+
+
+def test_list_scenarios(tmp_path):
+    """--list-scenarios without an aircraft, as --version: one line per shipped scenario."""
+    r = subprocess.run([sys.executable, "-m", "hil.cli", "run", "--list-scenarios"], capture_output=True,
+                       text=True, cwd=tmp_path, timeout=60)
+    assert r.returncode == 0 and r.stderr == "", r
+    names = [line.split()[0] for line in r.stdout.splitlines()]
+    assert "cdrw_multi_fault" in names and "missile_default" in names and len(names) == len(set(names))
+    assert all(line.split()[1] in ("cdrw", "missile") for line in r.stdout.splitlines())
+
+
 def test_lqg_period_fcc_cannot_run(capsys, tmp_path):
     path = tmp_path / "m.toml"
     path.write_text('aircraft = "missile"\nduration = 2.0\n[lqg]\nperiod = 0.5\n')
@@ -236,3 +263,45 @@ def test_report_paper_rows_only_for_the_papers_scenario(capsys, tmp_path):
         rc, out, err = run(capsys, "report", str(tmp_path), "--no-plots")
         assert rc == 0, err
         assert ("  paper" in out) is paper and "posterior rows" in out
+
+
+@pytest.mark.parametrize("flags, shown", [
+    ([], []),
+    (["-v"], ["hil: scenario: missile_default ("]),
+    (["--debug"], ["hil.io.paths: fcc: ", "hil.cli.common: scenario: missile_default ("]),
+])
+def test_verbose_and_debug(capsys, tmp_path, flags, shown):
+    """-v/--verbose and --debug (before the command or after it) add hil's log records on
+    stderr (hil.util.log) ahead of the one-line error, which stays the last line as it was."""
+    for argv in ([*flags, "run", "cdrw", "missile_default"], ["run", "cdrw", "missile_default", *flags]):
+        rc, out, err = run(capsys, *argv, "--out", str(tmp_path / "o"))
+        lines = err.splitlines()
+        assert rc == 2 and out == ""
+        assert lines[-1].startswith("hil: ") and "not 'cdrw'" in lines[-1]
+        records = lines[:-1]
+        assert len(records) >= len(shown) and all(r.startswith("hil: ") for r in records), err
+        for text in shown:
+            assert any(text in r for r in records), (text, err)
+        if not flags:
+            assert records == []
+
+
+@pytest.mark.parametrize("target, fcc_args, words", [
+    ("host", "--bogus", "--fcc-args: fcc refuses them: unknown option '--bogus' (try fcc --help)"),
+    ("host", "--lqg-bits 40", "--fcc-args: fcc refuses them: --lqg-bits"),
+    ("qemu-m4f", "--window 10", "--fcc-args: the M4F image takes no --window"),
+])
+def test_fcc_args_checked_before_start_up(capsys, tmp_path, target, fcc_args, words):
+    """A bad --fcc-args is one line and exit 2 before anything starts (fcc --check-args; the
+    image's boot configuration): no rig, no interface, no cross-build, no run directory."""
+    rc, out, err = run(capsys, "run", "cdrw", "--target", target, "--fcc-args", fcc_args,
+                       "--quiet", "--out", str(tmp_path / "o"))
+    assert rc == 2 and out == ""
+    assert one_line(err) == f"hil: {words}" if words.endswith(")") else words in one_line(err)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_replay_checks_fcc_args_first(capsys, tmp_path):
+    rc, _, err = run(capsys, "replay", str(tmp_path), "--fcc-args", "--bogus")
+    assert rc == 2 and one_line(err) == "hil: --fcc-args: fcc refuses them: unknown option '--bogus' (try fcc --help)"
+    assert list(tmp_path.iterdir()) == []

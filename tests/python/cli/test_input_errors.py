@@ -204,7 +204,7 @@ def test_an_interrupt_between_the_handlers_is_the_same_line(capsys, monkeypatch)
 ])
 def test_a_scenario_may_follow_the_options(argv):
     args = build().parse_args(argv)
-    assert args.scenario == Path("S.toml") and args.aircraft == argv[argv.index(args.aircraft)]
+    assert args.scenario == "S.toml" and args.aircraft == argv[argv.index(args.aircraft)]
 
 
 def test_a_second_scenario_is_still_refused(capsys):

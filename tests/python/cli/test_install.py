@@ -185,6 +185,20 @@ def test_a_missing_program_is_one_line_before_anything_flies(venv: Path, tmp_pat
     assert not (tmp_path / "out").exists()                     # nothing flew, nothing written
 
 
+def test_shipped_scenarios_by_name_when_installed(venv: Path, tmp_path: Path) -> None:
+    """The installed package lists its scenarios and finds them by name from another
+    directory; an unknown name is one line naming them (nothing flies)."""
+    env = user_env(venv, FCC_BUILD_DIR=str(build_dir()))
+    listed = hil(venv, tmp_path, "hil", "run", "--list-scenarios", env=env, timeout=120)
+    assert listed.returncode == 0 and "cdrw_multi_fault" in listed.stdout, listed
+    bad = hil(venv, tmp_path, "hil", "run", "cdrw", "cdrw_nope", "--out", "out", env=env, timeout=120)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1, bad
+    assert "no scenario named 'cdrw_nope' (shipped: " in bad.stderr and "cdrw_multi_fault" in bad.stderr
+    wrong = hil(venv, tmp_path, "hil", "run", "cdrw", "missile_default", "--out", "out", env=env, timeout=120)
+    assert wrong.returncode == 2 and f"{venv}" in wrong.stderr and "not 'cdrw'" in wrong.stderr, wrong
+    assert not (tmp_path / "out").exists()
+
+
 def test_the_users_versions_stay(venv: Path) -> None:
     have = installed_versions(venv)
     assert {k: have[k] for k in USERS_OWN} == USERS_OWN
@@ -228,6 +242,11 @@ def test_flies_outside_the_tree(venv_parallel: Path, tmp_path: Path) -> None:
     assert par["failed"] == 0 and len(par["flights_by_worker"]) == 2        # two guests flew
     runs = json.loads((work / "campaign" / "summary.json").read_text())["cdrw"]["runs"]
     assert [r["run"] for r in runs] == [0, 1, 2]
+
+    named = hil(venv, work, "hil-vcan", "hil", "run", "cdrw", "cdrw_multi_fault", "--no-plots", "--quiet",
+                "--out", "named", env=env)             # a shipped scenario by its name
+    assert named.returncode == 0, named.stderr[-2000:]
+    assert json.loads((work / "named" / "summary.json").read_text())["cdrw"]["flight"]["scenario"] == "cdrw_multi_fault"
 
     pil_env = {**env, "FCC_M4F_BUILD_DIR": str(image.parent.parent)}
     pil = hil(venv, work, "hil-vcan", "hil", "run", "cdrw", str(scenario), "--target", "qemu-m4f",

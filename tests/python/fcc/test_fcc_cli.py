@@ -96,6 +96,24 @@ def test_bad_command_line_is_one_line_and_exit_2(bin_path, args, words):
     assert words in lines[0]
 
 
+@pytest.mark.parametrize("args, words", [
+    (["--bogus"], "unknown option '--bogus'"),
+    (["--lqg-period", "0.5"], "0.02..0.3"),
+    (["--mode", "realtime", "--lqg-period", "0.05", "--lqg-delay", "0.06"], "shorter than the period"),
+])
+def test_check_args(bin_path, tmp_path, args, words):
+    """--check-args: fcc's own option table judges the options, opens nothing (no interface,
+    no key needed) and exits 0, or 2 with its one line."""
+    ok = run(bin_path("fcc"), "--check-args", "--iface", "nosuch7", "--detector", "oracle", key=False)
+    assert ok.returncode == 0 and ok.stdout == "" and ok.stderr == "", ok
+    bad = run(bin_path("fcc"), "--check-args", "--iface", "nosuch7", *args, key=False)
+    lines = bad.stderr.strip().splitlines()
+    assert bad.returncode == 2 and len(lines) == 1 and lines[0].startswith("fcc: ") and words in lines[0], bad
+    bad_key = run(bin_path("fcc"), "--check-args", "--key-file", str(tmp_path / "no-such-key"),
+                  key=False)                                    # a key given is read (and refused)
+    assert bad_key.returncode == 2 and "no-such-key" in bad_key.stderr
+
+
 # The identification options sid_replay has and fcc had not: with a missing
 # interface, fcc gets past the command line and the firmware's configuration
 # check (exit 2) and stops only at the bus (exit 1).

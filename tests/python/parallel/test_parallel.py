@@ -295,10 +295,11 @@ def test_killed_guest_costs_one_flight_and_the_worker_is_named(one_worker, tmp_p
 
 @needs_rig
 def test_failing_flight_is_retried_then_reported(tmp_path, capsys, rig_dir):
-    """fcc refuses its command line: each flight is tried twice (on the one worker there is), then the
-    campaign stops with one line and exit 1."""
+    """fcc cannot start (its options pass `fcc --check-args`, but name an interface the worker has
+    not): each flight is tried twice (on the one worker there is), then the campaign stops with
+    one line and exit 1."""
     rc = main(["campaign", "cdrw", "--runs", "1", "--seed", "1", "--out", str(tmp_path), "--quiet",
-               "--no-plots", "--workers", "1", "--fcc-args=--no-such-option"])
+               "--no-plots", "--workers", "1", "--fcc-args=--iface no-such0"])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 1 and len(err) == 1
     assert "all 1 flights failed twice" in err[0] and "fcc" in err[0]

@@ -35,7 +35,7 @@ def test_a_missile_runs_line_has_its_rms_word_length_period_and_no_paper_number(
     assert line.startswith("verdict n/a | missile missile_default, lockstep, random seed 1 | no faults | ")
     assert ("T 0.1 s, 8-bit D/A: RMS q 0.0721 rad/s, α_T 0.00529 rad (open loop 0.0821, 0.00551); "
             "D/A codes = reference 100.0%") in line
-    assert line.endswith("no paper number for one flight (seed 2's Fig. 3 is a curve)")
+    assert line.endswith("no paper number for one flight (paper 2's Fig. 3 is a curve)")
 
 
 def test_fail_when_another_filter_has_the_lowest_alpha_error() -> None:

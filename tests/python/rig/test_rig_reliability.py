@@ -143,11 +143,12 @@ def test_a_leftover_fcc_on_the_bus_is_detected(tmp_path, capsys):
 
 def test_step_errors_fail_the_run(tmp_path, capsys):
     """--x0 1e308,1e308 made every identification step fail, and Table 4 printed 35.28 for
-    every filter with exit status 0; fcc now refuses the option, and a run whose firmware
-    reports step errors fails (exit 1) whatever caused them."""
+    every filter with exit status 0; fcc now refuses the option (`fcc --check-args`, before
+    the rig starts: exit 2), and a run whose firmware reports step errors fails (exit 1)
+    whatever caused them."""
     rc, out, err = cli(capsys, "run", "cdrw", "--out", str(tmp_path / "o"), "--quiet",
                        "--no-plots", "--fcc-args", "--x0 1e308,1e308")
-    assert rc == 1 and "Table 4" not in out
+    assert rc == 2 and "Table 4" not in out
     assert "--x0" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
 

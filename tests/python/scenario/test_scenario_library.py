@@ -12,7 +12,7 @@ import pytest
 from hil.bus import load
 from hil.cli import main
 from hil.scenario.faults import KINDS
-from hil.scenario.file import load_scenario, parse_fault_spec
+from hil.scenario.file import find_scenario, load_scenario, parse_fault_spec
 from hil.scenario.catalog import EXAMPLES, UNITS
 
 FRAMES = {m.name for m in load().messages}
@@ -35,6 +35,9 @@ def test_scenario_loads_and_is_documented(path: Path):
     assert len(header) >= 3, "explain the scenario in a comment header"
     if path.stem not in ("cdrw_default", "missile_default"):
         assert any("hil run" in ln or "hil sweep" in ln for ln in header), "say how to fly it"
+        assert any(ln.split("#", 1)[1].split()[-1:] == [path.stem] or f" {path.stem} " in ln
+                   for ln in header), "fly it by its name (hil run --list-scenarios)"
+    assert find_scenario(path.stem) == path                  # shipped: found by its name
     for f in sc.faults:
         assert f.start < sc.duration
 

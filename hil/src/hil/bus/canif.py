@@ -11,15 +11,9 @@ import errno
 import os
 from pathlib import Path
 
-from hil.io.paths import source_tree
+from hil.io.paths import vcan_launcher
 
 IFF_UP = 0x1
-
-
-def vcan_launcher() -> str:
-    """What runs a command where vcan0 exists, as this installation has it: the clone's
-    scripts/with-vcan, or the installed package's hil-vcan."""
-    return "scripts/with-vcan" if source_tree() is not None else "hil-vcan"
 
 
 def with_vcan_hint() -> str:

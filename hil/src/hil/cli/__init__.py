@@ -52,6 +52,7 @@ from hil.io.paths import ToolNotFound
 from hil.io.rundir import OutDirRefused
 from hil.rig.errors import RigError
 from hil.scenario.schema import ScenarioError
+from hil.util import log
 from hil.util.bounded import UnfitFile
 
 startup.started()  # from here on main()'s handlers, and Python's KeyboardInterrupt for SIGINT
@@ -148,6 +149,7 @@ def main(argv: Sequence[str] | None = None, parsed: argparse.Namespace | None = 
 def _main(argv: Sequence[str] | None, parsed: argparse.Namespace | None) -> int:
     try:
         args = parsed or build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
+        log.configure(args.verbose, args.debug)
         _apply_paths(args)
         if onrig.wanted(args):   # --rig: the command runs on the warm rig (hil.cli.onrig)
             return onrig.on_rig(main, args)

@@ -4,6 +4,7 @@ configuration from the options, the staged run directory and the tables printed 
 from __future__ import annotations
 
 import argparse
+import logging
 import shlex
 import sys
 from collections.abc import Iterator, Sequence
@@ -16,7 +17,11 @@ from hil.cli.parser import DEFAULT_TIMEOUT_S
 from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
-from hil.scenario.file import load_default_scenario, load_scenario, with_extra_faults
+from hil.targets.device import ArgsRefused
+from hil.targets.registry import device_class
+from hil.scenario.file import find_scenario, load_default_scenario, load_scenario, with_extra_faults
+
+_log = logging.getLogger(__name__)
 
 
 @contextmanager
@@ -29,10 +34,14 @@ def reading(what: object) -> Iterator[None]:
         raise UsageError(f"{what}: too large or nested too deeply to read ({type(e).__name__})") from None
 
 
-def scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int | None):
+def scenario(aircraft: str, name_or_path: str | None, faults: Sequence[str], seed: int | None):
+    """The scenario a command flies: a file, a shipped one by name, or the aircraft's default;
+    with the command line's faults and seed."""
     frames = {m.name for m in load().messages}
-    with reading(path or "the default scenario"):
-        sc = load_scenario(path, frames) if path is not None else load_default_scenario(aircraft, frames)
+    with reading(name_or_path or "the default scenario"):
+        sc = (load_default_scenario(aircraft, frames) if name_or_path is None
+              else load_scenario(find_scenario(name_or_path), frames))
+    _log.info("scenario: %s (%s)", sc.name or aircraft, sc.source)
     if sc.aircraft != aircraft:
         raise UsageError(f"{sc.source}: a scenario for aircraft {sc.aircraft!r}, not {aircraft!r}")
     if faults:
@@ -64,10 +73,16 @@ def rig_config(args: argparse.Namespace, stage: Path):
             read_key_file(args.key_file)
         except KeyFileError as e:
             raise UsageError(f"--key-file: {e}") from None
+    device = device_class(args.target)
+    try:
+        device.check_args(args.fcc, extra, args.mode)
+    except ArgsRefused as e:
+        raise UsageError(f"--fcc-args: {e}") from None
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
-                     plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
+                     plots=not args.no_plots, log_format=args.log_format,
+                     fcc_binary=device.firmware(args.fcc, not args.quiet),
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
                      key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
 

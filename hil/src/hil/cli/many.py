@@ -9,6 +9,7 @@ import sys
 
 from hil.cli.common import staged
 from hil.cli.usage import PROG, UsageError
+from hil.io.paths import vcan_launcher
 from hil.parallel import runs
 
 
@@ -30,12 +31,11 @@ def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
     if args.log_format != "log":
         raise UsageError(f"--log-format {args.log_format}: --workers/--scheduler keep no bus log (each "
                          "rig session's is read and removed); fly the sequential form for one: "
-                         "scripts/with-vcan .venv/bin/hil campaign|sweep ... --log-format "
-                         f"{args.log_format}")
-    if os.environ.get("WITH_VCAN_UML"):   # set by scripts/with-vcan inside its guest
+                         f"{vcan_launcher()} hil campaign|sweep ... --log-format {args.log_format}")
+    if os.environ.get("WITH_VCAN_UML"):   # set by the vcan launcher inside its guest
         raise UsageError("--workers/--scheduler start each rig's own guest from the host shell and "
-                         "cannot inside scripts/with-vcan's guest: run the command without "
-                         "scripts/with-vcan")
+                         f"cannot inside {vcan_launcher()}'s guest: run the command without "
+                         f"{vcan_launcher()}")
     return {"workers": args.workers, "scheduler": args.scheduler}
 
 

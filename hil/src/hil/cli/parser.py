@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import NoReturn
 
 import hil
+from hil.cli import listing
 from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.results.fig3_grid import FIG3_PERIODS
 
@@ -112,6 +113,22 @@ def add_build_dir(p: argparse.ArgumentParser) -> None:
                    help="the firmware's CMake build directory: every program (fcc, sid_replay, canrec, "
                         "lqg_design) from DIR/bin (default $FCC_BUILD_DIR, else build/ of the source "
                         "tree, else $PATH)")
+
+
+SCENARIO_HELP = ("scenario TOML, or a shipped scenario's name (hil run --list-scenarios); "
+                 "default: the aircraft's default one")
+
+
+class ListScenarios(argparse.Action):
+    """--list-scenarios: the shipped scenarios, printed and exit (before the positionals are
+    checked, as --version)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, **kw: object) -> None:
+        super().__init__(option_strings, dest, nargs=0, help="list the shipped scenarios and exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object) -> None:
+        print(listing.scenarios())
+        parser.exit()
 
 
 TARGET_CHOICES = ("host", "qemu-m4f", "external")
@@ -228,27 +245,48 @@ def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
 
+def add_logging(p: argparse.ArgumentParser, default: object) -> None:
+    """-v/--verbose and --debug (hil.util.log): hil's options, taken before the command or
+    after it (a command's own default SUPPRESS leaves hil's value in place)."""
+    p.add_argument("-v", "--verbose", action="count", default=0 if default is None else default,
+                   help="say what hil finds and does (the scenario, the programs, fcc's command line)")
+    p.add_argument("--debug", action="store_true", default=False if default is None else default,
+                   help="also the debug records, with their times and modules")
+
+
+def _commands(p: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """Every (sub)command's parser under p."""
+    found = []
+    for action in p._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sp in dict.fromkeys(action.choices.values()):
+                found += [sp, *_commands(sp)]
+    return found
+
+
 def build() -> argparse.ArgumentParser:
     p = Parser(prog=PROG, description="Hardware-in-the-loop rig: fly the CDRW UAV and the missile "
                 "against the fcc firmware on a CAN bus, inject faults, report the papers' tables.",
                epilog=exit_status_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action=VersionAction)
+    add_logging(p, None)
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser, metavar="COMMAND")
 
     r = sub.add_parser("run", help="one flight of one aircraft")
     r.add_argument("aircraft", choices=("cdrw", "missile"))
-    r.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    r.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     r.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
-    r.add_argument("--seed", type=seed, help="override the scenario's seed")
+    r.add_argument("--seed", type=seed, help="the random seed (noise, gusts): overrides the scenario's")
+    r.add_argument("--list-scenarios", action=ListScenarios)
     add_common(r, "out/run-<aircraft>")
     add_rig(r)
 
     c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
     c.add_argument("aircraft", choices=("cdrw",))
-    c.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    c.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
-    c.add_argument("--seed", type=seed, default=1, help="seed of the fault times (default 1)")
+    c.add_argument("--seed", type=seed, default=1, help="random seed of the fault times (default 1)")
     c.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault (moved in time with the scenario's)")
     c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",
@@ -261,12 +299,12 @@ def build() -> argparse.ArgumentParser:
 
     s = sub.add_parser("sweep", help="Fig. 3: the missile at several periods and D/A word lengths")
     s.add_argument("aircraft", choices=("missile",))
-    s.add_argument("scenario", nargs="?", type=Path, help="scenario TOML (default: the embedded one)")
+    s.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
     s.add_argument("--periods", type=floats, default=[0.2, 0.1, 0.05], metavar="T,T,...",
                    help="sampling periods in s (default 0.2,0.1,0.05)")
     s.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
                    help="D/A word lengths (default 6,8,12)")
-    s.add_argument("--seed", type=seed, help="override the scenario's seed")
+    s.add_argument("--seed", type=seed, help="the random seed (noise, gusts): overrides the scenario's")
     s.add_argument("--fault", action="append", default=[], metavar="SPEC", help="extra fault")
     add_parallel(s)
     add_common(s, "out/sweep-missile")
@@ -370,7 +408,7 @@ def build() -> argparse.ArgumentParser:
                     help="fcc options added to the recorded ones, e.g. \"--ridge 0.01\"")
     add_paths(rp)
 
-    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then seed 2's Figs. 4-6 "
+    d = sub.add_parser("demo", help="both aircraft with the default scenarios, then paper 2's (LQG) Figs. 4-6 "
                        "(deterministic responses) and Fig. 3 (covariance analysis + HIL points)")
     add_common(d, "out/demo")
 
@@ -390,4 +428,6 @@ def build() -> argparse.ArgumentParser:
     add_common(v, "out/verify")
     add_rig(v)
     add_rig_commands(sub)
+    for command in _commands(p):
+        add_logging(command, argparse.SUPPRESS)
     return p

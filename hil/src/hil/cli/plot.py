@@ -7,13 +7,13 @@ exit 2 when it is not one) and its figures redrawn in place, its user's files ke
 from __future__ import annotations
 
 import argparse
+import logging
 import re
-import sys
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from hil.cli.usage import PROG, UsageError
+from hil.cli.usage import UsageError
 from hil.io.output import read_json
 from hil.io.rundir import note_written, staged_run, users_files
 from hil.plots import FAMILIES, plot_run_dir
@@ -21,6 +21,7 @@ from hil.plots import FAMILIES, plot_run_dir
 
 #: the names of the figures hil draws (hil.plots)
 _FIGURE = re.compile(r"(fig\d.*|campaign_errors|realtime_timing|missile_.*|table[45]_bars)\.png")
+_log = logging.getLogger(__name__)
 
 
 def not_a_summary(path: Path, e: Exception) -> UsageError:
@@ -69,8 +70,7 @@ def draw(run_dir: Path, out: Path | None = None, only: Iterable[str] | None = No
         drawn = {p.name for p in written}
         for p in theirs:
             if p.name not in drawn and _FIGURE.fullmatch(p.name):
-                print(f"{PROG}: {p.name} is not hil's (not in the run's manifest): kept, "
-                      f"not redrawn", file=sys.stderr)
+                _log.warning("%s is not hil's (not in the run's manifest): kept, not redrawn", p.name)
     return written
 
 

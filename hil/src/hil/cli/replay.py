@@ -7,12 +7,18 @@ import shlex
 from hil.cli.usage import UsageError
 from hil.io.rundir import note_written
 from hil.runs.replay import ReplayError, replay
+from hil.targets.device import ArgsRefused
+from hil.targets.registry import device_class
 
 
 def run(args: argparse.Namespace) -> int:
     try:
         extra = shlex.split(args.fcc_args)
     except ValueError as e:
+        raise UsageError(f"--fcc-args: {e}") from None
+    try:  # as the flying commands do (hil.cli.common.rig_config): before anything starts
+        device_class("host").check_args(args.fcc, extra, "lockstep")
+    except ArgsRefused as e:
         raise UsageError(f"--fcc-args: {e}") from None
     if not args.dir.is_dir():
         raise UsageError(f"{args.dir}: not a run directory")

@@ -19,6 +19,7 @@ knows the layout of the clone; everything else hil reads ships inside the packag
 """
 from __future__ import annotations
 
+import logging
 import os
 import shutil
 from collections.abc import Iterable
@@ -31,12 +32,20 @@ M4F_BUILD_ENV = "FCC_M4F_BUILD_DIR"
 M4F_IMAGE = "fcc_m4f.elf"
 #: the package's data: the DBC and its digest, the published test key, the vcan launcher
 DATA = Path(__file__).resolve().parent.parent / "data"
+#: the scenarios and test suites that come with hil (TOML files, named by their stem)
+SCENARIOS = DATA.parent / "scenarios"
+SUITES = DATA.parent / "suites"
 
 _fcc_override: Path | None = None
+_log = logging.getLogger(__name__)
 
 
 class ToolNotFound(FileNotFoundError):
     """A firmware program is missing (one line: which, and the ways to give it)."""
+
+
+class NotShipped(ValueError):
+    """A name that is neither a path nor a shipped scenario's or suite's (one line: the names)."""
 
 
 def source_tree() -> Path | None:
@@ -81,6 +90,12 @@ def _given(path: str | Path, what: str, where: str = "") -> Path:
 
 def tool(name: str) -> Path:
     """The program NAME (the rules in the module docstring)."""
+    found = _find(name)
+    _log.debug("%s: %s", name, found)
+    return found
+
+
+def _find(name: str) -> Path:
     image = name == M4F_IMAGE
     if name == "fcc":
         for given, what in ((_fcc_override, "--fcc"), (os.environ.get(FCC_ENV), f"${FCC_ENV}")):
@@ -150,3 +165,27 @@ def with_vcan() -> list[str]:
     if tree is not None:
         return [str(tree / "scripts" / "with-vcan")]
     return ["env", f"WITH_VCAN_UML_DIR={uml_dir()}", "bash", str(DATA / "with-vcan")]
+
+
+def vcan_launcher() -> str:
+    """What runs a command where vcan0 exists, as this installation has it (for messages): the
+    clone's scripts/with-vcan, or the installed package's hil-vcan."""
+    return "scripts/with-vcan" if source_tree() is not None else "hil-vcan"
+
+
+def shipped(directory: Path) -> dict[str, Path]:
+    """The TOML files that come with hil in directory (SCENARIOS, SUITES), by name (stem)."""
+    return {p.stem: p for p in sorted(directory.glob("*.toml"))}
+
+
+def find_shipped(name_or_path: str, directory: Path, what: str) -> Path:
+    """A path (one that ends in .toml, holds a '/' or exists: a path always wins), else the
+    name of a file shipped in directory; NotShipped names the shipped ones."""
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or "/" in name_or_path or p.exists():
+        return p
+    known = shipped(directory)
+    if name_or_path not in known:
+        raise NotShipped(f"no {what} named {name_or_path!r} (shipped: {', '.join(known)}; "
+                         f"or give a .toml path)")
+    return known[name_or_path]

@@ -41,10 +41,10 @@ MAX_WORKERS = 4
 Figure = Callable[[], "Path | None"]
 #: the families of figures, by the name `hil plot --figures` takes
 FAMILIES = {
-    "cdrw": "seed 1's Figs. 5-10 from cdrw.csv (a campaign: its flight 0)",
+    "cdrw": "paper 1's (MLS-AZKF) Figs. 5-10 from cdrw.csv (a campaign: its flight 0)",
     "campaign": "each campaign flight's error integrals against its fault time",
     "tables": "Table 4 (one flight) or Table 5 (a campaign, 95 % intervals) as bar charts",
-    "fig3": "seed 2's Fig. 3: RMS against the period",
+    "fig3": "paper 2's (LQG) Fig. 3: RMS against the period",
     "missile": "the missile's time responses: measured, true and estimated q, fault windows",
     "timing": "a realtime run's timing histograms",
 }

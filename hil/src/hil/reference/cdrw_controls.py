@@ -253,7 +253,7 @@ def _fmt(d: dict | None, key: str) -> str:
 
 
 def format_cdrw_study(s: dict) -> str:
-    lines = [f"seed 1, Table 5 comparison with controls: improvement over the KF, % "
+    lines = [f"paper 1 (MLS-AZKF), Table 5 comparison with controls: improvement over the KF, % "
              f"(mean over {s['runs']} fault times or {s['noise_seeds']} noise seeds; "
              "95 % bootstrap interval)",
              f"  {'case':18} {'n':>3}  {'AZKF alpha':>22} {'AZKF q':>22}  {'ZKF alpha':>22} "

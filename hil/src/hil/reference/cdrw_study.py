@@ -210,7 +210,7 @@ def study_policy(tool: Path, policy: str, extra: Sequence[str], runs: int, seeds
         other += d.other_flags > 0
     mean = {n: (np.mean([t[0] for t in tabs[n]], axis=0), np.mean([t[1] for t in tabs[n]], axis=0))
             for n in FILTERS}
-    print_table(f"Table 5-like, mean over {runs} fault start times (seed 1, campaign draw):",
+    print_table(f"Table 5-like, mean over {runs} fault start times (paper 1, campaign draw):",
                 mean, PAPER_TABLE5)
     lat_a, clr_a = np.asarray(lat), np.asarray(clr)
     print(f"  AZKF detector: missed {missed}/{runs}; flagged at the first faulty sample "

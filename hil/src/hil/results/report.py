@@ -105,7 +105,7 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
         tables.append(format_fig3(summary["fig3"]))
     ms = summary.get("missile")
     if ms and ms.get("runs"):
-        tables.append("Missile (seed 2, Fig. 3): RMS over the run\n"
+        tables.append("Missile, paper 2 (LQG) Fig. 3: RMS over the run\n"
                       + metrics.format_missile_table(ms["runs"]))
     if "firmware" in summary:
         tables.append(format_firmware(summary["firmware"]))

@@ -136,7 +136,7 @@ def _missile_line(summary: Summary, runs: Sequence[Mapping[str, Any]]) -> str:
         numbers = (f"{len(closed)} closed-loop runs, T {'/'.join(f'{t:g}' for t in T)} s, "
                    f"{'/'.join(map(str, bits))}-bit D/A: RMS q {min(q):.4f}-{max(q):.4f} rad/s, "
                    f"α_T {min(a):.5f}-{max(a):.5f} rad")
-    claim = "no paper number for one flight (seed 2's Fig. 3 is a curve)"
+    claim = "no paper number for one flight (paper 2's Fig. 3 is a curve)"
     return " | ".join(["verdict n/a", flew, _faults(summary, "missile"), numbers, claim]) + _sync(summary)
 
 

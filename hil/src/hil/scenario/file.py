@@ -31,14 +31,12 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
+from hil.io import paths
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build, parse_toml
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
 from hil.util.bounded import UnfitFile, read_bounded
-
-#: the embedded scenarios (package data, beside the packaged DBC)
-PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 
 #: a scenario file is a few kB; anything above this is not one (/dev/zero)
 SCENARIO_MAX_BYTES = 1 << 20
@@ -286,6 +284,15 @@ def _table(data: Mapping[str, Any], key: str, source: str) -> Mapping[str, Any]:
     return t
 
 
+def find_scenario(name_or_path: str) -> Path:
+    """A shipped scenario's name (its file's stem: `hil run --list-scenarios`), or a path to a
+    scenario file; found as a suite is (hil.io.paths.find_shipped: a path always wins)."""
+    try:
+        return paths.find_shipped(name_or_path, paths.SCENARIOS, "scenario")
+    except paths.NotShipped as e:
+        raise ScenarioError(str(e)) from None
+
+
 def load_scenario(path: str | Path, known_frames: Collection[str] | None = None) -> Scenario:
     """Read and validate a scenario file."""
     p = Path(path)
@@ -309,7 +316,7 @@ def default_scenario_text(aircraft: str) -> str:
     """The embedded default scenario file of an aircraft, as text."""
     if aircraft not in AIRCRAFT:
         raise ScenarioError(f"no default scenario for aircraft {aircraft!r} (one of: {', '.join(AIRCRAFT)})")
-    return (PACKAGED_SCENARIOS / f"{aircraft}_default.toml").read_text(encoding="utf-8")
+    return (paths.SCENARIOS / f"{aircraft}_default.toml").read_text(encoding="utf-8")
 
 
 def load_default_scenario(aircraft: str, known_frames: Collection[str] | None = None) -> Scenario:

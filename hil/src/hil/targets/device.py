@@ -11,8 +11,13 @@ that verifies under the key) and what its command line gets of them (`key_args`)
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+
+
+class ArgsRefused(ValueError):
+    """The device refuses the options the user adds to its command line (one line: why)."""
 
 
 @dataclass(frozen=True)
@@ -50,6 +55,17 @@ class Device:
     @classmethod
     def start(cls, how: DeviceStart) -> Device:
         raise NotImplementedError
+
+    @classmethod
+    def check_args(cls, given: Path | None, extra: Sequence[str], mode: str) -> None:
+        """ArgsRefused when the device would refuse these extra options (--fcc-args) at its
+        start: checked before the session opens, so that nothing starts that cannot fly."""
+
+    @classmethod
+    def firmware(cls, given: Path | None, progress: bool) -> Path | None:
+        """The firmware to start, made ready before the session opens (None: the build's,
+        found when the device starts); the Cortex-M4F image is cross-built here."""
+        return given
 
     @classmethod
     def bus_key_file(cls, requested: Path | None) -> Path | None:

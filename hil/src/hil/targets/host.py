@@ -16,8 +16,11 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.io.paths import tool
-from hil.targets.device import Device, DeviceStart
+from hil.targets.device import ArgsRefused, Device, DeviceStart
 from hil.util.processes import ProcessError, last_line, spawn
+
+#: fcc --check-args parses and exits: a second is ample (on a loaded machine too)
+CHECK_TIMEOUT_S = 30.0
 
 
 class FccProcess:
@@ -101,6 +104,19 @@ class HostFcc(FccProcess, Device):
 
     def local_pids(self) -> tuple[int, ...]:
         return (self.pid,)
+
+    @classmethod
+    def check_args(cls, given: Path | None, extra: Sequence[str], mode: str) -> None:
+        """fcc --check-args: its own option table judges them (exit 2 and its one line)."""
+        if not extra:
+            return
+        fcc = given or tool("fcc")
+        r = subprocess.run([str(fcc), "--check-args", "--mode", mode, *extra], capture_output=True,
+                           text=True, stdin=subprocess.DEVNULL, timeout=CHECK_TIMEOUT_S)
+        if r.returncode != 0:
+            said = (r.stderr or r.stdout).strip().splitlines()
+            why = said[-1].removeprefix("fcc: ") if said else f"exit status {r.returncode}"
+            raise ArgsRefused(f"fcc refuses them: {why}")
 
     @classmethod
     def start(cls, how: DeviceStart) -> HostFcc:

@@ -36,12 +36,12 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
-from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
 from hil.targets import qdisc
 from hil.targets.board import PTY_LINE
 from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
-from hil.targets.device import Device, DeviceStart
+from hil.targets.device import ArgsRefused, Device, DeviceStart
+from hil.targets.m4f_image import PilError, build_image, m4f_build_dir
 
 #: the trip of the Cortex-M4F PIL image (firmware/port/mps2_an386/m4f_main.c: no entropy on the board)
 PIL_TRIP = 0x4D344631
@@ -59,50 +59,6 @@ LINE_QUEUE = 256
 LINE_CHECK_S = 1.0
 #: the image's summary line with its receive ring's overflows (m4f_main.c)
 RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
-
-
-class PilError(RuntimeError):
-    """The emulated board or its serial link could not be set up (one line)."""
-
-
-def m4f_build_dir() -> Path:
-    """Where the cross build lives in a clone ($FCC_M4F_BUILD_DIR, default <tree>/build-m4f)."""
-    if os.environ.get(M4F_BUILD_ENV):
-        return Path(os.environ[M4F_BUILD_ENV]).resolve()
-    tree = source_tree()
-    if tree is None:
-        raise PilError("hil runs outside its source tree: give the Cortex-M4F image with --fcc "
-                       f"IMAGE.elf (or ${M4F_BUILD_ENV})")
-    return tree / "build-m4f"
-
-
-def build_image(build: Path | None = None) -> Path:
-    """The ELF image, cross-built (cmake + the M4F toolchain file) when missing or stale."""
-    tree = source_tree()
-    if tree is None:  # installed: the image as it is, found as every program is (hil.io.paths)
-        return build / "bin" / M4F_IMAGE if build else tool(M4F_IMAGE)
-    build = build or m4f_build_dir()
-    log = build / "hil-build.log"
-    steps = []
-    if not (build / "CMakeCache.txt").is_file():
-        steps.append(["cmake", "-S", str(tree), "-B", str(build), "-G", "Ninja",
-                      f"-DCMAKE_TOOLCHAIN_FILE={tree / 'cmake' / 'arm-none-eabi-cortex-m4f.cmake'}"])
-    steps.append(["cmake", "--build", str(build)])
-    build.mkdir(parents=True, exist_ok=True)
-    with open(log, "wb") as fh:
-        for cmd in steps:
-            try:
-                rc = subprocess.run(cmd, stdout=fh, stderr=subprocess.STDOUT,
-                                    stdin=subprocess.DEVNULL).returncode
-            except OSError as e:
-                raise PilError(f"cannot run {cmd[0]}: {e.strerror}") from None
-            if rc != 0:
-                raise PilError(f"the Cortex-M4F cross build failed ({' '.join(cmd[:3])} ...); "
-                               f"see {log}")
-    image = build / "bin" / M4F_IMAGE
-    if not image.is_file():
-        raise PilError(f"the cross build made no {image}")
-    return image
 
 
 #: the fcc options the boot configuration record carries (firmware/port/mps2_an386/README.md)
@@ -215,6 +171,19 @@ class QemuM4f(Device):
     def start(cls, how: DeviceStart) -> QemuM4f:
         return cls(how.run_dir, how.fcc_args, how.iface, how.log_path, image=how.firmware,
                    interface=how.interface)
+
+    @classmethod
+    def check_args(cls, given: Path | None, extra: Sequence[str], mode: str) -> None:
+        """The image's boot configuration record takes them (boot_record)."""
+        try:
+            boot_record(["--mode", mode, *extra])
+        except PilError as e:
+            raise ArgsRefused(str(e)) from None
+
+    @classmethod
+    def firmware(cls, given: Path | None, progress: bool) -> Path | None:
+        """The image given (--fcc), else the cross build's, brought up to date now."""
+        return given or build_image(progress=progress)
 
     @classmethod
     def bus_key_file(cls, requested: Path | None) -> Path | None:

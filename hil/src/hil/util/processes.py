@@ -5,7 +5,9 @@ cangen with it; /proc/PID/stat; the last line a program wrote.
 from __future__ import annotations
 
 import ctypes
+import logging
 import os
+import shlex
 import shutil
 import signal
 import subprocess
@@ -15,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 PR_SET_PDEATHSIG = 1
+_log = logging.getLogger(__name__)
 
 
 def _die_with_parent(parent: int) -> Callable[[], None] | None:
@@ -40,6 +43,7 @@ def spawn(cmd: Sequence[str], **kw: Any) -> subprocess.Popen:
     Through `setpriv --pdeathsig KILL` where it exists: a preexec_fn makes Python fork
     instead of vfork, and in the UML guest forking the rig costs ~105 ms, vfork and the one
     exec more ~55 ms (measured, 5 starts each)."""
+    _log.info("starting %s", shlex.join(map(str, cmd)))
     if SETPRIV is not None and sys.platform.startswith("linux"):
         return subprocess.Popen([SETPRIV, "--pdeathsig", "KILL", "--", *cmd], process_group=0, **kw)
     return subprocess.Popen(list(cmd), process_group=0, preexec_fn=_die_with_parent(os.getpid()),

@@ -1,7 +1,8 @@
 """The one progress display of the rig, on stderr: tqdm's bar when stderr is a terminal; one
 line every LINE_EVERY_S seconds otherwise (CI logs, `2>run.err`, a pipe), so a long run is
-never silent and a log gets no carriage-return redraws.  Inside scripts/with-vcan, stderr is
-a terminal exactly when the user's is."""
+never silent and a log gets no carriage-return redraws; say() for the line that opens or
+closes a long step (the Cortex-M4F cross-build).  Inside scripts/with-vcan, stderr is a
+terminal exactly when the user's is.  All of it off with --quiet."""
 from __future__ import annotations
 
 import sys
@@ -57,3 +58,9 @@ def bar(total: int, enabled: bool, desc: str, unit: str = "step") -> Any:
     from tqdm import tqdm
 
     return tqdm(total=total, unit=unit, desc=desc, leave=False, dynamic_ncols=True)
+
+
+def say(text: str, enabled: bool) -> None:
+    """One progress line (`hil: TEXT`), where the bar would be: a long step starts or ends."""
+    if enabled:
+        print(f"hil: {text}", file=sys.stderr, flush=True)

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load as load_dbc
+from hil.io import paths
 from hil.rig.flight import check_missile
 from hil.runs.budget import check_memory
 from hil.scenario.file import AIRCRAFT, Scenario, default_scenario_text, parse_flight_fault, scenario_from_dict
@@ -52,7 +53,6 @@ from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
 from hil.verify.window import VALUE, Windowed, WindowError, check
 
-SUITES_DIR = Path(__file__).resolve().parent.parent / "suites"
 MAX_SUITE_BYTES = 1 << 20
 MODES = ("lockstep", "realtime")
 #: a case's values that are its scenario's: checked as a scenario file's are (hil.scenario.file)
@@ -138,18 +138,15 @@ class Suite:
 
 def shipped() -> dict[str, Path]:
     """The suites that come with hil, by name."""
-    return {p.stem: p for p in sorted(SUITES_DIR.glob("*.toml"))}
+    return paths.shipped(paths.SUITES)
 
 
 def find(name_or_path: str) -> Path:
-    """A shipped suite's name, or a path to a suite file."""
-    p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists():
-        return p
-    known = shipped()
-    if name_or_path not in known:
-        raise SuiteError(f"no suite named {name_or_path!r} (shipped: {', '.join(known)}; or give a .toml path)")
-    return known[name_or_path]
+    """A shipped suite's name, or a path to a suite file (hil.io.paths.find_shipped)."""
+    try:
+        return paths.find_shipped(name_or_path, paths.SUITES, "suite")
+    except paths.NotShipped as e:
+        raise SuiteError(str(e)) from None
 
 
 def _flights(case: _CaseFields, raw: Mapping[str, Any], where: str,

@@ -16,7 +16,7 @@ from hil.bus import dbc
 from hil.bus.wcrt import (Frame, Response, analyse, application_periods, cyclic_frames, seconds,
                           utilisation, with_jitter, with_periods)
 from hil.cli.usage import EXIT_FAILED, PROG, UsageError
-from hil.scenario.file import load_scenario
+from hil.scenario.file import find_scenario, load_scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
 #: the bit rate of a DBC without a Baudrate attribute
@@ -67,7 +67,7 @@ def _bitrate(given: int | None, spec: dbc.BusSpec) -> tuple[int, str]:
 
 def _scenario_periods(path: Path, frames: list[Frame]) -> dict[str, Fraction]:
     """The periods of the scenario's aircraft: the missile's [lqg] period, the CDRW's [plant] dt."""
-    sc = load_scenario(path)
+    sc = load_scenario(find_scenario(str(path)))
     if sc.lqg is not None:
         period = sc.lqg.period
     else:

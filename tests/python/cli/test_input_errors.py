@@ -88,7 +88,7 @@ def _edits() -> dict[str, bytes]:
         "truncated": text[: len(text) // 2],
         "identifier too large": text.replace(b"\nBO_ 272 ", b"\nBO_ 99999 "),
         "identifier taken": text.replace(b"\nBO_ 272 ", b"\nBO_ 273 "),
-        "message renamed": text.replace(b"BO_ 272 SID_AZKF_STATE", b"BO_ 272 SID_AZKF_STAT"),
+        "message renamed": text.replace(b"BO_ 80 CDRW_AOA:", b"BO_ 80 CDRW_AOX:"),
         "signal renamed": text.replace(b" alpha_hat ", b" alpha_hut "),
     }
 
@@ -99,7 +99,7 @@ def _edits() -> dict[str, bytes]:
     ("truncated", "not a DBC this rig reads: Invalid syntax at line "),
     ("identifier too large", "Standard frame id 0x1869f is more than 11 bits"),
     ("identifier taken", "SID_AZKF_STATE and SID_AZKF_BOUNDS have the same identifier 0x111"),
-    ("message renamed", "no message 'SID_AZKF_STATE'"),
+    ("message renamed", "no message 'CDRW_AOA'"),
     ("signal renamed", "SID_AZKF_STATE has no signal 'alpha_hat'"),
 ])
 @pytest.mark.parametrize("given", ["--dbc", "$FCC_HIL_DBC"])

@@ -6,13 +6,13 @@ command imports only what it runs (hil.cli.main imports the chosen one).
 from __future__ import annotations
 
 import argparse
-import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
 import hil
 from hil.cli import listing
+from hil.cli.argtypes import bitrate, floats, ints, nonnegative, positive, seed
 from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.results.fig3_grid import FIG3_PERIODS
 
@@ -38,46 +38,6 @@ class Parser(argparse.ArgumentParser):
             return self.parse_known_intermixed_args(args, namespace)
         finally:
             self._intermixing = False
-
-
-def floats(text: str) -> list[float]:
-    try:
-        vals = [float(x) for x in text.split(",") if x.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected numbers separated by commas, got {text!r}") from None
-    if not vals or not all(math.isfinite(v) and v > 0 for v in vals):
-        raise argparse.ArgumentTypeError(f"expected positive numbers separated by commas, got {text!r}")
-    return vals
-
-
-def ints(text: str) -> list[int]:
-    try:
-        vals = [int(x) for x in text.split(",") if x.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got {text!r}") from None
-    if not vals:
-        raise argparse.ArgumentTypeError("expected at least one number")
-    return vals
-
-
-def seed(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}") from None
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, got {text!r}")
-    return v
-
-
-def positive(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
-    return v
 
 
 def version() -> str:
@@ -134,18 +94,6 @@ class ListScenarios(argparse.Action):
 TARGET_CHOICES = ("host", "qemu-m4f", "external")
 #: lockstep answer timeout by target (--timeout)
 DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
-
-
-def bitrate(text: str) -> int:
-    """Bits per second: 500000, or with a k or M suffix (500k, 1M)."""
-    scale = {"k": 1_000, "M": 1_000_000}.get(text[-1:], 1)
-    try:
-        v = int(text[:-1] if scale > 1 else text) * scale
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected bits per second, e.g. 500000 or 500k, got {text!r}") from None
-    if not 10_000 <= v <= 1_000_000:
-        raise argparse.ArgumentTypeError(f"expected 10000 to 1000000 bit/s, got {v}")
-    return v
 
 
 def add_common(p: argparse.ArgumentParser, out_default: str) -> None:
@@ -212,16 +160,6 @@ def add_rig_commands(sub: argparse._SubParsersAction[Parser]) -> None:
                    help="stop after S seconds without a command (default 1800)")
     rsub.add_parser("status", help="up or down, target, uptime, commands run, client (exit 1: down)")
     rsub.add_parser("down", help="stop the rig and its guest")
-
-
-def nonnegative(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(v) and v >= 0):
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
-    return v
 
 
 def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:

@@ -5,10 +5,12 @@
  * reaches QEMU's exit status (SYS_EXIT_EXTENDED).
  */
 #include <errno.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 extern uint32_t target_data_start, target_data_end, target_data_load;
 extern uint32_t target_bss_start, target_bss_end;
@@ -21,6 +23,8 @@ void target_reset(void) __attribute__((noreturn));
 void target_fault(void) __attribute__((noreturn));
 void *_sbrk(ptrdiff_t increment);
 void _fini(void);
+int __real_vsnprintf(char *buf, size_t size, const char *format, va_list args);
+int __wrap_vsnprintf(char *buf, size_t size, const char *format, va_list args);
 
 /* The status of a test program that faulted (a stack overflow, a bad access). */
 #define TARGET_FAULT_STATUS 70
@@ -34,11 +38,33 @@ void _fini(void);
 #define DUALTIMER_CTRL_EN_32BIT_FREE 0x82u
 #define INSTRUCTIONS_PER_TICK 40u
 
+static unsigned long long instructions_since_reset(void)
+{
+    return (unsigned long long)(0xFFFFFFFFu - DUALTIMER1_VALUE) * INSTRUCTIONS_PER_TICK;
+}
+
 /* The program's instruction count, the last line before its exit (scripts/test target-unit). */
 static void report_instructions(void)
 {
-    const uint32_t ticks = 0xFFFFFFFFu - DUALTIMER1_VALUE;
-    printf("target: %llu instructions\n", (unsigned long long)ticks * INSTRUCTIONS_PER_TICK);
+    printf("target: %llu instructions\n", instructions_since_reset());
+}
+
+/* Each test case's count: cmocka formats a case's start and end lines with vsnprintf (its
+ * vprint_message), which the images link wrapped (-Wl,--wrap=vsnprintf); the end line gets a
+ * second line with the instructions since the start, cmocka's own bookkeeping included. */
+int __wrap_vsnprintf(char *buf, size_t size, const char *format, va_list args)
+{
+    static unsigned long long case_start;
+    const int n = __real_vsnprintf(buf, size, format, args);
+    if (strcmp(format, "[ RUN      ] %s\n") == 0) {
+        case_start = instructions_since_reset();
+    } else if ((strcmp(format, "[       OK ] %s\n") == 0 || strcmp(format, "[  FAILED  ] %s\n") == 0) &&
+               n >= 0 && (size_t)n < size) {
+        const int more = snprintf(buf + n, size - (size_t)n, "target: case %llu instructions\n",
+                                  instructions_since_reset() - case_start);
+        return more < 0 ? n : n + more;
+    }
+    return n;
 }
 
 void target_reset(void)

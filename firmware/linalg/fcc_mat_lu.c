@@ -17,7 +17,7 @@ static fcc_status_t check_square_input(const mat_t *a)
     return MAT(check_finite)(a);
 }
 
-#define LU_AT(lu, i, j) ((lu)->lu[(size_t)(i) * (lu)->n + (size_t)(j)])
+#define LU_AT(f, i, j) ((f)->lu[(size_t)(i) * (f)->n + (size_t)(j)])
 
 /* Row index (>= k) of the largest |entry| in column k: the partial pivot. */
 static uint16_t pivot_row(const lu_t *lu, uint16_t k)

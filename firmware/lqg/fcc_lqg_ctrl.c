@@ -16,7 +16,8 @@ fcc_status_t fcc_lqg_dac_init(fcc_lqg_dac_t *dac, uint8_t bits)
     if (bits < FCC_LQG_BITS_MIN || bits > FCC_LQG_BITS_MAX) {
         return FCC_ERR_RANGE;
     }
-    const int32_t half = (int32_t)1 << (bits - 1U);
+    const uint32_t half_range = (uint32_t)1u << ((uint32_t)bits - 1u); /* bits <= 16 */
+    const int32_t half = (int32_t)half_range;
     dac->bits = bits;
     /* Scaling by 2^-N is exact: the LSB carries only the rounding of 0.8 itself. */
     dac->lsb = FCC_LDEXP(FCC_R(2.0) * FCC_LQG_U_MAX, -(int)bits);

@@ -249,7 +249,7 @@ static fcc_status_t sample(fcc_tsync_t *ts, uint64_t local_us, uint64_t master_u
     /* PI: half the phase error now, a sixteenth of the frequency error */
     const uint64_t dt = local_us - ts->last_sample_local_us;
     int64_t rate = ts->rate_ppb;
-    if (dt > 0u && dt < (1ull << 40)) {
+    if (dt > 0u && dt < (1ULL << 40)) {
         rate += (e * PPB / (int64_t)dt) / 16;
     }
     const int64_t lim = ts->cfg.max_rate_ppb;

@@ -1,0 +1,159 @@
+"""`hil campaign AIRCRAFT --vary KEY=V1,V2,... --draw KEY=LAW:A,B --keep-logs`: a campaign over
+any scenario field, for either aircraft (hil.scenario.vary).
+
+Every flight is a `hil run` of its own scenario (hil.runs.run.run_flight, in
+flights/NNNN/ of the run directory): the product of the --vary values, `runs` flights of each,
+each run's --draw values and, when the scenario has faults, their random start (Table 5's rule,
+hil.scenario.campaign) the same in every combination (common random numbers: the
+combinations differ only by what is varied).  A flight's numbers are those of the single run
+of its scenario; --keep-logs keeps its whole run directory (bus log, bus key, run_info.json:
+what `hil replay` needs), otherwise it is removed once its numbers are taken.
+
+run directory
+    campaign.csv     a row per flight: flight, combination, run, each varied and drawn key
+                     (a text value: nan, see summary.json), fault_start, the flight's numbers
+    summary.json     command, aircraft, seed, vary, draw, combinations (values, flights, means)
+    flights/NNNN/    --keep-logs: each flight's run directory (`hil replay` replays it)
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hil.io.output import write_csv, write_json
+from hil.results import metrics
+from hil.rig.config import RigConfig
+from hil.runs.outcome import Outcome
+from hil.runs.run import run_flight
+from hil.scenario.campaign import campaign_fault_times
+from hil.scenario.file import Scenario, with_fault_start
+from hil.scenario.vary import Draw, Vary, check, draw_values, grid, with_fields
+
+#: a missile flight's numbers: its closed-loop entry's (summary.json missile.runs)
+MISSILE_NUMBERS = ("rms_q", "rms_alpha", "commands_missing", "commands_rejected", "commands_late",
+                   "unanswered_steps")
+#: a flight's verdicts (hil.results.sync, hil.results.trust): the campaign's is its worst
+VERDICTS = ("sync", "bus_trust")
+
+
+def table_columns(table: metrics.Table, table_truth: metrics.Table) -> dict[str, float]:
+    """A CDRW flight's Table 4 as Table 5's columns: FILTER_STATE_meas and _truth."""
+    return {f"{f}_{s}_{key}": float(t[f][s])
+            for key, t in (("meas", table), ("truth", table_truth))
+            for f in metrics.FILTERS for s in metrics.STATES}
+
+
+def flight_numbers(summary: dict[str, Any]) -> dict[str, float]:
+    """The numbers of a flight's summary.json that a campaign compares."""
+    if summary.get("cdrw"):
+        cd = summary["cdrw"]
+        return table_columns(cd["table4"], cd["table4_truth"])
+    runs = summary["missile"]["runs"]
+    entry = next((r for r in runs if r["closed_loop"]), runs[0])
+    return {k: float(entry[k]) for k in MISSILE_NUMBERS if k in entry}
+
+
+def flights_of(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
+               draws: Sequence[Draw]) -> list[tuple[dict[str, Any], Scenario]]:
+    """Every flight of the campaign, in order (combination outer, run inner): its key (the
+    combination's index and values, the run, its draws, its fault start) and its scenario."""
+    check(scenario, varies, draws)
+    drawn = draw_values(draws, runs, seed)
+    flights = []
+    for c, values in enumerate(grid([(v.key, v.values) for v in varies])):
+        base = with_fields(scenario, values, "--vary " + " ".join(f"{k}={v}" for k, v in values.items()))
+        starts = campaign_fault_times(base, runs, seed) if base.faults else None
+        for r in range(runs):
+            where = f"flight {len(flights)}"
+            sc = with_fields(base, drawn[r], where)
+            key: dict[str, Any] = {"flight": len(flights), "combination": c, "run": r, **values, **drawn[r]}
+            if starts is not None:
+                key["fault_start"] = float(starts[r])
+                sc = with_fault_start(sc, float(starts[r]))
+            flights.append((key, sc))
+    return flights
+
+
+def _cell(value: Any) -> float:
+    return float(value) if isinstance(value, (int, float)) else math.nan
+
+
+def _worst_verdicts(summaries: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The first flight's verdict that is not ok, per kind (cli.common.sync_status reads it)."""
+    worst: dict[str, Any] = {}
+    for key in VERDICTS:
+        for s in summaries:
+            v = s.get(key)
+            if v and (key not in worst or v.get("verdict", "ok") != "ok" and worst[key].get("verdict", "ok") == "ok"):
+                worst[key] = v
+    return worst
+
+
+def run_field_campaign(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
+                       draws: Sequence[Draw], keep_logs: bool, cfg: RigConfig) -> Outcome:
+    """The campaign's flights, each a single run (flights/NNNN/), and its tables."""
+    if runs < 1:
+        raise ValueError(f"--runs must be >= 1, got {runs}")
+    out = Path(cfg.out_dir)
+    plan = flights_of(scenario, runs, seed, varies, draws)
+    rows: list[dict[str, Any]] = []
+    summaries = []
+    for key, sc in plan:
+        where = out / "flights" / f"{key['flight']:04d}"
+        outcome = run_flight([sc], dataclasses.replace(cfg, out_dir=where, plots=False))
+        summaries.append(outcome.summary)
+        rows.append({**key, **flight_numbers(outcome.summary)})
+        if keep_logs:
+            key["dir"] = str(where.relative_to(out))
+        else:
+            shutil.rmtree(where)
+    if not keep_logs and (out / "flights").is_dir():
+        (out / "flights").rmdir()
+    summary = write_field_campaign(out, scenario, seed, runs, varies, draws, plan, rows, cfg.mode)
+    summary.update(_worst_verdicts(summaries))
+    write_json(out / "summary.json", summary)
+    return Outcome(out, summary, [format_combinations(summary)])
+
+
+def write_field_campaign(out: Path, scenario: Scenario, seed: int, runs: int, varies: Sequence[Vary],
+                         draws: Sequence[Draw], plan: Sequence[tuple[dict[str, Any], Scenario]],
+                         rows: Sequence[dict[str, Any]], mode: str) -> dict[str, Any]:
+    """campaign.csv (a row per flight) and the summary (its combinations with their means)."""
+    names = list(dict.fromkeys(k for row in rows for k in row if k != "dir"))
+    write_csv(out / "campaign.csv", {n: np.asarray([_cell(row.get(n)) for row in rows]) if n not in
+                                     ("flight", "combination", "run") else np.asarray([row[n] for row in rows])
+                                     for n in names})
+    numbers = [n for n in rows[0] if n not in plan[0][0]]
+    combinations = []
+    for c, values in enumerate(grid([(v.key, v.values) for v in varies])):
+        mine = [(key, row) for (key, _), row in zip(plan, rows) if key["combination"] == c]
+        combinations.append({
+            "combination": c, "values": values,
+            "flights": [{**key, **{n: row[n] for n in numbers}} for key, row in mine],
+            "mean": {n: float(np.mean([row[n] for _, row in mine])) for n in numbers}})
+    return {"command": "campaign", "aircraft": scenario.aircraft, "mode": mode, "seed": seed,
+            "runs_count": runs, "scenario": scenario.name or scenario.source,
+            "flight_seed": scenario.seed, "faults": [f.describe() for f in scenario.faults],
+            "vary": {v.key: list(v.values) for v in varies},
+            "draw": {d.key: d.describe() for d in draws},
+            "combinations": combinations}
+
+
+def format_combinations(summary: dict[str, Any]) -> str:
+    """The campaign's table: each combination's values and the mean of its flights' numbers."""
+    combos = summary["combinations"]
+    keys = list(summary["vary"])
+    numbers = list(combos[0]["mean"])[:6]
+    head = ["#", *keys, *numbers]
+    body = [[str(c["combination"]), *(str(c["values"][k]) for k in keys),
+             *(f"{c['mean'][n]:.6g}" for n in numbers)] for c in combos]
+    widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
+    lines = ["  ".join(cell.rjust(w) for cell, w in zip(r, widths)) for r in [head, *body]]
+    return "\n".join([f"Campaign: {summary['aircraft']}, {summary['runs_count']} flight(s) per "
+                      "combination; the mean of each combination's flights", *lines])

@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 
 from hil.io.output import write_csv, write_json
-from hil.results import metrics
 from hil.rig.config import RigConfig
+from hil.runs.campaign import table_columns
 from hil.runs.outcome import Outcome
 from hil.runs.run import run_flight
 from hil.scenario.campaign import campaign_fault_times
@@ -40,13 +40,6 @@ MISSILE_NUMBERS = ("rms_q", "rms_alpha", "commands_missing", "commands_rejected"
                    "unanswered_steps")
 #: a flight's verdicts (hil.results.sync, hil.results.trust): the campaign's is its worst
 VERDICTS = ("sync", "bus_trust")
-
-
-def table_columns(table: metrics.Table, table_truth: metrics.Table) -> dict[str, float]:
-    """A CDRW flight's Table 4 as Table 5's columns: FILTER_STATE_meas and _truth."""
-    return {f"{f}_{s}_{key}": float(t[f][s])
-            for key, t in (("meas", table), ("truth", table_truth))
-            for f in metrics.FILTERS for s in metrics.STATES}
 
 
 def flight_numbers(summary: dict[str, Any]) -> dict[str, float]:
@@ -65,7 +58,7 @@ def flights_of(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
     combination's index and values, the run, its draws, its fault start) and its scenario."""
     check(scenario, varies, draws)
     drawn = draw_values(draws, runs, seed)
-    flights = []
+    flights: list[tuple[dict[str, Any], Scenario]] = []
     for c, values in enumerate(grid([(v.key, v.values) for v in varies])):
         base = with_fields(scenario, values, "--vary " + " ".join(f"{k}={v}" for k, v in values.items()))
         starts = campaign_fault_times(base, runs, seed) if base.faults else None

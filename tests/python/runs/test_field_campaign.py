@@ -51,8 +51,8 @@ def test_a_2x2_vary_campaign_is_four_single_runs(tmp_path, capsys):
 
 def test_a_cdrw_campaign_draws_moves_the_fault_and_keeps_no_log_unless_asked(tmp_path, capsys):
     base = tmp_path / "cdrw.toml"
-    base.write_text(CDRW_1S.replace("duration = 1.0", "duration = 2.0") + '[[faults]]\nkind = "spike"\nsignal = "alpha"\nstart = 0.4\n'
-                    'duration = 0.1\nmagnitude = 0.1\n')
+    base.write_text(CDRW_1S.replace("duration = 1.0", "duration = 2.0") + '[[faults]]\nkind = "spike"\n'
+                    'signal = "alpha"\nstart = 0.4\nduration = 0.1\nmagnitude = 0.1\n')
     camp = tmp_path / "camp"
     rc, out, err = cli(capsys, "campaign", "cdrw", str(base), "--runs", "2", "--seed", "5",
                        "--draw", "faults[0].magnitude=uniform:0.05,0.2", "--out", str(camp), *QUIET)

@@ -104,7 +104,7 @@ def test_the_plan_every_combination_with_table_5_s_fault_times():
     (["--draw", "seed=uniform:0,3"], "field 'seed': expected an integer"),
     (["--draw", "seed=gauss:0,3"], "--draw 'seed=gauss:0,3'"),
     (["--vary", "seed=1,2", "--draw", "seed=integers:0,3"], "a key varied twice"),
-    (["--vary", "lqg.period=0.1", "--workers", "2"], "--workers/--scheduler fly Table 5"),
+    (["--keep-logs", "--workers", "2"], "--keep-logs: the rigs of --workers/--scheduler keep no bus log"),
 ])
 def test_the_cli_refuses_a_bad_key_or_value_exit_2(tmp_path, capsys, argv, named):
     rc, out, err = cli(capsys, "campaign", "missile", "--runs", "2", "--out", str(tmp_path / "c"), *argv)

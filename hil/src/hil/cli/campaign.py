@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from hil.cli.common import scenario, staged, sync_status
+from hil.cli.common import scenario
 from hil.cli.many import parallel_options, run_many
 from hil.cli.usage import UsageError
 from hil.runs.campaign import run_campaign
@@ -20,9 +20,9 @@ def run(args: argparse.Namespace) -> int:
         return run_many(args, run_campaign, "run_campaign_parallel", sc, args.runs, args.seed)
     varies = [parse_vary(v) for v in args.vary]
     draws = [parse_draw(d) for d in args.draw]
-    if parallel_options(args) is not None:
-        raise UsageError("--workers/--scheduler fly Table 5 (hil campaign cdrw without --vary, "
-                         "--draw, --keep-logs); a campaign over fields flies in this rig")
+    if args.keep_logs and parallel_options(args) is not None:
+        raise UsageError("--keep-logs: the rigs of --workers/--scheduler keep no bus log (each is read and "
+                         "removed there); fly the campaign in this rig for the logs")
     flights_of(sc, args.runs, args.seed, varies, draws)   # every key and value checked first
-    return sync_status(staged(args, args.out, lambda cfg: [
-        run_field_campaign(sc, args.runs, args.seed, varies, draws, args.keep_logs, cfg)]))
+    return run_many(args, run_field_campaign, "run_field_campaign_parallel", sc, args.runs, args.seed,
+                    varies, draws, args.keep_logs)

@@ -325,6 +325,19 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     return done
 
 
+def fly_field_flight(scenario: Scenario, cfg: RigConfig) -> dict[str, Any]:
+    """One flight of a campaign over scenario fields (hil.runs.field_campaign): the single run
+    of its scenario in the rig's directory, its summary back (the directory is removed)."""
+    from hil.runs.run import run_flight   # (the sequential command's own flight)
+    out = Path(cfg.out_dir)
+    try:
+        summary = run_flight([scenario], dataclasses.replace(worker_config(cfg), plots=False)).summary
+    except Exception as e:  # noqa: BLE001 - the failure goes back with its cause
+        raise _failed(e, None, out) from None
+    shutil.rmtree(out, ignore_errors=True)
+    return summary
+
+
 #: what fcc counts once per session after its flights: the shutdown's GROUND and SHUTDOWN
 #: (SIM_CONTROL frames, FCC_E2E_COUNTS.ok; hil.rig.session.RigSession.shutdown).  Nothing
 #: before the first flight is counted, so a session's counters less these are its flights'.

@@ -20,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import shutil
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +28,7 @@ import numpy as np
 
 from hil.io.output import write_csv, write_json
 from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
 from hil.runs.campaign import table_columns
 from hil.runs.outcome import Outcome
 from hil.runs.run import run_flight
@@ -56,6 +57,8 @@ def flights_of(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
                draws: Sequence[Draw]) -> list[tuple[dict[str, Any], Scenario]]:
     """Every flight of the campaign, in order (combination outer, run inner): its key (the
     combination's index and values, the run, its draws, its fault start) and its scenario."""
+    if runs < 1:
+        raise ValueError(f"--runs must be >= 1, got {runs}")
     check(scenario, varies, draws)
     drawn = draw_values(draws, runs, seed)
     flights: list[tuple[dict[str, Any], Scenario]] = []
@@ -90,46 +93,57 @@ def _worst_verdicts(summaries: Sequence[dict[str, Any]]) -> dict[str, Any]:
 
 def run_field_campaign(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
                        draws: Sequence[Draw], keep_logs: bool, cfg: RigConfig) -> Outcome:
-    """The campaign's flights, each a single run (flights/NNNN/), and its tables."""
-    if runs < 1:
-        raise ValueError(f"--runs must be >= 1, got {runs}")
+    """The campaign's flights in this process's rig, each a single run (flights/NNNN/), and
+    its tables."""
     out = Path(cfg.out_dir)
     plan = flights_of(scenario, runs, seed, varies, draws)
-    rows: list[dict[str, Any]] = []
-    summaries = []
+    summaries = {}
     for key, sc in plan:
         where = out / "flights" / f"{key['flight']:04d}"
-        outcome = run_flight([sc], dataclasses.replace(cfg, out_dir=where, plots=False))
-        summaries.append(outcome.summary)
-        rows.append({**key, **flight_numbers(outcome.summary)})
+        summaries[key["flight"]] = run_flight([sc], dataclasses.replace(cfg, out_dir=where, plots=False)).summary
         if keep_logs:
             key["dir"] = str(where.relative_to(out))
         else:
             shutil.rmtree(where)
     if not keep_logs and (out / "flights").is_dir():
         (out / "flights").rmdir()
-    summary = write_field_campaign(out, scenario, seed, runs, varies, draws, plan, rows, cfg.mode)
-    summary.update(_worst_verdicts(summaries))
+    return finish_field_campaign(out, scenario, seed, runs, varies, draws, plan, summaries, cfg.mode)
+
+
+def finish_field_campaign(out: Path, scenario: Scenario, seed: int, runs: int, varies: Sequence[Vary],
+                          draws: Sequence[Draw], plan: Sequence[tuple[dict[str, Any], Scenario]],
+                          summaries: Mapping[int, dict[str, Any]], mode: str,
+                          failed: Sequence[dict[str, Any]] = ()) -> Outcome:
+    """campaign.csv and summary.json from the flights' single-run summaries (by flight; those
+    that failed are listed in `failed`: summary.json failed_runs), and the table to print."""
+    done = [key for key, _ in plan if key["flight"] in summaries]
+    if not done:
+        raise RigError(f"{out}: no campaign flight gave a result")
+    rows = [{**key, **flight_numbers(summaries[key["flight"]])} for key in done]
+    summary = write_field_campaign(out, scenario, seed, runs, varies, draws, done, rows, mode)
+    summary.update(_worst_verdicts([summaries[key["flight"]] for key in done]))
+    if failed:
+        summary["failed_runs"] = list(failed)
     write_json(out / "summary.json", summary)
     return Outcome(out, summary, [format_combinations(summary)])
 
 
 def write_field_campaign(out: Path, scenario: Scenario, seed: int, runs: int, varies: Sequence[Vary],
-                         draws: Sequence[Draw], plan: Sequence[tuple[dict[str, Any], Scenario]],
+                         draws: Sequence[Draw], keys: Sequence[dict[str, Any]],
                          rows: Sequence[dict[str, Any]], mode: str) -> dict[str, Any]:
     """campaign.csv (a row per flight) and the summary (its combinations with their means)."""
     names = list(dict.fromkeys(k for row in rows for k in row if k != "dir"))
     write_csv(out / "campaign.csv", {n: np.asarray([_cell(row.get(n)) for row in rows]) if n not in
                                      ("flight", "combination", "run") else np.asarray([row[n] for row in rows])
                                      for n in names})
-    numbers = [n for n in rows[0] if n not in plan[0][0]]
+    numbers = [n for n in rows[0] if n not in keys[0]]
     combinations = []
     for c, values in enumerate(grid([(v.key, v.values) for v in varies])):
-        mine = [(key, row) for (key, _), row in zip(plan, rows) if key["combination"] == c]
+        mine = [(key, row) for key, row in zip(keys, rows) if key["combination"] == c]
         combinations.append({
             "combination": c, "values": values,
             "flights": [{**key, **{n: row[n] for n in numbers}} for key, row in mine],
-            "mean": {n: float(np.mean([row[n] for _, row in mine])) for n in numbers}})
+            "mean": {n: float(np.mean([row[n] for _, row in mine])) for n in numbers} if mine else {}})
     return {"command": "campaign", "aircraft": scenario.aircraft, "mode": mode, "seed": seed,
             "runs_count": runs, "scenario": scenario.name or scenario.source,
             "flight_seed": scenario.seed, "faults": [f.describe() for f in scenario.faults],
@@ -142,10 +156,10 @@ def format_combinations(summary: dict[str, Any]) -> str:
     """The campaign's table: each combination's values and the mean of its flights' numbers."""
     combos = summary["combinations"]
     keys = list(summary["vary"])
-    numbers = list(combos[0]["mean"])[:6]
+    numbers = list(next(c["mean"] for c in combos if c["mean"]))[:6]
     head = ["#", *keys, *numbers]
     body = [[str(c["combination"]), *(str(c["values"][k]) for k in keys),
-             *(f"{c['mean'][n]:.6g}" for n in numbers)] for c in combos]
+             *(f"{c['mean'][n]:.6g}" if c["mean"] else "failed" for n in numbers)] for c in combos]
     widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
     lines = ["  ".join(cell.rjust(w) for cell, w in zip(r, widths)) for r in [head, *body]]
     return "\n".join([f"Campaign: {summary['aircraft']}, {summary['runs_count']} flight(s) per "

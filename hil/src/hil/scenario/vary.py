@@ -18,10 +18,10 @@ from typing import Any
 
 import numpy as np
 
-from hil.scenario.file import _Head, Scenario, check_fault_start
+from hil.scenario.file import Scenario, check_fault_start, scenario_from_dict
 from hil.scenario.schema import ScenarioError, replace_fields
 
-#: the scenario's tables a KEY may name (its top-level fields: _Head's duration and seed)
+#: the scenario's tables a KEY may name, and its top-level fields a KEY may name
 SECTIONS = ("plant", "sensors", "lqg")
 TOP_LEVEL = ("duration", "seed")
 #: the laws of --draw: uniform over [A, B) (a number), integers over A..B (both included)
@@ -142,7 +142,9 @@ def with_fields(sc: Scenario, values: Mapping[str, Any], where: str = "command l
                 raise ScenarioError(f"{at}: the scenario has {len(faults)} fault(s)")
             faults[i] = replace_fields(faults[i], {fault.group(2): value}, f"{at} (faults[{i}], {faults[i].kind})")
         elif len(path) == 1 and key in TOP_LEVEL:
-            changes[key] = getattr(replace_fields(_Head(), {key: value}, at), key)
+            # checked by the loader itself, in a file of nothing else (its relations to the
+            # sections, which this scenario's may not share with a default one: below)
+            changes[key] = getattr(scenario_from_dict({"aircraft": "cdrw", key: value}, at), key)
         elif len(path) > 1 and path[0] in SECTIONS:
             section = changes.get(path[0], getattr(sc, path[0]))
             if section is None:

@@ -63,3 +63,22 @@ def test_a_cdrw_campaign_draws_moves_the_fault_and_keeps_no_log_unless_asked(tmp
     assert all(0.05 <= f["faults[0].magnitude"] < 0.2 and "dir" not in f for f in flights)
     assert not (camp / "flights").exists() and "kf_alpha_meas" in read_csv(camp / "campaign.csv")
     assert summary["bus_trust"]["verdict"] == "ok"
+
+
+def test_table_5_s_flights_are_the_field_campaign_s(tmp_path, capsys):
+    """`hil campaign cdrw` (one session, fcc reset between flights) and the same campaign flown
+    as single runs (--keep-logs: a session each): the same fault times, Table 4 of every flight
+    equal to the last bit."""
+    base = tmp_path / "cdrw.toml"
+    base.write_text(CDRW_1S.replace("duration = 1.0", "duration = 2.0") + '[[faults]]\nkind = "bias"\n'
+                    'signal = "q"\nstart = 0.4\nduration = 0.3\nmagnitude = 0.05\n')
+    for name, extra in (("t5", ()), ("single", ("--keep-logs",))):
+        rc, out, err = cli(capsys, "campaign", "cdrw", str(base), "--runs", "2", "--seed", "7",
+                           "--out", str(tmp_path / name), *QUIET, *extra)
+        assert rc == 0, out + err
+    table5 = json.loads((tmp_path / "t5" / "summary.json").read_text())["cdrw"]["runs"]
+    single = json.loads((tmp_path / "single" / "summary.json").read_text())["combinations"][0]["flights"]
+    assert [r["fault_start"] for r in table5] == [f["fault_start"] for f in single]
+    for run, flight in zip(table5, single):
+        assert {f"{f}_{s}_meas": v for f, row in run["error"].items() for s, v in row.items()} == \
+            {k: v for k, v in flight.items() if k.endswith("_meas")}

@@ -35,6 +35,7 @@ from hil.runs.run import run_flight
 from hil.scenario.campaign import campaign_fault_times
 from hil.scenario.file import Scenario, with_fault_start
 from hil.scenario.vary import Draw, Vary, check, draw_values, grid, with_fields
+from hil.util.progress import bar as progress_bar
 
 #: a missile flight's numbers: its closed-loop entry's (summary.json missile.runs)
 MISSILE_NUMBERS = ("rms_q", "rms_alpha", "commands_missing", "commands_rejected", "commands_late",
@@ -98,13 +99,16 @@ def run_field_campaign(scenario: Scenario, runs: int, seed: int, varies: Sequenc
     out = Path(cfg.out_dir)
     plan = flights_of(scenario, runs, seed, varies, draws)
     summaries = {}
-    for key, sc in plan:
-        where = out / "flights" / f"{key['flight']:04d}"
-        summaries[key["flight"]] = run_flight([sc], dataclasses.replace(cfg, out_dir=where, plots=False)).summary
-        if keep_logs:
-            key["dir"] = str(where.relative_to(out))
-        else:
-            shutil.rmtree(where)
+    with progress_bar(len(plan), cfg.progress, "hil campaign", unit="flight") as bar:
+        for key, sc in plan:   # (one bar of flights, not one of steps per flight)
+            where = out / "flights" / f"{key['flight']:04d}"
+            flight_cfg = dataclasses.replace(cfg, out_dir=where, plots=False, progress=False)
+            summaries[key["flight"]] = run_flight([sc], flight_cfg).summary
+            if keep_logs:
+                key["dir"] = str(where.relative_to(out))
+            else:
+                shutil.rmtree(where)
+            bar.update(1)
     if not keep_logs and (out / "flights").is_dir():
         (out / "flights").rmdir()
     return finish_field_campaign(out, scenario, seed, runs, varies, draws, plan, summaries, cfg.mode)

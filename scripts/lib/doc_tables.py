@@ -1,19 +1,27 @@
 """The documentation's tables that the code can produce, produced by the code.
 
-A MkDocs hook (mkdocs.yml `hooks:`): in a page, the line
+In a page, the block
 
-    <!-- generated: fault-kinds -->   becomes the fault kinds (hil.scenario.faults.KINDS, with
-                                      their fields as `hil faults` lists them)
-    <!-- generated: frames -->        becomes the frame table, from the DBC (hil.bus.load():
-                                      identifier, sender, receivers, period, E2E/SecOC data ID,
-                                      signals)
-    <!-- generated: fault-matrix -->  becomes the fault matrix's expected counters
-                                      (tests/python/rig/test_fault_matrix.py CASES, summed over
-                                      both aircraft as the test flies them)
+    <!-- generated: fault-kinds -->   the fault kinds (hil.scenario.faults.KINDS, with their
+                                      fields as `hil faults` lists them; docs/scenarios.md)
+    <!-- generated: frames -->        the frame table, from the DBC (hil.bus.load(): identifier,
+                                      sender, receivers, period, E2E/SecOC data ID, signals;
+                                      docs/bus.md)
+    <!-- generated: fault-matrix -->  the fault matrix's counters, as
+                                      tests/python/rig/test_fault_matrix.py requires them
+                                      (docs/reliability.md)
+    ...the generated text...
+    <!-- end generated: NAME -->
 
-Also a program: `.venv/bin/python scripts/lib/doc_tables.py [fault-kinds|frames|fault-matrix]`
-prints the Markdown.  tests/python/test_doc_tables.py checks that each covers what the code
-has (every kind, every DBC message, every kind in the matrix).
+holds the generated text, committed (as docs/cli.md's, scripts/lib/cli_reference.py), so that the
+page reads the same on GitHub; tests/python/scripts/test_doc_tables.py checks it is up to date
+(a new fault kind, a DBC change: the test fails until
+
+    .venv/bin/python scripts/lib/doc_tables.py --write docs/scenarios.md docs/bus.md docs/reliability.md
+
+brings the pages up to date).  The MkDocs hook (mkdocs.yml `hooks:`) renders the same blocks
+afresh, without their markers.  Also a program that prints the Markdown:
+`.venv/bin/python scripts/lib/doc_tables.py [fault-kinds|frames|fault-matrix]`.
 """
 from __future__ import annotations
 
@@ -23,7 +31,10 @@ import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-MARKER = re.compile(r"^<!-- generated: (fault-kinds|frames|fault-matrix) -->$", re.M)
+MARKER = re.compile(r"^<!-- generated: (fault-kinds|frames|fault-matrix) -->"
+                    r"(?:\n(?:(?!<!-- generated: ).*\n)*?<!-- end generated: \1 -->)?$", re.MULTILINE)
+#: the pages that hold the blocks (--write without pages)
+PAGES = ("docs/scenarios.md", "docs/bus.md", "docs/reliability.md")
 MATRIX_TEST = REPO / "tests" / "python" / "rig" / "test_fault_matrix.py"
 #: a flood's unknown_id is what the flood sent (counted in the run): shown as a name
 FLOOD_SENT = "flood frames sent"
@@ -90,13 +101,23 @@ GENERATORS = {"fault-kinds": fault_kinds_markdown, "frames": frames_markdown,
               "fault-matrix": fault_matrix_markdown}
 
 
+def render(markdown: str, markers: bool = True) -> str:
+    """The page with every block generated afresh (markers=False: the text alone, for the site)."""
+    def block(m: re.Match[str]) -> str:
+        name, text = m.group(1), GENERATORS[m.group(1)]()
+        return f"<!-- generated: {name} -->\n\n{text}\n\n<!-- end generated: {name} -->" if markers else text
+    return MARKER.sub(block, markdown)
+
+
 # ---- the MkDocs hook -------------------------------------------------------------------------
 def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001 - MkDocs' hook
-    if not MARKER.search(markdown):
-        return markdown
-    return MARKER.sub(lambda m: GENERATORS[m.group(1)](), markdown)
+    return render(markdown, markers=False) if MARKER.search(markdown) else markdown
 
 
 if __name__ == "__main__":
-    which = sys.argv[1:] or list(GENERATORS)
-    print("\n\n".join(GENERATORS[w]() for w in which))
+    if sys.argv[1:2] == ["--write"]:
+        for page in [Path(p) for p in sys.argv[2:]] or [REPO / p for p in PAGES]:
+            page.write_text(render(page.read_text(encoding="utf-8")), encoding="utf-8")
+    else:
+        which = sys.argv[1:] or list(GENERATORS)
+        print("\n\n".join(GENERATORS[w]() for w in which))

@@ -13,6 +13,7 @@ run directory
     campaign.csv     a row per flight: flight, combination, run, each varied and drawn key
                      (a text value: nan, see summary.json), fault_start, the flight's numbers
     summary.json     command, aircraft, seed, vary, draw, combinations (values, flights, means)
+    run_info.json    mode, wall_s (and with --workers/--scheduler: the cluster's, hil.parallel)
     flights/NNNN/    --keep-logs: each flight's run directory (`hil replay` replays it)
 """
 from __future__ import annotations
@@ -20,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import shutil
+import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -82,13 +84,13 @@ def _cell(value: Any) -> float:
 
 
 def _worst_verdicts(summaries: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    """The first flight's verdict that is not ok, per kind (cli.common.sync_status reads it)."""
+    """Per kind, the first flight's verdict that is not ok, else the first flight's
+    (cli.common.sync_status reads them)."""
     worst: dict[str, Any] = {}
     for key in VERDICTS:
-        for s in summaries:
-            v = s.get(key)
-            if v and (key not in worst or v.get("verdict", "ok") != "ok" and worst[key].get("verdict", "ok") == "ok"):
-                worst[key] = v
+        given = [s[key] for s in summaries if s.get(key)]
+        if given:
+            worst[key] = next((v for v in given if v.get("verdict", "ok") != "ok"), given[0])
     return worst
 
 
@@ -98,6 +100,7 @@ def run_field_campaign(scenario: Scenario, runs: int, seed: int, varies: Sequenc
     its tables."""
     out = Path(cfg.out_dir)
     plan = flights_of(scenario, runs, seed, varies, draws)
+    t0 = time.perf_counter()
     summaries = {}
     with progress_bar(len(plan), cfg.progress, "hil campaign", unit="flight") as bar:
         for key, sc in plan:   # (one bar of flights, not one of steps per flight)
@@ -111,7 +114,9 @@ def run_field_campaign(scenario: Scenario, runs: int, seed: int, varies: Sequenc
             bar.update(1)
     if not keep_logs and (out / "flights").is_dir():
         (out / "flights").rmdir()
-    return finish_field_campaign(out, scenario, seed, runs, varies, draws, plan, summaries, cfg.mode)
+    outcome = finish_field_campaign(out, scenario, seed, runs, varies, draws, plan, summaries, cfg.mode)
+    write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0})
+    return outcome
 
 
 def finish_field_campaign(out: Path, scenario: Scenario, seed: int, runs: int, varies: Sequence[Vary],

@@ -35,7 +35,7 @@ def one_line(err: str) -> str:
     (["sweep", "missile", "--periods", "0.1,x"], "--periods"),
     (["sweep", "missile", "--bits", ""], "--bits"),
     (["campaign", "cdrw", "--runs", "0"], "--runs must be at least 1"),
-    (["campaign", "missile"], "invalid choice: 'missile'"),
+    (["campaign", "glider"], "invalid choice: 'glider'"),
     ([], "required: COMMAND"),
 ])
 def test_bad_command_line(capsys, tmp_path, argv, words):

@@ -7,7 +7,7 @@ import argparse
 import os
 import sys
 
-from hil.cli.common import staged
+from hil.cli.common import staged, sync_status
 from hil.cli.usage import PROG, UsageError
 from hil.io.paths import vcan_launcher
 from hil.parallel import runs
@@ -42,15 +42,15 @@ def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
 def run_many(args: argparse.Namespace, sequential, parallel: str, *inputs: object) -> int:
     """A campaign or sweep: sequential(*inputs, cfg) in this process's rig, or with
     --workers/--scheduler hil.parallel.runs.<parallel> on many rigs; flights that failed twice
-    there are one line and exit 1 (the others' results are written)."""
+    there are one line and exit 1 (the others' results are written); a flight's time
+    synchronisation or fcc's outputs not trusted: cli.common.sync_status's exit status."""
     par = parallel_options(args)
     if par is None:
-        staged(args, args.out, lambda cfg: [sequential(*inputs, cfg)])
-        return 0
+        return sync_status(staged(args, args.out, lambda cfg: [sequential(*inputs, cfg)]))
     (outcome,) = staged(args, args.out, lambda cfg: [getattr(runs, parallel)(*inputs, cfg, **par)])
     failed = outcome.summary.get("failed_runs") or []
     if not failed:
-        return 0
+        return sync_status([outcome])
     print(f"{PROG}: {len(failed)} flight(s) failed twice and are left out of the results "
           f"(summary.json failed_runs); first: flight {failed[0]['run']}: {failed[0]['error']}",
           file=sys.stderr)

@@ -220,11 +220,18 @@ def build() -> argparse.ArgumentParser:
     add_common(r, "out/run-<aircraft>")
     add_rig(r)
 
-    c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
-    c.add_argument("aircraft", choices=("cdrw",))
+    c = sub.add_parser("campaign", help="Table 5: faults at random times; or scenario fields varied (--vary)")
+    c.add_argument("aircraft", choices=("cdrw", "missile"))
     c.add_argument("scenario", nargs="?", help=SCENARIO_HELP)
-    c.add_argument("--runs", type=int, default=100, help="flights (default 100)")
-    c.add_argument("--seed", type=seed, default=1, help="random seed of the fault times (default 1)")
+    c.add_argument("--runs", type=int, default=100, help="flights (default 100; with --vary: of each)")
+    c.add_argument("--seed", type=seed, default=1, help="random seed of the fault times and draws (default 1)")
+    c.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...", help="fly every value "
+                   "of a scenario field (repeatable: the product), KEY as in a scenario file: duration, "
+                   "seed, plant.*, sensors.*, lqg.*, faults[N].*; e.g. lqg.period=0.1,0.05")
+    c.add_argument("--draw", action="append", default=[], metavar="KEY=LAW:A,B", help="a scenario field "
+                   "drawn for each flight from --seed: uniform:A,B or integers:A,B (A..B)")
+    c.add_argument("--keep-logs", action="store_true", help="keep each flight's run directory in "
+                   "OUT/flights/NNNN/ (bus log, bus key: `hil replay` replays it)")
     c.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault (moved in time with the scenario's)")
     c.add_argument("--recorder", choices=("canrec", "candump"), default="canrec",

@@ -33,6 +33,7 @@ from hil.rig.errors import RigError
 from hil.rig.flight import fcc_args, fly, require_log
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.runs.campaign import CampaignFlight, evaluate_flights
+from hil.runs.run import run_flight
 from hil.scenario.file import Scenario, with_fault_start
 from hil.sim.drivers import CdrwDriver, MissileDriver
 from hil.util.progress import bar as progress_bar
@@ -323,6 +324,18 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
                       flights_counters(firmware_summary(rig.status, rig.security.counters())))
     shutil.rmtree(out, ignore_errors=True)
     return done
+
+
+def fly_field_flight(scenario: Scenario, cfg: RigConfig) -> dict[str, Any]:
+    """One flight of a campaign over scenario fields (hil.runs.field_campaign): the single run
+    of its scenario in the rig's directory, its summary back (the directory is removed)."""
+    out = Path(cfg.out_dir)
+    try:
+        summary = run_flight([scenario], dataclasses.replace(worker_config(cfg), plots=False)).summary
+    except Exception as e:  # noqa: BLE001 - the failure goes back with its cause
+        raise _failed(e, None, out) from None
+    shutil.rmtree(out, ignore_errors=True)
+    return summary
 
 
 #: what fcc counts once per session after its flights: the shutdown's GROUND and SHUTDOWN

@@ -16,18 +16,20 @@ from pathlib import Path
 from hil.bus.secoc import Counters
 from hil.io.output import write_json
 from hil.parallel.engine import Cluster, Flight
-from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_sweep_point, one_session_counters,
-                                  salvage_campaign_flights)
+from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_field_flight, fly_sweep_point,
+                                  one_session_counters, salvage_campaign_flights)
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.status import StatusCounters
 from hil.runs.campaign import write_campaign
+from hil.runs.field_campaign import finish_field_campaign, flights_of
 from hil.runs.outcome import Outcome, finish
 from hil.runs.sweep import sweep_points, write_sweep
 from hil.scenario.campaign import campaign_fault_times
 from hil.scenario.file import Scenario
 from hil.scenario.schema import ScenarioError
+from hil.scenario.vary import Draw, Vary
 
 #: tasks per worker: with equal chunks the last round then leaves at most a quarter of a
 #: round idle on any rig (40 chunks of 25 on 32 rigs left 38 % idle); more only pays more
@@ -114,3 +116,26 @@ def run_sweep_parallel(scenario: Scenario, periods: Sequence[float], bits: Seque
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
     return finish(cfg, out, summary, None)
+
+
+def run_field_campaign_parallel(scenario: Scenario, runs: int, seed: int, varies: Sequence[Vary],
+                                draws: Sequence[Draw], keep_logs: bool, cfg: RigConfig, *,
+                                workers: int | None = None, scheduler: str | None = None) -> Outcome:
+    """A campaign over scenario fields with every flight a task of its own (a single run in a
+    rig session: a failed rig costs that flight only, flown again once), on `workers` local
+    rigs or on `scheduler`; the results as the sequential command's (finish_field_campaign).
+    The rigs keep no bus log (each is read and removed there): no --keep-logs."""
+    if keep_logs:
+        raise ValueError("--keep-logs: the rigs of --workers/--scheduler keep no bus log")
+    out = Path(cfg.out_dir)
+    plan = flights_of(scenario, runs, seed, varies, draws)
+    t0 = time.perf_counter()
+    with Cluster(workers, scheduler) as cluster:
+        res = cluster.run([Flight(key["flight"], fly_field_flight, (sc,), first=key["flight"]) for key, sc in plan],
+                          cfg, progress=cfg.progress, desc="hil campaign")
+    failed = [{"run": i, "error": res.failed[i]} for i in sorted(res.failed)]
+    outcome = finish_field_campaign(out, scenario, seed, runs, varies, draws, plan,
+                                    {i: res.values[i][0] for i in res.values}, cfg.mode, failed)
+    write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
+                                       "parallel": res.info})
+    return outcome

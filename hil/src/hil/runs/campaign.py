@@ -50,6 +50,13 @@ class CampaignFlight:
     replay_check: dict[str, Any] | None = None
 
 
+def table_columns(table: metrics.Table, table_truth: metrics.Table) -> dict[str, float]:
+    """A CDRW flight's Table 4 as campaign.csv's columns: FILTER_STATE_meas and _truth."""
+    return {f"{f}_{s}_{key}": t[f][s]
+            for key, t in (("meas", table), ("truth", table_truth))
+            for f in metrics.FILTERS for s in metrics.STATES}
+
+
 def _flag_value(args: Sequence[str], flag: str) -> str | None:
     """The value of the last `flag VALUE` in a command line (None: not given)."""
     value = None
@@ -128,10 +135,8 @@ def write_campaign(out: Path, scenario: Scenario, seed: int, runs: int,
             write_csv(out / "cdrw_run0.csv", fl.series)
         rows["run"].append(fl.index)
         rows["fault_start"].append(fl.fault_start)
-        for key, table in (("meas", fl.table), ("truth", fl.table_truth)):
-            for f in metrics.FILTERS:
-                for s in metrics.STATES:
-                    rows.setdefault(f"{f}_{s}_{key}", []).append(table[f][s])
+        for name, value in table_columns(fl.table, fl.table_truth).items():
+            rows.setdefault(name, []).append(value)
         per_run.append({"run": fl.index, "fault_start": fl.fault_start, "error": fl.table,
                         "error_truth": fl.table_truth, "missing_steps": fl.missing_steps,
                         "unanswered_steps": fl.unanswered_steps})

@@ -19,6 +19,7 @@ from hil.runs.outcome import Outcome, finish, step_periods, write_fault_log, wri
 from hil.scenario.file import Scenario
 from hil.scenario.plant_options import LqgOptions
 from hil.scenario.schema import ScenarioError
+from hil.scenario.vary import grid
 from hil.sim.drivers import MissileDriver
 from hil.util.progress import bar as progress_bar
 
@@ -30,14 +31,13 @@ def sweep_points(scenario: Scenario, periods: Sequence[float], bits: Sequence[in
     if not periods or not bits:
         raise ValueError("a sweep needs at least one period and one word length")
     points = []
-    for T in periods:
-        for n in bits:
-            lqg = LqgOptions(period=float(T), bits=int(n), closed_loop=True)
-            sc = scenario.replace(lqg=lqg)
-            check_missile(sc)
-            if sc.lqg.period > sc.duration:  # type: ignore[union-attr]
-                raise ScenarioError(f"{scenario.source}: period {T} s is longer than the flight")
-            points.append(sc)
+    for point in grid([("period", periods), ("bits", bits)]):   # (as a campaign's --vary)
+        sc = scenario.replace(lqg=LqgOptions(period=float(point["period"]), bits=int(point["bits"]),
+                                             closed_loop=True))
+        check_missile(sc)
+        if sc.lqg.period > sc.duration:  # type: ignore[union-attr]
+            raise ScenarioError(f"{scenario.source}: period {point['period']} s is longer than the flight")
+        points.append(sc)
     for n in bits:
         if not 2 <= int(n) <= 16:
             raise ScenarioError(f"--bits: D/A word length must be 2 to 16, got {n}")

@@ -1,0 +1,123 @@
+"""The documentation's tables that the code can produce, produced by the code.
+
+In a page, the block
+
+    <!-- generated: fault-kinds -->   the fault kinds (hil.scenario.faults.KINDS, with their
+                                      fields as `hil faults` lists them; docs/scenarios.md)
+    <!-- generated: frames -->        the frame table, from the DBC (hil.bus.load(): identifier,
+                                      sender, receivers, period, E2E/SecOC data ID, signals;
+                                      docs/bus.md)
+    <!-- generated: fault-matrix -->  the fault matrix's counters, as
+                                      tests/python/rig/test_fault_matrix.py requires them
+                                      (docs/reliability.md)
+    ...the generated text...
+    <!-- end generated: NAME -->
+
+holds the generated text, committed (as docs/cli.md's, scripts/lib/cli_reference.py), so that the
+page reads the same on GitHub; tests/python/scripts/test_doc_tables.py checks it is up to date
+(a new fault kind, a DBC change: the test fails until
+
+    .venv/bin/python scripts/lib/doc_tables.py --write docs/scenarios.md docs/bus.md docs/reliability.md
+
+brings the pages up to date).  The MkDocs hook (mkdocs.yml `hooks:`) renders the same blocks
+afresh, without their markers.  Also a program that prints the Markdown:
+`.venv/bin/python scripts/lib/doc_tables.py [fault-kinds|frames|fault-matrix]`.
+"""
+from __future__ import annotations
+
+import importlib.util
+import re
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+MARKER = re.compile(r"^<!-- generated: (fault-kinds|frames|fault-matrix) -->"
+                    r"(?:\n(?:(?!<!-- generated: ).*\n)*?<!-- end generated: \1 -->)?$", re.MULTILINE)
+#: the pages that hold the blocks (--write without pages)
+PAGES = ("docs/scenarios.md", "docs/bus.md", "docs/reliability.md")
+MATRIX_TEST = REPO / "tests" / "python" / "rig" / "test_fault_matrix.py"
+#: a flood's unknown_id is what the flood sent (counted in the run): shown as a name
+FLOOD_SENT = "flood frames sent"
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def fault_kinds_markdown() -> str:
+    """Every fault kind: level, what it does (its class's docstring), its fields."""
+    from hil.scenario.catalog import fields
+    from hil.scenario.faults import KINDS
+    rows = []
+    for kind, cls in KINDS.items():
+        doc = " ".join((cls.__doc__ or "").split())
+        own = [name for name, *_ in fields(cls) if name not in ("start", "duration")]
+        rows.append(f"| `{kind}` | {cls.level} | {_cell(doc)} | {', '.join(f'`{n}`' for n in own) or '—'} |")
+    return "\n".join(["| kind | level | what it does | fields (besides `start`, `duration`) |",
+                      "|---|---|---|---|", *rows])
+
+
+def frames_markdown() -> str:
+    """Every DBC message, by identifier."""
+    from hil.bus import load
+    rows = []
+    for m in sorted(load().messages, key=lambda m: m.frame_id):
+        data_id = (f"SecOC 0x{m.secoc_data_id:04X}" if m.secoc_data_id
+                   else f"0x{m.data_id:04X}" if m.data_id else "—")
+        signals = [s.name for s in m.signals if s.name not in ("crc", "counter")]
+        rows.append(f"| 0x{m.frame_id:03X} | `{m.name}` | {', '.join(m.senders)} | "
+                    f"{', '.join(m.receivers) or '—'} | {m.cycle_ms or 'event'} | {data_id} | "
+                    f"{_cell(', '.join(signals))} |")
+    return "\n".join(["| ID | message | sender | receivers | period (ms) | E2E data ID | "
+                      "signals (besides `crc`, `counter`) |", "|---|---|---|---|---|---|---|", *rows])
+
+
+def _matrix_module():
+    """The fault matrix test as a module (its helpers' directory on the path)."""
+    sys.path.insert(0, str(MATRIX_TEST.parent.parent))
+    sys.path.insert(0, str(MATRIX_TEST.parent))
+    spec = importlib.util.spec_from_file_location("fault_matrix_cases", MATRIX_TEST)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def fault_matrix_markdown() -> str:
+    """Each fault kind's expected counters, both aircraft in one session, as the matrix test
+    derives them (`flood`'s unknown_id: the frames the flood sent, counted in the run)."""
+    mod = _matrix_module()
+    rows = []
+    for kind in mod.CASES:
+        want: dict[str, int | str] = dict(mod.expected(kind, {a: {"flood": 0} for a in mod.AIRCRAFT}))
+        if kind == "flood":
+            want["unknown_id"] = FLOOD_SENT
+        rows.append(f"| {kind} | " + " | ".join(str(want[c]) for c in mod.COUNTERS) + " |")
+    head = ["e2e ok" if c == "ok" else c for c in mod.COUNTERS]
+    return "\n".join([f"| fault class | {' | '.join(head)} |", "|" + "---|" * (len(head) + 1), *rows])
+
+
+GENERATORS = {"fault-kinds": fault_kinds_markdown, "frames": frames_markdown,
+              "fault-matrix": fault_matrix_markdown}
+
+
+def render(markdown: str, markers: bool = True) -> str:
+    """The page with every block generated afresh (markers=False: the text alone, for the site)."""
+    def block(m: re.Match[str]) -> str:
+        name, text = m.group(1), GENERATORS[m.group(1)]()
+        return f"<!-- generated: {name} -->\n\n{text}\n\n<!-- end generated: {name} -->" if markers else text
+    return MARKER.sub(block, markdown)
+
+
+# ---- the MkDocs hook -------------------------------------------------------------------------
+def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001 - MkDocs' hook
+    return render(markdown, markers=False) if MARKER.search(markdown) else markdown
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["--write"]:
+        for page in [Path(p) for p in sys.argv[2:]] or [REPO / p for p in PAGES]:
+            page.write_text(render(page.read_text(encoding="utf-8")), encoding="utf-8")
+    else:
+        which = sys.argv[1:] or list(GENERATORS)
+        print("\n\n".join(GENERATORS[w]() for w in which))

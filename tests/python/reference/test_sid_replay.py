@@ -208,23 +208,25 @@ def test_estimates_are_the_first_columns_of_every_row(tool: Path, flight: Flight
 @pytest.mark.parametrize("extra", [("--all-rows",), ("--filter", "zkf")])
 def test_binary_estimates_are_the_text_ones_to_the_bit(tool: Path, flight: Flight, extra: tuple) -> None:
     """--binary (what the rig reads: nothing formatted or parsed) gives, row for row, the
-    numbers --estimates prints, exactly, under the same filter names."""
+    numbers --estimates prints, exactly, under the same filter names, and each row's fault flag
+    (which the cross-check compares too)."""
     text = read_rows(run(tool, flight.csv(), "--estimates", *extra).stdout)
     raw = subprocess.run([str(tool), "--estimates", "--binary", *extra], input=flight.csv().encode(),
                          capture_output=True, timeout=60, check=True).stdout
     binary = read_binary_rows(raw, all_rows="--all-rows" in extra)
     assert binary.keys() == text.keys()
     for name, cols in text.items():
-        assert binary[name].keys() == cols.keys()
+        assert binary[name].keys() == {*cols.keys(), "fault"}
+        assert set(np.unique(binary[name]["fault"])) <= {0.0, 1.0}
         for col, values in cols.items():
             np.testing.assert_array_equal(binary[name][col], values, err_msg=f"{name}.{col}")
 
 
 def test_binary_output_of_another_shape_is_refused() -> None:
-    with pytest.raises(ValueError, match="not rows of 8 values"):
-        read_binary_rows(b"\0" * 72, all_rows=True)
+    with pytest.raises(ValueError, match="not rows of 9 values"):
+        read_binary_rows(b"\0" * 64, all_rows=True)
     with pytest.raises(ValueError, match="filter code 9.0"):
-        read_binary_rows(np.array([0.0, 9.0, 1, 2, 3, 4, 5, 6]).tobytes(), all_rows=True)
+        read_binary_rows(np.array([0.0, 9.0, 1, 2, 3, 4, 5, 6, 0]).tobytes(), all_rows=True)
 
 
 def test_no_nan_anywhere(tool: Path, flight: Flight) -> None:

@@ -378,7 +378,7 @@ def test_a_dbc_signal_is_decoded_from_the_frames_the_rig_acted_on(tmp_path):
     forged.mkdir()
     lines = (BUS_RUN / "bus.log").read_text().splitlines()
     at = next(i for i, ln in enumerate(lines) if ln.startswith("(0.5"))
-    lines[at:at] = ["(0.500100) vcan0 030#B3010100FF7F0800", "(0.500200) vcan0 031#0600000000000000"]
+    lines[at:at] = ["(0.500100) vcan0 030#B3010100FF7F0800", "(0.500200) vcan0 101#0600000000000000"]
     (forged / "bus.log").write_text("\n".join(lines) + "\n")
     assert sum(" 030#" in ln for ln in lines) == 11          # (the forged command, code 127, is on the bus)
     with pytest.raises(series.SeriesError, match="the run.s bus key"):

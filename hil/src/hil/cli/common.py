@@ -46,6 +46,15 @@ def scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int 
     return sc
 
 
+def check_wire(args: argparse.Namespace) -> None:
+    """--bus wire: realtime, fcc on the host, SocketCAN (the rig makes the nodes' vxcan ends)."""
+    if args.mode != "realtime":
+        raise UsageError("--bus wire: realtime runs only for now (--mode realtime); the lockstep "
+                         "rig on the wire-time bus, in simulated time, is the next step")
+    if args.target != "host" or args.interface != "socketcan":
+        raise UsageError("--bus wire: fcc on the host (--target host) over SocketCAN only")
+
+
 def rig_config(args: argparse.Namespace, stage: Path):
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -64,7 +73,10 @@ def rig_config(args: argparse.Namespace, stage: Path):
             read_key_file(args.key_file)
         except KeyFileError as e:
             raise UsageError(f"--key-file: {e}") from None
-    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
+    bus = getattr(args, "bus", "ideal")
+    if bus == "wire":
+        check_wire(args)
+    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode, bus=bus,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,

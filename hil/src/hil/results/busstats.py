@@ -1,0 +1,98 @@
+"""summary.json's `bus` section of a `--bus wire` run: canbus's statistics (firmware/tools/canbus)
+per frame name, each cyclic frame's worst-case response time (hil.bus.wcrt, Davis et al. 2007,
+at the run's bit rate and the scenario's periods), and the run's check, measured ≤ bound.
+
+The response times are the model's (canbus: queued at the sender's controller → the model's
+end of frame), not when canbus's process delivered the frame: in the UML guest that delivery
+is late by up to tens of milliseconds on a loaded host (`delivery_error`, reported apart), which
+is the platform, not the bus.  Only frames sent by a priority-queued node are judged: the
+analysis is for priority-ordered mailboxes; fcc's frames wait in a FIFO (a SocketCAN node), whose
+analysis (Davis, Kollmann, Pollex, Slomka 2011) is not implemented: they are reported, not judged.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from hil.bus.dbc import BusSpec
+from hil.bus.wcrt import Frame, analyse, application_periods, cyclic_frames, seconds, utilisation, with_periods
+from hil.scenario.file import Scenario
+from hil.scenario.plant_options import CdrwPlantOptions
+
+#: a frame's verdict: within its bound / above it (fails the run) / the analysis has no bound
+#: (utilisation of it and the frames above it ≥ 1) / not judged (a FIFO sender) / not cyclic
+WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: not judged", "not cyclic"
+_PERCENTILES = ("p50_s", "p99_s", "max_s")
+
+
+def step_period(sc: Scenario) -> float:
+    """The period the scenario's aircraft steps at: the missile's [lqg] period, the CDRW's dt."""
+    if sc.lqg is not None:
+        return sc.lqg.period
+    assert isinstance(sc.plant, CdrwPlantOptions)
+    return sc.plant.dt
+
+
+def flight_frames(spec: BusSpec, scenarios: Sequence[Scenario]) -> list[Frame]:
+    """The DBC's cyclic frames at the flight's periods (a frame two aircraft share, the
+    lockstep ones, at the shorter)."""
+    frames = cyclic_frames(spec)
+    periods: dict[str, Fraction] = {}
+    for sc in scenarios:
+        for name, p in application_periods(frames, sc.aircraft, seconds(step_period(sc))).items():
+            periods[name] = min(p, periods.get(name, p))
+    return with_periods(frames, periods)
+
+
+def _queue(spec: BusSpec, frame_id: int, fifo_senders: Sequence[str]) -> str:
+    m = spec.by_id(frame_id)
+    return "fifo" if m is not None and any(s in fifo_senders for s in m.senders) else "prio"
+
+
+def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Scenario],
+                fifo_senders: Sequence[str] = ("FCC",)) -> dict[str, Any]:
+    """The section: bit rate, model, utilisation of the cyclic frames at the flight's
+    periods, canbus's delivery error and losses, and per frame name its response times, bound,
+    sender's queue and verdict."""
+    bitrate = int(stats["bitrate"])
+    frames = flight_frames(spec, scenarios)
+    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
+    out: dict[str, Any] = {}
+    for key, got in stats["ids"].items():
+        fid = int(key, 16)
+        m = spec.by_id(fid)
+        queue = _queue(spec, fid, fifo_senders)
+        bound = bounds.get(fid)
+        entry = {"n": got["n"], **{k: got[k] for k in _PERCENTILES},
+                 "wcrt_s": None if bound is None else float(bound), "queue": queue}
+        if fid not in bounds:
+            entry["verdict"] = EVENT
+        elif queue == "fifo":
+            entry["verdict"] = FIFO
+        elif bound is None:
+            entry["verdict"] = UNBOUNDED
+        else:
+            entry["verdict"] = WITHIN if Fraction(got["max_s"]) <= bound else ABOVE
+        out[m.name if m is not None else key] = entry
+    d = stats["delivery_error"]
+    return {"bitrate": bitrate, "model": "wire",
+            "utilisation": round(float(utilisation(frames, bitrate)), 5),
+            "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
+            "load": stats["load"],
+            "delivery_error": {k: d[k] for k in _PERCENTILES},
+            "frames": out}
+
+
+def bus_failure(section: Mapping[str, Any]) -> str:
+    """Why the run fails on its bus ('' when it does not): a judged frame's measured response
+    time above its bound (the model or the analysis is wrong), or frames canbus lost."""
+    above = [(name, f) for name, f in section["frames"].items() if f["verdict"] == ABOVE]
+    if above:
+        name, f = above[0]
+        return (f"{name}'s response time above its bound: {f['max_s'] * 1e3:.3f} ms > "
+                f"{f['wcrt_s'] * 1e3:.3f} ms at {section['bitrate']} bit/s"
+                + (f" ({len(above)} frames above their bound)" if len(above) > 1 else ""))
+    if section["lost"]:
+        return f"the wire-time bus (canbus) lost {section['lost']} frame(s)"
+    return ""

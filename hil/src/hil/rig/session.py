@@ -155,6 +155,8 @@ class RigSession:
         #: simulator's end is self.iface, the recorder's and fcc's are their own
         self.wire: WireBus | None = None
         self.recorder_iface = self.fcc_iface = self.iface
+        #: where the time master reads its SYNC back as the bus delivered it (None: its echo)
+        self.bus_echo_iface: str | None = None
         #: --bus wire: canbus's statistics when it stopped, or why it failed
         self.bus_stats: dict = {}
         self.bus_error = ""
@@ -221,6 +223,7 @@ class RigSession:
         self.iface = self.wire.end("sim")
         self.recorder_iface = self.wire.end("recorder")
         self.fcc_iface = self.wire.end("fcc")
+        self.bus_echo_iface = self.recorder_iface
 
     def _start_recorder(self) -> None:
         rec = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")

@@ -21,8 +21,12 @@ from hil.scenario.file import Scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
 #: a frame's verdict: within its bound / above it (fails the run) / the analysis has no bound
-#: (utilisation of it and the frames above it ≥ 1) / not judged (a FIFO sender) / not cyclic
+#: (utilisation of it and the frames above it ≥ 1) / not judged (a FIFO sender) / not cyclic /
+#: above it while canbus fell behind the bus (`late_queued` > 0: a frame it read after an
+#: arbitration it should have joined keeps its queue time, so its response time counts canbus's
+#: own lateness; fails the run too, as not the model's)
 WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: not judged", "not cyclic"
+LATE = "above, canbus late"
 _PERCENTILES = ("p50_s", "p99_s", "max_s")
 
 
@@ -73,7 +77,8 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         elif bound is None:
             entry["verdict"] = UNBOUNDED
         else:
-            entry["verdict"] = WITHIN if Fraction(got["max_s"]) <= bound else ABOVE
+            entry["verdict"] = (WITHIN if Fraction(got["max_s"]) <= bound
+                                else LATE if stats["late_queued"] else ABOVE)
         out[m.name if m is not None else key] = entry
     d = stats["delivery_error"]
     return {"bitrate": bitrate, "model": "wire",
@@ -93,6 +98,11 @@ def bus_failure(section: Mapping[str, Any]) -> str:
         return (f"{name}'s response time above its bound: {f['max_s'] * 1e3:.3f} ms > "
                 f"{f['wcrt_s'] * 1e3:.3f} ms at {section['bitrate']} bit/s"
                 + (f" ({len(above)} frames above their bound)" if len(above) > 1 else ""))
+    late = [name for name, f in section["frames"].items() if f["verdict"] == LATE]
+    if late:
+        return (f"{late[0]}'s response time above its bound while canbus fell behind the bus "
+                f"({section['late_queued']} frames read after an arbitration they should have "
+                f"joined: the response times count its lateness, not the model's)")
     if section["lost"]:
         return f"the wire-time bus (canbus) lost {section['lost']} frame(s)"
     return ""

@@ -79,7 +79,7 @@ def test_realtime_missile_over_the_wire_at_500k(tmp_path, capsys):
     bus = s["bus"]
     check_model(bus, 500_000)
     # the sensors (the simulator's, priority-queued) are judged, and within their bound
-    for name in ("MSL_RATE_GYRO", "MSL_ACCEL", "TSYNC_SYNC"):
+    for name in ("MSL_RATE_GYRO", "MSL_ACCELEROMETER", "TSYNC_SYNC"):
         assert bus["frames"][name]["verdict"] == WITHIN, bus["frames"][name]
     # fcc's command and estimate went over the bus (a FIFO node: reported)
     assert bus["frames"]["MSL_ELEV_CMD"]["verdict"] == FIFO
@@ -108,7 +108,7 @@ def test_cdrw_on_an_over_utilised_bus_at_125k(tmp_path, capsys):
 def test_bus_section_judges_priority_queued_frames_only():
     """A frame of the simulator above its bound fails the run; fcc's are not judged."""
     gyro, cmd = SPEC.by_name("MSL_RATE_GYRO"), SPEC.by_name("MSL_ELEV_CMD")
-    stats = {"bitrate": 500_000, "frames": 2, "lost": 0, "late_queued": 0, "load": 0.1,
+    stats = {"bitrate": 500_000, "frames": 2, "lost": 0, "late_queued": 0, "load": 0.1, "cpu_s": 0.1, "wall_s": 1.0,
              "delivery_error": {"n": 2, "p50_s": 1e-4, "p99_s": 2e-4, "max_s": 3e-4, "early": 0},
              "ids": {f"0x{gyro.frame_id:03X}": {"n": 1, "p50_s": 0.5, "p99_s": 0.5, "max_s": 0.5},
                      f"0x{cmd.frame_id:03X}": {"n": 1, "p50_s": 0.5, "p99_s": 0.5, "max_s": 0.5}}}

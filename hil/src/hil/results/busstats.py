@@ -8,6 +8,14 @@ is late by up to tens of milliseconds on a loaded host (`delivery_error`, report
 is the platform, not the bus.  Only frames sent by a priority-queued node are judged: the
 analysis is for priority-ordered mailboxes; fcc's frames wait in a FIFO (a SocketCAN node), whose
 analysis (Davis, Kollmann, Pollex, Slomka 2011) is not implemented: they are reported, not judged.
+
+The bound assumes each frame is queued on its period's grid, late by at most its queuing jitter
+J.  The realtime simulator queues its frames late when the host does not run it on time (its
+transmitter's send lateness; seconds on a host at load 10, measured, and then several instances
+of a frame go out at once), so the bounds are computed with J = that run's largest send
+lateness, for every frame (as `hil bus wcrt --jitter`); fcc's own release jitter is not
+measured per frame (its frames are not judged; only its command, 0x030, is of higher priority
+than the simulator's sensor frames).
 """
 from __future__ import annotations
 
@@ -16,7 +24,8 @@ from fractions import Fraction
 from typing import Any
 
 from hil.bus.dbc import BusSpec
-from hil.bus.wcrt import Frame, analyse, application_periods, cyclic_frames, seconds, utilisation, with_periods
+from hil.bus.wcrt import (Frame, analyse, application_periods, cyclic_frames, seconds, utilisation, with_jitter,
+                          with_periods)
 from hil.scenario.file import Scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
@@ -55,12 +64,12 @@ def _queue(spec: BusSpec, frame_id: int, fifo_senders: Sequence[str]) -> str:
 
 
 def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Scenario],
-                fifo_senders: Sequence[str] = ("FCC",)) -> dict[str, Any]:
+                jitter_s: float = 0.0, fifo_senders: Sequence[str] = ("FCC",)) -> dict[str, Any]:
     """The section: bit rate, model, utilisation of the cyclic frames at the flight's
     periods, canbus's delivery error and losses, and per frame name its response times, bound,
     sender's queue and verdict."""
     bitrate = int(stats["bitrate"])
-    frames = flight_frames(spec, scenarios)
+    frames = with_jitter(flight_frames(spec, scenarios), seconds(jitter_s))
     bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
     out: dict[str, Any] = {}
     for key, got in stats["ids"].items():
@@ -82,9 +91,9 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         out[m.name if m is not None else key] = entry
     d = stats["delivery_error"]
     return {"bitrate": bitrate, "model": "wire",
-            "utilisation": round(float(utilisation(frames, bitrate)), 5),
+            "utilisation": round(float(utilisation(frames, bitrate)), 5), "jitter_s": jitter_s,
             "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
-            "load": stats["load"],
+            "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
             "delivery_error": {k: d[k] for k in _PERCENTILES},
             "frames": out}
 

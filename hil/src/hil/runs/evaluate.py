@@ -122,7 +122,9 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         forgeries, flown.status, summary["cdrw"]["replay_check"] if cdrw is not None else None,
         faithful_replay(cfg.mode, cfg.target, int(np.sum(cdrw[0].series["degraded"])) if cdrw else 0))
     if flown.bus:
-        summary["bus"] = bus_section(flown.bus, spec, scenarios)
+        # the bounds with the simulator's measured release lateness as queuing jitter
+        late_ms = (flown.transmitter.get("send_lateness_ms") or {}).get("max") or 0.0
+        summary["bus"] = bus_section(flown.bus, spec, scenarios, max(0.0, late_ms) * 1e-3)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)

@@ -10,12 +10,14 @@ analysis is for priority-ordered mailboxes; fcc's frames wait in a FIFO (a Socke
 analysis (Davis, Kollmann, Pollex, Slomka 2011) is not implemented: they are reported, not judged.
 
 The bound assumes each frame is queued on its period's grid, late by at most its queuing jitter
-J.  The realtime simulator queues its frames late when the host does not run it on time (its
-transmitter's send lateness; seconds on a host at load 10, measured, and then several instances
-of a frame go out at once), so the bounds are computed with J = that run's largest send
-lateness, for every frame (as `hil bus wcrt --jitter`); fcc's own release jitter is not
-measured per frame (its frames are not judged; only its command, 0x030, is of higher priority
-than the simulator's sensor frames).
+J.  `wcrt_s` is the issue's bound, J = 0.  The realtime simulator queues its frames late when the
+host does not run it on time (its transmitter's send lateness: 0.1-2.4 s at most on a host at
+load 10, measured; several instances of a frame then go out at once), which the J = 0 bound
+does not cover: a frame above it but within `wcrt_jitter_s`, the bound with J = that run's
+largest send lateness for every frame (as `hil bus wcrt --jitter`), is said so and does not
+fail the run; above that too, it does.  fcc's own release jitter is not measured per frame
+(its frames are not judged; only its command, 0x030, is of higher priority than the
+simulator's sensor frames).
 """
 from __future__ import annotations
 
@@ -36,6 +38,8 @@ from hil.scenario.plant_options import CdrwPlantOptions
 #: own lateness; fails the run too, as not the model's)
 WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: not judged", "not cyclic"
 LATE = "above, canbus late"
+#: above the J = 0 bound, within the bound with the measured release jitter (does not fail)
+JITTER = "within, with the release jitter"
 _PERCENTILES = ("p50_s", "p99_s", "max_s")
 
 
@@ -69,16 +73,20 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
     periods, canbus's delivery error and losses, and per frame name its response times, bound,
     sender's queue and verdict."""
     bitrate = int(stats["bitrate"])
-    frames = with_jitter(flight_frames(spec, scenarios), seconds(jitter_s))
+    frames = flight_frames(spec, scenarios)
     bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
+    jittered = ({r.frame.frame_id: r.wcrt_s for r in analyse(with_jitter(frames, seconds(jitter_s)), bitrate)}
+                if jitter_s > 0 else bounds)
     out: dict[str, Any] = {}
     for key, got in stats["ids"].items():
         fid = int(key, 16)
         m = spec.by_id(fid)
         queue = _queue(spec, fid, fifo_senders)
         bound = bounds.get(fid)
+        loose = jittered.get(fid)
         entry = {"n": got["n"], **{k: got[k] for k in _PERCENTILES},
-                 "wcrt_s": None if bound is None else float(bound), "queue": queue}
+                 "wcrt_s": None if bound is None else float(bound),
+                 "wcrt_jitter_s": None if loose is None else float(loose), "queue": queue}
         if fid not in bounds:
             entry["verdict"] = EVENT
         elif queue == "fifo":
@@ -86,8 +94,7 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         elif bound is None:
             entry["verdict"] = UNBOUNDED
         else:
-            entry["verdict"] = (WITHIN if Fraction(got["max_s"]) <= bound
-                                else LATE if stats["late_queued"] else ABOVE)
+            entry["verdict"] = _judge(Fraction(got["max_s"]), bound, loose, stats["late_queued"])
         out[m.name if m is not None else key] = entry
     d = stats["delivery_error"]
     return {"bitrate": bitrate, "model": "wire",
@@ -96,6 +103,14 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
             "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
             "delivery_error": {k: d[k] for k in _PERCENTILES},
             "frames": out}
+
+
+def _judge(measured: Fraction, bound: Fraction, loose: Fraction | None, late_queued: int) -> str:
+    if measured <= bound:
+        return WITHIN
+    if loose is not None and measured <= loose:
+        return JITTER
+    return LATE if late_queued else ABOVE
 
 
 def bus_failure(section: Mapping[str, Any]) -> str:

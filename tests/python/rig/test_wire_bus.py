@@ -34,7 +34,8 @@ bits = 8
 
 def wire_run(tmp: Path, capsys: Any, aircraft: str, bitrate: str, scenario: str | None = None
              ) -> tuple[int, str, dict]:
-    """`hil run AIRCRAFT --mode realtime --bus wire --bitrate B`: (exit status, stderr, summary)."""
+    """`hil run AIRCRAFT --mode realtime --bus wire --bitrate B`: (exit status, stderr, summary
+    with the number of frames in bus.log under `_logged`)."""
     argv = ["run", aircraft]
     if scenario is not None:
         sc = tmp / f"{aircraft}.toml"
@@ -44,7 +45,9 @@ def wire_run(tmp: Path, capsys: Any, aircraft: str, bitrate: str, scenario: str 
     rc, _, err = cli(capsys, *argv, "--mode", "realtime", "--bus", "wire", "--bitrate", bitrate,
                      "--no-plots", "--quiet", "--out", str(out))
     kept = out if (out / "summary.json").exists() else next(tmp.glob("run.failed-*"))
-    return rc, err, json.loads((kept / "summary.json").read_text())
+    summary = json.loads((kept / "summary.json").read_text())
+    summary["_logged"] = sum(1 for line in (kept / "bus.log").read_text().splitlines() if line.startswith("("))
+    return rc, err, summary
 
 
 def check_model(bus: dict, bitrate: int, judged: tuple[str, ...] = (WITHIN, JITTER)) -> None:
@@ -80,6 +83,8 @@ def test_realtime_missile_over_the_wire_at_500k(tmp_path, capsys):
                        == sync["rejected"]), err
     bus = s["bus"]
     check_model(bus, 500_000)
+    # the recorder on its own end has every frame that ended on the bus (none of its own)
+    assert s["_logged"] == bus["frames_on_bus"]
     # the sensors (the simulator's, priority-queued) are judged, and within their bound
     for name in ("MSL_RATE_GYRO", "MSL_ACCELEROMETER", "TSYNC_SYNC"):
         assert bus["frames"][name]["verdict"] in (WITHIN, JITTER), bus["frames"][name]

@@ -46,13 +46,18 @@ def scenario(aircraft: str, path: Path | None, faults: Sequence[str], seed: int 
     return sc
 
 
-def check_wire(args: argparse.Namespace) -> None:
-    """--bus wire: realtime, fcc on the host, SocketCAN (the rig makes the nodes' vxcan ends)."""
+def bus_model(args: argparse.Namespace) -> str:
+    """--bus (ideal where the command has none); wire: realtime, fcc on the host, SocketCAN (the
+    rig makes the nodes' vxcan ends)."""
+    bus: str = getattr(args, "bus", "ideal")
+    if bus != "wire":
+        return bus
     if args.mode != "realtime":
         raise UsageError("--bus wire: realtime runs only for now (--mode realtime); the lockstep "
                          "rig on the wire-time bus, in simulated time, is the next step")
     if args.target != "host" or args.interface != "socketcan":
         raise UsageError("--bus wire: fcc on the host (--target host) over SocketCAN only")
+    return bus
 
 
 def rig_config(args: argparse.Namespace, stage: Path):
@@ -73,15 +78,13 @@ def rig_config(args: argparse.Namespace, stage: Path):
             read_key_file(args.key_file)
         except KeyFileError as e:
             raise UsageError(f"--key-file: {e}") from None
-    bus = getattr(args, "bus", "ideal")
-    if bus == "wire":
-        check_wire(args)
-    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode, bus=bus,
+    return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
                      timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format, fcc_binary=args.fcc,
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
-                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
+                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"),
+                     bus=bus_model(args))
 
 
 def sync_status(outcomes: Sequence) -> int:

@@ -241,12 +241,12 @@ def build() -> argparse.ArgumentParser:
     r.add_argument("--fault", action="append", default=[], metavar="SPEC",
                    help="extra fault, e.g. spike:signal=alpha,start=4,duration=0.1,magnitude=0.2")
     r.add_argument("--seed", type=seed, help="override the scenario's seed")
+    add_common(r, "out/run-<aircraft>")
+    add_rig(r)
     r.add_argument("--bus", choices=("ideal", "wire"), default="ideal",
                    help="ideal (the nodes share --iface, frames take no time; default) or wire "
                         "(realtime: each node on its own vxcan end of canbus, arbitration and wire "
                         "time at --bitrate, default the DBC's Baudrate; docs/bus-timing.md)")
-    add_common(r, "out/run-<aircraft>")
-    add_rig(r)
 
     c = sub.add_parser("campaign", help="Table 5: the flight many times, faults at random times")
     c.add_argument("aircraft", choices=("cdrw",))

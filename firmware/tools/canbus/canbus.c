@@ -405,13 +405,6 @@ static int report(bus_t *b)
 static int run(bus_t *b)
 {
     while (!g_stop) {
-        if (g_report) {
-            g_report = 0;
-            const int rc = report(b);
-            if (rc != 0) {
-                return rc;
-            }
-        }
         const uint64_t now = mono_now();
         if (now - b->offset_at >= OFFSET_EVERY_NS) {
             take_offset(b, now);
@@ -419,6 +412,13 @@ static int run(bus_t *b)
         int rc = read_all(b);
         if (rc == 0) {
             rc = deliver_until(b, now);
+        }
+        /* after the read: a report counts every frame sent before its signal (a vxcan send
+         * puts the frame in canbus's queue before it returns), so that `hil run` knows the
+         * bus is drained when one reports nothing pending and the next no new frame */
+        if (rc == 0 && g_report) {
+            g_report = 0;
+            rc = report(b);
         }
         if (rc != 0) {
             return rc;

@@ -55,6 +55,20 @@ def scenario(aircraft: str, name_or_path: str | None, faults: Sequence[str], see
     return sc
 
 
+def bus_model(args: argparse.Namespace) -> str:
+    """--bus (ideal where the command has none); wire: realtime, fcc on the host, SocketCAN (the
+    rig makes the nodes' vxcan ends)."""
+    bus: str = getattr(args, "bus", "ideal")
+    if bus != "wire":
+        return bus
+    if args.mode != "realtime":
+        raise UsageError("--bus wire: realtime runs only for now (--mode realtime); the lockstep "
+                         "rig on the wire-time bus, in simulated time, is the next step")
+    if args.target != "host" or args.interface != "socketcan":
+        raise UsageError("--bus wire: fcc on the host (--target host) over SocketCAN only")
+    return bus
+
+
 def rig_config(args: argparse.Namespace, stage: Path):
     try:
         extra = tuple(shlex.split(args.fcc_args))
@@ -84,7 +98,8 @@ def rig_config(args: argparse.Namespace, stage: Path):
                      plots=not args.no_plots, log_format=args.log_format,
                      fcc_binary=device.firmware(args.fcc, not args.quiet),
                      target=args.target, interface=args.interface, bitrate=args.bitrate,
-                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"))
+                     key_file=args.key_file, recorder=getattr(args, "recorder", "canrec"),
+                     bus=bus_model(args))
 
 
 def sync_status(outcomes: Sequence) -> int:

@@ -31,6 +31,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "
                   "from `bus.log`; `hil verify`: a case failed; `hil replay`: the first difference; "
                   "`hil bus wcrt`: a frame misses its deadline or has no bounded response time; "
+                  "`hil run --bus wire`: a frame's response time above its bound, or the bus lost "
+                  "frames; "
                   "`hil inject`: the rig did not answer within `--timeout`"),
     (EXIT_USAGE, "bad command line or scenario (not UTF-8, out-of-range field, a fault on a frame "
                  "the simulator does not send for that aircraft, nested too deeply), a flight too "
@@ -43,7 +45,8 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
                  "`scripts/with-vcan`), a firmware program "
                  "or an extra of the package missing; `hil replay` of a run whose bus key is not "
                  "kept, whose bus log or `run_info.json` is malformed, or with no step to replay; "
-                 "`--rig` with no warm rig up, or one up for another `--target`: nothing is "
+                 "`--rig` with no warm rig up, or one up for another `--target`; `--bus wire` other than "
+                 "realtime on the host target over SocketCAN: nothing is "
                  "started"),
     (EXIT_TIMEOUT, "fcc did not answer a lockstep step within `--timeout` (after resending the "
                    "tick at `--timeout`/2)"),

@@ -10,6 +10,9 @@ from pathlib import Path
 from hil.targets.registry import TARGETS
 
 MODES = ("lockstep", "realtime")
+#: the bus between the nodes: ideal (one vcan interface, frames take no time) or wire
+#: (hil.rig.wirebus: canbus, arbitration and wire time at `bitrate`)
+BUSES = ("ideal", "wire")
 
 
 @dataclass
@@ -31,9 +34,12 @@ class RigConfig:
     key_file: Path | None = None   # None: a random key for each session
     #: the bus recorder of a SocketCAN session (hil.rig.recorder.RECORDERS)
     recorder: str = "canrec"
+    bus: str = "ideal"
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
             raise ValueError(f"mode must be one of {', '.join(MODES)}, not {self.mode!r}")
+        if self.bus not in BUSES:
+            raise ValueError(f"bus must be one of {', '.join(BUSES)}, not {self.bus!r}")
         if self.target not in TARGETS:
             raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {self.target!r}")

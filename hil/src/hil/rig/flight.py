@@ -183,3 +183,5 @@ class Flown:
     #: the run's key and fcc's trip (hil.results.buslog.BusAuth): only frames that verify
     #: under it count in the evaluation (None: every frame counts)
     auth: Any = None
+    #: --bus wire: canbus's statistics (hil.rig.wirebus; {} on the ideal bus)
+    bus: dict[str, Any] = field(default_factory=dict)

@@ -232,7 +232,8 @@ class RealtimeRunner:
         if rig.time_master is None:
             assert rig.link is not None
             rig.time_master = TimeMaster(rig.iface, rig.codec,
-                                         auth=rig.security.group_sender("TSYNC_AUTH"))
+                                         auth=rig.security.group_sender("TSYNC_AUTH"),
+                                         echo_iface=rig.bus_echo_iface)
             rig.time_master.start()
             t = time.monotonic()
             rig.transmitter = TimedSender(rig.iface, rt_priority=TX_RT_PRIORITY)

@@ -7,7 +7,8 @@
 Order matters: the socket is opened first (so fcc's first heartbeat is seen), then the bus
 recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
-bus.log and fcc.log.
+bus.log and fcc.log.  With config.bus "wire" (hil.rig.wirebus) canbus is started before all of
+them, each on its own vxcan end, and stopped after them (its statistics: self.bus_stats).
 
 Why this module is long: the session's life cycle, its key and trip, and the checks on who
 else is on the bus (another fcc before the start, a second fcc's heartbeats during the run)
@@ -41,6 +42,7 @@ from hil.rig.inject import InjectChannel
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
 from hil.rig.status import STATUS_FRAMES, StatusCounters
 from hil.rig.recorder import RECORDERS, BusRecorder
+from hil.rig.wirebus import WireBus
 from hil.targets.device import Device, DeviceStart
 from hil.targets.registry import device_class
 from hil.util.processes import run_as_batch
@@ -150,6 +152,15 @@ class RigSession:
         self.transmitter_stats: dict[str, object] = {}
         #: `hil inject`'s channel into this run (hil.rig.inject; realtime flights read it)
         self.inject: InjectChannel | None = None
+        #: --bus wire: canbus between the nodes' own vxcan ends (hil.rig.wirebus); the
+        #: simulator's end is self.iface, the recorder's and fcc's are their own
+        self.wire: WireBus | None = None
+        self.recorder_iface = self.fcc_iface = self.iface
+        #: where the time master reads its SYNC back as the bus delivered it (None: its echo)
+        self.bus_echo_iface: str | None = None
+        #: --bus wire: canbus's statistics when it stopped, or why it failed
+        self.bus_stats: dict = {}
+        self.bus_error = ""
 
     def _bus_key(self, key_file: Path | None) -> tuple[Endpoint, Path]:
         """The bus key: the given file, or a fresh random key for this session only (a file
@@ -174,6 +185,8 @@ class RigSession:
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
+            if self.config.bus == "wire":
+                self._start_wire()
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None
             self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,
@@ -190,7 +203,7 @@ class RigSession:
             if self.device_class.owned:  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
             self.fcc = self.device_class.start(DeviceStart(
-                self.run_dir, self.fcc_args, self.iface, self.fcc_binary, self.interface))
+                self.run_dir, self.fcc_args, self.fcc_iface, self.fcc_binary, self.interface))
             self._wait_listening()
             if self.record:
                 self.inject = InjectChannel(self.run_dir, self.mode, self.security.key)
@@ -205,8 +218,16 @@ class RigSession:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
+    def _start_wire(self) -> None:
+        """canbus first (its ready line), then the nodes are pointed at their ends."""
+        self.wire = WireBus(self.run_dir, self.bitrate or self.spec.baudrate).__enter__()
+        self.iface = self.wire.end("sim")
+        self.recorder_iface = self.wire.end("recorder")
+        self.fcc_iface = self.wire.end("fcc")
+        self.bus_echo_iface = self.recorder_iface
+
     def _start_recorder(self) -> None:
-        rec = RECORDERS[self.recorder](self.iface, self.run_dir / "bus.log")
+        rec = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")
         self.bus_recorder = rec
         if not rec.wait_idle(STARTUP_TIMEOUT_S):
             if not rec.alive():
@@ -417,6 +438,19 @@ class RigSession:
                 run_as_batch([0], batch=False)
             self._stop_recorder()
             self._close_link()
+            self._stop_wire()
+
+    def _stop_wire(self) -> None:
+        """canbus stopped (SIGTERM), its statistics kept, the pairs deleted."""
+        if self.wire is None:
+            return
+        wire, self.wire = self.wire, None
+        try:
+            self.bus_stats = wire.stop()
+        except RigError as e:
+            self.bus_error = str(e)
+        finally:
+            wire.close()
 
     def _stop_recorder(self) -> None:
         if self.bus_recorder is None:
@@ -430,6 +464,11 @@ class RigSession:
                     marker = f"{ping.frame_id:03X}#{data.hex().upper()}".encode()
             except (OSError, LinkError):  # the interface is down: the log ends where it ends
                 marker = None
+        if marker is not None and self.wire is not None:
+            try:  # the marker is on the wire: the recorder has it once canbus has delivered it
+                self.wire.drain()
+            except RigError as e:
+                self.bus_error = str(e)
         recorder, self.bus_recorder = self.bus_recorder, None
         self.log_complete = recorder.stop(marker)
         if not self.log_complete and isinstance(recorder, BusRecorder):

@@ -10,6 +10,11 @@ transmit completion) -- and sends the FOLLOW_UP with that precise time, then TSY
 SecOC authenticator of the pair (fcc uses a pair only once it verified: dbc/README.md,
 firmware/app/README.md "Time synchronisation").  It runs in a thread for the whole realtime
 session, so fcc stays locked between flights too.
+
+On the wire-time bus (`hil run --bus wire`) the local echo comes when the frame is sent, not
+when it has been on the bus: there the master reads its SYNC as another node received it, on
+`echo_iface` (the recorder's end, to which canbus writes it with fcc's, at its end of frame), as
+a real controller reports transmit completion.
 """
 from __future__ import annotations
 
@@ -36,9 +41,11 @@ class TimeMaster:
     """Publishes the master time on one interface until stop()."""
 
     def __init__(self, iface: str, codec: FrameCodec, *, auth: Sender | None = None,
-                 master_id: int = MASTER_ID, interval_s: float = SYNC_INTERVAL_S) -> None:
+                 master_id: int = MASTER_ID, interval_s: float = SYNC_INTERVAL_S,
+                 echo_iface: str | None = None) -> None:
         """auth: the sender of TSYNC_AUTH (the session's key and fcc's trip,
-        Endpoint.group_sender); None sends no authenticator (fcc then follows nothing)."""
+        Endpoint.group_sender); None sends no authenticator (fcc then follows nothing);
+        echo_iface: where the SYNC is read back as the bus delivered it (None: its own echo)."""
         self.codec = codec
         self.auth = auth
         self._auth_id = codec.spec.by_name("TSYNC_AUTH").frame_id
@@ -52,6 +59,8 @@ class TimeMaster:
                              struct.pack("=II", self._sync.frame_id, 0x7FF))
         self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
         self.sock.bind((iface,))
+        self._echo_sock = self._sync_reader(echo_iface) if echo_iface is not None else None
+        self._echo_timeout_s = 0.05 if echo_iface is None else 0.9 * interval_s
         self._stamps = MonotonicStamps()
         self.seq = 0
         self.sent = 0
@@ -61,6 +70,13 @@ class TimeMaster:
         self.unpaired_frames = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
+
+    def _sync_reader(self, iface: str) -> socket.socket:
+        sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+        sock.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_FILTER, struct.pack("=II", self._sync.frame_id, 0x7FF))
+        sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
+        sock.bind((iface,))
+        return sock
 
     # -- time base
     def master_us(self, mono: float | None = None) -> int:
@@ -87,12 +103,14 @@ class TimeMaster:
         """CLOCK_MONOTONIC at which our own SYNC `sent` was on the bus (its echo's kernel
         stamp).  Echoes of earlier frames (one whose echo was never read) are skipped: the
         bytes must be the ones just sent (sequence number and E2E counter in them)."""
+        sock = self._echo_sock or self.sock
         end = time.monotonic() + timeout_s
         while (left := end - time.monotonic()) > 0:
-            if not select.select([self.sock], [], [], left)[0]:
+            if not select.select([sock], [], [], left)[0]:
                 return None
-            raw, anc, flags, _ = self.sock.recvmsg(CAN_FRAME.size, socket.CMSG_SPACE(16))
-            if not flags & socket.MSG_CONFIRM or raw != sent:
+            raw, anc, flags, _ = sock.recvmsg(CAN_FRAME.size, socket.CMSG_SPACE(16))
+            ours = flags & socket.MSG_CONFIRM or sock is self._echo_sock  # (it hears no other node)
+            if not ours or raw != sent:
                 continue  # another node's SYNC (a second master), or an old echo
             return self._stamps.of(anc)
         return None
@@ -109,7 +127,7 @@ class TimeMaster:
         self.sock.send(raw)
         self.sent += 1
         self.unpaired_frames += 1   # until its FOLLOW_UP and authenticator are out
-        tx = self._echo_stamp(raw, 0.05)
+        tx = self._echo_stamp(raw, self._echo_timeout_s)
         if tx is None:
             self.no_echo += 1
             return False
@@ -153,6 +171,8 @@ class TimeMaster:
             self._thread.join(2.0)
             self._thread = None
         self.sock.close()
+        if self._echo_sock is not None:
+            self._echo_sock.close()
 
     def stats(self) -> dict[str, int]:
         return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo,

@@ -15,6 +15,7 @@ from hil.bus.logcolumns import LogBlock, read_blocks
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
+from hil.results.busstats import bus_section
 from hil.results.flight import (
     CdrwResult,
     cdrw_record,
@@ -120,6 +121,10 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     summary["bus_trust"] = bus_trust(
         forgeries, flown.status, summary["cdrw"]["replay_check"] if cdrw is not None else None,
         faithful_replay(cfg.mode, cfg.target, int(np.sum(cdrw[0].series["degraded"])) if cdrw else 0))
+    if flown.bus:
+        # the bounds with the simulator's measured release lateness as queuing jitter
+        late_ms = (flown.transmitter.get("send_lateness_ms") or {}).get("max") or 0.0
+        summary["bus"] = bus_section(flown.bus, spec, scenarios, max(0.0, late_ms) * 1e-3)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)

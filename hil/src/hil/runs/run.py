@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Protocol
 
 from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
 from hil.rig.flight import Flown, fly, lqg_request, make_drivers, open_session, require_log, run_info
 from hil.rig.session import RigSession
 from hil.runs.budget import check_memory
@@ -53,12 +54,20 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
                 witness.stop_now()
         rig.shutdown()
     require_log(rig)
+    if rig.bus_error:
+        raise RigError(rig.bus_error)
     from hil.results.buslog import BusAuth  # (both imported by prepare)
     from hil.runs.evaluate import evaluate_flight
     flown = Flown(drivers, rig.status, rig.security.counters(),
                   run_info(rig, cfg, runner, time.perf_counter() - t0), rig.transmitter_stats,
-                  BusAuth(rig.security.key, rig.security.trip))
-    return evaluate_flight(scenarios, cfg, command, flown)
+                  BusAuth(rig.security.key, rig.security.trip), rig.bus_stats)
+    outcome = evaluate_flight(scenarios, cfg, command, flown)
+    if flown.bus:  # measured above its bound: the model or the analysis is wrong
+        from hil.results.busstats import bus_failure
+        why = bus_failure(outcome.summary["bus"])
+        if why:
+            raise RigError(f"{why}; the results are in the failed run's summary.json")
+    return outcome
 
 
 def prepare(scenarios: Sequence[Scenario], rig: RigSession, cfg: RigConfig) -> list[AppDriver]:

@@ -1,0 +1,145 @@
+"""summary.json's `bus` section of a `--bus wire` run: canbus's statistics (firmware/tools/canbus)
+per frame name, each cyclic frame's worst-case response time (hil.bus.wcrt, Davis et al. 2007,
+at the run's bit rate and the scenario's periods), and the run's check, measured ≤ bound.
+
+The response times are the model's (canbus: queued at the sender's controller → the model's
+end of frame), not when canbus's process delivered the frame: in the UML guest that delivery
+is late by up to tens of milliseconds on a loaded host (`delivery_error`, reported apart), which
+is the platform, not the bus.  Only frames sent by a priority-queued node are judged: the
+analysis is for priority-ordered mailboxes; fcc's frames wait in a FIFO (a SocketCAN node), whose
+analysis (Davis, Kollmann, Pollex, Slomka 2011) is not implemented: they are reported, not judged.
+
+The bound assumes each frame is queued on its period's grid, late by at most its queuing jitter
+J.  `wcrt_s` is the issue's bound, J = 0.  The realtime simulator queues its frames late when the
+host does not run it on time (its transmitter's send lateness: 0.1-2.4 s at most on a host at
+load 10, measured; several instances of a frame then go out at once), which the J = 0 bound
+does not cover: a frame above it but within `wcrt_jitter_s`, the bound with J = that run's
+largest send lateness for every frame (as `hil bus wcrt --jitter`), is said so and does not
+fail the run; above that too, it does.  fcc's own release jitter is not measured per frame
+(its frames are not judged; only its command, 0x030, is of higher priority than the
+simulator's sensor frames).
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from fractions import Fraction
+from typing import Any
+
+from hil.bus.dbc import BusSpec
+from hil.bus.wcrt import (Frame, analyse, application_periods, cyclic_frames, frame_time, seconds, utilisation,
+                          with_jitter, with_periods)
+from hil.scenario.file import Scenario
+from hil.scenario.plant_options import CdrwPlantOptions
+
+#: a frame's verdict: within its bound / above it (fails the run) / the analysis has no bound
+#: (utilisation of it and the frames above it ≥ 1) / not judged (a FIFO sender) / not cyclic /
+#: above it while canbus fell behind the bus (`late_queued` > 0: a frame it read after an
+#: arbitration it should have joined keeps its queue time, so its response time counts canbus's
+#: own lateness; fails the run too, as not the model's)
+WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: not judged", "not cyclic"
+LATE = "above, canbus late"
+#: above the J = 0 bound, within the bound with the measured release jitter (does not fail)
+JITTER = "within, with the release jitter"
+_PERCENTILES = ("p50_s", "p99_s", "max_s")
+
+
+def step_period(sc: Scenario) -> float:
+    """The period the scenario's aircraft steps at: the missile's [lqg] period, the CDRW's dt."""
+    if sc.lqg is not None:
+        return sc.lqg.period
+    assert isinstance(sc.plant, CdrwPlantOptions)
+    return sc.plant.dt
+
+
+def flight_frames(spec: BusSpec, scenarios: Sequence[Scenario]) -> list[Frame]:
+    """The DBC's cyclic frames at the flight's periods (a frame two aircraft share, the
+    lockstep ones, at the shorter)."""
+    frames = cyclic_frames(spec)
+    periods: dict[str, Fraction] = {}
+    for sc in scenarios:
+        for name, p in application_periods(frames, sc.aircraft, seconds(step_period(sc))).items():
+            periods[name] = min(p, periods.get(name, p))
+    return with_periods(frames, periods)
+
+
+def jitter_bound(frames: Sequence[Frame], frame_id: int, bitrate: int, jitter_s: float) -> Fraction | None:
+    """One frame's bound with every frame's queuing jitter = jitter_s.  Analysed on what the
+    bound depends on only -- the frames above it, it, and the longest below (the blocking) --
+    since with seconds of jitter the whole DBC's analysis takes minutes near U = 1 (measured:
+    17 s at 125 kbit/s with J = 0.5 s)."""
+    m = next(f for f in frames if f.frame_id == frame_id)
+    hp = [f for f in frames if f.priority < m.priority]
+    lp = [f for f in frames if f.priority > m.priority]
+    block = [max(lp, key=lambda f: frame_time(f, bitrate))] if lp else []
+    sub = with_jitter([*hp, m, *block], seconds(jitter_s))
+    return next(r.wcrt_s for r in analyse(sub, bitrate) if r.frame.frame_id == frame_id)
+
+
+def _queue(spec: BusSpec, frame_id: int, fifo_senders: Sequence[str]) -> str:
+    m = spec.by_id(frame_id)
+    return "fifo" if m is not None and any(s in fifo_senders for s in m.senders) else "prio"
+
+
+def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Scenario],
+                jitter_s: float = 0.0, fifo_senders: Sequence[str] = ("FCC",)) -> dict[str, Any]:
+    """The section: bit rate, model, utilisation of the cyclic frames at the flight's
+    periods, canbus's delivery error and losses, and per frame name its response times, bound,
+    sender's queue and verdict."""
+    bitrate = int(stats["bitrate"])
+    frames = flight_frames(spec, scenarios)
+    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
+    out: dict[str, Any] = {}
+    for key, got in stats["ids"].items():
+        fid = int(key, 16)
+        m = spec.by_id(fid)
+        queue = _queue(spec, fid, fifo_senders)
+        bound = bounds.get(fid)
+        loose = None
+        if bound is not None and queue == "prio" and Fraction(got["max_s"]) > bound and jitter_s > 0:
+            loose = jitter_bound(frames, fid, bitrate, jitter_s)
+        entry = {"n": got["n"], **{k: got[k] for k in _PERCENTILES},
+                 "wcrt_s": None if bound is None else float(bound),
+                 "wcrt_jitter_s": None if loose is None else float(loose), "queue": queue}
+        if fid not in bounds:
+            entry["verdict"] = EVENT
+        elif queue == "fifo":
+            entry["verdict"] = FIFO
+        elif bound is None:
+            entry["verdict"] = UNBOUNDED
+        else:
+            entry["verdict"] = _judge(Fraction(got["max_s"]), bound, loose, stats["late_queued"])
+        out[m.name if m is not None else key] = entry
+    d = stats["delivery_error"]
+    return {"bitrate": bitrate, "model": "wire",
+            "utilisation": round(float(utilisation(frames, bitrate)), 5), "jitter_s": jitter_s,
+            "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
+            "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
+            "delivery_error": {k: d[k] for k in _PERCENTILES},
+            "frames": out}
+
+
+def _judge(measured: Fraction, bound: Fraction, loose: Fraction | None, late_queued: int) -> str:
+    if measured <= bound:
+        return WITHIN
+    if loose is not None and measured <= loose:
+        return JITTER
+    return LATE if late_queued else ABOVE
+
+
+def bus_failure(section: Mapping[str, Any]) -> str:
+    """Why the run fails on its bus ('' when it does not): a judged frame's measured response
+    time above its bound (the model or the analysis is wrong), or frames canbus lost."""
+    above = [(name, f) for name, f in section["frames"].items() if f["verdict"] == ABOVE]
+    if above:
+        name, f = above[0]
+        return (f"{name}'s response time above its bound: {f['max_s'] * 1e3:.3f} ms > "
+                f"{f['wcrt_s'] * 1e3:.3f} ms at {section['bitrate']} bit/s"
+                + (f" ({len(above)} frames above their bound)" if len(above) > 1 else ""))
+    late = [name for name, f in section["frames"].items() if f["verdict"] == LATE]
+    if late:
+        return (f"{late[0]}'s response time above its bound while canbus fell behind the bus "
+                f"({section['late_queued']} frames read after an arbitration they should have "
+                f"joined: the response times count its lateness, not the model's)")
+    if section["lost"]:
+        return f"the wire-time bus (canbus) lost {section['lost']} frame(s)"
+    return ""

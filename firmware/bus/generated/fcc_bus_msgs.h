@@ -578,6 +578,19 @@ typedef union {
 
 extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
 
+/* fcc's applications (FccApp; the ids are SIM_TICK.app's values) and each
+ * one's inputs: the frames sent to FCC with its FccApp, in identifier order (its input
+ * slots).  fcc_bus_input_app[]: the application whose input a message is, else FCC_BUS_NO_APP. */
+#define FCC_BUS_APP_CDRW 0u
+#define FCC_BUS_APP_MISSILE 1u
+#define FCC_BUS_N_APPS 2u
+#define FCC_BUS_NO_APP FCC_BUS_N_APPS
+#define FCC_BUS_APP_CDRW_N_INPUTS 3u
+#define FCC_BUS_APP_MISSILE_N_INPUTS 2u
+extern const fcc_msg_t fcc_bus_app_cdrw_inputs[FCC_BUS_APP_CDRW_N_INPUTS];
+extern const fcc_msg_t fcc_bus_app_missile_inputs[FCC_BUS_APP_MISSILE_N_INPUTS];
+extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];
+
 /* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
  * SecOC_Pdus); firmware/bus/fcc_secoc.h. */
 #define FCC_SECOC_N_AUTH 6u

@@ -86,17 +86,6 @@ def _node_mask(nodes: tuple[str, ...], names: tuple[str, ...]) -> str:
     return " | ".join(bits) if bits else "0u"
 
 
-#: the node whose inputs are generated (the flight computer)
-FCC_NODE = "FCC"
-
-
-def app_inputs(spec: dbc.BusSpec, app: str) -> list[dbc.MessageSpec]:
-    """The frames sent to fcc that belong to an application (FccApp), in identifier order:
-    its input slots."""
-    return [m for m in spec.messages
-            if m.app == app and FCC_NODE in m.receivers and FCC_NODE not in m.senders]
-
-
 def _app_macro(app: str) -> str:
     return f"FCC_BUS_APP_{app.upper()}"
 
@@ -118,7 +107,7 @@ def _app_header(spec: dbc.BusSpec) -> list[str]:
     out.append(f"#define FCC_BUS_N_APPS {len(spec.apps)}u")
     out.append("#define FCC_BUS_NO_APP FCC_BUS_N_APPS")
     for app in spec.apps:
-        out.append(f"#define {_app_macro(app)}_N_INPUTS {len(app_inputs(spec, app))}u")
+        out.append(f"#define {_app_macro(app)}_N_INPUTS {len(spec.app_inputs(app))}u")
     for app in spec.apps:
         out.append(f"extern const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS];")
     out.append("extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];\n")
@@ -128,10 +117,10 @@ def _app_header(spec: dbc.BusSpec) -> list[str]:
 def _app_source(spec: dbc.BusSpec, db_name: str) -> list[str]:
     out = []
     for app in spec.apps:
-        names = ", ".join(_Names(db_name, m).enum for m in app_inputs(spec, app))
+        names = ", ".join(_Names(db_name, m).enum for m in spec.app_inputs(app))
         out.append(f"const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS] = "
                    f"{{{names}}};\n")
-    inputs = {m.name: app for app in spec.apps for m in app_inputs(spec, app)}
+    inputs = {m.name: app for app in spec.apps for m in spec.app_inputs(app)}
     out.append("const uint8_t fcc_bus_input_app[FCC_MSG_COUNT] = {")
     for m in spec.messages:
         app = _app_macro(inputs[m.name]) if m.name in inputs else "FCC_BUS_NO_APP"

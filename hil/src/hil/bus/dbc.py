@@ -43,6 +43,8 @@ _dbc_override: Path | None = None
 E2E_SIGNALS = ("crc", "counter")
 #: the message attribute naming the application of fcc a frame belongs to (ENUM, "none" first)
 APP_ATTRIBUTE = "FccApp"
+#: the flight computer's node: the receiver of the applications' inputs
+FCC_NODE = "FCC"
 
 
 @dataclass(frozen=True)
@@ -274,6 +276,12 @@ class BusSpec:
 
     def by_id(self, frame_id: int) -> MessageSpec | None:
         return self._by_id.get(frame_id)
+
+    def app_inputs(self, app: str) -> tuple[MessageSpec, ...]:
+        """The frames sent to fcc (node FCC) that belong to an application (FccApp), in
+        identifier order: the application's input slots."""
+        return tuple(m for m in self.messages if m.app == app and FCC_NODE in m.receivers
+                     and FCC_NODE not in m.senders)
 
     def by_name(self, name: str) -> MessageSpec:
         try:

@@ -99,21 +99,18 @@ static uint32_t app_of(fcc_msg_t msg)
 typedef struct {
     const fcc_msg_t *inputs; /* fcc_bus_app_*_inputs: the order of the input slots */
     uint32_t n_inputs;
-    fcc_status_t (*offer)(fcc_node_t *node, fcc_msg_t msg, const fcc_msg_data_t *data,
-                          uint64_t t_us);
+    fcc_status_t (*offer)(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us);
     fcc_sensor_t *(*sensor)(fcc_node_t *node, fcc_msg_t msg);
 } app_desc_t;
 
-static fcc_status_t offer_sid(fcc_node_t *node, fcc_msg_t msg, const fcc_msg_data_t *data,
-                              uint64_t t_us)
+static fcc_status_t offer_sid(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
-    return fcc_app_sid_offer(&node->sid, msg, data, t_us);
+    return fcc_app_sid_offer(&node->sid, m->msg, &m->data, t_us);
 }
 
-static fcc_status_t offer_msl(fcc_node_t *node, fcc_msg_t msg, const fcc_msg_data_t *data,
-                              uint64_t t_us)
+static fcc_status_t offer_msl(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
-    return fcc_app_msl_offer(&node->msl, msg, data, t_us);
+    return fcc_app_msl_offer(&node->msl, m->msg, &m->data, t_us);
 }
 
 static fcc_sensor_t *sensor_sid(fcc_node_t *node, fcc_msg_t msg)
@@ -386,48 +383,48 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
 /* ---- the node's own frames: one handler per message (the applications' inputs go to
  * their application, k_apps) ---------------------------------------------------- */
 
-typedef void (*frame_handler_t)(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us);
+typedef void (*frame_handler_t)(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us);
 
-static void handle_tick(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_tick(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
     (void)t_us;
-    on_tick(node, &data->sim_tick);
+    on_tick(node, &m->data.sim_tick);
 }
 
-static void handle_control(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_control(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
     (void)t_us;
-    on_control(node, &data->sim_control);
+    on_control(node, &m->data.sim_control);
 }
 
-static void handle_event(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_event(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
     (void)t_us;
-    node->oracle_fault = data->sim_event.oracle_fault;
+    node->oracle_fault = m->data.sim_event.oracle_fault;
     ++node->cnt.oracle_events;
 }
 
 /* authenticated (handle_tsync); t_us: its receive stamp, taken when it arrived */
-static void handle_sync(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_sync(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
-    const fcc_msg_tsync_sync_t *s = &data->tsync_sync;
+    const fcc_msg_tsync_sync_t *s = &m->data.tsync_sync;
     (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec, t_us);
     (void)fcc_node_sync_poll(node);
 }
 
-static void handle_follow_up(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_follow_up(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
     (void)t_us;
-    const fcc_msg_tsync_follow_up_t *f = &data->tsync_follow_up;
+    const fcc_msg_tsync_follow_up_t *f = &m->data.tsync_follow_up;
     (void)fcc_tsync_on_follow_up(&node->tsync, f->master, f->seq, f->sec_carry, f->ns);
     (void)fcc_node_sync_poll(node);
 }
 
 /* RIG_PING: the rig's latency probe, answered by can_echo, not by the flight computer. */
-static void handle_ping(fcc_node_t *node, const fcc_msg_data_t *data, uint64_t t_us)
+static void handle_ping(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
 {
     (void)node;
-    (void)data;
+    (void)m;
     (void)t_us;
 }
 
@@ -457,7 +454,7 @@ bool fcc_node_handles(fcc_msg_t msg)
     }
     /* an authenticator sent to fcc is verified in handle_frame (fcc's own are sent) */
     const bool received = (fcc_bus_msg_table[msg].receivers & (1u << FCC_BUS_NODE_FCC)) != 0u;
-    return k_handlers[msg] != NULL || (received && fcc_secoc_auth_index(msg, &a));
+    return (k_handlers[msg] != NULL) || (received && fcc_secoc_auth_index(msg, &a));
 }
 
 /* A frame that passed authentication (or needs none): checks, then to its application or
@@ -471,9 +468,9 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
     }
     const uint32_t app = app_of(m.msg);
     if (app < FCC_N_APPS) {
-        (void)k_apps[app].offer(node, m.msg, &m.data, frame->t_us);
+        (void)k_apps[app].offer(node, &m, frame->t_us);
     } else if (k_handlers[m.msg] != NULL) {
-        k_handlers[m.msg](node, &m.data, frame->t_us);
+        k_handlers[m.msg](node, &m, frame->t_us);
     } else {
         emit(node, FCC_EV_UNKNOWN_ID, FCC_N_APPS, frame->id, (int32_t)frame->dlc);
     }

@@ -1136,7 +1136,7 @@ static void test_every_frame_sent_to_fcc_is_taken(void **state)
         }
         taken += to_fcc ? 1u : 0u;
     }
-    assert_int_equal(taken, 14u); /* 5 sensors, 3 time sync, 2 control, 2 tick, event, ping */
+    assert_true(taken >= 14u); /* today 5 sensors, 3 time sync, 2 control, 2 tick, event, ping */
     assert_false(fcc_node_handles(FCC_MSG_COUNT));
     /* the input tables are the applications' slots, in slot order */
     assert_int_equal(FCC_BUS_APP_CDRW_N_INPUTS, FCC_APP_SID_N_INPUTS);

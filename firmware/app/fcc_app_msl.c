@@ -5,8 +5,10 @@
 
 #include <string.h>
 
-static const fcc_msg_t k_input_msg[FCC_APP_MSL_N_INPUTS] = {FCC_MSG_MSL_RATE_GYRO,
-                                                            FCC_MSG_MSL_ACCELEROMETER};
+/* The input slots are the DBC's missile inputs (FccApp), in identifier order: a frame added to
+ * or taken from them in the DBC stops the build here until the slots follow. */
+typedef char
+    fcc_app_msl_inputs_are_the_dbcs[(FCC_APP_MSL_N_INPUTS == FCC_BUS_APP_MISSILE_N_INPUTS) ? 1 : -1];
 
 fcc_status_t fcc_app_msl_config_default(fcc_app_msl_config_t *cfg)
 {
@@ -93,7 +95,7 @@ fcc_status_t fcc_app_msl_init(fcc_app_msl_t *app, const fcc_app_msl_config_t *cf
     }
     app->spare = FCC_APP_MSL_SPARE_FREE;
     for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
-        fcc_sensor_init(&app->in[i], fcc_bus_desc(k_input_msg[i])->id);
+        fcc_sensor_init(&app->in[i], fcc_bus_desc(fcc_bus_app_missile_inputs[i])->id);
     }
     memset(&app->last, 0, sizeof app->last);
     app->steps = 0u;
@@ -208,7 +210,7 @@ fcc_sensor_t *fcc_app_msl_sensor(fcc_app_msl_t *app, fcc_msg_t msg)
         return NULL;
     }
     for (unsigned int i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
-        if (k_input_msg[i] == msg) {
+        if (fcc_bus_app_missile_inputs[i] == msg) {
             return &app->in[i];
         }
     }

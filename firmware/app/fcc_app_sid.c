@@ -29,8 +29,10 @@ static const struct {
     {FCC_SID_KF, FCC_MSG_SID_KF_STATE},
 };
 
-static const fcc_msg_t k_input_msg[FCC_APP_SID_N_INPUTS] = {
-    FCC_MSG_CDRW_AOA, FCC_MSG_CDRW_PITCH_RATE, FCC_MSG_CDRW_ELEVATOR};
+/* The input slots are the DBC's cdrw inputs (FccApp), in identifier order: a frame added to
+ * or taken from them in the DBC stops the build here until the slots follow. */
+typedef char fcc_app_sid_inputs_are_the_dbcs[(FCC_APP_SID_N_INPUTS == FCC_BUS_APP_CDRW_N_INPUTS) ? 1
+                                                                                         : -1];
 
 void fcc_app_sid_config_default(fcc_app_sid_config_t *cfg)
 {
@@ -72,7 +74,7 @@ fcc_status_t fcc_app_sid_init(fcc_app_sid_t *app, const fcc_app_sid_config_t *cf
     }
     app->cfg = *cfg;
     for (unsigned int i = 0u; i < FCC_APP_SID_N_INPUTS; ++i) {
-        fcc_sensor_init(&app->in[i], fcc_bus_desc(k_input_msg[i])->id);
+        fcc_sensor_init(&app->in[i], fcc_bus_desc(fcc_bus_app_cdrw_inputs[i])->id);
     }
     app->steps = 0u;
     app->degraded_steps = 0u;
@@ -90,7 +92,7 @@ fcc_sensor_t *fcc_app_sid_sensor(fcc_app_sid_t *app, fcc_msg_t msg)
         return NULL;
     }
     for (unsigned int i = 0u; i < FCC_APP_SID_N_INPUTS; ++i) {
-        if (k_input_msg[i] == msg) {
+        if (fcc_bus_app_cdrw_inputs[i] == msg) {
             return &app->in[i];
         }
     }

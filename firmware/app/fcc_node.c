@@ -7,12 +7,6 @@
 
 #define MSG_BIT(m) ((uint64_t)1u << (uint32_t)(m))
 
-/* Sensors of each application, in the order of its input slots. */
-static const fcc_msg_t k_sid_inputs[FCC_APP_SID_N_INPUTS] = {
-    FCC_MSG_CDRW_AOA, FCC_MSG_CDRW_PITCH_RATE, FCC_MSG_CDRW_ELEVATOR};
-static const fcc_msg_t k_msl_inputs[FCC_APP_MSL_N_INPUTS] = {FCC_MSG_MSL_RATE_GYRO,
-                                                             FCC_MSG_MSL_ACCELEROMETER};
-
 /* ---- small helpers ------------------------------------------------------------ */
 
 static void emit(fcc_node_t *node, fcc_event_class_t cls, uint32_t app, uint32_t can_id,
@@ -94,26 +88,52 @@ static fcc_status_t send_authenticated(fcc_node_t *node, fcc_msg_t auth_msg,
     return st;
 }
 
-/* The application a consumed message belongs to, or FCC_N_APPS. */
+/* The application whose input a message is (generated from the DBC's FccApp), or FCC_N_APPS. */
 static uint32_t app_of(fcc_msg_t msg)
 {
-    switch (msg) {
-    case FCC_MSG_CDRW_AOA:
-    case FCC_MSG_CDRW_PITCH_RATE:
-    case FCC_MSG_CDRW_ELEVATOR:
-        return FCC_APP_CDRW;
-    case FCC_MSG_MSL_RATE_GYRO:
-    case FCC_MSG_MSL_ACCELEROMETER:
-        return FCC_APP_MSL;
-    default:
-        return FCC_N_APPS;
-    }
+    return ((uint32_t)msg < (uint32_t)FCC_MSG_COUNT) ? fcc_bus_input_app[msg] : FCC_N_APPS;
 }
 
+/* ---- the applications, by id: their inputs (generated) and how a frame reaches them ---- */
+
+typedef struct {
+    const fcc_msg_t *inputs; /* fcc_bus_app_*_inputs: the order of the input slots */
+    uint32_t n_inputs;
+    fcc_status_t (*offer)(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us);
+    fcc_sensor_t *(*sensor)(fcc_node_t *node, fcc_msg_t msg);
+} app_desc_t;
+
+static fcc_status_t offer_sid(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    return fcc_app_sid_offer(&node->sid, m->msg, &m->data, t_us);
+}
+
+static fcc_status_t offer_msl(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    return fcc_app_msl_offer(&node->msl, m->msg, &m->data, t_us);
+}
+
+static fcc_sensor_t *sensor_sid(fcc_node_t *node, fcc_msg_t msg)
+{
+    return fcc_app_sid_sensor(&node->sid, msg);
+}
+
+static fcc_sensor_t *sensor_msl(fcc_node_t *node, fcc_msg_t msg)
+{
+    return fcc_app_msl_sensor(&node->msl, msg);
+}
+
+static const app_desc_t k_apps[FCC_N_APPS] = {
+    [FCC_APP_CDRW] = {fcc_bus_app_cdrw_inputs, FCC_BUS_APP_CDRW_N_INPUTS, offer_sid, sensor_sid},
+    [FCC_APP_MSL] = {fcc_bus_app_missile_inputs, FCC_BUS_APP_MISSILE_N_INPUTS, offer_msl,
+                     sensor_msl},
+};
+
+/* The sensor of an input message (its application's slot), or NULL. */
 static fcc_sensor_t *sensor_of(fcc_node_t *node, fcc_msg_t msg)
 {
-    fcc_sensor_t *s = fcc_app_sid_sensor(&node->sid, msg);
-    return (s != NULL) ? s : fcc_app_msl_sensor(&node->msl, msg);
+    const uint32_t app = app_of(msg);
+    return (app < FCC_N_APPS) ? k_apps[app].sensor(node, msg) : NULL;
 }
 
 /* ---- set-up ------------------------------------------------------------------- */
@@ -360,7 +380,80 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
     }
 }
 
-/* A frame that passed authentication (or needs none): checks, then dispatch. */
+/* ---- the node's own frames: one handler per message (the applications' inputs go to
+ * their application, k_apps) ---------------------------------------------------- */
+
+typedef void (*frame_handler_t)(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us);
+
+static void handle_tick(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    (void)t_us;
+    on_tick(node, &m->data.sim_tick);
+}
+
+static void handle_control(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    (void)t_us;
+    on_control(node, &m->data.sim_control);
+}
+
+static void handle_event(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    (void)t_us;
+    node->oracle_fault = m->data.sim_event.oracle_fault;
+    ++node->cnt.oracle_events;
+}
+
+/* authenticated (handle_tsync); t_us: its receive stamp, taken when it arrived */
+static void handle_sync(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    const fcc_msg_tsync_sync_t *s = &m->data.tsync_sync;
+    (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec, t_us);
+    (void)fcc_node_sync_poll(node);
+}
+
+static void handle_follow_up(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    (void)t_us;
+    const fcc_msg_tsync_follow_up_t *f = &m->data.tsync_follow_up;
+    (void)fcc_tsync_on_follow_up(&node->tsync, f->master, f->seq, f->sec_carry, f->ns);
+    (void)fcc_node_sync_poll(node);
+}
+
+/* RIG_PING: the rig's latency probe, answered by can_echo, not by the flight computer. */
+static void handle_ping(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
+{
+    (void)node;
+    (void)m;
+    (void)t_us;
+}
+
+/* Every other frame the DBC sends to FCC is an application's input (fcc_bus_input_app) or
+ * an authenticator (handle_frame); fcc_node_handles() says which, and a unit test fails
+ * on a frame sent to FCC that none of them takes. */
+static const frame_handler_t k_handlers[FCC_MSG_COUNT] = {
+    [FCC_MSG_TSYNC_SYNC] = handle_sync,       [FCC_MSG_TSYNC_FOLLOW_UP] = handle_follow_up,
+    [FCC_MSG_SIM_CONTROL] = handle_control,   [FCC_MSG_SIM_TICK] = handle_tick,
+    [FCC_MSG_SIM_EVENT] = handle_event,       [FCC_MSG_RIG_PING] = handle_ping,
+};
+
+bool fcc_node_handles(fcc_msg_t msg)
+{
+    uint32_t a;
+    const uint32_t app = app_of(msg);
+    if (app < FCC_N_APPS) {
+        return true; /* generated with its application's input table (fcc_bus_msgs.c) */
+    }
+    if ((uint32_t)msg >= (uint32_t)FCC_MSG_COUNT) {
+        return false;
+    }
+    /* an authenticator sent to fcc is verified in handle_frame (fcc's own are sent) */
+    const bool received = (fcc_bus_msg_table[msg].receivers & (1u << FCC_BUS_NODE_FCC)) != 0u;
+    return (k_handlers[msg] != NULL) || (fcc_secoc_auth_index(msg, &a) && received);
+}
+
+/* A frame that passed authentication (or needs none): checks, then to its application or
+ * its handler (every frame fcc consumes has one of them: fcc_node_handles). */
 static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
 {
     fcc_bus_rx_msg_t m;
@@ -368,42 +461,13 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
         on_rejected(node, frame, &m);
         return;
     }
-    switch (m.msg) {
-    case FCC_MSG_CDRW_AOA:
-    case FCC_MSG_CDRW_PITCH_RATE:
-    case FCC_MSG_CDRW_ELEVATOR:
-        (void)fcc_app_sid_offer(&node->sid, m.msg, &m.data, frame->t_us);
-        break;
-    case FCC_MSG_MSL_RATE_GYRO:
-    case FCC_MSG_MSL_ACCELEROMETER:
-        (void)fcc_app_msl_offer(&node->msl, m.msg, &m.data, frame->t_us);
-        break;
-    case FCC_MSG_SIM_TICK:
-        on_tick(node, &m.data.sim_tick);
-        break;
-    case FCC_MSG_SIM_CONTROL:
-        on_control(node, &m.data.sim_control);
-        break;
-    case FCC_MSG_SIM_EVENT:
-        node->oracle_fault = m.data.sim_event.oracle_fault;
-        ++node->cnt.oracle_events;
-        break;
-    case FCC_MSG_TSYNC_SYNC: {
-        /* authenticated (handle_tsync); t_us: its receive stamp, taken when it arrived */
-        const fcc_msg_tsync_sync_t *s = &m.data.tsync_sync;
-        (void)fcc_tsync_on_sync(&node->tsync, s->master, s->seq, s->interval_ms, s->sec,
-                                frame->t_us);
-        (void)fcc_node_sync_poll(node);
-        break;
-    }
-    case FCC_MSG_TSYNC_FOLLOW_UP: {
-        const fcc_msg_tsync_follow_up_t *f = &m.data.tsync_follow_up;
-        (void)fcc_tsync_on_follow_up(&node->tsync, f->master, f->seq, f->sec_carry, f->ns);
-        (void)fcc_node_sync_poll(node);
-        break;
-    }
-    default:
-        break; /* RIG_PING: answered by can_echo, not by the flight computer */
+    const uint32_t app = app_of(m.msg);
+    if (app < FCC_N_APPS) {
+        (void)k_apps[app].offer(node, &m, frame->t_us);
+    } else if (k_handlers[m.msg] != NULL) {
+        k_handlers[m.msg](node, &m, frame->t_us);
+    } else {
+        emit(node, FCC_EV_UNKNOWN_ID, FCC_N_APPS, frame->id, (int32_t)frame->dlc);
     }
 }
 
@@ -555,7 +619,7 @@ static void close_periods(fcc_node_t *node, const fcc_msg_t *msgs, uint32_t n,
 static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
 {
     fcc_sensor_state_t before[FCC_APP_SID_N_INPUTS];
-    close_periods(node, k_sid_inputs, FCC_APP_SID_N_INPUTS, before);
+    close_periods(node, fcc_bus_app_cdrw_inputs, FCC_APP_SID_N_INPUTS, before);
     fcc_app_sid_result_t res;
     const fcc_status_t st = fcc_app_sid_step(&node->sid, k, check_step, node->cfg.stale_limit,
                                              node->oracle_fault, &res);
@@ -566,7 +630,7 @@ static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool
         send_authenticated(node, FCC_MSG_SID_OUT_AUTH, frames, n, FCC_APP_CDRW) != FCC_OK) {
         emit(node, FCC_EV_TX_REFUSED, FCC_APP_CDRW, FCC_MSG_SID_OUT_AUTH_ID, (int32_t)n);
     }
-    report_sensors(node, FCC_APP_CDRW, k_sid_inputs, FCC_APP_SID_N_INPUTS, before);
+    report_sensors(node, FCC_APP_CDRW, fcc_bus_app_cdrw_inputs, FCC_APP_SID_N_INPUTS, before);
     *degraded = res.degraded;
     return st;
 }
@@ -574,7 +638,7 @@ static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool
 static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
 {
     fcc_sensor_state_t before[FCC_APP_MSL_N_INPUTS];
-    close_periods(node, k_msl_inputs, FCC_APP_MSL_N_INPUTS, before);
+    close_periods(node, fcc_bus_app_missile_inputs, FCC_APP_MSL_N_INPUTS, before);
     fcc_app_msl_result_t res;
     const fcc_status_t st = fcc_app_msl_step(&node->msl, k, check_step, node->cfg.stale_limit, &res);
     fcc_can_frame_t frames[2];
@@ -590,7 +654,7 @@ static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool
         emit(node, FCC_EV_CONFIG_APPLIED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID,
              (int32_t)fcc_node_app_period_us(node, FCC_APP_MSL));
     }
-    report_sensors(node, FCC_APP_MSL, k_msl_inputs, FCC_APP_MSL_N_INPUTS, before);
+    report_sensors(node, FCC_APP_MSL, fcc_bus_app_missile_inputs, FCC_APP_MSL_N_INPUTS, before);
     *degraded = res.degraded;
     return st;
 }
@@ -830,7 +894,7 @@ bool fcc_node_inputs_since(const fcc_node_t *node, uint32_t app, uint64_t since_
     if (node == NULL || app >= FCC_N_APPS) {
         return false;
     }
-    const uint32_t n = (app == FCC_APP_CDRW) ? FCC_APP_SID_N_INPUTS : FCC_APP_MSL_N_INPUTS;
+    const uint32_t n = k_apps[app].n_inputs;
     for (uint32_t i = 0u; i < n; ++i) {
         const fcc_sensor_t *s = (app == FCC_APP_CDRW) ? &node->sid.in[i] : &node->msl.in[i];
         if (s->n_pending == 0u || s->pending[s->n_pending - 1u].t_us < since_us) {

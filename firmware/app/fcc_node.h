@@ -36,10 +36,11 @@
 #include "fcc_tsync_auth.h"
 #include "fcc_types.h"
 
-/* Application numbers: the values of SIM_TICK.app / FCC_ACK.app. */
-#define FCC_APP_CDRW 0u
-#define FCC_APP_MSL 1u
-#define FCC_N_APPS 2u
+/* Application numbers: the values of SIM_TICK.app / FCC_ACK.app, generated from the DBC's
+ * FccApp attribute (fcc_bus_msgs.h). */
+#define FCC_APP_CDRW FCC_BUS_APP_CDRW
+#define FCC_APP_MSL FCC_BUS_APP_MISSILE
+#define FCC_N_APPS FCC_BUS_N_APPS
 
 /* Missing frames tolerated (last value held) before a sensor is STALE. */
 #define FCC_NODE_DEFAULT_STALE_LIMIT 1u
@@ -177,6 +178,12 @@ fcc_tsync_state_t fcc_node_sync_poll(fcc_node_t *node);
 /* Every time-sync input refused: the servo's classes, implausible pairs, and
  * frames refused by the authentication (FCC_SYNC_STATUS.rejected). */
 uint32_t fcc_node_sync_rejected(const fcc_node_t *node);
+
+/* True when fcc takes frames of msg: an input slot of its application (the DBC's FccApp),
+ * a handler of the node's, or an authenticator.  Every frame the DBC sends to FCC must be
+ * taken (tests/c check it against the generated table, so that a frame added to the DBC is
+ * not ignored in silence). */
+bool fcc_node_handles(fcc_msg_t msg);
 
 /* Realtime, synchronised schedule: every input of app has a good frame
  * received at or after since_us (the port's clock) waiting for the next step. */

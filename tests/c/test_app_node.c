@@ -1120,9 +1120,56 @@ static int batched(void **state)
     return 0;
 }
 
+/* The node's entry points refuse what they cannot work with, and say so. */
+static void test_entry_points_refuse_missing_arguments(void **state)
+{
+    (void)state;
+    assert_int_equal(fcc_node_config_default(NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_reset(NULL), FCC_ERR_ARG);
+    fcc_node_config_t cfg;
+    assert_int_equal(fcc_node_config_default(&cfg), FCC_OK);
+    cfg.security.trip = 1u;
+    fcc_port_t port;
+    memset(&port, 0, sizeof port);
+    static fcc_node_t node;
+    assert_int_equal(fcc_node_init(NULL, &cfg, &port), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, NULL, &port), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, &cfg, NULL), FCC_ERR_ARG);
+    assert_int_equal(fcc_node_init(&node, &cfg, &port), FCC_ERR_ARG); /* no send, recv, clock */
+}
+
+/* Every frame the DBC sends to FCC is taken by fcc: an input slot of its application
+ * (generated from FccApp), a handler of the node's or an authenticator -- a frame added to
+ * the DBC and regenerated fails here instead of being dropped in silence.  And nothing else. */
+static void test_every_frame_sent_to_fcc_is_taken(void **state)
+{
+    (void)state;
+    const uint8_t fcc = (uint8_t)(1u << FCC_BUS_NODE_FCC);
+    uint32_t taken = 0u;
+    for (unsigned int i = 0u; i < (unsigned int)FCC_MSG_COUNT; ++i) {
+        const fcc_bus_msg_desc_t *d = &fcc_bus_msg_table[i];
+        const bool to_fcc = (d->receivers & fcc) != 0u && (d->senders & fcc) == 0u;
+        if (to_fcc != fcc_node_handles((fcc_msg_t)i)) {
+            fail_msg("%s: sent to FCC %d, taken by fcc %d", d->name, (int)to_fcc, (int)!to_fcc);
+        }
+        taken += to_fcc ? 1u : 0u;
+    }
+    assert_true(taken >= 14u); /* today 5 sensors, 3 time sync, 2 control, 2 tick, event, ping */
+    assert_false(fcc_node_handles(FCC_MSG_COUNT));
+    /* the input tables are the applications' slots, in slot order */
+    assert_int_equal(FCC_BUS_APP_CDRW_N_INPUTS, FCC_APP_SID_N_INPUTS);
+    assert_int_equal(fcc_bus_app_cdrw_inputs[FCC_APP_SID_IN_Q], FCC_MSG_CDRW_PITCH_RATE);
+    assert_int_equal(FCC_BUS_APP_MISSILE_N_INPUTS, FCC_APP_MSL_N_INPUTS);
+    assert_int_equal(fcc_bus_app_missile_inputs[FCC_APP_MSL_IN_ACCEL], FCC_MSG_MSL_ACCELEROMETER);
+    assert_int_equal(fcc_bus_input_app[FCC_MSG_CDRW_AOA], FCC_APP_CDRW);
+    assert_int_equal(fcc_bus_input_app[FCC_MSG_MSL_ELEV_CMD], FCC_BUS_NO_APP); /* an output */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_frame_sent_to_fcc_is_taken),
+        cmocka_unit_test(test_entry_points_refuse_missing_arguments),
         cmocka_unit_test(test_cdrw_steps_match_the_sid_loops),
         cmocka_unit_test(test_missile_commands_match_the_lqg),
         cmocka_unit_test(test_missing_sensor_held_then_stale_then_recovered),

@@ -757,6 +757,55 @@ const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT] = {
     {"RIG_PONG", 0x7F1u, 0x0000u, 3u, 0u, (1u << FCC_BUS_NODE_FCC), (1u << FCC_BUS_NODE_SIM), (uint8_t)(sizeof sig_rig_pong / sizeof sig_rig_pong[0]), sig_rig_pong, unpack_rig_pong, pack_rig_pong},
 };
 
+const fcc_msg_t fcc_bus_app_cdrw_inputs[FCC_BUS_APP_CDRW_N_INPUTS] = {FCC_MSG_CDRW_AOA, FCC_MSG_CDRW_PITCH_RATE, FCC_MSG_CDRW_ELEVATOR};
+
+const fcc_msg_t fcc_bus_app_missile_inputs[FCC_BUS_APP_MISSILE_N_INPUTS] = {FCC_MSG_MSL_RATE_GYRO, FCC_MSG_MSL_ACCELEROMETER};
+
+const uint8_t fcc_bus_input_app[FCC_MSG_COUNT] = {
+    (uint8_t)FCC_BUS_NO_APP, /* TSYNC_SYNC */
+    (uint8_t)FCC_BUS_NO_APP, /* TSYNC_FOLLOW_UP */
+    (uint8_t)FCC_BUS_NO_APP, /* TSYNC_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* SIM_CONTROL */
+    (uint8_t)FCC_BUS_NO_APP, /* SIM_CONTROL_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* SIM_TICK */
+    (uint8_t)FCC_BUS_NO_APP, /* SIM_TICK_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_ACK */
+    (uint8_t)FCC_BUS_NO_APP, /* MSL_ELEV_CMD */
+    (uint8_t)FCC_BUS_APP_MISSILE, /* MSL_RATE_GYRO */
+    (uint8_t)FCC_BUS_APP_MISSILE, /* MSL_ACCELEROMETER */
+    (uint8_t)FCC_BUS_APP_CDRW, /* CDRW_AOA */
+    (uint8_t)FCC_BUS_APP_CDRW, /* CDRW_PITCH_RATE */
+    (uint8_t)FCC_BUS_APP_CDRW, /* CDRW_ELEVATOR */
+    (uint8_t)FCC_BUS_NO_APP, /* MSL_STATE_EST */
+    (uint8_t)FCC_BUS_NO_APP, /* MSL_ELEV_CMD_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_AZKF_STATE */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_AZKF_BOUNDS */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_AZKF_MODEL_A */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_AZKF_MODEL_B */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_ZKF_STATE */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_ZKF_BOUNDS */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_ZKF_MODEL_A */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_ZKF_MODEL_B */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_KF_STATE */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_KF_BOUNDS */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_KF_MODEL_A */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_KF_MODEL_B */
+    (uint8_t)FCC_BUS_NO_APP, /* SID_OUT_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_STATUS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_E2E_COUNTS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_E2E_FAULTS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_REJECT_COUNTS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_BUS_COUNTS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_SYNC_STATUS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_SEC_COUNTS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_SEC_SESSION */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_SYNC_REFUSALS */
+    (uint8_t)FCC_BUS_NO_APP, /* FCC_STATUS_AUTH */
+    (uint8_t)FCC_BUS_NO_APP, /* SIM_EVENT */
+    (uint8_t)FCC_BUS_NO_APP, /* RIG_PING */
+    (uint8_t)FCC_BUS_NO_APP, /* RIG_PONG */
+};
+
 const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {
     {FCC_MSG_TSYNC_AUTH, 0x2001u, 2u, {FCC_MSG_TSYNC_SYNC, FCC_MSG_TSYNC_FOLLOW_UP}},
     {FCC_MSG_SIM_CONTROL_AUTH, 0x2010u, 1u, {FCC_MSG_SIM_CONTROL}},

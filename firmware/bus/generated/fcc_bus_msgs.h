@@ -145,7 +145,7 @@ typedef enum {
 #define FCC_MSG_SIM_EVENT_KIND_NOISE_BURST 5u
 #define FCC_MSG_SIM_EVENT_KIND_DRIFT 6u
 #define FCC_MSG_SIM_EVENT_KIND_SCALE 7u
-#define FCC_MSG_SIM_EVENT_KIND_FRAME_LOSS 8u
+#define FCC_MSG_SIM_EVENT_KIND_LOSS 8u
 #define FCC_MSG_SIM_EVENT_KIND_DELAY 9u
 #define FCC_MSG_SIM_EVENT_KIND_DUPLICATE 10u
 #define FCC_MSG_SIM_EVENT_KIND_REPLAY 11u
@@ -577,6 +577,19 @@ typedef union {
 } fcc_bus_raw_t;
 
 extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
+
+/* fcc's applications (FccApp; the ids are SIM_TICK.app's values) and each
+ * one's inputs: the frames sent to FCC with its FccApp, in identifier order (its input
+ * slots).  fcc_bus_input_app[]: the application whose input a message is, else FCC_BUS_NO_APP. */
+#define FCC_BUS_APP_CDRW 0u
+#define FCC_BUS_APP_MISSILE 1u
+#define FCC_BUS_N_APPS 2u
+#define FCC_BUS_NO_APP FCC_BUS_N_APPS
+#define FCC_BUS_APP_CDRW_N_INPUTS 3u
+#define FCC_BUS_APP_MISSILE_N_INPUTS 2u
+extern const fcc_msg_t fcc_bus_app_cdrw_inputs[FCC_BUS_APP_CDRW_N_INPUTS];
+extern const fcc_msg_t fcc_bus_app_missile_inputs[FCC_BUS_APP_MISSILE_N_INPUTS];
+extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];
 
 /* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,
  * SecOC_Pdus); firmware/bus/fcc_secoc.h. */

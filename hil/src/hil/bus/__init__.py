@@ -20,12 +20,11 @@ cryptography are imported where they are used, not at start-up.
 from __future__ import annotations
 
 from hil.bus.codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
-from hil.bus.dbc import BusSpec, MessageSpec, SignalSpec, load
+from hil.bus.dbc import FCC_NODE, BusSpec, MessageSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
 
 #: The simulator process speaks for the simulator core and every sensor node.
 SIM_NODES = ("SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL")
-FCC_NODE = "FCC"
 
 __all__ = [
     "BusSpec", "Counters", "Decoded", "E2EReceiver", "E2ESender", "E2EStatus", "EncodeError",

@@ -86,6 +86,49 @@ def _node_mask(nodes: tuple[str, ...], names: tuple[str, ...]) -> str:
     return " | ".join(bits) if bits else "0u"
 
 
+def _app_macro(app: str) -> str:
+    return f"FCC_BUS_APP_{app.upper()}"
+
+
+def _check_apps(spec: dbc.BusSpec) -> None:
+    """The application ids are SIM_TICK.app's values: as many applications as values."""
+    ticks = spec.by_name("SIM_TICK").signal("app").choices
+    if len(ticks) != len(spec.apps):
+        raise ValueError(f"{dbc.APP_ATTRIBUTE} names {len(spec.apps)} applications, "
+                         f"SIM_TICK.app's value table {len(ticks)}")
+
+
+def _app_header(spec: dbc.BusSpec) -> list[str]:
+    out = [f"/* fcc's applications ({dbc.APP_ATTRIBUTE}; the ids are SIM_TICK.app's values) and each",
+           " * one's inputs: the frames sent to FCC with its FccApp, in identifier order (its input",
+           " * slots).  fcc_bus_input_app[]: the application whose input a message is, else FCC_BUS_NO_APP. */"]
+    for i, app in enumerate(spec.apps):
+        out.append(f"#define {_app_macro(app)} {i}u")
+    out.append(f"#define FCC_BUS_N_APPS {len(spec.apps)}u")
+    out.append("#define FCC_BUS_NO_APP FCC_BUS_N_APPS")
+    for app in spec.apps:
+        out.append(f"#define {_app_macro(app)}_N_INPUTS {len(spec.app_inputs(app))}u")
+    for app in spec.apps:
+        out.append(f"extern const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS];")
+    out.append("extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];\n")
+    return out
+
+
+def _app_source(spec: dbc.BusSpec, db_name: str) -> list[str]:
+    out = []
+    for app in spec.apps:
+        names = ", ".join(_Names(db_name, m).enum for m in spec.app_inputs(app))
+        out.append(f"const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS] = "
+                   f"{{{names}}};\n")
+    inputs = {m.name: app for app in spec.apps for m in spec.app_inputs(app)}
+    out.append("const uint8_t fcc_bus_input_app[FCC_MSG_COUNT] = {")
+    for m in spec.messages:
+        app = _app_macro(inputs[m.name]) if m.name in inputs else "FCC_BUS_NO_APP"
+        out.append(f"    (uint8_t){app}, /* {m.name} */")
+    out.append("};\n")
+    return out
+
+
 def generate_header(spec: dbc.BusSpec, db_name: str) -> str:
     out = [BANNER.format(name=HEADER, dbc=f"dbc/{spec.path.name}"),
            "#ifndef FCC_BUS_MSGS_H\n#define FCC_BUS_MSGS_H\n",
@@ -133,6 +176,7 @@ def generate_header(spec: dbc.BusSpec, db_name: str) -> str:
         out.append(f"    {n.raw} {n.snake};")
     out.append("} fcc_bus_raw_t;\n")
     out.append("extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];\n")
+    out.extend(_app_header(spec))
     auths = [m for m in spec.messages if m.is_authenticator]
     width = max(len(m.secoc_pdus) for m in auths) if auths else 1
     out.append("/* SecOC: authenticator frames and the frames each authenticates (SecOC_DataID,")
@@ -181,6 +225,7 @@ def generate_source(spec: dbc.BusSpec, db_name: str) -> str:
             f"(uint8_t)(sizeof sig_{n.snake} / sizeof sig_{n.snake}[0]), sig_{n.snake}, "
             f"unpack_{n.snake}, pack_{n.snake}}},")
     out.append("};\n")
+    out.extend(_app_source(spec, db_name))
     out.append("const fcc_secoc_desc_t fcc_secoc_table[FCC_SECOC_N_AUTH] = {")
     for m in spec.messages:
         if m.is_authenticator:
@@ -193,6 +238,7 @@ def generate_source(spec: dbc.BusSpec, db_name: str) -> str:
 
 def generate(dbc_path: Path, out_dir: Path) -> list[Path]:
     spec = dbc.load(dbc_path)
+    _check_apps(spec)
     db_name = dbc_path.stem
     out_dir.mkdir(parents=True, exist_ok=True)
     files = {HEADER: generate_header(spec, db_name), SOURCE: generate_source(spec, db_name)}

@@ -36,11 +36,15 @@ if TYPE_CHECKING:
 PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
 #: the packaged DBC digested (dbc/generate writes it from dbc/fcc_hil.dbc)
 PACKAGED_SPEC = PACKAGED_DBC.with_name("fcc_hil.spec.json")
-SPEC_FORMAT = 2   # 2: the value tables (VAL_) of the signals
+SPEC_FORMAT = 3   # 2: the value tables (VAL_) of the signals; 3: FccApp of the messages
 DEFAULT_DBC = PACKAGED_DBC
 DBC_ENV = "FCC_HIL_DBC"
 _dbc_override: Path | None = None
 E2E_SIGNALS = ("crc", "counter")
+#: the message attribute naming the application of fcc a frame belongs to (ENUM, "none" first)
+APP_ATTRIBUTE = "FccApp"
+#: the flight computer's node: the receiver of the applications' inputs
+FCC_NODE = "FCC"
 
 
 @dataclass(frozen=True)
@@ -123,6 +127,7 @@ class MessageSpec:
     signals: tuple[SignalSpec, ...]
     secoc_data_id: int = 0               # authenticator frames: the SecOC data ID of the MAC
     secoc_pdus: tuple[str, ...] = ()     # authenticator frames: the frames it authenticates
+    app: str = ""                        # FccApp: the application of fcc it belongs to, or ""
     dbc_path: Path | None = None         # where .message is parsed from
 
     @property
@@ -204,6 +209,18 @@ def _str_attr(message: Message, name: str) -> str:
     return str(attrs[name].value) if name in attrs else ""
 
 
+def _enum_attr(message: Message, name: str) -> str:
+    """An ENUM attribute's choice ("" when unset or its first choice, "none")."""
+    attrs = message.dbc.attributes if message.dbc else {}
+    if name not in attrs:
+        return ""
+    attr = attrs[name]
+    value = attr.value
+    if isinstance(value, int) and attr.definition.choices:
+        value = attr.definition.choices[value]
+    return "" if value == attr.definition.choices[0] else str(value)
+
+
 def _inv_scale(sig: Signal) -> int:
     if sig.scale == 1 and sig.offset == 0:
         return 1
@@ -239,15 +256,18 @@ def _message_spec(msg: Message, path: Path) -> MessageSpec:
         senders=tuple(msg.senders), receivers=tuple(receivers),
         signals=tuple(_signal_spec(s) for s in msg.signals),
         secoc_data_id=_attr(msg, "SecOC_DataID", 0),
-        secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()), dbc_path=path)
+        secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()), app=_enum_attr(msg, APP_ATTRIBUTE),
+        dbc_path=path)
 
 
 class BusSpec:
-    """The loaded DBC: messages sorted by identifier, nodes, bit rate."""
+    """The loaded DBC: messages sorted by identifier, nodes, bit rate, fcc's applications
+    (the choices of the FccApp attribute but "none", in order: the application ids)."""
 
     def __init__(self, path: Path, messages: tuple[MessageSpec, ...], nodes: tuple[str, ...],
-                 baudrate: int) -> None:
+                 baudrate: int, apps: tuple[str, ...] = ()) -> None:
         self.path = path
+        self.apps = apps
         self.messages = messages
         self.nodes = nodes
         self.baudrate = baudrate
@@ -256,6 +276,12 @@ class BusSpec:
 
     def by_id(self, frame_id: int) -> MessageSpec | None:
         return self._by_id.get(frame_id)
+
+    def app_inputs(self, app: str) -> tuple[MessageSpec, ...]:
+        """The frames sent to fcc (node FCC) that belong to an application (FccApp), in
+        identifier order: the application's input slots."""
+        return tuple(m for m in self.messages if m.app == app and FCC_NODE in m.receivers
+                     and FCC_NODE not in m.senders)
 
     def by_name(self, name: str) -> MessageSpec:
         try:
@@ -331,8 +357,13 @@ def _parsed(path: Path) -> BusSpec:
         if m.is_authenticator and (not m.secoc_pdus or not set(m.secoc_pdus) <= names):
             raise ValueError(f"{m.name}: SecOC_Pdus must name the frames it authenticates")
     bus = db.buses[0] if db.buses else None
+    app_def = db.dbc.attribute_definitions.get(APP_ATTRIBUTE) if db.dbc else None
+    apps = tuple(app_def.choices[1:]) if app_def is not None and app_def.choices else ()
+    for m in messages:
+        if m.app and m.app not in apps:
+            raise ValueError(f"{m.name}: {APP_ATTRIBUTE} {m.app!r} is not an application")
     return BusSpec(path, messages, tuple(n.name for n in db.nodes),
-                   int(bus.baudrate) if bus and bus.baudrate else 500_000)
+                   int(bus.baudrate) if bus and bus.baudrate else 500_000, apps)
 
 
 # ---- the digested specification (data/fcc_hil.spec.json) --------------------------------
@@ -345,7 +376,7 @@ def _fingerprint(data: bytes) -> str:
 def spec_document(spec: BusSpec) -> dict[str, Any]:
     """The JSON document of a loaded DBC's specification (the digest dbc/generate writes)."""
     return {"format": SPEC_FORMAT, "dbc": _fingerprint(read_dbc(spec.path)),
-            "nodes": list(spec.nodes), "baudrate": spec.baudrate,
+            "nodes": list(spec.nodes), "baudrate": spec.baudrate, "apps": list(spec.apps),
             "messages": [_message_document(m) for m in spec.messages]}
 
 
@@ -371,7 +402,8 @@ def _from_spec_file(path: Path, spec_file: Path | None = None,
                                         "signals": tuple(_signal_of(s) for s in m["signals"])},
                                      dbc_path=path)
                          for m in doc["messages"])
-        return BusSpec(path, messages, tuple(doc["nodes"]), int(doc["baudrate"]))
+        return BusSpec(path, messages, tuple(doc["nodes"]), int(doc["baudrate"]),
+                       tuple(doc["apps"]))
     except (OSError, ValueError, KeyError, TypeError):
         return None
 

@@ -16,10 +16,10 @@ from collections.abc import Callable
 from typing import Any
 
 from hil.bus.dbc import BusSpec
-from hil.scenario.faults import KINDS
+from hil.bus.protocol import FAULT_KIND_NAMES
 
-#: SIM_EVENT.kind: the fault kinds numbered from 1 in hil.scenario.faults' order (hil.sim.frame_faults)
-KIND_NAMES = {i + 1: k for i, k in enumerate(KINDS)}
+#: SIM_EVENT.kind: the fault kind of each code (the DBC's value table, hil.bus.protocol)
+KIND_NAMES = FAULT_KIND_NAMES
 
 FILTER_FRAMES = (("AZKF", "SID_AZKF_STATE"), ("ZKF", "SID_ZKF_STATE"), ("KF", "SID_KF_STATE"))
 HEALTH = ("cdrw_degraded", "msl_degraded", "sensor_stale", "e2e_fault", "overrun", "config_rejected")

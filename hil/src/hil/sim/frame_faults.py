@@ -42,9 +42,9 @@ from hil.bus import FrameCodec
 from hil.bus.batch import encode_many
 from hil.bus.dbc import MessageSpec, SignalSpec
 from hil.bus.e2e import counter_of, protect
+from hil.bus.protocol import FAULT_KIND_CODES
 from hil.bus.rawcan import pack_frame
 from hil.scenario.faults import (
-    KINDS,
     BadCrc,
     CounterFreeze,
     CounterJump,
@@ -67,8 +67,8 @@ if TYPE_CHECKING:
 #: steps send it (bool, one per step) and the values of its data signals in those steps
 Batch = tuple[str, "np.ndarray", Mapping[str, "np.ndarray"]]
 
-#: SIM_EVENT.kind of each fault kind (0 = none): position in hil.scenario.faults.KINDS, from 1
-KIND_CODES: dict[str, int] = {k: i + 1 for i, k in enumerate(KINDS)}
+#: SIM_EVENT.kind of each fault kind (0 = none): the DBC's value table (hil.bus.protocol)
+KIND_CODES: dict[str, int] = FAULT_KIND_CODES
 #: how much of each message's history is kept for replays
 REPLAY_HISTORY = 4096
 T_EPS = 1e-9

@@ -23,6 +23,7 @@ from hil.results.flight import (
     missile_result,
     require_estimates,
 )
+from hil.results.platform import platform_verdict
 from hil.results.report import firmware_summary
 from hil.results.sync import sync_summary
 from hil.results.trust import Forgeries, bus_trust, faithful_replay
@@ -120,6 +121,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     summary["bus_trust"] = bus_trust(
         forgeries, flown.status, summary["cdrw"]["replay_check"] if cdrw is not None else None,
         faithful_replay(cfg.mode, cfg.target, int(np.sum(cdrw[0].series["degraded"])) if cdrw else 0))
+    if cfg.mode == "realtime":   # the timing faults, the platform's or the firmware's
+        summary["platform"] = platform_verdict(summary, info, missiles[0].period if missiles else None)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)

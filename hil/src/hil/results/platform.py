@@ -1,0 +1,101 @@
+"""A realtime run's timing faults, told apart: the platform's or the firmware's?
+
+The platform's baseline (hil.rig.platform: cyclictest at the flight's period and fcc's
+SCHED_FIFO priority, beside the flight) says how late this kernel, during this run, woke a
+thread of fcc's priority that does nothing.  summary.json's ``platform`` judges against it:
+
+* a deadline miss -- fcc's overruns (a step not finished within its period, its own count) and
+  the loop's lost commands (not on the bus before the period closed) -- is **platform-limited**
+  when the baseline's worst wake-up alone used up the step's slack (the period less fcc's
+  median sensor-to-command time, its own clock); a lost command also when the rig's simulator
+  (an ordinary process on the same platform) handed at least as many steps over late.
+  Otherwise it is the firmware's own.
+* a sync loss (fcc went 3 sync intervals without a usable pair) is platform-limited when the
+  baseline's worst wake-up reached a whole sync interval, or the rig's master could not stamp
+  a SYNC (its echo never came: the platform held the frame); otherwise the firmware's own.
+* a sync loss that fcc recovered from (LOCKED at the end) with no forged, replayed or refused
+  frame (the sync verdict is "lost", nothing worse: hil.results.sync), fcc's outputs
+  authentic (bus_trust ok) and the data age in bounds (every command computed on a sensor
+  frame less than a period old) is **tolerated**: `hil run` prints a warning with its
+  numbers and does not exit 7 for it (hil.cli.common.sync_status).  Every attack still does.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from hil.rig.timesync import SYNC_INTERVAL_S
+
+PLATFORM_LIMITED, FIRMWARE = "platform-limited", "firmware"
+
+
+def _get(doc: Any, *path: str) -> Any:
+    for key in path:
+        if not isinstance(doc, Mapping):
+            return None
+        doc = doc.get(key)
+    return doc
+
+
+def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max: int | None,
+                    period_us: float | None) -> dict[str, Any]:
+    """fcc's overruns and the loop's lost commands, and whose they are (module doc)."""
+    overruns = int(_get(summary, "firmware", "overruns") or 0)
+    runs = _get(summary, "missile", "runs") or [{}]
+    missing = int(runs[0].get("commands_missing") or 0)
+    late_steps = int(info.get("sim_late_steps") or 0)
+    step_p50 = _get(summary, "realtime", "fcc", "latency_us missile", "p50") or 0
+    slack = None if period_us is None else period_us - step_p50
+    stalled = baseline_max is not None and slack is not None and baseline_max >= slack
+    out: dict[str, Any] = {"overruns": overruns, "commands_missing": missing,
+                           "sim_late_steps": late_steps, "slack_us": slack, "verdict": "none"}
+    if overruns or missing:
+        explained = stalled or (not overruns and late_steps >= missing)
+        out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
+    return out
+
+
+def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max: int | None,
+              period_us: float | None) -> dict[str, Any]:
+    """fcc's sync losses, whose they are, and whether the run tolerates them (module doc)."""
+    sync = summary.get("sync") or {}
+    losses = int(sync.get("losses") or 0)
+    no_echo = int(_get(info, "time_master", "syncs_without_echo") or 0)
+    age = _get(summary, "realtime", "bus", "data_age")
+    age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
+    out: dict[str, Any] = {"losses": losses, "state": sync.get("state"), "sync_verdict": sync.get("verdict"),
+                           "master_syncs_without_echo": no_echo, "data_age_max_us": age_max,
+                           "data_age_bound_us": period_us, "verdict": "none", "tolerated": False,
+                           "message": ""}
+    if not losses:
+        return out
+    explained = no_echo > 0 or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6)
+    out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
+    age_ok = age_max is not None and period_us is not None and age_max < period_us
+    trusted = _get(summary, "bus_trust", "verdict") in (None, "ok")
+    out["tolerated"] = (sync.get("verdict") == "lost" and sync.get("state") == "LOCKED"
+                        and trusted and age_ok)
+    if out["tolerated"]:
+        base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
+                else "no platform baseline")
+        out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "
+                          f"the end): no forged, replayed or refused frame, data age max "
+                          f"{age_max:.0f} us < period {period_us:.0f} us; {out['verdict']} "
+                          f"({base}, {no_echo} SYNC(s) the master could not stamp)")
+    return out
+
+
+def platform_verdict(summary: Mapping[str, Any], info: Mapping[str, Any],
+                     period_s: float | None) -> dict[str, Any]:
+    """summary.json's `platform`: the baseline's percentiles, the deadline misses' and the sync
+    losses' verdicts, and the run's (ok, platform-limited, firmware: the worst of them)."""
+    base = _get(info, "platform", "baseline") or {}
+    baseline_max = base.get("max_us")
+    period_us = None if period_s is None else period_s * 1e6
+    parts = {"deadline_misses": deadline_misses(summary, info, baseline_max, period_us),
+             "sync_loss": sync_loss(summary, info, baseline_max, period_us)}
+    found = {p["verdict"] for p in parts.values()}
+    verdict = FIRMWARE if FIRMWARE in found else PLATFORM_LIMITED if PLATFORM_LIMITED in found else "ok"
+    return {"verdict": verdict,
+            "baseline": {k: base.get(k) for k in ("p50_us", "p99_us", "max_us", "cycles")} if baseline_max is not None
+            else {"error": base.get("error", "not measured")}, **parts}

@@ -16,12 +16,12 @@ import pytest
 from hil.cli.common import sync_status
 from hil.cli.usage import EXIT_SYNC
 from hil.results.platform import FIRMWARE, PLATFORM_LIMITED, platform_verdict
+from hil.results.sync import REFUSALS
 from hil.rig.platform import Baseline, facts, percentile, preempt_model
 from hil.runs.outcome import Outcome
 
 PERIOD_S = 0.1
-NO_REFUSALS = {k: 0 for k in ("mac_failed", "freshness_failed", "unauthenticated", "step_refused",
-                              "rate_refused")}
+NO_REFUSALS = dict.fromkeys(REFUSALS, 0)
 
 
 def summary(*, losses: int = 0, state: str = "LOCKED", verdict: str = "ok", refused: dict | None = None,

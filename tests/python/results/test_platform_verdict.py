@@ -66,7 +66,8 @@ def test_a_recovered_sync_loss_without_attack_is_a_warning_with_its_numbers_exit
     rc, err = exit_status(s, capsys)
     assert rc == 0
     assert err == ("hil: warning: time sync lost 1 time(s) and recovered (fcc LOCKED at the end): no "
-                   "forged, replayed or refused frame, data age max 2000 us < period 100000 us; "
+                   "forged, replayed or refused frame, data age max 2000 us < 200000 us (fcc's freshness "
+                   "bound); "
                    "firmware (cyclictest max 4000 us at fcc's priority, 0 SYNC(s) the master could "
                    "not stamp)\n")
 
@@ -86,13 +87,23 @@ def test_a_sync_loss_with_a_forged_replayed_or_refused_frame_still_exits_7(verdi
 @pytest.mark.parametrize("change", [
     {"state": "HOLDOVER"},          # not recovered at the end
     {"state": "FREE_RUN"},
-    {"age_max": 150_000.0},         # a command computed on data older than a period
+    {"age_max": 250_000.0},         # a command computed on data fcc would take as stale
     {"trust": "forged"},            # fcc's outputs not authentic: nothing is excused
 ])
 def test_a_loss_not_recovered_or_with_stale_data_or_forged_outputs_exits_7(change, capsys) -> None:
     s = judged(summary(losses=1, verdict="lost", **change))
     assert not s["platform"]["sync_loss"]["tolerated"]
     assert exit_status(s, capsys)[0] == EXIT_SYNC
+
+
+def test_the_data_age_bound_is_fccs_own_freshness_bound() -> None:
+    """fcc bridges --stale-limit missing frames (default 1) with the last value: a command on
+    data up to 1 + that many periods old is computed on data fcc takes as fresh."""
+    s = summary(losses=1, verdict="lost", age_max=150_000.0)
+    assert judged(s)["platform"]["sync_loss"]["tolerated"]
+    strict = {**info(), "fcc_command": "fcc --mode realtime --stale-limit 0 --rt-priority 50"}
+    got = judged(s, strict)["platform"]["sync_loss"]
+    assert got["data_age_bound_us"] == 100_000 and not got["tolerated"]
 
 
 def test_a_clean_run_is_ok_and_exits_0(capsys) -> None:

@@ -16,17 +16,21 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
 * a sync loss that fcc recovered from (LOCKED at the end) with no forged, replayed or refused
   frame (the sync verdict is "lost", nothing worse: hil.results.sync), fcc's outputs
   authentic (bus_trust ok) and the data age in bounds (every command computed on a sensor
-  frame less than a period old) is **tolerated**: `hil run` prints a warning with its
+  frame fcc itself takes as fresh: less than 1 + --stale-limit periods old, fcc bridging that
+  many missing frames with the last value) is **tolerated**: `hil run` prints a warning with its
   numbers and does not exit 7 for it (hil.cli.common.sync_status).  Every attack still does.
 """
 from __future__ import annotations
 
+import shlex
 from collections.abc import Mapping
 from typing import Any
 
 from hil.rig.timesync import SYNC_INTERVAL_S
 
 PLATFORM_LIMITED, FIRMWARE = "platform-limited", "firmware"
+#: fcc's --stale-limit when its command line gives none (firmware/app/fcc_node.h)
+DEFAULT_STALE_LIMIT = 1
 
 
 def _get(doc: Any, *path: str) -> Any:
@@ -55,6 +59,19 @@ def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baselin
     return out
 
 
+def stale_limit(fcc_command: str | None) -> int:
+    """fcc's --stale-limit (missing sensor frames bridged with the last value) from the command
+    line run_info.json keeps."""
+    try:
+        args = shlex.split(fcc_command or "")
+    except ValueError:
+        args = []
+    for flag, value in zip(args, args[1:]):
+        if flag == "--stale-limit" and value.isdigit():
+            return int(value)
+    return DEFAULT_STALE_LIMIT
+
+
 def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max: int | None,
               period_us: float | None) -> dict[str, Any]:
     """fcc's sync losses, whose they are, and whether the run tolerates them (module doc)."""
@@ -63,15 +80,16 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     no_echo = int(_get(info, "time_master", "syncs_without_echo") or 0)
     age = _get(summary, "realtime", "bus", "data_age")
     age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
+    age_bound = None if period_us is None else (1 + stale_limit(info.get("fcc_command"))) * period_us
     out: dict[str, Any] = {"losses": losses, "state": sync.get("state"), "sync_verdict": sync.get("verdict"),
                            "master_syncs_without_echo": no_echo, "data_age_max_us": age_max,
-                           "data_age_bound_us": period_us, "verdict": "none", "tolerated": False,
+                           "data_age_bound_us": age_bound, "verdict": "none", "tolerated": False,
                            "message": ""}
     if not losses:
         return out
     explained = no_echo > 0 or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6)
     out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
-    age_ok = age_max is not None and period_us is not None and age_max < period_us
+    age_ok = age_max is not None and age_bound is not None and age_max < age_bound
     trusted = _get(summary, "bus_trust", "verdict") in (None, "ok")
     out["tolerated"] = (sync.get("verdict") == "lost" and sync.get("state") == "LOCKED"
                         and trusted and age_ok)
@@ -80,7 +98,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
                 else "no platform baseline")
         out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "
                           f"the end): no forged, replayed or refused frame, data age max "
-                          f"{age_max:.0f} us < period {period_us:.0f} us; {out['verdict']} "
+                          f"{age_max:.0f} us < {age_bound:.0f} us (fcc's freshness bound); {out['verdict']} "
                           f"({base}, {no_echo} SYNC(s) the master could not stamp)")
     return out
 

@@ -86,7 +86,8 @@ def sync_status(outcomes: Sequence) -> int:
                 print(f"{PROG}: {loss['message']}", file=sys.stderr)
                 continue
             if verdict.get("verdict", "ok") != "ok":
-                print(f"{PROG}: {verdict['message']}", file=sys.stderr)
+                why = f"; {loss['message']}" if key == "sync" and loss.get("message") else ""
+                print(f"{PROG}: {verdict['message']}{why}", file=sys.stderr)
                 return EXIT_SYNC
     return 0
 

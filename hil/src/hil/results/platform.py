@@ -90,16 +90,23 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     explained = no_echo > 0 or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6)
     out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
     age_ok = age_max is not None and age_bound is not None and age_max < age_bound
-    trusted = _get(summary, "bus_trust", "verdict") in (None, "ok")
-    out["tolerated"] = (sync.get("verdict") == "lost" and sync.get("state") == "LOCKED"
-                        and trusted and age_ok)
+    not_tolerated = [why for bad, why in (
+        (sync.get("verdict") != "lost", f"the sync was {sync.get('verdict')}"),
+        (sync.get("state") != "LOCKED", f"fcc {sync.get('state')} at the end"),
+        (_get(summary, "bus_trust", "verdict") not in (None, "ok"), "fcc's outputs not authentic"),
+        (not age_ok, "data age not measured" if age_max is None else
+         f"data age max {age_max:.0f} us beyond fcc's freshness bound {age_bound:.0f} us"),
+    ) if bad]
+    out["tolerated"] = not not_tolerated
+    base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
+            else "no platform baseline")
+    why = f"{out['verdict']} ({base}, {no_echo} SYNC(s) the master could not stamp)"
     if out["tolerated"]:
-        base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
-                else "no platform baseline")
         out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "
                           f"the end): no forged, replayed or refused frame, data age max "
-                          f"{age_max:.0f} us < {age_bound:.0f} us (fcc's freshness bound); {out['verdict']} "
-                          f"({base}, {no_echo} SYNC(s) the master could not stamp)")
+                          f"{age_max:.0f} us < {age_bound:.0f} us (fcc's freshness bound); {why}")
+    else:
+        out["message"] = f"{why}; not tolerated: {', '.join(not_tolerated)}"
     return out
 
 

@@ -11,8 +11,10 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
   (an ordinary process on the same platform) handed at least as many steps over late.
   Otherwise it is the firmware's own.
 * a sync loss (fcc went 3 sync intervals without a usable pair) is platform-limited when the
-  baseline's worst wake-up reached a whole sync interval, or the rig's master could not stamp
-  a SYNC (its echo never came: the platform held the frame); otherwise the firmware's own.
+  baseline's worst wake-up reached a whole sync interval, the rig's master could not stamp a
+  SYNC (its echo never came: the platform held the frame), or the master itself went 3
+  intervals without a SYNC (a thread of the rig's, starved by the platform: measured, 1 s
+  while cyclictest at fcc's priority saw 15 ms); otherwise the firmware's own.
 * a sync loss that fcc recovered from (LOCKED at the end) with no forged, replayed or refused
   frame (the sync verdict is "lost", nothing worse: hil.results.sync), fcc's outputs
   authentic (bus_trust ok) and the data age in bounds (every command computed on a sensor
@@ -27,6 +29,10 @@ from collections.abc import Mapping
 from typing import Any
 
 from hil.rig.timesync import SYNC_INTERVAL_S
+
+#: fcc loses the sync after this many sync intervals without a usable pair (fcc_tsync.c's
+#: loss_intervals)
+LOSS_INTERVALS = 3
 
 PLATFORM_LIMITED, FIRMWARE = "platform-limited", "firmware"
 #: fcc's --stale-limit when its command line gives none (firmware/app/fcc_node.h)
@@ -87,7 +93,10 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
                            "message": ""}
     if not losses:
         return out
-    explained = no_echo > 0 or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6)
+    gap_ms = _get(info, "time_master", "max_sync_gap_ms")
+    out["master_max_sync_gap_ms"] = gap_ms
+    explained = (no_echo > 0 or (gap_ms is not None and gap_ms >= LOSS_INTERVALS * SYNC_INTERVAL_S * 1e3)
+                 or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6))
     out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
     age_ok = age_max is not None and age_bound is not None and age_max < age_bound
     not_tolerated = [why for bad, why in (
@@ -100,7 +109,8 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     out["tolerated"] = not not_tolerated
     base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
             else "no platform baseline")
-    why = f"{out['verdict']} ({base}, {no_echo} SYNC(s) the master could not stamp)"
+    gap = "" if gap_ms is None else f", the master's longest gap between SYNCs {gap_ms:.0f} ms"
+    why = f"{out['verdict']} ({base}, {no_echo} SYNC(s) the master could not stamp{gap})"
     if out["tolerated"]:
         out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "
                           f"the end): no forged, replayed or refused frame, data age max "

@@ -122,6 +122,7 @@ class Baseline:
         self._dir: str | None = None
 
     def start(self) -> None:
+        self.collect()   # the previous flight's, if not read yet
         exe = shutil.which("cyclictest")
         if exe is None:
             self.error = "cyclictest not found: install rt-tests (scripts/setup does)"
@@ -134,7 +135,15 @@ class Baseline:
             self._proc = spawn(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
 
     def stop(self) -> None:
-        """Stop the measurement (SIGINT: cyclictest writes its results) and add them up."""
+        """End the measurement now (SIGINT: cyclictest writes its results at its next wake-up,
+        up to a period later); collect() waits for them.  Not waiting here: the flight's end
+        (fcc's GROUND) must not wait for the measurement (measured: it did, and fcc flew two
+        more steps on stale data)."""
+        if self._proc is not None and self._proc.poll() is None:
+            self._proc.send_signal(signal.SIGINT)
+
+    def collect(self) -> None:
+        """Wait for a stopped measurement and add its results up."""
         proc, tmp = self._proc, self._dir
         self._proc = self._dir = None
         if proc is None or tmp is None:
@@ -176,6 +185,7 @@ class Baseline:
     def summary(self) -> dict[str, Any]:
         """run_info.json's platform.baseline: wake-up latency percentiles (us) and the
         histogram ({us: count}; overflows above hist_range_us), or the error."""
+        self.collect()
         if not self.cycles:
             return {"tool": "cyclictest", "error": self.error or "no measurement (no flight)"}
         pct = {f"{name}_us": percentile(self.hist, self.overflow, self.max_us, q)
@@ -189,6 +199,7 @@ class Baseline:
 
     def write_hist(self, run_dir: Path) -> Path | None:
         """The histogram in cyclictest's format (--histfile), its zero rows left out."""
+        self.collect()
         if not self.cycles:
             return None
         rows = [f"{us:06d} {self.hist[us]:06d}" for us in sorted(self.hist)]

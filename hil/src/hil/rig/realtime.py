@@ -105,6 +105,9 @@ class RealtimeRunner:
         self.baseline: Baseline | None = None
 
     def timing(self) -> dict[str, object]:
+        """run_info.json's realtime facts; the platform's histogram written beside it."""
+        if self.baseline is not None:
+            self.baseline.write_hist(self.rig.run_dir)
         s = sorted(self.slack_ms)
         pct = (lambda p: round(s[min(len(s) - 1, int(p * len(s)))], 3)) if s else (lambda p: None)
         tm = self.rig.time_master
@@ -166,9 +169,8 @@ class RealtimeRunner:
             for b in self._babblers.values():
                 b.stop()
             self.wall_s += time.perf_counter() - t_begin
-            if self.baseline is not None:
+            if self.baseline is not None:   # (read after the flight: timing())
                 self.baseline.stop()
-                self.baseline.write_hist(rig.run_dir)
 
     def _measure_platform(self, drivers: Sequence[AppDriver]) -> None:
         """The platform's facts (at the first flight) and its baseline beside this flight, at

@@ -67,7 +67,7 @@ def test_a_recovered_sync_loss_without_attack_is_a_warning_with_its_numbers_exit
     assert rc == 0
     assert err == ("hil: warning: time sync lost 1 time(s) and recovered (fcc LOCKED at the end): no "
                    "forged, replayed or refused frame, data age max 2000 us < 204000 us (fcc's freshness "
-                   "bound 200000 us + the baseline's max); "
+                   "bound 200000 us + the platform's stall); "
                    "firmware (cyclictest max 4000 us at fcc's priority, 0 SYNC(s) the master could "
                    "not stamp, the master's longest gap between SYNCs 101 ms)\n")
 
@@ -107,20 +107,28 @@ def test_a_loss_in_a_platform_stall_the_baseline_shows_is_tolerated(capsys) -> N
     s = judged(summary(losses=2, verdict="lost", age_max=201_182.0), info(max_us=368_592))
     rc, err = exit_status(s, capsys)
     assert rc == 0 and s["platform"]["sync_loss"]["verdict"] == PLATFORM_LIMITED
-    assert "data age max 201182 us < 568592 us (fcc's freshness bound 200000 us + the baseline's max)" in err
+    assert "data age max 201182 us < 568592 us (fcc's freshness bound 200000 us + the platform's stall)" in err
+
+
+def test_the_rigs_own_stall_widens_the_bound_too(capsys) -> None:
+    """As measured: the rig's master (an ordinary thread) went 324 ms without a SYNC while
+    cyclictest at fcc's priority saw 119 ms; a command on data 324 ms old: the rig's stall
+    (224 ms beyond the interval) explains it, a warning."""
+    s = judged(summary(losses=1, verdict="lost", age_max=324_376.0), info(max_us=118_781, gap_ms=324.0))
+    rc, err = exit_status(s, capsys)
+    assert rc == 0 and s["platform"]["sync_loss"]["data_age_bound_us"] == pytest.approx(424_000)
 
 
 def test_data_older_than_the_platform_explains_is_not_tolerated(capsys) -> None:
-    """As measured: the rig's threads starved for 1 s (the master's longest gap 1004 ms),
-    cyclictest at fcc's priority saw 15 ms; commands on data up to 1 s old: exit 7, and the
-    line says the loss is platform-limited and why it is not a warning."""
-    s = judged(summary(losses=1, verdict="lost", age_max=1_003_456.0), info(max_us=14_678, gap_ms=1004.0))
+    """Data older than fcc's freshness bound plus every stall measured: exit 7, and the line
+    says whose the loss is and why it is not a warning."""
+    s = judged(summary(losses=1, verdict="lost", age_max=1_003_456.0), info(max_us=14_678, gap_ms=350.0))
     rc, err = exit_status(s, capsys)
     assert rc == EXIT_SYNC and s["platform"]["sync_loss"]["verdict"] == PLATFORM_LIMITED
     assert err == ("hil: time sync lost: 1 losses (fcc LOCKED at the end); platform-limited (cyclictest "
                    "max 14678 us at fcc's priority, 0 SYNC(s) the master could not stamp, the master's "
-                   "longest gap between SYNCs 1004 ms); not tolerated: data age max 1003456 us beyond "
-                   "214678 us (fcc's freshness bound 200000 us + the baseline's max)\n")
+                   "longest gap between SYNCs 350 ms); not tolerated: data age max 1003456 us beyond "
+                   "450000 us (fcc's freshness bound 200000 us + the platform's stall)\n")
 
 
 def test_the_data_age_bound_is_fccs_own_freshness_bound() -> None:

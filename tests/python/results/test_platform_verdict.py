@@ -40,10 +40,12 @@ def summary(*, losses: int = 0, state: str = "LOCKED", verdict: str = "ok", refu
             "bus_trust": {"verdict": trust, "message": "" if trust == "ok" else "fcc's outputs forged"}}
 
 
-def info(max_us: int | None = 4000, no_echo: int = 0, late_steps: int = 0, gap_ms: float = 101.0) -> dict[str, Any]:
+def info(max_us: int | None = 4000, no_echo: int = 0, late_steps: int = 0, gap_ms: float = 101.0,
+         slack_min_ms: float = 12.0) -> dict[str, Any]:
     base = ({"p50_us": 300, "p99_us": 2000, "max_us": max_us, "cycles": 50} if max_us is not None
             else {"error": "cyclictest not found: install rt-tests (scripts/setup does)"})
-    return {"sim_late_steps": late_steps, "time_master": {"syncs_without_echo": no_echo, "max_sync_gap_ms": gap_ms},
+    return {"sim_late_steps": late_steps, "sim_handover_slack_ms": {"min": slack_min_ms},
+            "time_master": {"syncs_without_echo": no_echo, "max_sync_gap_ms": gap_ms},
             "platform": {"kernel": "7.2.7", "preempt": "none (voluntary or server)", "uml": True,
                          "baseline": base}}
 
@@ -117,6 +119,16 @@ def test_the_rigs_own_stall_widens_the_bound_too(capsys) -> None:
     s = judged(summary(losses=1, verdict="lost", age_max=324_376.0), info(max_us=118_781, gap_ms=324.0))
     rc, err = exit_status(s, capsys)
     assert rc == 0 and s["platform"]["sync_loss"]["data_age_bound_us"] == pytest.approx(424_000)
+
+
+def test_the_simulators_own_lateness_widens_the_bound_too(capsys) -> None:
+    """As measured at load 12.6: the rig's simulator handed a step over 2836 ms late (60 of 100
+    late), cyclictest 109 ms, the master's longest gap 283 ms; commands on data up to 1.1 s
+    old, nothing forged: platform-limited, a warning."""
+    s = judged(summary(losses=1, verdict="lost", age_max=1_101_745.0),
+               info(max_us=108_667, gap_ms=283.0, slack_min_ms=-2835.962, late_steps=60))
+    assert exit_status(s, capsys)[0] == 0
+    assert s["platform"]["sync_loss"]["platform_stall_us"] == pytest.approx(2_835_962)
 
 
 def test_data_older_than_the_platform_explains_is_not_tolerated(capsys) -> None:

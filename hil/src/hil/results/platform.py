@@ -20,11 +20,13 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
   authentic (bus_trust ok) and the data age in bounds is **tolerated**: every command computed
   on a sensor frame fcc itself takes as fresh (less than 1 + --stale-limit periods old, fcc
   bridging that many missing frames with the last value), or older by no more than the
-  platform's worst stall during the flight: the baseline's max, or the time the rig's own
+  platform's worst stall during the flight: the baseline's max, the time the rig's own
   master went beyond its interval without a SYNC (its longest gap less one interval, from the
-  kernel's stamps of its frames: the rig's threads run at an ordinary priority and starve
-  longer than cyclictest's; measured: 324 ms against cyclictest's 119 ms).  Both are
-  witnesses the bus cannot move: a flood or a forger does not stall a thread: `hil run` prints a warning with its
+  kernel's stamps of its frames), or the simulator's latest hand-over of a step (after its
+  instant: the rig's threads run at an ordinary priority and starve longer than cyclictest's;
+  measured at load 8-12: the master 324 ms against cyclictest's 119 ms, the simulator 2.8 s
+  against 109 ms).  These are clocks the bus cannot move: a frame held back or replayed ages
+  the data beyond them: `hil run` prints a warning with its
   numbers and does not exit 7 for it (hil.cli.common.sync_status).  Every attack still does.
 """
 from __future__ import annotations
@@ -93,10 +95,14 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
     gap_ms = _get(info, "time_master", "max_sync_gap_ms")
     master_stall = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
+    slack_min = _get(info, "sim_handover_slack_ms", "min")
+    sim_stall = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
+    stall = max(float(baseline_max or 0), master_stall, sim_stall)
     fresh = None if period_us is None else (1 + stale_limit(info.get("fcc_command"))) * period_us
-    age_bound = None if fresh is None else fresh + max(float(baseline_max or 0), master_stall)
+    age_bound = None if fresh is None else fresh + stall
     out: dict[str, Any] = {"losses": losses, "state": sync.get("state"), "sync_verdict": sync.get("verdict"),
-                           "master_syncs_without_echo": no_echo, "data_age_max_us": age_max,
+                           "master_syncs_without_echo": no_echo, "platform_stall_us": stall,
+                           "data_age_max_us": age_max,
                            "data_age_fresh_us": fresh, "data_age_bound_us": age_bound, "verdict": "none",
                            "tolerated": False, "message": ""}
     if not losses:

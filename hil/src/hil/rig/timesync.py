@@ -163,4 +163,4 @@ class TimeMaster:
 
     def stats(self) -> dict[str, int]:
         return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo,
-                "unpaired_frames": self.unpaired_frames, "max_sync_gap_ms": round(self.max_gap_s * 1e3, 1)}
+                "unpaired_frames": self.unpaired_frames, "max_sync_gap_ms": int(round(self.max_gap_s * 1e3))}

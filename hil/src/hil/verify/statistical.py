@@ -7,8 +7,8 @@ interval (hil.verify.stats):
     aircraft = ["cdrw"]
     flights = 100
     [case.expect]
-    SID-STAT-1 = [{ share = "azkf.alpha.error_integral_truth < kf.alpha.error_integral_truth",
-                    expect = "lo >= 0.9", method = "wilson" }]
+    SID-STAT-1 = [
+      { share = "azkf.alpha.error_integral_truth < kf.alpha.error_integral_truth", expect = "lo >= 0.9" }]
     RT-STAT-1 = [{ percentile = 99, of = "realtime.latency_p99_us", expect = "hi < 5000" }]
 
 * ``share``: an expectation judged on every flight; ``value`` is the share of flights that

@@ -28,8 +28,8 @@
 
 A case with ``flights = N`` (2 to 1000) flies N flights, seeds seed, seed + 1, ...; each of its
 expectations is then over all of them, with its confidence interval (hil.verify.statistical):
-    SID-STAT-1 = [{ share = "azkf.alpha.error_integral_truth < kf.alpha.error_integral_truth",
-                    expect = "lo >= 0.9" }]
+    SID-STAT-1 = [
+      { share = "azkf.alpha.error_integral_truth < kf.alpha.error_integral_truth", expect = "lo >= 0.9" }]
 
 Every value is checked when the suite is loaded, before anything flies, by the validator of
 scenario files (hil.scenario.schema): a case's flight is each aircraft's embedded scenario with

@@ -106,4 +106,6 @@ def test_a_case_of_three_flights_flies_three_seeds_and_reports_its_interval(tmp_
     assert [r.name for r in runs] == ["flight-000", "flight-001", "flight-002"]
     seeds = {json.loads((r / "summary.json").read_text())["cdrw"]["flight"]["seed"] for r in runs}
     assert len(seeds) == 3
-    assert "(Wilson 95%: " in out and "over 3 flights" in out and "(bootstrap 95%: " in out
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "cdrw, lockstep, 3 flights;" in page
+    assert "(Wilson 95%: 43.85% to 100%) over 3 flights" in page and "(bootstrap 95%: " in page

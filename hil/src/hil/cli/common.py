@@ -105,12 +105,19 @@ def rig_config(args: argparse.Namespace, stage: Path):
 def sync_status(outcomes: Sequence) -> int:
     """0, or EXIT_SYNC with one line on stderr when a realtime run's time synchronisation was
     attacked, refused or lost (its summary's `sync`, hil.results.sync), or fcc's outputs were
-    forged, impersonated or disagree with the reference (`bus_trust`, hil.results.trust)."""
+    forged, impersonated or disagree with the reference (`bus_trust`, hil.results.trust).  A
+    sync loss fcc recovered from, with nothing forged, replayed or refused and the data age in
+    bounds (`platform.sync_loss.tolerated`, hil.results.platform), is a warning line, not 7."""
     for outcome in outcomes:
         for key in ("sync", "bus_trust"):
             verdict = outcome.summary.get(key) or {}
+            loss = (outcome.summary.get("platform") or {}).get("sync_loss") or {}
+            if key == "sync" and verdict.get("verdict") == "lost" and loss.get("tolerated"):
+                print(f"{PROG}: {loss['message']}", file=sys.stderr)
+                continue
             if verdict.get("verdict", "ok") != "ok":
-                print(f"{PROG}: {verdict['message']}", file=sys.stderr)
+                why = f"; {loss['message']}" if key == "sync" and loss.get("message") else ""
+                print(f"{PROG}: {verdict['message']}{why}", file=sys.stderr)
                 return EXIT_SYNC
     return 0
 

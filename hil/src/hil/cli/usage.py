@@ -57,7 +57,9 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
     (EXIT_SYNC, "`hil run`: the flight finished, every figure from authenticated frames, but "
                 "the bus was attacked: realtime, its time synchronisation was attacked (forged or "
                 "replayed `SYNC`/`FOLLOW_UP`/`TSYNC_AUTH` refused by fcc), refused (the "
-                "authenticated master implausible against fcc's clock) or lost; or frames forged "
+                "authenticated master implausible against fcc's clock) or lost (a loss fcc "
+                "recovered from with nothing forged, replayed or refused and the data age in "
+                "bounds: a warning line, not 7); or frames forged "
                 "on fcc's outputs were refused, fcc counted frames on its own identifiers, or "
                 "fcc's rows disagree with sid_replay's beyond the bus's resolution; one line names "
                 "it, summary.json's `sync` or `bus_trust` has the counters"),

@@ -26,6 +26,9 @@ Frame delays are quantised to the sender's period (a delayed frame goes out with
 step whose time has reached its due time).  A babbling-node flood is a real second node:
 ``cangen`` on the interface, started and stopped at the fault's times (when the step that
 starts or ends it is handed over: up to one period early).
+
+Every flight measures the platform beside it (hil.rig.platform: cyclictest at the flight's
+shortest period and fcc's priority, for the flight's length): run_info.json's ``platform``.
 """
 from __future__ import annotations
 
@@ -36,7 +39,9 @@ from collections.abc import Callable, Sequence
 
 from hil.bus.protocol import COMMAND_FLIGHT, SYNC_HAS_TIME, SYNC_LOCKED
 from hil.rig.errors import RigError
+from hil.rig.flight import FCC_RT_PRIORITY
 from hil.rig.inject import apply_requests
+from hil.rig.platform import Baseline, facts
 from hil.rig.session import RigSession
 from hil.rig.timesync import TimeMaster
 from hil.rig.txsched import TimedSender
@@ -96,8 +101,13 @@ class RealtimeRunner:
         self._open: dict[int, StepIO | None] = {}
         self._next: dict[int, int] = {}
         self._by_step = False
+        self.platform: dict[str, object] = {}
+        self.baseline: Baseline | None = None
 
     def timing(self) -> dict[str, object]:
+        """run_info.json's realtime facts; the platform's histogram written beside it."""
+        if self.baseline is not None:
+            self.baseline.write_hist(self.rig.run_dir)
         s = sorted(self.slack_ms)
         pct = (lambda p: round(s[min(len(s) - 1, int(p * len(s)))], 3)) if s else (lambda p: None)
         tm = self.rig.time_master
@@ -106,7 +116,9 @@ class RealtimeRunner:
                 "sim_stale_frames": self.stale_frames,
                 "time_master": tm.stats() if tm is not None else self.rig.time_master_stats,
                 "sim_handover_slack_ms": {"min": pct(0.0), "p1": pct(0.01), "p50": pct(0.5)},
-                "transmitter": self.rig.transmitter_stats, "rx_frames": self.rx_frames}
+                "transmitter": self.rig.transmitter_stats, "rx_frames": self.rx_frames,
+                "platform": {**self.platform,
+                             "baseline": self.baseline.summary() if self.baseline else None}}
 
     def fly(self, drivers: Sequence[AppDriver]) -> None:
         rig = self.rig
@@ -114,6 +126,7 @@ class RealtimeRunner:
         master = self.prepare()
         assert rig.transmitter is not None
         self._sender = rig.transmitter
+        self._measure_platform(drivers)
         t_begin = time.perf_counter()
         try:
             self._t0 = master.aligned_start(LEAD_S, [d.period for d in drivers])
@@ -156,6 +169,16 @@ class RealtimeRunner:
             for b in self._babblers.values():
                 b.stop()
             self.wall_s += time.perf_counter() - t_begin
+            if self.baseline is not None:   # (read after the flight: timing())
+                self.baseline.stop()
+
+    def _measure_platform(self, drivers: Sequence[AppDriver]) -> None:
+        """The platform's facts (at the first flight) and its baseline beside this flight, at
+        the shortest period and fcc's priority (hil.rig.platform)."""
+        if self.baseline is None:
+            self.platform = facts()
+            self.baseline = Baseline(min(d.period for d in drivers), FCC_RT_PRIORITY)
+        self.baseline.start()
 
     def _instant(self, d: AppDriver, j: int) -> float:
         return self._t0 + j * d.period

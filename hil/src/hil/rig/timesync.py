@@ -68,6 +68,10 @@ class TimeMaster:
         #: SYNC / FOLLOW_UP frames sent that no TSYNC_AUTH covers (fcc drops each one,
         #: counted in FCC_SYNC_REFUSALS.unauthenticated: the rig tells them from forgeries)
         self.unpaired_frames = 0
+        #: the longest time between two SYNCs on the bus (s): a master starved by its platform
+        #: (fcc loses the sync after 3 intervals without one: hil.results.platform)
+        self.max_gap_s = 0.0
+        self._last_tx: float | None = None
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -131,6 +135,9 @@ class TimeMaster:
         if tx is None:
             self.no_echo += 1
             return False
+        if self._last_tx is not None:
+            self.max_gap_s = max(self.max_gap_s, tx - self._last_tx)
+        self._last_tx = tx
         m = self.published(self.master_us(tx))
         carry = m // 1_000_000 - sec
         if carry not in (0, 1):
@@ -176,4 +183,4 @@ class TimeMaster:
 
     def stats(self) -> dict[str, int]:
         return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo,
-                "unpaired_frames": self.unpaired_frames}
+                "unpaired_frames": self.unpaired_frames, "max_sync_gap_ms": int(round(self.max_gap_s * 1e3))}

@@ -24,6 +24,7 @@ from hil.results.flight import (
     missile_result,
     require_estimates,
 )
+from hil.results.platform import platform_verdict
 from hil.results.report import firmware_summary
 from hil.results.sync import sync_summary
 from hil.results.trust import Forgeries, bus_trust, faithful_replay
@@ -125,6 +126,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
         # the bounds with the simulator's measured release lateness as queuing jitter
         late_ms = (flown.transmitter.get("send_lateness_ms") or {}).get("max") or 0.0
         summary["bus"] = bus_section(flown.bus, spec, scenarios, max(0.0, late_ms) * 1e-3)
+    if cfg.mode == "realtime":   # the timing faults, the platform's or the firmware's
+        summary["platform"] = platform_verdict(summary, info, missiles[0].period if missiles else None)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)

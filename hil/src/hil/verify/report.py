@@ -99,7 +99,8 @@ def _case_html(r: CaseResult, report_dir: Path) -> list[str]:
            f'<span class="{r.verdict}">{_WORD[r.verdict]}</span></h3>',
            f"<p>{e(r.case.title)}</p>" if r.case.title else "",
            f"<p>Requirements: {e(', '.join(r.case.requirements))}; aircraft: {e(', '.join(r.case.aircraft))}, "
-           f"{e(r.case.mode)}{', attack: ' + e(r.case.attack) if r.case.attack else ''}; {r.seconds:.1f} s</p>",
+           f"{e(r.case.mode)}{', attack: ' + e(r.case.attack) if r.case.attack else ''}"
+           f"{f', {r.case.n_flights} flights' if r.case.n_flights > 1 else ''}; {r.seconds:.1f} s</p>",
            f"<p>Re-fly: <code>{e(r.command)}</code></p>"]
     if r.verdict == ERROR:
         out.append(f'<p class="error">Could not run: {e(r.error)}</p>')

@@ -19,6 +19,7 @@ from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
 from hil.verify.figure import draw, limit
 from hil.verify.series import RunSeries
+from hil.verify.statistical import OverFlights
 from hil.verify.suite import Case, Suite, shipped
 from hil.verify.window import VALUE, Measured, NoWindow, Windowed, measure
 
@@ -60,12 +61,13 @@ class CaseResult:
         return [c for c in self.checks if c.verdict != PASS]
 
 
-def judge(expect: Sequence[tuple[str, Expectation | Windowed]], run: dict[str, Any],
+def judge(expect: Sequence[tuple[str, Expectation | Windowed | OverFlights]], run: dict[str, Any],
           series: RunSeries | None = None) -> list[Check]:
     """Every expectation of a case on its flight (series: the run's time series, for the
     windowed ones)."""
     checks = []
     for req, exp in expect:
+        assert not isinstance(exp, OverFlights), "an expectation over flights: judge_flights"
         if isinstance(exp, Windowed):
             assert series is not None, "a windowed expectation needs the run's series"
             checks.append(_judge_windowed(req, exp, run, series))
@@ -88,6 +90,30 @@ def _judge_windowed(req: str, w: Windowed, run: dict[str, Any], series: RunSerie
                  f"{measured(w.exp, vals)} in [{got.t_from:.4g}, {got.t_to:.4g}] s", w, got)
 
 
+def judge_flights(expect: Sequence[tuple[str, Expectation | Windowed | OverFlights]],
+                  runs: Sequence[dict[str, Any]]) -> list[Check]:
+    """Every expectation of a case of many flights, over them all, with its interval."""
+    checks = []
+    for req, exp in expect:
+        assert isinstance(exp, OverFlights), "a case of many flights: expectations over them"
+        ok, got = exp.judge(runs)
+        checks.append(Check(req, exp.text, PASS if ok else FAIL, got))
+    return checks
+
+
+def fly_flights(case: Case, cfg: RigConfig, run_dir: Path) -> list[dict[str, Any]]:
+    """A case of many flights: flight i (seeds + i) in run_dir/flight-III, each read as a
+    case's run is."""
+    runs = []
+    for i in range(case.n_flights):
+        out = run_dir / f"flight-{i:03d}"
+        flights = [sc.replace(seed=sc.seed + i) for sc in case.flights]
+        outcome = run_flight(flights, dataclasses.replace(cfg, out_dir=out), "verify")
+        info = json.loads((out / "run_info.json").read_text(encoding="utf-8"))
+        runs.append(read_run(out, outcome.summary, info, None))
+    return runs
+
+
 def draw_checks(checks: Sequence[Check], run_dir: Path, made_by: str) -> None:
     """Each windowed check's evidence figure, check-N.png in the case's run directory."""
     for i, c in enumerate(checks):
@@ -104,6 +130,11 @@ def run_case(suite: Suite, case: Case, base: RigConfig, out: Path, refly: str) -
     res = CaseResult(suite.name, case, ERROR, run_dir=run_dir, command=refly)
     t0 = time.monotonic()
     try:
+        if case.n_flights > 1:
+            res.checks = judge_flights(case.expect, fly_flights(case, cfg, run_dir))
+            res.verdict = PASS if all(c.verdict == PASS for c in res.checks) else FAIL
+            res.seconds = time.monotonic() - t0
+            return res
         attacker = Attacker(ATTACKS[case.attack], case.attack in LIVE_REPLAYS, pause=ATTACK_PAUSE_S,
                             iface=cfg.iface, record=LIVE_REPLAYS.get(case.attack, ())) if case.attack else None
         if attacker is not None:

@@ -26,6 +26,11 @@
                    window = { event = "fault[0].end", length_s = 1.0 }, measure = "settling_time",
                    band = [1, 1], expect = "value <= 0.1" }]   # hil.verify.window
 
+A case with ``flights = N`` (2 to 1000) flies N flights, seeds seed, seed + 1, ...; each of its
+expectations is then over all of them, with its confidence interval (hil.verify.statistical):
+    SID-STAT-1 = [
+      { share = "azkf.alpha.error_integral_truth < kf.alpha.error_integral_truth", expect = "lo >= 0.9" }]
+
 Every value is checked when the suite is loaded, before anything flies, by the validator of
 scenario files (hil.scenario.schema): a case's flight is each aircraft's embedded scenario with
 the case's seed, duration, lqg and faults, built by hil.scenario.file as a scenario file is;
@@ -51,6 +56,8 @@ from hil.util.bounded import UnfitFile, read_bounded
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
+from hil.verify.statistical import MAX_FLIGHTS, OverFlights, StatisticalError
+from hil.verify.statistical import build as build_over_flights
 from hil.verify.window import VALUE, Windowed, WindowError, check
 
 MAX_SUITE_BYTES = 1 << 20
@@ -100,9 +107,12 @@ class _CaseFields:
     default_faults: bool = spec(True)
     mode: str = spec("lockstep", choices=MODES)
     attack: str | None = spec(None, choices=tuple(ATTACKS))
+    flights: int = spec(1, ge=1, le=MAX_FLIGHTS)
 
     def __post_init__(self) -> None:
         _check_id(self.id)
+        if self.flights > 1 and self.attack is not None:
+            raise ValueError("field 'flights': a case with an attack flies one flight")
         if not self.aircraft or len(set(self.aircraft)) != len(self.aircraft):
             raise ValueError(f"field 'aircraft': name {' and/or '.join(AIRCRAFT)}, once each")
 
@@ -116,11 +126,13 @@ class Case:
     title: str
     aircraft: tuple[str, ...]
     #: (requirement id, expectation), in the suite's order
-    expect: tuple[tuple[str, Expectation | Windowed], ...]
+    expect: tuple[tuple[str, Expectation | Windowed | OverFlights], ...]
     #: what flies: each aircraft's scenario, its faults among them, checked when loaded
     flights: tuple[Scenario, ...]
     mode: str = "lockstep"
     attack: str | None = None
+    #: flights flown (seed, seed + 1, ...): more than one, every expectation is over them all
+    n_flights: int = 1
 
     @property
     def requirements(self) -> tuple[str, ...]:
@@ -177,7 +189,8 @@ def _flights(case: _CaseFields, raw: Mapping[str, Any], where: str,
 
 
 def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str],
-            flights: tuple[Scenario, ...]) -> tuple[tuple[str, Expectation | Windowed], ...]:
+            flights: tuple[Scenario, ...], n_flights: int = 1
+            ) -> tuple[tuple[str, Expectation | Windowed | OverFlights], ...]:
     if not isinstance(raw, Mapping) or not raw:
         raise SuiteError(f"{where}: field 'expect': a table, requirement id = [expectations]; "
                          "a case without an expectation proves nothing")
@@ -185,7 +198,7 @@ def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str],
     if missing:
         raise SuiteError(f"{where}: field 'expect': requirement(s) {', '.join(missing)} not declared "
                          "in the suite")
-    expect: list[tuple[str, Expectation | Windowed]] = []
+    expect: list[tuple[str, Expectation | Windowed | OverFlights]] = []
     for req, items in raw.items():
         if not isinstance(items, list) or not items or \
                 not all(isinstance(t, (str, Mapping)) for t in items):
@@ -193,9 +206,25 @@ def _expect(where: str, raw: Any, req_ids: set[str], sources: set[str],
                              "(strings, or tables of a windowed check)")
         for i, item in enumerate(items):
             at = f"{where}: field 'expect.{req}'"
-            expect.append((req, _expectation(at, item, sources) if isinstance(item, str)
-                           else _windowed(f"{at}[{i}]", item, sources, flights)))
+            over = isinstance(item, Mapping) and ("share" in item or "percentile" in item)
+            if over != (n_flights > 1):
+                raise SuiteError(f"{at}[{i}]: " + (
+                    "an expectation over flights ('share', 'percentile') needs a case of flights >= 2"
+                    if over else f"a case of {n_flights} flights judges expectations over them: "
+                                 "'share' or 'percentile' tables (hil.verify.statistical)"))
+            if over:
+                expect.append((req, _over_flights(f"{at}[{i}]", item, sources)))
+            else:
+                expect.append((req, _expectation(at, item, sources) if isinstance(item, str)
+                               else _windowed(f"{at}[{i}]", item, sources, flights)))
     return tuple(expect)
+
+
+def _over_flights(where: str, raw: Mapping[str, Any], sources: set[str]) -> OverFlights:
+    try:
+        return build_over_flights(raw, where, lambda at, text, extra: _expectation(at, text, sources, extra))
+    except StatisticalError as e:
+        raise SuiteError(str(e)) from None
 
 
 def _windowed(where: str, raw: Mapping[str, Any], sources: set[str], flights: tuple[Scenario, ...]) -> Windowed:
@@ -242,8 +271,8 @@ def _case(where: str, raw: Mapping[str, Any], req_ids: set[str], frames: Collect
         raise SuiteError(f"{where}: missing field 'expect'")
     sources = {"node", *own.aircraft} | ({"attack"} if own.attack else set()) | _realtime(own)
     return Case(id=own.id, title=own.title, aircraft=own.aircraft,
-                expect=_expect(where, raw["expect"], req_ids, sources, flights), flights=flights,
-                mode=own.mode, attack=own.attack)
+                expect=_expect(where, raw["expect"], req_ids, sources, flights, own.flights), flights=flights,
+                mode=own.mode, attack=own.attack, n_flights=own.flights)
 
 
 def _tables(raw: Mapping[str, Any], key: str, where: str) -> list[Mapping[str, Any]]:

@@ -11,10 +11,12 @@
  * copies each frame into memory canrec reads, no system call while frames
  * are there) or, without CAP_NET_RAW, from a CAN_RAW socket in
  * recvmmsg(MSG_WAITFORONE), everything queued up to -b frames in that one
- * call; the log goes out in 64 KiB blocks (stdout: once per batch).  On a
- * User-Mode Linux guest, where a system call costs microseconds and each
- * socket a frame is queued to as much again, that is the recorder's whole
- * cost (docs/performance.md).
+ * call; the log goes out once per batch (one write of at most -b frames, or of
+ * what one -w wait gathered), so a recorder killed with its guest has lost at
+ * most the batch in hand: a campaign keeps every flight whose end the
+ * recorder read.  On a User-Mode Linux guest, where a system call costs
+ * microseconds and each socket a frame is queued to as much again, that is
+ * the recorder's whole cost (docs/performance.md).
  *
  * -w MS: after a read that emptied the queue, canrec lets frames gather for MS
  * milliseconds before it reads again (the kernel stamps them on arrival, so the
@@ -78,7 +80,6 @@ typedef struct {
     bool use_ring;
     int sock;                 /* else: the CAN_RAW socket */
     int out_fd;
-    bool flush_each_batch;
     uint64_t frames;
     uint32_t drops_seen;      /* the kernel's counter as last read */
     uint64_t drops;           /* frames lost since the start */
@@ -320,7 +321,7 @@ static int read_batch(recorder_t *r, int flags, bool *drained)
             return rc;
         }
     }
-    if (n > 0 && r->flush_each_batch && flush_out(r) != 0) {
+    if (n > 0 && flush_out(r) != 0) {
         return fail("cannot write the log of", r->o->iface, errno);
     }
     return 0;
@@ -360,7 +361,7 @@ static int read_ring(recorder_t *r, bool wait, bool *drained)
     if (losses && canrec_ring_losses(&r->ring, &lost) == 0) {
         count_losses(r, lost);
     }
-    if (n > 0u && r->flush_each_batch && flush_out(r) != 0) {
+    if (n > 0u && flush_out(r) != 0) {
         return fail("cannot write the log of", r->o->iface, errno);
     }
     return 0;
@@ -476,7 +477,6 @@ int main(int argc, char **argv)
     r->o = &o;
     r->sock = -1;
     r->out_fd = STDOUT_FILENO;
-    r->flush_each_batch = true;
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;  /* no SA_RESTART: a blocked receive returns EINTR */
@@ -487,7 +487,6 @@ int main(int argc, char **argv)
     int rc = open_receiver(r);
     if (rc == 0 && o.output != NULL) {
         r->out_fd = open(o.output, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-        r->flush_each_batch = false;
         if (r->out_fd < 0) {
             rc = fail("cannot write", o.output, errno);
         }

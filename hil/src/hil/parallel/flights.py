@@ -283,9 +283,9 @@ def salvage_campaign_flights(out: Path, scenario: Scenario, flights: Sequence[tu
     fcc's outputs from the session's log under its key (session.key).  A flight is kept when
     its record is there and its frames are whole in the log: every one with a record when the
     session closed (bus.log: fcc died or hung, the recorder stopped after its end marker),
-    else all but the log's last (the guest died: its recorder's file ends where its last
-    64 KiB block was written, and the recorder lags the bus, by more than a flight under
-    load: the flights it had not written are flown again too).  None is kept when fcc
+    else all but the log's last (the guest died: its recorder's file ends with the last batch
+    it read, and the recorder lags the bus, by more than a flight under load: the flights it
+    had not read are flown again too).  None is kept when fcc
     reported a failed step.  fcc's counters of these flights are lost (firmware None): its
     last heartbeat came mid-flight."""
     records = _finished_records(out, flights)

@@ -42,7 +42,3 @@ SYNC_LOCKED = SYNC_STATES["LOCKED"]
 SYNC_HAS_TIME = tuple(SYNC_STATES[n] for n in ("LOCKING", "LOCKED", "HOLDOVER", "REFUSED"))
 SIM_CONTROL_ID = _SPEC.by_name("SIM_CONTROL").frame_id
 SIM_TICK_ID = _SPEC.by_name("SIM_TICK").frame_id
-#: the sensor frames, by identifier: the application whose step they feed
-SENSOR_APP = {_SPEC.by_name(name).frame_id: app for app, names in (
-    (APP_CDRW, ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")),
-    (APP_MISSILE, ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"))) for name in names}

@@ -24,6 +24,8 @@ import shutil
 from collections.abc import Iterable
 from pathlib import Path
 
+from hil.util.errors import HilError
+
 FCC_ENV = "FCC_HIL_FCC"
 BUILD_ENV = "FCC_BUILD_DIR"
 M4F_BUILD_ENV = "FCC_M4F_BUILD_DIR"
@@ -35,7 +37,7 @@ DATA = Path(__file__).resolve().parent.parent / "data"
 _fcc_override: Path | None = None
 
 
-class ToolNotFound(FileNotFoundError):
+class ToolNotFound(HilError, FileNotFoundError):
     """A firmware program is missing (one line: which, and the ways to give it)."""
 
 

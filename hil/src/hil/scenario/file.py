@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
+from hil.bus.apps import APP_NAMES, sensor_frames
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build, parse_toml
@@ -44,11 +45,11 @@ PACKAGED_SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 SCENARIO_MAX_BYTES = 1 << 20
 
 
-AIRCRAFT = ("cdrw", "missile")
+#: the applications fcc flies (hil.bus.apps: the DBC's)
+AIRCRAFT = APP_NAMES
 #: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
-#: sensor frames, and the rig's lockstep tick and fault events
-SENSOR_FRAMES = {"cdrw": ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
-                 "missile": ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")}
+#: sensor frames (hil.bus.apps), and the rig's lockstep tick and fault events
+SENSOR_FRAMES = {app: sensor_frames(app) for app in APP_NAMES}
 RIG_FRAMES = ("SIM_TICK", "SIM_EVENT")
 DEFAULT_DURATION = {"cdrw": 7.0, "missile": 10.0}
 TOP_LEVEL_KEYS = ("name", "description", "aircraft", "duration", "seed",

@@ -38,10 +38,10 @@ from pathlib import Path
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
 from hil.targets import qdisc
-from hil.targets.board import PTY_LINE
-from hil.targets.board import command as qemu_command
+from hil.targets.board import PTY_LINE, command as qemu_command
 from hil.targets.bootcfg import BootConfig
 from hil.targets.device import Device, DeviceStart
+from hil.util.errors import HilError
 
 #: the trip of the Cortex-M4F PIL image (firmware/port/mps2_an386/m4f_main.c: no entropy on the board)
 PIL_TRIP = 0x4D344631
@@ -61,7 +61,7 @@ LINE_CHECK_S = 1.0
 RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
 
 
-class PilError(RuntimeError):
+class PilError(HilError, RuntimeError):
     """The emulated board or its serial link could not be set up (one line)."""
 
 

@@ -14,6 +14,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from hil.util.errors import HilError
+
 PR_SET_PDEATHSIG = 1
 
 
@@ -66,7 +68,7 @@ def run_as_batch(pids: Sequence[int], batch: bool = True) -> bool:
     return True
 
 
-class ProcessError(RuntimeError):
+class ProcessError(HilError, RuntimeError):
     """A program could not be started or stopped (one line)."""
 
 

@@ -1,0 +1,53 @@
+"""The missile (seed 2): fcc's LQG autopilot closes the loop through the bus."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from hil.apps.application import Application
+from hil.scenario.plant_options import LqgOptions, MissilePlantOptions
+from hil.scenario.schema import ScenarioError
+from hil.scenario.sensor_options import MissileSensorOptions
+
+if TYPE_CHECKING:
+    from hil.bus.codec import FrameCodec
+    from hil.scenario.file import Scenario
+    from hil.sim.drivers import AppDriver, OracleFlag
+
+#: the LQG periods fcc accepts (firmware/app/README.md)
+FCC_PERIOD_RANGE = (0.02, 0.3)
+
+
+def check_missile(sc: Scenario) -> None:
+    """A scenario's [lqg] period fcc runs (one line naming the field otherwise)."""
+    lo, hi = FCC_PERIOD_RANGE
+    assert sc.lqg is not None
+    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
+        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
+                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
+
+
+class Missile(Application):
+    name = "missile"
+    plant_options = MissilePlantOptions
+    sensor_options = MissileSensorOptions
+    lqg_options = LqgOptions
+    evaluation = "hil.results.flight:missile_result"
+    figures = "hil.plots.missile:fig_time_response"
+
+    def fcc_args(self, scenario: Scenario, realtime: bool) -> list[str]:
+        """The LQG's period, D/A bits and delay, and the sensors' noise variances."""
+        sc = scenario
+        assert sc.lqg is not None and isinstance(sc.sensors, MissileSensorOptions)
+        check_missile(sc)
+        return ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
+                "--lqg-delay", f"{sc.lqg.resolved_delay(realtime):.6g}",
+                "--gyro-var", repr(sc.sensors.var_gyro), "--accel-var", repr(sc.sensors.var_acc)]
+
+    def design_request(self, scenario: Scenario) -> tuple[float, int] | None:
+        assert scenario.lqg is not None
+        return scenario.lqg.period, scenario.lqg.bits
+
+    def driver(self, scenario: Scenario, codec: FrameCodec, realtime: bool,
+               oracle: OracleFlag) -> AppDriver:
+        from hil.sim.drivers import MissileDriver  # numpy (hil.rig.flight's docstring)
+        return MissileDriver(scenario, codec, realtime, oracle)

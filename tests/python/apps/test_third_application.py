@@ -22,6 +22,7 @@ from hil.cli import needs
 from hil.cli.parser import build
 from hil.rig.config import RigConfig
 from hil.rig.flight import fcc_args, lqg_request, make_drivers
+from hil.runs.outcome import step_periods
 from hil.scenario.file import Scenario, load_default_scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 from hil.scenario.sensor_options import CdrwSensorOptions
@@ -38,7 +39,7 @@ class EchoDriver(AppDriver):
     name = "echo"
 
     def __init__(self, scenario: Scenario, codec: FrameCodec, realtime: bool, oracle: OracleFlag) -> None:
-        period = 0.05
+        period = application("echo").step_period(scenario)
         super().__init__(scenario, codec, period, round(scenario.duration / period),
                          ("CDRW_AOA",), realtime, oracle)
         self.answered = 0
@@ -68,6 +69,9 @@ class Echo(Application):
     def bus(self) -> BusApp:
         return BusApp(name="echo", code=ECHO_CODE, sensor_frames=("CDRW_AOA",),
                       sensor_signals=(("alpha", "CDRW_AOA", "alpha"),), output_frames=(), output_auth="")
+
+    def step_period(self, scenario: Scenario) -> float:
+        return 0.05
 
     def fcc_args(self, scenario: Scenario, realtime: bool) -> list[str]:
         return ["--echo-gain", "2"]
@@ -128,6 +132,12 @@ def test_its_driver_flies_its_frames(echo: Application, tmp_path) -> None:
         assert got.ok and got.values is not None and got.values["alpha"] == pytest.approx(0.001 * k)
         d.end_step(StepIO(acked=True))
     assert echo.hook("evaluation")(d) == {"steps": 4, "answered": 4}
+
+
+def test_the_flights_step_periods_have_it(echo: Application) -> None:
+    cdrw, missile = load_default_scenario("cdrw"), load_default_scenario("missile")
+    assert step_periods([cdrw, _scenario(), missile]) == {0: cdrw.plant.dt, ECHO_CODE: 0.05,
+                                                           1: missile.lqg.period}
 
 
 def test_the_command_line_asks_for_its_programs(echo: Application) -> None:

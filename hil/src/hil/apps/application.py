@@ -38,6 +38,10 @@ class Application(ABC):
     def code(self) -> int:
         return self.bus.code
 
+    @abstractmethod
+    def step_period(self, scenario: Scenario) -> float:
+        """Seconds between two of its steps in a flight of this scenario."""
+
     def fcc_args(self, scenario: Scenario, realtime: bool) -> list[str]:
         """The options fcc takes for a flight of this scenario (after `--apps`)."""
         return []

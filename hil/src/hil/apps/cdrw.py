@@ -4,22 +4,22 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from hil.apps.application import Application
-from hil.scenario.plant_options import CdrwPlantOptions
-from hil.scenario.sensor_options import CdrwSensorOptions
+from hil.scenario.file import SECTIONS, Scenario
 
 if TYPE_CHECKING:
     from hil.bus.codec import FrameCodec
-    from hil.scenario.file import Scenario
     from hil.sim.drivers import AppDriver, OracleFlag
 
 
 class Cdrw(Application):
     name = "cdrw"
     programs = ("sid_replay",)   # the cross-check of fcc's rows (hil.results.rowtables)
-    plant_options = CdrwPlantOptions
-    sensor_options = CdrwSensorOptions
+    plant_options, sensor_options, lqg_options = SECTIONS["cdrw"]
     evaluation = "hil.results.flight:cdrw_result"
     figures = "hil.plots.cdrw:all_figures"
+
+    def step_period(self, scenario: Scenario) -> float:
+        return float(scenario.plant.dt)  # type: ignore[union-attr]
 
     def driver(self, scenario: Scenario, codec: FrameCodec, realtime: bool,
                oracle: OracleFlag) -> AppDriver:

@@ -4,13 +4,12 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from hil.apps.application import Application
-from hil.scenario.plant_options import LqgOptions, MissilePlantOptions
+from hil.scenario.file import SECTIONS, Scenario
 from hil.scenario.schema import ScenarioError
 from hil.scenario.sensor_options import MissileSensorOptions
 
 if TYPE_CHECKING:
     from hil.bus.codec import FrameCodec
-    from hil.scenario.file import Scenario
     from hil.sim.drivers import AppDriver, OracleFlag
 
 #: the LQG periods fcc accepts (firmware/app/README.md)
@@ -28,9 +27,7 @@ def check_missile(sc: Scenario) -> None:
 
 class Missile(Application):
     name = "missile"
-    plant_options = MissilePlantOptions
-    sensor_options = MissileSensorOptions
-    lqg_options = LqgOptions
+    plant_options, sensor_options, lqg_options = SECTIONS["missile"]
     evaluation = "hil.results.flight:missile_result"
     figures = "hil.plots.missile:fig_time_response"
 
@@ -42,6 +39,10 @@ class Missile(Application):
         return ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
                 "--lqg-delay", f"{sc.lqg.resolved_delay(realtime):.6g}",
                 "--gyro-var", repr(sc.sensors.var_gyro), "--accel-var", repr(sc.sensors.var_acc)]
+
+    def step_period(self, scenario: Scenario) -> float:
+        assert scenario.lqg is not None
+        return float(scenario.lqg.period)
 
     def design_request(self, scenario: Scenario) -> tuple[float, int] | None:
         assert scenario.lqg is not None

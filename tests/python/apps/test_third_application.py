@@ -22,9 +22,11 @@ from hil.cli import needs
 from hil.cli.parser import build
 from hil.rig.config import RigConfig
 from hil.rig.flight import fcc_args, lqg_request, make_drivers
+from hil.runs.budget import check_memory, estimate_bytes
 from hil.runs.outcome import step_periods
 from hil.scenario.file import Scenario, load_default_scenario
 from hil.scenario.plant_options import CdrwPlantOptions
+from hil.scenario.schema import ScenarioError
 from hil.scenario.sensor_options import CdrwSensorOptions
 from hil.sim.drivers import AppDriver, OracleFlag, StepIO
 from hil.sim.frame_faults import TxFrame
@@ -72,6 +74,9 @@ class Echo(Application):
 
     def step_period(self, scenario: Scenario) -> float:
         return 0.05
+
+    def peak_bytes(self, scenario: Scenario, flights: int) -> int:
+        return 1000 * flights
 
     def fcc_args(self, scenario: Scenario, realtime: bool) -> list[str]:
         return ["--echo-gain", "2"]
@@ -138,6 +143,13 @@ def test_the_flights_step_periods_have_it(echo: Application) -> None:
     cdrw, missile = load_default_scenario("cdrw"), load_default_scenario("missile")
     assert step_periods([cdrw, _scenario(), missile]) == {0: cdrw.plant.dt, ECHO_CODE: 0.05,
                                                            1: missile.lqg.period}
+
+
+def test_the_memory_check_asks_it(echo: Application) -> None:
+    assert estimate_bytes(_scenario(), 3) == 3000
+    check_memory([_scenario()], 3, available=10_000)
+    with pytest.raises(ScenarioError, match="needs about"):
+        check_memory([_scenario()], 3, available=5_000)
 
 
 def test_the_command_line_asks_for_its_programs(echo: Application) -> None:

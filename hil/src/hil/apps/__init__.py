@@ -16,10 +16,10 @@ checks the rig's tables iterate over it):
 3. hil.scenario.file: its SECTIONS entry ([plant] and [sensors] option classes, [lqg] or
    none), DEFAULT_DURATION, a default scenario in hil/scenarios/;
 4. hil.sim: its simulation and an AppDriver (frames_for_step, end_step);
-5. hil.apps: an Application subclass (step_period, driver, fcc_args, design_request, the
-   evaluation and figures hooks) registered in hil.apps.registry;
-6. the evaluation of a flight (hil.runs.evaluate branches on the shipped two drivers) and its
-   figures (hil.plots).
+5. hil.apps: an Application subclass (step_period, peak_bytes, driver, fcc_args,
+   design_request, the evaluation and figures hooks) registered in hil.apps.registry;
+6. its evaluation (hil.runs.evaluate calls the hook for an application other than the
+   shipped two: its block of summary.json) and its figures (hil.plots).
 
 Room 7: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets; its
 evaluation and figures live in the rooms above (results, plots, runs) and are named here as

@@ -42,6 +42,11 @@ class Application(ABC):
     def step_period(self, scenario: Scenario) -> float:
         """Seconds between two of its steps in a flight of this scenario."""
 
+    @abstractmethod
+    def peak_bytes(self, scenario: Scenario, flights: int) -> int:
+        """The memory flying it `flights` times holds at its peak (hil.runs.budget refuses a
+        scenario that would need more than the machine has)."""
+
     def fcc_args(self, scenario: Scenario, realtime: bool) -> list[str]:
         """The options fcc takes for a flight of this scenario (after `--apps`)."""
         return []

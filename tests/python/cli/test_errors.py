@@ -4,6 +4,8 @@ exception that is not one is a bug: exit 70, one line, the traceback in a file."
 from __future__ import annotations
 
 import importlib
+import inspect
+import sys
 import pkgutil
 from pathlib import Path
 
@@ -22,6 +24,7 @@ from hil.parallel.guest import RigDown, RigFailed
 from hil.parallel.warm import RigBusy, RigNotUp
 from hil.results.sidframes import DuplicateOutput
 from hil.rig.errors import FccDied, FccTimeout, RigError
+from hil.rig.inject import InjectRefused
 from hil.rig.link import LinkError
 from hil.rig.txsched import TxError
 from hil.runs.replay import ReplayError
@@ -43,8 +46,13 @@ EXPECTED = {
     RigNotUp: 2, DuplicateOutput: 1, RigError: 1, FccTimeout: 3, FccDied: 4, LinkError: 1,
     TxError: 1, ReplayError: 2, ScenarioError: 2, SlcanError: 1, PilError: 1, UnfitFile: 2,
     TooLarge: 2, NotRegularFile: 2, ProcessError: 1, ExpressionError: 1, SeriesError: 1,
-    SuiteError: 1, WindowError: 1,
+    SuiteError: 1, WindowError: 1, InjectRefused: 9,
 }
+#: the exceptions of hil that are no errors of its user: signals caught where they are raised
+#: (a flow of control), KeyboardInterrupt's SIGTERM/SIGHUP, an OSError of the rig server
+NOT_ERRORS = {"hil.bus.diag._Fail", "hil.cli.Terminated", "hil.cli.verify.Unpublished",
+              "hil.parallel.keeper.Stopped", "hil.parallel.server.Unauthentic",
+              "hil.verify.window.NoWindow"}
 
 
 def _every_module() -> None:
@@ -67,6 +75,17 @@ def test_every_error_class_is_listed_and_its_status_in_the_table() -> None:
     for cls, status in EXPECTED.items():
         assert issubclass(cls, HilError) and cls.exit_status == status, cls
         assert status in known
+
+
+def test_every_exception_class_of_hil_is_a_hil_error() -> None:
+    """A new exception class is a HilError (its exit status on the class), or one of the
+    signals above: else the command line would call it a bug (exit 70)."""
+    _every_module()
+    found = {f"{c.__module__}.{c.__qualname__}" for m in list(sys.modules.values())
+             if getattr(m, "__name__", "").startswith("hil.")
+             for c in vars(m).values() if inspect.isclass(c) and issubclass(c, BaseException)
+             and c.__module__ == m.__name__ and not issubclass(c, HilError)}
+    assert found == NOT_ERRORS
 
 
 def _planted(monkeypatch: pytest.MonkeyPatch, exc: BaseException) -> None:

@@ -6,7 +6,8 @@ from __future__ import annotations
 import textwrap
 
 # the statuses an error's class carries: hil.util.errors (the lowest room, so every room can raise)
-from hil.util.errors import EXIT_DIED, EXIT_FAILED, EXIT_RIG_BUSY, EXIT_SOFTWARE, EXIT_TIMEOUT, EXIT_USAGE, InputError
+from hil.util.errors import (EXIT_DIED, EXIT_FAILED, EXIT_REFUSED, EXIT_RIG_BUSY, EXIT_SOFTWARE,
+                             EXIT_TIMEOUT, EXIT_USAGE, InputError)
 
 PROG = "hil"
 
@@ -14,8 +15,6 @@ PROG = "hil"
 EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
-#: `hil inject`: the request refused (no realtime run flying, not the run's key, the rig said no)
-EXIT_REFUSED = 9
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 

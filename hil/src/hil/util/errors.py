@@ -21,6 +21,8 @@ EXIT_TIMEOUT = 3
 EXIT_DIED = 4
 #: --rig: the warm rig is flying another client's command (hil.parallel.warm.RigBusy)
 EXIT_RIG_BUSY = 8
+#: `hil inject`: the request refused (hil.rig.inject.InjectRefused)
+EXIT_REFUSED = 9
 #: a bug in hil: an exception that is no HilError (sysexits.h's EX_SOFTWARE)
 EXIT_SOFTWARE = 70
 

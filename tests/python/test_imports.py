@@ -22,7 +22,7 @@ from pathlib import Path
 PKG = Path(__file__).resolve().parents[2] / "hil" / "src" / "hil"
 
 #: the rooms, lowest first: a module may import its own room and the rooms before it
-ROOMS = ("util", "io", "bus", "scenario", "sim", "targets", "rig", "results", "reference",
+ROOMS = ("util", "io", "bus", "scenario", "sim", "targets", "apps", "rig", "results", "reference",
          "plots", "runs", "parallel", "bench", "verify", "cli")
 #: what may be imported inside a function: slow to import (seconds in the UML guest) and
 #: needed by few commands or late in a run -- and the hil modules that import these at load

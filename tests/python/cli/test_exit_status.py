@@ -47,7 +47,7 @@ def test_reliability_says_what_each_status_leaves() -> None:
 
 
 def test_the_code_returns_the_tables_statuses() -> None:
-    assert (RigError.exit_code, FccTimeout.exit_code, FccDied.exit_code) == \
+    assert (RigError.exit_status, FccTimeout.exit_status, FccDied.exit_status) == \
         (usage.EXIT_FAILED, usage.EXIT_TIMEOUT, usage.EXIT_DIED)
     assert tuple(128 + s for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)) == \
         (usage.EXIT_SIGINT, usage.EXIT_SIGTERM, usage.EXIT_SIGHUP)

@@ -151,7 +151,8 @@ def test_the_gate_takes_what_the_live_link_takes(tmp_path, monkeypatch, attack):
 def flights_one_by_one(frames: list[tuple[int, bytes]]) -> list[tuple[int, dict]]:
     """The attribution frame by frame, as iter_flights did it before it read columns: each
     flight's output count and {app: {step: [frames in log order]}}."""
-    from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+    from hil.bus.apps import SENSOR_APP
+    from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
     from hil.results.buslog import app_of
 
     flights: list[tuple[int, dict]] = []
@@ -186,7 +187,8 @@ def test_steps_are_attributed_as_frame_by_frame(tmp_path, monkeypatch):
     """Random logs of resets, ticks of any application (some short), sensor samples before and
     after ticks, outputs of both applications and other frames, read in small blocks: every
     flight's outputs get the steps the frame-by-frame reading gives them."""
-    from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+    from hil.bus.apps import SENSOR_APP
+    from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
 
     monkeypatch.setattr("hil.bus.logcolumns.BLOCK_BYTES", 700)
     rng = np.random.default_rng(26)

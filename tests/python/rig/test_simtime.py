@@ -17,7 +17,8 @@ from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.busload import worst_case_bits
 from hil.bus.candump import LogFormatError, LogFrame, format_line, read_log
 from hil.bus.logcolumns import read_blocks
-from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.apps import SENSOR_APP
+from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.rig.simtime import FLIGHT_GRID_S, WALL_LOG, WALL_PACED, finish_bus_log, simulated
 
 SPEC = load()

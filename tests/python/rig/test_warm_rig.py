@@ -108,7 +108,7 @@ def test_a_state_file_whose_keeper_is_gone_is_removed(runtime):
 
 
 def test_the_rigs_statuses_are_the_tables():
-    assert (RigBusy.exit_code, RigNotUp.exit_code) == (usage.EXIT_RIG_BUSY, usage.EXIT_USAGE)
+    assert (RigBusy.exit_status, RigNotUp.exit_status) == (usage.EXIT_RIG_BUSY, usage.EXIT_USAGE)
 
 
 def test_rig_option_with_no_rig_up_is_one_line(runtime):

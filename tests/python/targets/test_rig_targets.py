@@ -29,7 +29,7 @@ from test_cli import one_line
 
 
 def test_cli_offers_every_target():
-    assert TARGET_CHOICES == TARGETS
+    assert tuple(TARGETS) == TARGET_CHOICES
 
 
 @pytest.mark.parametrize("argv, words", [

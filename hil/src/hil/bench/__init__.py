@@ -5,5 +5,5 @@
 and python-control (lqg), the Cortex-M4F image under QEMU (pil).  The C benchmarks measured by
 callgrind stay in scripts/bench.d (shell + C).
 
-Room 13: may import every room below it (hil.util to hil.parallel); nothing imports it.
+Room 14: may import every room below it (hil.util to hil.parallel); nothing imports it.
 """

@@ -12,10 +12,18 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from hil.bus.apps import APP_NAMES
+
 
 def kv(text: str) -> dict[str, float]:
     """The KEY=NUMBER pairs of a line."""
     return {k: float(x) for k, x in re.findall(r"(\w+)=([-\d.]+)", text)}
+
+
+#: callgrind's counter of each application's own maths (firmware/tools: the SID filters, the LQG)
+MATHS_COUNTER = {"cdrw": "ir_sid", "missile": "ir_lqg"}
+#: what an application's step authenticates besides the tick (both authenticate their outputs)
+AUTH_NOTE = {"cdrw": "", "missile": ", command authenticated"}
 
 
 def instructions(out: Path) -> None:
@@ -27,12 +35,12 @@ def instructions(out: Path) -> None:
         c = kv(line)
         app = line.split()[0].split("=")[1]
         w = kv((out / f"wall.{app}").read_text())
-        maths = c["ir_sid"] if app == "cdrw" else c["ir_lqg"]
+        maths = c[MATHS_COUNTER[app]]
         n = c["steps"]
         print(f"   {app:<9}{int(n):>6}{c['ir_total'] / n:>10.0f}{maths / n:>10.0f}{c['ir_receive'] / n:>11.0f}"
               f"{c['ir_encode'] / n:>9.0f}{w['wall_us_per_step']:>9.2f}")
         print(f"   {'':<9}{'':>6}{'':>10}  of which SecOC authentication (tick verified"
-              f"{', command authenticated' if app == 'missile' else ''}): {c['ir_auth'] / n:.0f}")
+              f"{AUTH_NOTE[app]}): {c['ir_auth'] / n:.0f}")
     print("   (cdrw: MLS + KF + ZKF(q=1000) + AZKF on a pull-up with a 0.1 s spike at 4 s, 12 output frames;")
     print("    missile: Kalman update + LQR + D/A + propagation, 2 output frames + the command's authenticator;")
     print("    both + FCC_ACK; the SIM_TICK arrives with its authenticator)")
@@ -80,7 +88,7 @@ def realtime(v: dict[str, Any]) -> None:
     print(f"\n3. realtime, both applications at 50 Hz, {v['rt_seconds']:.0f} s, {prio}, fed by a python simulator [us]")
     print(f"   {'app':<9}{'steps':>7}{'overruns':>9}{'jit p50':>9}{'jit p99':>9}{'jit max':>9}"
           f"{'exec p50':>9}{'exec p99':>9}{'exec max':>9}")
-    for app in ("cdrw", "missile"):
+    for app in APP_NAMES:
         j, e, a = rt[f"jitter_us {app}"], rt[f"exec_us {app}"], rt[app]
         print(f"   {app:<9}{int(a['steps']):>7}{int(a['overruns']):>9}{j['p50']:>9.0f}{j['p99']:>9.0f}{j['max']:>9.0f}"
               f"{e['p50']:>9.0f}{e['p99']:>9.0f}{e['max']:>9.0f}")

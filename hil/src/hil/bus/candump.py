@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import BinaryIO
 
 from hil.util.bounded import open_regular
+from hil.util.errors import InputError
 
 CAN_ERR_FLAG = 0x20000000
 CAN_EFF_MASK = 0x1FFFFFFF
@@ -34,7 +35,7 @@ def open_log(path: str | Path) -> BinaryIO:
     return open_regular(path, LOG_MAX_BYTES, "bus log")
 
 
-class LogFormatError(ValueError):
+class LogFormatError(InputError, ValueError):
     """A line that is not candump -L format."""
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from hil.bus import dbc
 from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus
+from hil.util.errors import HilError
 
 Value = float | int
 
@@ -30,7 +31,7 @@ class Verdict(enum.IntEnum):
     OUT_OF_RANGE = 4
 
 
-class EncodeError(ValueError):
+class EncodeError(HilError, ValueError):
     """A value cannot be encoded (not finite, out of range, missing, not ours)."""
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from hil.util.bounded import UnfitFile, read_bounded
+from hil.util.errors import InputError
 
 if TYPE_CHECKING:
     from cantools.database.can import Database
@@ -24,7 +25,7 @@ _FORMATS = {".dbc": ("dbc", "cp1252"), ".sym": ("sym", "cp1252"), ".kcd": ("kcd"
             ".arxml": ("arxml", "utf-8"), ".cdd": ("cdd", "utf-8")}
 
 
-class DbcError(ValueError):
+class DbcError(InputError, ValueError):
     """A DBC hil cannot use: unreadable, not a CAN database, or one the bus layer does not
     support (one line naming the file; the command line's exit status 2)."""
 

@@ -25,7 +25,7 @@ The package: usage (the usage error), parser (every subcommand's arguments), com
 (what the flying commands share), one module per subcommand with its run(args).  main() parses,
 then imports only the chosen subcommand's module.
 
-Room 14, the top: may import every room; nothing imports it (the entry points are hil.cli:main
+Room 15, the top: may import every room; nothing imports it (the entry points are hil.cli:main
 and hil.cli:entry).
 """
 from __future__ import annotations
@@ -46,14 +46,10 @@ from hil.bus import dbc
 from hil.bus.dbcfile import DbcError
 from hil.cli import needs, onrig
 from hil.cli.parser import build
-from hil.cli.usage import EXIT_SIGINT, EXIT_USAGE, PROG, UsageError
-from hil.io import paths
-from hil.io.paths import ToolNotFound
-from hil.io.rundir import OutDirRefused
-from hil.rig.errors import RigError
-from hil.scenario.schema import ScenarioError
+from hil.cli.usage import EXIT_FAILED, EXIT_SIGINT, EXIT_SOFTWARE, EXIT_USAGE, PROG, UsageError
+from hil.io import crashlog, paths
 from hil.util import log
-from hil.util.bounded import UnfitFile
+from hil.util.errors import HilError
 
 startup.started()  # from here on main()'s handlers, and Python's KeyboardInterrupt for SIGINT
 
@@ -191,23 +187,36 @@ def _os_message(e: OSError) -> str:
     return f"{what}: {e.filename}" if e.filename else what
 
 
+#: the environment's errors said as "what: file" (a subclass of a program's own says its own line)
+_OS_ERRORS = (OSError, FileNotFoundError, PermissionError, IsADirectoryError, NotADirectoryError,
+              FileExistsError)
+
+
 def _fail(e: Exception) -> int:
+    """One line and the exit status of the error's class (hil.util.errors); the environment's
+    errors (a file, a socket, the memory) exit 1; anything else is a bug: exit 70, its traceback in a log."""
     msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-    if isinstance(e, OSError) and type(e) in (OSError, FileNotFoundError, PermissionError, IsADirectoryError,
-                                              NotADirectoryError, FileExistsError) and e.errno is not None:
-        msg = _os_message(e)
-    if isinstance(e, (MemoryError, RecursionError)):  # what no reader of an input turned into its own
+    if isinstance(e, HilError):
+        code = e.exit_status
+    elif isinstance(e, OSError):  # the environment (a file, a socket, the disk): the run failed
+        msg = _os_message(e) if type(e) in _OS_ERRORS and e.errno is not None else msg
+        code = EXIT_FAILED
+    elif isinstance(e, (MemoryError, RecursionError)):  # what no reader of an input turned into its own
         msg = "out of memory (MemoryError)" if isinstance(e, MemoryError) else "nested too deeply (RecursionError)"
-    if isinstance(e, (ScenarioError, OutDirRefused, UnfitFile, DbcError)):
-        code = EXIT_USAGE
-    elif isinstance(e, RigError):
-        code = e.exit_code
-    elif isinstance(e, (ToolNotFound, OSError, ValueError, RuntimeError, MemoryError)):
-        code = 1
+        code = EXIT_FAILED
     else:
-        raise e
+        return _internal_error(e)
     print(f"{PROG}: {msg}{_notes(e)}", file=sys.stderr)
     return code
+
+
+def _internal_error(e: BaseException) -> int:
+    """A bug: one line naming the exception and the file its traceback is in, exit 70."""
+    where = crashlog.write(e)
+    said = f"{type(e).__name__}: {str(e).splitlines()[0]}" if str(e) else type(e).__name__
+    kept = f"traceback in {where}" if where is not None else "no traceback file could be written"
+    print(f"{PROG}: internal error: {said} ({kept}){_notes(e)}", file=sys.stderr)
+    return EXIT_SOFTWARE
 
 
 def entry() -> NoReturn:

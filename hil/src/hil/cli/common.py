@@ -13,13 +13,12 @@ from pathlib import Path
 
 from hil.bus import load
 from hil.bus.secoc import KeyFileError, read_key_file
-from hil.cli.parser import DEFAULT_TIMEOUT_S
 from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
-from hil.targets.device import ArgsRefused
-from hil.targets.registry import device_class
 from hil.scenario.file import find_scenario, load_default_scenario, load_scenario, with_extra_faults
+from hil.targets.device import ArgsRefused
+from hil.targets.registry import device_class, target
 
 _log = logging.getLogger(__name__)
 
@@ -74,13 +73,14 @@ def rig_config(args: argparse.Namespace, stage: Path):
         extra = tuple(shlex.split(args.fcc_args))
     except ValueError as e:
         raise UsageError(f"--fcc-args: {e}") from None
-    if args.fcc is not None and args.target == "external":
-        raise UsageError("--fcc: the external target runs no firmware of the rig's")
-    if args.fcc_args and args.target == "external":
-        raise UsageError("--fcc-args: the external target is configured through SIM_CONTROL, "
+    tgt = target(args.target)
+    if args.fcc is not None and not tgt.runs_rig_firmware:
+        raise UsageError(f"--fcc: the {tgt.name} target runs no firmware of the rig's")
+    if args.fcc_args and not tgt.runs_rig_firmware:
+        raise UsageError(f"--fcc-args: the {tgt.name} target is configured through SIM_CONTROL, "
                          "and by whoever started it")
-    if args.target == "qemu-m4f" and args.interface != "socketcan":
-        raise UsageError("--target qemu-m4f: the image's serial line is routed to a SocketCAN "
+    if tgt.socketcan_only and args.interface != "socketcan":
+        raise UsageError(f"--target {tgt.name}: the image's serial line is routed to a SocketCAN "
                          "interface (slcand, can-gw): use --interface socketcan")
     if args.key_file is not None:
         try:
@@ -93,7 +93,7 @@ def rig_config(args: argparse.Namespace, stage: Path):
     except ArgsRefused as e:
         raise UsageError(f"--fcc-args: {e}") from None
     return RigConfig(out_dir=stage, iface=args.iface, mode=args.mode,
-                     timeout=args.timeout or DEFAULT_TIMEOUT_S[args.target], fcc_args=extra,
+                     timeout=args.timeout or tgt.lockstep_timeout_s, fcc_args=extra,
                      progress=not args.quiet, rows=args.rows,
                      plots=not args.no_plots, log_format=args.log_format,
                      fcc_binary=device.firmware(args.fcc, not args.quiet),

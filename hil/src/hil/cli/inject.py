@@ -16,6 +16,7 @@ from hil.bus.secoc import KeyFileError, read_key_file
 from hil.cli.usage import EXIT_REFUSED, PROG
 from hil.rig import inject
 from hil.rig.session import KEPT_KEY
+from hil.util.errors import HilError
 
 #: how often the answer is looked for (s)
 POLL_S = 0.02
@@ -57,7 +58,7 @@ def _answer(channel: Path, rid: str, timeout: float) -> dict[str, object]:
         ack.unlink(missing_ok=True)
         return doc if isinstance(doc, dict) else {}
     (channel / f"req-{rid}.json").unlink(missing_ok=True)
-    raise RuntimeError(f"the rig did not answer within {timeout:g} s (is the run still flying?)")
+    raise HilError(f"the rig did not answer within {timeout:g} s (is the run still flying?)")
 
 
 def run(args: argparse.Namespace) -> int:

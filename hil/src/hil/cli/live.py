@@ -13,6 +13,7 @@ from hil.bus import load
 from hil.bus.canif import check_up, open_error
 from hil.cli.usage import UsageError
 from hil.rig import live, liveplot
+from hil.rig.link import LinkError
 
 
 def run(args: argparse.Namespace) -> int:
@@ -48,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
                  also=chart.add if chart is not None else None,
                  ready=(lambda: _served(url, args.seconds)) if chart is not None else None)
     except OSError as e:
-        raise RuntimeError(open_error(args.iface, e)) from None
+        raise LinkError(open_error(args.iface, e)) from None
     return 0
 
 

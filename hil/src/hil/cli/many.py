@@ -11,7 +11,7 @@ from hil.cli.common import staged, sync_status
 from hil.cli.usage import PROG, UsageError
 from hil.io.paths import vcan_launcher
 from hil.parallel import runs
-
+from hil.targets.registry import target
 
 #: more rigs than this is a typo (each is a UML guest with an fcc)
 MAX_WORKERS = 64
@@ -25,7 +25,7 @@ def parallel_options(args: argparse.Namespace) -> dict[str, object] | None:
         raise UsageError(f"--workers must be 1..{MAX_WORKERS}, got {args.workers}")
     if args.mode != "lockstep":
         raise UsageError("--workers/--scheduler fly lockstep flights only (realtime needs the machine to itself)")
-    if args.target != "host" or args.interface != "socketcan":
+    if not target(args.target).parallel or args.interface != "socketcan":
         raise UsageError("--workers/--scheduler fly the host fcc on rigs of their own (vcan), "
                          "not --target/--interface")
     if args.log_format != "log":

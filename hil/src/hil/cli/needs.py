@@ -8,7 +8,9 @@ import importlib.util
 import sys
 
 from hil.cli.usage import UsageError
+from hil.apps.registry import application
 from hil.io import paths
+from hil.targets.registry import target
 
 #: the commands that start a rig (a recorder and a device under test)
 FLYING = ("run", "campaign", "sweep", "demo", "verify", "replay")
@@ -23,17 +25,17 @@ def programs(args: argparse.Namespace) -> list[str]:
         return []
     names: list[str] = []
     if cmd in FLYING:
-        target = getattr(args, "target", "host")
-        if target == "host":
-            names.append("fcc")
-        elif target == "qemu-m4f" and args.fcc is None and paths.source_tree() is None:
-            names.append(paths.M4F_IMAGE)  # (in a clone hil.targets cross-builds it when missing)
+        tgt = target(getattr(args, "target", "host"))
+        if tgt.program is not None and tgt.needs_program(args.fcc, paths.source_tree()):
+            names.append(tgt.program)  # (the M4F image: in a clone hil.targets cross-builds it)
         if getattr(args, "interface", "socketcan") == "socketcan" and \
                 getattr(args, "recorder", "canrec") == "canrec":
             names.append("canrec")
     aircraft = getattr(args, "aircraft", None)
     study = getattr(args, "study", None)
-    if (cmd in ("run", "campaign") and aircraft == "cdrw") or cmd in ("demo", "verify") or study == "cdrw":
+    if cmd in ("run", "campaign") and aircraft is not None:
+        names += application(aircraft).programs   # what its evaluation runs (hil.apps)
+    if cmd in ("demo", "verify") or study == "cdrw":
         names.append("sid_replay")
     if cmd == "demo" or study == "missile-rms":
         names.append("lqg_design")

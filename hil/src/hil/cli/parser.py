@@ -15,6 +15,7 @@ from hil.cli import listing
 from hil.cli.argtypes import bitrate, floats, ints, nonnegative, positive, seed
 from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.results.fig3_grid import FIG3_PERIODS
+from hil.targets.registry import TARGETS
 
 
 class Parser(argparse.ArgumentParser):
@@ -91,9 +92,7 @@ class ListScenarios(argparse.Action):
         parser.exit()
 
 
-TARGET_CHOICES = ("host", "qemu-m4f", "external")
-#: lockstep answer timeout by target (--timeout)
-DEFAULT_TIMEOUT_S = {"host": 2.0, "qemu-m4f": 30.0, "external": 2.0}
+TARGET_CHOICES = tuple(TARGETS)
 
 
 def add_common(p: argparse.ArgumentParser, out_default: str) -> None:
@@ -118,8 +117,8 @@ def add_common(p: argparse.ArgumentParser, out_default: str) -> None:
                    help="lockstep (deterministic, default) or realtime (both sides on their clocks)")
     p.add_argument("--timeout", type=positive, metavar="S",
                    help="lockstep: seconds to wait for fcc's answer to a step; external: for "
-                   "the device's heartbeat at the start (default 2; qemu-m4f: 30, emulation "
-                   "on a loaded machine)")
+                   "the device's heartbeat at the start (default: the target's, "
+                   + ", ".join(f"{n} {t.lockstep_timeout_s:g}" for n, t in TARGETS.items()) + ")")
     p.add_argument("--fcc-args", default="", metavar="ARGS",
                    help="extra fcc options, one string, e.g. \"--detector oracle\"")
     p.add_argument("--rows", choices=("paper", "prior", "posterior"), default="paper",
@@ -154,7 +153,7 @@ def add_rig_commands(sub: argparse._SubParsersAction[Parser]) -> None:
     rg = sub.add_parser("rig", help="a warm rig: a guest with its bus kept up for `--rig` commands")
     rsub = rg.add_subparsers(dest="rig_command", required=True, parser_class=Parser, metavar="ACTION")
     u = rsub.add_parser("up", help="start the rig and return once it is ready")
-    u.add_argument("--target", choices=("host", "qemu-m4f"), default="host",
+    u.add_argument("--target", choices=[n for n, t in TARGETS.items() if t.warm_rig], default="host",
                    help="the device under test the rig's commands fly (default host)")
     u.add_argument("--idle-timeout", type=positive, default=1800.0, metavar="S",
                    help="stop after S seconds without a command (default 1800)")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Callable
 
 from hil.cli.usage import UsageError
 from hil.io.paths import tool
@@ -13,18 +14,21 @@ from hil.sim.missile_cov import format_study, missile_rms_study
 from hil.sim.missile_quant import format_quantiser, quantiser_study
 
 
+def _cdrw_options(args: argparse.Namespace) -> str:
+    return f"--runs {args.runs} --noise-seeds {args.noise_seeds}" + \
+        (f" --cases {','.join(args.cases)}" if args.cases else "")
+
+
+def _missile_options(args: argparse.Namespace) -> str:
+    fmt = lambda v: ",".join(f"{x:g}" for x in v)  # noqa: E731
+    return (f"--periods {fmt(args.periods)} --bits {fmt(args.bits)} --gyro-var "
+            f"{args.gyro_var:g} --accel-var {args.accel_var:g}" +
+            (f" --mc-loops {args.mc_loops} --mc-seconds {args.mc_seconds:g}" if args.mc_loops else ""))
+
+
 def _made_by(args: argparse.Namespace) -> str:
     """The command that made the figure, from the options it used."""
-    if args.study == "cdrw":
-        opts = f"--runs {args.runs} --noise-seeds {args.noise_seeds}" + \
-            (f" --cases {','.join(args.cases)}" if args.cases else "")
-    else:
-        fmt = lambda v: ",".join(f"{x:g}" for x in v)  # noqa: E731
-        opts = (f"--periods {fmt(args.periods)} --bits {fmt(args.bits)} --gyro-var "
-                f"{args.gyro_var:g} --accel-var {args.accel_var:g}" +
-                (f" --mc-loops {args.mc_loops} --mc-seconds {args.mc_seconds:g}"
-                 if args.mc_loops else ""))
-    return f"hil study {args.study} {opts} --figure {args.figure}"
+    return f"hil study {args.study} {STUDIES[args.study][1](args)} --figure {args.figure}"
 
 
 def _missile(args: argparse.Namespace) -> int:
@@ -70,5 +74,10 @@ def _cdrw(args: argparse.Namespace) -> int:
     return 0
 
 
+#: each study by its name: (what it runs, the options that made it, for its figure)
+STUDIES: dict[str, tuple[Callable[[argparse.Namespace], int], Callable[[argparse.Namespace], str]]] = {
+    "cdrw": (_cdrw, _cdrw_options), "missile-rms": (_missile, _missile_options)}
+
+
 def run(args: argparse.Namespace) -> int:
-    return _cdrw(args) if args.study == "cdrw" else _missile(args)
+    return STUDIES[args.study][0](args)

@@ -5,21 +5,16 @@ from __future__ import annotations
 
 import textwrap
 
+# the statuses an error's class carries: hil.util.errors (the lowest room, so every room can raise)
+from hil.util.errors import (EXIT_DIED, EXIT_FAILED, EXIT_REFUSED, EXIT_RIG_BUSY, EXIT_SOFTWARE,
+                             EXIT_TIMEOUT, EXIT_USAGE, InputError)
+
 PROG = "hil"
-EXIT_FAILED = 1
-EXIT_USAGE = 2
-#: fcc did not answer a lockstep step in time (hil.rig.errors.FccTimeout)
-EXIT_TIMEOUT = 3
-#: fcc died during the run (hil.rig.errors.FccDied)
-EXIT_DIED = 4
+
 #: hil verify: a case could not run (no device, a time-out, a crash): never a pass
 EXIT_VERIFY_ERROR = 6
 #: a realtime run whose time synchronisation was attacked, refused or lost (summary.json `sync`)
 EXIT_SYNC = 7
-#: --rig: the warm rig is flying another client's command (hil.parallel.warm.RigBusy)
-EXIT_RIG_BUSY = 8
-#: `hil inject`: the request refused (no realtime run flying, not the run's key, the rig said no)
-EXIT_REFUSED = 9
 #: interrupted: 128 + the signal's number
 EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 
@@ -68,6 +63,9 @@ EXIT_STATUS: tuple[tuple[int, str], ...] = (
     (EXIT_REFUSED, "`hil inject`: refused, nothing injected: no realtime run flies into `--out` "
                    "(none, or a lockstep one), no key or not the run's key, or the rig refused "
                    "the request (replayed, a CDRW fault, after the end of the flight)"),
+    (EXIT_SOFTWARE, "an internal error of hil (a bug): one line `hil: internal error: ...` "
+                    "naming the file its traceback was written to (`$XDG_CACHE_HOME/hil/"
+                    "crash-TIME.log`); please report it with that file"),
     (EXIT_SIGINT, "interrupted (Ctrl-C, SIGINT): fcc and the recorder stopped, the session key "
                   "file removed, partial results kept marked `FAILED`; while hil is still starting "
                   "(before it has started anything), the one line at once"),
@@ -86,5 +84,5 @@ def exit_status_help(width: int = 79) -> str:
     return "\n".join(lines)
 
 
-class UsageError(Exception):
+class UsageError(InputError):
     """Bad command line or scenario: one line, exit 2."""

@@ -25,6 +25,8 @@ import shutil
 from collections.abc import Iterable
 from pathlib import Path
 
+from hil.util.errors import HilError, InputError
+
 FCC_ENV = "FCC_HIL_FCC"
 BUILD_ENV = "FCC_BUILD_DIR"
 M4F_BUILD_ENV = "FCC_M4F_BUILD_DIR"
@@ -40,11 +42,11 @@ _fcc_override: Path | None = None
 _log = logging.getLogger(__name__)
 
 
-class ToolNotFound(FileNotFoundError):
+class ToolNotFound(HilError, FileNotFoundError):
     """A firmware program is missing (one line: which, and the ways to give it)."""
 
 
-class NotShipped(ValueError):
+class NotShipped(InputError, ValueError):
     """A name that is neither a path nor a shipped scenario's or suite's (one line: the names)."""
 
 

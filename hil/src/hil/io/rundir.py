@@ -39,6 +39,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from hil.util.bounded import read_bounded
+from hil.util.errors import InputError
 
 #: the list of files a complete hil run wrote (what makes a directory "hil's own")
 MANIFEST = ".hil-run.json"
@@ -57,7 +58,7 @@ def unique_tag() -> str:
     return f"{host}-{os.getpid()}-{os.urandom(8).hex()}"
 
 
-class OutDirRefused(Exception):
+class OutDirRefused(InputError):
     """--out holds files hil did not write (one line; the CLI exits 2)."""
 
 

@@ -22,6 +22,6 @@ A warm rig (`hil rig up`, `--rig`) is one such rig kept up for the shell's comma
 Every flight gets everything it depends on (scenario, fault time, seed) from the coordinator,
 so the merged results are the same for any number of workers and any order of completion.
 
-Room 12: may import every room below it (hil.util to hil.runs); Dask is imported only by the
+Room 13: may import every room below it (hil.util to hil.runs); Dask is imported only by the
 commands that use it.
 """

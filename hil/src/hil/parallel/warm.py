@@ -28,6 +28,7 @@ from typing import Any
 from hil.parallel import forked
 from hil.parallel.files import await_answer, write_request
 from hil.rig.errors import RigError
+from hil.util.errors import EXIT_RIG_BUSY, EXIT_USAGE
 
 STATE = "rig.json"
 LOCK = "client.lock"
@@ -38,13 +39,13 @@ CANCEL_WAIT_S = forked.STOP_GRACE_S + 10.0
 class RigNotUp(RigError):
     """No rig is up (`hil rig up` starts one)."""
 
-    exit_code = 2
+    exit_status = EXIT_USAGE
 
 
 class RigBusy(RigError):
     """The rig serves another client."""
 
-    exit_code = 8
+    exit_status = EXIT_RIG_BUSY
 
 
 def state_dir() -> Path:

@@ -13,7 +13,7 @@ families of them (FAMILIES: `hil plot --figures`); comparisons of runs: hil.plot
 The figures are independent: on a machine with several CPUs they are drawn by forked workers
 (matplotlib imported once, before the fork), the same PNG bytes as one after the other.
 
-Room 10: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
+Room 11: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.apps, hil.rig,
 hil.results, hil.reference; matplotlib only when drawing (hil.plots.mpl).
 """
 from __future__ import annotations

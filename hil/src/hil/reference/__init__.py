@@ -6,7 +6,7 @@ the tests can compare the firmware with an independent implementation and
 the benchmark can time the same step in numpy.  cdrw_study: Tables 4-5 of the reference on
 the simulated CDRW flights against sid_replay (`python -m hil.reference.cdrw_study`).
 
-Room 9: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
+Room 10: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.apps, hil.rig,
 hil.results.
 """
 from hil.reference.kf import Kf

@@ -4,6 +4,6 @@ intervals), the identification's rows as arrays (sidrows) and Tables 4-5 from si
 (rowtables), the seed-2 figures' data (figures), a realtime run's timing (timing) and
 summary.json as text tables (report).
 
-Room 8: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig
+Room 9: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.apps, hil.rig
 (the session's status counters).
 """

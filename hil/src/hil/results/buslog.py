@@ -29,16 +29,16 @@ from hil.bus.candump import LogFrame
 from hil.bus.dbc import load
 from hil.bus.e2e import E2EReceiver
 from hil.bus.logcolumns import FrameColumns, LogBlock, le_uint, per_identifier, read_columns
-from hil.bus.protocol import COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.apps import BUS_APPS, SENSOR_APP
+from hil.bus.protocol import COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
 from hil.bus.runcheck import check_run, verify_run
 from hil.bus.secoc import Endpoint, GroupReceiver, Receiver
 from hil.results.trust import Forgeries
 
-#: fcc's outputs of one step of each application: the group each authenticator covers
-OUTPUT_AUTH = {0: "SID_OUT_AUTH", 1: "MSL_ELEV_CMD_AUTH"}
-#: the output frames of each application (0 CDRW, 1 missile), by identifier
-_OUTPUT_APP = {load().by_name(p).frame_id: app for app, auth in OUTPUT_AUTH.items()
-               for p in load().by_name(auth).secoc_pdus}
+#: fcc's outputs of one step of each application (by SIM_TICK.app): the group each authenticator covers
+OUTPUT_AUTH = {a.code: a.output_auth for a in BUS_APPS.values()}
+#: the output frames of each application (hil.bus.apps), by identifier
+_OUTPUT_APP = {load().by_name(f).frame_id: a.code for a in BUS_APPS.values() for f in a.output_frames}
 
 
 #: the application of each output frame, and of each sensor frame (hil.bus.protocol.SENSOR_APP:

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from hil.bus import dbc as dbc_spec
+from hil.bus.apps import BUS_APPS
 from hil.bus.dbc import BusSpec
 from hil.results import metrics
 from hil.results.buslog import FlightFrames
@@ -186,8 +187,7 @@ def cdrw_result(spec: BusSpec, rec: CdrwRecord, flight: FlightFrames) -> CdrwRes
 def _as_received(y: np.ndarray) -> np.ndarray:
     """[q_g, n_a] at the resolution of their DBC signals: what fcc decodes (NaN stays NaN)."""
     spec = dbc_spec.load()
-    sigs = [next(s for s in spec.by_name(msg).signals if s.name == name)
-            for msg, name in (("MSL_RATE_GYRO", "q_g"), ("MSL_ACCELEROMETER", "n_a"))]
+    sigs = [spec.by_name(frame).signal(name) for _, frame, name in BUS_APPS["missile"].sensor_signals]
     return np.array([v if not np.isfinite(v) else float(s.to_phys(s.to_raw(float(v))))
                      for s, v in zip(sigs, y)])
 

@@ -27,6 +27,7 @@ from hil.results import metrics
 from hil.results.sidrows import ESTIMATES, ROW_MODES, read_binary_rows
 from hil.sim.drivers import FILTERS, SID_PREFIX, SIGNAL_FRAMES
 from hil.sim.sid_csv import sid_csv
+from hil.util.processes import ProcessError
 from hil.util.rounding import round_half_away_many
 
 #: the two symmetric modes every CDRW summary carries (cdrw.tables)
@@ -119,7 +120,7 @@ class Replay:
             self._output.close()
         if self._proc.returncode != 0:
             msg = (err.decode(errors="replace").strip().splitlines() or ["no message"])[0]
-            raise RuntimeError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
+            raise ProcessError(f"sid_replay --all-rows: exit {self._proc.returncode}: {msg}")
         out: dict[str, dict[str, dict[str, np.ndarray]]] = {m: {} for m in ROW_MODES}
         for name, cols in read_binary_rows(data, all_rows=True).items():
             mode, _, filt = name.partition("/")

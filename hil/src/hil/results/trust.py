@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from hil.rig.status import StatusCounters
+from hil.targets import registry
 
 
 @dataclass
@@ -49,7 +50,7 @@ def faithful_replay(mode: str, target: str, degraded_steps: int) -> str:
     """Why the cross-check's bound does not apply to this flight ('' : it applies)."""
     if mode != "lockstep":
         return "realtime: fcc steps on its own clock, the replay on the simulator's samples"
-    if target != "host":
+    if not registry.target(target).replay_exact:
         return f"target {target}: its arithmetic is not sid_replay's"
     if degraded_steps:
         return f"{degraded_steps} degraded steps: fcc held or refused readings the replay used"

@@ -16,5 +16,5 @@ python-can bus).
 * flight    -- one flight: fcc's command line, the session, the drivers, fly
 * live      -- `hil live`'s view of the bus
 
-Room 7: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets.
+Room 8: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.apps.
 """

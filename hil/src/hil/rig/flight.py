@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from hil.apps.registry import application
 from hil.bus import FrameCodec
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
 from hil.rig.config import RigConfig
@@ -22,7 +23,7 @@ from hil.rig.errors import RigError
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.status import StatusCounters
 from hil.scenario.file import Scenario
-from hil.scenario.schema import ScenarioError
+from hil.targets.registry import target
 
 if TYPE_CHECKING:
     from hil.sim.drivers import AppDriver
@@ -30,34 +31,15 @@ if TYPE_CHECKING:
 #: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
 #: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
 FCC_RT_PRIORITY = 50
-#: the LQG periods fcc accepts (firmware/app/README.md)
-FCC_PERIOD_RANGE = (0.02, 0.3)
-
-
-def check_missile(sc: Scenario) -> None:
-    lo, hi = FCC_PERIOD_RANGE
-    assert sc.lqg is not None
-    if not lo - 1e-12 <= sc.lqg.period <= hi + 1e-12:
-        raise ScenarioError(f"{sc.source}: [lqg]: field 'period': fcc runs the LQG at "
-                            f"{lo:g} to {hi:g} s, got {sc.lqg.period:g}")
-
-
 def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
     """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
     names = list(apps) if apps else [sc.aircraft for sc in scenarios]
     args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
     for sc in scenarios:
-        if sc.aircraft == "missile":
-            assert sc.lqg is not None
-            check_missile(sc)
-            delay = sc.lqg.resolved_delay(cfg.mode == "realtime")
-            args += ["--lqg-period", f"{sc.lqg.period:.6g}", "--lqg-bits", str(sc.lqg.bits),
-                     "--lqg-delay", f"{delay:.6g}",
-                     "--gyro-var", repr(sc.sensors.var_gyro),  # type: ignore[union-attr]
-                     "--accel-var", repr(sc.sensors.var_acc)]  # type: ignore[union-attr]
+        args += application(sc.aircraft).fcc_args(sc, cfg.mode == "realtime")
     if cfg.rows != "paper":
         args += ["--rows", cfg.rows]
-    if cfg.mode == "realtime" and cfg.target == "host":  # as on a flight computer (refused
+    if cfg.mode == "realtime" and target(cfg.target).host_scheduler:  # as on a flight computer (refused
         args += ["--rt-priority", str(FCC_RT_PRIORITY)]   # without privilege: one line); the
         # image has no scheduler to ask (firmware/port/mps2_an386/README.md: not applicable)
     return args + list(cfg.fcc_args)
@@ -71,23 +53,23 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:
     """(period, bits) for the first reset: a device not configured by its command line (the
-    emulated image, an external device) gets the missile's design through SIM_CONTROL."""
+    emulated image, an external device) gets the first design an application asks for (the
+    missile's) through SIM_CONTROL."""
     if rig.fcc is None or rig.fcc.configured_by_args:
         return 0.0, 0
     for sc in scenarios:
-        if sc.aircraft == "missile":
-            assert sc.lqg is not None
-            return sc.lqg.period, sc.lqg.bits
+        design = application(sc.aircraft).design_request(sc)
+        if design is not None:
+            return design
     return 0.0, 0
 
 
 def make_drivers(scenarios: Sequence[Scenario], codec: FrameCodec, cfg: RigConfig) -> list[AppDriver]:
     """The drivers of one flight (one fcc): they share the CDRW's fault truth (OracleFlag)."""
-    from hil.sim.drivers import CdrwDriver, MissileDriver, OracleFlag  # numpy: see the docstring
+    from hil.sim.drivers import OracleFlag  # numpy: see the docstring
     rt = cfg.mode == "realtime"
     oracle = OracleFlag()
-    return [(CdrwDriver if sc.aircraft == "cdrw" else MissileDriver)(sc, codec, rt, oracle)
-            for sc in scenarios]
+    return [application(sc.aircraft).driver(sc, codec, rt, oracle) for sc in scenarios]
 
 
 def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,

@@ -45,6 +45,7 @@ from hil.bus.secoc import KeyedCmac, same_mac
 from hil.scenario.faults import T_EPS
 from hil.scenario.file import parse_flight_fault
 from hil.scenario.schema import ScenarioError
+from hil.util.errors import EXIT_REFUSED, HilError
 
 if TYPE_CHECKING:
     from hil.sim.drivers import AppDriver
@@ -203,8 +204,10 @@ def _fault_for(text: str, drivers: Sequence[AppDriver]) -> tuple[AppDriver, Any]
 
 
 # -- the command's end ------------------------------------------------------------------------
-class InjectRefused(RuntimeError):
+class InjectRefused(HilError, RuntimeError):
     """`hil inject` refused (no live realtime rig, not its key, the rig said no): one line."""
+
+    exit_status = EXIT_REFUSED
 
 
 def live_channels(out: Path) -> list[Path]:

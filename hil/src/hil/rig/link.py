@@ -35,6 +35,7 @@ from hil.bus.candump import format_line
 from hil.bus.canif import check_up, open_error
 from hil.bus.mmsg import MSG_WAITFORONE, BatchReceiver, BatchSender
 from hil.bus.rawcan import CAN_FRAME, RECEIVE_BUFFER_BYTES, enlarge_receive_buffer, open_raw, pack_frame
+from hil.util.errors import HilError
 
 if TYPE_CHECKING:
     import can
@@ -85,7 +86,7 @@ class MonotonicStamps:
         return None
 
 
-class LinkError(RuntimeError):
+class LinkError(HilError, RuntimeError):
     """The interface cannot be opened or used (one line)."""
 
 

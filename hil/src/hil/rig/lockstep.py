@@ -32,10 +32,12 @@ from hil.rig.errors import FccDied, FccTimeout
 from hil.rig.link import pack_frame
 from hil.rig.session import RigSession
 from hil.rig.tickplan import TICK, TickPlan
-from hil.sim.drivers import APP_NAMES, AppDriver, StepIO
+from hil.sim.drivers import AppDriver, StepIO
 from hil.sim.frame_faults import TxFrame
+from hil.targets.registry import target
 
-DEFAULT_TIMEOUT_S = 2.0
+#: the host fcc's lockstep timeout (hil.targets.registry: each target's own)
+DEFAULT_TIMEOUT_S = target("host").lockstep_timeout_s
 #: check the clock every this many frames even when frames keep coming
 CLOCK_EVERY = 32
 
@@ -49,14 +51,17 @@ class LockstepRunner:
         self.timeout = timeout
         self.progress = progress
         self.ack = AckReader(session.codec)
-        self.exec_us: dict[int, list[int]] = {0: [], 1: []}
+        #: fcc's execution time of each application's steps, by SIM_TICK.app
+        self.exec_us: dict[int, list[int]] = {}
+        #: the name of each application flown, by SIM_TICK.app (its driver's)
+        self.app_names: dict[int, str] = {}
         self.unanswered_ticks = 0
         self.resent_ticks = 0
         self.steps = 0
         self.wall_s = 0.0
         #: a step's frames in one sendmmsg to the host fcc and the M4F image (its slcan line
         #: queues a burst: hil.targets.qemu_m4f.LINE_QUEUE); frame by frame to an external device
-        self.batch = getattr(session, "target", "host") in ("host", "qemu-m4f")
+        self.batch = target(getattr(session, "target", "host")).batch_frames
         #: the frames the rig authenticates (the tick): the others go out as they were packed
         self._secured = session.security.secured_ids
         #: the flight's ticks made ahead (one application flying, no fault naming the tick)
@@ -81,7 +86,7 @@ class LockstepRunner:
                     "max": a[-1]}
         return {"lockstep_wall_s": self.wall_s, "lockstep_steps": self.steps,
                 "wall_ms_per_step": 1e3 * self.wall_s / self.steps if self.steps else None,
-                "fcc_exec_us": {APP_NAMES[a]: stats(v) for a, v in self.exec_us.items() if v},
+                "fcc_exec_us": {self.app_names[a]: stats(v) for a, v in sorted(self.exec_us.items()) if v},
                 "unanswered_ticks": self.unanswered_ticks, "resent_ticks": self.resent_ticks}
 
     def fly(self, drivers: Sequence[AppDriver]) -> None:
@@ -123,6 +128,7 @@ class LockstepRunner:
 
     def step(self, d: AppDriver) -> StepIO:
         k, t = d.k, d.t_next
+        self.app_names[d.app] = d.name
         frames = d.frames_for_step()
         ticks, answer_expected = self._tick(d, k, t)
         if not answer_expected and not d.injector.faulted(t, TICK):
@@ -178,7 +184,7 @@ class LockstepRunner:
             got = link.recv()
             if got is None or n % CLOCK_EVERY == CLOCK_EVERY - 1:
                 if got is None:
-                    rig.check_alive(f"during step {k} of app {APP_NAMES[app]}")
+                    rig.check_alive(f"during step {k} of app {self.app_names[app]}")
                 now = time.monotonic()
                 if deadline == math.inf:
                     start = now - link.slice_s if got is None else now
@@ -189,7 +195,7 @@ class LockstepRunner:
                     next_resend = now + self.timeout / 2
                 if now > deadline:
                     raise FccTimeout(f"{rig.fcc.label if rig.fcc else 'fcc'} did not answer step {k} "
-                                     f"of app {APP_NAMES[app]} "
+                                     f"of app {self.app_names[app]} "
                                      f"within {self.timeout:g} s")
                 if got is None:
                     continue
@@ -203,7 +209,7 @@ class LockstepRunner:
                 if got_ack is not None:
                     io.acked = True
                     io.degraded, exec_us = got_ack
-                    self.exec_us[app].append(exec_us)
+                    self.exec_us.setdefault(app, []).append(exec_us)
                     return io
                 continue  # a repeated ACK of an earlier tick (or one the codec refused)
             io.frames.extend(rig.accept(frame_id, data))

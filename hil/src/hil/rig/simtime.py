@@ -26,7 +26,8 @@ from hil.bus.candump import LogFrame, read_log
 from hil.bus.dbc import load
 from hil.bus.logcolumns import MAX_DATA, LogBlock, le_uint, per_identifier, read_blocks
 from hil.bus.logio import RUN_FORMATS, retimed, write_frames
-from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SENSOR_APP, SIM_CONTROL_ID, SIM_TICK_ID
+from hil.bus.apps import SENSOR_APP
+from hil.bus.protocol import APP_MISSILE, COMMAND_RESET, SIM_CONTROL_ID, SIM_TICK_ID
 
 #: the recorder's own log of a lockstep run (wall-clock timestamps)
 WALL_LOG = "bus_wall.log"

@@ -37,6 +37,7 @@ import sys
 import time
 from collections.abc import Sequence
 
+from hil.util.errors import HilError
 from hil.util.processes import spawn
 
 #: struct can_frame (hil.rig.link's; not imported: the transmitter starts without the rig)
@@ -48,7 +49,7 @@ GAP_S = 20e-6
 LATE_S = 0.0005
 
 
-class TxError(RuntimeError):
+class TxError(HilError, RuntimeError):
     """The transmitter cannot be started or fed (one line)."""
 
 

@@ -4,6 +4,6 @@ flight (run; its evaluation: evaluate), a campaign (campaign), a sweep (sweep), 
 common files, the finished bus log, the figures) and whether the machine has the memory for a
 run's results (budget).
 
-Room 11: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.rig,
+Room 12: may import hil.util, hil.io, hil.bus, hil.scenario, hil.sim, hil.targets, hil.apps, hil.rig,
 hil.results, hil.reference, hil.plots.
 """

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from hil.apps.registry import application
 from hil.bus import load
 from hil.bus.logcolumns import LogBlock, read_blocks
 from hil.io.output import write_csv, write_json
@@ -100,8 +101,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
             summary["cdrw"] = None   # its place in summary.json; filled in below
             _write_cdrw(out, res)
             fault_log.append(("cdrw     ", res.events))
-        else:
-            assert isinstance(d, MissileDriver)
+        elif isinstance(d, MissileDriver):
             mres = missile_result(d)  # realtime too: the reference flies with the same delay
             assert d.scenario.lqg is not None, "a missile scenario has its [lqg]"
             ol = missile_open_loop(d.scenario.replace(lqg=dataclasses.replace(d.scenario.lqg, closed_loop=False)))
@@ -109,6 +109,8 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
             write_missile(out, ol)
             summary["missile"] = {"runs": [mres.run_entry(), ol.run_entry()]}
             fault_log.append(("missile  ", mres.events))
+        else:  # another application (hil.apps): its evaluation hook gives its summary block
+            summary[d.name] = application(d.name).hook("evaluation")(d)
     write_fault_log(out, fault_log)
     info = dict(flown.info)
     missiles = [d for d in drivers if isinstance(d, MissileDriver)]

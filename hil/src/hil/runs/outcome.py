@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from hil.apps.registry import application
 from hil.bus import load
 from hil.io.output import write_csv
 from hil.io.rundir import atomic_write_text
@@ -54,15 +55,8 @@ def write_fault_log(out: Path, flights: Sequence[tuple[str, Sequence[dict[str, A
 
 
 def step_periods(scenarios: Sequence[Scenario]) -> dict[int, float]:
-    """Each application's step period (s) in these scenarios (0 CDRW, 1 missile)."""
-    periods: dict[int, float] = {}
-    for sc in scenarios:
-        if sc.aircraft == "cdrw":
-            periods[0] = float(sc.plant.dt)  # type: ignore[union-attr]
-        else:
-            assert sc.lqg is not None
-            periods[1] = float(sc.lqg.period)
-    return periods
+    """Each application's step period (s) in these scenarios, by SIM_TICK.app."""
+    return {application(sc.aircraft).code: application(sc.aircraft).step_period(sc) for sc in scenarios}
 
 
 def finish(cfg: RigConfig, out: Path, summary: dict[str, Any], periods: dict[int, float] | None) -> Outcome:

@@ -24,18 +24,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from hil.bus import load
+from hil.bus.apps import NAME_OF_CODE
 from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec
 from hil.bus.logio import read_frames, run_log
+from hil.bus.secoc import KeyFileError, read_key_file
+from hil.results.buslog import BusAuth, authentic_frames
 from hil.rig.config import RigConfig
 from hil.rig.errors import FccDied
 from hil.rig.link import pack_frame
-from hil.bus.secoc import KeyFileError, read_key_file
-from hil.results.buslog import BusAuth, authentic_frames
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.simtime import WALL_LOG
 from hil.targets.host import HostFcc
 from hil.util.bounded import UnfitFile, read_bounded
+from hil.util.errors import InputError
 
 SIM_SENDERS = {"SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL"}
 WALL_CLOCK_IDS = 0x700          # heartbeat and rig frames from here up: not compared
@@ -46,7 +48,7 @@ SKIP_SIGNALS = {"FCC_ACK": ("exec_us", "crc")}
 RUN_INFO_MAX_BYTES = 1 << 20
 
 
-class ReplayError(ValueError):
+class ReplayError(InputError, ValueError):
     """The run directory cannot be replayed: not a lockstep run, its bus key not kept, its
     run_info.json or bus log malformed (one line, exit 2: nothing is started)."""
 
@@ -225,7 +227,7 @@ def replay(run_dir: Path, out_dir: Path, extra_args: Sequence[str] = (), iface: 
             if seg.ack is None:      # the tail: fcc's last words after the shutdown
                 break
             app, k = seg.ack
-            where = f"step {k} of app {'cdrw' if app == 0 else 'missile'}"
+            where = f"step {k} of app {NAME_OF_CODE.get(app, app)}"
             deadline = time.monotonic() + timeout
             while True:
                 got = link.recv()

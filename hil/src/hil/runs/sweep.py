@@ -13,7 +13,8 @@ from hil.io.output import write_json
 from hil.results.flight import MissileResult, missile_open_loop, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
-from hil.rig.flight import check_missile, fly, open_session, run_info
+from hil.apps.missile import check_missile
+from hil.rig.flight import fly, open_session, run_info
 from hil.runs.budget import check_memory
 from hil.runs.outcome import Outcome, finish, step_periods, write_fault_log, write_missile
 from hil.scenario.file import Scenario

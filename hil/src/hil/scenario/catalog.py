@@ -8,6 +8,8 @@ import math
 import typing
 from typing import Any
 
+from hil.bus.apps import BUS_APPS
+from hil.bus.dbc import PACKAGED_DBC, load
 from hil.scenario.faults import KINDS, Fault
 from hil.scenario.sensor_options import SIGNALS
 
@@ -19,7 +21,9 @@ UNITS = {
     "can_id": "11-bit id", "rate_hz": "Hz", "signal": "", "frame": "DBC message",
     "fill": "", "distribution": "",
 }
-SIGNAL_UNITS = {"alpha": "rad", "q": "rad/s", "de": "rad", "q_g": "rad/s", "n_a": "ft/s^2"}
+#: the unit of each sensor signal: its DBC signal's
+SIGNAL_UNITS = {name: load(PACKAGED_DBC).by_name(frame).signal(sig).unit
+                for app in BUS_APPS.values() for name, frame, sig in app.sensor_signals}
 
 #: one command-line example per kind (tests parse every one)
 EXAMPLES = {

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load
+from hil.bus.apps import APP_NAMES, sensor_frames
 from hil.io import paths
 from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
@@ -42,12 +43,17 @@ from hil.util.bounded import UnfitFile, read_bounded
 SCENARIO_MAX_BYTES = 1 << 20
 
 
-AIRCRAFT = ("cdrw", "missile")
+#: the applications fcc flies (hil.bus.apps: the DBC's)
+AIRCRAFT = APP_NAMES
 #: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
-#: sensor frames, and the rig's lockstep tick and fault events
-SENSOR_FRAMES = {"cdrw": ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
-                 "missile": ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")}
+#: sensor frames (hil.bus.apps), and the rig's lockstep tick and fault events
+SENSOR_FRAMES = {app: sensor_frames(app) for app in APP_NAMES}
 RIG_FRAMES = ("SIM_TICK", "SIM_EVENT")
+#: each aircraft's scenario sections: its [plant] and [sensors] options, its [lqg] (None: none)
+SECTIONS: dict[str, tuple[type[CdrwPlantOptions | MissilePlantOptions],
+                          type[CdrwSensorOptions | MissileSensorOptions], type[LqgOptions] | None]] = {
+    "cdrw": (CdrwPlantOptions, CdrwSensorOptions, None),
+    "missile": (MissilePlantOptions, MissileSensorOptions, LqgOptions)}
 DEFAULT_DURATION = {"cdrw": 7.0, "missile": 10.0}
 TOP_LEVEL_KEYS = ("name", "description", "aircraft", "duration", "seed",
                   "plant", "sensors", "lqg", "faults")
@@ -244,16 +250,15 @@ def scenario_from_dict(data: Mapping[str, Any], source: str = "<scenario>",
     head = build(_Head, {k: data[k] for k in ("name", "description", "duration", "seed") if k in data},
                  source)
     duration = DEFAULT_DURATION[aircraft] if head.duration is None else head.duration
-    if aircraft == "cdrw":
-        if "lqg" in data:
-            raise ScenarioError(f"{source}: section [lqg] is only for aircraft = \"missile\"")
-        plant = build(CdrwPlantOptions, _table(data, "plant", source), f"{source}: [plant]")
-        sensors = build(CdrwSensorOptions, _table(data, "sensors", source), f"{source}: [sensors]")
-        lqg = None
-    else:
-        plant = build(MissilePlantOptions, _table(data, "plant", source), f"{source}: [plant]")
-        sensors = build(MissileSensorOptions, _table(data, "sensors", source), f"{source}: [sensors]")
-        lqg = build(LqgOptions, _table(data, "lqg", source), f"{source}: [lqg]")
+    plant_options, sensor_options, lqg_options = SECTIONS[aircraft]
+    if lqg_options is None and "lqg" in data:
+        with_lqg = " or ".join(f'"{a}"' for a, (_, _, lqg_of) in SECTIONS.items() if lqg_of)
+        raise ScenarioError(f"{source}: section [lqg] is only for aircraft = {with_lqg}")
+    plant = build(plant_options, _table(data, "plant", source), f"{source}: [plant]")
+    sensors = build(sensor_options, _table(data, "sensors", source), f"{source}: [sensors]")
+    lqg = None
+    if lqg_options is not None:
+        lqg = build(lqg_options, _table(data, "lqg", source), f"{source}: [lqg]")
         if lqg.period > duration:
             raise ScenarioError(f"{source}: [lqg]: field 'period': {lqg.period} s is longer "
                                 f"than the duration {duration} s")

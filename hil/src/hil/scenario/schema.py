@@ -18,10 +18,12 @@ import typing
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from hil.util.errors import InputError
+
 MISSING = dataclasses.MISSING
 
 
-class ScenarioError(ValueError):
+class ScenarioError(InputError, ValueError):
     """A scenario file, section, fault or command-line fault is invalid (message = one line)."""
 
 

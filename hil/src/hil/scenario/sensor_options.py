@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-#: signal names a sensor-level fault may target, per aircraft
-CDRW_SIGNALS = ("alpha", "q", "de")
-MISSILE_SIGNALS = ("q_g", "n_a")
-SIGNALS = {"cdrw": CDRW_SIGNALS, "missile": MISSILE_SIGNALS}
+from hil.bus.apps import APP_NAMES, sensor_signals
+
+#: signal names a sensor-level fault may target, per aircraft (its sensor frames' readings)
+SIGNALS = {app: sensor_signals(app) for app in APP_NAMES}
 
 NOISE_DISTRIBUTIONS = ("uniform", "triangular", "truncated_normal")
 

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hil.bus import FrameCodec
+from hil.bus.apps import BUS_APPS
 from hil.bus.protocol import APP_CDRW, APP_MISSILE
 from hil.scenario.faults import Fault, SensorFault
 from hil.scenario.file import SENSOR_FRAMES, Scenario
@@ -38,14 +39,8 @@ from hil.sim.sensor_faults import FaultEvent, SensorFaultInjector
 if TYPE_CHECKING:
     from hil.sim.cdrw_flight import CdrwSample
 
-APP_NAMES = {APP_CDRW: "cdrw", APP_MISSILE: "missile"}
-
-#: which DBC message carries each sensor signal
-SIGNAL_FRAMES = {
-    "alpha": ("CDRW_AOA", "alpha"), "q": ("CDRW_PITCH_RATE", "q"),
-    "de": ("CDRW_ELEVATOR", "delta_e"),
-    "q_g": ("MSL_RATE_GYRO", "q_g"), "n_a": ("MSL_ACCELEROMETER", "n_a"),
-}
+#: which DBC message and signal carries each sensor signal (hil.bus.apps)
+SIGNAL_FRAMES = {name: (frame, sig) for app in BUS_APPS.values() for name, frame, sig in app.sensor_signals}
 CDRW_SENSOR_FRAMES = SENSOR_FRAMES["cdrw"]
 MISSILE_SENSOR_FRAMES = SENSOR_FRAMES["missile"]
 FILTERS = ("azkf", "zkf", "kf")

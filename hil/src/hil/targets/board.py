@@ -23,6 +23,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from hil.targets import bootcfg
+from hil.util.errors import HilError
 
 QEMU = "qemu-system-arm"
 MACHINE = "mps2-an386"
@@ -58,7 +59,7 @@ def command(elf: Path, *, log: Path | None = None, bootcfg_file: Path | None = N
     return cmd
 
 
-class LinkError(RuntimeError):
+class SlcanError(HilError, RuntimeError):
     """The SLCAN link did not answer as the protocol says."""
 
 
@@ -79,7 +80,7 @@ class SlcanLink:
         while view:
             _, w, _ = select.select([], [self.fd], [], 5.0)
             if not w:
-                raise LinkError("the SLCAN pty does not take bytes")
+                raise SlcanError("the SLCAN pty does not take bytes")
             n = os.write(self.fd, view)
             view = view[n:]
 
@@ -126,7 +127,7 @@ class SlcanLink:
         while not self.answers:
             left = deadline - time.monotonic()
             if left <= 0:
-                raise LinkError(f"no answer to {text!r} within {timeout} s")
+                raise SlcanError(f"no answer to {text!r} within {timeout} s")
             for _ in self.frames(min(left, 0.2)):
                 pass
         return self.answers.pop(0)
@@ -137,7 +138,7 @@ class SlcanLink:
         for cmd in (b"C", b"S6", b"O"):
             answer = self.command(cmd, timeout)
             if answer != b"":
-                raise LinkError(f"SLCAN {cmd.decode()} answered {answer!r}")
+                raise SlcanError(f"SLCAN {cmd.decode()} answered {answer!r}")
 
 
 class Board:
@@ -161,7 +162,7 @@ class Board:
         m = PTY_LINE.search(line)
         if m is None:
             self.__exit__()
-            raise LinkError(f"QEMU did not give a pty: {line.strip()!r} "
+            raise SlcanError(f"QEMU did not give a pty: {line.strip()!r} "
                             f"({(self.run_dir / 'qemu.stderr').read_text(errors='replace').strip()})")
         self.pty = m.group(1)
         return self

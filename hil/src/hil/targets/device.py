@@ -15,8 +15,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hil.util.errors import InputError
 
-class ArgsRefused(ValueError):
+
+class ArgsRefused(InputError, ValueError):
     """The device refuses the options the user adds to its command line (one line: why)."""
 
 

@@ -15,10 +15,11 @@ from pathlib import Path
 from typing import BinaryIO
 
 from hil.io.paths import M4F_BUILD_ENV, M4F_IMAGE, source_tree, tool
+from hil.util.errors import HilError
 from hil.util.progress import bar, say
 
 
-class PilError(RuntimeError):
+class PilError(HilError, RuntimeError):
     """The image, the emulated board or its serial link could not be set up (one line)."""
 
 

@@ -37,8 +37,7 @@ from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.targets import qdisc
-from hil.targets.board import PTY_LINE
-from hil.targets.board import command as qemu_command
+from hil.targets.board import PTY_LINE, command as qemu_command
 from hil.targets.bootcfg import BootConfig
 from hil.targets.device import ArgsRefused, Device, DeviceStart
 from hil.targets.m4f_image import PilError, build_image, m4f_build_dir

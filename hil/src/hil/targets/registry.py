@@ -1,31 +1,89 @@
-"""The targets by name (`hil ... --target NAME`):
+"""The targets by name (`hil ... --target NAME`), each a `Target`: what the rest of hil asks of
+a target (its lockstep timeout, whether it runs the rig's firmware, whose clock it steps on,
+what it can do) is a property here, never a comparison of its name.
 
     host      fcc, the Linux build, as a child process of the rig (the default; hil.targets.host)
     qemu-m4f  the Cortex-M4F image under qemu-system-arm (hil.targets.qemu_m4f): its UART speaks
               SLCAN, slcand attaches that line as a CAN interface and the kernel CAN gateway
               routes it to and from the rig's interface
     external  nothing: whatever answers on the bus (hil.targets.external)
+
+A new target is a Device class (hil.targets.device) and one entry of TARGETS
+(tests/python/targets/test_target_properties.py checks every target has every property).
 """
 from __future__ import annotations
 
 import importlib
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
+
+from hil.io import paths
 
 if TYPE_CHECKING:
     from hil.targets.device import Device
 
-#: each target's module and Device class, imported when the target is used (a host run does
-#: not load the emulator's and the board's modules)
-DEVICES: dict[str, tuple[str, str]] = {"host": ("hil.targets.host", "HostFcc"),
-                                       "qemu-m4f": ("hil.targets.qemu_m4f", "QemuM4f"),
-                                       "external": ("hil.targets.external", "ExternalDevice")}
-TARGETS = tuple(DEVICES)
+
+@dataclass(frozen=True)
+class Target:
+    """A device under test: its Device class (imported when the target is used: a host run
+    does not load the emulator's and the board's modules) and its properties."""
+
+    name: str
+    #: the module and the name of its Device class
+    module: str
+    device: str
+    #: seconds a lockstep step may take to be answered (--timeout's default)
+    lockstep_timeout_s: float
+    #: the rig starts the firmware it builds (--fcc, --fcc-args apply); else the device is
+    #: whoever answers on the bus, configured through SIM_CONTROL
+    runs_rig_firmware: bool
+    #: the firmware program the rig needs on this machine (None: none)
+    program: str | None
+    #: hil builds the program when it is missing in a clone (--fcc gives another)
+    builds_program: bool
+    #: a step's frames go out in one sendmmsg (the device takes a burst); else frame by frame
+    batch_frames: bool
+    #: only a SocketCAN interface reaches it (the image's serial line is routed by can-gw)
+    socketcan_only: bool
+    #: realtime, it runs on this machine's scheduler: fcc asks for a realtime priority
+    host_scheduler: bool
+    #: its arithmetic is sid_replay's, so the lockstep cross-check's bound applies
+    replay_exact: bool
+    #: --workers/--scheduler can fly it on rigs of their own
+    parallel: bool
+    #: a warm rig (`hil rig up --target`) can keep it up
+    warm_rig: bool
+
+    def needs_program(self, fcc: object, source_tree: object) -> bool:
+        """Whether its program must be found on this machine (with --fcc `fcc`, in the clone
+        `source_tree`: None outside one)."""
+        return self.program is not None and not (self.builds_program and (fcc or source_tree))
+
+    def device_class(self) -> type[Device]:
+        return getattr(importlib.import_module(self.module), self.device)
 
 
-def device_class(target: str) -> type[Device]:
-    """The Device class of a target name."""
+TARGETS: dict[str, Target] = {t.name: t for t in (
+    Target("host", "hil.targets.host", "HostFcc", lockstep_timeout_s=2.0, runs_rig_firmware=True,
+           program="fcc", builds_program=False, batch_frames=True, socketcan_only=False, host_scheduler=True,
+           replay_exact=True, parallel=True, warm_rig=True),
+    Target("qemu-m4f", "hil.targets.qemu_m4f", "QemuM4f", lockstep_timeout_s=30.0,
+           runs_rig_firmware=True, program=paths.M4F_IMAGE, builds_program=True, batch_frames=True, socketcan_only=True,
+           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=True),
+    Target("external", "hil.targets.external", "ExternalDevice", lockstep_timeout_s=2.0,
+           runs_rig_firmware=False, program=None, builds_program=False, batch_frames=False, socketcan_only=False,
+           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=False),
+)}
+
+
+def target(name: str) -> Target:
+    """The target of a name (one line naming the choices when there is none)."""
     try:
-        module, name = DEVICES[target]
+        return TARGETS[name]
     except KeyError:
-        raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {target!r}") from None
-    return getattr(importlib.import_module(module), name)
+        raise ValueError(f"target must be one of {', '.join(TARGETS)}, not {name!r}") from None
+
+
+def device_class(name: str) -> type[Device]:
+    """The Device class of a target name."""
+    return target(name).device_class()

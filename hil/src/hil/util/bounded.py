@@ -13,12 +13,14 @@ import stat
 from pathlib import Path
 from typing import BinaryIO
 
+from hil.util.errors import InputError
+
 #: what a file that is not a regular one is, in the user's words
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
 
 
-class UnfitFile(ValueError):
+class UnfitFile(InputError, ValueError):
     """A file hil will not read: not a regular file, or larger than its kind can be (one line
     for the user)."""
 

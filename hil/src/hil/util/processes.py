@@ -16,6 +16,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from hil.util.errors import HilError
+
 PR_SET_PDEATHSIG = 1
 _log = logging.getLogger(__name__)
 
@@ -70,7 +72,7 @@ def run_as_batch(pids: Sequence[int], batch: bool = True) -> bool:
     return True
 
 
-class ProcessError(RuntimeError):
+class ProcessError(HilError, RuntimeError):
     """A program could not be started or stopped (one line)."""
 
 

@@ -20,6 +20,8 @@ import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
+from hil.util.errors import HilError
+
 FUNCTIONS: dict[str, Callable[..., float]] = {"abs": abs, "min": min, "max": max}
 #: each function's number of arguments: (at least, at most)
 ARITY: dict[str, tuple[int, int]] = {"abs": (1, 1), "min": (2, 64), "max": (2, 64)}
@@ -32,7 +34,7 @@ _COMPARE = {ast.Lt: operator.lt, ast.LtE: operator.le, ast.Gt: operator.gt, ast.
             ast.Eq: operator.eq, ast.NotEq: operator.ne}
 
 
-class ExpressionError(ValueError):
+class ExpressionError(HilError, ValueError):
     """An expectation that is not in the language."""
 
 

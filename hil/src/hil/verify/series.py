@@ -33,6 +33,7 @@ from hil.bus.secoc import KeyFileError, read_key_file
 from hil.io.output import read_csv
 from hil.results.buslog import BusAuth, authentic_frames
 from hil.runs.replay import ReplayError, recorded_key
+from hil.util.errors import HilError
 from hil.verify.expr import Expectation, ExpressionError, dotted, parse
 
 #: the CDRW's per-step record, as cdrw.csv has it (hil.results.flight.cdrw_record joined with
@@ -59,7 +60,7 @@ CSV_SOURCES: dict[str, tuple[str, tuple[str, ...], str]] = {
 }
 
 
-class SeriesError(ValueError):
+class SeriesError(HilError, ValueError):
     """A signal that is not one (one line)."""
 
 

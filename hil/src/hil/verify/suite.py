@@ -47,12 +47,13 @@ from pathlib import Path
 from typing import Any
 
 from hil.bus import load as load_dbc
+from hil.apps.missile import check_missile
 from hil.io import paths
-from hil.rig.flight import check_missile
 from hil.runs.budget import check_memory
 from hil.scenario.file import AIRCRAFT, Scenario, default_scenario_text, parse_flight_fault, scenario_from_dict
 from hil.scenario.schema import ScenarioError, build, check_keys, field_names, parse_toml, spec
 from hil.util.bounded import UnfitFile, read_bounded
+from hil.util.errors import HilError
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
@@ -68,7 +69,7 @@ FLIGHT_KEYS = ("seed", "duration", "lqg")
 ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")
 
 
-class SuiteError(ValueError):
+class SuiteError(HilError, ValueError):
     """A suite that cannot be run as written (one line: file, item, field, what is wrong)."""
 
 

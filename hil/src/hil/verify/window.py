@@ -31,6 +31,7 @@ import numpy as np
 
 from hil.scenario.faults import Fault
 from hil.scenario.schema import ScenarioError, build, spec
+from hil.util.errors import HilError
 from hil.verify.expr import Expectation
 from hil.verify.series import RunSeries, Series, SeriesError, Signal, signal
 
@@ -40,7 +41,7 @@ VALUE = "value"
 _FAULT_EVENT = re.compile(r"fault\[([A-Za-z0-9_]{1,32})\]\.(start|end)")
 
 
-class WindowError(ValueError):
+class WindowError(HilError, ValueError):
     """A windowed expectation that is not one (one line)."""
 
 

@@ -18,7 +18,7 @@ from hil.bus.codec import EncodeError
 from hil.bus.dbcfile import DbcError, DbcMissing
 from hil.bus.secoc import KeyFileError
 from hil.cli import usage
-from hil.io.paths import ToolNotFound
+from hil.io.paths import NotShipped, ToolNotFound
 from hil.io.rundir import OutDirRefused
 from hil.parallel.guest import RigDown, RigFailed
 from hil.parallel.warm import RigBusy, RigNotUp
@@ -30,17 +30,20 @@ from hil.rig.txsched import TxError
 from hil.runs.replay import ReplayError
 from hil.scenario.schema import ScenarioError
 from hil.targets.board import SlcanError
-from hil.targets.qemu_m4f import PilError
+from hil.targets.device import ArgsRefused
+from hil.targets.m4f_image import PilError
 from hil.util.bounded import NotRegularFile, TooLarge, UnfitFile
 from hil.util.errors import EXIT_SOFTWARE, HilError
 from hil.util.processes import ProcessError
 from hil.verify.expr import ExpressionError
 from hil.verify.series import SeriesError
+from hil.verify.statistical import StatisticalError
 from hil.verify.suite import SuiteError
 from hil.verify.window import WindowError
 
 #: every error class hil raises for its user, with the status the command line answers it with
 EXPECTED = {
+    ArgsRefused: 2, NotShipped: 2, StatisticalError: 1,
     LogFormatError: 2, EncodeError: 1, DbcError: 2, DbcMissing: 2, KeyFileError: 1,
     usage.UsageError: 2, ToolNotFound: 1, OutDirRefused: 2, RigFailed: 1, RigDown: 1, RigBusy: 8,
     RigNotUp: 2, DuplicateOutput: 1, RigError: 1, FccTimeout: 3, FccDied: 4, LinkError: 1,

@@ -24,7 +24,7 @@ from fcc_harness import Fcc, Sim, flight, missile_sensors, parse_summary
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.protocol import COMMAND_FLIGHT
 from hil.results.timing import bus_timing
-from hil.rig.flight import FCC_RT_PRIORITY
+from hil.rig.config import FCC_RT_PRIORITY
 from hil.rig.realtime import TX_RT_PRIORITY
 from hil.rig.timesync import TimeMaster
 from hil.rig.txsched import TimedSender

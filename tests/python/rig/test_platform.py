@@ -12,7 +12,7 @@ import shutil
 import pytest
 from rig_helpers import MISSILE_2S, cli
 
-from hil.rig.flight import FCC_RT_PRIORITY
+from hil.rig.config import FCC_RT_PRIORITY
 from hil.rig.platform import HIST_NAME
 
 pytestmark = [pytest.mark.vcan,

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from hil.bus.dbc import PACKAGED_DBC, BusSpec, load
 from hil.bus.protocol import APPS as APP_CODES
+from hil.bus.protocol import SENSOR_APP  # noqa: F401 - the sensor frames by identifier, from the DBC's FccApp
 
 #: the rig's name of each application: (SIM_TICK.app name, its sensor nodes' prefix, the
 #: authenticator of its outputs)
@@ -64,8 +65,6 @@ BUS_APPS: dict[str, BusApp] = {a.name: a for a in sorted((bus_app(_SPEC, n) for 
 APP_NAMES = tuple(BUS_APPS)
 #: the application of each code (SIM_TICK.app)
 NAME_OF_CODE = {a.code: a.name for a in BUS_APPS.values()}
-#: the sensor frames, by identifier: the code of the application whose step they feed
-SENSOR_APP = {_SPEC.by_name(f).frame_id: a.code for a in BUS_APPS.values() for f in a.sensor_frames}
 
 
 def sensor_frames(app: str) -> tuple[str, ...]:

@@ -13,6 +13,10 @@ it); any other DBC, or a DBC edited since, is parsed by cantools.  Frames are pa
 unpacked here (little-endian integer signals only, checked when parsing); the cantools
 ``Message`` of a message (``MessageSpec.message``: comments, cantools' own codec) is parsed
 on first use.
+
+Why this module is long: the one reading of the DBC -- messages, signals, their E2E and
+SecOC attributes and, since issue 36, each frame's application (FccApp) -- kept together so that
+the C generator, the Python codec and the digest cannot read the same file two ways.
 """
 from __future__ import annotations
 

@@ -13,6 +13,10 @@ MODES = ("lockstep", "realtime")
 #: the bus between the nodes: ideal (one vcan interface, frames take no time) or wire
 #: (hil.rig.wirebus: canbus, arbitration and wire time at `bitrate`)
 BUSES = ("ideal", "wire")
+#: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
+#: SCHED_FIFO python starved the guest's timers and frame delivery, measured); the platform's
+#: baseline measures at the same priority (hil.rig.platform)
+FCC_RT_PRIORITY = 50
 
 
 @dataclass

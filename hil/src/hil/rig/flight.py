@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 from hil.apps.registry import application
 from hil.bus import FrameCodec
 from hil.bus.protocol import COMMAND_FLIGHT, COMMAND_GROUND, COMMAND_RESET
-from hil.rig.config import RigConfig
+from hil.rig.config import FCC_RT_PRIORITY, RigConfig
 from hil.rig.errors import RigError
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.status import StatusCounters
@@ -28,9 +28,8 @@ from hil.targets.registry import target
 if TYPE_CHECKING:
     from hil.sim.drivers import AppDriver
 
-#: realtime: fcc's SCHED_FIFO priority (the simulator runs normally: in the UML guest a
-#: SCHED_FIFO python starved the guest's timers and frame delivery, measured)
-FCC_RT_PRIORITY = 50
+
+
 def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
     """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
     names = list(apps) if apps else [sc.aircraft for sc in scenarios]

@@ -5,7 +5,7 @@ A realtime verdict needs both: a step that misses its deadline on a kernel that 
 wakes a SCHED_FIFO thread 5 ms late says little about the firmware (hil.results.platform).
 The baseline is rt-tests' ``cyclictest`` (a real tool, in Debian: scripts/setup installs it),
 one measuring thread at the flight's shortest period and fcc's SCHED_FIFO priority
-(hil.rig.flight.FCC_RT_PRIORITY) for as long as the flight, with ``--default-system`` so that
+(hil.rig.config.FCC_RT_PRIORITY) for as long as the flight, with ``--default-system`` so that
 the measurement does not tune the system it measures (no /dev/cpu_dma_latency request).  A
 Python thread would measure Python's jitter, not the platform's.
 

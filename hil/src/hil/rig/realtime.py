@@ -39,7 +39,7 @@ from collections.abc import Callable, Sequence
 
 from hil.bus.protocol import COMMAND_FLIGHT, SYNC_HAS_TIME, SYNC_LOCKED
 from hil.rig.errors import RigError
-from hil.rig.flight import FCC_RT_PRIORITY
+from hil.rig.config import FCC_RT_PRIORITY
 from hil.rig.inject import apply_requests
 from hil.rig.platform import Baseline, facts
 from hil.rig.session import RigSession

@@ -11,6 +11,7 @@ import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Protocol
 
+from hil.results.busstats import bus_failure
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import Flown, fly, lqg_request, make_drivers, open_session, require_log, run_info
@@ -63,7 +64,6 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
                   BusAuth(rig.security.key, rig.security.trip), rig.bus_stats)
     outcome = evaluate_flight(scenarios, cfg, command, flown)
     if flown.bus:  # measured above its bound: the model or the analysis is wrong
-        from hil.results.busstats import bus_failure
         why = bus_failure(outcome.summary["bus"])
         if why:
             raise RigError(f"{why}; the results are in the failed run's summary.json")

@@ -26,6 +26,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from hil.util.errors import HilError
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import values
 from hil.verify.stats import Interval, bootstrap_percentile, clopper_pearson, wilson
@@ -38,7 +39,7 @@ KEYS = ("share", "percentile", "of", "expect", "confidence", "method")
 MAX_FLIGHTS = 1000
 
 
-class StatisticalError(ValueError):
+class StatisticalError(HilError, ValueError):
     """An over-flights expectation that cannot be judged as written (one line)."""
 
 

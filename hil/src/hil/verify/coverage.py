@@ -32,6 +32,8 @@ TOOL_TIMEOUT_S = 120.0
 Counts = dict[str, dict[int, int]]
 #: file -> lines
 Lines = dict[str, frozenset[int]]
+#: file -> runs of lines (first, last), the form a work list is read in
+WorkList = dict[str, list[tuple[int, int]]]
 
 
 class CoverageError(Exception):
@@ -190,21 +192,21 @@ class Matrix:
     def by_verify(self) -> Lines:
         return {n: frozenset().union(*(r.lines.get(n, frozenset()) for r in self.rows)) for n in self.code}
 
-    def unit_only(self) -> dict[str, list[tuple[int, int]]]:
+    def unit_only(self) -> WorkList:
         """Lines the unit tests reach and no requirement's case does."""
         v = self.by_verify()
         return self._work(lambda n: (self.unit.get(n, frozenset()) & self.code[n]) - v.get(n, frozenset()))
 
-    def unreached(self) -> dict[str, list[tuple[int, int]]]:
+    def unreached(self) -> WorkList:
         """Lines nothing reaches: dead-code candidates."""
         v = self.by_verify()
         return self._work(lambda n: self.code[n] - self.unit.get(n, frozenset()) - v.get(n, frozenset()))
 
-    def _work(self, pick: Callable[[str], frozenset[int]]) -> dict[str, list[tuple[int, int]]]:
+    def _work(self, pick: Callable[[str], frozenset[int]]) -> WorkList:
         return {n: rs for n in self.files if (rs := ranges(pick(n), self.code[n]))}
 
 
-def count_lines(work: dict[str, list[tuple[int, int]]], matrix: Matrix) -> int:
+def count_lines(work: WorkList, matrix: Matrix) -> int:
     """How many code lines a work list holds."""
     return sum(sum(1 for n in matrix.code[f] if a <= n <= b) for f, rs in work.items() for a, b in rs)
 
@@ -217,7 +219,7 @@ def summary(matrix: Matrix) -> str:
             f"reached by nothing: {count_lines(matrix.unreached(), matrix)} lines")
 
 
-def work_text(work: dict[str, list[tuple[int, int]]]) -> list[str]:
+def work_text(work: WorkList) -> list[str]:
     """`lqg/fcc_lqg_ctrl.c:120-131`, one range a line."""
     return [f"{f}:{a}" + (f"-{b}" if b != a else "") for f, rs in work.items() for a, b in rs]
 

@@ -363,8 +363,9 @@ def build() -> argparse.ArgumentParser:
     v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
                        "a verdict per case and requirement, JUnit XML, an HTML report",
                        epilog="exit status: 0 every case passed; 1 a case failed, or the CAN interface "
-                       "cannot be opened (nothing flew); 2 bad command line or suite (nothing flew); 6 a "
-                       "case could not run (error: no device, time-out, crash; the report is not published)")
+                       "cannot be opened (nothing flew); 2 bad command line or suite, or --coverage without its "
+                       "tools or build (nothing flew); 6 a case could not run (error: no device, time-out, crash; "
+                       "the report is not published), or --coverage could not measure it")
     v.add_argument("suites", nargs="*", metavar="SUITE",
                    help="a shipped suite's name (hil verify --list) or a suite TOML file")
     v.add_argument("--case", action="append", default=[], metavar="ID", help="only these cases (repeatable)")
@@ -373,6 +374,8 @@ def build() -> argparse.ArgumentParser:
                    help="the report's directory (index.html, one run directory per case; default: --out)")
     v.add_argument("--list", action="store_true", help="list the shipped suites and exit")
     v.add_argument("--fields", action="store_true", help="list the result fields expectations may name and exit")
+    v.add_argument("--coverage", action="store_true", help="fcc's coverage build (scripts/test coverage, then "
+                   "--build-dir build-cov): the lines each requirement reaches, the two work lists, in the report")
     add_common(v, "out/verify")
     add_rig(v)
     add_rig_commands(sub)

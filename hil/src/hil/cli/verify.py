@@ -5,11 +5,14 @@ import argparse
 import dataclasses
 import shlex
 import sys
+from contextlib import nullcontext
+from pathlib import Path
 
 from hil.cli.common import rig_config
 from hil.cli.usage import EXIT_VERIFY_ERROR, PROG, UsageError
+from hil.io.paths import source_tree, tool
 from hil.io.rundir import staged_run
-from hil.verify import fields, report, runner, suite
+from hil.verify import coverage, fields, report, runner, suite
 
 
 def _suites(args: argparse.Namespace) -> list[suite.Suite]:
@@ -39,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"{name:<24} {len(s.cases):3d} cases  {len(s.requirements):3d} requirements  {s.title}")
         return 0
     suites = _suites(args)
+    cov = _coverage_ready(args) if args.coverage else None
     out = args.report or args.out
     device = [f"--target={args.target}"] + ([f"--fcc-args={args.fcc_args}"] if args.fcc_args else []) \
         + ([f"--key-file={args.key_file}"] if args.key_file else [])
@@ -46,10 +50,14 @@ def run(args: argparse.Namespace) -> int:
     try:
         with staged_run(out, "verify", force=args.force) as stage:
             base = dataclasses.replace(rig_config(args, stage), progress=False)
-            results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
-                                        lambda r: print(report.line(r), flush=True))
-            report.html_report(results, suites, stage, args.target, command)
+            with coverage.profiles_to(stage / "coverage") if cov else nullcontext():  # fcc --check-args too
+                results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
+                                            lambda r: print(report.line(r), flush=True), coverage=cov is not None)
             n = report.counts(results)
+            matrix = _measure(results, *cov) if cov and not n[runner.ERROR] else None
+            report.html_report(results, suites, stage, args.target, command, matrix)
+            if matrix is not None:
+                report.work_lists(matrix, stage)
             if n[runner.ERROR]:   # kept aside by staged_run: the last report stays as it was
                 if args.junit is not None:
                     report.junit(results, suites, stage / "junit.xml", args.target)
@@ -60,9 +68,34 @@ def run(args: argparse.Namespace) -> int:
               f"({'; '.join(getattr(e, '__notes__', ()))})", file=sys.stderr)
         return EXIT_VERIFY_ERROR
     if args.junit is not None:
-        report.junit(results, suites, args.junit, args.target)
+        report.junit(results, suites, args.junit, args.target, matrix)
     _summary(results, suites, n, str(out / "index.html"))
+    if matrix is not None:
+        print(coverage.summary(matrix))
     return 1 if n[runner.FAIL] else 0
+
+
+def _coverage_ready(args: argparse.Namespace) -> tuple[Path, Path]:
+    """--coverage: the coverage-built fcc and the unit tests' coverage (the source tree's
+    build-cov, scripts/test coverage), checked before anything flies."""
+    tree = source_tree()
+    if args.target != "host" or tree is None:
+        raise UsageError("verify: --coverage needs --target host and the source tree (its build-cov)")
+    fcc, unit_dir = tool("fcc"), tree / "build-cov"
+    try:
+        coverage.check_ready(fcc, unit_dir)
+    except coverage.CoverageError as e:
+        raise UsageError(f"verify: --coverage: {e}") from None
+    return fcc, unit_dir
+
+
+def _measure(results: list[runner.CaseResult], fcc: Path, unit_dir: Path) -> coverage.Matrix:
+    """The matrix of the cases that ran; evidence that cannot be measured: the run is not published."""
+    try:
+        return coverage.measure([(r.suite, r.case.requirements, r.run_dir) for r in results if r.run_dir is not None],
+                                fcc, unit_dir)
+    except coverage.CoverageError as e:
+        raise Unpublished(f"coverage: {e}") from None
 
 
 class Unpublished(Exception):

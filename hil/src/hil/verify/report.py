@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from hil.io.rundir import atomic_write, atomic_write_text
+from hil.verify.coverage import Matrix, count_lines, work_text
 from hil.verify.runner import ERROR, FAIL, PASS, CaseResult, Check
 from hil.verify.suite import Suite
 
@@ -45,7 +46,8 @@ def requirement_verdict(req_id: str, results: Sequence[CaseResult], suite: str) 
     return FAIL if FAIL in checks else PASS
 
 
-def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, target: str) -> None:
+def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, target: str,
+          matrix: Matrix | None = None) -> None:
     root = ET.Element("testsuites", name="hil verify")
     for s in suites:
         mine = [r for r in results if r.suite == s.name]
@@ -54,6 +56,8 @@ def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, ta
                            errors=str(c[ERROR]), time=f"{sum(r.seconds for r in mine):.3f}")
         props = ET.SubElement(ts, "properties")
         ET.SubElement(props, "property", name="target", value=target)
+        if matrix is not None:
+            _coverage_properties(props, matrix, s.name)
         for r in mine:
             tc = ET.SubElement(ts, "testcase", classname=s.name, name=r.case.id, time=f"{r.seconds:.3f}")
             tprops = ET.SubElement(tc, "properties")
@@ -74,10 +78,21 @@ def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, ta
     atomic_write(path, ET.tostring(root, encoding="utf-8", xml_declaration=True))  # never half a file
 
 
+def _coverage_properties(props: ET.Element, matrix: Matrix, suite: str) -> None:
+    """Per requirement the lines its cases reach; the two work lists' sizes."""
+    for row in matrix.rows:
+        if row.suite == suite:
+            got, of = matrix.total(row.lines)
+            ET.SubElement(props, "property", name=f"coverage {row.requirement}", value=f"{got}/{of} lines")
+    for name, work in (("unit-only", matrix.unit_only()), ("unreached", matrix.unreached())):
+        ET.SubElement(props, "property", name=f"coverage {name} lines", value=str(count_lines(work, matrix)))
+
+
 _CSS = """body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse;margin:1em 0}
 td,th{border:1px solid #bbb;padding:.3em .6em;text-align:left;vertical-align:top}
 .pass{background:#d9f2d9}.fail{background:#f8d0d0}.error{background:#ffe9b3}.not-run{color:#888}
 code{font-size:90%}
+table.cov td{text-align:right;font-size:80%}table.cov th{font-size:70%;writing-mode:vertical-rl}
 img{max-width:32em;margin:.3em;border:1px solid #ddd}img.evidence{max-width:28em}"""
 
 
@@ -117,8 +132,37 @@ def _case_html(r: CaseResult, report_dir: Path) -> list[str]:
     return out
 
 
+def coverage_html(matrix: Matrix) -> list[str]:
+    """The section "Coverage per requirement": the matrix (% of each file's lines its cases
+    reach) and the two DO-178C work lists."""
+    e = html.escape
+    out = ["<h2>Coverage per requirement</h2>",
+           "<p>Lines of the hand-written firmware (fcc's coverage build) each requirement's cases reach, "
+           "in % of each file's lines of code.</p>",
+           '<table class="cov"><tr><th>requirement</th><th>all</th>'
+           + "".join(f"<th>{e(f)}</th>" for f in matrix.files) + "</tr>"]
+    for row in matrix.rows:
+        got, of = matrix.total(row.lines)
+        out.append(f"<tr><td>{e(row.suite)} / {e(row.requirement)}</td><td>{100.0 * got / of if of else 0:.1f}</td>"
+                   + "".join(f"<td>{matrix.percent(row, f):.0f}</td>" for f in matrix.files) + "</tr>")
+    out.append("</table>")
+    for title, work in (("Reached by unit tests only (each needs a requirement or a rationale)", matrix.unit_only()),
+                        ("Reached by nothing (dead-code candidates)", matrix.unreached())):
+        ranges = work_text(work)
+        out.append(f"<h3>{e(title)}: {count_lines(work, matrix)} lines, {len(ranges)} ranges</h3>"
+                   f"<details><summary>file:lines</summary><pre>{e(chr(10).join(ranges))}</pre></details>")
+    return out
+
+
+def work_lists(matrix: Matrix, report_dir: Path) -> None:
+    """coverage/unit-only.txt and coverage/unreached.txt: file:first-last, one range a line."""
+    (report_dir / "coverage").mkdir(parents=True, exist_ok=True)
+    for name, work in (("unit-only", matrix.unit_only()), ("unreached", matrix.unreached())):
+        atomic_write_text(report_dir / "coverage" / f"{name}.txt", "".join(f"{r}\n" for r in work_text(work)))
+
+
 def html_report(results: Sequence[CaseResult], suites: Sequence[Suite], report_dir: Path,
-                target: str, command: str) -> Path:
+                target: str, command: str, matrix: Matrix | None = None) -> Path:
     """report_dir/index.html (the figures stay in the cases' run directories beside it)."""
     e = html.escape
     c = counts(results)
@@ -137,6 +181,8 @@ def html_report(results: Sequence[CaseResult], suites: Sequence[Suite], report_d
         body.append("</table>")
         for r in mine:
             body += _case_html(r, report_dir)
+    if matrix is not None:
+        body += coverage_html(matrix)
     page = ("<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>hil verify</title>"
             f"<style>{_CSS}</style></head><body>\n" + "\n".join(b for b in body if b) + "\n</body></html>\n")
     report_dir.mkdir(parents=True, exist_ok=True)

@@ -6,6 +6,7 @@ import json
 import shlex
 import time
 from collections.abc import Callable, Sequence
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -15,6 +16,7 @@ from hil.rig.link import CanLink
 from hil.runs.run import run_flight
 from hil.targets.registry import device_class
 from hil.verify.attack import ATTACKS, LIVE_REPLAYS, Attacker
+from hil.verify.coverage import profiles_to
 from hil.verify.expr import Expectation, evaluate, measured
 from hil.verify.fields import read_run, values
 from hil.verify.figure import draw, limit
@@ -165,13 +167,15 @@ def check_bus(cfg: RigConfig) -> None:
 
 
 def run_suites(suites: Sequence[Suite], base: RigConfig, out: Path, refly: Callable[[Suite, Case], str],
-               show: Callable[[CaseResult], None]) -> list[CaseResult]:
-    """Every case, in order (the bus checked first)."""
+               show: Callable[[CaseResult], None], coverage: bool = False) -> list[CaseResult]:
+    """Every case, in order (the bus checked first); with coverage, each case's fcc profiles
+    land in its run directory (hil.verify.coverage)."""
     check_bus(base)
     results = []
     for suite in suites:
         for case in suite.cases:
-            r = run_case(suite, case, base, out, refly(suite, case))
+            with profiles_to(out / "cases" / case.id) if coverage else nullcontext():
+                r = run_case(suite, case, base, out, refly(suite, case))
             show(r)
             results.append(r)
     return results

@@ -21,6 +21,7 @@ import pytest
 
 from hil.bus import SIM_NODES, FrameCodec, load
 from hil.bus.secoc import load_cmac
+from hil.results import faultwindows
 from hil.cli.usage import EXIT_REFUSED, EXIT_USAGE
 from hil.io.output import read_csv
 from hil.rig import inject
@@ -218,6 +219,10 @@ def test_stuck_gyro_into_a_realtime_missile(tmp_path, capsys):
     assert np.asarray(s["fault"])[k: k + 20].all() and not np.asarray(s["fault"])[:k].any()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["missile"]["runs"][0]["faults"] == [fault]
+    # the figures shade it as any fault: the window they draw (hil.results.faultwindows)
+    (window,) = faultwindows.from_events(faultwindows.flight_events(summary, "missile"))
+    assert (window.kind, window.target) == ("stuck", "q_g")
+    assert window.start == pytest.approx(t) and window.end == pytest.approx(t + 2)
     assert not (out / "inject").exists()   # the channel is not published
 
 

@@ -35,6 +35,7 @@ from hil.targets.m4f_image import PilError
 from hil.util.bounded import NotRegularFile, TooLarge, UnfitFile
 from hil.util.errors import EXIT_SOFTWARE, HilError
 from hil.util.processes import ProcessError
+from hil.verify.coverage import CoverageError
 from hil.verify.expr import ExpressionError
 from hil.verify.series import SeriesError
 from hil.verify.statistical import StatisticalError
@@ -43,7 +44,7 @@ from hil.verify.window import WindowError
 
 #: every error class hil raises for its user, with the status the command line answers it with
 EXPECTED = {
-    ArgsRefused: 2, NotShipped: 2, StatisticalError: 1,
+    ArgsRefused: 2, NotShipped: 2, StatisticalError: 1, CoverageError: 1,
     LogFormatError: 2, EncodeError: 1, DbcError: 2, DbcMissing: 2, KeyFileError: 1,
     usage.UsageError: 2, ToolNotFound: 1, OutDirRefused: 2, RigFailed: 1, RigDown: 1, RigBusy: 8,
     RigNotUp: 2, DuplicateOutput: 1, RigError: 1, FccTimeout: 3, FccDied: 4, LinkError: 1,

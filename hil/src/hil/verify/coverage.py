@@ -19,6 +19,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path, PurePath
 
+from hil.util.errors import HilError
+
 PROFDATA, COV = "llvm-profdata-19", "llvm-cov-19"
 PROFILE_ENV = "LLVM_PROFILE_FILE"
 #: the hand-written portable firmware (scripts/test: portable_sources), the matrix's columns
@@ -36,7 +38,7 @@ Lines = dict[str, frozenset[int]]
 WorkList = dict[str, list[tuple[int, int]]]
 
 
-class CoverageError(Exception):
+class CoverageError(HilError):
     """Coverage cannot be measured (one line: what is missing, and how to get it)."""
 
 

@@ -4,12 +4,11 @@ Cortex-M4F image, and fail naming the right requirement against deliberately wro
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+from verify_run import run_verify
 from suite_edits import edit_and_load
 
 from hil.io.rundir import staged_run
@@ -366,16 +365,8 @@ def test_the_html_report_opens_in_a_real_browser(tmp_path):
 
 
 # ---- on the bus ---------------------------------------------------------------------------------
-def verify(*args: str, tmp: Path) -> tuple[int, str, dict]:
-    p = subprocess.run([sys.executable, "-m", "hil.cli", "verify", *args, "--no-plots", "--force",
-                        "--out", str(tmp / "report"), "--junit", str(tmp / "j.xml")],
-                       capture_output=True, text=True, timeout=900, cwd=ROOT)
-    verdicts = {}
-    for ln in p.stdout.splitlines():
-        parts = ln.split()
-        if len(parts) >= 2 and parts[0] in ("PASS", "FAIL", "ERROR", "-") and "/" not in parts[1]:
-            verdicts[parts[1]] = parts[0]
-    return p.returncode, p.stdout + p.stderr, verdicts
+def verify(*args: str, tmp: Path) -> tuple[int, str, dict[str, str]]:
+    return run_verify(*args, "--no-plots", tmp=tmp)
 
 
 @pytest.mark.vcan

@@ -11,12 +11,12 @@ import json
 import math
 import shutil
 import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 import pytest
+from verify_run import run_verify
 from suite_edits import edit_and_load
 from rig_helpers import cli
 
@@ -268,15 +268,7 @@ def test_each_windowed_check_is_drawn_beside_it_in_the_report(tmp_path):
 
 # ---- on the bus -----------------------------------------------------------------------------------
 def verify(*args: str, tmp: Path) -> tuple[int, str, dict[str, str]]:
-    p = subprocess.run([sys.executable, "-m", "hil.cli", "verify", *args, "--force",
-                        "--out", str(tmp / "report"), "--junit", str(tmp / "j.xml")],
-                       capture_output=True, text=True, timeout=900, cwd=ROOT)
-    verdicts = {}
-    for ln in p.stdout.splitlines():
-        parts = ln.split()
-        if len(parts) >= 2 and parts[0] in ("PASS", "FAIL", "ERROR", "-") and "/" not in parts[1]:
-            verdicts[parts[1]] = parts[0]
-    return p.returncode, p.stdout + p.stderr, verdicts
+    return run_verify(*args, tmp=tmp)   # with its figures: the windowed checks draw them
 
 
 @pytest.mark.vcan

@@ -97,7 +97,7 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         loose = None
         if bound is not None and queue == "prio" and Fraction(got["max_s"]) > bound and jitter_s > 0:
             loose = jitter_bound(frames, fid, bitrate, jitter_s)
-        entry = {"n": got["n"], **{k: got[k] for k in _PERCENTILES},
+        entry = {"id": fid, "n": got["n"], **{k: got[k] for k in _PERCENTILES},
                  "wcrt_s": None if bound is None else float(bound),
                  "wcrt_jitter_s": None if loose is None else float(loose), "queue": queue}
         if fid not in bounds:

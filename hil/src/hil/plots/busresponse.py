@@ -6,7 +6,9 @@ One row per frame, sorted by identifier: p50, p99 and max of its response times 
 sender → end of frame, in ms, log scale) and its bound (`wcrt_s`, Davis et al. 2007 with zero
 queuing jitter; `wcrt_jitter_s` where the run computed it, with the measured release jitter).
 A frame above its bound is drawn red and marked ABOVE; frames the analysis does not judge
-(a FIFO-queued sender, fcc's; an event frame; an unbounded one) are grey and say why.  The
+(a FIFO-queued sender, fcc's; an event frame; an unbounded one) are grey and say why; on a real
+bus the device's frames, whose queue time is not on the bus, have their bound only ("not
+measured").  The
 section holds percentiles, not samples: canbus reports a histogram's p50/p99/max per
 identifier (firmware/tools/canbus, `ids`), not every response.
 """
@@ -32,9 +34,10 @@ class Row:
 
     frame_id: int | None
     name: str
-    p50_s: float
-    p99_s: float
-    max_s: float
+    #: None: not measured (a real bus: the device's frames; their bound only)
+    p50_s: float | None
+    p99_s: float | None
+    max_s: float | None
     wcrt_s: float | None
     wcrt_jitter_s: float | None
     verdict: str
@@ -50,6 +53,8 @@ class Row:
             return "ABOVE" + (" (canbus late)" if "late" in self.verdict else "")
         if self.verdict in _JUDGED_OK:
             return ""
+        if self.max_s is None:
+            return "not measured"
         return "not judged" if self.verdict.startswith("fifo") else self.verdict
 
 
@@ -62,6 +67,9 @@ def rows(section: Mapping[str, Any]) -> list[Row]:
         fid = f.get("id", ids.get(name, _hex(name)))
         out.append(Row(fid, name, f["p50_s"], f["p99_s"], f["max_s"], f.get("wcrt_s"),
                        f.get("wcrt_jitter_s"), f.get("verdict", "")))
+    for name, f in (section.get("not_measured") or {}).items():   # a real bus's (busstats_real)
+        out.append(Row(f.get("id", ids.get(name, _hex(name))), name, None, None, None, f.get("wcrt_s"),
+                       None, "not measured"))
     return sorted(out, key=lambda r: (r.frame_id is None, r.frame_id or 0, r.name))
 
 
@@ -81,10 +89,11 @@ def figure(section: Mapping[str, Any]) -> plt.Figure:
     for y, r in enumerate(rs):
         failing = r.verdict in _FAILING
         colour = "tab:red" if failing else ("tab:blue" if r.verdict in _JUDGED_OK else "0.55")
-        ax.plot([r.p50_s * ms, r.max_s * ms], [y, y], color=colour, lw=1, zorder=2)
-        ax.plot(r.p50_s * ms, y, "o", color=colour, ms=4, zorder=3)
-        ax.plot(r.p99_s * ms, y, "s", color=colour, ms=4, zorder=3)
-        ax.plot(r.max_s * ms, y, "^", color=colour, ms=6 if failing else 5, zorder=3)
+        if r.p50_s is not None and r.p99_s is not None and r.max_s is not None:
+            ax.plot([r.p50_s * ms, r.max_s * ms], [y, y], color=colour, lw=1, zorder=2)
+            ax.plot(r.p50_s * ms, y, "o", color=colour, ms=4, zorder=3)
+            ax.plot(r.p99_s * ms, y, "s", color=colour, ms=4, zorder=3)
+            ax.plot(r.max_s * ms, y, "^", color=colour, ms=6 if failing else 5, zorder=3.5)
         if r.wcrt_s is not None:
             ax.plot([r.wcrt_s * ms] * 2, [y - 0.35, y + 0.35], color="black", lw=2, zorder=4)
         if r.wcrt_jitter_s is not None:
@@ -106,8 +115,9 @@ def figure(section: Mapping[str, Any]) -> plt.Figure:
     ax.plot([], [], color="black", lw=1.2, ls="--", label="bound with the release jitter")
     fig.legend(fontsize=7, loc="lower center", ncol=5, frameon=False)
     above = sum(r.verdict in _FAILING for r in rs)
+    measured = sum(r.max_s is not None for r in rs)
     fig.suptitle(f"bus at {section['bitrate']} bit/s ({section.get('model', 'wire')}): response time "
-                 f"per identifier against its worst-case bound; {above} of {len(rs)} frames above")
+                 f"per identifier against its worst-case bound; {above} of {measured} frames above")
     return fig
 
 

@@ -6,7 +6,9 @@ One row per frame, sorted by identifier: p50, p99 and max of its response times 
 sender → end of frame, in ms, log scale) and its bound (`wcrt_s`, Davis et al. 2007 with zero
 queuing jitter; `wcrt_jitter_s` where the run computed it, with the measured release jitter).
 A frame above its bound is drawn red and marked ABOVE; frames the analysis does not judge
-(a FIFO-queued sender, fcc's; an event frame; an unbounded one) are grey and say why; on a real
+(a FIFO-queued sender, fcc's; an event frame; an unbounded one) are grey and say why (", no
+bound" where the analysis has none); above the zero-jitter bound but within the one with the
+run's measured release jitter, orange; on a real
 bus the device's frames, whose queue time is not on the bus, have their bound only ("not
 measured").  The
 section holds percentiles, not samples: canbus reports a histogram's p50/p99/max per
@@ -21,11 +23,13 @@ from typing import Any
 
 from hil.bus import load
 from hil.plots.mpl import plt, save
+from hil.results.busstats import ABOVE, JITTER, LATE, WITHIN
 
 NAME = "bus_response_times.png"
-#: the verdicts of hil.results.busstats that fail a run (drawn red)
-_FAILING = ("above", "above, canbus late")
-_JUDGED_OK = ("within", "within, with the release jitter")
+#: the verdicts of hil.results.busstats that fail a run (drawn red), and that pass (blue; above
+#: the J = 0 bound but within the one with the run's release jitter: orange)
+_FAILING = (ABOVE, LATE)
+_JUDGED_OK = (WITHIN, JITTER)
 
 
 @dataclass(frozen=True)
@@ -51,11 +55,14 @@ class Row:
         """What the row says beside it: ABOVE, its verdict when not judged, '' when within."""
         if self.verdict in _FAILING:
             return "ABOVE" + (" (canbus late)" if "late" in self.verdict else "")
-        if self.verdict in _JUDGED_OK:
+        if self.verdict == _JUDGED_OK[0]:
             return ""
+        if self.verdict == _JUDGED_OK[1]:
+            return "within the bound with the jitter"
+        bound = "" if self.wcrt_s is not None or self.verdict in ("not cyclic", "unbounded") else ", no bound"
         if self.max_s is None:
-            return "not measured"
-        return "not judged" if self.verdict.startswith("fifo") else self.verdict
+            return "not measured" + bound
+        return ("not judged" if self.verdict.startswith("fifo") else self.verdict) + bound
 
 
 def rows(section: Mapping[str, Any]) -> list[Row]:
@@ -88,7 +95,8 @@ def figure(section: Mapping[str, Any]) -> plt.Figure:
     ms = 1e3
     for y, r in enumerate(rs):
         failing = r.verdict in _FAILING
-        colour = "tab:red" if failing else ("tab:blue" if r.verdict in _JUDGED_OK else "0.55")
+        colour = ("tab:red" if failing else "tab:blue" if r.verdict == _JUDGED_OK[0]
+                  else "tab:orange" if r.verdict == _JUDGED_OK[1] else "0.55")
         if r.p50_s is not None and r.p99_s is not None and r.max_s is not None:
             ax.plot([r.p50_s * ms, r.max_s * ms], [y, y], color=colour, lw=1, zorder=2)
             ax.plot(r.p50_s * ms, y, "o", color=colour, ms=4, zorder=3)
@@ -102,7 +110,8 @@ def figure(section: Mapping[str, Any]) -> plt.Figure:
         if r.mark:
             ax.annotate(r.mark, (1.0, y), xycoords=("axes fraction", "data"), xytext=(4, 0),
                         textcoords="offset points", va="center", fontsize=7,
-                        color="tab:red" if failing else "0.35", fontweight="bold" if failing else None)
+                        color="tab:red" if failing else colour if colour != "0.55" else "0.35",
+                        fontweight="bold" if failing else None)
     ax.set_yticks(range(len(rs)), [r.label for r in rs], fontsize=7, family="monospace")
     ax.set_ylim(len(rs) - 0.5, -0.5)
     ax.set_xscale("log")

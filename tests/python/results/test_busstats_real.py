@@ -12,6 +12,7 @@ import pytest
 from hil.bus import load
 from hil.bus.candump import LogFrame
 from hil.results.busstats import ABOVE, WITHIN, bus_failure
+from hil.results.busstats_table import format_bus
 from hil.results.busstats_real import DEVICE_WHY, OTHER_WHY, read_sends, real_bus_section, response_times
 from hil.rig.txsched import SEND_LOG_HEADER
 from hil.scenario.file import load_default_scenario
@@ -50,6 +51,12 @@ def test_pairs_the_kth_sent_with_the_kth_recorded(tmp_path: Path) -> None:
     assert nm["MSL_ACCELEROMETER"]["why"] == "5 sent, 4 recorded: not paired"
     assert nm["MSL_ELEV_CMD"] == {"id": CMD, "n": 5, "wcrt_s": pytest.approx(4.32e-3), "why": DEVICE_WHY}
     assert nm["TSYNC_SYNC"]["why"] == OTHER_WHY and bus_failure(s) == ""
+    # the table a run prints: measured frames by identifier, then the others, each reason once
+    table = format_bus(s).splitlines()
+    assert table[0].startswith("Bus at 250000 bit/s (a real bus, utilisation ")
+    assert table[2].split() == ["0x040", "MSL_RATE_GYRO", "prio", "5", "0.300", "1.200", "1.200", "4.860", "within"]
+    assert [ln.split()[1] for ln in table[3:6]] == ["TSYNC_SYNC", "MSL_ELEV_CMD", "MSL_ACCELEROMETER"]
+    assert table[-3:] == [f"[1] {OTHER_WHY}", f"[2] {DEVICE_WHY}", "[3] 5 sent, 4 recorded: not paired"]
 
 
 def test_a_recording_before_its_send_is_not_paired() -> None:

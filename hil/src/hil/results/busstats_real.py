@@ -17,7 +17,7 @@ identifier whose counts differ (a recorder that lost frames, a fault flooding it
 stamps would go backwards is reported as not measured, never paired at a guess.  The device's
 frames (fcc's: a board's) are queued inside the device: their queue time is not on the bus, so
 they are counted and given their bound but not measured; what the rig measures of them is their
-data age (summary.json realtime.data_age: command − newest sensor frame).
+data age (summary.json realtime.bus.data_age: command − newest sensor frame).
 """
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ from hil.scenario.file import Scenario
 
 #: why the device's frames have no measured response time
 DEVICE_WHY = ("queued inside the device: its queue time is not on the bus (its data age is: "
-              "summary.json realtime.data_age)")
+              "summary.json realtime.bus.data_age)")
 #: why the simulator's other frames (time master, control, pings) have none
 OTHER_WHY = "sent outside the simulator's transmitter: its send time is not recorded"
 

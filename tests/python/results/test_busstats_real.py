@@ -5,6 +5,7 @@ whose response time exceeds its bound fails the run as on the modelled bus."""
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -14,7 +15,10 @@ from hil.bus.candump import LogFrame
 from hil.results.busstats import ABOVE, WITHIN, bus_failure
 from hil.results.busstats_table import format_bus
 from hil.results.busstats_real import DEVICE_WHY, OTHER_WHY, read_sends, real_bus_section, response_times
-from hil.rig.txsched import SEND_LOG_HEADER
+from hil.rig.config import RigConfig
+from hil.rig.errors import RigError
+from hil.rig.txsched import SEND_LOG, SEND_LOG_HEADER
+from hil.runs import evaluate
 from hil.scenario.file import load_default_scenario
 
 SPEC = load()
@@ -71,3 +75,16 @@ def test_above_its_bound_on_a_real_bus_fails_the_run(tmp_path: Path) -> None:
                          250_000)
     assert s["frames"]["MSL_RATE_GYRO"]["verdict"] == ABOVE
     assert bus_failure(s).startswith("MSL_RATE_GYRO's response time above its bound: 9.000 ms > 4.860 ms")
+
+
+@pytest.mark.parametrize("text", [None, "t,id\n1,2\n", SEND_LOG_HEADER + "\n12x,64\n"])
+def test_a_missing_or_malformed_send_log_is_one_rig_error(tmp_path: Path, text: str | None) -> None:
+    """The run's evaluation says the real bus is not judged, in one line (exit 1), no traceback."""
+    (tmp_path / "bus.log").write_text(f"({T0:.6f}) vcan0 040#0000000000000000\n")
+    if text is not None:
+        (tmp_path / SEND_LOG).write_text(text)
+    cfg = RigConfig(out_dir=tmp_path, mode="realtime", target="external", bus="wire")
+    flown = SimpleNamespace(bus={}, transmitter={})
+    with pytest.raises(RigError, match=r"^sim_sends.csv: the simulator's send times are not readable \(.+\); "
+                                       r"the real bus is not judged$"):
+        evaluate._bus(tmp_path, cfg, flown, [load_default_scenario("missile")])  # type: ignore[arg-type]

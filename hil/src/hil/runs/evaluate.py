@@ -147,8 +147,13 @@ def _bus(out: Path, cfg: RigConfig, flown: Flown, scenarios: Sequence[Scenario])
     if cfg.bus != "wire":
         return None
     spec = load()
-    return real_bus_section(read_frames(out / "bus.log"), read_sends(out / SEND_LOG), spec, scenarios,
-                            cfg.bitrate or spec.baudrate, late_s)
+    try:
+        sends = read_sends(out / SEND_LOG)
+    except (OSError, ValueError, KeyError) as e:
+        raise RigError(f"{SEND_LOG}: the simulator's send times are not readable ({e}); the real bus "
+                       "is not judged") from None
+    return real_bus_section(read_frames(out / "bus.log"), sends, spec, scenarios, cfg.bitrate or spec.baudrate,
+                            late_s)
 
 
 def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any]:

@@ -133,7 +133,7 @@ def test_bus_section_judges_priority_queued_frames_only():
 @pytest.mark.parametrize("argv, said", [
     (("--bus", "copper"), "invalid choice"),
     (("--bus", "wire"), "realtime runs only"),
-    (("--bus", "wire", "--mode", "realtime", "--target", "external"), "fcc on the host"),
+    (("--bus", "wire", "--mode", "realtime", "--interface", "virtual"), "SocketCAN only"),
 ])
 def test_bad_bus_is_a_usage_error(argv, said, tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "missile", *argv, "--out", str(tmp_path / "run"))

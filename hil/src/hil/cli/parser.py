@@ -221,7 +221,8 @@ def build() -> argparse.ArgumentParser:
     r.add_argument("--bus", choices=("ideal", "wire"), default="ideal",
                    help="ideal (the nodes share --iface, frames take no time; default) or wire "
                         "(realtime: each node on its own vxcan end of canbus, arbitration and wire "
-                        "time at --bitrate, default the DBC's Baudrate; docs/bus-timing.md)")
+                        "time at --bitrate, default the DBC's Baudrate; --target external: no model, "
+                        "the real bus's response times measured; docs/bus-timing.md)")
 
     c = sub.add_parser("campaign", help="Table 5: faults at random times; or scenario fields varied (--vary)")
     c.add_argument("aircraft", choices=("cdrw", "missile"))
@@ -269,7 +270,8 @@ def build() -> argparse.ArgumentParser:
     pl.add_argument("dir", type=Path, metavar="RUN_DIR")
     pl.add_argument("--figures", type=lambda t: [x for x in t.split(",") if x], metavar="NAME,...",
                     help="only these (default all): cdrw (Figs. 5-10), campaign, tables (Table 4/5 "
-                    "bars), fig3, missile (time responses), timing (a realtime run's)")
+                    "bars), fig3, missile (time responses), timing (a realtime run's), bus (each "
+                    "identifier's response times against its bound: a --bus wire run)")
     pl.add_argument("--out", type=Path, metavar="DIR", help="into DIR, a new directory (default RUN_DIR)")
     pl.add_argument("--force", action="store_true", help="write into an --out that holds other files (kept)")
 

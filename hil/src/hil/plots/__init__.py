@@ -7,7 +7,8 @@ cdrw.csv (or a campaign's cdrw_run0.csv) → Figs. 5-10 of seed 1; campaign.csv 
 errors against its fault time; summary.json cdrw → Table 4 or 5 as bars (tables);
 summary.json missile.runs → Fig. 3 of seed 2; missile_T*_fine.csv and missile_T*_b*.csv → the
 time responses (Figs. 4-6) at each period, with the gyro reading, fcc's estimate and the fault
-windows; realtime_timing.csv → the histograms of a realtime run's timing.  `only` picks
+windows; realtime_timing.csv → the histograms of a realtime run's timing; summary.json bus (a
+run on the wire-time bus or a real one) → each identifier's response times against its bound.  `only` picks
 families of them (FAMILIES: `hil plot --figures`); comparisons of runs: hil.plots.compare.
 
 The figures are independent: on a machine with several CPUs they are drawn by forked workers
@@ -47,6 +48,7 @@ FAMILIES = {
     "fig3": "paper 2's (LQG) Fig. 3: RMS against the period",
     "missile": "the missile's time responses: measured, true and estimated q, fault windows",
     "timing": "a realtime run's timing histograms",
+    "bus": "each identifier's response times against its worst-case bound (summary.json bus)",
 }
 
 
@@ -97,7 +99,7 @@ def figures(run_dir: Path, out: Path | None = None, only: Iterable[str] | None =
 
 
 def _families(run_dir: Path, out: Path) -> Iterator[tuple[str, Figure]]:
-    from hil.plots import cdrw, missile, realtime, tables  # they import matplotlib: only when drawing
+    from hil.plots import busresponse, cdrw, missile, realtime, tables  # matplotlib: only when drawing
 
     summary_path = run_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
@@ -145,6 +147,8 @@ def _families(run_dir: Path, out: Path) -> Iterator[tuple[str, Figure]]:
                                  bool(responses.get("deterministic")), windows)
     if (run_dir / timing.CSV_NAME).is_file():
         yield "timing", partial(realtime.fig_realtime_timing, timing.read_csv(run_dir / timing.CSV_NAME), out)
+    if isinstance(summary.get("bus"), dict) and summary["bus"].get("frames"):
+        yield "bus", partial(busresponse.fig_bus_response, summary["bus"], out)
 
 
 __all__ = ["FAMILIES", "draw", "figures", "plot_run_dir"]

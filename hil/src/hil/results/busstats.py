@@ -87,9 +87,25 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
     sender's queue and verdict."""
     bitrate = int(stats["bitrate"])
     frames = flight_frames(spec, scenarios)
+    d = stats["delivery_error"]
+    return {"bitrate": bitrate, "model": "wire",
+            "utilisation": round(float(utilisation(frames, bitrate)), 5), "jitter_s": jitter_s,
+            "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
+            "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
+            "delivery_error": {k: d[k] for k in _PERCENTILES},
+            "frames": judged_frames(stats["ids"], spec, frames, bitrate, jitter_s, fifo_senders,
+                                    stats["late_queued"])}
+
+
+def judged_frames(ids: Mapping[str, Mapping[str, Any]], spec: BusSpec, frames: Sequence[Frame],
+                  bitrate: int, jitter_s: float, fifo_senders: Sequence[str],
+                  late_queued: int = 0) -> dict[str, Any]:
+    """Per frame name (canbus's key "0x040" where the DBC has none): its measured response
+    times (`ids`, canbus's shape: n, p50_s, p99_s, max_s), its bound at the bit rate, its
+    sender's queue and its verdict."""
     bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
     out: dict[str, Any] = {}
-    for key, got in stats["ids"].items():
+    for key, got in ids.items():
         fid = int(key, 16)
         m = spec.by_id(fid)
         queue = _queue(spec, fid, fifo_senders)
@@ -97,7 +113,7 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         loose = None
         if bound is not None and queue == "prio" and Fraction(got["max_s"]) > bound and jitter_s > 0:
             loose = jitter_bound(frames, fid, bitrate, jitter_s)
-        entry = {"n": got["n"], **{k: got[k] for k in _PERCENTILES},
+        entry = {"id": fid, "n": got["n"], **{k: got[k] for k in _PERCENTILES},
                  "wcrt_s": None if bound is None else float(bound),
                  "wcrt_jitter_s": None if loose is None else float(loose), "queue": queue}
         if fid not in bounds:
@@ -107,15 +123,9 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
         elif bound is None:
             entry["verdict"] = UNBOUNDED
         else:
-            entry["verdict"] = _judge(Fraction(got["max_s"]), bound, loose, stats["late_queued"])
+            entry["verdict"] = _judge(Fraction(got["max_s"]), bound, loose, late_queued)
         out[m.name if m is not None else key] = entry
-    d = stats["delivery_error"]
-    return {"bitrate": bitrate, "model": "wire",
-            "utilisation": round(float(utilisation(frames, bitrate)), 5), "jitter_s": jitter_s,
-            "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
-            "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
-            "delivery_error": {k: d[k] for k in _PERCENTILES},
-            "frames": out}
+    return out
 
 
 def _judge(measured: Fraction, bound: Fraction, loose: Fraction | None, late_queued: int) -> str:
@@ -140,6 +150,6 @@ def bus_failure(section: Mapping[str, Any]) -> str:
         return (f"{late[0]}'s response time above its bound while canbus fell behind the bus "
                 f"({section['late_queued']} frames read after an arbitration they should have "
                 f"joined: the response times count its lateness, not the model's)")
-    if section["lost"]:
+    if section.get("lost"):
         return f"the wire-time bus (canbus) lost {section['lost']} frame(s)"
     return ""

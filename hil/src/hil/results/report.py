@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from hil.results import metrics
+from hil.results.busstats_table import format_bus
 from hil.results.figures import format_dead_zone, format_fig3
 from hil.rig.status import StatusCounters
 
@@ -107,6 +108,8 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
     if ms and ms.get("runs"):
         tables.append("Missile, paper 2 (LQG) Fig. 3: RMS over the run\n"
                       + metrics.format_missile_table(ms["runs"]))
+    if isinstance(summary.get("bus"), dict) and summary["bus"].get("frames") is not None:
+        tables.append(format_bus(summary["bus"]))
     if "firmware" in summary:
         tables.append(format_firmware(summary["firmware"]))
     sync = summary.get("sync")

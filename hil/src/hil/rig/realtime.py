@@ -259,7 +259,8 @@ class RealtimeRunner:
                                          echo_iface=rig.bus_echo_iface)
             rig.time_master.start()
             t = time.monotonic()
-            rig.transmitter = TimedSender(rig.iface, rt_priority=TX_RT_PRIORITY)
+            rig.transmitter = TimedSender(rig.iface, rt_priority=TX_RT_PRIORITY,
+                                          send_log=None if rig.send_log is None else str(rig.send_log))
             end = t + SYNC_WAIT_S
             status = rig.spec.by_name("FCC_SYNC_STATUS")
             state = self.sync_state()

@@ -42,9 +42,10 @@ from hil.rig.inject import InjectChannel
 from hil.rig.link import CanLink, LinkError, LinkRecorder, pack_frame
 from hil.rig.status import STATUS_FRAMES, StatusCounters
 from hil.rig.recorder import RECORDERS, BusRecorder
+from hil.rig.txsched import SEND_LOG
 from hil.rig.wirebus import WireBus
 from hil.targets.device import Device, DeviceStart
-from hil.targets.registry import device_class
+from hil.targets.registry import device_class, target as target_of
 from hil.util.processes import run_as_batch
 
 if TYPE_CHECKING:  # realtime's (hil.rig.realtime makes them): not imported for lockstep
@@ -160,6 +161,9 @@ class RigSession:
         self.bus_echo_iface: str | None = None
         #: --bus wire: canbus's statistics when it stopped, or why it failed
         self.bus_stats: dict = {}
+        #: --bus wire on a real bus (an external device): where the simulator's transmitter
+        #: writes each frame's send time (hil.rig.txsched; hil.results.busstats_real)
+        self.send_log: Path | None = None
         self.bus_error = ""
 
     def _bus_key(self, key_file: Path | None) -> tuple[Endpoint, Path]:
@@ -185,8 +189,10 @@ class RigSession:
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
-            if self.config.bus == "wire":
+            if self.config.bus == "wire" and target_of(self.target).wire == "model":
                 self._start_wire()
+            elif self.config.bus == "wire":   # a real bus: the simulator's send times recorded
+                self.send_log = self.run_dir / SEND_LOG
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None
             self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,

@@ -18,10 +18,13 @@ CAN frame (the CAN raw socket sets no transmit time there).
 
 Protocol on the pipe: records of RECORD (instant in ns of CLOCK_MONOTONIC, struct
 can_frame); at end of input the transmitter sends what is left at its times and prints one
-JSON line of statistics.
+JSON line of statistics.  With --send-log it also writes, at the end, when each frame was
+handed to the socket (CLOCK_REALTIME ns, the clock of the recorder's SO_TIMESTAMP, and the
+identifier; SEND_LOG_HEADER): on a real bus the frame's queue time at this node, from which
+hil.results.busstats_real measures its response time.
 
-    python -m hil.rig.txsched IFACE [--rt-priority N]   (started by TimedSender; imports no more
-                                                 than it needs: it starts within the flight)
+    python -m hil.rig.txsched IFACE [--rt-priority N] [--send-log PATH]   (started by TimedSender;
+                                 imports no more than it needs: it starts within the flight)
 """
 from __future__ import annotations
 
@@ -47,6 +50,9 @@ RECORD = struct.Struct("=q16s")
 GAP_S = 20e-6
 #: a frame sent this much after its instant counts as late in the transmitter's statistics
 LATE_S = 0.0005
+#: the send log in a run directory, its first line; then one line a frame sent, in order
+SEND_LOG = "sim_sends.csv"
+SEND_LOG_HEADER = "t_realtime_ns,can_id"
 
 
 class TxError(HilError, RuntimeError):
@@ -61,10 +67,13 @@ def _pct(values: Sequence[float], p: float) -> float | None:
 class TimedSender:
     """The simulator's side: starts the transmitter, hands frames over to it."""
 
-    def __init__(self, iface: str, rt_priority: int = 0, ready_timeout: float = 30.0) -> None:
+    def __init__(self, iface: str, rt_priority: int = 0, ready_timeout: float = 30.0,
+                 send_log: str | None = None) -> None:
         args = [sys.executable, "-m", "hil.rig.txsched", iface]
         if rt_priority:
             args += ["--rt-priority", str(rt_priority)]
+        if send_log is not None:
+            args += ["--send-log", send_log]
         self.proc = spawn(args, stdin=subprocess.PIPE, stdout=subprocess.PIPE)
         assert self.proc.stdin is not None and self.proc.stdout is not None
         self._fd = self.proc.stdin.fileno()
@@ -102,8 +111,9 @@ class TimedSender:
         return self.stats
 
 
-def serve(fd: int, sock: socket.socket) -> dict[str, object]:
-    """Send every record read from fd at its instant; statistics at end of input."""
+def serve(fd: int, sock: socket.socket, sends: list[tuple[int, int]] | None = None) -> dict[str, object]:
+    """Send every record read from fd at its instant; statistics at end of input; each frame's
+    (CLOCK_REALTIME ns as it is handed to the socket, identifier) appended to `sends`."""
     heap: list[tuple[int, int, bytes]] = []
     buf, seq, eof = b"", 0, False
     late_ms: list[float] = []
@@ -122,16 +132,20 @@ def serve(fd: int, sock: socket.socket) -> dict[str, object]:
             buf = buf[n:]
         while heap and heap[0][0] <= time.monotonic_ns():
             ns, _, frame = heapq.heappop(heap)
+            queued = time.time_ns()
             try:
                 sock.send(frame)
             except OSError:
                 time.sleep(0.0005)   # a full queue: once more, then it is lost (counted)
+                queued = time.time_ns()
                 try:
                     sock.send(frame)
                 except OSError:
                     late_ms.append(float("inf"))
                     continue
             late_ms.append((time.monotonic_ns() - ns) * 1e-6)
+            if sends is not None:
+                sends.append((queued, CAN_FRAME.unpack_from(frame)[0]))
     lost = sum(1 for v in late_ms if v == float("inf"))
     sent = [v for v in late_ms if v != float("inf")]
     return {"frames": len(sent), "lost": lost, "late": sum(1 for v in sent if v > LATE_S * 1e3),
@@ -143,6 +157,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("iface")
     ap.add_argument("--rt-priority", type=int, default=0)
+    ap.add_argument("--send-log", help="write each frame's send time (CLOCK_REALTIME ns) and identifier here")
     a = ap.parse_args(argv)
     try:
         sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
@@ -159,8 +174,12 @@ def main(argv: list[str] | None = None) -> int:
         except OSError:
             pass   # without the privilege: normal priority (reported)
     print("ready", flush=True)
-    stats = serve(sys.stdin.fileno(), sock)
+    sends: list[tuple[int, int]] | None = [] if a.send_log else None
+    stats = serve(sys.stdin.fileno(), sock, sends)
     stats["sched_fifo"] = rt
+    if a.send_log and sends is not None:
+        with open(a.send_log, "w", encoding="ascii") as f:
+            f.write(SEND_LOG_HEADER + "\n" + "".join(f"{t},{i}\n" for t, i in sends))
     print(json.dumps(stats), flush=True)
     return 0
 

@@ -13,10 +13,12 @@ import numpy as np
 from hil.apps.registry import application
 from hil.bus import load
 from hil.bus.logcolumns import LogBlock, read_blocks
+from hil.bus.logio import read_frames
 from hil.io.output import write_csv, write_json
 from hil.results import metrics, rowtables, timing
 from hil.results.buslog import split_flights
 from hil.results.busstats import bus_section
+from hil.results.busstats_real import read_sends, real_bus_section
 from hil.results.flight import (
     CdrwResult,
     cdrw_record,
@@ -33,6 +35,7 @@ from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import Flown, fcc_args
 from hil.rig.simtime import finish_bus_log
+from hil.rig.txsched import SEND_LOG
 from hil.runs.outcome import Outcome, report_outcome, step_periods, write_fault_log, write_missile
 from hil.scenario.faults import Flood
 from hil.scenario.file import Scenario, is_paper_scenario
@@ -82,6 +85,7 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     flights = split_flights(log, flown.auth, forgeries)
     if cfg.mode == "realtime":
         count_babbled(log, drivers)
+    bus = _bus(out, cfg, flown, scenarios)   # before the log is finished (it may be converted)
     summary: dict[str, Any] = {"command": command, "mode": cfg.mode,
                                "firmware": firmware_summary(flown.status, flown.security)}
     fault_log = []
@@ -124,15 +128,32 @@ def evaluate_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str,
     summary["bus_trust"] = bus_trust(
         forgeries, flown.status, summary["cdrw"]["replay_check"] if cdrw is not None else None,
         faithful_replay(cfg.mode, cfg.target, int(np.sum(cdrw[0].series["degraded"])) if cdrw else 0))
-    if flown.bus:
-        # the bounds with the simulator's measured release lateness as queuing jitter
-        late_ms = (flown.transmitter.get("send_lateness_ms") or {}).get("max") or 0.0
-        summary["bus"] = bus_section(flown.bus, spec, scenarios, max(0.0, late_ms) * 1e-3)
+    if bus is not None:
+        summary["bus"] = bus
     if cfg.mode == "realtime":   # the timing faults, the platform's or the firmware's
         summary["platform"] = platform_verdict(summary, info, missiles[0].period if missiles else None)
     write_json(out / "summary.json", summary)
     write_json(out / "run_info.json", info)
     return report_outcome(cfg, out, summary)
+
+
+def _bus(out: Path, cfg: RigConfig, flown: Flown, scenarios: Sequence[Scenario]) -> dict[str, Any] | None:
+    """summary.json's bus section of a --bus wire run: canbus's model, or a real bus measured
+    (an external device: hil.results.busstats_real); the bounds with the simulator's measured
+    release lateness as queuing jitter."""
+    late_s = max(0.0, (flown.transmitter.get("send_lateness_ms") or {}).get("max") or 0.0) * 1e-3
+    if flown.bus:
+        return bus_section(flown.bus, load(), scenarios, late_s)
+    if cfg.bus != "wire":
+        return None
+    spec = load()
+    try:
+        sends = read_sends(out / SEND_LOG)
+    except (OSError, ValueError, KeyError) as e:
+        raise RigError(f"{SEND_LOG}: the simulator's send times are not readable ({e}); the real bus "
+                       "is not judged") from None
+    return real_bus_section(read_frames(out / "bus.log"), sends, spec, scenarios, cfg.bitrate or spec.baudrate,
+                            late_s)
 
 
 def _realtime_timing(out: Path, flown: Flown, d: MissileDriver) -> dict[str, Any]:

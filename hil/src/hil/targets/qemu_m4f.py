@@ -7,6 +7,8 @@ its SLCAN serial line attached to the rig's CAN bus.
         |
     cangw slcNNNN -> IFACE (-e)    the kernel CAN gateway (can-gw), both directions;
     cangw IFACE -> slcNNNN         candump on IFACE records the whole bus as with the host fcc
+                                   (--bus wire: IFACE is fcc's vxcan end of canbus, hil.rig.wirebus;
+                                   the image is a FIFO node there, its line the FIFO)
 
 The image has no command line: the run's fcc options go into its boot configuration record
 (bootcfg.bin, loaded at 0x000FFF00 by QEMU's generic loader).  Lockstep runs with

@@ -53,6 +53,11 @@ class Target:
     parallel: bool
     #: a warm rig (`hil rig up --target`) can keep it up
     warm_rig: bool
+    #: what `--bus wire` means for it: "model" -- the rig puts canbus between the nodes' own
+    #: vxcan ends (hil.rig.wirebus; the M4F image's slcan line is routed to its end); "real" --
+    #: the bus it is on is a wire already (an external board on can0): no model, the rig
+    #: records and judges the response times it can measure (hil.results.realbus)
+    wire: str
 
     def needs_program(self, fcc: object, source_tree: object) -> bool:
         """Whether its program must be found on this machine (with --fcc `fcc`, in the clone
@@ -66,13 +71,13 @@ class Target:
 TARGETS: dict[str, Target] = {t.name: t for t in (
     Target("host", "hil.targets.host", "HostFcc", lockstep_timeout_s=2.0, runs_rig_firmware=True,
            program="fcc", builds_program=False, batch_frames=True, socketcan_only=False, host_scheduler=True,
-           replay_exact=True, parallel=True, warm_rig=True),
+           replay_exact=True, parallel=True, warm_rig=True, wire="model"),
     Target("qemu-m4f", "hil.targets.qemu_m4f", "QemuM4f", lockstep_timeout_s=30.0,
            runs_rig_firmware=True, program=paths.M4F_IMAGE, builds_program=True, batch_frames=True, socketcan_only=True,
-           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=True),
+           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=True, wire="model"),
     Target("external", "hil.targets.external", "ExternalDevice", lockstep_timeout_s=2.0,
            runs_rig_firmware=False, program=None, builds_program=False, batch_frames=False, socketcan_only=False,
-           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=False),
+           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=False, wire="real"),
 )}
 
 

@@ -56,6 +56,7 @@ static void emit(canbus_core_t *c, uint64_t t, uint32_t node, canbus_event_kind_
     e->rec = n->rec;
     e->bit = bit;
     e->id = id;
+    e->frame_bits = kind == CANBUS_EV_TX_ERROR || kind == CANBUS_EV_RX_ERROR ? c->cur.bits : 0u;
 }
 
 bool canbus_core_event(canbus_core_t *c, canbus_event_t *out)

@@ -64,6 +64,7 @@ typedef struct {
     uint32_t tec, rec;       /* after the event */
     uint32_t bit;            /* errors: the bit position in the frame */
     uint32_t id;             /* errors: the frame's identifier */
+    uint32_t frame_bits;     /* errors: its length (canbus_frame_bits: CRC delimiter at - 13) */
 } canbus_event_t;
 
 /* A frame in a node's queue. */

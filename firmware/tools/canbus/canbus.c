@@ -30,7 +30,8 @@
  * controller driver would (SocketCAN error frames, CAN_ERR_*: the node sees
  * them on a raw socket with CAN_RAW_ERR_FILTER).  A babbling node is a node
  * of the core with no endpoint.  The faults' times count from the first frame
- * canbus carries.
+ * canbus carries, or with --epoch signal from SIGUSR2 (a rig sends it at the
+ * flight's start).
  *
  * Measured (canbus_stats.h): each frame's response time per identifier, and
  * how long after the model's end of frame its last write returned (the
@@ -101,11 +102,14 @@ typedef struct {
 static bus_t g_bus;
 static volatile sig_atomic_t g_stop = 0;
 static volatile sig_atomic_t g_report = 0;
+static volatile sig_atomic_t g_epoch = 0;
 
 static void on_signal(int sig)
 {
     if (sig == SIGUSR1) {
         g_report = 1;
+    } else if (sig == SIGUSR2) {
+        g_epoch = 1;
     } else {
         g_stop = 1;
     }
@@ -279,7 +283,7 @@ static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct ca
             note_drops(b, i, drops);
         }
     }
-    if (!b->armed) {
+    if (!b->armed && !b->o->faults.epoch_signal) {
         arm_faults(b, t);
     }
     canbus_frame_t f;
@@ -481,8 +485,9 @@ static void wait_for_frames(bus_t *b)
     (void)sigaddset(&block, SIGINT);
     (void)sigaddset(&block, SIGTERM);
     (void)sigaddset(&block, SIGUSR1);
+    (void)sigaddset(&block, SIGUSR2);
     (void)sigprocmask(SIG_BLOCK, &block, &old);
-    if (!g_stop && !g_report) {
+    if (!g_stop && !g_report && !g_epoch) {
         (void)ppoll(b->pfd, b->endpoints, NULL, &old);
     }
     (void)sigprocmask(SIG_SETMASK, &old, NULL);
@@ -539,6 +544,12 @@ static int run(bus_t *b)
         const uint64_t now = mono_now();
         if (now - b->offset_at >= OFFSET_EVERY_NS) {
             take_offset(b, now);
+        }
+        if (g_epoch) {
+            g_epoch = 0;
+            if (!b->armed && b->o->faults.epoch_signal) {
+                arm_faults(b, now);
+            }
         }
         int rc = read_all(b);
         if (rc == 0) {
@@ -631,6 +642,7 @@ int main(int argc, char **argv)
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
     (void)sigaction(SIGUSR1, &sa, NULL);
+    (void)sigaction(SIGUSR2, &sa, NULL);
     bus_t *b = &g_bus;
     int rc = start(b, &o);
     const bool started = rc == 0;

@@ -230,6 +230,18 @@ static fcc_opt_result_t bus_off_opt(canbus_error_opt_t *e, const char *name, con
 fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, const char *val,
                                   char *err, size_t len)
 {
+    if (strcmp(name, "--epoch") == 0) {
+        static const char *const epochs[] = {"first-frame", "signal"};
+        int which = 0;
+        if (val == NULL) {
+            return FCC_OPT_NEED_VALUE;
+        }
+        if (fcc_opt_choice(name, val, epochs, 2, &which, err, len) != FCC_OPT_DONE) {
+            return FCC_OPT_ERROR;
+        }
+        o->epoch_signal = which == 1;
+        return FCC_OPT_DONE;
+    }
     const bool error = strcmp(name, "--error") == 0;
     const bool bus_off = strcmp(name, "--bus-off") == 0;
     if (!error && !bus_off && strcmp(name, "--babble") != 0) {

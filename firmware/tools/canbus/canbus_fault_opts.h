@@ -7,13 +7,17 @@
  *   --bus-off IFACE[@S]
  *   --babble id=ID[,dlc=N][,period=S][,from=S][,to=S]
  *
- * Times S are seconds after the first frame canbus carries (the flight's
- * start: a rig's first frame), so that a scenario's times mean the same in a
- * run whatever the setup took before it.
+ *   --epoch first-frame|signal
+ *
+ * Times S are seconds after the epoch: the first frame canbus carries (the
+ * default), or SIGUSR2 (`--epoch signal`: a rig sends it at its flight's
+ * start, so that a scenario's times mean the same whatever the setup took
+ * and whatever the nodes sent before).  Faults wait for the epoch.
  */
 #ifndef CANBUS_FAULT_OPTS_H
 #define CANBUS_FAULT_OPTS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -33,9 +37,10 @@ typedef struct {
     canbus_babble_t babble[CANBUS_BABBLE_MAX]; /* times from the first frame; node: its index
                                                   among the babblers */
     uint32_t babbles;
+    bool epoch_signal;                         /* --epoch signal */
 } canbus_fault_opts_t;
 
-/* --error / --bus-off / --babble VAL into o: FCC_OPT_NOT_MINE for another option. */
+/* --error / --bus-off / --babble / --epoch VAL into o: FCC_OPT_NOT_MINE for another option. */
 fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, const char *val,
                                   char *err, size_t len);
 

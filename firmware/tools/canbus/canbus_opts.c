@@ -17,6 +17,7 @@ void canbus_opts_usage(FILE *out)
     fprintf(out,
             "usage: canbus [--bitrate BPS] --node IFACE[:prio|:fifo] --node IFACE[:...] ...\n"
             "              [--error FIELDS] [--bus-off IFACE[@S]] [--babble FIELDS]\n"
+            "              [--epoch first-frame|signal]\n"
             "A classic CAN bus with wire time between SocketCAN endpoints, one a node: each\n"
             "IFACE is canbus's end of a node's pair (vxcan: the node uses the peer).  A frame a\n"
             "node sends waits in its controller's queue, wins arbitration when the bus is idle\n"
@@ -37,7 +38,9 @@ void canbus_opts_usage(FILE *out)
             "                         recessive bits, its queue dropped as SocketCAN does\n"
             "  --babble FIELDS        a babbling node of its own: id=ID, dlc=N (8), period=S\n"
             "                         (0, the default: back to back), from=S, to=S\n"
-            "                         (S: seconds after the first frame canbus carries)\n"
+            "  --epoch WHEN           the faults' times S count from the first frame canbus\n"
+            "                         carries (first-frame, the default) or from SIGUSR2\n"
+            "                         (signal: a rig sends it at its flight's start)\n"
             "  -h, --help             this text\n"
             "Each node receives its controller's error frames as a SocketCAN driver presents\n"
             "them (CAN_ERR_*: bus errors, warning, passive, bus-off, restarted).\n"

@@ -30,8 +30,8 @@
  * controller driver would (SocketCAN error frames, CAN_ERR_*: the node sees
  * them on a raw socket with CAN_RAW_ERR_FILTER).  A babbling node is a node
  * of the core with no endpoint.  The faults' times count from the first frame
- * canbus carries, or with --epoch signal from SIGUSR2 (a rig sends it at the
- * flight's start).
+ * canbus carries, or from the instant in --epoch FILE, read on SIGUSR2 (a rig
+ * writes its flight's start there).
  *
  * Measured (canbus_stats.h): each frame's response time per identifier, and
  * how long after the model's end of frame its last write returned (the
@@ -267,6 +267,29 @@ static void arm_faults(bus_t *b, uint64_t t0)
     b->armed = true;
 }
 
+/* SIGUSR2 with --epoch FILE: the faults from the instant FILE holds (read once). */
+static int arm_at_epoch(bus_t *b)
+{
+    const char *path = b->o->faults.epoch_file;
+    if (b->armed || path[0] == '\0') {
+        return 0;
+    }
+    unsigned long long t0 = 0u;
+    char extra = '\0';
+    FILE *f = fopen(path, "r");
+    const int got = f != NULL ? fscanf(f, "%llu %c", &t0, &extra) : -1;
+    if (f != NULL) {
+        (void)fclose(f);
+    }
+    if (got != 1) {
+        fprintf(stderr, "canbus: --epoch %s: not one decimal number of CLOCK_MONOTONIC "
+                "nanoseconds\n", path);
+        return EXIT_USAGE;
+    }
+    arm_faults(b, (uint64_t)t0);
+    return 0;
+}
+
 /* One frame read from node i: queued in the core at the time the kernel received it. */
 static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct canfd_frame *cf)
 {
@@ -283,7 +306,7 @@ static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct ca
             note_drops(b, i, drops);
         }
     }
-    if (!b->armed && !b->o->faults.epoch_signal) {
+    if (!b->armed && b->o->faults.epoch_file[0] == '\0') {
         arm_faults(b, t);
     }
     canbus_frame_t f;
@@ -545,13 +568,14 @@ static int run(bus_t *b)
         if (now - b->offset_at >= OFFSET_EVERY_NS) {
             take_offset(b, now);
         }
+        int rc = 0;
         if (g_epoch) {
             g_epoch = 0;
-            if (!b->armed && b->o->faults.epoch_signal) {
-                arm_faults(b, now);
-            }
+            rc = arm_at_epoch(b);
         }
-        int rc = read_all(b);
+        if (rc == 0) {
+            rc = read_all(b);
+        }
         if (rc == 0) {
             rc = deliver_until(b, now);
         }

@@ -231,15 +231,16 @@ fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, cons
                                   char *err, size_t len)
 {
     if (strcmp(name, "--epoch") == 0) {
-        static const char *const epochs[] = {"first-frame", "signal"};
-        int which = 0;
         if (val == NULL) {
             return FCC_OPT_NEED_VALUE;
         }
-        if (fcc_opt_choice(name, val, epochs, 2, &which, err, len) != FCC_OPT_DONE) {
-            return FCC_OPT_ERROR;
+        const size_t n = strcmp(val, "first-frame") == 0 ? 0u : strlen(val);
+        if (n >= sizeof o->epoch_file || (n == 0u && val[0] == '\0')) {
+            return fcc_opt_fail(err, len, "%s: first-frame or a file name (shorter than %u)",
+                                name, (unsigned)sizeof o->epoch_file);
         }
-        o->epoch_signal = which == 1;
+        memcpy(o->epoch_file, val, n);
+        o->epoch_file[n] = '\0';
         return FCC_OPT_DONE;
     }
     const bool error = strcmp(name, "--error") == 0;

@@ -7,12 +7,13 @@
  *   --bus-off IFACE[@S]
  *   --babble id=ID[,dlc=N][,period=S][,from=S][,to=S]
  *
- *   --epoch first-frame|signal
+ *   --epoch first-frame|FILE
  *
  * Times S are seconds after the epoch: the first frame canbus carries (the
- * default), or SIGUSR2 (`--epoch signal`: a rig sends it at its flight's
- * start, so that a scenario's times mean the same whatever the setup took
- * and whatever the nodes sent before).  Faults wait for the epoch.
+ * default), or the instant a rig writes to FILE and signals with SIGUSR2
+ * (CLOCK_MONOTONIC nanoseconds, one decimal number: its flight's start, so
+ * that a scenario's times mean the same whatever the setup took and whatever
+ * the nodes sent before).  Faults wait for the epoch.
  */
 #ifndef CANBUS_FAULT_OPTS_H
 #define CANBUS_FAULT_OPTS_H
@@ -37,7 +38,7 @@ typedef struct {
     canbus_babble_t babble[CANBUS_BABBLE_MAX]; /* times from the first frame; node: its index
                                                   among the babblers */
     uint32_t babbles;
-    bool epoch_signal;                         /* --epoch signal */
+    char epoch_file[256];                      /* --epoch FILE ("": the first frame) */
 } canbus_fault_opts_t;
 
 /* --error / --bus-off / --babble / --epoch VAL into o: FCC_OPT_NOT_MINE for another option. */

@@ -138,6 +138,29 @@ static void test_error_frame_lets_a_higher_frame_win_the_retry(void **state)
     assert_int_equal(second.t_sof, first.t_eof + 3u * BIT_NS);
 }
 
+static void test_every_nth_counts_frames_not_retransmissions(void **state)
+{
+    (void)state;
+    canbus_core_t c;
+    init_bus(&c, 2u);
+    canbus_fault_t fault = fault_on(0x100u, CANBUS_ANY_NODE, 0u);
+    fault.every = 2u;
+    assert_int_equal(canbus_core_add_fault(&c, &fault), FCC_OK);
+    for (uint32_t k = 0u; k < 6u; ++k) {
+        queue(&c, 0u, 0x100u, (uint64_t)k * MS);
+    }
+    canbus_done_t d;
+    uint32_t done = 0u;
+    while (canbus_core_advance(&c, 10u * MS, &d)) {
+        /* the 2nd, 4th, 6th frames: one error each, then sent again at the formula's time */
+        const uint64_t extra = (done % 2u == 1u) ? error_bits(d.bits - 13u, 0u) * BIT_NS : 0u;
+        assert_int_equal(d.t_sof, (uint64_t)done * MS + extra);
+        ++done;
+    }
+    assert_int_equal(done, 6u);
+    assert_int_equal(c.error_frames, 3u);
+}
+
 /* Attempt k (1-based) of a frame every attempt of which is corrupted at bit p: attempts are
  * error_bits(p, 0) apart, and from the 16th error on (TEC >= 128, error-passive) the
  * transmitter suspends 8 bits before the next. */
@@ -395,6 +418,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_retransmission_ends_at_the_formula),
         cmocka_unit_test(test_error_frame_lets_a_higher_frame_win_the_retry),
+        cmocka_unit_test(test_every_nth_counts_frames_not_retransmissions),
         cmocka_unit_test(test_error_passive_at_the_16th_transmit_error),
         cmocka_unit_test(test_bus_off_at_the_32nd_and_recovery_after_128_x_11_bits),
         cmocka_unit_test(test_bus_off_node_refuses_frames_and_counts_runs_on_a_busy_bus),

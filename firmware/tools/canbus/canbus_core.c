@@ -85,6 +85,7 @@ static void push(canbus_core_t *c, uint32_t node, const canbus_frame_t *f, uint6
     e->arbitration = canbus_frame_arbitration(f);
     e->bits = canbus_frame_bits(f);
     e->babble = babble;
+    e->errors = 0u;
 }
 
 fcc_status_t canbus_core_queue(canbus_core_t *c, uint32_t node, const canbus_frame_t *f,
@@ -200,14 +201,16 @@ static bool next_arbitration(const canbus_core_t *c, uint64_t *s)
 /* ---- faults ------------------------------------------------------------------------------ */
 
 /* The fault that corrupts frame e of node at its start s, or -1 (each fault counts the
- * frames it matches, the first one hitting wins). */
+ * frames it matches, the first one hitting wins).  A retransmission is not a new frame: only
+ * a fault hitting each attempt (every 1) hits it again. */
 static int fault_hit(canbus_core_t *c, uint32_t node, const canbus_entry_t *e, uint64_t s)
 {
     for (uint32_t i = 0u; i < c->faults; ++i) {
         const canbus_fault_t *f = &c->fault[i];
         if (c->fault_spent[i] || (f->node != CANBUS_ANY_NODE && f->node != node) ||
             e->frame.id < f->id_min || e->frame.id > f->id_max || s < f->t_from ||
-            s >= f->t_to || (f->count != 0u && c->fault_hits[i] >= f->count)) {
+            s >= f->t_to || (f->count != 0u && c->fault_hits[i] >= f->count) ||
+            (e->errors > 0u && f->every > 1u)) {
             continue;
         }
         if (++c->fault_seen[i] % f->every == 0u) {
@@ -435,6 +438,7 @@ static void start_frame(canbus_core_t *c, uint64_t s)
     const int f = fault_hit(c, winner, e, s);
     c->cur_error = f >= 0;
     if (c->cur_error) {
+        ++n->entry[slot].errors;
         /* the error's bit, the flags, then the delimiter: the bus's end of this frame */
         c->cur_bit = canbus_fault_bit(&c->fault[f], e->bits);
         c->cur_flag_end = s + (uint64_t)(c->cur_bit + 1u + CANBUS_FLAG_BITS +

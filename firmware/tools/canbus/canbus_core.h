@@ -74,6 +74,7 @@ typedef struct {
     uint32_t arbitration;
     uint32_t bits;
     uint32_t babble;    /* queued by babbler babble - 1; 0: by the node */
+    uint32_t errors;    /* its attempts corrupted so far (then it is retransmitted) */
 } canbus_entry_t;
 
 typedef struct {

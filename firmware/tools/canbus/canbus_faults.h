@@ -83,7 +83,8 @@ typedef struct {
     uint32_t id_min, id_max;  /* identifiers hit, inclusive (11 or 29 bits alike) */
     uint32_t node;            /* only this sender's frames, or CANBUS_ANY_NODE */
     uint64_t t_from, t_to;    /* frames starting in [t_from, t_to) ns */
-    uint32_t every;           /* every n-th frame matching (1: each) */
+    uint32_t every;           /* every n-th frame matching (1: each attempt, retransmissions
+                                 too; n > 1: frames, a retransmission is not hit again) */
     uint32_t count;           /* at most this many errors (0: no limit) */
     uint32_t bit;             /* 0..CANBUS_BIT_MAX or CANBUS_BIT_CRC_DELIM */
     uint32_t superposed;      /* 0..CANBUS_SUPERPOSED_MAX */

@@ -49,7 +49,7 @@ JITTER = "within, with the release jitter"
 #: above the bound on a bus with wire faults (error frames, a babbler: not in the analysis)
 FAULTED = "above, with bus faults"
 #: a node's fault confinement in canbus's statistics, as the section keeps it
-_CONFINEMENT = ("tec_max", "rec_max", "tx_errors", "rx_errors", "error_frames", "error_passive",
+_CONFINEMENT = ("sent", "tec_max", "rec_max", "tx_errors", "rx_errors", "error_frames", "error_passive",
                 "bus_off", "bus_off_dropped", "recovery_s")
 _PERCENTILES = ("p50_s", "p99_s", "max_s")
 
@@ -144,9 +144,11 @@ def format_wire_faults(section: Mapping[str, Any]) -> str:
     """One line a node of what the bus's faults did ('' on a bus without any)."""
     nodes = section.get("nodes") or {}
     hit = {name: n for name, n in nodes.items() if n["tx_errors"] or n["rx_errors"] or n["bus_off"]}
-    if not section.get("error_frames") and not hit:
+    babblers = {name: n for name, n in nodes.items() if name.startswith("babble")}
+    if not section.get("error_frames") and not hit and not babblers:
         return ""
-    lines = [f"wire faults: {section['error_frames']} error frames on the bus"]
+    lines = [f"wire faults: {section['error_frames']} error frames on the bus"
+             + "".join(f"; {name} sent {n['sent']} frames" for name, n in babblers.items())]
     for name, n in hit.items():
         rec = ", ".join(f"{r * 1e3:.3f}" for r in n["recovery_s"])
         lines.append(f"  {name}: TEC max {n['tec_max']} REC max {n['rec_max']}, errors tx "

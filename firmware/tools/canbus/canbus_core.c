@@ -432,11 +432,11 @@ static void start_frame(canbus_core_t *c, uint64_t s)
     c->busy = true;
     c->started = true;
     c->last_sof = s;
-    if (e->babble != 0u && c->babble[e->babble - 1u].period_ns == 0u) {
-        c->babble_next[e->babble - 1u] = s;
-    }
     const int f = fault_hit(c, winner, e, s);
     c->cur_error = f >= 0;
+    if (!c->cur_error && e->babble != 0u && c->babble[e->babble - 1u].period_ns == 0u) {
+        c->babble_next[e->babble - 1u] = s; /* its one mailbox is free for the next one */
+    }
     if (c->cur_error) {
         ++n->entry[slot].errors;
         /* the error's bit, the flags, then the delimiter: the bus's end of this frame */

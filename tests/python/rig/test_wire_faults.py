@@ -16,6 +16,7 @@ from typing import Any
 
 import pytest
 
+from hil.bus.busload import frame_bits
 from hil.cli.usage import EXIT_FAILED, EXIT_SYNC
 from hil.results.busstats import FAULTED, WITHIN, JITTER
 from rig_helpers import cli
@@ -86,3 +87,20 @@ def test_fcc_forced_bus_off_reports_it_and_its_restart(tmp_path, capsys):
     run = s["missile"]["runs"][0]
     assert run["commands_missing"] < run["steps"] // 2
     assert rc in (0, EXIT_SYNC, EXIT_FAILED), err
+
+
+def test_a_babbling_node_starves_the_frames_above_it_and_fails_no_bound(tmp_path, capsys):
+    """Back to back at 0x005 for 0.5 s: it holds the bus but for the two time-sync frames
+    (0x001, 0x002) of higher priority; the frames it delayed are said to be above their bound
+    with bus faults, which does not fail the run."""
+    rc, err, s, ctrl = faulty_run(tmp_path, capsys, "babbling_node:can_id=0x005,start=1,duration=0.5")
+    bus = s["bus"]
+    babbler = bus["nodes"]["babble0"]
+    frame_s = frame_bits(0x005, b"\xff" * 8) / 500_000
+    # at most what 0.5 s of wire holds, and most of it (the time-sync frames and the one frame
+    # on the wire at its start are all that interrupt it)
+    assert 0.9 * 0.5 / frame_s <= babbler["sent"] <= 0.5 / frame_s + 1, babbler
+    assert bus["frames"]["MSL_RATE_GYRO"]["verdict"] == FAULTED
+    assert bus["error_frames"] == 0 and ctrl["protocol_errors"] == "0"
+    assert s["firmware"]["rejected"]["unknown_id"] >= babbler["sent"] * 0.9   # fcc saw them all
+    assert rc in (0, EXIT_SYNC), err

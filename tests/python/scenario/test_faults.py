@@ -43,7 +43,7 @@ OTHER_CASES = {
 def test_every_kind_has_a_case():
     assert set(SENSOR_CASES) == set(SENSOR_KINDS)
     assert set(OTHER_CASES) == set(FRAME_KINDS) | set(BUS_KINDS)
-    # the wire kinds' cases: tests/python/scenario/test_wire_faults.py
+    # the wire kinds' cases: tests/python/scenario/test_wire_fault_kinds.py
     assert set(KINDS) == set(SENSOR_KINDS) | set(FRAME_KINDS) | set(BUS_KINDS) | set(WIRE_KINDS)
 
 

@@ -421,11 +421,20 @@ static void test_stats_json_line(void **state)
     canbus_stats_delivery(&s, 5000u, 17000u);
     canbus_stats_delivery(&s, 5000u, 4000u); /* early: counted, as 0 */
     s.node[1].lost = 2u;
+    s.node[1].confine.tec_max = 256u;
+    s.node[1].confine.rec_max = 3u;
+    s.node[1].confine.tx_errors = 32u;
+    s.node[1].confine.passive_episodes = 1u;
+    s.node[1].confine.bus_off_episodes = 1u;
+    s.node[1].confine.dropped = 4u;
+    s.node[1].error_frames = 37u;
+    canbus_stats_recovery(&s, 1u, 1000u, 1000u + 2816000u);
+    s.error_frames = 32u;
     FILE *f = tmpfile();
     assert_non_null(f);
     assert_int_equal(canbus_stats_json(&s, f), FCC_OK);
     rewind(f);
-    char line[1024];
+    char line[2048];
     assert_non_null(fgets(line, sizeof line, f));
     assert_int_equal(fclose(f), 0);
     assert_string_equal(
@@ -435,11 +444,16 @@ static void test_stats_json_line(void **state)
         "\"late_queued\": 0, \"delivery_error\": {\"n\": 2, \"p50_s\": 0.000000000, "
         "\"p99_s\": 0.000012000, \"max_s\": 0.000012000, \"early\": 1}, \"nodes\": "
         "[{\"iface\": \"vxcan0b\", \"policy\": \"prio\", \"sent\": 1, \"received\": 0, "
-        "\"lost\": 0}, {\"iface\": \"vxcan1b\", \"policy\": \"fifo\", \"sent\": 1, "
-        "\"received\": 0, \"lost\": 2}], \"ids\": {\"0x050\": {\"n\": 1, \"p50_s\": "
+        "\"lost\": 0, \"tec_max\": 0, \"rec_max\": 0, \"tx_errors\": 0, \"rx_errors\": 0, "
+        "\"error_frames\": 0, \"error_passive\": 0, \"bus_off\": 0, \"bus_off_dropped\": 0, "
+        "\"recovery_s\": []}, {\"iface\": \"vxcan1b\", \"policy\": \"fifo\", \"sent\": 1, "
+        "\"received\": 0, \"lost\": 2, \"tec_max\": 256, \"rec_max\": 3, \"tx_errors\": 32, "
+        "\"rx_errors\": 0, \"error_frames\": 37, \"error_passive\": 1, \"bus_off\": 1, "
+        "\"bus_off_dropped\": 4, \"recovery_s\": [0.002816000]}], \"ids\": {\"0x050\": {\"n\": 1, \"p50_s\": "
         "0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}, \"0x18FF0001\": "
         "{\"n\": 1, \"p50_s\": 0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}}, "
-        "\"ids_untracked\": 0}\n");
+        "\"ids_untracked\": 0, \"error_frames\": 32, \"babble_dropped\": 0, "
+        "\"events_lost\": 0}\n");
 }
 
 /* ---- command line ------------------------------------------------------------------------- */
@@ -481,6 +495,33 @@ static void test_command_line(void **state)
     assert_int_equal(parse(&o, err, 6, "--bitrate=200000", "--node", "a", "--node", "b"), 0);
     assert_int_equal(o.bitrate, 200000u);
     assert_int_equal(parse(&o, err, 2, "--help"), 1);
+    /* faults: times in ns from the first frame, the sender resolved to its node's index */
+    assert_int_equal(parse(&o, err, 11, "--node", "a", "--error",
+                           "id=0x100-0x1FF,node=b,from=1.5,to=2,every=3,count=4,bit=7,superposed=6",
+                           "--node", "b", "--bus-off", "b@2.25", "--babble",
+                           "id=0x80,dlc=2,period=0.001,to=3"), 0);
+    assert_int_equal(o.faults.errors, 2u);
+    const canbus_fault_t *f = &o.faults.error[0].fault;
+    assert_int_equal(f->id_min, 0x100u);
+    assert_int_equal(f->id_max, 0x1FFu);
+    assert_int_equal(f->node, 1u);
+    assert_int_equal(f->t_from, 1500000000u);
+    assert_int_equal(f->t_to, 2000000000u);
+    assert_int_equal(f->every, 3u);
+    assert_int_equal(f->count, 4u);
+    assert_int_equal(f->bit, 7u);
+    assert_int_equal(f->superposed, 6u);
+    assert_false(f->until_bus_off);
+    f = &o.faults.error[1].fault;
+    assert_true(f->until_bus_off);
+    assert_int_equal(f->node, 1u);
+    assert_int_equal(f->t_from, 2250000000u);
+    assert_int_equal(f->bit, CANBUS_BIT_CRC_DELIM);
+    assert_int_equal(o.faults.babbles, 1u);
+    assert_int_equal(o.faults.babble[0].frame.id, 0x80u);
+    assert_int_equal(o.faults.babble[0].frame.dlc, 2u);
+    assert_int_equal(o.faults.babble[0].period_ns, 1000000u);
+    assert_int_equal(o.faults.babble[0].t_to, 3000000000u);
 }
 
 static void expect_refused(const char *want, int argc, char *a1, char *a2, char *a3, char *a4,
@@ -512,6 +553,18 @@ static void test_command_line_refusals(void **state)
     expect_refused("unexpected argument 'vxcan0'", 2, "vxcan0", NULL, NULL, NULL, NULL);
     expect_refused("unknown option '--speed'", 3, "--speed", "1", NULL, NULL, NULL);
     expect_refused("needs a value", 2, "--node", NULL, NULL, NULL, NULL);
+    expect_refused("--error: 43 is outside 0..42", 6, "--node", "a", "--node", "b",
+                   "--error=bit=43");
+    expect_refused("--error: unknown field 'rate'", 6, "--node", "a", "--node", "b",
+                   "--error=rate=3");
+    expect_refused("not in order", 6, "--node", "a", "--node", "b", "--error=id=0x200-0x100");
+    expect_refused("from is after to", 6, "--node", "a", "--node", "b", "--error=from=2,to=1");
+    expect_refused("--bus-off: c is not a --node", 6, "--node", "a", "--node", "b",
+                   "--bus-off=c@1");
+    expect_refused("--babble: id=ID is needed", 6, "--node", "a", "--node", "b",
+                   "--babble=period=0.1");
+    expect_refused("not a CAN identifier", 6, "--node", "a", "--node", "b",
+                   "--babble=id=0x20000000");
 }
 
 int main(void)

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <linux/can.h>
+#include <linux/can/error.h>
 
 #include "fcc_bus_msgs.h"
 #include "fcc_hostclock.h"
@@ -416,6 +417,55 @@ static void test_command_stamped_at_its_send(void **state)
     fcc_hostport_close(&hp);
 }
 
+/* The error frames a driver (or canbus) gives a node whose frames fail until bus-off: bus
+ * errors with the counters, warning, passive, bus-off, restarted. */
+static void test_controller_state_from_error_frames(void **state)
+{
+    (void)state;
+    fcc_socketcan_ctrl_t c;
+    memset(&c, 0, sizeof c);
+    uint8_t d[8] = {0};
+    const uint32_t prot = CAN_ERR_FLAG | CAN_ERR_PROT | CAN_ERR_BUSERROR | CAN_ERR_CNT;
+    const uint32_t crtl = CAN_ERR_FLAG | CAN_ERR_CRTL | CAN_ERR_CNT;
+    for (uint32_t k = 1u; k <= 31u; ++k) {
+        d[6] = (uint8_t)(8u * k);
+        fcc_socketcan_ctrl_update(&c, prot, d);
+        if (k == 12u) {
+            d[1] = CAN_ERR_CRTL_TX_WARNING;
+            fcc_socketcan_ctrl_update(&c, crtl, d);
+        } else if (k == 16u) {
+            d[1] = CAN_ERR_CRTL_TX_PASSIVE;
+            fcc_socketcan_ctrl_update(&c, crtl, d);
+            assert_int_equal(c.state, FCC_CTRL_PASSIVE);
+        }
+    }
+    d[6] = 255u; /* the 32nd: TEC 256, as much as data[6] holds */
+    fcc_socketcan_ctrl_update(&c, prot, d);
+    fcc_socketcan_ctrl_update(&c, CAN_ERR_FLAG | CAN_ERR_BUSOFF | CAN_ERR_CNT, d);
+    assert_int_equal(c.state, FCC_CTRL_BUS_OFF);
+    assert_string_equal(fcc_socketcan_ctrl_state_name(c.state), "bus-off");
+    memset(d, 0, sizeof d);
+    fcc_socketcan_ctrl_update(&c, CAN_ERR_FLAG | CAN_ERR_RESTARTED | CAN_ERR_CNT, d);
+    assert_int_equal(c.state, FCC_CTRL_ACTIVE);
+    assert_int_equal(c.protocol_errors, 32u);
+    assert_int_equal(c.warnings, 1u);
+    assert_int_equal(c.passive, 1u);
+    assert_int_equal(c.bus_off, 1u);
+    assert_int_equal(c.restarts, 1u);
+    assert_int_equal(c.tec_max, 255u);
+    assert_int_equal(c.rec_max, 0u);
+    /* an overflow report changes no state; back to active by CAN_ERR_CRTL_ACTIVE */
+    d[1] = CAN_ERR_CRTL_RX_OVERFLOW;
+    fcc_socketcan_ctrl_update(&c, crtl, d);
+    assert_int_equal(c.state, FCC_CTRL_ACTIVE);
+    d[1] = CAN_ERR_CRTL_RX_WARNING;
+    fcc_socketcan_ctrl_update(&c, crtl, d);
+    d[1] = CAN_ERR_CRTL_ACTIVE;
+    fcc_socketcan_ctrl_update(&c, crtl, d);
+    assert_int_equal(c.state, FCC_CTRL_ACTIVE);
+    assert_int_equal(c.warnings, 2u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -429,6 +479,7 @@ int main(void)
         cmocka_unit_test(test_drained_queue_not_asked_again_until_readable),
         cmocka_unit_test(test_kernel_stamp_moved_to_the_monotonic_clock),
         cmocka_unit_test(test_command_stamped_at_its_send),
+        cmocka_unit_test(test_controller_state_from_error_frames),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

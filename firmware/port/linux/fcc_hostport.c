@@ -154,6 +154,7 @@ uint64_t fcc_hostport_service(fcc_hostport_t *hp, uint64_t now_us)
         return hp->next_probe_us;
     }
     size_rcvbuf(&fresh);
+    fresh.ctrl = hp->sc.ctrl; /* the controller's story goes on over a reopen */
     hp->sc = fresh;
     hp->up = true;
     ++hp->reopens;

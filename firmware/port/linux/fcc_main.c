@@ -373,6 +373,13 @@ static void print_summary(const host_t *h, uint64_t now_us)
             (unsigned long)pc.rx_overflows, (unsigned long)pc.tx_dropped,
             (unsigned long)pc.tx_retries, (unsigned long)h->hp.downs,
             (unsigned long)h->hp.reopens);
+    const fcc_socketcan_ctrl_t *ctrl = &h->hp.sc.ctrl;
+    fprintf(stderr, "fcc summary: controller state=%s protocol_errors=%lu warnings=%lu "
+            "error_passive=%lu bus_off=%lu restarts=%lu tec_max=%lu rec_max=%lu\n",
+            fcc_socketcan_ctrl_state_name(ctrl->state), (unsigned long)ctrl->protocol_errors,
+            (unsigned long)ctrl->warnings, (unsigned long)ctrl->passive,
+            (unsigned long)ctrl->bus_off, (unsigned long)ctrl->restarts,
+            (unsigned long)ctrl->tec_max, (unsigned long)ctrl->rec_max);
     /* the clock's reads, and how many took a system call (clock_gettime: the counter's
      * anchor too old, or no counter) */
     fprintf(stderr, "fcc summary: clock reads=%llu real=%lu counter=%s\n",

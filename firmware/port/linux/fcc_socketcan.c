@@ -174,6 +174,56 @@ static void read_cmsgs(fcc_socketcan_t *s, struct msghdr *mh, uint64_t *t_us)
     }
 }
 
+/* The state a CAN_ERR_CRTL frame's data[1] says (can_change_state(): the side(s) at it). */
+static fcc_ctrl_state_t crtl_state(uint8_t bits, fcc_ctrl_state_t was)
+{
+    if ((bits & (CAN_ERR_CRTL_TX_PASSIVE | CAN_ERR_CRTL_RX_PASSIVE)) != 0u) {
+        return FCC_CTRL_PASSIVE;
+    }
+    if ((bits & (CAN_ERR_CRTL_TX_WARNING | CAN_ERR_CRTL_RX_WARNING)) != 0u) {
+        return FCC_CTRL_WARNING;
+    }
+    return (bits & CAN_ERR_CRTL_ACTIVE) != 0u ? FCC_CTRL_ACTIVE : was; /* overflows: no change */
+}
+
+void fcc_socketcan_ctrl_update(fcc_socketcan_ctrl_t *c, uint32_t can_id, const uint8_t *data)
+{
+    if (c == NULL || data == NULL) {
+        return;
+    }
+    const fcc_ctrl_state_t was = c->state;
+    fcc_ctrl_state_t now = was;
+    if ((can_id & CAN_ERR_PROT) != 0u) {
+        ++c->protocol_errors;
+    }
+    if ((can_id & CAN_ERR_CRTL) != 0u) {
+        now = crtl_state(data[1], was);
+    }
+    if ((can_id & CAN_ERR_BUSOFF) != 0u) {
+        now = FCC_CTRL_BUS_OFF;
+    }
+    if ((can_id & CAN_ERR_RESTARTED) != 0u) {
+        ++c->restarts;
+        now = FCC_CTRL_ACTIVE;
+    }
+    if ((can_id & CAN_ERR_CNT) != 0u) {
+        c->tec_max = data[6] > c->tec_max ? data[6] : c->tec_max;
+        c->rec_max = data[7] > c->rec_max ? data[7] : c->rec_max;
+    }
+    if (now != was) {
+        c->warnings += now == FCC_CTRL_WARNING ? 1u : 0u;
+        c->passive += now == FCC_CTRL_PASSIVE ? 1u : 0u;
+        c->bus_off += now == FCC_CTRL_BUS_OFF ? 1u : 0u;
+        c->state = now;
+    }
+}
+
+const char *fcc_socketcan_ctrl_state_name(fcc_ctrl_state_t state)
+{
+    static const char *const names[] = {"active", "warning", "passive", "bus-off"};
+    return (unsigned)state < sizeof names / sizeof names[0] ? names[state] : "?";
+}
+
 /* One received message: a frame for the application into the read-ahead
  * buffer, or an error frame / a frame the port cannot represent counted. */
 static void take_message(fcc_socketcan_t *s, const struct can_frame *cf, size_t len,
@@ -183,6 +233,7 @@ static void take_message(fcc_socketcan_t *s, const struct can_frame *cf, size_t 
     read_cmsgs(s, mh, &t_us);
     if ((cf->can_id & CAN_ERR_FLAG) != 0u) {
         ++s->cnt.bus_errors;
+        fcc_socketcan_ctrl_update(&s->ctrl, cf->can_id, cf->data);
         return;
     }
     if (len != sizeof *cf || (cf->can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0u ||

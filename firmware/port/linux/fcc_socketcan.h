@@ -35,11 +35,37 @@
 #define FCC_SOCKETCAN_MAX_BATCH 32u /* frames per sendmmsg (larger batches: several) */
 #define FCC_SOCKETCAN_RX_BATCH 16u  /* frames read ahead per recvmmsg */
 
+/* The controller's fault confinement as its driver reports it to a socket that asked for
+ * error frames (CAN_RAW_ERR_FILTER; linux/can/error.h): what fcc counts of a bus in error. */
+typedef enum {
+    FCC_CTRL_ACTIVE = 0,
+    FCC_CTRL_WARNING = 1,
+    FCC_CTRL_PASSIVE = 2,
+    FCC_CTRL_BUS_OFF = 3
+} fcc_ctrl_state_t;
+
+typedef struct {
+    fcc_ctrl_state_t state;      /* as the latest error frame says */
+    uint32_t protocol_errors;    /* CAN_ERR_PROT: an error frame on the bus */
+    uint32_t warnings;           /* times it entered error-warning (CAN_ERR_CRTL_*_WARNING) */
+    uint32_t passive;            /* times it entered error-passive (CAN_ERR_CRTL_*_PASSIVE) */
+    uint32_t bus_off;            /* CAN_ERR_BUSOFF */
+    uint32_t restarts;           /* CAN_ERR_RESTARTED: back from bus-off */
+    uint32_t tec_max, rec_max;   /* CAN_ERR_CNT: the counters in data[6], data[7] */
+} fcc_socketcan_ctrl_t;
+
+/* One error frame (can_id with CAN_ERR_FLAG, its 8 data bytes) into c. */
+void fcc_socketcan_ctrl_update(fcc_socketcan_ctrl_t *c, uint32_t can_id, const uint8_t *data);
+
+/* "active", "warning", "passive", "bus-off". */
+const char *fcc_socketcan_ctrl_state_name(fcc_ctrl_state_t state);
+
 typedef struct {
     int fd;                       /* -1 when closed */
     uint32_t send_budget_us;      /* bounded retry time of one send */
     uint32_t kernel_drops;        /* last SO_RXQ_OVFL value seen (cumulative in the kernel) */
     fcc_can_port_counters_t cnt;
+    fcc_socketcan_ctrl_t ctrl;    /* from the error frames received */
     /* CLOCK_REALTIME - CLOCK_MONOTONIC (us), to move the kernel's stamps to the port's clock:
      * the tightest of a few bracketed readings, renewed every second (0: not yet) */
     int64_t rt_minus_mono_us;

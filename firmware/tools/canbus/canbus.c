@@ -24,6 +24,15 @@
  * pair drops on the way (its interfaces' drop counters, read with each
  * report) and deliveries that fail are counted: exit 3.
  *
+ * Faults (canbus_faults.h, --error, --bus-off, --babble): the core corrupts
+ * frames, counts each node's TEC and REC, puts a node bus-off and recovers it;
+ * canbus writes each node's part of it to its endpoint as the node's own
+ * controller driver would (SocketCAN error frames, CAN_ERR_*: the node sees
+ * them on a raw socket with CAN_RAW_ERR_FILTER).  A babbling node is a node
+ * of the core with no endpoint.  The faults' times count from the first frame
+ * canbus carries, or from the instant in --epoch FILE, read on SIGUSR2 (a rig
+ * writes its flight's start there).
+ *
  * Measured (canbus_stats.h): each frame's response time per identifier, and
  * how long after the model's end of frame its last write returned (the
  * delivery error).  One JSON line on stdout on SIGUSR1 and at SIGINT/SIGTERM.
@@ -47,6 +56,7 @@
 #include <unistd.h>
 
 #include <linux/can.h>
+#include <linux/can/error.h>
 #include <linux/can/raw.h>
 
 #include "canbus_core.h"
@@ -74,7 +84,9 @@ typedef struct {
     const canbus_opts_t *o;
     canbus_core_t core;
     canbus_stats_t stats;
-    int sock[CANBUS_NODES_MAX];
+    int sock[CANBUS_NODES_MAX];             /* the endpoints' (babbling nodes have none) */
+    uint32_t endpoints;
+    bool armed;                             /* the faults are in the core (first frame) */
     uint32_t drops_seen[CANBUS_NODES_MAX]; /* SO_RXQ_OVFL as last read */
     uint64_t link_drops[CANBUS_NODES_MAX];  /* the pair's drop counters at the start */
     struct pollfd pfd[CANBUS_NODES_MAX];
@@ -90,11 +102,14 @@ typedef struct {
 static bus_t g_bus;
 static volatile sig_atomic_t g_stop = 0;
 static volatile sig_atomic_t g_report = 0;
+static volatile sig_atomic_t g_epoch = 0;
 
 static void on_signal(int sig)
 {
     if (sig == SIGUSR1) {
         g_report = 1;
+    } else if (sig == SIGUSR2) {
+        g_epoch = 1;
     } else {
         g_stop = 1;
     }
@@ -227,6 +242,54 @@ static void note_drops(bus_t *b, uint32_t i, uint32_t now)
     }
 }
 
+static uint64_t after(uint64_t t0, uint64_t dt)
+{
+    return dt > UINT64_MAX - t0 ? UINT64_MAX : t0 + dt;
+}
+
+/* The faults of the command line into the core, their times from t0 (the first frame). */
+static void arm_faults(bus_t *b, uint64_t t0)
+{
+    const canbus_fault_opts_t *o = &b->o->faults;
+    for (uint32_t k = 0u; k < o->errors; ++k) {
+        canbus_fault_t f = o->error[k].fault;
+        f.t_from = after(t0, f.t_from);
+        f.t_to = after(t0, f.t_to);
+        (void)canbus_core_add_fault(&b->core, &f); /* checked by the options: cannot fail */
+    }
+    for (uint32_t k = 0u; k < o->babbles; ++k) {
+        canbus_babble_t bb = o->babble[k];
+        bb.node = b->endpoints + k;
+        bb.t_from = after(t0, bb.t_from);
+        bb.t_to = after(t0, bb.t_to);
+        (void)canbus_core_add_babble(&b->core, &bb);
+    }
+    b->armed = true;
+}
+
+/* SIGUSR2 with --epoch FILE: the faults from the instant FILE holds (read once). */
+static int arm_at_epoch(bus_t *b)
+{
+    const char *path = b->o->faults.epoch_file;
+    if (b->armed || path[0] == '\0') {
+        return 0;
+    }
+    unsigned long long t0 = 0u;
+    char extra = '\0';
+    FILE *f = fopen(path, "r");
+    const int got = f != NULL ? fscanf(f, "%llu %c", &t0, &extra) : -1;
+    if (f != NULL) {
+        (void)fclose(f);
+    }
+    if (got != 1) {
+        fprintf(stderr, "canbus: --epoch %s: not one decimal number of CLOCK_MONOTONIC "
+                "nanoseconds\n", path);
+        return EXIT_USAGE;
+    }
+    arm_faults(b, (uint64_t)t0);
+    return 0;
+}
+
 /* One frame read from node i: queued in the core at the time the kernel received it. */
 static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct canfd_frame *cf)
 {
@@ -243,6 +306,9 @@ static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct ca
             note_drops(b, i, drops);
         }
     }
+    if (!b->armed && b->o->faults.epoch_file[0] == '\0') {
+        arm_faults(b, t);
+    }
     canbus_frame_t f;
     memset(&f, 0, sizeof f);
     f.ext = (cf->can_id & CAN_EFF_FLAG) != 0u;
@@ -250,10 +316,13 @@ static void queue_frame(bus_t *b, uint32_t i, struct mmsghdr *m, const struct ca
     f.id = cf->can_id & (f.ext ? CAN_EFF_MASK : CAN_SFF_MASK);
     f.dlc = cf->len;
     memcpy(f.data, cf->data, sizeof f.data);
-    /* CAN FD and error frames are not a classic controller's: counted as lost */
-    if (m->msg_len != CAN_MTU || (cf->can_id & CAN_ERR_FLAG) != 0u ||
-        canbus_core_queue(&b->core, i, &f, t) != FCC_OK) {
+    /* CAN FD and error frames are not a classic controller's: counted as lost; a bus-off
+     * node's frames are dropped as SocketCAN drops them (counted by the core) */
+    if (m->msg_len != CAN_MTU || (cf->can_id & CAN_ERR_FLAG) != 0u) {
         ++b->stats.node[i].lost;
+    } else {
+        const fcc_status_t rc = canbus_core_queue(&b->core, i, &f, t);
+        b->stats.node[i].lost += rc != FCC_OK && rc != FCC_ERR_IO ? 1u : 0u;
     }
 }
 
@@ -284,10 +353,10 @@ static int read_node(bus_t *b, uint32_t i)
  * microseconds in a User-Mode Linux guest; a read of an empty endpoint as much). */
 static int read_all(bus_t *b)
 {
-    if (poll(b->pfd, b->core.nodes, 0) <= 0) {
+    if (poll(b->pfd, b->endpoints, 0) <= 0) {
         return 0; /* none (or EINTR: the next round looks again) */
     }
-    for (uint32_t i = 0u; i < b->core.nodes; ++i) {
+    for (uint32_t i = 0u; i < b->endpoints; ++i) {
         if ((b->pfd[i].revents & (POLLIN | POLLERR)) == 0) {
             continue;
         }
@@ -308,7 +377,7 @@ static int deliver(bus_t *b, const canbus_done_t *d)
                 (d->frame.rtr ? CAN_RTR_FLAG : 0u);
     cf.can_dlc = d->frame.dlc;
     memcpy(cf.data, d->frame.data, sizeof cf.data);
-    for (uint32_t i = 0u; i < b->core.nodes; ++i) {
+    for (uint32_t i = 0u; i < b->endpoints; ++i) {
         if (i == d->node) {
             continue;
         }
@@ -325,17 +394,102 @@ static int deliver(bus_t *b, const canbus_done_t *d)
     return 0;
 }
 
-/* Every frame that ended by t. */
+/* data[1] of a state change as can_change_state() fills it: the side(s) whose counter is at
+ * the new state (TX, RX or both). */
+static uint8_t crtl_bits(const canbus_event_t *e)
+{
+    const canbus_state_t tx = canbus_confine_state(e->tec, 0u);
+    const canbus_state_t rx = canbus_confine_state(0u, e->rec);
+    if (e->state == CANBUS_ERROR_ACTIVE) {
+        return CAN_ERR_CRTL_ACTIVE;
+    }
+    const bool passive = e->state == CANBUS_ERROR_PASSIVE;
+    uint8_t bits = 0u;
+    if (tx >= rx) {
+        bits |= passive ? CAN_ERR_CRTL_TX_PASSIVE : CAN_ERR_CRTL_TX_WARNING;
+    }
+    if (rx >= tx) {
+        bits |= passive ? CAN_ERR_CRTL_RX_PASSIVE : CAN_ERR_CRTL_RX_WARNING;
+    }
+    return bits;
+}
+
+/* The error frame a SocketCAN driver gives its sockets for event e (linux/can/error.h): a
+ * bus error (CAN_ERR_PROT: the transmitter a bit error, a receiver a form error at the CRC
+ * delimiter or a stuff error elsewhere), a state change (CAN_ERR_CRTL), bus-off, restart;
+ * the counters in data[6] and data[7] (CAN_ERR_CNT). */
+static void error_frame(const canbus_event_t *e, struct can_frame *cf)
+{
+    memset(cf, 0, sizeof *cf);
+    cf->can_id = CAN_ERR_FLAG | CAN_ERR_CNT;
+    cf->can_dlc = CAN_ERR_DLC;
+    cf->data[6] = (uint8_t)(e->tec > 255u ? 255u : e->tec);
+    cf->data[7] = (uint8_t)(e->rec > 255u ? 255u : e->rec);
+    const bool at_delim = e->bit + CANBUS_TAIL_BITS == e->frame_bits;
+    switch (e->kind) {
+    case CANBUS_EV_TX_ERROR:
+    case CANBUS_EV_RX_ERROR:
+        cf->can_id |= CAN_ERR_PROT | CAN_ERR_BUSERROR;
+        cf->data[2] = e->kind == CANBUS_EV_TX_ERROR
+                          ? (uint8_t)(CAN_ERR_PROT_BIT | CAN_ERR_PROT_TX)
+                          : (uint8_t)(at_delim ? CAN_ERR_PROT_FORM : CAN_ERR_PROT_STUFF);
+        cf->data[3] = at_delim ? CAN_ERR_PROT_LOC_CRC_DEL : CAN_ERR_PROT_LOC_UNSPEC;
+        break;
+    case CANBUS_EV_STATE:
+        if (e->state == CANBUS_BUS_OFF) {
+            cf->can_id |= CAN_ERR_BUSOFF;
+        } else {
+            cf->can_id |= CAN_ERR_CRTL;
+            cf->data[1] = crtl_bits(e);
+        }
+        break;
+    case CANBUS_EV_RESTARTED:
+    default:
+        cf->can_id |= CAN_ERR_RESTARTED;
+        break;
+    }
+}
+
+/* The core's fault-confinement events: each to its node's endpoint as an error frame. */
+static int deliver_events(bus_t *b)
+{
+    canbus_event_t e;
+    while (canbus_core_event(&b->core, &e)) {
+        const canbus_confine_t *n = canbus_core_confine(&b->core, e.node);
+        if (e.kind == CANBUS_EV_RESTARTED && n != NULL) {
+            canbus_stats_recovery(&b->stats, e.node, n->bus_off_at, e.t);
+        }
+        if (e.node >= b->endpoints) {
+            continue; /* a babbling node: nobody listens */
+        }
+        struct can_frame cf;
+        error_frame(&e, &cf);
+        if (send(b->sock[e.node], &cf, sizeof cf, MSG_DONTWAIT) == (ssize_t)sizeof cf) {
+            ++b->stats.node[e.node].error_frames;
+        } else if (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS) {
+            ++b->stats.node[e.node].lost;
+        } else {
+            return fail("cannot deliver an error frame to", b->o->node[e.node].iface, errno);
+        }
+    }
+    return 0;
+}
+
+/* Every frame that ended by t, and what fault confinement did meanwhile. */
 static int deliver_until(bus_t *b, uint64_t t)
 {
     canbus_done_t d;
     while (canbus_core_advance(&b->core, t, &d)) {
-        const int rc = deliver(b, &d);
+        const int rc = deliver_events(b);
         if (rc != 0) {
             return rc;
         }
+        const int rc2 = deliver(b, &d);
+        if (rc2 != 0) {
+            return rc2;
+        }
     }
-    return 0;
+    return deliver_events(b);
 }
 
 /* true: t has come; false: a signal came first (EINTR). */
@@ -354,9 +508,10 @@ static void wait_for_frames(bus_t *b)
     (void)sigaddset(&block, SIGINT);
     (void)sigaddset(&block, SIGTERM);
     (void)sigaddset(&block, SIGUSR1);
+    (void)sigaddset(&block, SIGUSR2);
     (void)sigprocmask(SIG_BLOCK, &block, &old);
-    if (!g_stop && !g_report) {
-        (void)ppoll(b->pfd, b->core.nodes, NULL, &old);
+    if (!g_stop && !g_report && !g_epoch) {
+        (void)ppoll(b->pfd, b->endpoints, NULL, &old);
     }
     (void)sigprocmask(SIG_SETMASK, &old, NULL);
 }
@@ -364,7 +519,7 @@ static void wait_for_frames(bus_t *b)
 /* What the pairs dropped since the start (on neither socket's counter): lost, and said. */
 static void count_link_drops(bus_t *b)
 {
-    for (uint32_t i = 0u; i < b->core.nodes; ++i) {
+    for (uint32_t i = 0u; i < b->endpoints; ++i) {
         const uint64_t now = link_drops(b->o->node[i].iface);
         if (now > b->link_drops[i]) {
             b->stats.node[i].lost += now - b->link_drops[i];
@@ -382,7 +537,11 @@ static void fill_stats(bus_t *b)
     s->pending = b->core.busy ? 1u : 0u;
     for (uint32_t i = 0u; i < b->core.nodes; ++i) {
         s->pending += canbus_core_pending(&b->core, i);
+        s->node[i].confine = *canbus_core_confine(&b->core, i);
     }
+    s->error_frames = b->core.error_frames;
+    s->babble_dropped = b->core.babble_dropped;
+    s->events_lost = b->core.events_lost;
     s->late_queued = b->core.late;
     s->wall_s = (double)(mono_now() - b->t_start) * 1e-9;
     struct rusage ru;
@@ -409,7 +568,14 @@ static int run(bus_t *b)
         if (now - b->offset_at >= OFFSET_EVERY_NS) {
             take_offset(b, now);
         }
-        int rc = read_all(b);
+        int rc = 0;
+        if (g_epoch) {
+            g_epoch = 0;
+            rc = arm_at_epoch(b);
+        }
+        if (rc == 0) {
+            rc = read_all(b);
+        }
         if (rc == 0) {
             rc = deliver_until(b, now);
         }
@@ -437,21 +603,28 @@ static int run(bus_t *b)
     return 0;
 }
 
+/* A babbling node's name in the statistics. */
+static const char *const babble_names[CANBUS_BABBLE_MAX] = {"babble0", "babble1", "babble2",
+                                                             "babble3"};
+
 static int start(bus_t *b, const canbus_opts_t *o)
 {
     canbus_policy_t policy[CANBUS_NODES_MAX];
     b->o = o;
+    b->endpoints = o->nodes;
+    const uint32_t nodes = o->nodes + o->faults.babbles;
     canbus_stats_init(&b->stats, o->bitrate);
-    b->stats.nodes = o->nodes;
-    for (uint32_t i = 0u; i < o->nodes; ++i) {
-        policy[i] = o->node[i].policy;
-        b->stats.node[i].iface = o->node[i].iface;
-        b->stats.node[i].policy = o->node[i].policy;
+    b->stats.nodes = nodes;
+    for (uint32_t i = 0u; i < nodes; ++i) {
+        const bool babbler = i >= o->nodes;
+        policy[i] = babbler ? CANBUS_PRIO : o->node[i].policy;
+        b->stats.node[i].iface = babbler ? babble_names[i - o->nodes] : o->node[i].iface;
+        b->stats.node[i].policy = policy[i];
         b->sock[i] = -1;
     }
-    if (canbus_core_init(&b->core, o->bitrate, o->nodes, policy) != FCC_OK) {
+    if (canbus_core_init(&b->core, o->bitrate, nodes, policy) != FCC_OK) {
         fprintf(stderr, "canbus: cannot model a bus at %lu bit/s with %lu nodes\n",
-                (unsigned long)o->bitrate, (unsigned long)o->nodes);
+                (unsigned long)o->bitrate, (unsigned long)nodes);
         return EXIT_USAGE;
     }
     for (unsigned k = 0u; k < READ_BATCH; ++k) {
@@ -493,6 +666,7 @@ int main(int argc, char **argv)
     (void)sigaction(SIGINT, &sa, NULL);
     (void)sigaction(SIGTERM, &sa, NULL);
     (void)sigaction(SIGUSR1, &sa, NULL);
+    (void)sigaction(SIGUSR2, &sa, NULL);
     bus_t *b = &g_bus;
     int rc = start(b, &o);
     const bool started = rc == 0;

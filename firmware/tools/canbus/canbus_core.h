@@ -36,6 +36,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "canbus_faults.h"
 #include "canbus_frame.h"
 #include "fcc_types.h"
 
@@ -44,12 +45,36 @@
 
 typedef enum { CANBUS_PRIO = 0, CANBUS_FIFO = 1 } canbus_policy_t;
 
+#define CANBUS_BABBLE_MAX 4u
+#define CANBUS_EVENTS_MAX 1024u
+
+/* What fault confinement did, in time order (canbus_core_event()). */
+typedef enum {
+    CANBUS_EV_TX_ERROR = 0,  /* node's frame was corrupted (an error frame, it transmitting) */
+    CANBUS_EV_RX_ERROR = 1,  /* node received an error frame */
+    CANBUS_EV_STATE = 2,     /* node's state changed to `state` (bus-off included) */
+    CANBUS_EV_RESTARTED = 3  /* node left bus-off (128 x 11 recessive bits): error-active */
+} canbus_event_kind_t;
+
+typedef struct {
+    uint64_t t;              /* the error's bit (errors, state changes), the recovery */
+    uint32_t node;
+    canbus_event_kind_t kind;
+    canbus_state_t state;    /* after the event */
+    uint32_t tec, rec;       /* after the event */
+    uint32_t bit;            /* errors: the bit position in the frame */
+    uint32_t id;             /* errors: the frame's identifier */
+    uint32_t frame_bits;     /* errors: its length (canbus_frame_bits: CRC delimiter at - 13) */
+} canbus_event_t;
+
 /* A frame in a node's queue. */
 typedef struct {
     canbus_frame_t frame;
     uint64_t t_queued;
     uint32_t arbitration;
     uint32_t bits;
+    uint32_t babble;    /* queued by babbler babble - 1; 0: by the node */
+    uint32_t errors;    /* its attempts corrupted so far (then it is retransmitted) */
 } canbus_entry_t;
 
 typedef struct {
@@ -79,6 +104,25 @@ typedef struct {
     bool started;       /* some frame has won an arbitration, the latest at last_sof */
     uint64_t last_sof;
     uint64_t late;      /* frames queued with a time before an arbitration held without them */
+    /* faults (canbus_faults.h) */
+    canbus_confine_t confine[CANBUS_NODES_MAX];
+    canbus_fault_t fault[CANBUS_FAULTS_MAX];
+    uint32_t fault_seen[CANBUS_FAULTS_MAX];  /* frames it matched */
+    uint32_t fault_hits[CANBUS_FAULTS_MAX];  /* errors it caused */
+    bool fault_spent[CANBUS_FAULTS_MAX];     /* a forced bus-off done */
+    uint32_t faults;
+    canbus_babble_t babble[CANBUS_BABBLE_MAX];
+    uint64_t babble_next[CANBUS_BABBLE_MAX]; /* its next frame's time; UINT64_MAX: none due */
+    uint32_t babbles;
+    uint64_t babble_dropped;                 /* its frames that found the node's queue full */
+    bool cur_error;                          /* the frame on the bus is corrupted: cur.t_eof is
+                                                then its error delimiter's end */
+    uint32_t cur_bit;                        /* detected at this bit */
+    uint64_t cur_flag_end;                   /* the error flags end (the delimiter starts) */
+    uint64_t error_frames;
+    canbus_event_t event[CANBUS_EVENTS_MAX]; /* a ring, the oldest at event_first */
+    uint32_t event_first, events;
+    uint64_t events_lost;                    /* events that found the ring full */
 } canbus_core_t;
 
 /* An idle bus at time 0 with nodes (1..CANBUS_NODES_MAX) of the given
@@ -89,7 +133,9 @@ fcc_status_t canbus_core_init(canbus_core_t *c, uint32_t bitrate, uint32_t nodes
                               const canbus_policy_t *policy);
 
 /* Frame f queued at node at time t (ns).  FCC_ERR_ARG: NULL, no such node,
- * an invalid frame; FCC_ERR_AGAIN: the node's queue is full (not queued). */
+ * an invalid frame; FCC_ERR_AGAIN: the node's queue is full (not queued);
+ * FCC_ERR_IO: the node is bus-off (dropped, counted in its confine.dropped,
+ * as SocketCAN drops it with the carrier off). */
 fcc_status_t canbus_core_queue(canbus_core_t *c, uint32_t node, const canbus_frame_t *f,
                                uint64_t t);
 
@@ -103,8 +149,28 @@ bool canbus_core_advance(canbus_core_t *c, uint64_t t, canbus_done_t *out);
 /* When the core next acts on its own: true with *t and *is_eof (the frame on
  * the bus ends then: advancing to *t needs no frame queued meanwhile), or
  * *is_eof false (arbitration then: the bus goes idle or a frame queued for
- * later becomes pending: queue what came before advancing); false: nothing
- * until a frame is queued. */
+ * later becomes pending: queue what came before advancing; with faults also
+ * a corrupted frame's error delimiter ending, a babbling node's next frame,
+ * a bus-off node's recovery); false: nothing until a frame is queued. */
 bool canbus_core_next(const canbus_core_t *c, uint64_t *t, bool *is_eof);
+
+/* ---- faults (canbus_faults.h); without any, the bus above is unchanged ---- */
+
+/* sizeof(canbus_core_t), for a caller that allocates it without this header (ctypes). */
+unsigned long canbus_core_size(void);
+
+/* A fault corrupting frames from now on.  FCC_ERR_ARG: NULL or invalid
+ * (canbus_fault_valid), a node that does not exist; FCC_ERR_SIZE: CANBUS_FAULTS_MAX. */
+fcc_status_t canbus_core_add_fault(canbus_core_t *c, const canbus_fault_t *f);
+
+/* A babbling node (its frames queued by the core at their times).  FCC_ERR_ARG:
+ * NULL, no such node, an invalid frame, t_from > t_to; FCC_ERR_SIZE: CANBUS_BABBLE_MAX. */
+fcc_status_t canbus_core_add_babble(canbus_core_t *c, const canbus_babble_t *b);
+
+/* The oldest fault-confinement event not taken yet: true with *out. */
+bool canbus_core_event(canbus_core_t *c, canbus_event_t *out);
+
+/* A node's counters and state (NULL for no such node). */
+const canbus_confine_t *canbus_core_confine(const canbus_core_t *c, uint32_t node);
 
 #endif /* CANBUS_CORE_H */

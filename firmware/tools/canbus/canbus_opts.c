@@ -16,6 +16,8 @@ void canbus_opts_usage(FILE *out)
 {
     fprintf(out,
             "usage: canbus [--bitrate BPS] --node IFACE[:prio|:fifo] --node IFACE[:...] ...\n"
+            "              [--error FIELDS] [--bus-off IFACE[@S]] [--babble FIELDS]\n"
+            "              [--epoch first-frame|FILE]\n"
             "A classic CAN bus with wire time between SocketCAN endpoints, one a node: each\n"
             "IFACE is canbus's end of a node's pair (vxcan: the node uses the peer).  A frame a\n"
             "node sends waits in its controller's queue, wins arbitration when the bus is idle\n"
@@ -26,13 +28,28 @@ void canbus_opts_usage(FILE *out)
             "                         number of nanoseconds a bit (default %u)\n"
             "  --node IFACE[:POLICY]  a node, 2..%u of them; POLICY its transmit queue: prio\n"
             "                         (priority-ordered mailboxes, the default) or fifo\n"
+            "  --error FIELDS         error frames on the frames it hits (their senders\n"
+            "                         retransmit): id=ID[-ID], node=IFACE (the sender),\n"
+            "                         from=S, to=S, every=N (every n-th frame hit), count=N\n"
+            "                         (at most), bit=N (0..%u, from SOF) or crc-delim (the\n"
+            "                         default), superposed=N (0..6 flag bits; default 0)\n"
+            "  --bus-off IFACE[@S]    the node's frames corrupted from S on until it is\n"
+            "                         bus-off (TEC > 255); it recovers after 128 x 11\n"
+            "                         recessive bits, its queue dropped as SocketCAN does\n"
+            "  --babble FIELDS        a babbling node of its own: id=ID, dlc=N (8), period=S\n"
+            "                         (0, the default: back to back), from=S, to=S\n"
+            "  --epoch WHEN           the faults' times S count from the first frame canbus\n"
+            "                         carries (first-frame, the default), or from the\n"
+            "                         instant in FILE (CLOCK_MONOTONIC ns), read on SIGUSR2\n"
             "  -h, --help             this text\n"
+            "Each node receives its controller's error frames as a SocketCAN driver presents\n"
+            "them (CAN_ERR_*: bus errors, warning, passive, bus-off, restarted).\n"
             "Prints \"canbus: ready\" on stderr once every endpoint is open; the statistics as\n"
             "one JSON line on stdout on SIGUSR1 and at the end (SIGINT or SIGTERM).\n"
             "Exit: 0 stopped by a signal; 1 socket error (one line); 2 bad command line;\n"
             "3 frames were lost (a node's queue or canbus's receive queue was full, or a\n"
             "delivery failed).\n",
-            BITRATE_MIN, BITRATE_MAX, CANBUS_BITRATE_DEFAULT, CANBUS_NODES_MAX);
+            BITRATE_MIN, BITRATE_MAX, CANBUS_BITRATE_DEFAULT, CANBUS_NODES_MAX, CANBUS_BIT_MAX);
 }
 
 static fcc_opt_result_t parse_bitrate(const char *name, const char *val, uint32_t *out,
@@ -115,6 +132,10 @@ static fcc_opt_result_t apply(void *ctx, const char *name, const char *val, char
                               size_t len)
 {
     canbus_opts_t *o = ctx;
+    const fcc_opt_result_t fault = canbus_fault_opt(&o->faults, name, val, err, len);
+    if (fault != FCC_OPT_NOT_MINE) {
+        return fault;
+    }
     if (strcmp(name, "--bitrate") == 0) {
         return parse_bitrate(name, val, &o->bitrate, err, len);
     }
@@ -146,6 +167,14 @@ int canbus_opts_parse(int argc, char **argv, canbus_opts_t *o, FILE *out, char *
     if (o->nodes < 2u) {
         return fcc_opt_fail(err, err_len, "a bus needs at least 2 nodes, %u given (--node "
                             "IFACE, repeated; see --help)", o->nodes);
+    }
+    if (o->nodes + o->faults.babbles > CANBUS_NODES_MAX) {
+        return fcc_opt_fail(err, err_len, "at most %u nodes and babbling nodes in all",
+                            CANBUS_NODES_MAX);
+    }
+    if (canbus_fault_opts_resolve(&o->faults, o->names, o->nodes, err, err_len) !=
+        FCC_OPT_DONE) {
+        return -1;
     }
     return 0;
 }

@@ -9,6 +9,7 @@
 #include <stdio.h>
 
 #include "canbus_core.h"
+#include "canbus_fault_opts.h"
 
 #define CANBUS_BITRATE_DEFAULT 500000u
 
@@ -22,6 +23,7 @@ typedef struct {
     canbus_node_opt_t node[CANBUS_NODES_MAX]; /* --node, in the order given */
     uint32_t nodes;
     char names[CANBUS_NODES_MAX][16];         /* the interface names (IF_NAMESIZE) */
+    canbus_fault_opts_t faults;               /* --error, --bus-off, --babble */
 } canbus_opts_t;
 
 /* 0: parsed; 1: --help printed on out; -1: one line (no newline) in err. */

@@ -54,6 +54,18 @@ void canbus_stats_delivery(canbus_stats_t *s, uint64_t eof_ns, uint64_t delivere
     canbus_hist_add(&s->delivery, delivered_ns - eof_ns);
 }
 
+void canbus_stats_recovery(canbus_stats_t *s, uint32_t node, uint64_t bus_off_ns,
+                           uint64_t recovered_ns)
+{
+    if (node >= s->nodes) {
+        return;
+    }
+    canbus_node_stats_t *n = &s->node[node];
+    if (n->recoveries < CANBUS_RECOVERIES_MAX) {
+        n->recovery_ns[n->recoveries++] = recovered_ns - bus_off_ns;
+    }
+}
+
 uint64_t canbus_stats_lost(const canbus_stats_t *s)
 {
     uint64_t lost = 0u;
@@ -76,6 +88,23 @@ static void put_hist(FILE *out, const canbus_hist_t *h)
             seconds(canbus_hist_quantile(h, 99u, 100u)), seconds(h->max));
 }
 
+/* A node's fault confinement: its counters' maxima, errors, episodes, recovery times. */
+static void put_confine(FILE *out, const canbus_node_stats_t *n)
+{
+    const canbus_confine_t *c = &n->confine;
+    fprintf(out, "\"tec_max\": %lu, \"rec_max\": %lu, \"tx_errors\": %llu, "
+            "\"rx_errors\": %llu, \"error_frames\": %llu, \"error_passive\": %llu, "
+            "\"bus_off\": %llu, \"bus_off_dropped\": %llu, \"recovery_s\": [",
+            (unsigned long)c->tec_max, (unsigned long)c->rec_max,
+            (unsigned long long)c->tx_errors, (unsigned long long)c->rx_errors,
+            (unsigned long long)n->error_frames, (unsigned long long)c->passive_episodes,
+            (unsigned long long)c->bus_off_episodes, (unsigned long long)c->dropped);
+    for (uint32_t k = 0u; k < n->recoveries; ++k) {
+        fprintf(out, "%s%.9f", k > 0u ? ", " : "", seconds(n->recovery_ns[k]));
+    }
+    fputs("]}", out);
+}
+
 fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
 {
     const double busy = seconds(s->busy_ns);
@@ -91,9 +120,10 @@ fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
     for (uint32_t i = 0u; i < s->nodes; ++i) {
         const canbus_node_stats_t *n = &s->node[i];
         fprintf(out, "%s{\"iface\": \"%s\", \"policy\": \"%s\", \"sent\": %llu, "
-                "\"received\": %llu, \"lost\": %llu}", i > 0u ? ", " : "", n->iface,
+                "\"received\": %llu, \"lost\": %llu, ", i > 0u ? ", " : "", n->iface,
                 n->policy == CANBUS_FIFO ? "fifo" : "prio", (unsigned long long)n->sent,
                 (unsigned long long)n->received, (unsigned long long)n->lost);
+        put_confine(out, n);
     }
     fputs("], \"ids\": {", out);
     for (uint32_t i = 0u; i < s->ids; ++i) {
@@ -103,6 +133,9 @@ fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
         put_hist(out, &d->response);
         fputc('}', out);
     }
-    fprintf(out, "}, \"ids_untracked\": %llu}\n", (unsigned long long)s->ids_untracked);
+    fprintf(out, "}, \"ids_untracked\": %llu, \"error_frames\": %llu, \"babble_dropped\": "
+            "%llu, \"events_lost\": %llu}\n", (unsigned long long)s->ids_untracked,
+            (unsigned long long)s->error_frames, (unsigned long long)s->babble_dropped,
+            (unsigned long long)s->events_lost);
     return fflush(out) == 0 && !ferror(out) ? FCC_OK : FCC_ERR_IO;
 }

@@ -19,6 +19,8 @@
 #include "fcc_types.h"
 
 #define CANBUS_IDS_MAX 256u
+/* Bus-off episodes whose recovery time a node keeps (later ones: counted, the longest kept). */
+#define CANBUS_RECOVERIES_MAX 8u
 
 typedef struct {
     uint32_t id;
@@ -33,6 +35,10 @@ typedef struct {
     uint64_t received;  /* frames delivered to it */
     uint64_t lost;      /* its frames lost before the bus (its queue full) or deliveries to it
                            that failed */
+    canbus_confine_t confine;   /* its fault confinement (the core's, copied at a report) */
+    uint64_t error_frames;      /* SocketCAN error frames written to it */
+    uint64_t recovery_ns[CANBUS_RECOVERIES_MAX]; /* bus-off to recovery, the first ones */
+    uint32_t recoveries;
 } canbus_node_stats_t;
 
 typedef struct {
@@ -50,6 +56,9 @@ typedef struct {
     canbus_id_stats_t id[CANBUS_IDS_MAX];
     uint32_t ids;
     uint64_t ids_untracked;   /* frames of identifiers beyond the first CANBUS_IDS_MAX */
+    uint64_t error_frames;    /* error frames on the bus (corrupted frames) */
+    uint64_t babble_dropped;  /* babbling frames that found their node's queue full */
+    uint64_t events_lost;     /* fault-confinement events the core could not keep */
 } canbus_stats_t;
 
 void canbus_stats_init(canbus_stats_t *s, uint32_t bitrate);
@@ -59,6 +68,10 @@ void canbus_stats_frame(canbus_stats_t *s, const canbus_done_t *d, uint64_t bit_
 
 /* Its delivery delivered_ns (wall) after the model's end of frame eof_ns. */
 void canbus_stats_delivery(canbus_stats_t *s, uint64_t eof_ns, uint64_t delivered_ns);
+
+/* A bus-off node recovered at recovered_ns, having gone bus-off at bus_off_ns. */
+void canbus_stats_recovery(canbus_stats_t *s, uint32_t node, uint64_t bus_off_ns,
+                           uint64_t recovered_ns);
 
 /* Frames lost in all (every node). */
 uint64_t canbus_stats_lost(const canbus_stats_t *s);

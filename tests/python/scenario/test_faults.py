@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from hil.scenario.faults import BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS
+from hil.scenario.faults import BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS, WIRE_KINDS
 from hil.sim.sensor_faults import FaultTimeline, SensorFaultInjector
 from hil.scenario.schema import ScenarioError
 from hil.bus import load
@@ -43,7 +43,8 @@ OTHER_CASES = {
 def test_every_kind_has_a_case():
     assert set(SENSOR_CASES) == set(SENSOR_KINDS)
     assert set(OTHER_CASES) == set(FRAME_KINDS) | set(BUS_KINDS)
-    assert set(KINDS) == set(SENSOR_KINDS) | set(FRAME_KINDS) | set(BUS_KINDS)
+    # the wire kinds' cases: tests/python/scenario/test_wire_fault_kinds.py
+    assert set(KINDS) == set(SENSOR_KINDS) | set(FRAME_KINDS) | set(BUS_KINDS) | set(WIRE_KINDS)
 
 
 def _run(spec: str, signal: str) -> tuple[np.ndarray, np.ndarray, SensorFaultInjector]:

@@ -16,6 +16,7 @@ from hil.bus.secoc import KeyFileError, read_key_file
 from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
+from hil.rig.wirefaults import refusal
 from hil.scenario.file import find_scenario, load_default_scenario, load_scenario, with_extra_faults
 from hil.targets.device import ArgsRefused
 from hil.targets.registry import device_class, target
@@ -67,6 +68,13 @@ def bus_model(args: argparse.Namespace) -> str:
     if args.interface != "socketcan":
         raise UsageError("--bus wire: SocketCAN only (--interface socketcan)")
     return bus
+
+
+def refuse_wire_faults(scenarios: Sequence, bus: str) -> None:
+    """A wire-level fault (canbus's) on another bus: one line, exit 2."""
+    why = refusal([f for sc in scenarios for f in sc.faults], bus)
+    if why:
+        raise UsageError(why)
 
 
 def rig_config(args: argparse.Namespace, stage: Path):

@@ -18,6 +18,12 @@ largest send lateness for every frame (as `hil bus wcrt --jitter`), is said so a
 fail the run; above that too, it does.  fcc's own release jitter is not measured per frame
 (its frames are not judged; only its command, 0x030, is of higher priority than the
 simulator's sensor frames).
+
+With wire faults (hil.rig.wirefaults: error frames, a babbling node, a forced bus-off) the
+analysis, which knows neither errors nor frames outside the DBC, bounds nothing: a frame above
+its bound is said so (`above, with bus faults`) and does not fail the run.  The section's
+`nodes` are each node's fault confinement as canbus modelled it: TEC and REC maxima, errors,
+error frames written to it, error-passive and bus-off episodes, each bus-off's recovery time.
 """
 from __future__ import annotations
 
@@ -40,6 +46,11 @@ WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: n
 LATE = "above, canbus late"
 #: above the J = 0 bound, within the bound with the measured release jitter (does not fail)
 JITTER = "within, with the release jitter"
+#: above the bound on a bus with wire faults (error frames, a babbler: not in the analysis)
+FAULTED = "above, with bus faults"
+#: a node's fault confinement in canbus's statistics, as the section keeps it
+_CONFINEMENT = ("sent", "tec_max", "rec_max", "tx_errors", "rx_errors", "error_frames", "error_passive",
+                "bus_off", "bus_off_dropped", "recovery_s")
 _PERCENTILES = ("p50_s", "p99_s", "max_s")
 
 
@@ -86,6 +97,8 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
     periods, canbus's delivery error and losses, and per frame name its response times, bound,
     sender's queue and verdict."""
     bitrate = int(stats["bitrate"])
+    nodes = confinement(stats)
+    faulted = stats.get("error_frames", 0) > 0 or any(n.startswith("babble") for n in nodes)
     frames = flight_frames(spec, scenarios)
     d = stats["delivery_error"]
     return {"bitrate": bitrate, "model": "wire",
@@ -93,16 +106,18 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
             "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
             "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],
             "delivery_error": {k: d[k] for k in _PERCENTILES},
+            "error_frames": stats.get("error_frames", 0), "nodes": nodes,
             "frames": judged_frames(stats["ids"], spec, frames, bitrate, jitter_s, fifo_senders,
-                                    stats["late_queued"])}
+                                    stats["late_queued"], faulted)}
 
 
 def judged_frames(ids: Mapping[str, Mapping[str, Any]], spec: BusSpec, frames: Sequence[Frame],
                   bitrate: int, jitter_s: float, fifo_senders: Sequence[str],
-                  late_queued: int = 0) -> dict[str, Any]:
+                  late_queued: int = 0, faulted: bool = False) -> dict[str, Any]:
     """Per frame name (canbus's key "0x040" where the DBC has none): its measured response
     times (`ids`, canbus's shape: n, p50_s, p99_s, max_s), its bound at the bit rate, its
-    sender's queue and its verdict."""
+    sender's queue and its verdict (a frame above its bound on a bus with wire faults:
+    FAULTED, which the analysis does not bound)."""
     bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
     out: dict[str, Any] = {}
     for key, got in ids.items():
@@ -124,8 +139,16 @@ def judged_frames(ids: Mapping[str, Mapping[str, Any]], spec: BusSpec, frames: S
             entry["verdict"] = UNBOUNDED
         else:
             entry["verdict"] = _judge(Fraction(got["max_s"]), bound, loose, late_queued)
+            entry["verdict"] = FAULTED if faulted and entry["verdict"] != WITHIN else entry["verdict"]
         out[m.name if m is not None else key] = entry
     return out
+
+
+def confinement(stats: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """Each node's fault confinement (canbus's statistics; {} from a canbus without faults),
+    by the rig's name of the node (sim, recorder, fcc, babble0...)."""
+    return {n.get("node", n["iface"]): {k: n[k] for k in _CONFINEMENT}
+            for n in stats.get("nodes", []) if all(k in n for k in _CONFINEMENT)}
 
 
 def _judge(measured: Fraction, bound: Fraction, loose: Fraction | None, late_queued: int) -> str:

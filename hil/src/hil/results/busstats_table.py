@@ -41,3 +41,22 @@ def _id(f: Mapping[str, Any]) -> str:
 
 
 __all__ = ["format_bus"]
+
+
+def format_wire_faults(section: Mapping[str, Any]) -> str:
+    """One line a node of what the bus's faults did ('' on a bus without any)."""
+    nodes = section.get("nodes") or {}
+    hit = {name: n for name, n in nodes.items() if n["tx_errors"] or n["rx_errors"] or n["bus_off"]}
+    babblers = {name: n for name, n in nodes.items() if name.startswith("babble")}
+    if not section.get("error_frames") and not hit and not babblers:
+        return ""
+    lines = [f"wire faults: {section['error_frames']} error frames on the bus"
+             + "".join(f"; {name} sent {n['sent']} frames" for name, n in babblers.items())]
+    for name, n in hit.items():
+        rec = ", ".join(f"{r * 1e3:.3f}" for r in n["recovery_s"])
+        lines.append(f"  {name}: TEC max {n['tec_max']} REC max {n['rec_max']}, errors tx "
+                     f"{n['tx_errors']} rx {n['rx_errors']}, error frames to it {n['error_frames']}, "
+                     f"error-passive {n['error_passive']}, bus-off {n['bus_off']}"
+                     + (f" (recovered after {rec} ms; {n['bus_off_dropped']} frames dropped)"
+                        if n["bus_off"] else ""))
+    return "\n".join(lines)

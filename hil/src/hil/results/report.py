@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from hil.results import metrics
-from hil.results.busstats_table import format_bus
+from hil.results.busstats_table import format_bus, format_wire_faults
 from hil.results.figures import format_dead_zone, format_fig3
 from hil.rig.status import StatusCounters
 
@@ -112,6 +112,9 @@ def summary_tables(summary: dict[str, Any]) -> list[str]:
         tables.append(format_bus(summary["bus"]))
     if "firmware" in summary:
         tables.append(format_firmware(summary["firmware"]))
+    wire = format_wire_faults(summary.get("bus") or {})
+    if wire:
+        tables.append(wire)
     sync = summary.get("sync")
     if isinstance(sync, dict) and isinstance(sync.get("refused"), dict):
         r = sync["refused"]

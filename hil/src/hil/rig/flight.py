@@ -22,6 +22,7 @@ from hil.rig.config import FCC_RT_PRIORITY, RigConfig
 from hil.rig.errors import RigError
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.status import StatusCounters
+from hil.rig.wirefaults import refusal
 from hil.scenario.file import Scenario
 from hil.targets.registry import target
 
@@ -46,8 +47,15 @@ def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] 
 
 def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
                  prepare: Callable[[RigSession], object] | None = None) -> RigSession:
-    """The rig session of a command: its target, its bus, the device's configuration."""
-    return RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)
+    """The rig session of a command: its target, its bus, the device's configuration (and the
+    wire-time bus's faults: refused on another bus, hil.rig.wirefaults)."""
+    faults = tuple(f for sc in scenarios for f in sc.wire_faults)
+    why = refusal(faults, cfg.bus)
+    if why:
+        raise RigError(why)
+    rig = RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)
+    rig.wire_faults = faults
+    return rig
 
 
 def lqg_request(rig: RigSession, scenarios: Sequence[Scenario]) -> tuple[float, int]:

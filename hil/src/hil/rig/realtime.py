@@ -130,6 +130,8 @@ class RealtimeRunner:
         t_begin = time.perf_counter()
         try:
             self._t0 = master.aligned_start(LEAD_S, [d.period for d in drivers])
+            if rig.wire is not None:   # the wire faults' times count from the first instant
+                rig.wire.start_faults(self._t0)
             # fcc numbers its steps by the master's sampling instants: instant n0 + k is step k
             self._n0 = {id(d): int(round(master.master_us(self._t0) / (d.period * 1e6)))
                         for d in drivers}

@@ -44,6 +44,7 @@ from hil.rig.status import STATUS_FRAMES, StatusCounters
 from hil.rig.recorder import RECORDERS, BusRecorder
 from hil.rig.txsched import SEND_LOG
 from hil.rig.wirebus import WireBus
+from hil.scenario.faults import Fault
 from hil.targets.device import Device, DeviceStart
 from hil.targets.registry import device_class, target as target_of
 from hil.util.processes import run_as_batch
@@ -156,6 +157,8 @@ class RigSession:
         #: --bus wire: canbus between the nodes' own vxcan ends (hil.rig.wirebus); the
         #: simulator's end is self.iface, the recorder's and fcc's are their own
         self.wire: WireBus | None = None
+        #: --bus wire: the scenarios' wire faults (canbus's; hil.rig.wirefaults)
+        self.wire_faults: tuple[Fault, ...] = ()
         self.recorder_iface = self.fcc_iface = self.iface
         #: where the time master reads its SYNC back as the bus delivered it (None: its echo)
         self.bus_echo_iface: str | None = None
@@ -226,7 +229,8 @@ class RigSession:
 
     def _start_wire(self) -> None:
         """canbus first (its ready line), then the nodes are pointed at their ends."""
-        self.wire = WireBus(self.run_dir, self.bitrate or self.spec.baudrate).__enter__()
+        self.wire = WireBus(self.run_dir, self.bitrate or self.spec.baudrate, self.wire_faults,
+                            self.spec).__enter__()
         self.iface = self.wire.end("sim")
         self.recorder_iface = self.wire.end("recorder")
         self.fcc_iface = self.wire.end("fcc")

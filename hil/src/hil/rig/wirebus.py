@@ -23,8 +23,11 @@ import time
 from pathlib import Path
 from types import TracebackType
 
+from hil.bus.dbc import BusSpec
 from hil.io.paths import ToolNotFound, tool
 from hil.rig.errors import RigError
+from hil.rig.wirefaults import canbus_args
+from hil.scenario.faults import Fault
 from hil.util.processes import last_line, spawn
 
 #: the nodes and their controllers' queue policy: the simulator's sensor ECUs are
@@ -57,8 +60,12 @@ def _ip(*args: str) -> None:
 class WireBus:
     """canbus and one vxcan pair per node, for a ``with`` block."""
 
-    def __init__(self, run_dir: Path, bitrate: int) -> None:
+    def __init__(self, run_dir: Path, bitrate: int, faults: tuple[Fault, ...] = (),
+                 spec: BusSpec | None = None) -> None:
         self.bitrate = bitrate
+        #: the scenario's wire faults (hil.rig.wirefaults), their times from start_faults()
+        self.faults = faults
+        self._spec = spec
         self._dir = Path(run_dir) / f".canbus-{os.getpid()}"
         self._dir.mkdir(parents=True, exist_ok=True)
         # interface names are at most 15 characters: w<pid><s|f|r>[b]
@@ -101,6 +108,10 @@ class WireBus:
         cmd = [exe, "--bitrate", str(self.bitrate)]
         for node, policy in NODES.items():
             cmd += ["--node", f"{self.ends[node]}b:{policy}"]
+        if self.faults:
+            assert self._spec is not None
+            cmd += ["--epoch", str(self._dir / "epoch"),
+                    *canbus_args(self.faults, {n: f"{e}b" for n, e in self.ends.items()}, self._spec)]
         with open(self._dir / "stderr", "wb") as err, open(self._dir / "stdout", "wb") as out:
             self.proc = spawn(cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err)
         self.rt_priority = self._realtime(self.proc.pid)
@@ -128,6 +139,12 @@ class WireBus:
 
     def _lines(self) -> list[str]:
         return (self._dir / "stdout").read_text().splitlines()
+
+    def start_faults(self, t0: float) -> None:
+        """The faults' times count from t0 (time.monotonic(): the flight's first instant)."""
+        if self.faults and self.proc is not None:
+            (self._dir / "epoch").write_text(f"{round(t0 * 1e9)}\n")
+            self.proc.send_signal(signal.SIGUSR2)
 
     def report(self, timeout: float = 2.0) -> dict:
         """canbus's statistics now (SIGUSR1: one JSON line, after it has read every frame sent
@@ -174,6 +191,9 @@ class WireBus:
         if proc.returncode not in (0, 3) or not lines:
             raise RigError(f"canbus failed: {self._said()}")
         self.stats = json.loads(lines[-1])
+        names = {f"{end}b": node for node, end in self.ends.items()}
+        for n in self.stats.get("nodes", []):   # the rig's names: sim, recorder, fcc, babble0
+            n["node"] = names.get(n["iface"], n["iface"])
         return self.stats
 
     def close(self) -> None:

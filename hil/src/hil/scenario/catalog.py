@@ -19,7 +19,8 @@ UNITS = {
     "value": "signal unit", "rate": "signal unit/s", "factor": "1", "probability": "0..1",
     "count": "frames", "jump": "counter steps", "dlc": "bytes", "raw": "raw DBC value",
     "can_id": "11-bit id", "rate_hz": "Hz", "signal": "", "frame": "DBC message",
-    "fill": "", "distribution": "",
+    "fill": "", "distribution": "", "node": "rig node", "every": "frames",
+    "bit": "bits from SOF", "superposed": "bits",
 }
 #: the unit of each sensor signal: its DBC signal's
 SIGNAL_UNITS = {name: load(PACKAGED_DBC).by_name(frame).signal(sig).unit
@@ -45,6 +46,9 @@ EXAMPLES = {
     "out_of_range": ("cdrw", "out_of_range:frame=CDRW_AOA,signal=alpha,start=2,duration=0.2"),
     "flood": ("cdrw", "flood:start=2,duration=1,can_id=0x000,rate_hz=4000"),
     "silence": ("missile", "silence:start=3,duration=0.5"),
+    "bus_error": ("missile", "bus_error:frame=MSL_RATE_GYRO,start=2,duration=1,every=2"),
+    "babbling_node": ("missile", "babbling_node:can_id=0x005,start=2,duration=0.5"),
+    "bus_off": ("missile", "bus_off:node=fcc,start=3"),
 }
 
 
@@ -86,7 +90,8 @@ def fields(cls: type[Fault]) -> list[tuple[str, str, str, str, str]]:
             rng = "; ".join(f"{a}: {' '.join(f'{s} ({SIGNAL_UNITS[s]})' for s in sigs)}"
                             for a, sigs in SIGNALS.items())
         elif f.name == "frame":
-            rng = "a DBC message name, or * = every sensor frame of the aircraft"
+            rng = ("a DBC message name, or * = every "
+                   + ("frame on the bus" if cls.level == "wire" else "sensor frame of the aircraft"))
         out.append((f.name, _type(hints[f.name]), UNITS.get(f.name, ""), _default(f), rng))
     return out
 

@@ -1,10 +1,12 @@
 """Fault kinds (SPEC section 5): one frozen dataclass per kind, with start, duration and its
 parameters.  A fault is active for start <= t < start + duration (duration may be inf).
 
-Three levels:
+Four levels:
 * sensor -- changes a measured value before it is encoded (applied here, see inject.py);
 * frame  -- changes what happens to CAN frames of one message (or all, frame = "*");
-* bus    -- affects the bus as a whole.
+* bus    -- affects the bus as a whole;
+* wire   -- the wire-time bus's own faults (error frames, a babbling controller, bus-off):
+  canbus applies them, so they fly with `--bus wire` only (hil.rig.wirefaults).
 Frame and bus faults are *specifications* here; the bus layer applies them to frames.
 Their parameters are documented on each class so that layer knows exactly what is meant.
 """
@@ -275,12 +277,74 @@ class Silence(BusFault):
     kind: ClassVar[str] = "silence"
 
 
+# ---------------------------------------------------------------------------------------------
+# wire level (canbus's: docs/bus-timing.md "Faults"; times from the flight's start)
+# ---------------------------------------------------------------------------------------------
+#: the rig's nodes that send on the wire (the recorder only listens)
+WIRE_SENDERS = ("sim", "fcc")
+
+
+@dataclass(frozen=True, kw_only=True)
+class WireFault(Fault):
+    level: ClassVar[str] = "wire"
+
+
+@dataclass(frozen=True, kw_only=True)
+class BusError(WireFault):
+    """Error frames: each frame of `frame` (a DBC message, '*' every frame) sent by `node`
+    (sim, fcc, '*' either) that starts while active, every `every`-th of them and at most
+    `count` (0: no limit), is disturbed at bit `bit` from its SOF (-1: its CRC delimiter);
+    error flag, `superposed` more flag bits, delimiter and interframe space follow, and its
+    sender retransmits it (TEC +8, the others' REC +1)."""
+
+    kind: ClassVar[str] = "bus_error"
+    frame: str = spec("*")
+    node: str = spec("*", choices=("*", *WIRE_SENDERS))
+    every: int = spec(1, ge=1, le=1_000_000)
+    count: int = spec(0, ge=0, le=1_000_000_000)
+    bit: int = spec(-1, ge=-1, le=42)
+    superposed: int = spec(0, ge=0, le=6)
+
+    @property
+    def target(self) -> str:
+        return self.frame
+
+
+@dataclass(frozen=True, kw_only=True)
+class BabblingNode(WireFault):
+    """A controller of its own on the wire sends `can_id` (`dlc` bytes 0xFF) `rate_hz` times a
+    second, or back to back (rate_hz = 0): it wins every arbitration against higher
+    identifiers (lower priority) and starves them."""
+
+    kind: ClassVar[str] = "babbling_node"
+    can_id: int = spec(0, ge=0, le=0x7FF)
+    rate_hz: float = spec(0.0, ge=0.0, le=1e6)
+    dlc: int = spec(8, ge=0, le=8)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BusOff(WireFault):
+    """`node`'s frames are disturbed from `start` until its TEC exceeds 255 (the 32nd error in
+    a row): bus-off, its queue dropped as SocketCAN drops it; it recovers after 128 x 11
+    recessive bits."""
+
+    kind: ClassVar[str] = "bus_off"
+    duration: float = spec(math.inf, gt=0.0, allow_inf=True)
+    node: str = spec("fcc", choices=WIRE_SENDERS)
+
+    @property
+    def target(self) -> str:
+        return self.node
+
+
 #: every fault kind, by name
 KINDS: dict[str, type[Fault]] = {
     c.kind: c for c in (Spike, Bias, Stuck, Dropout, NoiseBurst, Drift, Scale,
                         FrameLoss, FrameDelay, FrameDuplicate, FrameReplay, BadCrc,
-                        CounterFreeze, CounterJump, WrongDlc, OutOfRange, Flood, Silence)
+                        CounterFreeze, CounterJump, WrongDlc, OutOfRange, Flood, Silence,
+                        BusError, BabblingNode, BusOff)
 }
 SENSOR_KINDS = tuple(k for k, c in KINDS.items() if c.level == "sensor")
 FRAME_KINDS = tuple(k for k, c in KINDS.items() if c.level == "frame")
 BUS_KINDS = tuple(k for k, c in KINDS.items() if c.level == "bus")
+WIRE_KINDS = tuple(k for k, c in KINDS.items() if c.level == "wire")

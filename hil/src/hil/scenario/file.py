@@ -33,7 +33,7 @@ from typing import Any
 from hil.bus import load
 from hil.bus.apps import APP_NAMES, sensor_frames
 from hil.io import paths
-from hil.scenario.faults import KINDS, Fault, FrameFault, OutOfRange, SensorFault
+from hil.scenario.faults import KINDS, BusError, Fault, FrameFault, OutOfRange, SensorFault
 from hil.scenario.plant_options import CdrwPlantOptions, LqgOptions, MissilePlantOptions
 from hil.scenario.schema import ScenarioError, build, parse_toml
 from hil.scenario.sensor_options import SIGNALS, CdrwSensorOptions, MissileSensorOptions
@@ -89,6 +89,11 @@ class Scenario:
         return tuple(f for f in self.faults if f.level == "bus")
 
     @property
+    def wire_faults(self) -> tuple[Fault, ...]:
+        """canbus's (`--bus wire` only)."""
+        return tuple(f for f in self.faults if f.level == "wire")
+
+    @property
     def signals(self) -> tuple[str, ...]:
         return SIGNALS[self.aircraft]
 
@@ -111,6 +116,9 @@ def _target_problem(fault: Fault, aircraft: str,
     if isinstance(fault, SensorFault) and fault.signal not in SIGNALS[aircraft]:
         return "signal", (f"unknown signal {fault.signal!r} for aircraft {aircraft} "
                           f"(signals: {', '.join(SIGNALS[aircraft])})")
+    if isinstance(fault, BusError) and fault.frame != "*":  # any frame on the wire: the DBC's
+        names = known_frames if known_frames is not None else [m.name for m in load().messages]
+        return None if fault.frame in names else ("frame", f"unknown frame {fault.frame!r} (a DBC message or *)")
     if not isinstance(fault, FrameFault) or fault.frame == "*":
         if isinstance(fault, OutOfRange):
             return "frame", "out_of_range needs one frame, not '*'"

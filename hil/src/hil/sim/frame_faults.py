@@ -127,8 +127,8 @@ class FrameInjector:
         #: the messages a replay fault may act on: only their history is kept
         self._replayed: frozenset[str] = frozenset()
         self.timeline = FaultTimeline(())
-        for f in faults:
-            if f.level in ("frame", "bus"):
+        for f in faults:   # (a wire fault is canbus's: here only its SIM_EVENT start and end)
+            if f.level in ("frame", "bus", "wire"):
                 self.add(f)
         self._seed = int(seed)
         self._rng_made: np.random.Generator | None = None

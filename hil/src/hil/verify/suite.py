@@ -8,6 +8,8 @@
     id = "SID-DET-1"
     text = "The AZKF flags a 0.1 s sensor spike within 2 steps of its start."
     source = "Seed 1, Algorithm 1 (fault detection)"
+    # timing = true: a realtime timing requirement, judged against the run's platform: a failure
+    # the platform explains is inconclusive, not the firmware's (hil.verify.platform)
 
     [[case]]
     id = "spike-detected"
@@ -92,6 +94,8 @@ class Requirement:
     id: str
     text: str
     source: str
+    #: a realtime timing requirement: judged against the run's platform (hil.verify.platform)
+    timing: bool = False
 
     def __post_init__(self) -> None:
         _check_id(self.id)
@@ -147,6 +151,11 @@ class Suite:
     path: Path
     requirements: tuple[Requirement, ...]
     cases: tuple[Case, ...]
+
+    @property
+    def timing(self) -> frozenset[str]:
+        """The requirements marked `timing = true` (hil.verify.platform)."""
+        return frozenset(r.id for r in self.requirements if r.timing)
 
 
 def shipped() -> dict[str, Path]:

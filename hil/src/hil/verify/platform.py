@@ -1,0 +1,60 @@
+"""A realtime case's timing requirements, judged against the platform it flew on.
+
+A requirement marked ``timing = true`` in its suite is about deadlines, latencies, data age or
+the time sync: what a platform that cannot keep its schedule breaks whatever the firmware does
+(a User-Mode Linux guest on a shared host is not a realtime kernel).  When such a requirement
+fails in a realtime run whose platform did not keep its schedule -- the evidence of
+summary.json's ``platform`` (hil.results.platform: cyclictest beside the flight at its period
+and fcc's priority) -- the check is **inconclusive**, with that evidence, not a pass and not a
+firmware failure:
+
+* the run's platform verdict is ``platform-limited`` (a deadline miss or sync loss the
+  baseline or the rig's own starved threads explain),
+* or cyclictest's worst wake-up at fcc's priority used up the step's slack (the period less
+  fcc's median sensor-to-command time), a deadline nothing running at that priority could keep,
+* or the rig's simulator handed steps over after their instant (the rig, an ordinary process
+  on the same platform, lost its own schedule: the case measured the platform).
+
+Nothing excuses a failure when the platform's verdict is ``firmware`` (the baseline does not
+explain the misses), when no baseline was measured (no cyclictest: no excuse), in a lockstep
+case, or for a requirement not marked ``timing`` (an attack refused, a counter, a result).
+`hil verify` counts an inconclusive case apart and exits 0 for it with a warning line (hil.cli.verify).
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from hil.results.platform import FIRMWARE, PLATFORM_LIMITED
+
+INCONCLUSIVE = "inconclusive"
+
+
+def _get(doc: Any, *path: str) -> Any:
+    for key in path:
+        if not isinstance(doc, Mapping):
+            return None
+        doc = doc.get(key)
+    return doc
+
+
+def limited(summary: Mapping[str, Any]) -> str:
+    """Why this realtime run's platform did not keep its schedule, with its figures ('' : it
+    did, or nothing shows it did not)."""
+    verdict = _get(summary, "platform", "verdict")
+    base = _get(summary, "platform", "baseline") or {}
+    max_us = base.get("max_us")
+    if verdict == FIRMWARE or max_us is None:
+        return ""
+    slack = _get(summary, "platform", "deadline_misses", "slack_us")
+    late = int(_get(summary, "realtime", "simulator", "late_steps") or 0)
+    found = [why for shown, why in (
+        (verdict == PLATFORM_LIMITED, "the run's deadline misses or sync loss are the platform's"),
+        (slack is not None and max_us >= slack, f"cyclictest's worst wake-up used up the step's slack "
+                                                f"{slack:.0f} us" if slack is not None else ""),
+        (late > 0, f"the rig's simulator sent {late} step(s) after their instant"),
+    ) if shown]
+    if not found:
+        return ""
+    return (f"platform-limited: {'; '.join(found)} (cyclictest at fcc's priority: p50 {base.get('p50_us')} us, "
+            f"p99 {base.get('p99_us')} us, max {max_us} us over {base.get('cycles')} cycles)")

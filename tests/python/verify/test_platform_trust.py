@@ -1,0 +1,136 @@
+"""Two things every case is judged on besides its expectations: its run's outputs were
+authentic (summary.json's bus_trust: a case whose run has it not ok never passes), and, for a
+realtime case's timing requirements, the platform it flew on (hil.verify.platform: a timing
+failure on a platform that did not keep its schedule is inconclusive with cyclictest's figures,
+never a silent pass and never a firmware failure)."""
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from typing import Any
+
+from hil.verify import suite
+from hil.verify.platform import INCONCLUSIVE, limited
+from hil.verify.report import counts, junit, line, requirement_verdict
+from hil.verify.runner import (EVERY_REQUIREMENT, FAIL, PASS, CaseResult, Check, against_platform, case_verdict,
+                               trusted, trusted_flights)
+
+FORGED = {"verdict": "forged", "message": "bus attacked or outputs untrustworthy: frames forged on fcc's outputs "
+                                          "refused (MSL_ELEV_CMD_AUTH's group: 3 refused, 0 conflicting copies)",
+          "own_id": 3, "forged": {"refused": {"MSL_ELEV_CMD_AUTH": 3}, "conflicts": {}}}
+
+
+def shipped(name: str) -> suite.Suite:
+    return suite.load(suite.shipped()[name])
+
+
+def case(s: suite.Suite, case_id: str) -> suite.Case:
+    return next(c for c in s.cases if c.id == case_id)
+
+
+# ---- bus_trust ----------------------------------------------------------------------------------
+def test_a_case_whose_outputs_were_forged_does_not_pass():
+    s = shipped("fcc-node-conformance")
+    c = case(s, "clean-cdrw")
+    (bad,) = trusted(c, {"bus_trust": FORGED})
+    assert bad.verdict == FAIL and bad.requirement == EVERY_REQUIREMENT and "bus_trust forged" in bad.measured
+    checks = [Check("NODE-HB-1", "heartbeats >= 1", PASS, "heartbeats = 12"), bad]
+    assert case_verdict(checks) == FAIL
+    r = CaseResult(s.name, c, case_verdict(checks), checks)
+    # every requirement the case verifies fails with it, none passes on untrusted figures
+    assert {requirement_verdict(req, [r], s.name) for req in c.requirements} == {FAIL}
+    assert "failed (every requirement): bus_trust.ok == 1" in line(r)
+
+
+def test_a_run_without_bus_trust_is_not_taken_as_trusted():
+    c = case(shipped("fcc-node-conformance"), "clean-cdrw")
+    (missing,) = trusted(c, {})
+    assert missing.verdict == FAIL and "summary.json has no bus_trust" in missing.measured
+    (ok,) = trusted(c, {"bus_trust": {"verdict": "ok", "message": ""}})
+    assert ok.verdict == PASS
+
+
+def test_an_attack_on_fcc_outputs_states_its_bus_trust_itself():
+    """forged-commands names bus_trust fields (its run's outputs are forged by design): the case
+    judges them, no implicit check is added."""
+    c = case(shipped("fcc-node-conformance"), "forged-commands")
+    assert trusted(c, {"bus_trust": FORGED}) == []
+    from hil.verify.fields import values
+    run = {"summary": {"bus_trust": FORGED}}
+    assert values(run, {"bus_trust.ok", "bus_trust.forged_frames", "bus_trust.own_id"}) == \
+        {"bus_trust.ok": 0.0, "bus_trust.forged_frames": 3.0, "bus_trust.own_id": 3.0}
+
+
+def test_a_case_of_many_flights_needs_every_flight_trusted():
+    runs = [{"summary": {"bus_trust": {"verdict": "ok"}}}] * 4 + [{"summary": {"bus_trust": FORGED}}]
+    (c,) = trusted_flights(runs)
+    assert c.verdict == FAIL and c.measured.startswith("1 of 5 flights not ok; first: flight 4: bus_trust forged")
+    (c,) = trusted_flights(runs[:4])
+    assert c.verdict == PASS and c.measured == "bus_trust ok in all 4 flights"
+
+
+# ---- the platform -------------------------------------------------------------------------------
+def realtime_summary(verdict: str = "ok", max_us: int | None = 900, slack_us: float = 49_000.0,
+                     late_steps: int = 0) -> dict[str, Any]:
+    base = {"p50_us": 80, "p99_us": 400, "max_us": max_us, "cycles": 100} if max_us is not None \
+        else {"error": "cyclictest not found"}
+    return {"platform": {"verdict": verdict, "baseline": base,
+                         "deadline_misses": {"slack_us": slack_us, "verdict": "none"}},
+            "realtime": {"simulator": {"late_steps": late_steps}}}
+
+
+def test_the_platform_is_limited_only_with_its_evidence():
+    assert limited(realtime_summary()) == ""                                 # it kept its schedule
+    why = limited(realtime_summary("platform-limited"))
+    assert why.startswith("platform-limited: the run's deadline misses or sync loss are the platform's")
+    assert "p50 80 us, p99 400 us, max 900 us over 100 cycles" in why
+    assert "used up the step's slack 40000 us" in limited(realtime_summary(max_us=41_000, slack_us=40_000))
+    assert "the rig's simulator sent 3 step(s) after their instant" in limited(realtime_summary(late_steps=3))
+    # the firmware's own misses, or no baseline (no cyclictest): nothing is excused
+    assert limited(realtime_summary("firmware", max_us=90_000, late_steps=3)) == ""
+    assert limited(realtime_summary("platform-limited", max_us=None, late_steps=3)) == ""
+
+
+def judged(summary: dict[str, Any]) -> list[Check]:
+    s = shipped("realtime-timing")
+    checks = [Check("RT-LAT-1", "realtime.latency_p99_us < 0.5 * realtime.period_us", FAIL,
+                    "realtime.latency_p99_us = 31000 < 25000"),
+              Check("RT-DL-1", "overruns == 0", PASS, "overruns = 0")]
+    return against_platform(checks, s.timing, summary)
+
+
+def test_a_timing_failure_on_a_limited_platform_is_inconclusive_with_its_figures():
+    checks = judged(realtime_summary(late_steps=2))
+    assert [c.verdict for c in checks] == [INCONCLUSIVE, PASS]
+    assert checks[0].measured.startswith("realtime.latency_p99_us = 31000 < 25000; platform-limited: ")
+    assert "max 900 us over 100 cycles" in checks[0].measured
+    assert case_verdict(checks) == INCONCLUSIVE
+    # on a platform that kept its schedule, or with the firmware's own misses, it fails
+    assert case_verdict(judged(realtime_summary())) == FAIL
+    assert case_verdict(judged(realtime_summary("firmware", late_steps=2))) == FAIL
+    # a requirement not marked timing is never excused (an attack refused, a counter)
+    other = [Check("TS-SEC-1", "sync.verdict.attacked == 1", FAIL, "sync.verdict.attacked = 0")]
+    assert against_platform(other, shipped("time-sync").timing, realtime_summary("platform-limited")) == other
+
+
+def test_an_inconclusive_case_is_counted_apart_and_skipped_in_junit(tmp_path):
+    s = shipped("realtime-timing")
+    c = case(s, "T0.05")
+    checks = judged(realtime_summary(late_steps=2))
+    r = CaseResult(s.name, c, case_verdict(checks), checks, seconds=6.0)
+    assert counts([r]) == {PASS: 0, FAIL: 0, INCONCLUSIVE: 1, "error": 0}
+    assert requirement_verdict("RT-LAT-1", [r], s.name) == INCONCLUSIVE
+    assert requirement_verdict("RT-DL-1", [r], s.name) == PASS
+    text = line(r)
+    assert text.startswith("INCONCLUSIVE  realtime-timing/T0.05") and "inconclusive RT-LAT-1: " in text
+    junit([r], [s], tmp_path / "j.xml", "host")
+    (ts,) = ET.parse(tmp_path / "j.xml").getroot().findall("testsuite")
+    assert (ts.get("failures"), ts.get("skipped")) == ("0", "1")
+    assert ts.find("testcase/skipped").get("message").startswith("inconclusive: RT-LAT-1: ")
+
+
+def test_every_realtime_timing_requirement_is_judged_against_the_platform_and_no_security_one():
+    assert shipped("realtime-timing").timing == {"RT-RIG-1", "RT-LAT-1", "RT-DL-1", "RT-DL-2", "RT-AGE-1",
+                                                 "RT-SYNC-1"}
+    ts = shipped("time-sync")
+    assert ts.timing == {"TS-LOCK-1", "TS-HOLD-1", "TS-HOLD-2"}
+    assert not {"TS-SEC-1", "TS-SEC-2"} & ts.timing

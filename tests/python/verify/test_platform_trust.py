@@ -70,12 +70,12 @@ def test_a_case_of_many_flights_needs_every_flight_trusted():
 
 # ---- the platform -------------------------------------------------------------------------------
 def realtime_summary(verdict: str = "ok", max_us: int | None = 900, slack_us: float = 49_000.0,
-                     late_steps: int = 0) -> dict[str, Any]:
+                     late_steps: int = 0, period: float = 0.05) -> dict[str, Any]:
     base = {"p50_us": 80, "p99_us": 400, "max_us": max_us, "cycles": 100} if max_us is not None \
         else {"error": "cyclictest not found"}
     return {"platform": {"verdict": verdict, "baseline": base,
                          "deadline_misses": {"slack_us": slack_us, "verdict": "none"}},
-            "realtime": {"simulator": {"late_steps": late_steps}}}
+            "realtime": {"simulator": {"late_steps": late_steps}}, "missile": {"runs": [{"period": period}]}}
 
 
 def test_the_platform_is_limited_only_with_its_evidence():
@@ -83,7 +83,10 @@ def test_the_platform_is_limited_only_with_its_evidence():
     why = limited(realtime_summary("platform-limited"))
     assert why.startswith("platform-limited: the run's deadline misses or sync loss are the platform's")
     assert "p50 80 us, p99 400 us, max 900 us over 100 cycles" in why
-    assert "used up the step's slack 40000 us" in limited(realtime_summary(max_us=41_000, slack_us=40_000))
+    # a wake-up of a tenth of the period (5 ms at T = 0.05 s) or of the step's slack, whichever is less
+    assert limited(realtime_summary(max_us=4_999)) == ""
+    assert "worst wake-up reached 5000 us" in limited(realtime_summary(max_us=5_000))
+    assert "worst wake-up reached 3000 us" in limited(realtime_summary(max_us=3_000, slack_us=3_000))
     assert "the rig's simulator sent 3 step(s) after their instant" in limited(realtime_summary(late_steps=3))
     # the firmware's own misses, or no baseline (no cyclictest): nothing is excused
     assert limited(realtime_summary("firmware", max_us=90_000, late_steps=3)) == ""

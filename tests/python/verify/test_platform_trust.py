@@ -88,6 +88,14 @@ def test_the_platform_is_limited_only_with_its_evidence():
     assert "worst wake-up reached 5000 us" in limited(realtime_summary(max_us=5_000))
     assert "worst wake-up reached 3000 us" in limited(realtime_summary(max_us=3_000, slack_us=3_000))
     assert "the rig's simulator sent 3 step(s) after their instant" in limited(realtime_summary(late_steps=3))
+    rig_stall = realtime_summary()
+    rig_stall["platform"]["sync_loss"] = {"platform_stall_us": 35_000.0}
+    assert "a thread of the rig's stalled 35000 us" in limited(rig_stall)
+    late_frame = realtime_summary()
+    late_frame["realtime"]["simulator"]["transmitter"] = {"send_lateness_ms": {"max": 5.9}}
+    assert "sent a sensor frame 5.9 ms after its instant, after fcc's latest release (3.5 ms)" in limited(late_frame)
+    late_frame["realtime"]["simulator"]["transmitter"] = {"send_lateness_ms": {"max": 3.4}}
+    assert limited(late_frame) == ""
     # the firmware's own misses, or no baseline (no cyclictest): nothing is excused
     assert limited(realtime_summary("firmware", max_us=90_000, late_steps=3)) == ""
     assert limited(realtime_summary("platform-limited", max_us=None, late_steps=3)) == ""

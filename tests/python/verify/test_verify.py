@@ -122,7 +122,7 @@ def write_suite(tmp_path: Path, expect: str = '"cdrw.unanswered_steps == 0"', ex
 def test_the_shipped_suites_load_and_trace_every_requirement():
     names = suite.shipped()
     assert set(names) == {"fcc-node-conformance", "seed1-identification", "seed2-autopilot", "time-sync",
-                          "realtime-timing"}
+                          "realtime-timing", "seed1-statistics"}
     for path in names.values():
         s = suite.load(path)
         for req in s.requirements:

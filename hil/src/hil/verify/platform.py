@@ -15,6 +15,14 @@ firmware failure:
   sensor-to-command time): a realtime schedule nothing running at that priority could keep
   (measured, 2 cores at load 1-4: a 48 ms wake-up at T = 0.05 s, and fcc's latency p99 55 ms
   in the same flight, every command still before the next sampling instant),
+* or the platform's worst stall during the flight (hil.results.platform's: cyclictest's, or a
+  thread of the rig's -- its time master's longest gap beyond the sync interval, its
+  simulator's latest hand-over) reached that bound too (measured, 2 cores at load 1: the
+  master's thread 35 ms late while cyclictest saw 3.7 ms),
+* or the rig's transmitter (SCHED_FIFO) sent a sensor frame after fcc's latest release of the
+  step (RELEASE_MS after its instant: docs/firmware.md, Realtime mode): fcc computes that step
+  on the previous frame whatever it does (measured: a frame 5.9 ms late, data age 53 ms at
+  T = 0.05 s),
 * or the rig's simulator handed steps over after their instant (the rig, an ordinary process
   on the same platform, lost its own schedule: the case measured the platform).
 
@@ -33,6 +41,9 @@ from hil.results.platform import FIRMWARE, PLATFORM_LIMITED
 INCONCLUSIVE = "inconclusive"
 #: a wake-up later than this share of the period: the platform did not keep a realtime schedule
 SCHEDULE_SHARE = 0.1
+#: fcc releases the autopilot's step at the latest this long after its sampling instant (ms):
+#: a sensor frame sent later is used a step late (docs/firmware.md, Realtime mode)
+RELEASE_MS = 3.5
 
 
 def _get(doc: Any, *path: str) -> Any:
@@ -53,10 +64,16 @@ def limited(summary: Mapping[str, Any]) -> str:
         return ""
     bound = _schedule_bound(summary)
     late = int(_get(summary, "realtime", "simulator", "late_steps") or 0)
+    stall = float(_get(summary, "platform", "sync_loss", "platform_stall_us") or 0)
+    tx_late_ms = float(_get(summary, "realtime", "simulator", "transmitter", "send_lateness_ms", "max") or 0)
     found = [why for shown, why in (
         (verdict == PLATFORM_LIMITED, "the run's deadline misses or sync loss are the platform's"),
         (bound is not None and max_us >= bound, f"cyclictest's worst wake-up reached {bound:.0f} us (a tenth "
                                                 f"of the period, or the step's slack)"),
+        (bound is not None and stall >= bound > max_us, f"a thread of the rig's stalled {stall:.0f} us (its "
+                                                        f"time master's or simulator's: hil.results.platform)"),
+        (tx_late_ms >= RELEASE_MS, f"the rig's transmitter sent a sensor frame {tx_late_ms:.1f} ms after its "
+                                   f"instant, after fcc's latest release ({RELEASE_MS} ms)"),
         (late > 0, f"the rig's simulator sent {late} step(s) after their instant"),
     ) if shown]
     if not found:

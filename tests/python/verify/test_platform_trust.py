@@ -8,6 +8,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from typing import Any
 
+import pytest
+
 from hil.verify import suite
 from hil.verify.platform import INCONCLUSIVE, limited
 from hil.verify.report import counts, junit, line, requirement_verdict
@@ -139,9 +141,40 @@ def test_an_inconclusive_case_is_counted_apart_and_skipped_in_junit(tmp_path):
     assert ts.find("testcase/skipped").get("message").startswith("inconclusive: RT-LAT-1: ")
 
 
+def sync_summary(loss_verdict: str, step_refused: int = 0) -> dict[str, Any]:
+    out = realtime_summary(late_steps=5)      # the schedule slipped too: it does not excuse a sync failure
+    out["platform"]["sync_loss"] = {"verdict": loss_verdict, "message": "platform-limited (cyclictest max "
+                                                                        "122481 us at fcc's priority, ...)"}
+    out["sync"] = {"refused": {"step_refused": step_refused, "rate_refused": 0}}
+    return out
+
+
+def test_a_sync_requirement_is_excused_only_by_a_sync_loss_the_platform_explains():
+    why = limited(sync_summary("platform-limited"), "sync")
+    assert why.startswith("platform-limited: fcc's sync loss(es) are the platform's: platform-limited (cyclictest")
+    assert limited(sync_summary("firmware"), "sync") == ""
+    assert limited(sync_summary("none"), "sync") == ""        # no loss: a refusal, a slow lock
+    # a master refused as implausible is the sync's own failure (the M4F image over its serial
+    # link refuses every pair on a clean bus): never excused, whatever the platform did
+    assert limited(sync_summary("platform-limited", step_refused=78), "sync") == ""
+    hold = [Check("TS-HOLD-1", "sync.verdict.ok == 1", FAIL, "sync.verdict.ok = 0")]
+    assert [c.verdict for c in against_platform(hold, shipped("time-sync").timing,
+                                                sync_summary("none"))] == [FAIL]
+    assert [c.verdict for c in against_platform(hold, shipped("time-sync").timing,
+                                                sync_summary("platform-limited"))] == [INCONCLUSIVE]
+
+
+def test_a_bad_timing_kind_is_refused_at_load(tmp_path):
+    text = suite.shipped()["time-sync"].read_text().replace('timing = "sync"', 'timing = "always"', 1)
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    with pytest.raises(suite.SuiteError, match=r"requirement\[0\]: field 'timing': 'schedule' or 'sync', got 'always'"):
+        suite.load(p)
+
+
 def test_every_realtime_timing_requirement_is_judged_against_the_platform_and_no_security_one():
-    assert shipped("realtime-timing").timing == {"RT-RIG-1", "RT-LAT-1", "RT-DL-1", "RT-DL-2", "RT-AGE-1",
-                                                 "RT-SYNC-1"}
+    assert shipped("realtime-timing").timing == {"RT-RIG-1": "schedule", "RT-LAT-1": "schedule", "RT-DL-1": "schedule",
+                                                 "RT-DL-2": "schedule", "RT-AGE-1": "schedule", "RT-SYNC-1": "sync"}
     ts = shipped("time-sync")
-    assert ts.timing == {"TS-LOCK-1", "TS-HOLD-1", "TS-HOLD-2"}
-    assert not {"TS-SEC-1", "TS-SEC-2"} & ts.timing
+    assert ts.timing == {"TS-LOCK-1": "sync", "TS-HOLD-1": "sync", "TS-HOLD-2": "sync"}
+    assert not {"TS-SEC-1", "TS-SEC-2"} & set(ts.timing)

@@ -5,7 +5,7 @@ import dataclasses
 import json
 import shlex
 import time
-from collections.abc import Callable, Collection, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -97,14 +97,13 @@ def _fields(e: Expectation | Windowed | OverFlights) -> frozenset[str]:
     return frozenset(e.fields)
 
 
-def against_platform(checks: list[Check], timing: Collection[str], summary: Mapping[str, Any]) -> list[Check]:
-    """A realtime case's failed checks of timing requirements, when the run's platform did not
-    keep its schedule (hil.verify.platform): inconclusive, with the evidence."""
-    why = limited(summary)
-    if not why:
-        return checks
-    return [dataclasses.replace(c, verdict=INCONCLUSIVE, measured=f"{c.measured}; {why}")
-            if c.verdict == FAIL and c.requirement in timing else c for c in checks]
+def against_platform(checks: list[Check], timing: Mapping[str, str], summary: Mapping[str, Any]) -> list[Check]:
+    """A realtime case's failed checks of timing requirements (requirement: kind), when the
+    run's platform did not keep its schedule as that kind needs (hil.verify.platform):
+    inconclusive, with the evidence."""
+    why = {kind: limited(summary, kind) for kind in set(timing.values())}
+    return [dataclasses.replace(c, verdict=INCONCLUSIVE, measured=f"{c.measured}; {why[timing[c.requirement]]}")
+            if c.verdict == FAIL and why.get(timing.get(c.requirement, "")) else c for c in checks]
 
 
 def judge(expect: Sequence[tuple[str, Expectation | Windowed | OverFlights]], run: dict[str, Any],

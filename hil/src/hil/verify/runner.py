@@ -82,11 +82,15 @@ def trusted(case: Case, summary: Mapping[str, Any]) -> list[Check]:
     fcc's outputs) judges it itself."""
     if any(name.startswith("bus_trust.") for _, e in case.expect for name in _fields(e)):
         return []
-    trust = summary.get("bus_trust") or {}
-    ok = trust.get("verdict") == "ok"
-    return [Check(EVERY_REQUIREMENT, TRUST_TEXT, PASS if ok else FAIL,
-                  "bus_trust ok" if ok else f"bus_trust {trust.get('verdict', 'missing')}: "
-                                            f"{trust.get('message') or 'summary.json has no bus_trust'}")]
+    verdict = _trust(summary)
+    return [Check(EVERY_REQUIREMENT, TRUST_TEXT, PASS if verdict == "ok" else FAIL,
+                  f"bus_trust {verdict}" + ("" if verdict == "ok" else ": " + (
+                      (summary.get("bus_trust") or {}).get("message") or "summary.json has no bus_trust")))]
+
+
+def _trust(summary: Mapping[str, Any]) -> str:
+    """summary.json's bus_trust verdict ('missing' when it has none)."""
+    return str((summary.get("bus_trust") or {}).get("verdict", "missing"))
 
 
 def _fields(e: Expectation | Windowed | OverFlights) -> frozenset[str]:
@@ -148,8 +152,7 @@ def judge_flights(expect: Sequence[tuple[str, Expectation | Windowed | OverFligh
 
 def trusted_flights(runs: Sequence[Mapping[str, Any]]) -> list[Check]:
     """A case of many flights: every flight's outputs authentic (trusted), one check."""
-    bad = [(i, (run["summary"].get("bus_trust") or {}).get("verdict", "missing")) for i, run in enumerate(runs)
-           if (run["summary"].get("bus_trust") or {}).get("verdict") != "ok"]
+    bad = [(i, _trust(run["summary"])) for i, run in enumerate(runs) if _trust(run["summary"]) != "ok"]
     return [Check(EVERY_REQUIREMENT, f"{TRUST_TEXT}, every flight", FAIL if bad else PASS,
                   f"{len(bad)} of {len(runs)} flights not ok; first: flight {bad[0][0]}: bus_trust {bad[0][1]}"
                   if bad else f"bus_trust ok in all {len(runs)} flights")]

@@ -178,3 +178,12 @@ def test_every_realtime_timing_requirement_is_judged_against_the_platform_and_no
     ts = shipped("time-sync")
     assert ts.timing == {"TS-LOCK-1": "sync", "TS-HOLD-1": "sync", "TS-HOLD-2": "sync"}
     assert not {"TS-SEC-1", "TS-SEC-2"} & set(ts.timing)
+
+
+def test_a_timing_figure_the_target_does_not_report_fails_its_check_not_the_run():
+    """The Cortex-M4F image's summary has no own-clock latency (realtime.fcc is {}): inf, which
+    no bound holds -- a failed check, not a case that could not run (it was: a KeyError)."""
+    from hil.verify.fields import NEVER, values
+    run = {"summary": {"realtime": {"fcc": {}, "bus": {"data_age": {"p99": None, "n": 0}}}}}
+    assert values(run, {"realtime.latency_p99_us", "realtime.data_age_p99_us"}) == \
+        {"realtime.latency_p99_us": NEVER, "realtime.data_age_p99_us": NEVER}

@@ -17,6 +17,6 @@ def run_verify(*args: str, tmp: Path) -> tuple[int, str, dict[str, str]]:
     verdicts = {}
     for ln in p.stdout.splitlines():
         parts = ln.split()
-        if len(parts) >= 2 and parts[0] in ("PASS", "FAIL", "ERROR", "-") and "/" not in parts[1]:
+        if len(parts) >= 2 and parts[0] in ("PASS", "FAIL", "ERROR", "INCONCLUSIVE", "-") and "/" not in parts[1]:
             verdicts[parts[1]] = parts[0]
     return p.returncode, p.stdout + p.stderr, verdicts

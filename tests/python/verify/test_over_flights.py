@@ -4,6 +4,10 @@ load like every expectation, judged on synthetic flights here, flown on the bus 
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -109,3 +113,52 @@ def test_a_case_of_three_flights_flies_three_seeds_and_reports_its_interval(tmp_
     page = (tmp_path / "report" / "index.html").read_text()
     assert "cdrw, lockstep, 3 flights;" in page
     assert "(Wilson 95%: 43.85% to 100%) over 3 flights" in page and "(bootstrap 95%: " in page
+
+
+# ---- on --workers (hil.verify.flights over hil.parallel) ---------------------------------------
+REPO = Path(__file__).resolve().parents[3]
+UML = Path(os.environ.get("WITH_VCAN_UML_DIR") or REPO / ".uml")
+needs_rig = pytest.mark.skipif(not (UML / "linux.uml").exists() and not Path("/sys/class/net/vcan0").exists(),
+                               reason="needs User-Mode Linux (scripts/setup) or a kernel with vcan")
+FOUR = SUITE.format(extra="flights = 4\nduration = 2.0\ndefault_faults = false", expect=", ".join([
+    '{ share = "cdrw.unanswered_steps == 0 and overruns == 0", expect = "value >= 1" }',
+    '{ percentile = 50, of = "azkf.alpha.error_integral_truth", expect = "hi < 1" }']))
+
+
+def test_workers_fly_only_cases_of_many_flights_and_say_so_in_one_line(tmp_path, capsys) -> None:
+    rc, out, err = cli(capsys, "verify", "seed1-identification", "--workers", "2", "--out", str(tmp_path / "r"))
+    assert rc == 2 and out == "" and err.count("\n") == 1, err
+    assert "--workers/--scheduler fly the flights of lockstep cases of `flights = N`; paper-spike" in err
+    assert not (tmp_path / "r").exists()
+
+
+@needs_rig
+def test_a_case_of_many_flights_on_workers_judges_the_flights_the_sequential_form_flies(tmp_path) -> None:
+    """Lockstep flights are deterministic in their seed: flown on 2 rigs (each its own guest,
+    from the host shell) they give the sequential form's figures, flight by flight, and the same
+    measured values and intervals."""
+    p = tmp_path / "s.toml"
+    p.write_text(FOUR)
+    base = [sys.executable, "-m", "hil.cli", "verify", str(p), "--no-plots", "--quiet"]
+    seq = subprocess.run([str(REPO / "scripts" / "with-vcan"), *base, "--out", str(tmp_path / "seq"),
+                          "--junit", str(tmp_path / "seq.xml")], cwd=REPO, capture_output=True, text=True,
+                         timeout=600, check=False)
+    assert seq.returncode == 0, seq.stdout + seq.stderr
+    par = subprocess.run([*base, "--workers", "2", "--out", str(tmp_path / "par"),
+                          "--junit", str(tmp_path / "par.xml")], cwd=REPO, capture_output=True, text=True,
+                         timeout=600, check=False)
+    assert par.returncode == 0, par.stdout + par.stderr
+
+    def figures(root: Path) -> list[dict]:
+        flights = root / "cases" / "many"
+        return [json.loads((flights / f"flight-{i:03d}" / "summary.json").read_text())["cdrw"]["table4_truth"]
+                for i in range(4)]
+    assert figures(tmp_path / "seq") == figures(tmp_path / "par")
+    assert measured_lines(tmp_path / "seq.xml") == measured_lines(tmp_path / "par.xml")
+    info = json.loads((tmp_path / "par" / "cases" / "many" / "run_info.json").read_text())
+    assert info["flights"] == 4 and info["parallel"]["workers"] == 2 and info["parallel"]["failed"] == 0
+
+
+def measured_lines(junit_file: Path) -> list[str]:
+    cases = ET.parse(junit_file).getroot().iter("testcase")
+    return [ln for tc in cases for ln in tc.find("system-out").text.splitlines() if not ln.startswith("re-fly")]

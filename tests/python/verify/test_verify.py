@@ -122,7 +122,7 @@ def write_suite(tmp_path: Path, expect: str = '"cdrw.unanswered_steps == 0"', ex
 def test_the_shipped_suites_load_and_trace_every_requirement():
     names = suite.shipped()
     assert set(names) == {"fcc-node-conformance", "seed1-identification", "seed2-autopilot", "time-sync",
-                          "realtime-timing"}
+                          "realtime-timing", "seed1-statistics"}
     for path in names.values():
         s = suite.load(path)
         for req in s.requirements:
@@ -430,8 +430,14 @@ def test_summary_fields_exist_for_every_documented_source():
     info = json.loads((sample / "run_info.json").read_text())
     from hil.verify.fields import read_run, values
     run = read_run(sample, summary, info, {"forged": 3.0})
-    got = values(run, frozenset(n for n, f in FIELDS.items() if f.source not in ("realtime", "sync")))
+    got = values(run, frozenset(n for n, f in FIELDS.items()
+                                if f.source not in ("realtime", "sync") and not n.startswith("bus_trust.")))
     assert got["detector.latency_steps"] == 0 and got["attack.forged"] == 3.0
+    trust = ROOT / "tests" / "vectors" / "verify-trust"    # seed1-identification's paper-spike, 2026-12-02
+    run = read_run(trust, json.loads((trust / "summary.json").read_text()),
+                   json.loads((trust / "run_info.json").read_text()), None)
+    assert values(run, frozenset(n for n in FIELDS if n.startswith("bus_trust."))) == \
+        {"bus_trust.ok": 1.0, "bus_trust.forged_frames": 0.0, "bus_trust.own_id": 0.0}
     assert got["steps.cdrw"] == got["cdrw.steps"] == 351
     rt = ROOT / "tests" / "vectors" / "verify-realtime"     # realtime-timing's T0.1, 2026-12-02
     run = read_run(rt, json.loads((rt / "summary.json").read_text()), json.loads((rt / "run_info.json").read_text()),

@@ -293,15 +293,22 @@ def test_the_time_sync_attacks_are_refused_counted_and_named(tmp_path):
 
 
 @pytest.mark.vcan
-@pytest.mark.timing
 def test_time_sync_and_realtime_timing_pass_on_the_host_build(tmp_path):
-    """Speed-dependent (a realtime flight in a UML guest on a shared host): on a machine that
-    keeps the rig's schedule, both suites pass (measured 2026-12-02 at load 6.6-8.6 on 2
-    cores: time-sync 4/4; realtime-timing failed its T0.05 case at load 7.5 and 11, the
-    simulator itself 5-19 steps late: RT-RIG-1)."""
+    """Whatever the machine's load: every requirement passes, or -- a timing requirement
+    (`timing = true`) on a platform that did not keep its schedule -- is INCONCLUSIVE with the
+    platform's figures (hil.verify.platform), and the run exits 0 saying so; never a failure
+    the platform caused counted as the firmware's, never a security requirement excused
+    (measured 2026-12-02, 2 cores at load 1-10: 4 passed + 1 inconclusive after a 278 ms and after a
+    122 ms wake-up of cyclictest at fcc's priority; before, T0.05 failed RT-LAT-1 on a 48 ms one)."""
     rc, out, verdicts = verify("time-sync", "realtime-timing", "--no-plots", tmp=tmp_path)
     assert rc == 0, out
-    assert len(verdicts) == 10 and set(verdicts.values()) == {"PASS"}, out
+    assert len(verdicts) == 11 and set(verdicts.values()) <= {"PASS", "INCONCLUSIVE"}, out
+    assert verdicts["TS-SEC-1"] == verdicts["TS-SEC-2"] == "PASS", out
+    inconclusive = [ln for ln in out.splitlines() if ln.strip().startswith("inconclusive ")]
+    assert all("; platform-limited: " in ln and "(cyclictest at fcc's priority: p50 " in ln for ln in inconclusive)
+    assert ("warning: " in out) == bool(inconclusive)
+    suites = ET.parse(tmp_path / "j.xml").getroot().findall("testsuite")
+    assert all(t.get("failures") == "0" and t.get("errors") == "0" for t in suites)
 
 
 @pytest.mark.vcan

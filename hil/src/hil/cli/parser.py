@@ -364,7 +364,9 @@ def build() -> argparse.ArgumentParser:
 
     v = sub.add_parser("verify", help="requirement-based test suites against the device under test: "
                        "a verdict per case and requirement, JUnit XML, an HTML report",
-                       epilog="exit status: 0 every case passed; 1 a case failed, or the CAN interface "
+                       epilog="exit status: 0 every case passed, or was inconclusive (a realtime timing "
+                       "requirement failed on a platform that did not keep its schedule: INCONCLUSIVE and a "
+                       "warning line, JUnit <skipped>); 1 a case failed, or the CAN interface "
                        "cannot be opened (nothing flew); 2 bad command line or suite, or --coverage without its "
                        "tools or build (nothing flew); 6 a case could not run (error: no device, time-out, crash; "
                        "the report is not published), or --coverage could not measure it")
@@ -379,6 +381,7 @@ def build() -> argparse.ArgumentParser:
     v.add_argument("--coverage", action="store_true", help="fcc's coverage build (scripts/test coverage, then "
                    "--build-dir build-cov): the lines each requirement reaches, the two work lists, in the report")
     add_common(v, "out/verify")
+    add_parallel(v)   # the flights of cases of `flights = N` (hil.verify.flights)
     add_rig(v)
     add_rig_commands(sub)
     for command in _commands(p):

@@ -20,7 +20,9 @@ EXIT_SIGINT, EXIT_SIGTERM, EXIT_SIGHUP = 130, 143, 129
 
 #: (status, meaning) of every exit status of `hil`, in the order they are listed
 EXIT_STATUS: tuple[tuple[int, str], ...] = (
-    (0, "done"),
+    (0, "done; `hil verify`: every case passed or was inconclusive (a realtime timing requirement "
+        "failed on a platform that did not keep its schedule: INCONCLUSIVE with its figures and a "
+        "warning line, never counted as a pass)"),
     (EXIT_FAILED, "the run failed: interface missing or down, fcc failed to start (or refused its "
                   "options), another fcc already on the bus or a second fcc heard during the run, "
                   "fcc reported failed steps, the recorder missed frames, answered steps missing "

@@ -9,10 +9,12 @@ from contextlib import nullcontext
 from pathlib import Path
 
 from hil.cli.common import rig_config
+from hil.cli.many import parallel_options
 from hil.cli.usage import EXIT_VERIFY_ERROR, PROG, UsageError
 from hil.io.paths import source_tree, tool
 from hil.io.rundir import staged_run
 from hil.verify import coverage, fields, report, runner, suite
+from hil.verify.platform import INCONCLUSIVE
 
 
 def _suites(args: argparse.Namespace) -> list[suite.Suite]:
@@ -42,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"{name:<24} {len(s.cases):3d} cases  {len(s.requirements):3d} requirements  {s.title}")
         return 0
     suites = _suites(args)
+    parallel = _parallel(args, suites)
     cov = _coverage_ready(args) if args.coverage else None
     out = args.report or args.out
     device = [f"--target={args.target}"] + ([f"--fcc-args={args.fcc_args}"] if args.fcc_args else []) \
@@ -52,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
             base = dataclasses.replace(rig_config(args, stage), progress=False)
             with coverage.profiles_to(stage / "coverage") if cov else nullcontext():  # fcc --check-args too
                 results = runner.run_suites(suites, base, stage, lambda s, c: runner.refly_command(s, c, device),
-                                            lambda r: print(report.line(r), flush=True), coverage=cov is not None)
+                                            lambda r: print(report.line(r), flush=True), coverage=cov is not None,
+                                            parallel=parallel)
             n = report.counts(results)
             matrix = _measure(results, *cov) if cov and not n[runner.ERROR] else None
             report.html_report(results, suites, stage, args.target, command, matrix)
@@ -72,7 +76,27 @@ def run(args: argparse.Namespace) -> int:
     _summary(results, suites, n, str(out / "index.html"))
     if matrix is not None:
         print(coverage.summary(matrix))
+    if n[INCONCLUSIVE]:   # not a failure of the device, never a silent pass: said on stderr too
+        print(f"{PROG}: verify: warning: {n[INCONCLUSIVE]} case(s) inconclusive: a timing requirement failed on "
+              f"a platform that did not keep its schedule (cyclictest's figures in each line); no verdict on "
+              f"the firmware for them", file=sys.stderr)
     return 1 if n[runner.FAIL] else 0
+
+
+def _parallel(args: argparse.Namespace, suites: list[suite.Suite]) -> dict[str, object] | None:
+    """--workers/--scheduler: the flights of cases of `flights = N`, lockstep, spread on rigs of
+    their own from the host shell (hil.cli.many.parallel_options); every case must be one."""
+    par = parallel_options(args)
+    if par is None:
+        return None
+    single = [c.id for s in suites for c in s.cases if c.n_flights == 1 or c.mode != "lockstep"]
+    if single:
+        raise UsageError(f"verify: --workers/--scheduler fly the flights of lockstep cases of `flights = N`; "
+                         f"{', '.join(single[:3])}{' ...' if len(single) > 3 else ''} fly on this shell's bus: "
+                         f"name those cases apart (--case) or fly them without --workers")
+    if args.coverage:
+        raise UsageError("verify: --coverage measures fcc in this shell's rig: not with --workers/--scheduler")
+    return par
 
 
 def _coverage_ready(args: argparse.Namespace) -> tuple[Path, Path]:
@@ -108,5 +132,5 @@ def _summary(results: list[runner.CaseResult], suites: list[suite.Suite], n: dic
     print()
     print(report.traceability(results, suites))
     print()
-    print(f"verify: {n[runner.PASS]} passed, {n[runner.FAIL]} failed, {n[runner.ERROR]} errors "
-          f"(report: {report_at})")
+    print(f"verify: {n[runner.PASS]} passed, {n[runner.FAIL]} failed, "
+          f"{n[INCONCLUSIVE]} inconclusive (platform-limited), {n[runner.ERROR]} errors (report: {report_at})")

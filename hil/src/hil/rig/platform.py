@@ -121,7 +121,8 @@ class Baseline:
         self._proc: subprocess.Popen | None = None
         self._dir: str | None = None
 
-    def start(self) -> None:
+    def start(self, loops: int | None = None) -> None:
+        """Measure from now until stop(), or for `loops` wake-ups (wait() for them)."""
         self.collect()   # the previous flight's, if not read yet
         exe = shutil.which("cyclictest")
         if exe is None:
@@ -130,7 +131,7 @@ class Baseline:
         self._dir = tempfile.mkdtemp(prefix="hil-cyclictest-")
         args = [exe, "-q", "-m", "--default-system", "-t", "1", "-p", str(self.priority),
                 "-i", str(self.interval_us), "-h", str(self.hist_us),
-                f"--json={self._dir}/result.json"]
+                f"--json={self._dir}/result.json"] + (["-l", str(loops)] if loops else [])
         with open(f"{self._dir}/stderr", "wb") as err:
             self._proc = spawn(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err)
 
@@ -141,6 +142,17 @@ class Baseline:
         more steps on stale data)."""
         if self._proc is not None and self._proc.poll() is None:
             self._proc.send_signal(signal.SIGINT)
+
+    def wait(self, timeout_s: float) -> bool:
+        """Until a measurement of start(loops=N) has had its N wake-ups (cyclictest exits), at
+        most timeout_s; False when it has not by then."""
+        if self._proc is None:
+            return True
+        try:
+            self._proc.wait(timeout_s)
+        except subprocess.TimeoutExpired:
+            return False
+        return True
 
     def collect(self) -> None:
         """Wait for a stopped measurement and add its results up."""

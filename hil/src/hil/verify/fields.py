@@ -57,6 +57,15 @@ for _k, _src in (("mac", "mac_failed"), ("freshness", "freshness_failed"), ("unp
 for _k, _src in (("mac", "mac_failed"), ("freshness", "freshness_failed"), ("unpaired", "unpaired")):
     _add(f"rig_refused.{_k}", "node", f"secured frames from fcc the rig refused ({_src})",
          _at("summary", "firmware", "security", "rig", _src))
+_add("bus_trust.ok", "node", "1 if fcc's outputs were authentic (summary.json's bus_trust: nothing forged on its "
+     "identifiers, no frame on them fcc did not send, the reference cross-check held where it applies); a case "
+     "that names no bus_trust field must have it (hil.verify.runner)",
+     lambda run: float((run["summary"].get("bus_trust") or {}).get("verdict") == "ok"))
+_add("bus_trust.forged_frames", "node", "frames and authenticators forged on fcc's outputs the rig refused "
+     "(bus_trust.forged: refused + conflicting copies)", lambda run: float(sum(
+         sum(v.values()) for v in run["summary"]["bus_trust"]["forged"].values())))
+_add("bus_trust.own_id", "node", "frames on fcc's own identifiers fcc counted (another node sent as fcc)",
+     lambda run: float(run["summary"]["bus_trust"]["own_id"] or 0))
 _add("bus.errors", "node", "CAN error frames fcc saw", _at("summary", "firmware", "bus", "bus_errors"))
 _add("bus.rx_overflows", "node", "receive queue overflows in fcc", _at("summary", "firmware", "bus", "rx_overflows"))
 
@@ -104,13 +113,14 @@ for _k in ("commands_missing", "commands_late", "commands_rejected", "unanswered
 
 # ---- a realtime flight's timing (mode = "realtime", the missile: hil.results.timing) -----------
 def _rt(*path: str) -> Callable[[Mapping[str, Any]], float]:
-    """A timing percentile; one with no sample (n = 0: null) is inf, which no bound holds."""
+    """A timing percentile; one with no sample (n = 0: null), or one the target does not report
+    (the Cortex-M4F image has no own-clock latency in its summary), is inf, which no bound holds."""
     read = _at("summary", "realtime", *path)
 
     def get(run: Mapping[str, Any]) -> float:
         try:
             return read(run)
-        except TypeError:
+        except (TypeError, KeyError):
             return NEVER
     return get
 

@@ -13,11 +13,14 @@ from pathlib import Path
 
 from hil.io.rundir import atomic_write, atomic_write_text
 from hil.verify.coverage import Matrix, count_lines, work_text
-from hil.verify.runner import ERROR, FAIL, PASS, CaseResult, Check
+from hil.verify.platform import INCONCLUSIVE
+from hil.verify.runner import ERROR, EVERY_REQUIREMENT, FAIL, PASS, CaseResult, Check
 from hil.verify.suite import Suite
 
 NOT_RUN = "not run"
-_WORD = {PASS: "PASS", FAIL: "FAIL", ERROR: "ERROR", NOT_RUN: "-"}
+_WORD = {PASS: "PASS", FAIL: "FAIL", ERROR: "ERROR", INCONCLUSIVE: "INCONCLUSIVE", NOT_RUN: "-"}
+#: the verdicts counted, in the order the summary line gives them
+VERDICTS = (PASS, FAIL, INCONCLUSIVE, ERROR)
 
 
 def line(r: CaseResult) -> str:
@@ -26,12 +29,12 @@ def line(r: CaseResult) -> str:
             f"({len(r.case.expect)} expectation{'s' if len(r.case.expect) != 1 else ''}, {r.seconds:.1f} s)")
     if r.verdict == ERROR:
         return f"{head}\n       error: {r.error}"
-    return "\n".join([head] + [f"       failed {c.requirement}: {c.text}   measured: {c.measured}"
-                               for c in r.failed_checks])
+    return "\n".join([head] + [f"       {'failed' if c.verdict == FAIL else c.verdict} {c.requirement}: {c.text}   "
+                               f"measured: {c.measured}" for c in r.failed_checks])
 
 
 def counts(results: Sequence[CaseResult]) -> dict[str, int]:
-    return {v: sum(1 for r in results if r.verdict == v) for v in (PASS, FAIL, ERROR)}
+    return {v: sum(1 for r in results if r.verdict == v) for v in VERDICTS}
 
 
 def requirement_verdict(req_id: str, results: Sequence[CaseResult], suite: str) -> str:
@@ -42,8 +45,8 @@ def requirement_verdict(req_id: str, results: Sequence[CaseResult], suite: str) 
         return NOT_RUN
     if any(r.verdict == ERROR for r in mine):
         return ERROR
-    checks = [c.verdict for r in mine for c in r.checks if c.requirement == req_id]
-    return FAIL if FAIL in checks else PASS
+    checks = [c.verdict for r in mine for c in r.checks if c.requirement in (req_id, EVERY_REQUIREMENT)]
+    return FAIL if FAIL in checks else INCONCLUSIVE if INCONCLUSIVE in checks else PASS
 
 
 def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, target: str,
@@ -53,7 +56,8 @@ def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, ta
         mine = [r for r in results if r.suite == s.name]
         c = counts(mine)
         ts = ET.SubElement(root, "testsuite", name=s.name, tests=str(len(mine)), failures=str(c[FAIL]),
-                           errors=str(c[ERROR]), time=f"{sum(r.seconds for r in mine):.3f}")
+                           errors=str(c[ERROR]), skipped=str(c[INCONCLUSIVE]),
+                           time=f"{sum(r.seconds for r in mine):.3f}")
         props = ET.SubElement(ts, "properties")
         ET.SubElement(props, "property", name="target", value=target)
         if matrix is not None:
@@ -70,6 +74,11 @@ def junit(results: Sequence[CaseResult], suites: Sequence[Suite], path: Path, ta
                 f.text = "\n".join(f"{c.requirement}: {c.text}: measured {c.measured}" for c in bad)
             elif r.verdict == ERROR:
                 ET.SubElement(tc, "error", message=r.error)
+            elif r.verdict == INCONCLUSIVE:   # JUnit's word for "neither passed nor failed"
+                bad = r.failed_checks
+                sk = ET.SubElement(tc, "skipped", message=f"inconclusive: {bad[0].requirement}: {bad[0].text} "
+                                                          f"(measured: {bad[0].measured})")
+                sk.text = "\n".join(f"{c.requirement}: {c.text}: measured {c.measured}" for c in bad)
             out = ET.SubElement(tc, "system-out")
             out.text = f"re-fly: {r.command}\n" + "\n".join(
                 f"{_WORD[c.verdict]} {c.requirement} {c.text}: {c.measured}" for c in r.checks)
@@ -91,6 +100,7 @@ def _coverage_properties(props: ET.Element, matrix: Matrix, suite: str) -> None:
 _CSS = """body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse;margin:1em 0}
 td,th{border:1px solid #bbb;padding:.3em .6em;text-align:left;vertical-align:top}
 .pass{background:#d9f2d9}.fail{background:#f8d0d0}.error{background:#ffe9b3}.not-run{color:#888}
+.inconclusive{background:#dde4f5}
 code{font-size:90%}
 table.cov td{text-align:right;font-size:80%}table.cov th{font-size:70%;writing-mode:vertical-rl}
 img{max-width:32em;margin:.3em;border:1px solid #ddd}img.evidence{max-width:28em}"""
@@ -166,7 +176,8 @@ def html_report(results: Sequence[CaseResult], suites: Sequence[Suite], report_d
     """report_dir/index.html (the figures stay in the cases' run directories beside it)."""
     e = html.escape
     c = counts(results)
-    body = [f"<h1>hil verify: {c[PASS]} passed, {c[FAIL]} failed, {c[ERROR]} errors</h1>",
+    inconclusive = f"{c[INCONCLUSIVE]} inconclusive (platform-limited), " if c[INCONCLUSIVE] else ""
+    body = [f"<h1>hil verify: {c[PASS]} passed, {c[FAIL]} failed, {inconclusive}{c[ERROR]} errors</h1>",
             f"<p>Target: <b>{e(target)}</b>. Command: <code>{e(command)}</code></p>"]
     for s in suites:
         mine = [r for r in results if r.suite == s.name]

@@ -8,6 +8,8 @@
     id = "SID-DET-1"
     text = "The AZKF flags a 0.1 s sensor spike within 2 steps of its start."
     source = "Seed 1, Algorithm 1 (fault detection)"
+    # timing = "schedule" or "sync": a realtime timing requirement, judged against the run's
+    # platform: a failure the platform explains is inconclusive, not the firmware's (hil.verify.platform)
 
     [[case]]
     id = "spike-detected"
@@ -57,6 +59,7 @@ from hil.util.errors import HilError
 from hil.verify.attack import ATTACKS
 from hil.verify.expr import Expectation, ExpressionError, parse
 from hil.verify.fields import FIELDS
+from hil.verify.platform import KINDS
 from hil.verify.statistical import MAX_FLIGHTS, OverFlights, StatisticalError
 from hil.verify.statistical import build as build_over_flights
 from hil.verify.window import VALUE, Windowed, WindowError, check
@@ -92,9 +95,14 @@ class Requirement:
     id: str
     text: str
     source: str
+    #: a realtime timing requirement, judged against the run's platform: "schedule" or "sync",
+    #: the evidence that excuses its failure (hil.verify.platform); "" : not a timing requirement
+    timing: str = ""
 
     def __post_init__(self) -> None:
         _check_id(self.id)
+        if self.timing and self.timing not in KINDS:
+            raise ValueError(f"field 'timing': {' or '.join(map(repr, KINDS))}, got {self.timing!r}")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -147,6 +155,11 @@ class Suite:
     path: Path
     requirements: tuple[Requirement, ...]
     cases: tuple[Case, ...]
+
+    @property
+    def timing(self) -> dict[str, str]:
+        """The timing requirements and their kinds (hil.verify.platform)."""
+        return {r.id: r.timing for r in self.requirements if r.timing}
 
 
 def shipped() -> dict[str, Path]:

@@ -324,6 +324,8 @@ fcc_status_t fcc_sid_step(fcc_sid_t *sid, fcc_real_t y_alpha, fcc_real_t y_q, fc
                          FCC_FABS(y_q) > sid->cfg.q_limit)) {
         use_y = false;
         input_status = FCC_ERR_RANGE;
+    } else {
+        /* no measurement, or a usable one: as given */
     }
 
     fcc_sid_out_t o;

@@ -326,6 +326,8 @@ fcc_status_t fcc_app_msl_encode(const fcc_app_msl_result_t *res, fcc_bus_t *bus,
         ++*n_frames;
     } else if (first == FCC_OK) {
         first = st;
+    } else {
+        /* a later refusal: the first one is returned */
     }
     return first;
 }

@@ -132,6 +132,8 @@ static bool judge_inputs(fcc_app_sid_t *app, uint32_t k, bool check_step, uint16
             usable = false;
         } else if (sample[i].t_us > res->newest_rx_us) {
             res->newest_rx_us = sample[i].t_us;
+        } else {
+            /* usable, not newer than the newest: nothing to note */
         }
     }
     return usable;
@@ -242,6 +244,8 @@ fcc_status_t fcc_app_sid_encode(const fcc_app_sid_result_t *res, fcc_bus_t *bus,
                 ++*n_frames;
             } else if (first == FCC_OK) {
                 first = st;
+            } else {
+                /* a later refusal: the first one is returned */
             }
         }
     }

@@ -377,6 +377,8 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
         set_mode(node, FCC_OP_MAINTENANCE);
     } else if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_SHUTDOWN) {
         node->shutdown = true;
+    } else {
+        /* NONE and RESET: no mode change (a reset and a design were applied above) */
     }
 }
 
@@ -600,6 +602,8 @@ static void report_sensors(fcc_node_t *node, uint32_t app, const fcc_msg_t *msgs
             cls = FCC_EV_SENSOR_REJECTED;
         } else if (now == FCC_SENSOR_MISALIGNED) {
             cls = FCC_EV_SENSOR_MISALIGNED;
+        } else {
+            /* usable again: RECOVERED, as initialised */
         }
         emit(node, cls, app, s->can_id, (int32_t)s->missing_run);
     }

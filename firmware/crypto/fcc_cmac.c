@@ -60,6 +60,8 @@ fcc_status_t fcc_cmac_compute(const fcc_cmac_t *cmac, const uint8_t *msg, size_t
             m = msg[off + i];
         } else if (i == rest) {
             m = 0x80u;
+        } else {
+            /* the padding's zeros: m stays 0 */
         }
         x[i] = (uint8_t)(x[i] ^ m ^ k[i]);
     }

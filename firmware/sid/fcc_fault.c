@@ -78,6 +78,8 @@ static void debounce(fcc_fdet_t *det, bool bad)
             det->n_good = 0u;
             det->fault_steps = 1u;
             det->n_raised++;
+        } else {
+            /* not enough inconsistent steps yet: no fault */
         }
         return;
     }

@@ -91,6 +91,8 @@ static void reduced_covariation(const fcc_zkf_t *zkf, bool reducing, uint16_t q,
             next = wk->list[i] + 1u;
         }
         box_run(zkf->gen, next, zkf->p, box);
+    } else {
+        /* not reducing: every column kept, no box */
     }
     m[0] = c[0] + box[0] * box[0];
     m[1] = c[1];
@@ -262,6 +264,8 @@ static void posterior_hull(const fcc_zkf_t *zkf, bool reducing, uint16_t q, cons
         if (wk->list_is_boxed) {
             hull_run(zkf->gen, t, next, zkf->p, h);
         }
+    } else {
+        /* reduced to the minimum order: every column boxed, the box below alone */
     }
     if (reducing) {
         h[0] += FCC_FABS(t[0] * box[0]) + FCC_FABS(t[1] * box[1]);
@@ -351,6 +355,8 @@ fcc_status_t fcc_zkf_step(fcc_zkf_t *zkf, const fcc_sid_model_t *model, fcc_real
             info->post_x[1] = zkf->x[1];
             info->post_hull[0] = zkf->hull[0];
             info->post_hull[1] = zkf->hull[1];
+        } else {
+            /* no posterior asked for: info's posterior stays zero */
         }
     }
     commit_generators(zkf, reducing, q, t, box, g, use_measurement);

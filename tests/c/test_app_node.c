@@ -734,39 +734,6 @@ static void test_heartbeat_frames(void **state)
     assert_false(mem_decode_tx(&g_mem, (long)first + 10).fcc_status.e2e_fault);
 }
 
-/* One master SYNC (received at local l) + FOLLOW_UP for master time mt, E2E
- * headers from `from` (the simulator's, or a forger's pre-empting counters);
- * with its TSYNC_AUTH when `auth`. */
-static void push_sync_pair(fcc_bus_t *from, uint8_t seq, uint64_t l, uint64_t mt, bool auth)
-{
-    fcc_msg_data_t d;
-    fcc_can_frame_t s, f;
-    memset(&d, 0, sizeof d);
-    d.tsync_sync.master = 1u;
-    d.tsync_sync.seq = seq;
-    d.tsync_sync.interval_ms = 100u;
-    d.tsync_sync.sec = (uint32_t)(mt / 1000000u);
-    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_SYNC, &d, &s));
-    memset(&d, 0, sizeof d);
-    d.tsync_follow_up.master = 1u;
-    d.tsync_follow_up.seq = seq;
-    d.tsync_follow_up.ns = (uint32_t)(mt % 1000000u) * 1000u;
-    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_FOLLOW_UP, &d, &f));
-    g_mem.now_us = l;
-    mem_push_raw(&g_mem, s.id, s.data, 8u);
-    mem_push_raw(&g_mem, f.id, f.data, 8u);
-    if (auth) {
-        uint32_t a = 0u;
-        assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &a));
-        uint8_t pdu[16];
-        memcpy(pdu, s.data, 8u);
-        memcpy(&pdu[8], f.data, 8u);
-        fcc_can_frame_t af;
-        fcc_assert_ok(fcc_secoc_protect(&g_mem.sec, a, pdu, 16u, &af));
-        mem_push_raw(&g_mem, af.id, af.data, 8u);
-    }
-}
-
 /* The time master's pairs reach the servo only with their TSYNC_AUTH: the red
  * team's forger (valid E2E, pre-empting the master's alive counters, no key)
  * moves nothing and disturbs no E2E state; its frames are counted in
@@ -782,7 +749,7 @@ static void test_time_sync_is_authenticated(void **state)
     uint64_t l = 1000000u;
     uint8_t seq = 0u;
     for (int i = 0; i < 10; ++i, l += 100000u) {
-        push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq++, l, l + off, true);
         run();
     }
     assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);
@@ -790,8 +757,8 @@ static void test_time_sync_is_authenticated(void **state)
     for (int i = 0; i < 10; ++i, l += 100000u) {
         forger.tx[FCC_MSG_TSYNC_SYNC] = g_mem.sim.tx[FCC_MSG_TSYNC_SYNC];
         forger.tx[FCC_MSG_TSYNC_FOLLOW_UP] = g_mem.sim.tx[FCC_MSG_TSYNC_FOLLOW_UP];
-        push_sync_pair(&forger, seq, l - 10u, l - 10u + off - 50000u, false);
-        push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+        mem_push_sync_pair(&g_mem, &forger, seq, l - 10u, l - 10u + off - 50000u, false);
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq++, l, l + off, true);
         run();
     }
     assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);
@@ -806,7 +773,7 @@ static void test_time_sync_is_authenticated(void **state)
     const uint8_t forged[8] = {0x40u, 0u, 1u, 2u, 3u, 4u, 5u, 6u};
     mem_push_raw(&g_mem, FCC_MSG_TSYNC_AUTH_ID, forged, 8u);
     const size_t n0 = g_mem.rx_n;
-    push_sync_pair(&g_mem.sim, seq++, l, l + off, true);
+    mem_push_sync_pair(&g_mem, &g_mem.sim, seq++, l, l + off, true);
     const fcc_can_frame_t replay = g_mem.rx[n0 + 2u];
     run();
     mem_push_raw(&g_mem, replay.id, replay.data, 8u);
@@ -827,7 +794,7 @@ static void test_time_sync_is_authenticated(void **state)
     assert_int_equal(st.fcc_sync_status.rejected, 22u);
     /* the (authenticated) master steps by -50 ms: refused, the estimate goes on */
     for (int i = 0; i < 5; ++i, l += 100000u) {
-        push_sync_pair(&g_mem.sim, seq++, l, l + off - 50000u, true);
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq++, l, l + off - 50000u, true);
         run();
     }
     assert_int_equal(g_node.tsync.state, FCC_TSYNC_REFUSED);
@@ -842,7 +809,7 @@ static void test_time_sync_is_authenticated(void **state)
     run();
     assert_int_equal(g_node.tsync.state, FCC_TSYNC_FREE_RUN);
     for (int i = 0; i < 5; ++i, l += 100000u) {
-        push_sync_pair(&g_mem.sim, seq++, l, l + off - 50000u, true);
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq++, l, l + off - 50000u, true);
         run();
     }
     assert_int_equal(g_node.tsync.state, FCC_TSYNC_LOCKED);

@@ -1,5 +1,6 @@
 /*
- * test_app_port.h -- an in-memory port for the tests of firmware/app: frames
+ * test_app_port.h -- an in-memory port for the tests of firmware/app (static inline: a
+ * program uses what it needs of it): frames
  * queued for the node to receive, every frame it sends captured in order, a
  * clock the test moves, every event recorded.  No bus, no OS: the node under
  * test is the real one, only the wires are replaced.
@@ -39,7 +40,7 @@ typedef struct {
     fcc_secoc_t sec;       /* the simulator's authenticators (test key, MEM_TRIP) */
 } mem_port_t;
 
-static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
+static inline fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
 {
     mem_port_t *p = ctx;
     if (p->fail_send) {
@@ -55,7 +56,7 @@ static fcc_status_t mem_send(void *ctx, const fcc_can_frame_t *f)
 }
 
 /* send_many as fcc_can.h defines it: frame by frame, an I/O error ends the batch. */
-static fcc_status_t mem_send_many(void *ctx, const fcc_can_frame_t *f, uint32_t n,
+static inline fcc_status_t mem_send_many(void *ctx, const fcc_can_frame_t *f, uint32_t n,
                                   fcc_status_t *st)
 {
     mem_port_t *p = ctx;
@@ -74,12 +75,12 @@ static fcc_status_t mem_send_many(void *ctx, const fcc_can_frame_t *f, uint32_t 
 }
 
 /* The port hands whole batches to send_many (as the Linux port does). */
-static void mem_batched(fcc_port_t *port)
+static inline void mem_batched(fcc_port_t *port)
 {
     port->can.send_many = mem_send_many;
 }
 
-static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
+static inline fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
 {
     mem_port_t *p = ctx;
     if (p->rx_head == p->rx_n) {
@@ -90,7 +91,7 @@ static fcc_status_t mem_recv(void *ctx, fcc_can_frame_t *f)
     return FCC_OK;
 }
 
-static fcc_status_t mem_counters(void *ctx, fcc_can_port_counters_t *out)
+static inline fcc_status_t mem_counters(void *ctx, fcc_can_port_counters_t *out)
 {
     (void)ctx;
     memset(out, 0, sizeof *out);
@@ -98,14 +99,14 @@ static fcc_status_t mem_counters(void *ctx, fcc_can_port_counters_t *out)
     return FCC_OK;
 }
 
-static uint64_t mem_now(void *ctx)
+static inline uint64_t mem_now(void *ctx)
 {
     mem_port_t *p = ctx;
     p->now_us += p->step_us;
     return p->now_us;
 }
 
-static void mem_event(void *ctx, const fcc_event_t *ev)
+static inline void mem_event(void *ctx, const fcc_event_t *ev)
 {
     mem_port_t *p = ctx;
     if ((unsigned int)ev->cls < (unsigned int)FCC_EV_COUNT) {
@@ -114,7 +115,7 @@ static void mem_event(void *ctx, const fcc_event_t *ev)
     }
 }
 
-static void mem_init(mem_port_t *p, fcc_port_t *port)
+static inline void mem_init(mem_port_t *p, fcc_port_t *port)
 {
     memset(p, 0, sizeof *p);
     p->step_us = 10u;
@@ -142,14 +143,14 @@ static void mem_init(mem_port_t *p, fcc_port_t *port)
 }
 
 /* A node configuration with the test key and trip. */
-static void mem_secure(fcc_node_config_t *cfg)
+static inline void mem_secure(fcc_node_config_t *cfg)
 {
     memcpy(cfg->security.key, k_mem_key, sizeof k_mem_key);
     cfg->security.trip = MEM_TRIP;
 }
 
 /* Queue raw bytes as they are (fault injection). */
-static void mem_push_raw(mem_port_t *p, uint32_t id, const uint8_t *data, uint8_t dlc)
+static inline void mem_push_raw(mem_port_t *p, uint32_t id, const uint8_t *data, uint8_t dlc)
 {
     fcc_can_frame_t *f = &p->rx[p->rx_n++];
     memset(f, 0, sizeof *f);
@@ -160,7 +161,7 @@ static void mem_push_raw(mem_port_t *p, uint32_t id, const uint8_t *data, uint8_
 }
 
 /* Encode (E2E-protected) and queue; returns the encode status. */
-static fcc_status_t mem_push(mem_port_t *p, fcc_msg_t msg, const fcc_msg_data_t *d)
+static inline fcc_status_t mem_push(mem_port_t *p, fcc_msg_t msg, const fcc_msg_data_t *d)
 {
     fcc_can_frame_t f;
     const fcc_status_t st = fcc_bus_encode(&p->sim, msg, d, &f);
@@ -177,7 +178,7 @@ static fcc_status_t mem_push(mem_port_t *p, fcc_msg_t msg, const fcc_msg_data_t 
     return st;
 }
 
-static void mem_push_tick(mem_port_t *p, uint32_t app, uint32_t k)
+static inline void mem_push_tick(mem_port_t *p, uint32_t app, uint32_t k)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
@@ -186,7 +187,7 @@ static void mem_push_tick(mem_port_t *p, uint32_t app, uint32_t k)
     (void)mem_push(p, FCC_MSG_SIM_TICK, &d);
 }
 
-static void mem_push_cdrw(mem_port_t *p, uint32_t k, double alpha, double q, double de)
+static inline void mem_push_cdrw(mem_port_t *p, uint32_t k, double alpha, double q, double de)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
@@ -203,7 +204,7 @@ static void mem_push_cdrw(mem_port_t *p, uint32_t k, double alpha, double q, dou
     (void)mem_push(p, FCC_MSG_CDRW_ELEVATOR, &d);
 }
 
-static void mem_push_gyro(mem_port_t *p, uint32_t k, double q_g)
+static inline void mem_push_gyro(mem_port_t *p, uint32_t k, double q_g)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
@@ -212,7 +213,7 @@ static void mem_push_gyro(mem_port_t *p, uint32_t k, double q_g)
     (void)mem_push(p, FCC_MSG_MSL_RATE_GYRO, &d);
 }
 
-static void mem_push_accel(mem_port_t *p, uint32_t k, double n_a)
+static inline void mem_push_accel(mem_port_t *p, uint32_t k, double n_a)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
@@ -221,7 +222,7 @@ static void mem_push_accel(mem_port_t *p, uint32_t k, double n_a)
     (void)mem_push(p, FCC_MSG_MSL_ACCELEROMETER, &d);
 }
 
-static void mem_push_control(mem_port_t *p, uint8_t command, double period, uint8_t bits)
+static inline void mem_push_control(mem_port_t *p, uint8_t command, double period, uint8_t bits)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);
@@ -231,9 +232,43 @@ static void mem_push_control(mem_port_t *p, uint8_t command, double period, uint
     (void)mem_push(p, FCC_MSG_SIM_CONTROL, &d);
 }
 
+/* One master SYNC (received at local l) + FOLLOW_UP for master time mt, E2E
+ * headers from `from` (the simulator's, or a forger's pre-empting counters);
+ * with its TSYNC_AUTH when `auth`; the clock set to l. */
+static inline void mem_push_sync_pair(mem_port_t *p, fcc_bus_t *from, uint8_t seq, uint64_t l,
+                                      uint64_t mt, bool auth)
+{
+    fcc_msg_data_t d;
+    fcc_can_frame_t s, f;
+    memset(&d, 0, sizeof d);
+    d.tsync_sync.master = 1u;
+    d.tsync_sync.seq = seq;
+    d.tsync_sync.interval_ms = 100u;
+    d.tsync_sync.sec = (uint32_t)(mt / 1000000u);
+    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_SYNC, &d, &s));
+    memset(&d, 0, sizeof d);
+    d.tsync_follow_up.master = 1u;
+    d.tsync_follow_up.seq = seq;
+    d.tsync_follow_up.ns = (uint32_t)(mt % 1000000u) * 1000u;
+    fcc_assert_ok(fcc_bus_encode(from, FCC_MSG_TSYNC_FOLLOW_UP, &d, &f));
+    p->now_us = l;
+    mem_push_raw(p, s.id, s.data, 8u);
+    mem_push_raw(p, f.id, f.data, 8u);
+    if (auth) {
+        uint32_t a = 0u;
+        assert_true(fcc_secoc_auth_index(FCC_MSG_TSYNC_AUTH, &a));
+        uint8_t pdu[16];
+        memcpy(pdu, s.data, 8u);
+        memcpy(&pdu[8], f.data, 8u);
+        fcc_can_frame_t af;
+        fcc_assert_ok(fcc_secoc_protect(&p->sec, a, pdu, 16u, &af));
+        mem_push_raw(p, af.id, af.data, 8u);
+    }
+}
+
 /* Index of the n-th (0-based) sent frame with identifier id at or after
  * index from, or -1. */
-static long mem_find_tx(const mem_port_t *p, size_t from, uint32_t id, unsigned int n)
+static inline long mem_find_tx(const mem_port_t *p, size_t from, uint32_t id, unsigned int n)
 {
     for (size_t i = from; i < p->tx_n; ++i) {
         if (p->tx[i].id == id) {
@@ -248,7 +283,7 @@ static long mem_find_tx(const mem_port_t *p, size_t from, uint32_t id, unsigned 
 
 /* Decode sent frame i (no E2E check: the checks of the receiving side are
  * tested elsewhere); fails the test if it does not decode in range. */
-static fcc_msg_data_t mem_decode_tx(const mem_port_t *p, long i)
+static inline fcc_msg_data_t mem_decode_tx(const mem_port_t *p, long i)
 {
     fcc_msg_data_t d;
     memset(&d, 0, sizeof d);

@@ -220,7 +220,30 @@ static void test_refusals_change_nothing(void **state)
     fcc_node_config_t cfg;
     float rate = 0.0f;
     const char *field = NULL;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    record(rec);
     assert_int_equal(fcc_bootcfg_apply(NULL, &cfg, &rate, &field), FCC_ERR_ARG);
+    assert_int_equal(fcc_bootcfg_apply(rec, NULL, &rate, &field), FCC_ERR_ARG);
+    assert_int_equal(fcc_bootcfg_apply(rec, &cfg, NULL, &field), FCC_ERR_ARG);
+    assert_int_equal(fcc_bootcfg_apply(rec, &cfg, &rate, NULL), FCC_ERR_ARG);
+}
+
+/* A lockstep record is applied as lockstep. */
+static void test_lockstep_record_applied(void **state)
+{
+    (void)state;
+    uint8_t rec[FCC_BOOTCFG_SIZE];
+    record(rec);
+    rec[FCC_BOOTCFG_MODE_OFF] = FCC_BOOTCFG_MODE_LOCKSTEP;
+    seal(rec);
+    const char *field = "x";
+    fcc_node_config_t cfg;
+    fcc_assert_ok(fcc_node_config_default(&cfg));
+    cfg.mode = FCC_MODE_REALTIME;
+    float rate = 0.0f;
+    fcc_assert_ok(fcc_bootcfg_apply(rec, &cfg, &rate, &field));
+    assert_null(field);
+    assert_int_equal(cfg.mode, FCC_MODE_LOCKSTEP);
 }
 
 /* The record's status; *field named on a refusal. */
@@ -300,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_layout_is_the_documented_table),
         cmocka_unit_test(test_record_applied),
         cmocka_unit_test(test_refusals_change_nothing),
+        cmocka_unit_test(test_lockstep_record_applied),
         cmocka_unit_test(test_zero_delay_bytes_mean_no_delay),
         cmocka_unit_test(test_limits_shared_with_the_command_line),
     };

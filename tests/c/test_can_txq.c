@@ -265,6 +265,25 @@ static void test_bad_arguments(void **state)
     assert_int_equal(t.p.many_calls + t.p.send_calls, 0u);
 }
 
+/* Frames queued for a batching port are not flushed through one without send_many:
+ * refused, they stay queued and leave with the next flush through the right port. */
+static void test_queued_frames_need_send_many(void **state)
+{
+    (void)state;
+    fixture(&t, true);
+    const fcc_can_frame_t f = frame(0x610u);
+    fcc_assert_ok(fcc_can_txq_send(&t.q, &t.port, &f, 1u, on_done, &t.r));
+    fcc_can_port_t single = t.port;
+    single.send_many = NULL;
+    assert_int_equal(fcc_can_txq_flush(&t.q, &single, on_done, &t.r), FCC_ERR_ARG);
+    assert_int_equal(t.q.n, 1u);
+    assert_int_equal(t.r.n, 0u);
+    fcc_assert_ok(fcc_can_txq_flush(&t.q, &t.port, on_done, &t.r));
+    assert_int_equal(t.q.n, 0u);
+    assert_int_equal(t.p.n_sent, 1u);
+    assert_int_equal(t.r.n, 1u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -274,6 +293,7 @@ int main(void)
         cmocka_unit_test(test_a_report_may_send_again),
         cmocka_unit_test(test_a_port_without_send_many_sends_at_once),
         cmocka_unit_test(test_bad_arguments),
+        cmocka_unit_test(test_queued_frames_need_send_many),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

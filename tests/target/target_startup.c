@@ -43,6 +43,44 @@ static unsigned long long instructions_since_reset(void)
     return (unsigned long long)(0xFFFFFFFFu - DUALTIMER1_VALUE) * INSTRUCTIONS_PER_TICK;
 }
 
+#ifdef FCC_TARGET_COVERAGE
+#include <gcov.h>
+
+extern const struct gcov_info *const __gcov_info_start[], *const __gcov_info_end[];
+
+static void gcda_open(const char *name, void *arg)
+{
+    *(FILE **)arg = fopen(name, "wb");
+}
+
+static void gcda_write(const void *data, unsigned int n, void *arg)
+{
+    FILE *const f = *(FILE **)arg;
+    if (f != NULL) {
+        (void)fwrite(data, 1u, n, f);
+    }
+}
+
+static void *gcda_allocate(unsigned int n, void *arg)
+{
+    (void)arg;
+    return malloc(n);
+}
+
+/* gcov's counters as .gcda files next to the objects, on the host: librdimon's fopen and fwrite
+ * are semihosting's SYS_OPEN and SYS_WRITE. */
+static void write_coverage(void)
+{
+    for (const struct gcov_info *const *info = __gcov_info_start; info < __gcov_info_end; ++info) {
+        FILE *f = NULL;
+        __gcov_info_to_gcda(*info, gcda_open, gcda_write, gcda_allocate, &f);
+        if (f == NULL || fclose(f) != 0) {
+            printf("target: coverage not written\n");
+        }
+    }
+}
+#endif
+
 /* The program's instruction count, the last line before its exit (scripts/test target-unit). */
 static void report_instructions(void)
 {
@@ -83,6 +121,9 @@ void target_reset(void)
     DUALTIMER1_LOAD = 0xFFFFFFFFu;
     DUALTIMER1_CTRL = DUALTIMER_CTRL_EN_32BIT_FREE;
     (void)atexit(report_instructions);
+#ifdef FCC_TARGET_COVERAGE
+    (void)atexit(write_coverage);
+#endif
     exit(main());
 }
 

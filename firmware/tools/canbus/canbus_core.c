@@ -509,8 +509,11 @@ bool canbus_core_next(const canbus_core_t *c, uint64_t *t, bool *is_eof)
     *is_eof = false;
     uint64_t s = NEVER, r = NEVER, g = NEVER;
     uint32_t node = 0u, k = 0u;
-    const bool any = next_arbitration(c, &s) | next_recovery(c, &node, &r) |
-                     next_babble(c, &k, &g);
+    /* each of the three fills its time (NEVER when it has none): all three must run */
+    const bool arbitration = next_arbitration(c, &s);
+    const bool recovery = next_recovery(c, &node, &r);
+    const bool babble = next_babble(c, &k, &g);
+    const bool any = arbitration || recovery || babble;
     *t = s < r ? (s < g ? s : g) : (r < g ? r : g);
     return any;
 }

@@ -103,7 +103,7 @@ def test_with_fault_start_and_extra_faults():
 BAD = [
     # (text, message fragment); every message starts with the file name
     ('aircraft = "cdrw"\n[[faults]]\nkind = "spik"\nsignal = "alpha"\nstart = 4\nduration = 0.1',
-     "faults[0]: field 'kind': unknown fault kind 'spik' (kinds: spike, bias, stuck"),
+     "faults[0]: field 'kind': unknown fault kind 'spik' (did you mean 'spike'? `hil faults` lists them)"),
     ('aircraft = "cdrw"\n[[faults]]\nkind = "spike"\nsignal = "alpha"\nstart = 4\nduration = -0.1\nmagnitude = 1',
      "faults[0] (spike): field 'duration': must be > 0.0, got -0.1"),
     ('aircraft = "cdrw"\n[[faults]]\nkind = "bias"\nsignal = "beta"\nstart = 4\nduration = 1\nmagnitude = 1',

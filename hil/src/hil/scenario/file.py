@@ -27,6 +27,7 @@ import dataclasses
 import math
 from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass
+from difflib import get_close_matches
 from pathlib import Path
 from typing import Any
 
@@ -152,6 +153,12 @@ def check_fault_start(fault: Fault, duration: float, where: str) -> None:
                             f"of the run ({duration} s)")
 
 
+def _kinds_hint(kind: object) -> str:
+    """The kind a misspelling was meant to be, or every kind when none is close."""
+    close = get_close_matches(kind, list(KINDS), n=1) if isinstance(kind, str) else []
+    return f"did you mean {close[0]!r}? `hil faults` lists them" if close else f"kinds: {', '.join(KINDS)}"
+
+
 def _build_fault(table: Mapping[str, Any], where: str) -> tuple[Fault, str]:
     """The fault of a table (kind and every parameter checked, not yet its target) and
     `where` with its kind, for the errors that follow."""
@@ -161,8 +168,7 @@ def _build_fault(table: Mapping[str, Any], where: str) -> tuple[Fault, str]:
     if kind is None:
         raise ScenarioError(f"{where}: missing field 'kind' (kinds: {', '.join(KINDS)})")
     if not isinstance(kind, str) or kind not in KINDS:
-        raise ScenarioError(f"{where}: field 'kind': unknown fault kind {kind!r} "
-                            f"(kinds: {', '.join(KINDS)})")
+        raise ScenarioError(f"{where}: field 'kind': unknown fault kind {kind!r} ({_kinds_hint(kind)})")
     where = f"{where} ({kind})"
     fields = {k: v for k, v in table.items() if k != "kind"}
     return build(KINDS[kind], fields, where), where

@@ -134,10 +134,10 @@ def test_every_frame_sent_to_fcc_has_a_producer_and_a_consumer(repo: Path) -> No
 
 
 def test_the_applications_inputs_come_from_the_dbc() -> None:
-    assert protocol.APP_INPUTS == {
-        protocol.APP_CDRW: ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
-        protocol.APP_MISSILE: ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"),
-        protocol.APPS["PROBE"]: ()}   # the test build's third application: no frames of its own
+    inputs = {protocol.APP_CDRW: ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
+              protocol.APP_MISSILE: ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"),
+              protocol.APPS["PROBE"]: ()}   # the test build's third application: no frames of its own
+    assert inputs == protocol.APP_INPUTS
     # the application ids are SIM_TICK.app's: the FccApp choices in the same order
     assert dbc.load(DBC).apps == ("cdrw", "missile", "probe")
 

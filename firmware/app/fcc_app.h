@@ -51,6 +51,7 @@ typedef struct {
     fcc_status_t (*init)(void *app, const void *cfg);
     fcc_status_t (*reset)(void *app); /* fresh state, same configuration */
     fcc_sensor_t *(*sensor)(void *app, fcc_msg_t msg); /* the slot of an input, or NULL */
+    const fcc_sensor_t *(*input)(const void *app, uint32_t slot); /* slot i, read only */
     fcc_status_t (*offer)(void *app, fcc_msg_t msg, const fcc_msg_data_t *data, uint64_t t_us);
     fcc_status_t (*step)(void *app, const fcc_app_tick_t *tick, fcc_app_step_t *out);
     /* the last step's output frames into frames[0..FCC_SECOC_MAX_PDUS), their count in *n */

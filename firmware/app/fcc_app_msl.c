@@ -352,6 +352,12 @@ static fcc_sensor_t *ops_sensor(void *app, fcc_msg_t msg)
     return fcc_app_msl_sensor(app, msg);
 }
 
+static const fcc_sensor_t *ops_input(const void *app, uint32_t slot)
+{
+    const fcc_app_msl_t *a = app;
+    return (a != NULL && slot < FCC_APP_MSL_N_INPUTS) ? &a->in[slot] : NULL;
+}
+
 static fcc_status_t ops_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *data, uint64_t t_us)
 {
     return fcc_app_msl_offer(app, msg, data, t_us);
@@ -400,6 +406,6 @@ static bool ops_wants_background(const void *app)
 const fcc_app_ops_t fcc_app_msl_ops = {
     "missile", fcc_bus_app_missile_inputs, FCC_BUS_APP_MISSILE_N_INPUTS, FCC_MSG_MSL_ELEV_CMD_AUTH,
     FCC_APP_MSL_RT_WINDOW_US,
-    ops_config_default, ops_init, ops_reset, ops_sensor, ops_offer, ops_step, ops_encode, ops_period_us,
+    ops_config_default, ops_init, ops_reset, ops_sensor, ops_input, ops_offer, ops_step, ops_encode, ops_period_us,
     ops_request, ops_background, ops_wants_background,
 };

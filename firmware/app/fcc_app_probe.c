@@ -29,6 +29,13 @@ static fcc_sensor_t *probe_sensor(void *app, fcc_msg_t msg)
     return NULL; /* no inputs */
 }
 
+static const fcc_sensor_t *probe_input(const void *app, uint32_t slot)
+{
+    (void)app;
+    (void)slot;
+    return NULL; /* no inputs */
+}
+
 static fcc_status_t probe_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *data,
                                 uint64_t t_us)
 {
@@ -73,6 +80,6 @@ static uint32_t probe_period_us(const void *app)
 
 const fcc_app_ops_t fcc_app_probe_ops = {
     "probe", NULL, 0u, FCC_MSG_COUNT, 0u,
-    NULL, probe_init, probe_reset, probe_sensor, probe_offer, probe_step, probe_encode, probe_period_us,
+    NULL, probe_init, probe_reset, probe_sensor, probe_input, probe_offer, probe_step, probe_encode, probe_period_us,
     NULL, NULL, NULL,
 };

@@ -271,6 +271,12 @@ static fcc_sensor_t *ops_sensor(void *app, fcc_msg_t msg)
     return fcc_app_sid_sensor(app, msg);
 }
 
+static const fcc_sensor_t *ops_input(const void *app, uint32_t slot)
+{
+    const fcc_app_sid_t *a = app;
+    return (a != NULL && slot < FCC_APP_SID_N_INPUTS) ? &a->in[slot] : NULL;
+}
+
 static fcc_status_t ops_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *data, uint64_t t_us)
 {
     return fcc_app_sid_offer(app, msg, data, t_us);
@@ -302,6 +308,6 @@ static uint32_t ops_period_us(const void *app)
 /* the step's 12 outputs under one authenticator (SID_OUT_AUTH) */
 const fcc_app_ops_t fcc_app_sid_ops = {
     "cdrw", fcc_bus_app_cdrw_inputs, FCC_BUS_APP_CDRW_N_INPUTS, FCC_MSG_SID_OUT_AUTH, 0u,
-    ops_config_default, ops_init, ops_reset, ops_sensor, ops_offer, ops_step, ops_encode, ops_period_us,
+    ops_config_default, ops_init, ops_reset, ops_sensor, ops_input, ops_offer, ops_step, ops_encode, ops_period_us,
     NULL, NULL, NULL,
 };

@@ -4,7 +4,6 @@
 #include "fcc_node.h"
 
 #include <stddef.h>
-#include <stdint.h>
 #include <string.h>
 
 #define MSG_BIT(m) ((uint64_t)1u << (uint32_t)(m))
@@ -949,8 +948,7 @@ bool fcc_node_inputs_since(const fcc_node_t *node, uint32_t app, uint64_t since_
     }
     const fcc_app_ops_t *ops = k_apps[app].ops;
     for (uint32_t i = 0u; ops != NULL && i < ops->n_inputs; ++i) {
-        /* (the interface's sensor() takes the instance writable; it is only read here) */
-        const fcc_sensor_t *s = ops->sensor((void *)(uintptr_t)instance_c(node, app), ops->inputs[i]);
+        const fcc_sensor_t *s = ops->input(instance_c(node, app), i);
         if (s == NULL || s->n_pending == 0u || s->pending[s->n_pending - 1u].t_us < since_us) {
             return false;
         }

@@ -104,8 +104,9 @@ static void release_order(uint32_t order[FCC_N_APPS])
         for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
             const fcc_app_ops_t *ops = fcc_node_app_ops(a);
             const bool windowed = ops != NULL && ops->rt_window_us != 0u;
-            if (windowed == (pass == 0u)) {
-                order[n++] = a;
+            if ((pass == 0u) ? windowed : !windowed) {
+                order[n] = a;
+                ++n;
             }
         }
     }

@@ -28,6 +28,7 @@ static void test_every_application_has_the_whole_interface(void **state)
         assert_non_null(ops->init);
         assert_non_null(ops->reset);
         assert_non_null(ops->sensor);
+        assert_non_null(ops->input);
         assert_non_null(ops->offer);
         assert_non_null(ops->step);
         assert_non_null(ops->encode);
@@ -41,6 +42,7 @@ static void test_every_application_has_the_whole_interface(void **state)
         for (uint32_t i = 0u; i < ops->n_inputs; ++i) {
             assert_int_equal(fcc_bus_input_app[ops->inputs[i]], a);
         }
+        assert_null(ops->input(NULL, 0u));
     }
     assert_true(apps >= 2u);
     assert_null(fcc_node_app_ops(FCC_N_APPS));

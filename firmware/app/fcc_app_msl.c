@@ -331,3 +331,83 @@ fcc_status_t fcc_app_msl_encode(const fcc_app_msl_result_t *res, fcc_bus_t *bus,
     }
     return first;
 }
+
+/* ---- the node's interface (fcc_app.h) ------------------------------------------ */
+
+static fcc_status_t ops_config_default(void *cfg)
+{
+    return fcc_app_msl_config_default(cfg);
+}
+
+static fcc_status_t ops_init(void *app, const void *cfg)
+{
+    return fcc_app_msl_init(app, cfg);
+}
+
+static fcc_status_t ops_reset(void *app)
+{
+    return fcc_app_msl_reset(app);
+}
+
+static fcc_sensor_t *ops_sensor(void *app, fcc_msg_t msg)
+{
+    return fcc_app_msl_sensor(app, msg);
+}
+
+static const fcc_sensor_t *ops_input(const void *app, uint32_t slot)
+{
+    const fcc_app_msl_t *a = app;
+    return (a != NULL && slot < FCC_APP_MSL_N_INPUTS) ? &a->in[slot] : NULL;
+}
+
+static fcc_status_t ops_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *data, uint64_t t_us)
+{
+    return fcc_app_msl_offer(app, msg, data, t_us);
+}
+
+static fcc_status_t ops_step(void *app, const fcc_app_tick_t *tick, fcc_app_step_t *out)
+{
+    fcc_app_msl_result_t res;
+    const fcc_status_t st =
+        fcc_app_msl_step(app, tick->k, tick->check_step, tick->stale_limit, &res);
+    out->degraded = res.degraded;
+    out->reconfigured = res.switched;
+    return st;
+}
+
+static fcc_status_t ops_encode(const void *app, fcc_bus_t *bus, fcc_can_frame_t *frames,
+                               uint32_t *n)
+{
+    const fcc_app_msl_t *a = app;
+    return fcc_app_msl_encode(&a->last, bus, frames, n);
+}
+
+static uint32_t ops_period_us(const void *app)
+{
+    return (uint32_t)FCC_ROUND(fcc_app_msl_period(app) * FCC_R(1e6));
+}
+
+static fcc_status_t ops_request(void *app, fcc_real_t period, uint8_t bits)
+{
+    return fcc_app_msl_request(app, period, bits);
+}
+
+static fcc_status_t ops_background(void *app)
+{
+    return fcc_app_msl_background(app);
+}
+
+static bool ops_wants_background(const void *app)
+{
+    return fcc_app_msl_wants_design(app);
+}
+
+/* command and estimate under one authenticator (MSL_ELEV_CMD_AUTH); a step is released within
+ * FCC_APP_MSL_RT_WINDOW_US of its sampling instant (its command must leave before the
+ * actuation instant) */
+const fcc_app_ops_t fcc_app_msl_ops = {
+    "missile", fcc_bus_app_missile_inputs, FCC_BUS_APP_MISSILE_N_INPUTS, FCC_MSG_MSL_ELEV_CMD_AUTH,
+    FCC_APP_MSL_RT_WINDOW_US,
+    ops_config_default, ops_init, ops_reset, ops_sensor, ops_input, ops_offer, ops_step, ops_encode, ops_period_us,
+    ops_request, ops_background, ops_wants_background,
+};

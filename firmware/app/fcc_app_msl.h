@@ -25,6 +25,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fcc_app.h"
 #include "fcc_bus.h"
 #include "fcc_lqg.h"
 #include "fcc_sensor.h"
@@ -40,6 +41,9 @@
  * actuation instant t_k + 5 ms of the time-triggered schedule (README.md,
  * "Real time"); in lockstep auto is 0 (the command acts at the sample). */
 #define FCC_APP_MSL_RT_DELAY FCC_R(0.005)
+/* Realtime, synchronised: a step is released at the latest this long after its sampling
+ * instant (its command must leave before the actuation instant, fcc_node.h). */
+#define FCC_APP_MSL_RT_WINDOW_US 3500u
 
 typedef enum {
     FCC_APP_MSL_IN_GYRO = 0,
@@ -154,5 +158,8 @@ fcc_status_t fcc_app_msl_step(fcc_app_msl_t *app, uint32_t k, bool check_step,
  * how many were encoded; returns the first refusal. */
 fcc_status_t fcc_app_msl_encode(const fcc_app_msl_result_t *res, fcc_bus_t *bus,
                                 fcc_can_frame_t frames[2], uint32_t *n_frames);
+
+/* The application to the node (fcc_app.h): its config is an fcc_app_msl_config_t. */
+extern const fcc_app_ops_t fcc_app_msl_ops;
 
 #endif /* FCC_APP_MSL_H */

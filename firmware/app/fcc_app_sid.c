@@ -251,3 +251,67 @@ fcc_status_t fcc_app_sid_encode(const fcc_app_sid_result_t *res, fcc_bus_t *bus,
     }
     return first;
 }
+
+/* ---- the node's interface (fcc_app.h) ------------------------------------------ */
+
+static fcc_status_t ops_config_default(void *cfg)
+{
+    fcc_app_sid_config_default(cfg);
+    return (cfg != NULL) ? FCC_OK : FCC_ERR_ARG;
+}
+
+static fcc_status_t ops_init(void *app, const void *cfg)
+{
+    return fcc_app_sid_init(app, cfg);
+}
+
+static fcc_status_t ops_reset(void *app)
+{
+    return fcc_app_sid_reset(app);
+}
+
+static fcc_sensor_t *ops_sensor(void *app, fcc_msg_t msg)
+{
+    return fcc_app_sid_sensor(app, msg);
+}
+
+static const fcc_sensor_t *ops_input(const void *app, uint32_t slot)
+{
+    const fcc_app_sid_t *a = app;
+    return (a != NULL && slot < FCC_APP_SID_N_INPUTS) ? &a->in[slot] : NULL;
+}
+
+static fcc_status_t ops_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *data, uint64_t t_us)
+{
+    return fcc_app_sid_offer(app, msg, data, t_us);
+}
+
+static fcc_status_t ops_step(void *app, const fcc_app_tick_t *tick, fcc_app_step_t *out)
+{
+    fcc_app_sid_result_t res;
+    const fcc_status_t st = fcc_app_sid_step(app, tick->k, tick->check_step, tick->stale_limit,
+                                             tick->oracle_fault, &res);
+    out->degraded = res.degraded;
+    out->reconfigured = false;
+    return st;
+}
+
+static fcc_status_t ops_encode(const void *app, fcc_bus_t *bus, fcc_can_frame_t *frames,
+                               uint32_t *n)
+{
+    const fcc_app_sid_t *a = app;
+    return fcc_app_sid_encode(&a->last, bus, frames, n);
+}
+
+static uint32_t ops_period_us(const void *app)
+{
+    (void)app;
+    return FCC_APP_SID_PERIOD_US;
+}
+
+/* the step's 12 outputs under one authenticator (SID_OUT_AUTH) */
+const fcc_app_ops_t fcc_app_sid_ops = {
+    "cdrw", fcc_bus_app_cdrw_inputs, FCC_BUS_APP_CDRW_N_INPUTS, FCC_MSG_SID_OUT_AUTH, 0u,
+    ops_config_default, ops_init, ops_reset, ops_sensor, ops_input, ops_offer, ops_step, ops_encode, ops_period_us,
+    NULL, NULL, NULL,
+};

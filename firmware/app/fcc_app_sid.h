@@ -21,6 +21,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fcc_app.h"
 #include "fcc_bus.h"
 #include "fcc_sensor.h"
 #include "fcc_sid.h"
@@ -97,5 +98,8 @@ fcc_status_t fcc_app_sid_step(fcc_app_sid_t *app, uint32_t k, bool check_step,
  * counted by the bus).  Returns the first refusal, FCC_OK if none. */
 fcc_status_t fcc_app_sid_encode(const fcc_app_sid_result_t *res, fcc_bus_t *bus,
                                 fcc_can_frame_t frames[FCC_APP_SID_N_FRAMES], uint32_t *n_frames);
+
+/* The application to the node (fcc_app.h): its config is an fcc_app_sid_config_t. */
+extern const fcc_app_ops_t fcc_app_sid_ops;
 
 #endif /* FCC_APP_SID_H */

@@ -3,6 +3,7 @@
  */
 #include "fcc_node.h"
 
+#include <stddef.h>
 #include <string.h>
 
 #define MSG_BIT(m) ((uint64_t)1u << (uint32_t)(m))
@@ -94,46 +95,67 @@ static uint32_t app_of(fcc_msg_t msg)
     return ((uint32_t)msg < (uint32_t)FCC_MSG_COUNT) ? fcc_bus_input_app[msg] : FCC_N_APPS;
 }
 
-/* ---- the applications, by id: their inputs (generated) and how a frame reaches them ---- */
+/* ---- the applications, by id: each one's interface and where its instance and its
+ * configuration are (the node's storage: no heap) ------------------------------- */
 
 typedef struct {
-    const fcc_msg_t *inputs; /* fcc_bus_app_*_inputs: the order of the input slots */
-    uint32_t n_inputs;
-    fcc_status_t (*offer)(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us);
-    fcc_sensor_t *(*sensor)(fcc_node_t *node, fcc_msg_t msg);
-} app_desc_t;
+    const fcc_app_ops_t *ops; /* NULL: no such application in this build */
+    size_t instance;          /* offset of its instance in fcc_node_t */
+    size_t config;            /* offset of its configuration in fcc_node_config_t, or NO_CONFIG */
+} app_slot_t;
 
-static fcc_status_t offer_sid(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
-{
-    return fcc_app_sid_offer(&node->sid, m->msg, &m->data, t_us);
-}
+#define NO_CONFIG SIZE_MAX
 
-static fcc_status_t offer_msl(fcc_node_t *node, const fcc_bus_rx_msg_t *m, uint64_t t_us)
-{
-    return fcc_app_msl_offer(&node->msl, m->msg, &m->data, t_us);
-}
-
-static fcc_sensor_t *sensor_sid(fcc_node_t *node, fcc_msg_t msg)
-{
-    return fcc_app_sid_sensor(&node->sid, msg);
-}
-
-static fcc_sensor_t *sensor_msl(fcc_node_t *node, fcc_msg_t msg)
-{
-    return fcc_app_msl_sensor(&node->msl, msg);
-}
-
-static const app_desc_t k_apps[FCC_N_APPS] = {
-    [FCC_APP_CDRW] = {fcc_bus_app_cdrw_inputs, FCC_BUS_APP_CDRW_N_INPUTS, offer_sid, sensor_sid},
-    [FCC_APP_MSL] = {fcc_bus_app_missile_inputs, FCC_BUS_APP_MISSILE_N_INPUTS, offer_msl,
-                     sensor_msl},
+/* The one list of the applications this build flies (the ids are the DBC's FccApp). */
+static const app_slot_t k_apps[FCC_N_APPS] = {
+    [FCC_BUS_APP_CDRW] = {&fcc_app_sid_ops, offsetof(fcc_node_t, sid),
+                          offsetof(fcc_node_config_t, sid)},
+    [FCC_BUS_APP_MISSILE] = {&fcc_app_msl_ops, offsetof(fcc_node_t, msl),
+                             offsetof(fcc_node_config_t, msl)},
+#if defined(FCC_APP_PROBE)
+    [FCC_BUS_APP_PROBE] = {&fcc_app_probe_ops, offsetof(fcc_node_t, probe), NO_CONFIG},
+#endif
 };
+
+const fcc_app_ops_t *fcc_node_app_ops(uint32_t app)
+{
+    return (app < FCC_N_APPS) ? k_apps[app].ops : NULL;
+}
+
+uint32_t fcc_node_app_named(const char *name, uint32_t len)
+{
+    for (uint32_t a = 0u; name != NULL && a < FCC_N_APPS; ++a) {
+        const fcc_app_ops_t *ops = k_apps[a].ops;
+        if (ops != NULL && strlen(ops->name) == len && strncmp(ops->name, name, len) == 0) {
+            return a;
+        }
+    }
+    return FCC_N_APPS;
+}
+
+/* The instance of application app (its ops not NULL). */
+static void *instance(fcc_node_t *node, uint32_t app)
+{
+    return (unsigned char *)node + k_apps[app].instance;
+}
+
+static const void *instance_c(const fcc_node_t *node, uint32_t app)
+{
+    return (const unsigned char *)node + k_apps[app].instance;
+}
+
+/* The configuration of application app in cfg, NULL when it takes none. */
+static void *config_of(fcc_node_config_t *cfg, uint32_t app)
+{
+    return (k_apps[app].config != NO_CONFIG) ? (unsigned char *)cfg + k_apps[app].config : NULL;
+}
 
 /* The sensor of an input message (its application's slot), or NULL. */
 static fcc_sensor_t *sensor_of(fcc_node_t *node, fcc_msg_t msg)
 {
     const uint32_t app = app_of(msg);
-    return (app < FCC_N_APPS) ? k_apps[app].sensor(node, msg) : NULL;
+    const fcc_app_ops_t *ops = fcc_node_app_ops(app);
+    return (ops != NULL) ? ops->sensor(instance(node, app), msg) : NULL;
 }
 
 /* ---- set-up ------------------------------------------------------------------- */
@@ -145,11 +167,16 @@ fcc_status_t fcc_node_config_default(fcc_node_config_t *cfg)
     }
     memset(cfg, 0, sizeof *cfg);
     cfg->mode = FCC_MODE_LOCKSTEP;
-    cfg->app_enabled[FCC_APP_CDRW] = true;
-    cfg->app_enabled[FCC_APP_MSL] = true;
     cfg->stale_limit = (uint16_t)FCC_NODE_DEFAULT_STALE_LIMIT;
-    fcc_app_sid_config_default(&cfg->sid);
-    return fcc_app_msl_config_default(&cfg->msl);
+    fcc_status_t st = FCC_OK;
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        cfg->app_enabled[a] = k_apps[a].ops != NULL;
+        void *app_cfg = cfg->app_enabled[a] ? config_of(cfg, a) : NULL;
+        if (app_cfg != NULL && st == FCC_OK) {
+            st = k_apps[a].ops->config_default(app_cfg);
+        }
+    }
+    return st;
 }
 
 fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
@@ -162,6 +189,11 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     if ((cfg->mode != FCC_MODE_LOCKSTEP && cfg->mode != FCC_MODE_REALTIME) ||
         cfg->security.trip == 0u) {
         return FCC_ERR_ARG;
+    }
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        if (cfg->app_enabled[a] && k_apps[a].ops == NULL) {
+            return FCC_ERR_ARG; /* not in this build */
+        }
     }
     memset(node->app, 0, sizeof node->app);
     memset(&node->cnt, 0, sizeof node->cnt);
@@ -192,11 +224,10 @@ fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
     if (st == FCC_OK) {
         st = fcc_bus_init(&node->bus, FCC_BUS_NODE_FCC);
     }
-    if (st == FCC_OK) {
-        st = fcc_app_sid_init(&node->sid, &cfg->sid);
-    }
-    if (st == FCC_OK) {
-        st = fcc_app_msl_init(&node->msl, &cfg->msl);
+    for (uint32_t a = 0u; a < FCC_N_APPS && st == FCC_OK; ++a) {
+        if (k_apps[a].ops != NULL) {
+            st = k_apps[a].ops->init(instance(node, a), config_of(&node->cfg, a));
+        }
     }
     return st;
 }
@@ -206,10 +237,12 @@ fcc_status_t fcc_node_reset(fcc_node_t *node)
     if (node == NULL) {
         return FCC_ERR_ARG;
     }
-    fcc_status_t st = fcc_app_sid_reset(&node->sid);
-    const fcc_status_t st2 = fcc_app_msl_reset(&node->msl);
-    st = (st != FCC_OK) ? st : st2;
+    fcc_status_t st = FCC_OK;
     for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        if (k_apps[a].ops != NULL) {
+            const fcc_status_t st_a = k_apps[a].ops->reset(instance(node, a));
+            st = (st != FCC_OK) ? st : st_a;
+        }
         node->app[a].have_last = false;
         node->app[a].last_degraded = false;
     }
@@ -277,9 +310,10 @@ static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
     const uint32_t app = tick->app;
     const uint32_t k = tick->step;
     if (app >= FCC_N_APPS) {
-        return; /* the DBC range check lets only 0 and 1 through */
+        return; /* the DBC range check lets only the FccApp ids through */
     }
     fcc_node_app_t *a = &node->app[app];
+    /* (an id without an application in this build is never enabled: fcc_node_init) */
     if (node->cfg.mode != FCC_MODE_LOCKSTEP || !node->cfg.app_enabled[app]) {
         ++a->ticks_ignored;
         emit(node, FCC_EV_TICK_IGNORED, app, FCC_MSG_SIM_TICK_ID, (int32_t)k);
@@ -308,7 +342,8 @@ static void on_tick(fcc_node_t *node, const fcc_msg_sim_tick_t *tick)
     }
     /* Lockstep: a SIM_CONTROL received before this tick applies to it (all
      * its slices now; each call makes progress, so this ends). */
-    while (app == FCC_APP_MSL && fcc_app_msl_wants_design(&node->msl) &&
+    const fcc_app_ops_t *ops = k_apps[app].ops;
+    while (ops->wants_background != NULL && ops->wants_background(instance_c(node, app)) &&
            fcc_node_background(node) == FCC_OK) {
     }
     (void)fcc_node_run_step(node, app, k);
@@ -358,15 +393,19 @@ static void on_control(fcc_node_t *node, const fcc_msg_sim_control_t *c)
     if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_RESET) {
         (void)fcc_node_reset(node);
     }
-    if (design) {
-        const fcc_status_t st = fcc_app_msl_request(&node->msl, c->lqg_period, c->da_bits);
+    for (uint32_t a = 0u; design && a < FCC_N_APPS; ++a) {
+        const fcc_app_ops_t *ops = k_apps[a].ops;
+        if (ops == NULL || ops->request == NULL) {
+            continue; /* takes no design */
+        }
+        const fcc_status_t st = ops->request(instance(node, a), c->lqg_period, c->da_bits);
         if (st == FCC_OK) {
             ++node->cnt.configs_accepted;
             node->config_rejected = false; /* set again if its design fails */
         } else {
             ++node->cnt.configs_rejected;
             node->config_rejected = true;
-            emit(node, FCC_EV_CONFIG_REJECTED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID, st);
+            emit(node, FCC_EV_CONFIG_REJECTED, a, FCC_MSG_SIM_CONTROL_ID, st);
         }
     }
     if (c->command == FCC_MSG_SIM_CONTROL_COMMAND_FLIGHT) {
@@ -464,8 +503,9 @@ static void dispatch(fcc_node_t *node, const fcc_can_frame_t *frame)
         return;
     }
     const uint32_t app = app_of(m.msg);
-    if (app < FCC_N_APPS) {
-        (void)k_apps[app].offer(node, &m, frame->t_us);
+    const fcc_app_ops_t *ops = fcc_node_app_ops(app);
+    if (ops != NULL) {
+        (void)ops->offer(instance(node, app), m.msg, &m.data, frame->t_us);
     } else if (k_handlers[m.msg] != NULL) {
         k_handlers[m.msg](node, &m, frame->t_us);
     } else {
@@ -620,52 +660,51 @@ static void close_periods(fcc_node_t *node, const fcc_msg_t *msgs, uint32_t n,
     }
 }
 
-static fcc_status_t step_sid(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
+/* A step's outputs: under the application's authenticator (all or none), or plain. */
+static fcc_status_t send_outputs(fcc_node_t *node, const fcc_app_ops_t *ops,
+                                 const fcc_can_frame_t *frames, uint32_t n, uint32_t app)
 {
-    fcc_sensor_state_t before[FCC_APP_SID_N_INPUTS];
-    close_periods(node, fcc_bus_app_cdrw_inputs, FCC_APP_SID_N_INPUTS, before);
-    fcc_app_sid_result_t res;
-    const fcc_status_t st = fcc_app_sid_step(&node->sid, k, check_step, node->cfg.stale_limit,
-                                             node->oracle_fault, &res);
-    fcc_can_frame_t frames[FCC_APP_SID_N_FRAMES];
-    uint32_t n = 0u;
-    /* the step's 12 outputs under one authenticator (SID_OUT_AUTH), or none of them */
-    if (fcc_app_sid_encode(&res, &node->bus, frames, &n) != FCC_OK ||
-        send_authenticated(node, FCC_MSG_SID_OUT_AUTH, frames, n, FCC_APP_CDRW) != FCC_OK) {
-        emit(node, FCC_EV_TX_REFUSED, FCC_APP_CDRW, FCC_MSG_SID_OUT_AUTH_ID, (int32_t)n);
+    if (ops->out_auth == FCC_MSG_COUNT) {
+        send_frames(node, frames, n, app);
+        return FCC_OK;
     }
-    report_sensors(node, FCC_APP_CDRW, fcc_bus_app_cdrw_inputs, FCC_APP_SID_N_INPUTS, before);
-    *degraded = res.degraded;
-    return st;
+    return send_authenticated(node, ops->out_auth, frames, n, app);
 }
 
-static fcc_status_t step_msl(fcc_node_t *node, uint32_t k, bool check_step, bool *degraded)
+/* One step of application app through its interface: inputs closed, step, outputs sent,
+ * its sensors' changes reported. */
+static fcc_status_t step_app(fcc_node_t *node, uint32_t app, uint32_t k, bool check_step,
+                             bool *degraded)
 {
-    fcc_sensor_state_t before[FCC_APP_MSL_N_INPUTS];
-    close_periods(node, fcc_bus_app_missile_inputs, FCC_APP_MSL_N_INPUTS, before);
-    fcc_app_msl_result_t res;
-    const fcc_status_t st = fcc_app_msl_step(&node->msl, k, check_step, node->cfg.stale_limit, &res);
-    fcc_can_frame_t frames[2];
+    const fcc_app_ops_t *ops = k_apps[app].ops;
+    void *inst = instance(node, app);
+    fcc_sensor_state_t before[FCC_BUS_MAX_APP_INPUTS];
+    close_periods(node, ops->inputs, ops->n_inputs, before);
+    const fcc_app_tick_t tick = {k, check_step, node->cfg.stale_limit, node->oracle_fault};
+    fcc_app_step_t res = {false, false};
+    const fcc_status_t st = ops->step(inst, &tick, &res);
+    fcc_can_frame_t frames[FCC_SECOC_MAX_PDUS];
     uint32_t n = 0u;
-    /* command and estimate under one authenticator (MSL_ELEV_CMD_AUTH), or neither */
-    if (fcc_app_msl_encode(&res, &node->bus, frames, &n) != FCC_OK ||
-        send_authenticated(node, FCC_MSG_MSL_ELEV_CMD_AUTH, frames, n, FCC_APP_MSL) != FCC_OK) {
-        emit(node, FCC_EV_TX_REFUSED, FCC_APP_MSL, FCC_MSG_MSL_ELEV_CMD_ID, (int32_t)n);
+    if (ops->encode(inst, &node->bus, frames, &n) != FCC_OK ||
+        send_outputs(node, ops, frames, n, app) != FCC_OK) {
+        const uint32_t id = (ops->out_auth != FCC_MSG_COUNT) ? fcc_bus_desc(ops->out_auth)->id
+                                                             : FCC_EV_NO_MSG;
+        emit(node, FCC_EV_TX_REFUSED, app, id, (int32_t)n);
     }
-    if (res.switched) {
+    if (res.reconfigured) {
         ++node->cnt.configs_applied;
         node->config_rejected = false;
-        emit(node, FCC_EV_CONFIG_APPLIED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID,
-             (int32_t)fcc_node_app_period_us(node, FCC_APP_MSL));
+        emit(node, FCC_EV_CONFIG_APPLIED, app, FCC_MSG_SIM_CONTROL_ID,
+             (int32_t)fcc_node_app_period_us(node, app));
     }
-    report_sensors(node, FCC_APP_MSL, fcc_bus_app_missile_inputs, FCC_APP_MSL_N_INPUTS, before);
+    report_sensors(node, app, ops->inputs, ops->n_inputs, before);
     *degraded = res.degraded;
     return st;
 }
 
 fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k)
 {
-    if (node == NULL || app >= FCC_N_APPS) {
+    if (node == NULL || fcc_node_app_ops(app) == NULL) {
         return FCC_ERR_ARG;
     }
     if (node->op_mode != FCC_OP_FLIGHT) {
@@ -677,8 +716,7 @@ fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k)
     a->last_step = k;
     a->have_last = true;
     bool degraded = false;
-    const fcc_status_t st = (app == FCC_APP_CDRW) ? step_sid(node, k, lockstep, &degraded)
-                                                  : step_msl(node, k, lockstep, &degraded);
+    const fcc_status_t st = step_app(node, app, k, lockstep, &degraded);
     const uint64_t dt = now_us(node) - t0;
     a->last_exec_us = (dt > UINT32_MAX) ? UINT32_MAX : (uint32_t)dt;
     a->worst_exec_us = (a->last_exec_us > a->worst_exec_us) ? a->last_exec_us : a->worst_exec_us;
@@ -703,13 +741,21 @@ fcc_status_t fcc_node_background(fcc_node_t *node)
     if (node == NULL) {
         return FCC_ERR_ARG;
     }
-    const fcc_status_t st = fcc_app_msl_background(&node->msl);
-    if (st != FCC_OK && st != FCC_ERR_AGAIN) {
-        ++node->cnt.configs_rejected;
-        node->config_rejected = true;
-        emit(node, FCC_EV_CONFIG_REJECTED, FCC_APP_MSL, FCC_MSG_SIM_CONTROL_ID, st);
+    fcc_status_t result = FCC_ERR_AGAIN;
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        const fcc_app_ops_t *ops = k_apps[a].ops;
+        if (ops == NULL || ops->background == NULL) {
+            continue;
+        }
+        const fcc_status_t st = ops->background(instance(node, a));
+        if (st != FCC_OK && st != FCC_ERR_AGAIN) {
+            ++node->cnt.configs_rejected;
+            node->config_rejected = true;
+            emit(node, FCC_EV_CONFIG_REJECTED, a, FCC_MSG_SIM_CONTROL_ID, st);
+        }
+        result = (result == FCC_ERR_AGAIN || result == FCC_OK) && st != FCC_ERR_AGAIN ? st : result;
     }
-    return st;
+    return result;
 }
 
 /* ---- heartbeat ---------------------------------------------------------------- */
@@ -719,13 +765,19 @@ static uint16_t wrap16(uint32_t v)
     return (uint16_t)(v & 0xFFFFu);
 }
 
+/* FCC_STATUS: the DBC gives the identification and the autopilot a field each (steps,
+ * degraded); overruns and the worst step are every application's. */
 static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fcc_msg_data_t *d)
 {
     fcc_msg_fcc_status_t *s = &d->fcc_status;
-    const fcc_node_app_t *c = &node->app[FCC_APP_CDRW];
-    const fcc_node_app_t *m = &node->app[FCC_APP_MSL];
-    const uint32_t worst = (c->worst_exec_us > m->worst_exec_us) ? c->worst_exec_us
-                                                                 : m->worst_exec_us;
+    const fcc_node_app_t *c = &node->app[FCC_BUS_APP_CDRW];
+    const fcc_node_app_t *m = &node->app[FCC_BUS_APP_MISSILE];
+    uint32_t worst = 0u;
+    uint32_t overruns = 0u;
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        worst = (node->app[a].worst_exec_us > worst) ? node->app[a].worst_exec_us : worst;
+        overruns += node->app[a].overruns;
+    }
     s->mode = (uint8_t)node->cfg.mode;
     s->op_mode = (uint8_t)node->op_mode;
     s->cdrw_degraded = c->last_degraded;
@@ -734,7 +786,7 @@ static void fill_status(const fcc_node_t *node, const fcc_bus_counters_t *bc, fc
     s->e2e_fault = node->e2e_fault_flag;
     s->overrun = node->overrun_flag;
     s->config_rejected = node->config_rejected;
-    s->overruns = (uint8_t)((c->overruns + m->overruns) & 0x3Fu);
+    s->overruns = (uint8_t)(overruns & 0x3Fu);
     s->cdrw_steps = wrap16(c->steps);
     s->msl_steps = wrap16(m->steps);
     s->worst_step_us = (uint16_t)((worst > 0xFFFFu) ? 0xFFFFu : worst);
@@ -898,10 +950,10 @@ bool fcc_node_inputs_since(const fcc_node_t *node, uint32_t app, uint64_t since_
     if (node == NULL || app >= FCC_N_APPS) {
         return false;
     }
-    const uint32_t n = k_apps[app].n_inputs;
-    for (uint32_t i = 0u; i < n; ++i) {
-        const fcc_sensor_t *s = (app == FCC_APP_CDRW) ? &node->sid.in[i] : &node->msl.in[i];
-        if (s->n_pending == 0u || s->pending[s->n_pending - 1u].t_us < since_us) {
+    const fcc_app_ops_t *ops = k_apps[app].ops;
+    for (uint32_t i = 0u; ops != NULL && i < ops->n_inputs; ++i) {
+        const fcc_sensor_t *s = ops->input(instance_c(node, app), i);
+        if (s == NULL || s->n_pending == 0u || s->pending[s->n_pending - 1u].t_us < since_us) {
             return false;
         }
     }
@@ -943,9 +995,6 @@ uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app)
     if (node == NULL || app >= FCC_N_APPS) {
         return 0u;
     }
-    if (app == FCC_APP_CDRW) {
-        return FCC_APP_SID_PERIOD_US;
-    }
-    const fcc_real_t t = fcc_app_msl_period(&node->msl);
-    return (uint32_t)FCC_ROUND(t * FCC_R(1e6));
+    const fcc_app_ops_t *ops = k_apps[app].ops;
+    return (ops != NULL) ? ops->period_us(instance_c(node, app)) : 0u;
 }

@@ -1,5 +1,5 @@
 /*
- * fcc_node.h -- the flight computer as one bus node: both applications, the
+ * fcc_node.h -- the flight computer as one bus node: its applications (fcc_app.h), the
  * lockstep protocol, run-time commands, health and the heartbeat.
  *
  * Portable: no OS, no heap, no clock except the port's.  The Linux main
@@ -26,8 +26,12 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "fcc_app.h"
 #include "fcc_app_msl.h"
 #include "fcc_app_sid.h"
+#if defined(FCC_APP_PROBE)
+#include "fcc_app_probe.h" /* the test build's third application (cmake -DFCC_APP_PROBE=ON) */
+#endif
 #include "fcc_bus.h"
 #include "fcc_can_txq.h"
 #include "fcc_port.h"
@@ -37,7 +41,9 @@
 #include "fcc_types.h"
 
 /* Application numbers: the values of SIM_TICK.app / FCC_ACK.app, generated from the DBC's
- * FccApp attribute (fcc_bus_msgs.h). */
+ * FccApp attribute (fcc_bus_msgs.h).  The node runs each through its fcc_app_ops_t
+ * (fcc_app.h, fcc_node_app_ops); an id without one in this build is not flown (its ticks
+ * are ignored, --apps refuses it). */
 #define FCC_APP_CDRW FCC_BUS_APP_CDRW
 #define FCC_APP_MSL FCC_BUS_APP_MISSILE
 #define FCC_N_APPS FCC_BUS_N_APPS
@@ -116,8 +122,12 @@ typedef struct {
     fcc_bus_t bus;
     fcc_secoc_t sec;
     fcc_op_mode_t op_mode;
+    /* the applications' instances (fcc_node.c's k_apps says which id each one is) */
     fcc_app_sid_t sid;
     fcc_app_msl_t msl;
+#if defined(FCC_APP_PROBE)
+    fcc_app_probe_t probe;
+#endif
     fcc_node_app_t app[FCC_N_APPS];
     fcc_node_counters_t cnt;
     bool oracle_fault;     /* from the last good SIM_EVENT */
@@ -131,10 +141,16 @@ typedef struct {
     uint32_t tsync_rejected_reported;
 } fcc_node_t;
 
-/* Lockstep, both applications, stale limit 1, the applications' defaults. */
+/* The interface of application app in this build, NULL when it has none (fcc_app.h). */
+const fcc_app_ops_t *fcc_node_app_ops(uint32_t app);
+
+/* The id of the application called name in this build (fcc's --apps), FCC_N_APPS: none. */
+uint32_t fcc_node_app_named(const char *name, uint32_t len);
+
+/* Lockstep, every application of this build, stale limit 1, the applications' defaults. */
 fcc_status_t fcc_node_config_default(fcc_node_config_t *cfg);
 
-/* Checks cfg, starts both applications (the LQG design runs here) and the
+/* Checks cfg, starts every application (the LQG design runs here) and the
  * bus node.  The port is copied; its send, recv and now_us must be set. */
 fcc_status_t fcc_node_init(fcc_node_t *node, const fcc_node_config_t *cfg,
                            const fcc_port_t *port);
@@ -159,7 +175,8 @@ fcc_status_t fcc_node_poll(fcc_node_t *node, uint32_t max_frames, uint32_t *n);
  * FCC_ERR_AGAIN (nothing run) outside FLIGHT. */
 fcc_status_t fcc_node_run_step(fcc_node_t *node, uint32_t app, uint32_t k);
 
-/* Idle-time work: one slice of a pending LQG redesign (fcc_app_msl_background).
+/* Idle-time work: one slice of an application's pending work (the missile's LQG redesign,
+ * fcc_app_msl_background).
  * FCC_OK after a slice (call again while it returns FCC_OK, or between
  * control steps), FCC_ERR_AGAIN when there was nothing to do. */
 fcc_status_t fcc_node_background(fcc_node_t *node);
@@ -205,10 +222,10 @@ fcc_op_mode_t fcc_node_op_mode(const fcc_node_t *node);
  * or, while the time sync has the master's time (fcc_tsync_has_time), the
  * master's sampling instants t_n = n T: step n is released as soon as every
  * input has a frame stamped at or after t_n - FCC_NODE_RT_GUARD_US, at the
- * latest at t_n + the window (the autopilot: FCC_NODE_RT_WINDOW_US, its command
- * must leave before the actuation instant; the identification: T / 2). */
+ * latest at t_n + the window (the application's rt_window_us, fcc_app.h: the
+ * autopilot's command must leave before the actuation instant; 0, as the
+ * identification's: T / 2). */
 #define FCC_NODE_RT_GUARD_US 500u
-#define FCC_NODE_RT_WINDOW_US 3500u
 
 typedef struct {
     uint64_t deadline;  /* next release, port microseconds */
@@ -237,7 +254,7 @@ uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
 /* The earliest deadline of the enabled applications (UINT64_MAX: none). */
 uint64_t fcc_node_rt_next(const fcc_node_t *node, const fcc_node_rt_t rt[FCC_N_APPS]);
 
-/* Period of app in microseconds (the missile's follows run-time redesigns). */
+/* Period of app in microseconds (the missile's follows run-time redesigns; 0: no such app). */
 uint32_t fcc_node_app_period_us(const fcc_node_t *node, uint32_t app);
 
 #endif /* FCC_NODE_H */

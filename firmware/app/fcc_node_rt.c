@@ -52,7 +52,9 @@ static bool align(const fcc_node_t *node, fcc_node_rt_t *r, uint32_t a, uint64_t
         r->synced = true;
         ++r->aligns;
     }
-    const uint64_t window = (a == FCC_APP_MSL) ? FCC_NODE_RT_WINDOW_US : r->period_us / 2u;
+    const fcc_app_ops_t *ops = fcc_node_app_ops(a);
+    const uint64_t window = (ops != NULL && ops->rt_window_us != 0u) ? ops->rt_window_us
+                                                                     : r->period_us / 2u;
     uint64_t instant = 0u;
     uint64_t deadline = 0u;
     if (fcc_tsync_to_local(ts, r->n * r->period_us, &instant) != FCC_OK ||
@@ -96,12 +98,28 @@ static uint64_t release_synced(fcc_node_t *node, fcc_node_rt_t *r, uint32_t a, u
     return jitter;
 }
 
+/* When several are due, those whose command has a deadline (a release window, fcc_app.h)
+ * go first: the autopilot's command closes a loop, the identification only observes. */
+static void release_order(uint32_t order[FCC_N_APPS])
+{
+    uint32_t n = 0u;
+    for (uint32_t pass = 0u; pass < 2u; ++pass) {
+        for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+            const fcc_app_ops_t *ops = fcc_node_app_ops(a);
+            const bool windowed = ops != NULL && ops->rt_window_us != 0u;
+            if ((pass == 0u) ? windowed : !windowed) {
+                order[n] = a;
+                ++n;
+            }
+        }
+    }
+}
+
 uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
                              uint64_t jitter_us[FCC_N_APPS])
 {
-    /* When both are due the autopilot goes first: its command closes a loop,
-     * the identification only observes. */
-    static const uint32_t k_order[FCC_N_APPS] = {FCC_APP_MSL, FCC_APP_CDRW};
+    uint32_t k_order[FCC_N_APPS];
+    release_order(k_order);
     uint32_t ran = 0u;
     const bool master = fcc_tsync_has_time(&node->tsync);
     for (uint32_t i = 0u; i < FCC_N_APPS; ++i) {

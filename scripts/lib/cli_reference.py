@@ -30,6 +30,7 @@ import importlib
 import logging
 import os
 import re
+import runpy
 import subprocess
 import sys
 from pathlib import Path
@@ -41,9 +42,6 @@ PARSER_FACTORIES = ("build",)
 #: the scripts whose --help goes into the reference, in this order
 SCRIPTS = ("setup", "test", "hil-demo", "with-vcan", "diag", "bench")
 WIDTH = 100
-#: a generated block: its opening marker, then (when committed) its text and its end marker
-MARKER = re.compile(r"^<!-- generated: (hil-exit|hil|scripts) -->"
-                    r"(?:\n(?:(?!<!-- generated: ).*\n)*?<!-- end generated: \1 -->)?$", re.M)
 
 log = logging.getLogger("mkdocs.hooks.cli_reference")
 
@@ -229,27 +227,14 @@ def scripts_markdown() -> str:
     return "\n".join(lines)
 
 
-GENERATORS = {"hil": hil_markdown, "scripts": scripts_markdown, "hil-exit": exit_markdown}
+GENERATORS = {"hil": hil_markdown, "hil-exit": exit_markdown, "scripts": scripts_markdown}
 
 
-# ---- the page and the MkDocs hook -------------------------------------------------------------
-def render(markdown: str, markers: bool = True) -> str:
-    """Every generated block of a page filled in afresh, between its markers (the committed
-    page), or in their place (the site's page)."""
-    def block(m: re.Match[str]) -> str:
-        name, text = m.group(1), GENERATORS[m.group(1)]().strip()
-        return f"<!-- generated: {name} -->\n\n{text}\n\n<!-- end generated: {name} -->" if markers else text
-    return MARKER.sub(block, markdown)
-
-
-def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001 - MkDocs' hook
-    return render(markdown, markers=False) if MARKER.search(markdown) else markdown
+#: (MkDocs loads this file by its path: the shared module beside it is loaded by its path too)
+BLOCKS = runpy.run_path(str(Path(__file__).with_name("generated_blocks.py")))["Blocks"](GENERATORS)
+render = BLOCKS.render
+on_page_markdown = BLOCKS.on_page_markdown   # the MkDocs hook (mkdocs.yml)
 
 
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["--write"]:
-        for page in map(Path, sys.argv[2:]):
-            page.write_text(render(page.read_text(encoding="utf-8")), encoding="utf-8")
-    else:
-        which = sys.argv[1:] or ["hil", "hil-exit", "scripts"]
-        print("\n".join(GENERATORS[w]() for w in which))
+    BLOCKS.main(sys.argv[1:], sep="\n")

@@ -26,13 +26,11 @@ afresh, without their markers.  Also a program that prints the Markdown:
 from __future__ import annotations
 
 import importlib.util
-import re
+import runpy
 import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
-MARKER = re.compile(r"^<!-- generated: (fault-kinds|frames|fault-matrix) -->"
-                    r"(?:\n(?:(?!<!-- generated: ).*\n)*?<!-- end generated: \1 -->)?$", re.MULTILINE)
 #: the pages that hold the blocks (--write without pages)
 PAGES = ("docs/scenarios.md", "docs/bus.md", "docs/reliability.md")
 MATRIX_TEST = REPO / "tests" / "python" / "rig" / "test_fault_matrix.py"
@@ -101,23 +99,11 @@ GENERATORS = {"fault-kinds": fault_kinds_markdown, "frames": frames_markdown,
               "fault-matrix": fault_matrix_markdown}
 
 
-def render(markdown: str, markers: bool = True) -> str:
-    """The page with every block generated afresh (markers=False: the text alone, for the site)."""
-    def block(m: re.Match[str]) -> str:
-        name, text = m.group(1), GENERATORS[m.group(1)]()
-        return f"<!-- generated: {name} -->\n\n{text}\n\n<!-- end generated: {name} -->" if markers else text
-    return MARKER.sub(block, markdown)
-
-
-# ---- the MkDocs hook -------------------------------------------------------------------------
-def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ANN001 - MkDocs' hook
-    return render(markdown, markers=False) if MARKER.search(markdown) else markdown
+#: (MkDocs loads this file by its path: the shared module beside it is loaded by its path too)
+BLOCKS = runpy.run_path(str(Path(__file__).with_name("generated_blocks.py")))["Blocks"](GENERATORS)
+render = BLOCKS.render
+on_page_markdown = BLOCKS.on_page_markdown   # the MkDocs hook (mkdocs.yml)
 
 
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["--write"]:
-        for page in [Path(p) for p in sys.argv[2:]] or [REPO / p for p in PAGES]:
-            page.write_text(render(page.read_text(encoding="utf-8")), encoding="utf-8")
-    else:
-        which = sys.argv[1:] or list(GENERATORS)
-        print("\n\n".join(GENERATORS[w]() for w in which))
+    BLOCKS.main(sys.argv[1:], [REPO / p for p in PAGES])

@@ -227,7 +227,7 @@ static void test_signal_access_and_strings(void **state)
     memset(&d, 0, sizeof d);
     fcc_assert_ok(fcc_bus_signal_set(FCC_MSG_SIM_TICK, 1u, &d, FCC_R(0.0), 4000000000LL));
     assert_int_equal(d.sim_tick.step, 4000000000u);
-    assert_int_equal(fcc_bus_signal_set(FCC_MSG_SIM_TICK, 0u, &d, FCC_R(0.0), 2), FCC_ERR_RANGE);
+    assert_int_equal(fcc_bus_signal_set(FCC_MSG_SIM_TICK, 0u, &d, FCC_R(0.0), 3), FCC_ERR_RANGE);
     assert_int_equal(fcc_bus_signal_set(FCC_MSG_SIM_TICK, 9u, &d, FCC_R(0.0), 0), FCC_ERR_ARG);
     fcc_real_t r;
     int64_t i;

@@ -89,7 +89,7 @@ static int pack_sim_control_auth(uint8_t data[8], const void *raw)
 }
 
 static const fcc_bus_signal_desc_t sig_sim_tick[] = {
-    {"app", (uint16_t)offsetof(fcc_msg_sim_tick_t, app), (uint16_t)offsetof(struct fcc_hil_sim_tick_t, app), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
+    {"app", (uint16_t)offsetof(fcc_msg_sim_tick_t, app), (uint16_t)offsetof(struct fcc_hil_sim_tick_t, app), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(2)},
     {"step", (uint16_t)offsetof(fcc_msg_sim_tick_t, step), (uint16_t)offsetof(struct fcc_hil_sim_tick_t, step), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(4294967295)},
 };
 
@@ -119,7 +119,7 @@ static int pack_sim_tick_auth(uint8_t data[8], const void *raw)
 }
 
 static const fcc_bus_signal_desc_t sig_fcc_ack[] = {
-    {"app", (uint16_t)offsetof(fcc_msg_fcc_ack_t, app), (uint16_t)offsetof(struct fcc_hil_fcc_ack_t, app), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
+    {"app", (uint16_t)offsetof(fcc_msg_fcc_ack_t, app), (uint16_t)offsetof(struct fcc_hil_fcc_ack_t, app), FCC_FIELD_U8, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(2)},
     {"degraded", (uint16_t)offsetof(fcc_msg_fcc_ack_t, degraded), (uint16_t)offsetof(struct fcc_hil_fcc_ack_t, degraded), FCC_FIELD_BOOL, FCC_FIELD_U8, FCC_R(1.0), INT64_C(0), INT64_C(1)},
     {"step", (uint16_t)offsetof(fcc_msg_fcc_ack_t, step), (uint16_t)offsetof(struct fcc_hil_fcc_ack_t, step), FCC_FIELD_U32, FCC_FIELD_U32, FCC_R(1.0), INT64_C(0), INT64_C(4294967295)},
     {"exec_us", (uint16_t)offsetof(fcc_msg_fcc_ack_t, exec_us), (uint16_t)offsetof(struct fcc_hil_fcc_ack_t, exec_us), FCC_FIELD_U16, FCC_FIELD_U16, FCC_R(1.0), INT64_C(0), INT64_C(65535)},

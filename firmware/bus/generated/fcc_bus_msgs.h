@@ -124,8 +124,10 @@ typedef enum {
 #define FCC_MSG_SIM_CONTROL_COMMAND_MAINTENANCE 5u
 #define FCC_MSG_SIM_TICK_APP_CDRW_SID 0u
 #define FCC_MSG_SIM_TICK_APP_MISSILE_LQG 1u
+#define FCC_MSG_SIM_TICK_APP_PROBE 2u
 #define FCC_MSG_FCC_ACK_APP_CDRW_SID 0u
 #define FCC_MSG_FCC_ACK_APP_MISSILE_LQG 1u
+#define FCC_MSG_FCC_ACK_APP_PROBE 2u
 #define FCC_MSG_FCC_STATUS_MODE_LOCKSTEP 0u
 #define FCC_MSG_FCC_STATUS_MODE_REALTIME 1u
 #define FCC_MSG_FCC_STATUS_OP_MODE_GROUND 0u
@@ -198,7 +200,7 @@ typedef struct {
 
 /* SIM_TICK (0x020, 20 ms, SIM -> FCC, E2E data ID 0x1020): Lockstep tick: every sensor frame of this step has been sent; the FCC runs one step of the application and answers with FCC_ACK. 50 Hz for the CDRW, 1/T for the missile (default T = 0.05 s). */
 typedef struct {
-    uint8_t app; /* [0, 1]. Application to step: 0 CDRW system identification, 1 missile LQG autopilot. */
+    uint8_t app; /* [0, 2]. Application to step: 0 CDRW system identification, 1 missile LQG autopilot, 2 the probe (the test build's third application, cmake -DFCC_APP_PROBE=ON; a shipped fcc ignores its ticks). */
     uint32_t step; /* [0, 4294967295]. Step index k of that application, from 0; the low 16 bits match the step field of the sensor frames. */
 } fcc_msg_sim_tick_t;
 
@@ -210,7 +212,7 @@ typedef struct {
 
 /* FCC_ACK (0x028, 20 ms, FCC -> SIM, E2E data ID 0x1028): Lockstep acknowledge: the FCC has finished step k of an application and has sent every output frame of that step before this one (send through one ordered transmit queue). */
 typedef struct {
-    uint8_t app; /* [0, 1]. Application whose step is complete: 0 CDRW system identification, 1 missile LQG autopilot. */
+    uint8_t app; /* [0, 2]. Application whose step is complete: 0 CDRW system identification, 1 missile LQG autopilot, 2 the probe (test build). */
     bool degraded; /* [0, 1]. 1 when the step ran on degraded inputs (stale, rejected or E2E-failed sensor data). */
     uint32_t step; /* [0, 4294967295]. Step index k just completed (copy of SIM_TICK.step). */
     uint16_t exec_us; /* [0, 65535] us. Execution time of this step in microseconds, saturated at 65535. */
@@ -586,10 +588,13 @@ extern const fcc_bus_msg_desc_t fcc_bus_msg_table[FCC_MSG_COUNT];
  * slots).  fcc_bus_input_app[]: the application whose input a message is, else FCC_BUS_NO_APP. */
 #define FCC_BUS_APP_CDRW 0u
 #define FCC_BUS_APP_MISSILE 1u
-#define FCC_BUS_N_APPS 2u
+#define FCC_BUS_APP_PROBE 2u
+#define FCC_BUS_N_APPS 3u
 #define FCC_BUS_NO_APP FCC_BUS_N_APPS
 #define FCC_BUS_APP_CDRW_N_INPUTS 3u
 #define FCC_BUS_APP_MISSILE_N_INPUTS 2u
+#define FCC_BUS_APP_PROBE_N_INPUTS 0u
+#define FCC_BUS_MAX_APP_INPUTS 3u /* at least 1: an array's size */
 extern const fcc_msg_t fcc_bus_app_cdrw_inputs[FCC_BUS_APP_CDRW_N_INPUTS];
 extern const fcc_msg_t fcc_bus_app_missile_inputs[FCC_BUS_APP_MISSILE_N_INPUTS];
 extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];

@@ -711,12 +711,12 @@ bool fcc_hil_sim_tick_counter_is_in_phys_range(double value)
 
 bool fcc_hil_sim_tick_app_is_in_range(uint8_t value)
 {
-    return (value <= 1u);
+    return (value <= 2u);
 }
 
 bool fcc_hil_sim_tick_app_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 1.0));
+    return ((value >= 0.0) && (value <= 2.0));
 }
 
 bool fcc_hil_sim_tick_step_is_in_range(uint32_t value)
@@ -887,12 +887,12 @@ bool fcc_hil_fcc_ack_counter_is_in_phys_range(double value)
 
 bool fcc_hil_fcc_ack_app_is_in_range(uint8_t value)
 {
-    return (value <= 1u);
+    return (value <= 2u);
 }
 
 bool fcc_hil_fcc_ack_app_is_in_phys_range(double value)
 {
-    return ((value >= 0.0) && (value <= 1.0));
+    return ((value >= 0.0) && (value <= 2.0));
 }
 
 bool fcc_hil_fcc_ack_degraded_is_in_range(uint8_t value)

@@ -225,9 +225,11 @@ extern "C" {
 
 #define FCC_HIL_SIM_TICK_APP_CDRW_SID_CHOICE (0u)
 #define FCC_HIL_SIM_TICK_APP_MISSILE_LQG_CHOICE (1u)
+#define FCC_HIL_SIM_TICK_APP_PROBE_CHOICE (2u)
 
 #define FCC_HIL_FCC_ACK_APP_CDRW_SID_CHOICE (0u)
 #define FCC_HIL_FCC_ACK_APP_MISSILE_LQG_CHOICE (1u)
+#define FCC_HIL_FCC_ACK_APP_PROBE_CHOICE (2u)
 
 #define FCC_HIL_FCC_STATUS_MODE_LOCKSTEP_CHOICE (0u)
 #define FCC_HIL_FCC_STATUS_MODE_REALTIME_CHOICE (1u)
@@ -755,9 +757,9 @@ struct fcc_hil_sim_tick_t {
     uint8_t counter;
 
     /**
-     * Application to step: 0 CDRW system identification, 1 missile LQG autopilot.
+     * Application to step: 0 CDRW system identification, 1 missile LQG autopilot, 2 the probe (the test build's third application, cmake -DFCC_APP_PROBE=ON; a shipped fcc ignores its ticks).
      *
-     * Range: 0..1 (0..1 -)
+     * Range: 0..2 (0..2 -)
      * Scale: 1
      * Offset: 0
      */
@@ -827,9 +829,9 @@ struct fcc_hil_fcc_ack_t {
     uint8_t counter;
 
     /**
-     * Application whose step is complete: 0 CDRW system identification, 1 missile LQG autopilot.
+     * Application whose step is complete: 0 CDRW system identification, 1 missile LQG autopilot, 2 the probe (test build).
      *
-     * Range: 0..1 (0..1 -)
+     * Range: 0..2 (0..2 -)
      * Scale: 1
      * Offset: 0
      */

@@ -72,10 +72,13 @@ static fcc_opt_result_t get_iface(const char *val, const char **iface, char *err
     return FCC_OPT_DONE;
 }
 
+/* --apps NAME[,NAME...]: the applications of this build by their names (fcc_app.h). */
 static fcc_opt_result_t get_apps(const char *val, bool enabled[FCC_N_APPS], char *err,
                                  size_t len)
 {
-    bool on[FCC_N_APPS] = {false, false};
+    bool on[FCC_N_APPS];
+    bool any = false;
+    memset(on, 0, sizeof on);
     if (val == NULL) {
         return FCC_OPT_NEED_VALUE;
     }
@@ -83,13 +86,13 @@ static fcc_opt_result_t get_apps(const char *val, bool enabled[FCC_N_APPS], char
     while (*p != '\0') {
         const char *comma = strchr(p, ',');
         const size_t n = (comma != NULL) ? (size_t)(comma - p) : strlen(p);
-        if (n == 4u && strncmp(p, "cdrw", 4u) == 0) {
-            on[FCC_APP_CDRW] = true;
-        } else if (n == 7u && strncmp(p, "missile", 7u) == 0) {
-            on[FCC_APP_MSL] = true;
-        } else {
-            return fcc_opt_fail(err, len, "--apps: '%s' is not a list of cdrw and missile", val);
+        const uint32_t app = fcc_node_app_named(p, (uint32_t)n);
+        if (app >= FCC_N_APPS) {
+            return fcc_opt_fail(err, len, "--apps: '%s' names an application this fcc does not have",
+                                val);
         }
+        on[app] = true;
+        any = true;
         p += n;
         if (*p == ',') {
             ++p;
@@ -98,11 +101,10 @@ static fcc_opt_result_t get_apps(const char *val, bool enabled[FCC_N_APPS], char
             }
         }
     }
-    if (!on[FCC_APP_CDRW] && !on[FCC_APP_MSL]) {
-        return fcc_opt_fail(err, len, "--apps: at least one of cdrw and missile is needed");
+    if (!any) {
+        return fcc_opt_fail(err, len, "--apps: at least one application is needed");
     }
-    enabled[FCC_APP_CDRW] = on[FCC_APP_CDRW];
-    enabled[FCC_APP_MSL] = on[FCC_APP_MSL];
+    memcpy(enabled, on, sizeof on);
     return FCC_OPT_DONE;
 }
 

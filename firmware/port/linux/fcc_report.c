@@ -18,7 +18,8 @@ void fcc_report_init(fcc_report_t *r, FILE *out, uint64_t interval_us, uint64_t 
 
 static const char *app_name(uint8_t app)
 {
-    return (app == FCC_APP_CDRW) ? "cdrw" : (app == FCC_APP_MSL) ? "missile" : NULL;
+    const fcc_app_ops_t *ops = fcc_node_app_ops(app);
+    return (ops != NULL) ? ops->name : NULL;
 }
 
 /* " NAME (0x050)", or " 0x555" for an identifier the DBC does not know. */

@@ -6,6 +6,9 @@ failed in silence fail here:
   ``default: break;``): every frame sent to FCC has a producer in the simulator and a consumer
   in fcc (an input slot of its application, a handler of the node's, or an authenticator; the
   C side's own check is tests/c/test_app_node.c, test_every_frame_sent_to_fcc_is_taken);
+- a frame fcc sends that nothing in the rig reads (an output no evaluation looks at): every
+  frame fcc sends has a reader in the rig (recorder, results, verify) or is declared diagnostic
+  in the DBC (FccDiagnostic);
 - a fault kind inserted among its siblings (it renumbered the codes on the bus): the codes come
   from the DBC's value table, every kind has one and every code a kind, and the codes released
   never change.
@@ -22,6 +25,7 @@ from pathlib import Path
 import pytest
 
 from hil.bus import dbc, protocol
+from hil.bus.apps import bus_app
 from hil.bus.cgen import generate
 from hil.scenario.faults import KINDS, WIRE_KINDS
 from hil.sim.drivers import SIGNAL_FRAMES
@@ -35,6 +39,13 @@ RELEASED_KIND_CODES = {
     "counter_jump": 14, "wrong_dlc": 15, "out_of_range": 16, "flood": 17, "silence": 18}
 #: the simulator's sources that name the frames it sends
 SIM_SOURCES = ("hil/src/hil/sim", "hil/src/hil/rig", "hil/src/hil/bus")
+#: the rig's parts that read fcc's frames: the session and recorder, the results, verify
+READER_SOURCES = ("hil/src/hil/rig", "hil/src/hil/results", "hil/src/hil/verify", "hil/src/hil/runs")
+#: an output of fcc's that nothing reads (the orphan-output tests add it)
+ORPHAN_OUTPUT = """BO_ 1802 FCC_SPARE_COUNTS: 8 FCC
+ SG_ spare : 0|16@1+ (1,0) [0|65535] "" SIM
+
+"""
 #: the application input whose copy the orphan-frame tests add (another missile sensor)
 ORPHAN = """BO_ 66 MSL_AIRSPEED: 8 MSL_ACCEL
  SG_ crc : 0|8@1+ (1,0) [0|255] "" FCC
@@ -93,6 +104,32 @@ def consumer_gaps(spec: dbc.BusSpec, repo: Path) -> list[str]:
             if not (m.app or m.is_authenticator or m.name.upper() in handled)]
 
 
+def sent_by_fcc(spec: dbc.BusSpec) -> list[dbc.MessageSpec]:
+    return [m for m in spec.messages if m.senders == (dbc.FCC_NODE,)]
+
+
+def reader_gaps(spec: dbc.BusSpec, repo: Path) -> list[str]:
+    """Frames fcc sends that no part of the rig reads and the DBC does not declare diagnostic
+    (FccDiagnostic): read is named in the rig's readers (READER_SOURCES), or one of an
+    application's output group (its frames and their authenticator: hil.results.buslog
+    verifies and decodes every one of them)."""
+    named = set().union(*(_string_constants(repo / d) for d in READER_SOURCES))
+    outputs = {f for app in spec.apps for a in [bus_app(spec, app)]
+               for f in (*a.output_frames, a.output_auth) if f}
+    return [f"{m.name}: sent by fcc, read by no part of the rig, not declared {dbc.DIAGNOSTIC_ATTRIBUTE}"
+            for m in sent_by_fcc(spec) if not (m.diagnostic or m.name in named or m.name in outputs)]
+
+
+def with_orphan_output(tmp_path: Path, diagnostic: bool) -> Path:
+    """A copy of the DBC with one more frame sent by fcc (declared diagnostic, or not)."""
+    text = DBC.read_text(encoding="utf-8").replace("BO_ 1808 SIM_EVENT:", ORPHAN_OUTPUT + "BO_ 1808 SIM_EVENT:", 1)
+    if diagnostic:
+        text = text.replace('BA_ "FccApp" BO_ 48 2;', 'BA_ "FccApp" BO_ 48 2;\nBA_ "FccDiagnostic" BO_ 1802 1;', 1)
+    out = tmp_path / "fcc_hil.dbc"
+    out.write_text(text, encoding="utf-8")
+    return out
+
+
 def with_orphan(tmp_path: Path, app: str | None) -> Path:
     """A copy of the DBC with one more frame sent to FCC (of application app, or of none)."""
     text = DBC.read_text(encoding="utf-8")
@@ -133,12 +170,28 @@ def test_every_frame_sent_to_fcc_has_a_producer_and_a_consumer(repo: Path) -> No
     assert consumer_gaps(spec, repo) == []
 
 
+def test_every_frame_fcc_sends_has_a_reader_or_is_declared_diagnostic(repo: Path) -> None:
+    spec = dbc.load(DBC)
+    assert len(sent_by_fcc(spec)) >= 28   # ACK, 16 application outputs and authenticators, 10 heartbeat, RIG_PONG
+    assert reader_gaps(spec, repo) == []
+
+
+@pytest.mark.parametrize("diagnostic", [False, True])
+def test_an_output_without_a_reader_fails_unless_declared_diagnostic(repo: Path, tmp_path: Path,
+                                                                    diagnostic: bool) -> None:
+    spec = dbc.load(with_orphan_output(tmp_path, diagnostic))
+    assert spec.by_name("FCC_SPARE_COUNTS").diagnostic is diagnostic
+    assert reader_gaps(spec, repo) == ([] if diagnostic else [
+        "FCC_SPARE_COUNTS: sent by fcc, read by no part of the rig, not declared FccDiagnostic"])
+
+
 def test_the_applications_inputs_come_from_the_dbc() -> None:
-    assert protocol.APP_INPUTS == {
-        protocol.APP_CDRW: ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
-        protocol.APP_MISSILE: ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")}
+    inputs = {protocol.APP_CDRW: ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
+              protocol.APP_MISSILE: ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"),
+              protocol.APPS["PROBE"]: ()}   # the test build's third application: no frames of its own
+    assert inputs == protocol.APP_INPUTS
     # the application ids are SIM_TICK.app's: the FccApp choices in the same order
-    assert dbc.load(DBC).apps == ("cdrw", "missile")
+    assert dbc.load(DBC).apps == ("cdrw", "missile", "probe")
 
 
 def test_fault_codes_agree_python_c_and_the_dbc(repo: Path) -> None:
@@ -213,10 +266,10 @@ def test_a_fault_kind_in_the_middle_fails_the_checks(tmp_path: Path) -> None:
 
 
 def test_a_code_without_a_kind_or_given_twice_is_named() -> None:
-    gone = max(protocol.FAULT_KIND_CODES.values()) + 1
-    codes = {**protocol.FAULT_KIND_CODES, "gone": gone, "twice": 1}
+    free = max(protocol.FAULT_KIND_CODES.values()) + 1   # (a code no kind has, whatever the kinds)
+    codes = {**protocol.FAULT_KIND_CODES, "gone": free, "twice": 1}
     assert protocol.fault_code_mismatches(KINDS, codes) == [
-        f"SIM_EVENT.kind code {gone} (gone) names no fault kind",
+        f"SIM_EVENT.kind code {free} (gone) names no fault kind",
         "SIM_EVENT.kind code 1 (twice) names no fault kind",
         "SIM_EVENT.kind code 1 given to both spike and twice"]
 

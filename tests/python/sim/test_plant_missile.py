@@ -12,7 +12,7 @@ from hil.scenario.file import load_default_scenario, parse_fault_spec
 from hil.sim import missile
 from hil.sim.missile import DAConverter, MissilePlant, van_loan_noise, zoh
 from hil.sim.missile_cov import closed_loop_rms, open_loop_rms
-from hil.sim.missile_runs import MissileSimulation, design_lqg, discrete_cost, simulate_missile
+from hil.sim.missile_runs import COST_A, MissileSimulation, design_lqg, discrete_cost, simulate_missile
 from hil.scenario.sensor_options import MissileSensorOptions
 from hil.sim.sensors import MissileSensors
 
@@ -44,7 +44,7 @@ def test_discrete_cost_against_quadrature():
     def integrand(s: float) -> np.ndarray:
         phi, gam = zoh(missile.F, missile.G, s)
         m = np.hstack([phi, gam])
-        w = m.T @ np.diag([0.12, 11.0, 0.0]) @ m
+        w = m.T @ COST_A @ m
         w[3, 3] += 1.0
         return w
 

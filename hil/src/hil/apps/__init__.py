@@ -4,15 +4,15 @@ step period, the options fcc takes for it, the design a device configured over t
 for, its driver, and where its evaluation and figures are; `registry` lists them, so that the
 rig iterates over the registered applications instead of choosing between two (cdrw, missile).
 
-Adding a third application (tests/python/apps/test_third_application.py registers one and
-checks the rig's tables iterate over it):
+Adding a third application (tests/python/apps/test_third_application.py registers one, the
+probe, and flies it on the host fcc's probe build; docs/extending.md has the checklist):
 
-1. the DBC: a value of SIM_TICK.app, its sensor nodes (BU_) and the frames they send to FCC,
-   its output frames and their authenticator (SecOC_Pdus); regenerate the C header and the
-   packaged digest (hil.bus.cgen, hil/src/hil/data/fcc_hil.spec.json); its line in
-   hil.bus.apps.DBC_NAMES (its rig name, SIM_TICK.app name, node prefix, authenticator);
-2. fcc: the application's C module and its place in the dispatch (firmware/app/), so that
-   `--apps NAME` is accepted and its sensor frames are consumed;
+1. the DBC: a choice of FccApp and a value of SIM_TICK.app / FCC_ACK.app (the same place), its
+   sensor nodes (BU_) and the frames they send to FCC with its FccApp, its output frames and
+   their authenticator (SecOC_Pdus, FccApp); `dbc/generate` -- hil.bus.apps derives its lists
+   from FccApp alone;
+2. fcc: its C module with a const fcc_app_ops_t (firmware/app/fcc_app.h), its instance in
+   fcc_node_t and its line in fcc_node.c's k_apps, its source in firmware/app/CMakeLists.txt;
 3. hil.scenario.file: its SECTIONS entry ([plant] and [sensors] option classes, [lqg] or
    none), DEFAULT_DURATION, a default scenario in hil/scenarios/;
 4. hil.sim: its simulation and an AppDriver (frames_for_step, end_step);

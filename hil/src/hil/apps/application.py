@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 class Application(ABC):
     """One application: a scenario's `aircraft`, a SIM_TICK.app code, a driver that flies it."""
 
-    #: the scenario's `aircraft`, the rig's name of it (hil.bus.apps.DBC_NAMES)
+    #: the scenario's `aircraft`, the rig's name of it: its choice of the DBC's FccApp (hil.bus.apps)
     name: ClassVar[str]
     #: the firmware programs its evaluation runs besides fcc (hil.cli.needs)
     programs: ClassVar[tuple[str, ...]] = ()

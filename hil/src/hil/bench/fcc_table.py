@@ -88,7 +88,7 @@ def realtime(v: dict[str, Any]) -> None:
     print(f"\n3. realtime, both applications at 50 Hz, {v['rt_seconds']:.0f} s, {prio}, fed by a python simulator [us]")
     print(f"   {'app':<9}{'steps':>7}{'overruns':>9}{'jit p50':>9}{'jit p99':>9}{'jit max':>9}"
           f"{'exec p50':>9}{'exec p99':>9}{'exec max':>9}")
-    for app in APP_NAMES:
+    for app in (name for name in APP_NAMES if name in rt):
         j, e, a = rt[f"jitter_us {app}"], rt[f"exec_us {app}"], rt[app]
         print(f"   {app:<9}{int(a['steps']):>7}{int(a['overruns']):>9}{j['p50']:>9.0f}{j['p99']:>9.0f}{j['max']:>9.0f}"
               f"{e['p50']:>9.0f}{e['p99']:>9.0f}{e['max']:>9.0f}")

@@ -20,11 +20,13 @@ cryptography are imported where they are used, not at start-up.
 from __future__ import annotations
 
 from hil.bus.codec import Counters, Decoded, EncodeError, FrameCodec, Verdict
-from hil.bus.dbc import FCC_NODE, BusSpec, MessageSpec, SignalSpec, load
+from hil.bus.dbc import FCC_NODE, PACKAGED_DBC, BusSpec, MessageSpec, SignalSpec, load
 from hil.bus.e2e import E2EReceiver, E2ESender, E2EStatus, crc8_j1850, protect
 
-#: The simulator process speaks for the simulator core and every sensor node.
-SIM_NODES = ("SIM", "CDRW_AOA_SENSOR", "CDRW_GYRO", "CDRW_ELEV_SENSOR", "MSL_GYRO", "MSL_ACCEL")
+#: The simulator process speaks for the simulator core and every sensor node: every node of the
+#: packaged DBC's but fcc (BU_, in its order; the packaged one: a DBC named by $FCC_HIL_DBC is
+#: checked when a command loads it, one line if broken, not when hil is imported)
+SIM_NODES = tuple(n for n in load(PACKAGED_DBC).nodes if n != FCC_NODE)
 
 __all__ = [
     "BusSpec", "Counters", "Decoded", "E2EReceiver", "E2ESender", "E2EStatus", "EncodeError",

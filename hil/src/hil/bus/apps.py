@@ -3,29 +3,25 @@ frames the simulator sends for it and the output frames fcc answers its steps wi
 source of "which sensors belong to which aircraft": the scenario's fault checks, the drivers,
 the results and the bus log's reader all take their lists from here.
 
-Read from the DBC (the packaged one's digest, as hil.bus.protocol reads it):
-* an application is a value of SIM_TICK.app (its code);
-* its sensor frames are the frames sent by its sensor nodes (BU_ names starting with its node
-  prefix: CDRW_AOA_SENSOR, CDRW_GYRO, ... for the CDRW), in identifier order;
-* its output frames are those its outputs' authenticator covers (SecOC_Pdus).
-What the DBC does not say in one word is typed once, in DBC_NAMES: the rig's name of each
-application, and which node prefix and authenticator are its own (an application attribute on
-the BO_ lines of the DBC would make even that derived).
+Read from the DBC (the packaged one's digest, as hil.bus.protocol reads it), all of it from
+its FccApp attribute:
+* an application is a choice of FccApp (but "none"), its rig name the choice's name; its code
+  (SIM_TICK.app) the choice's place: the first application is 0 (hil.bus.cgen checks that
+  SIM_TICK.app has a value for each);
+* its sensor frames are the frames sent to FCC with its FccApp, in identifier order (fcc's
+  input slots, dbc/generate);
+* its output frames are those its own authenticator covers: the authenticator fcc sends with
+  its FccApp (SecOC_Pdus); an application without one (the test build's probe) has none.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hil.bus.dbc import PACKAGED_DBC, BusSpec, load
-from hil.bus.protocol import APPS as APP_CODES
+from hil.bus.dbc import FCC_NODE, PACKAGED_DBC, BusSpec, load
 from hil.bus.protocol import SENSOR_APP  # noqa: F401 - the sensor frames by identifier, from the DBC's FccApp
 
-#: the rig's name of each application: (SIM_TICK.app name, its sensor nodes' prefix, the
-#: authenticator of its outputs)
-DBC_NAMES = {"cdrw": ("CDRW_SID", "CDRW_", "SID_OUT_AUTH"),
-             "missile": ("MISSILE_LQG", "MSL_", "MSL_ELEV_CMD_AUTH")}
 #: the nodes of the rig itself (neither sends an application's sensor frames)
-RIG_NODES = ("SIM", "FCC")
+RIG_NODES = ("SIM", FCC_NODE)
 #: scenario names of the DBC's sensor signals where the two differ (a sensor fault's `signal=`)
 SCENARIO_SIGNAL = {"delta_e": "de"}
 
@@ -46,22 +42,22 @@ class BusApp:
 
 
 def bus_app(spec: BusSpec, name: str) -> BusApp:
-    """The application `name` as the DBC `spec` describes it."""
-    tick_name, prefix, auth = DBC_NAMES[name]
-    sensors = tuple(m.name for m in sorted(spec.messages, key=lambda m: m.frame_id)
-                    if m.senders and all(s.startswith(prefix) and s not in RIG_NODES for s in m.senders))
+    """The application `name` (a choice of FccApp) as the DBC `spec` describes it."""
+    sensors = tuple(m.name for m in spec.app_inputs(name))
     signals = tuple((SCENARIO_SIGNAL.get(s.name, s.name), frame, s.name)
                     for frame in sensors for s in spec.by_name(frame).data_signals
                     if s.name != "step")
-    return BusApp(name=name, code=APP_CODES[tick_name], sensor_frames=sensors, sensor_signals=signals,
-                  output_frames=spec.by_name(auth).secoc_pdus, output_auth=auth)
+    auth = next((m for m in spec.messages
+                 if m.app == name and m.is_authenticator and m.senders == (FCC_NODE,)), None)
+    return BusApp(name=name, code=spec.apps.index(name), sensor_frames=sensors, sensor_signals=signals,
+                  output_frames=auth.secoc_pdus if auth else (), output_auth=auth.name if auth else "")
 
 
 _SPEC = load(PACKAGED_DBC)
 #: every application, in SIM_TICK.app code order
-BUS_APPS: dict[str, BusApp] = {a.name: a for a in sorted((bus_app(_SPEC, n) for n in DBC_NAMES),
-                                                         key=lambda a: a.code)}
-#: the applications' names (a scenario's `aircraft`)
+BUS_APPS: dict[str, BusApp] = {n: bus_app(_SPEC, n) for n in _SPEC.apps}
+#: the applications' names: every one of the DBC's (the scenario loader flies those it has
+#: sections for, hil.scenario.file.AIRCRAFT; the probe is the test build's)
 APP_NAMES = tuple(BUS_APPS)
 #: the application of each code (SIM_TICK.app)
 NAME_OF_CODE = {a.code: a.name for a in BUS_APPS.values()}

@@ -108,15 +108,18 @@ def _app_header(spec: dbc.BusSpec) -> list[str]:
     out.append("#define FCC_BUS_NO_APP FCC_BUS_N_APPS")
     for app in spec.apps:
         out.append(f"#define {_app_macro(app)}_N_INPUTS {len(spec.app_inputs(app))}u")
-    for app in spec.apps:
-        out.append(f"extern const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS];")
+    widest = max((len(spec.app_inputs(app)) for app in spec.apps), default=0)
+    out.append(f"#define FCC_BUS_MAX_APP_INPUTS {max(widest, 1)}u /* at least 1: an array's size */")
+    for app in spec.apps:   # (an application without inputs has no table: C has no empty array)
+        if spec.app_inputs(app):
+            out.append(f"extern const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS];")
     out.append("extern const uint8_t fcc_bus_input_app[FCC_MSG_COUNT];\n")
     return out
 
 
 def _app_source(spec: dbc.BusSpec, db_name: str) -> list[str]:
     out = []
-    for app in spec.apps:
+    for app in (a for a in spec.apps if spec.app_inputs(a)):
         names = ", ".join(_Names(db_name, m).enum for m in spec.app_inputs(app))
         out.append(f"const fcc_msg_t fcc_bus_app_{app}_inputs[{_app_macro(app)}_N_INPUTS] = "
                    f"{{{names}}};\n")

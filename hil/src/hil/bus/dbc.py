@@ -40,13 +40,15 @@ if TYPE_CHECKING:
 PACKAGED_DBC = Path(__file__).resolve().parents[1] / "data" / "fcc_hil.dbc"
 #: the packaged DBC digested (dbc/generate writes it from dbc/fcc_hil.dbc)
 PACKAGED_SPEC = PACKAGED_DBC.with_name("fcc_hil.spec.json")
-SPEC_FORMAT = 3   # 2: the value tables (VAL_) of the signals; 3: FccApp of the messages
+SPEC_FORMAT = 4   # 2: the value tables (VAL_) of the signals; 3: FccApp of the messages; 4: FccDiagnostic
 DEFAULT_DBC = PACKAGED_DBC
 DBC_ENV = "FCC_HIL_DBC"
 _dbc_override: Path | None = None
 E2E_SIGNALS = ("crc", "counter")
 #: the message attribute naming the application of fcc a frame belongs to (ENUM, "none" first)
 APP_ATTRIBUTE = "FccApp"
+#: the message attribute declaring a frame of fcc's that no part of the rig reads (ENUM no/yes)
+DIAGNOSTIC_ATTRIBUTE = "FccDiagnostic"
 #: the flight computer's node: the receiver of the applications' inputs
 FCC_NODE = "FCC"
 
@@ -132,6 +134,7 @@ class MessageSpec:
     secoc_data_id: int = 0               # authenticator frames: the SecOC data ID of the MAC
     secoc_pdus: tuple[str, ...] = ()     # authenticator frames: the frames it authenticates
     app: str = ""                        # FccApp: the application of fcc it belongs to, or ""
+    diagnostic: bool = False             # FccDiagnostic: sent by fcc for people, read by no rig part
     dbc_path: Path | None = None         # where .message is parsed from
 
     @property
@@ -261,6 +264,7 @@ def _message_spec(msg: Message, path: Path) -> MessageSpec:
         signals=tuple(_signal_spec(s) for s in msg.signals),
         secoc_data_id=_attr(msg, "SecOC_DataID", 0),
         secoc_pdus=tuple(_str_attr(msg, "SecOC_Pdus").split()), app=_enum_attr(msg, APP_ATTRIBUTE),
+        diagnostic=_enum_attr(msg, DIAGNOSTIC_ATTRIBUTE) == "yes",
         dbc_path=path)
 
 

@@ -36,7 +36,7 @@ from hil.bus.secoc import Endpoint, GroupReceiver, Receiver
 from hil.results.trust import Forgeries
 
 #: fcc's outputs of one step of each application (by SIM_TICK.app): the group each authenticator covers
-OUTPUT_AUTH = {a.code: a.output_auth for a in BUS_APPS.values()}
+OUTPUT_AUTH = {a.code: a.output_auth for a in BUS_APPS.values() if a.output_auth}
 #: the output frames of each application (hil.bus.apps), by identifier
 _OUTPUT_APP = {load().by_name(f).frame_id: a.code for a in BUS_APPS.values() for f in a.output_frames}
 

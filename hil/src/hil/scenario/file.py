@@ -44,8 +44,6 @@ from hil.util.bounded import UnfitFile, read_bounded
 SCENARIO_MAX_BYTES = 1 << 20
 
 
-#: the applications fcc flies (hil.bus.apps: the DBC's)
-AIRCRAFT = APP_NAMES
 #: the frames the simulator sends for each aircraft, i.e. what a frame fault can act on: its
 #: sensor frames (hil.bus.apps), and the rig's lockstep tick and fault events
 SENSOR_FRAMES = {app: sensor_frames(app) for app in APP_NAMES}
@@ -56,6 +54,8 @@ SECTIONS: dict[str, tuple[type[CdrwPlantOptions | MissilePlantOptions],
     "cdrw": (CdrwPlantOptions, CdrwSensorOptions, None),
     "missile": (MissilePlantOptions, MissileSensorOptions, LqgOptions)}
 DEFAULT_DURATION = {"cdrw": 7.0, "missile": 10.0}
+#: the applications a scenario flies: the DBC's (hil.bus.apps) that have scenario sections
+AIRCRAFT = tuple(app for app in APP_NAMES if app in SECTIONS)
 TOP_LEVEL_KEYS = ("name", "description", "aircraft", "duration", "seed",
                   "plant", "sensors", "lqg", "faults")
 

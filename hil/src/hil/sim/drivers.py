@@ -182,19 +182,17 @@ class CdrwDriver(AppDriver):
         """_messages of every sample, a column per signal: the readings that are finite (made
         as outgoing_flight takes them: not at all when a frame fault sends step by step)."""
         steps = np.array([s.k for s in samples], dtype=np.int64) & 0xFFFF
-        for sig in ("alpha", "q", "de"):
+        for sig, frame, field_name in BUS_APPS["cdrw"].sensor_signals:
             v = np.array([s.meas[sig] for s in samples], dtype=np.float64)
             sends = np.isfinite(v)
-            frame, field_name = SIGNAL_FRAMES[sig]
             yield frame, sends, {"step": steps[sends], field_name: v[sends]}
 
     def _messages(self, s: CdrwSample) -> list[Message]:
         msgs: list[Message] = []
         step = s.k & 0xFFFF
-        for sig in ("alpha", "q", "de"):
+        for sig, frame, field_name in BUS_APPS[self.name].sensor_signals:  # the DBC's
             v = s.meas[sig]
             if math.isfinite(v):  # a dropped-out sensor sends nothing
-                frame, field_name = SIGNAL_FRAMES[sig]
                 msgs.append((frame, {"step": step, field_name: v}))
         return msgs
 
@@ -259,10 +257,9 @@ class MissileDriver(AppDriver):
         events = list(s.events) + self.injector.update(s.t)
         msgs = self._event_messages(k, events, self.oracle.value)
         step = k & 0xFFFF
-        for sig in ("q_g", "n_a"):
+        for sig, frame, field_name in BUS_APPS[self.name].sensor_signals:  # the DBC's
             v = s.meas[sig]
             if math.isfinite(v):
-                frame, field_name = SIGNAL_FRAMES[sig]
                 msgs.append((frame, {"step": step, field_name: v}))
         return self.injector.outgoing(s.t, msgs)
 

@@ -164,7 +164,7 @@ static void test_synced_release_inputs_or_window(void **state)
     assert_int_equal(rt[FCC_APP_MSL].aligns, 1u);
     const uint64_t instant = rt[FCC_APP_MSL].instant;
     assert_true(instant > l && instant <= l + t);
-    assert_int_equal(rt[FCC_APP_MSL].deadline, instant + FCC_NODE_RT_WINDOW_US);
+    assert_int_equal(rt[FCC_APP_MSL].deadline, instant + FCC_APP_MSL_RT_WINDOW_US);
     uint64_t m = 0u;
     fcc_assert_ok(fcc_tsync_to_master(&g_node.tsync, instant, &m));
     assert_int_equal(m % t, 0u);
@@ -183,13 +183,13 @@ static void test_synced_release_inputs_or_window(void **state)
     /* the next instant, nothing in: released when its window closes */
     const uint64_t next = rt[FCC_APP_MSL].instant;
     assert_int_equal(next, instant + t);
-    assert_int_equal(run_at(rt, next + FCC_NODE_RT_WINDOW_US - 1u, jitter), 0u);
-    assert_int_equal(run_at(rt, next + FCC_NODE_RT_WINDOW_US, jitter), 1u);
-    assert_int_equal(jitter[FCC_APP_MSL], FCC_NODE_RT_WINDOW_US);
+    assert_int_equal(run_at(rt, next + FCC_APP_MSL_RT_WINDOW_US - 1u, jitter), 0u);
+    assert_int_equal(run_at(rt, next + FCC_APP_MSL_RT_WINDOW_US, jitter), 1u);
+    assert_int_equal(jitter[FCC_APP_MSL], FCC_APP_MSL_RT_WINDOW_US);
     assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 0u);
     /* three periods late: two instants skipped, one step, the overruns counted */
     const uint64_t third = rt[FCC_APP_MSL].instant;
-    assert_int_equal(run_at(rt, third + 2u * t + FCC_NODE_RT_WINDOW_US, jitter), 1u);
+    assert_int_equal(run_at(rt, third + 2u * t + FCC_APP_MSL_RT_WINDOW_US, jitter), 1u);
     assert_int_equal(g_node.app[FCC_APP_MSL].overruns, 2u);
     assert_int_equal(rt[FCC_APP_MSL].last_instant, third + 2u * t);
     assert_int_equal(g_node.app[FCC_APP_MSL].steps, 3u);
@@ -244,7 +244,7 @@ static void test_a_refused_encode_sends_nothing_of_the_group(void **state)
     (void)fcc_node_run_step(&g_node, FCC_APP_MSL, 0u); /* its status: the step's, not the send's */
     assert_int_equal(g_node.app[FCC_APP_MSL].steps, 1u);
     assert_int_equal(g_mem.ev_count[FCC_EV_TX_REFUSED], 1u);
-    assert_int_equal(g_mem.last_ev[FCC_EV_TX_REFUSED].can_id, FCC_MSG_MSL_ELEV_CMD_ID);
+    assert_int_equal(g_mem.last_ev[FCC_EV_TX_REFUSED].can_id, FCC_MSG_MSL_ELEV_CMD_AUTH_ID);
     assert_int_equal(g_mem.last_ev[FCC_EV_TX_REFUSED].value, 1); /* the command encoded, alone */
     (void)fcc_node_run_step(&g_node, FCC_APP_CDRW, 0u);
     assert_int_equal(g_mem.ev_count[FCC_EV_TX_REFUSED], 2u);

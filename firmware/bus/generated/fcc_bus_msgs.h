@@ -156,6 +156,7 @@ typedef enum {
 #define FCC_MSG_SIM_EVENT_KIND_OUT_OF_RANGE 16u
 #define FCC_MSG_SIM_EVENT_KIND_FLOOD 17u
 #define FCC_MSG_SIM_EVENT_KIND_SILENCE 18u
+#define FCC_MSG_SIM_EVENT_KIND_BUS_LOAD 19u
 
 /* Physical values of each message (crc and counter are the frame layer's). */
 /* TSYNC_SYNC (0x001, 100 ms, SIM -> FCC, E2E data ID 0x1001): Time synchronisation, first half (CANopen SYNC / AUTOSAR CAN time sync style): the time master (the simulator) sends it every interval_ms; its precise transmit time follows in TSYNC_FOLLOW_UP with the same seq. See firmware/app/README.md, Time synchronisation. */

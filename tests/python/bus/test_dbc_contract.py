@@ -213,9 +213,10 @@ def test_a_fault_kind_in_the_middle_fails_the_checks(tmp_path: Path) -> None:
 
 
 def test_a_code_without_a_kind_or_given_twice_is_named() -> None:
-    codes = {**protocol.FAULT_KIND_CODES, "gone": 19, "twice": 1}
+    free = max(protocol.FAULT_KIND_CODES.values()) + 1   # a code no kind has
+    codes = {**protocol.FAULT_KIND_CODES, "gone": free, "twice": 1}
     assert protocol.fault_code_mismatches(KINDS, codes) == [
-        "SIM_EVENT.kind code 19 (gone) names no fault kind",
+        f"SIM_EVENT.kind code {free} (gone) names no fault kind",
         "SIM_EVENT.kind code 1 (twice) names no fault kind",
         "SIM_EVENT.kind code 1 given to both spike and twice"]
 

@@ -132,7 +132,7 @@ def test_bus_section_judges_priority_queued_frames_only():
 
 @pytest.mark.parametrize("argv, said", [
     (("--bus", "copper"), "invalid choice"),
-    (("--bus", "wire"), "realtime runs only"),
+    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus in lockstep"),
     (("--bus", "wire", "--mode", "realtime", "--target", "external"), "fcc on the host"),
 ])
 def test_bad_bus_is_a_usage_error(argv, said, tmp_path, capsys):

@@ -55,14 +55,11 @@ def scenario(aircraft: str, name_or_path: str | None, faults: Sequence[str], see
 
 
 def bus_model(args: argparse.Namespace) -> str:
-    """--bus (ideal where the command has none); wire: realtime, fcc on the host, SocketCAN (the
-    rig makes the nodes' vxcan ends)."""
+    """--bus (ideal where the command has none); wire: fcc on the host, SocketCAN (realtime: the
+    rig makes the nodes' vxcan ends; lockstep: the bus model runs in simulated time)."""
     bus: str = getattr(args, "bus", "ideal")
     if bus != "wire":
         return bus
-    if args.mode != "realtime":
-        raise UsageError("--bus wire: realtime runs only for now (--mode realtime); the lockstep "
-                         "rig on the wire-time bus, in simulated time, is the next step")
     if args.target != "host" or args.interface != "socketcan":
         raise UsageError("--bus wire: fcc on the host (--target host) over SocketCAN only")
     return bus

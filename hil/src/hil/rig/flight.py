@@ -79,10 +79,13 @@ def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
     rig.control(COMMAND_RESET, period, bits)
     try:
         if cfg.mode == "lockstep":
-            from hil.rig.lockstep import LockstepRunner  # numpy: see the docstring
+            from hil.rig.lockstep import LockstepRunner, WireSteps  # numpy: see the docstring
             rig.control(COMMAND_FLIGHT)
             r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
+            r.wire = WireSteps.for_flight(rig.bitrate or rig.spec.baudrate, drivers) if cfg.bus == "wire" else None
             r.fly(drivers)
+            if r.wire is not None:
+                rig.bus_stats = r.wire.stats()
             return r
         from hil.rig.realtime import RealtimeRunner
         rt = runner or RealtimeRunner(rig, progress=bar.update)

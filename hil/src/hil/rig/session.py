@@ -185,7 +185,7 @@ class RigSession:
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
-            if self.config.bus == "wire":
+            if self.config.bus == "wire" and self.mode == "realtime":  # lockstep: hil.rig.simbus
                 self._start_wire()
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None

@@ -19,7 +19,8 @@ UNITS = {
     "value": "signal unit", "rate": "signal unit/s", "factor": "1", "probability": "0..1",
     "count": "frames", "jump": "counter steps", "dlc": "bytes", "raw": "raw DBC value",
     "can_id": "11-bit id", "rate_hz": "Hz", "signal": "", "frame": "DBC message",
-    "fill": "", "distribution": "",
+    "fill": "", "distribution": "", "utilisation": "0..1 of the bus", "id_lo": "11-bit id",
+    "id_hi": "11-bit id",
 }
 #: the unit of each sensor signal: its DBC signal's
 SIGNAL_UNITS = {name: load(PACKAGED_DBC).by_name(frame).signal(sig).unit
@@ -45,6 +46,7 @@ EXAMPLES = {
     "out_of_range": ("cdrw", "out_of_range:frame=CDRW_AOA,signal=alpha,start=2,duration=0.2"),
     "flood": ("cdrw", "flood:start=2,duration=1,can_id=0x000,rate_hz=4000"),
     "silence": ("missile", "silence:start=3,duration=0.5"),
+    "bus_load": ("missile", "bus_load:start=0,duration=inf,utilisation=0.5,id_lo=0x200,id_hi=0x6ff"),
 }
 
 

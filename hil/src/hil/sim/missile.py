@@ -185,6 +185,23 @@ class _DiscreteCache:
 _CACHE = _DiscreteCache()
 
 
+class _GammaCache:
+    """Gamma_tau of the held input for parts of a sub-step, by tau in whole nanoseconds (the bus
+    model's time unit: a command that comes off the wire inside a sub-step)."""
+
+    def __init__(self) -> None:
+        self._cache: dict[int, np.ndarray] = {0: np.zeros(3)}
+
+    def get(self, tau_ns: int) -> np.ndarray:
+        hit = self._cache.get(tau_ns)
+        if hit is None:
+            hit = self._cache[tau_ns] = zoh(F, G, tau_ns * 1e-9)[1][:, 0].copy()
+        return hit
+
+
+_GAMMA = _GammaCache()
+
+
 def discrete_substep(h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(Phi, Gamma, noise factor) of one sub-step of length h, computed once and cached."""
     return _CACHE.get(h)
@@ -256,6 +273,27 @@ class MissilePlant:
         self.u = float(u)
         self.t += dt
         self.last_substeps = trace
+        return self.state
+
+    def step_pieces(self, pieces: list[tuple[int, float]], h_ns: int) -> np.ndarray:
+        """One sub-step of h_ns nanoseconds whose held elevator changes inside it: pieces
+        [(start_ns, u), ...] from start 0, in order.  Exact: x(h) = Phi_h x + sum_i
+        (Gamma_{h - a_i} - Gamma_{h - b_i}) u_i + the sub-step's one noise draw (the same draw
+        as step(u, h, 1): the gust does not depend on when the command came)."""
+        if len(pieces) == 1:
+            return self.step(pieces[0][1], h_ns * 1e-9, 1)
+        for _, u in pieces:
+            if not (math.isfinite(u) and abs(u) <= U_MAX + 1e-12):
+                raise ValueError(f"missile: elevator {u} outside +-{U_MAX} rad")
+        phi, _, lq = _CACHE.get(h_ns * 1e-9)
+        x = self.x @ phi.T + self.gust_scale * (self._rng.standard_normal((1,) + self.x.shape) @ lq.T)[0]
+        ends = [a for a, _ in pieces[1:]] + [h_ns]
+        for (a, u), b in zip(pieces, ends):
+            x = x + (_GAMMA.get(h_ns - a) - _GAMMA.get(h_ns - b)) * u
+        self.last_substeps = np.stack([self.x, x])
+        self.x = x
+        self.u = float(pieces[-1][1])
+        self.t += h_ns * 1e-9
         return self.state
 
     def step_code(self, code: int, dac: DAConverter, dt: float, n_sub: int | None = None) -> np.ndarray:

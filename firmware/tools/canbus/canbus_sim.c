@@ -1,0 +1,213 @@
+/*
+ * canbus_sim.c -- the bus model in simulated time (see canbus_sim.h).
+ */
+#include "canbus_sim.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define NS_PER_S 1000000000.0
+
+size_t canbus_sim_size(void)
+{
+    return sizeof(canbus_sim_t);
+}
+
+fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
+                             const canbus_policy_t *policy, const char *const *name)
+{
+    if (s == NULL || policy == NULL || name == NULL) {
+        return FCC_ERR_ARG;
+    }
+    memset(s, 0, sizeof *s);
+    const fcc_status_t st = canbus_core_init(&s->core, bitrate, nodes, policy);
+    if (st != FCC_OK) {
+        return st;
+    }
+    canbus_stats_init(&s->stats, bitrate);
+    s->nodes = nodes;
+    s->stats.nodes = nodes;
+    for (uint32_t i = 0u; i < nodes; ++i) {
+        if (name[i] == NULL) {
+            return FCC_ERR_ARG;
+        }
+        s->policy[i] = policy[i];
+        s->stats.node[i].iface = name[i];
+        s->stats.node[i].policy = policy[i];
+    }
+    return FCC_OK;
+}
+
+fcc_status_t canbus_sim_load(canbus_sim_t *s, const canbus_load_cfg_t *cfg)
+{
+    if (s == NULL || cfg == NULL) {
+        return FCC_ERR_ARG;
+    }
+    const uint32_t node = s->core.nodes;
+    if (s->loads == CANBUS_SIM_LOADS_MAX || node == CANBUS_NODES_MAX) {
+        return FCC_ERR_SIZE;
+    }
+    const fcc_status_t st = canbus_load_init(&s->load[s->loads], cfg, s->core.bit_ns);
+    if (st != FCC_OK) {
+        return st;
+    }
+    /* a node more, keeping the core's state: it is added idle, its queue empty */
+    s->core.node[node].policy = CANBUS_PRIO;
+    s->core.node[node].n = 0u;
+    s->core.nodes = node + 1u;
+    s->policy[node] = CANBUS_PRIO;
+    s->stats.node[node].iface = "load";
+    s->stats.node[node].policy = CANBUS_PRIO;
+    s->stats.nodes = node + 1u;
+    s->load_node[s->loads++] = node;
+    return FCC_OK;
+}
+
+/* SPEC §8: the worst-case length, interframe space included (a remote frame has no data). */
+static uint32_t worst_bits(const canbus_frame_t *f)
+{
+    const uint32_t g = f->ext ? 54u : 34u;
+    const uint32_t d = f->rtr ? 0u : 8u * f->dlc;
+    return g + d + CANBUS_TAIL_BITS + (g + d - 1u) / 4u;
+}
+
+uint32_t canbus_sim_queue(canbus_sim_t *s, uint32_t node, const canbus_frame_t *f, uint32_t n,
+                          uint64_t t, const uint8_t *worst)
+{
+    if (s == NULL || f == NULL || node >= s->nodes) {
+        return 0u;
+    }
+    for (uint32_t i = 0u; i < n; ++i) {
+        if (canbus_core_queue(&s->core, node, &f[i], t) != FCC_OK) {
+            s->stats.node[node].lost += (uint64_t)(n - i);
+            return i;
+        }
+        if (worst != NULL && worst[i] != 0u) {
+            /* the entry just queued is the node's last */
+            canbus_node_t *q = &s->core.node[node];
+            q->entry[q->n - 1u].bits = worst_bits(&f[i]);
+        }
+    }
+    return n;
+}
+
+/* The load released first, at or before t: its index, or -1. */
+static int due_load(const canbus_sim_t *s, uint64_t t, uint64_t *when)
+{
+    int best = -1;
+    for (uint32_t i = 0u; i < s->loads; ++i) {
+        uint64_t r;
+        if (canbus_load_next(&s->load[i], &r) && r <= t && (best < 0 || r < *when)) {
+            best = (int)i;
+            *when = r;
+        }
+    }
+    return best;
+}
+
+/* Queues every load frame released by the core's next event (or by t): the
+ * core never passes a release it was not given. */
+static void feed_loads(canbus_sim_t *s, uint64_t t)
+{
+    for (;;) {
+        uint64_t next = t;
+        bool is_eof;
+        uint64_t ev;
+        if (canbus_core_next(&s->core, &ev, &is_eof) && ev < next) {
+            next = ev;
+        }
+        uint64_t when = 0u;
+        const int i = due_load(s, next, &when);
+        if (i < 0) {
+            return;
+        }
+        canbus_frame_t f;
+        canbus_load_take(&s->load[i], &f);
+        if (canbus_core_queue(&s->core, s->load_node[i], &f, when) != FCC_OK) {
+            ++s->load_dropped;
+        }
+    }
+}
+
+uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_t max,
+                        uint32_t node, uint64_t tq, uint32_t count, uint32_t *seen)
+{
+    if (s == NULL || out == NULL || (count > 0u && seen == NULL)) {
+        return 0u;
+    }
+    uint32_t n = 0u;
+    while (n < max && (count == 0u || *seen < count)) {
+        feed_loads(s, t);
+        /* one event at a time, so that the loads are fed before each */
+        uint64_t ev = t;
+        bool is_eof;
+        if (!canbus_core_next(&s->core, &ev, &is_eof) || ev > t) {
+            ev = t;
+        }
+        canbus_done_t d;
+        if (canbus_core_advance(&s->core, ev, &d)) {
+            canbus_stats_frame(&s->stats, &d, s->core.bit_ns);
+            if (d.node < s->nodes) {
+                out[n++] = d;
+            }
+            if (count > 0u && d.node == node && d.t_queued == tq) {
+                ++*seen;
+            }
+            continue;
+        }
+        if (ev == t) {
+            uint64_t again;
+            bool eof_again;
+            /* at t with nothing more to do at t itself */
+            if (!canbus_core_next(&s->core, &again, &eof_again) || again > t) {
+                break;
+            }
+        }
+    }
+    s->stats.late_queued = s->core.late;
+    return n;
+}
+
+uint32_t canbus_sim_pending(const canbus_sim_t *s, uint32_t node)
+{
+    if (s == NULL) {
+        return 0u;
+    }
+    const uint32_t on_bus = s->core.busy && s->core.cur.node == node ? 1u : 0u;
+    return canbus_core_pending(&s->core, node) + on_bus;
+}
+
+fcc_status_t canbus_sim_json(canbus_sim_t *s, const char *path)
+{
+    if (s == NULL || path == NULL) {
+        return FCC_ERR_ARG;
+    }
+    FILE *out = fopen(path, "w");
+    if (out == NULL) {
+        return FCC_ERR_IO;
+    }
+    s->stats.wall_s = (double)s->core.now / NS_PER_S;
+    s->stats.cpu_s = 0.0;
+    s->stats.late_queued = s->core.late;
+    s->stats.pending = 0u;
+    for (uint32_t i = 0u; i < s->core.nodes; ++i) {
+        s->stats.pending += canbus_sim_pending(s, i);
+    }
+    fcc_status_t st = canbus_stats_json(&s->stats, out);
+    fputs("{\"load_streams\": [", out);
+    const char *sep = "";
+    for (uint32_t l = 0u; l < s->loads; ++l) {
+        uint32_t id;
+        uint64_t period;
+        for (uint32_t i = 0u; canbus_load_stream(&s->load[l], i, &id, &period); ++i) {
+            fprintf(out, "%s{\"id\": %lu, \"period_ns\": %llu}", sep, (unsigned long)id,
+                    (unsigned long long)period);
+            sep = ", ";
+        }
+    }
+    fprintf(out, "], \"load_dropped\": %llu}\n", (unsigned long long)s->load_dropped);
+    if (fclose(out) != 0) {
+        st = FCC_ERR_IO;
+    }
+    return st;
+}

@@ -220,8 +220,9 @@ def build() -> argparse.ArgumentParser:
     add_rig(r)
     r.add_argument("--bus", choices=("ideal", "wire"), default="ideal",
                    help="ideal (the nodes share --iface, frames take no time; default) or wire "
-                        "(realtime: each node on its own vxcan end of canbus, arbitration and wire "
-                        "time at --bitrate, default the DBC's Baudrate; docs/bus-timing.md)")
+                        "(arbitration and wire time at --bitrate, default the DBC's Baudrate; "
+                        "realtime: each node on its own vxcan end of canbus; lockstep: the same "
+                        "model in simulated time; docs/bus-timing.md)")
 
     c = sub.add_parser("campaign", help="Table 5: faults at random times; or scenario fields varied (--vary)")
     c.add_argument("aircraft", choices=("cdrw", "missile"))

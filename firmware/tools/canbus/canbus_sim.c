@@ -91,6 +91,66 @@ uint32_t canbus_sim_queue(canbus_sim_t *s, uint32_t node, const canbus_frame_t *
     return n;
 }
 
+fcc_status_t canbus_sim_worst(canbus_sim_t *s, const uint32_t *id, uint32_t n)
+{
+    if (s == NULL || (id == NULL && n > 0u)) {
+        return FCC_ERR_ARG;
+    }
+    if (n > CANBUS_SIM_WORST_MAX) {
+        return FCC_ERR_SIZE;
+    }
+    for (uint32_t i = 0u; i < n; ++i) {
+        s->worst_id[i] = id[i];
+    }
+    s->worst_ids = n;
+    return FCC_OK;
+}
+
+static bool worst(const canbus_sim_t *s, const canbus_frame_t *f)
+{
+    for (uint32_t i = 0u; i < s->worst_ids && !f->ext; ++i) {
+        if (s->worst_id[i] == f->id) {
+            return true;
+        }
+    }
+    return false;
+}
+
+#define RAW_EFF 0x80000000ul
+#define RAW_RTR 0x40000000ul
+#define RAW_ERR 0x20000000ul
+
+uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw, uint32_t n,
+                              uint64_t t)
+{
+    if (s == NULL || raw == NULL || node >= s->nodes) {
+        return 0u;
+    }
+    for (uint32_t i = 0u; i < n; ++i) {
+        const uint8_t *r = raw + (size_t)i * CANBUS_SIM_RAW_LEN;
+        uint32_t can_id;
+        memcpy(&can_id, r, sizeof can_id);
+        canbus_frame_t f;
+        memset(&f, 0, sizeof f);
+        f.ext = (can_id & RAW_EFF) != 0u;
+        f.rtr = (can_id & RAW_RTR) != 0u;
+        f.id = can_id & (f.ext ? CANBUS_EXT_ID_MAX : CANBUS_STD_ID_MAX);
+        f.dlc = r[4];
+        memcpy(f.data, r + 8, CANBUS_DLC_MAX);
+        const uint8_t mark = (uint8_t)worst(s, &f);
+        /* an error frame is no classic controller's frame: lost with what follows */
+        if ((can_id & RAW_ERR) != 0u || canbus_sim_queue(s, node, &f, 1u, t, &mark) != 1u) {
+            if ((can_id & RAW_ERR) != 0u) {
+                s->stats.node[node].lost += (uint64_t)(n - i);
+            } else {
+                s->stats.node[node].lost += (uint64_t)(n - i - 1u);
+            }
+            return i;
+        }
+    }
+    return n;
+}
+
 /* The load released first, at or before t: its index, or -1. */
 static int due_load(const canbus_sim_t *s, uint64_t t, uint64_t *when)
 {

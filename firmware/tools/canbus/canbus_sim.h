@@ -28,6 +28,10 @@
 #include "fcc_types.h"
 
 #define CANBUS_SIM_LOADS_MAX 4u
+#define CANBUS_SIM_WORST_MAX 32u
+/* sizeof (struct can_frame) of Linux SocketCAN: can_id (host order, flags in the top 3 bits),
+ * len, 3 bytes of padding, 8 data bytes */
+#define CANBUS_SIM_RAW_LEN 16u
 
 typedef struct {
     canbus_core_t core;
@@ -38,6 +42,8 @@ typedef struct {
     uint64_t load_dropped;   /* load frames released while their node's queue was full */
     uint32_t nodes;          /* the nodes the caller named (the loads come after them) */
     canbus_policy_t policy[CANBUS_NODES_MAX];
+    uint32_t worst_id[CANBUS_SIM_WORST_MAX];  /* canbus_sim_worst() */
+    uint32_t worst_ids;
 } canbus_sim_t;
 
 /* sizeof (canbus_sim_t): the caller allocates it (ctypes). */
@@ -62,6 +68,17 @@ fcc_status_t canbus_sim_load(canbus_sim_t *s, const canbus_load_cfg_t *cfg);
  * times then do not depend on them). */
 uint32_t canbus_sim_queue(canbus_sim_t *s, uint32_t node, const canbus_frame_t *f, uint32_t n,
                           uint64_t t, const uint8_t *worst);
+
+/* The same for n SocketCAN frames (struct can_frame, CANBUS_SIM_RAW_LEN bytes
+ * each, back to back), each taking its worst-case length when its identifier
+ * is one given to canbus_sim_worst(): one call for a node's frames of a step. */
+uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw, uint32_t n,
+                              uint64_t t);
+
+/* The 11-bit identifiers whose frames canbus_sim_queue_raw() queues at their
+ * worst-case length (replacing the earlier set).  FCC_ERR_SIZE: more than
+ * CANBUS_SIM_WORST_MAX. */
+fcc_status_t canbus_sim_worst(canbus_sim_t *s, const uint32_t *id, uint32_t n);
 
 /* Runs the bus up to time t.  The frames of the caller's nodes that ended
  * then, at most max of them, in *out, in order: max returned means the core

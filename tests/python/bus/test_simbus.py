@@ -4,6 +4,7 @@ expected time is computed here by hand from the frames' lengths (hil.bus.busload
 implementation of ISO 11898-1's stuffing that shares no code with the C model)."""
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 
 import numpy as np
@@ -13,7 +14,7 @@ from hil.bus.busload import frame_bits, worst_case_bits
 from hil.bus.rawcan import CAN_FRAME, pack_frame
 from hil.results.busstats import load_frames
 from hil.rig.lockstep_wire import WireSteps
-from hil.rig.simbus import Load, SimBus
+from hil.rig.simbus import _DONE, Load, SimBus, _Done
 from hil.scenario.file import load_default_scenario
 from hil.sim import missile
 from hil.sim.drivers import MissileDriver, StepIO
@@ -44,14 +45,15 @@ def test_arbitration_and_exact_lengths_by_hand() -> None:
     assert [(e.node, e.frame_id) for e in ended] == [("sim", 0x020), ("fcc", 0x030), ("sim", 0x040)]
     assert [e.t_eof for e in ended] == pytest.approx([tick_eof, cmd_eof, gyro_eof], abs=1e-12)
     assert frame_bits(*TICK) == 116 and frame_bits(*GYRO) == 127   # (hil.bus.busload's vectors)
+    assert _DONE.size == ctypes.sizeof(_Done)   # the results are read as bytes
     stats = bus.stats()
     assert stats["frames"] == 3 and stats["lost"] == 0 and stats["time_base"] == "simulated"
     assert stats["ids"]["0x030"]["max_s"] == pytest.approx(cmd_eof - 0.0011, abs=1e-9)
 
 
 def test_a_frame_whose_bits_the_run_does_not_determine_takes_its_worst_case() -> None:
-    bus = SimBus(250_000)
-    bus.queue("sim", [pack_frame(*TICK)], 0.0, worst=frozenset({0x020}))
+    bus = SimBus(250_000, worst=[0x020])
+    bus.queue("sim", [pack_frame(*TICK)], 0.0)
     (e,) = bus.run(1.0)
     assert e.t_eof == pytest.approx((worst_case_bits(8) - IFS) / 250_000, abs=1e-12)
 

@@ -29,6 +29,7 @@ fcc has its inputs when the last has ended, and its answers (the CDRW's first) a
 from __future__ import annotations
 
 import math
+import sys
 from collections import deque
 from dataclasses import dataclass
 
@@ -52,8 +53,12 @@ UNDETERMINED = frozenset({m.frame_id for m in load_dbc().messages if m.is_authen
 DRAIN_S = 1.0
 
 
+#: SIM_EVENT's can_id as struct can_frame starts (an 11-bit identifier, no flags)
+_EVENT = SIM_EVENT_ID.to_bytes(4, sys.byteorder)
+
+
 def _wall_paced(raw: bytes) -> bool:
-    return WALL_PACED[0] <= CAN_FRAME.unpack(raw)[0] <= WALL_PACED[1]
+    return WALL_PACED[0] <= CAN_FRAME.unpack_from(raw)[0] <= WALL_PACED[1]
 
 
 @dataclass(slots=True)
@@ -75,7 +80,7 @@ class WireSteps:
 
     @classmethod
     def for_flight(cls, bitrate: int, drivers: Sequence[AppDriver]) -> WireSteps:
-        return cls(SimBus(bitrate, loads(drivers)))
+        return cls(SimBus(bitrate, loads(drivers), sorted(UNDETERMINED)))
 
     def reach(self, t: float) -> None:
         """The model runs to t s."""
@@ -90,10 +95,11 @@ class WireSteps:
     def inputs(self, raws: list[bytes], t: float, horizon: float) -> float:
         """The simulator's frames of a step (or of the steps sampled at t) queued at t; when fcc
         has them all (at most at horizon, an overloaded bus)."""
-        inputs = [r for r in raws if CAN_FRAME.unpack(r)[0] != SIM_EVENT_ID]
-        events = [r for r in raws if CAN_FRAME.unpack(r)[0] == SIM_EVENT_ID]
-        n = self.bus.queue("sim", inputs, t, UNDETERMINED)
-        self.bus.queue("sim", events, t, UNDETERMINED)
+        inputs, events = [], []
+        for r in raws:
+            (events if r[:4] == _EVENT else inputs).append(r)
+        n = self.bus.queue("sim", inputs, t)
+        self.bus.queue("sim", events, t)
         ended = self.bus.run(horizon, "sim", t, n)
         self._arrived(ended)
         at = ns(t)
@@ -106,7 +112,7 @@ class WireSteps:
         io.wire = True
         io.arrivals = [math.inf] * len(io.frames)
         received = [(raw, count) for raw, count in received if not _wall_paced(raw)]
-        n = self.bus.queue("fcc", [raw for raw, _ in received], t_in + FCC_COMPUTE_S, UNDETERMINED)
+        n = self.bus.queue("fcc", [raw for raw, _ in received], t_in + FCC_COMPUTE_S)
         first = 0
         for _, count in received[:n]:
             self._inflight.append(_Receipt(io, first, count))

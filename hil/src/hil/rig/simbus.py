@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from hil.io.paths import tool
 from hil.rig.errors import RigError
@@ -40,7 +40,7 @@ LIBRARY = "libcanbus_sim.so"
 NS = 1_000_000_000
 #: frames returned by one call of canbus_sim_run (more: call again)
 _BATCH = 64
-_EFF, _RTR, _ERR = 0x80000000, 0x40000000, 0x20000000
+_EFF = 0x80000000
 _POLICY = {"prio": 0, "fifo": 1}
 
 
@@ -72,8 +72,7 @@ class Load:
     seed: int
 
 
-@dataclass(frozen=True, slots=True)
-class Ended:
+class Ended(NamedTuple):
     """A frame of the rig's nodes that ended on the bus."""
 
     node: str
@@ -82,15 +81,21 @@ class Ended:
     t_eof: float
 
 
+#: canbus_done_t as bytes: frame (id, ext, rtr, dlc, data, padding), node, bits, t_queued,
+#: t_sof, t_eof (read with struct: one call a batch, not ctypes field by field)
+_DONE = struct.Struct("<I??B8sxIIQQQ")
+
+
 def _library() -> ctypes.CDLL:
     lib = ctypes.CDLL(str(tool(LIBRARY)))
     lib.canbus_sim_size.restype = ctypes.c_size_t
     lib.canbus_sim_init.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
                                     ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p)]
     lib.canbus_sim_load.argtypes = [ctypes.c_void_p, ctypes.POINTER(_LoadCfg)]
-    lib.canbus_sim_queue.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.POINTER(_Frame),
-                                     ctypes.c_uint32, ctypes.c_uint64, ctypes.c_char_p]
-    lib.canbus_sim_queue.restype = ctypes.c_uint32
+    lib.canbus_sim_queue_raw.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_char_p,
+                                         ctypes.c_uint32, ctypes.c_uint64]
+    lib.canbus_sim_queue_raw.restype = ctypes.c_uint32
+    lib.canbus_sim_worst.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_uint32), ctypes.c_uint32]
     lib.canbus_sim_run.argtypes = [ctypes.c_void_p, ctypes.c_uint64, ctypes.POINTER(_Done), ctypes.c_uint32,
                                    ctypes.c_uint32, ctypes.c_uint64, ctypes.c_uint32,
                                    ctypes.POINTER(ctypes.c_uint32)]
@@ -109,7 +114,9 @@ def ns(t: float) -> int:
 class SimBus:
     """One flight's bus model (see the module docstring)."""
 
-    def __init__(self, bitrate: int, loads: Sequence[Load] = ()) -> None:
+    def __init__(self, bitrate: int, loads: Sequence[Load] = (), worst: Sequence[int] = ()) -> None:
+        """worst: the 11-bit identifiers whose frames take their worst-case length (SPEC §8),
+        not their actual bits' (bits the run does not determine, e.g. a random key's MAC)."""
         self.bitrate = bitrate
         self._lib = _library()
         self._sim = ctypes.create_string_buffer(self._lib.canbus_sim_size())
@@ -128,20 +135,19 @@ class SimBus:
             st = self._lib.canbus_sim_load(self._sim, ctypes.byref(cfg))
             if st != 0:
                 raise RigError(f"--bus wire: background load {load}: refused by the model (status {st})")
+        ids = (ctypes.c_uint32 * len(worst))(*worst)
+        if self._lib.canbus_sim_worst(self._sim, ids, len(worst)) != 0:
+            raise RigError(f"--bus wire: {len(worst)} identifiers at their worst-case length: too many")
         self._out = (_Done * _BATCH)()
         #: frames a node could not queue (its controller's queue full): they never reach the bus
         self.lost = 0
 
-    def queue(self, node: str, raws: Sequence[bytes], t: float, worst: frozenset[int] = frozenset()) -> int:
-        """SocketCAN frames (struct can_frame) a node queues at t s; how many fit its queue.
-        The frames with an identifier in worst take their worst-case length (SPEC §8), not
-        their actual bits' (bits the run does not determine, e.g. a random key's MAC)."""
+    def queue(self, node: str, raws: Sequence[bytes], t: float) -> int:
+        """SocketCAN frames (struct can_frame) a node queues at t s; how many fit its queue."""
         if not raws:
             return 0
-        frames = (_Frame * len(raws))(*(_frame(r) for r in raws))
-        marks = bytes(int(f.id in worst) for f in frames) if worst else None
-        done = int(self._lib.canbus_sim_queue(self._sim, self._index[node], frames, len(raws), ns(t),
-                                              marks))
+        done = int(self._lib.canbus_sim_queue_raw(self._sim, self._index[node], b"".join(raws),
+                                                  len(raws), ns(t)))
         self.lost += len(raws) - done
         return done
 
@@ -154,8 +160,9 @@ class SimBus:
         ended: list[Ended] = []
         while True:
             n = lib.canbus_sim_run(sim, until, out, _BATCH, index, at, count, ctypes.byref(seen))
-            ended += [Ended(names[d.node], d.frame.id | (_EFF if d.frame.ext else 0),
-                            d.t_queued / NS, d.t_eof / NS) for d in out[:n]]
+            raw = ctypes.string_at(out, n * _DONE.size)
+            ended += [Ended(names[node], fid | (_EFF if ext else 0), tq / NS, te / NS)
+                      for fid, ext, _, _, _, node, _, tq, _, te in _DONE.iter_unpack(raw)]
             if n < _BATCH or (count and seen.value >= count):
                 return ended
 
@@ -176,15 +183,6 @@ class SimBus:
         stats.update(json.loads(lines[1]))
         stats["time_base"] = "simulated"
         return stats
-
-
-def _frame(raw: bytes) -> _Frame:
-    """struct can_frame (16 bytes) as the model's frame."""
-    can_id, dlc = struct.unpack_from("=IB", raw)
-    f = _Frame(can_id & (0x1FFFFFFF if can_id & _EFF else 0x7FF), bool(can_id & _EFF),
-               bool(can_id & _RTR), min(dlc, 8))
-    f.data[:] = raw[8:16].ljust(8, b"\0")
-    return f
 
 
 def check_bus_load(scenarios: Sequence[Scenario], mode: str, bus: str) -> None:

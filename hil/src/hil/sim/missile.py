@@ -185,21 +185,29 @@ class _DiscreteCache:
 _CACHE = _DiscreteCache()
 
 
-class _GammaCache:
-    """Gamma_tau of the held input for parts of a sub-step, by tau in whole nanoseconds (the bus
-    model's time unit: a command that comes off the wire inside a sub-step)."""
+class _GammaSeries:
+    """Gamma_tau = int_0^tau e^{F s} G ds of the held input for parts of a sub-step (a command
+    that comes off the wire inside one), tau in whole nanoseconds (the bus model's unit), by its
+    power series sum_k F^k G tau^(k+1) / (k+1)!: ||F|| tau <= 0.45 for tau <= FINE_STEP, so 24
+    terms are exact to the last bit of a double, at a hundredth of an expm's cost (the
+    commands' times differ from step to step: no cache would hit)."""
+
+    TERMS = 24
 
     def __init__(self) -> None:
-        self._cache: dict[int, np.ndarray] = {0: np.zeros(3)}
+        terms = [np.asarray(G, dtype=float)]
+        for k in range(1, self.TERMS):
+            terms.append(F @ terms[-1] / (k + 1))
+        self._m = np.array(terms)   # row k: F^k G / (k+1)!
+        self._k = np.arange(1, self.TERMS + 1)
 
     def get(self, tau_ns: int) -> np.ndarray:
-        hit = self._cache.get(tau_ns)
-        if hit is None:
-            hit = self._cache[tau_ns] = zoh(F, G, tau_ns * 1e-9)[1][:, 0].copy()
-        return hit
+        if not 0 <= tau_ns <= round(FINE_STEP * 1e9):
+            raise ValueError(f"missile: a part of a sub-step of {tau_ns} ns")
+        return (float(tau_ns) * 1e-9) ** self._k @ self._m
 
 
-_GAMMA = _GammaCache()
+_GAMMA = _GammaSeries()
 
 
 def discrete_substep(h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -95,7 +95,8 @@ class WireSteps:
     def inputs(self, raws: list[bytes], t: float, horizon: float) -> float:
         """The simulator's frames of a step (or of the steps sampled at t) queued at t; when fcc
         has them all (at most at horizon, an overloaded bus)."""
-        inputs, events = [], []
+        inputs: list[bytes] = []
+        events: list[bytes] = []
         for r in raws:
             (events if r[:4] == _EVENT else inputs).append(r)
         n = self.bus.queue("sim", inputs, t)

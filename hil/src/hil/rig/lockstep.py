@@ -233,7 +233,6 @@ class LockstepRunner:
         """fcc's answer to step k; received (the wire-time bus): every frame read, in order, with
         how many frames of the answer it completed."""
         rig, link, ack = self.rig, self.rig.link, self.ack
-        model_only = rig.model_only_ids
         assert link is not None
         io = StepIO(acked=False)
         if not expected:  # fcc will not act on this tick: nothing to wait for
@@ -267,8 +266,6 @@ class LockstepRunner:
             frame_id, data = got
             if received is not None:
                 received.append((pack_frame(frame_id, data), 0))
-                if frame_id in model_only:
-                    continue
             if frame_id >= 0x700:
                 rig.note_frame(frame_id, data)
                 continue

@@ -108,12 +108,10 @@ class RigSession:
         self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
                          *STATUS_FRAMES, "FCC_STATUS_AUTH")
         self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
-        #: lockstep on the wire-time bus: fcc's other frames (the identification outputs, read
-        #: back from bus.log) are read too, for the bus model only (hil.rig.lockstep_wire)
+        #: fcc's other frames (the identification outputs, read back from bus.log): lockstep on
+        #: the wire-time bus reads them too, for the bus model only (hil.rig.lockstep_wire)
         self.model_only_ids = frozenset(
-            m.frame_id for m in self.spec.messages if "FCC" in m.senders and m.frame_id not in self.fcc_ids
-        ) if config.bus == "wire" and config.mode == "lockstep" else frozenset()
-        self.fcc_ids += tuple(sorted(self.model_only_ids))
+            m.frame_id for m in self.spec.messages if "FCC" in m.senders and m.frame_id not in self.fcc_ids)
         self.fcc_binary = config.fcc_binary
         self._key_dir: Path | None = None
         self.security, key_file = self._bus_key(self.device_class.bus_key_file(config.key_file))

@@ -82,8 +82,10 @@ class Ended(NamedTuple):
 
 
 #: canbus_done_t as bytes: frame (id, ext, rtr, dlc, data, padding), node, bits, t_queued,
-#: t_sof, t_eof (read with struct: one call a batch, not ctypes field by field)
+#: t_sof, t_eof (read with struct: one call a batch, not ctypes field by field); _ENDED the
+#: fields the rig uses, id, ext, node, t_queued, t_eof
 _DONE = struct.Struct("<I??B8sxIIQQQ")
+_ENDED = struct.Struct("<I?11xI4xQ8xQ")
 
 
 def _library() -> ctypes.CDLL:
@@ -160,9 +162,9 @@ class SimBus:
         ended: list[Ended] = []
         while True:
             n = lib.canbus_sim_run(sim, until, out, _BATCH, index, at, count, ctypes.byref(seen))
-            raw = ctypes.string_at(out, n * _DONE.size)
+            raw = ctypes.string_at(out, n * _ENDED.size)
             ended += [Ended(names[node], fid | (_EFF if ext else 0), tq / NS, te / NS)
-                      for fid, ext, _, _, _, node, _, tq, _, te in _DONE.iter_unpack(raw)]
+                      for fid, ext, node, tq, te in _ENDED.iter_unpack(raw)]
             if n < _BATCH or (count and seen.value >= count):
                 return ended
 

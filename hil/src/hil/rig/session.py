@@ -7,8 +7,9 @@
 Order matters: the socket is opened first (so fcc's first heartbeat is seen), then the bus
 recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
-bus.log and fcc.log.  With config.bus "wire" (hil.rig.wirebus) canbus is started before all of
-them, each on its own vxcan end, and stopped after them (its statistics: self.bus_stats).
+bus.log and fcc.log.  With config.bus "wire" in realtime (hil.rig.wirebus) canbus is started
+before all of them, each on its own vxcan end, and stopped after them (its statistics:
+self.bus_stats); in lockstep the bus model runs in simulated time (hil.rig.lockstep_wire).
 
 Why this module is long: the session's life cycle, its key and trip, and the checks on who
 else is on the bus (another fcc before the start, a second fcc's heartbeats during the run)

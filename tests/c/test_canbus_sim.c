@@ -123,7 +123,7 @@ static void test_sim_takes_socketcan_frames_and_the_worst_case(void **state)
     (void)state;
     const canbus_policy_t pol[2] = {CANBUS_PRIO, CANBUS_FIFO};
     const char *const names[2] = {"sim", "fcc"};
-    assert_int_equal(canbus_sim_init(&sim, 500000u, 2u, pol, names), FCC_OK);
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 2u, pol, names, NULL, 0u), FCC_OK);
     const uint32_t worst[1] = {0x021u};
     assert_int_equal(canbus_sim_worst(&sim, worst, 1u), FCC_OK);
     uint8_t raw[2 * CANBUS_SIM_RAW_LEN];
@@ -148,9 +148,10 @@ static void test_sim_stops_at_a_nodes_frames_and_hides_the_load(void **state)
     (void)state;
     const canbus_policy_t pol[1] = {CANBUS_PRIO};
     const char *const names[1] = {"sim"};
-    assert_int_equal(canbus_sim_init(&sim, 500000u, 1u, pol, names), FCC_OK);
-    canbus_load_cfg_t c = cfg(0x004u, 0x00Fu, 500000u);
-    assert_int_equal(canbus_sim_load(&sim, &c), FCC_OK);
+    const canbus_load_cfg_t c = cfg(0x004u, 0x00Fu, 500000u);
+    const canbus_load_cfg_t five[5] = {c, c, c, c, c};
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 1u, pol, names, five, 5u), FCC_ERR_SIZE);
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 1u, pol, names, &c, 1u), FCC_OK);
     uint8_t raw[3 * CANBUS_SIM_RAW_LEN];
     for (uint32_t i = 0u; i < 3u; ++i) {
         raw_frame(raw + i * CANBUS_SIM_RAW_LEN, 0x040u + i, 8u, (uint8_t)i);

@@ -14,52 +14,41 @@ size_t canbus_sim_size(void)
 }
 
 fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
-                             const canbus_policy_t *policy, const char *const *name)
+                             const canbus_policy_t *policy, const char *const *name,
+                             const canbus_load_cfg_t *load, uint32_t loads)
 {
-    if (s == NULL || policy == NULL || name == NULL) {
+    if (s == NULL || policy == NULL || name == NULL || (load == NULL && loads > 0u)) {
         return FCC_ERR_ARG;
     }
+    if (loads > CANBUS_SIM_LOADS_MAX || nodes > CANBUS_NODES_MAX - loads) {
+        return FCC_ERR_SIZE;
+    }
     memset(s, 0, sizeof *s);
-    const fcc_status_t st = canbus_core_init(&s->core, bitrate, nodes, policy);
+    for (uint32_t i = 0u; i < nodes + loads; ++i) {
+        s->policy[i] = i < nodes ? policy[i] : CANBUS_PRIO;
+    }
+    fcc_status_t st = canbus_core_init(&s->core, bitrate, nodes + loads, s->policy);
     if (st != FCC_OK) {
         return st;
     }
     canbus_stats_init(&s->stats, bitrate);
     s->nodes = nodes;
-    s->stats.nodes = nodes;
-    for (uint32_t i = 0u; i < nodes; ++i) {
-        if (name[i] == NULL) {
+    s->stats.nodes = nodes + loads;
+    for (uint32_t i = 0u; i < nodes + loads; ++i) {
+        if (i < nodes && name[i] == NULL) {
             return FCC_ERR_ARG;
         }
-        s->policy[i] = policy[i];
-        s->stats.node[i].iface = name[i];
-        s->stats.node[i].policy = policy[i];
+        s->stats.node[i].iface = i < nodes ? name[i] : "load";
+        s->stats.node[i].policy = s->policy[i];
     }
-    return FCC_OK;
-}
-
-fcc_status_t canbus_sim_load(canbus_sim_t *s, const canbus_load_cfg_t *cfg)
-{
-    if (s == NULL || cfg == NULL) {
-        return FCC_ERR_ARG;
+    for (uint32_t l = 0u; l < loads; ++l) {
+        st = canbus_load_init(&s->load[l], &load[l], s->core.bit_ns);
+        if (st != FCC_OK) {
+            return st;
+        }
+        s->load_node[l] = nodes + l;
     }
-    const uint32_t node = s->core.nodes;
-    if (s->loads == CANBUS_SIM_LOADS_MAX || node == CANBUS_NODES_MAX) {
-        return FCC_ERR_SIZE;
-    }
-    const fcc_status_t st = canbus_load_init(&s->load[s->loads], cfg, s->core.bit_ns);
-    if (st != FCC_OK) {
-        return st;
-    }
-    /* a node more, keeping the core's state: it is added idle, its queue empty */
-    s->core.node[node].policy = CANBUS_PRIO;
-    s->core.node[node].n = 0u;
-    s->core.nodes = node + 1u;
-    s->policy[node] = CANBUS_PRIO;
-    s->stats.node[node].iface = "load";
-    s->stats.node[node].policy = CANBUS_PRIO;
-    s->stats.nodes = node + 1u;
-    s->load_node[s->loads++] = node;
+    s->loads = loads;
     return FCC_OK;
 }
 

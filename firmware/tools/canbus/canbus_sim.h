@@ -5,8 +5,8 @@
  * background load nodes (canbus_load), driven by calls instead of sockets and
  * a clock.  hil.rig.simbus loads it as a shared library (ctypes).
  *
- * Usage: canbus_sim_init() with the nodes' policies; canbus_sim_load() for
- * each background node (it gets the next node index); then, in time order,
+ * Usage: canbus_sim_init() with the nodes' policies and the background
+ * nodes (they get the indices after the caller's); then, in time order,
  * canbus_sim_queue() a node's frames at the time it queues them and
  * canbus_sim_run() to a time: the frames of the other nodes (not the load's)
  * that ended by then, in order, each with its end of frame.  The load's
@@ -50,14 +50,16 @@ typedef struct {
 size_t canbus_sim_size(void);
 
 /* An idle bus at time 0 with `nodes` nodes of the given policies, named
- * (the statistics' "iface"; the strings must outlive the model).  The
- * status of canbus_core_init(); FCC_ERR_ARG for a NULL name. */
+ * (the statistics' "iface"; the strings must outlive the model), and after
+ * them a priority-queued background node per load[0..loads-1], named
+ * "load" (all nodes made by canbus_core_init(), so that everything the core
+ * keeps per node starts as for the caller's).  The status of
+ * canbus_core_init() or canbus_load_init(); FCC_ERR_ARG for a NULL name;
+ * FCC_ERR_SIZE: more than CANBUS_SIM_LOADS_MAX loads or CANBUS_NODES_MAX
+ * nodes in all. */
 fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
-                             const canbus_policy_t *policy, const char *const *name);
-
-/* A background node (priority-queued) with the load cfg, named "load".
- * FCC_ERR_SIZE: no room for another node or load; else canbus_load_init()'s. */
-fcc_status_t canbus_sim_load(canbus_sim_t *s, const canbus_load_cfg_t *cfg);
+                             const canbus_policy_t *policy, const char *const *name,
+                             const canbus_load_cfg_t *load, uint32_t loads);
 
 /* n frames queued at node at time t: how many were (the first that does not
  * fit, a full queue or an invalid frame, and those after it are lost, counted

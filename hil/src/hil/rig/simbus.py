@@ -38,6 +38,8 @@ if TYPE_CHECKING:
 #: the shared library (firmware/tools/canbus/canbus_sim.h), beside the tools in build/bin
 LIBRARY = "libcanbus_sim.so"
 NS = 1_000_000_000
+#: background nodes a flight may have (canbus_sim.h CANBUS_SIM_LOADS_MAX)
+LOADS_MAX = 4
 #: frames returned by one call of canbus_sim_run (more: call again)
 _BATCH = 64
 _EFF = 0x80000000
@@ -92,8 +94,8 @@ def _library() -> ctypes.CDLL:
     lib = ctypes.CDLL(str(tool(LIBRARY)))
     lib.canbus_sim_size.restype = ctypes.c_size_t
     lib.canbus_sim_init.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
-                                    ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p)]
-    lib.canbus_sim_load.argtypes = [ctypes.c_void_p, ctypes.POINTER(_LoadCfg)]
+                                    ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p),
+                                    ctypes.POINTER(_LoadCfg), ctypes.c_uint32]
     lib.canbus_sim_queue_raw.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_char_p,
                                          ctypes.c_uint32, ctypes.c_uint64]
     lib.canbus_sim_queue_raw.restype = ctypes.c_uint32
@@ -126,17 +128,16 @@ class SimBus:
         self._index = {name: i for i, name in enumerate(self.names)}
         self._names_c = (ctypes.c_char_p * len(self.names))(*(n.encode() for n in self.names))
         policy = (ctypes.c_int * len(self.names))(*(_POLICY[NODES[n]] for n in self.names))
-        st = self._lib.canbus_sim_init(self._sim, bitrate, len(self.names), policy, self._names_c)
+        cfgs = (_LoadCfg * len(loads))(*(
+            _LoadCfg(load.id_lo, load.id_hi, max(1, round(load.utilisation * 1e6)), ns(load.start),
+                     ns(load.end) if load.end != float("inf") else 2**63, load.seed & 0xFFFFFFFFFFFFFFFF)
+            for load in loads))
+        st = self._lib.canbus_sim_init(self._sim, bitrate, len(self.names), policy, self._names_c, cfgs,
+                                       len(loads))
         if st != 0:
-            raise RigError(f"--bus wire: the bus model refused {bitrate} bit/s (status {st}: 1e9 "
-                           f"must be a whole multiple of the bit rate)")
-        for load in loads:
-            cfg = _LoadCfg(load.id_lo, load.id_hi, max(1, round(load.utilisation * 1e6)),
-                           ns(load.start), ns(load.end) if load.end != float("inf") else 2**63,
-                           load.seed & 0xFFFFFFFFFFFFFFFF)
-            st = self._lib.canbus_sim_load(self._sim, ctypes.byref(cfg))
-            if st != 0:
-                raise RigError(f"--bus wire: background load {load}: refused by the model (status {st})")
+            raise RigError(f"--bus wire: the bus model refused {bitrate} bit/s with {len(loads)} background "
+                           f"load(s) (status {st}: 1e9 must be a whole multiple of the bit rate, at most "
+                           f"{LOADS_MAX} loads)")
         ids = (ctypes.c_uint32 * len(worst))(*worst)
         if self._lib.canbus_sim_worst(self._sim, ids, len(worst)) != 0:
             raise RigError(f"--bus wire: {len(worst)} identifiers at their worst-case length: too many")
@@ -189,8 +190,8 @@ class SimBus:
 
 def check_bus_load(scenarios: Sequence[Scenario], mode: str, bus: str) -> None:
     """A bus_load fault needs the bus model in simulated time: InputError (exit 2) otherwise
-    (the realtime canbus process has no load node yet; the ideal bus has no time to fill); and
-    two of them active at once may not share identifiers."""
+    (the realtime canbus process has no load node yet; the ideal bus has no time to fill); two
+    of them active at once may not share identifiers; at most LOADS_MAX of them."""
     seen: list[BusLoad] = []
     for sc in scenarios:
         for f in sc.faults:
@@ -204,6 +205,8 @@ def check_bus_load(scenarios: Sequence[Scenario], mode: str, bus: str) -> None:
                     raise InputError(f"faults {g.describe()!r} and {f.describe()!r}: two background "
                                      f"nodes with identifiers in common at the same time")
             seen.append(f)
+    if len(seen) > LOADS_MAX:
+        raise InputError(f"{len(seen)} bus_load faults in one flight: the bus model takes at most {LOADS_MAX}")
 
 
 def loads(drivers: Sequence[AppDriver]) -> list[Load]:

@@ -161,6 +161,7 @@ typedef enum {
 #define FCC_MSG_SIM_EVENT_KIND_BUS_ERROR 19u
 #define FCC_MSG_SIM_EVENT_KIND_BABBLING_NODE 20u
 #define FCC_MSG_SIM_EVENT_KIND_BUS_OFF 21u
+#define FCC_MSG_SIM_EVENT_KIND_BUS_LOAD 22u
 
 /* Physical values of each message (crc and counter are the frame layer's). */
 /* TSYNC_SYNC (0x001, 100 ms, SIM -> FCC, E2E data ID 0x1001): Time synchronisation, first half (CANopen SYNC / AUTOSAR CAN time sync style): the time master (the simulator) sends it every interval_ms; its precise transmit time follows in TSYNC_FOLLOW_UP with the same seq. See firmware/app/README.md, Time synchronisation. */

@@ -90,7 +90,12 @@ CASES: dict[str, tuple[str, Expect]] = {
     "silence": ("silence:{w}",  # the start event is silenced too; each sensor jumps after
                 lambda s, f, i: {"ok": base_ok(s, f) + 1 - N * f - f, "no_new_data": N * f,
                                  "wrong_sequence": f}),
+    # background load on the wire-time bus (flown with --bus wire): the times change, not
+    # the frames fcc gets
+    "bus_load": ("bus_load:{w},utilisation=0.3", lambda s, f, i: {"ok": base_ok(s, f) + 2}),
 }
+#: the kinds flown on the wire-time bus in simulated time (the others on the ideal bus)
+WIRE_KINDS = {"bus_load"}
 COUNTERS = ("ok", "repeated", "ok_some_lost", "wrong_sequence", "error", "no_new_data",
             "unknown_id", "wrong_dlc", "out_of_range")
 
@@ -104,7 +109,7 @@ def fly_cell(tmp_path: Path, kind: str) -> tuple[dict, dict[str, dict], dict]:
     """Both aircraft in one flight through one fcc (interleaved as in the demo), each with the
     fault: the counters add up, so each cell checks both aircraft with one session."""
     scs = [scenario(AIRCRAFT[a][0], spec_for(kind, a)) for a in sorted(AIRCRAFT)]
-    o = fly(tmp_path, *scs)
+    o = fly(tmp_path, *scs, **({"bus": "wire"} if kind in WIRE_KINDS else {}))
     summary = o.summary
     fw = summary["firmware"]
     got = {**fw["e2e"], **fw["rejected"]}

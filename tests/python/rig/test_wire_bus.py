@@ -132,8 +132,9 @@ def test_bus_section_judges_priority_queued_frames_only():
 
 @pytest.mark.parametrize("argv, said", [
     (("--bus", "copper"), "invalid choice"),
-    (("--bus", "wire"), "realtime runs only"),
+    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus in lockstep"),
     (("--bus", "wire", "--mode", "realtime", "--interface", "virtual"), "SocketCAN only"),
+    (("--bus", "wire", "--target", "qemu-m4f"), "fcc on the host only"),
 ])
 def test_bad_bus_is_a_usage_error(argv, said, tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "missile", *argv, "--out", str(tmp_path / "run"))

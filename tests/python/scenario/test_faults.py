@@ -37,6 +37,7 @@ OTHER_CASES = {
     "out_of_range": "out_of_range:frame=CDRW_AOA,signal=alpha,start=1,duration=0.1,raw=2000000",
     "flood": "flood:start=1,duration=0.2,can_id=0x0,rate_hz=1000",
     "silence": "silence:start=1,duration=inf",
+    "bus_load": "bus_load:start=1,duration=0.5,utilisation=0.3,id_lo=0x300,id_hi=0x30f",
 }
 
 

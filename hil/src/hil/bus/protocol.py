@@ -44,6 +44,7 @@ SYNC_LOCKED = SYNC_STATES["LOCKED"]
 SYNC_HAS_TIME = tuple(SYNC_STATES[n] for n in ("LOCKING", "LOCKED", "HOLDOVER", "REFUSED"))
 SIM_CONTROL_ID = _SPEC.by_name("SIM_CONTROL").frame_id
 SIM_TICK_ID = _SPEC.by_name("SIM_TICK").frame_id
+SIM_EVENT_ID = _SPEC.by_name("SIM_EVENT").frame_id
 
 
 #: the sensor frames of each application (SIM_TICK.app: the order of the DBC's FccApp

@@ -11,6 +11,9 @@
                                    (Fig. 3 by covariance analysis, no bus needed)
     hil study cdrw [--runs N] [--noise-seeds N] [--json] [--figure PNG]
                                    (Table 5 with its controls, offline through sid_replay)
+    hil study bus [--bitrates LIST] [--loads LIST] [--periods LIST] [--json] [--figure PNG]
+                                   (the missile's RMS q over bit rate and load, lockstep on the
+                                   wire-time bus; Table 4 there)
     hil demo [--out out/demo]        (both aircraft; Figs. 4-6 responses; Fig. 3 with HIL points)
 
 Needs a CAN interface (vcan0; `hil-vcan hil ...` or, in the clone, `scripts/with-vcan hil ...`

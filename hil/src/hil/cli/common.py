@@ -56,17 +56,18 @@ def scenario(aircraft: str, name_or_path: str | None, faults: Sequence[str], see
 
 
 def bus_model(args: argparse.Namespace) -> str:
-    """--bus (ideal where the command has none); wire: realtime over SocketCAN; the rig makes
+    """--bus (ideal where the command has none); wire: over SocketCAN.  Realtime: the rig makes
     the nodes' vxcan ends and canbus for the host fcc and the M4F image (behind slcan), and
-    judges the real bus of an external device (hil.targets.registry: Target.wire)."""
+    judges the real bus of an external device (hil.targets.registry: Target.wire); lockstep:
+    the bus model runs in simulated time beside the host fcc (hil.rig.simbus)."""
     bus: str = getattr(args, "bus", "ideal")
     if bus != "wire":
         return bus
-    if args.mode != "realtime":
-        raise UsageError("--bus wire: realtime runs only for now (--mode realtime); the lockstep "
-                         "rig on the wire-time bus, in simulated time, is the next step")
     if args.interface != "socketcan":
         raise UsageError("--bus wire: SocketCAN only (--interface socketcan)")
+    if args.mode != "realtime" and args.target != "host":
+        raise UsageError("--bus wire in lockstep: fcc on the host only (--target host), "
+                         "or --mode realtime for the other targets")
     return bus
 
 

@@ -10,6 +10,7 @@ import sys
 from hil.cli.usage import UsageError
 from hil.apps.registry import application
 from hil.io import paths
+from hil.rig.simbus import LIBRARY
 from hil.targets.registry import target
 
 #: the commands that start a rig (a recorder and a device under test)
@@ -39,6 +40,10 @@ def programs(args: argparse.Namespace) -> list[str]:
         names.append("sid_replay")
     if cmd == "demo" or study == "missile-rms":
         names.append("lqg_design")
+    if study == "bus":   # it flies: fcc, its recorder, the bus model
+        names += ["fcc", "canrec", LIBRARY]
+    elif getattr(args, "bus", "ideal") == "wire" and getattr(args, "mode", "") == "lockstep":
+        names.append(LIBRARY)
     return names
 
 

@@ -12,9 +12,9 @@ from typing import NoReturn
 
 import hil
 from hil.cli import listing
-from hil.cli.argtypes import bitrate, floats, ints, nonnegative, positive, seed
+from hil.cli.argtypes import (bitrate, bitrates, floats, id_range, ints, nonnegative, positive, rate_and_load,
+                              seed, utilisations)
 from hil.cli.usage import PROG, UsageError, exit_status_help
-from hil.results.fig3_grid import FIG3_PERIODS
 from hil.targets.registry import TARGETS
 
 
@@ -220,9 +220,10 @@ def build() -> argparse.ArgumentParser:
     add_rig(r)
     r.add_argument("--bus", choices=("ideal", "wire"), default="ideal",
                    help="ideal (the nodes share --iface, frames take no time; default) or wire "
-                        "(realtime: each node on its own vxcan end of canbus, arbitration and wire "
-                        "time at --bitrate, default the DBC's Baudrate; --target external: no model, "
-                        "the real bus's response times measured; docs/bus-timing.md)")
+                        "(arbitration and wire time at --bitrate, default the DBC's Baudrate; "
+                        "realtime: each node on its own vxcan end of canbus, --target external: no "
+                        "model, the real bus's response times measured; lockstep: the same model in "
+                        "simulated time; docs/bus-timing.md)")
 
     c = sub.add_parser("campaign", help="Table 5: faults at random times; or scenario fields varied (--vary)")
     c.add_argument("aircraft", choices=("cdrw", "missile"))
@@ -282,9 +283,11 @@ def build() -> argparse.ArgumentParser:
                     help="where the comparison goes (default out/compare)")
     cm.add_argument("--force", action="store_true", help="write into an --out that holds other files (kept)")
 
-    st = sub.add_parser("study", help="offline studies (no bus): missile-rms = Fig. 3 by covariance "
-                        "analysis and a quantiser Monte Carlo; cdrw = Table 5 with its controls")
-    st.add_argument("study", choices=("missile-rms", "cdrw"))
+    st = sub.add_parser("study", help="studies: missile-rms = Fig. 3 by covariance analysis and a "
+                        "quantiser Monte Carlo; cdrw = Table 5 with its controls (both offline, no "
+                        "bus); bus = the missile's RMS q over bit rate and background load on the "
+                        "wire-time bus in lockstep, and Table 4 there (on vcan0, docs/bus-timing.md)")
+    st.add_argument("study", choices=("missile-rms", "cdrw", "bus"))
     st.add_argument("--runs", type=int, default=12, metavar="N",
                     help="cdrw: fault start times per case (default 12; the campaign draws them)")
     st.add_argument("--noise-seeds", type=int, default=10, metavar="N",
@@ -298,8 +301,21 @@ def build() -> argparse.ArgumentParser:
                     "point (default 0: covariance model only)")
     st.add_argument("--mc-seconds", type=positive, default=50.0, metavar="S",
                     help="missile-rms: length of each Monte Carlo flight (default 50 s)")
-    st.add_argument("--periods", type=floats, default=list(FIG3_PERIODS), metavar="T,T,...",
-                    help="sampling periods in s (default 0.02,0.03,...,0.3)")
+    st.add_argument("--periods", type=floats, default=None, metavar="T,T,...",
+                    help="sampling periods in s (default missile-rms 0.02,0.03,...,0.3; bus 0.05,0.1)")
+    st.add_argument("--bitrates", type=bitrates, default=None, metavar="R,R,...",
+                    help="bus: bit rates (default 125k,250k,500k,1M)")
+    st.add_argument("--loads", type=utilisations, default=None, metavar="U,U,...",
+                    help="bus: background loads, shares of the bus (default 0,0.2,0.4,0.6,0.8)")
+    st.add_argument("--load-ids", type=id_range, default=None, metavar="LO-HI",
+                    help="bus: the background node's identifiers (default 0x004-0x00f: above the "
+                    "loop's frames)")
+    st.add_argument("--duration", type=positive, default=10.0, metavar="S",
+                    help="bus: seconds a flight (default 10, the default missile's)")
+    st.add_argument("--seed", type=seed, default=1, metavar="N", help="bus: the flights' seed (default 1)")
+    st.add_argument("--table4", type=rate_and_load, default=(250_000, 0.5), metavar="RATE,LOAD",
+                    help="bus: Table 4 on the ideal bus and on the wire at RATE with LOAD (default 250k,0.5)")
+    st.add_argument("--no-table4", action="store_true", help="bus: no Table 4 flights")
     st.add_argument("--bits", type=ints, default=[6, 8, 12], metavar="N,N,...",
                     help="D/A word lengths (default 6,8,12)")
     st.add_argument("--gyro-var", type=positive, default=0.8, metavar="V",

@@ -86,6 +86,18 @@ def jitter_bound(frames: Sequence[Frame], frame_id: int, bitrate: int, jitter_s:
     return next(r.wcrt_s for r in analyse(sub, bitrate) if r.frame.frame_id == frame_id)
 
 
+def load_frames(stats: Mapping[str, Any]) -> list[Frame]:
+    """The background nodes' streams of a lockstep run on the bus model (hil.rig.simbus:
+    "load_streams"), as the analysis takes them: 8-byte frames, deadline = period.  One
+    identifier of two nodes (never at the same time: hil.rig.simbus.check_bus_load) at the
+    shorter period."""
+    periods: dict[int, Fraction] = {}
+    for s in stats.get("load_streams", ()):
+        p = Fraction(s["period_ns"], 10**9)
+        periods[s["id"]] = min(p, periods.get(s["id"], p))
+    return [Frame(i, f"LOAD_{i:03X}", "LOAD", p, p) for i, p in sorted(periods.items())]
+
+
 def _queue(spec: BusSpec, frame_id: int, fifo_senders: Sequence[str]) -> str:
     m = spec.by_id(frame_id)
     return "fifo" if m is not None and any(s in fifo_senders for s in m.senders) else "prio"
@@ -99,9 +111,10 @@ def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Sce
     bitrate = int(stats["bitrate"])
     nodes = confinement(stats)
     faulted = stats.get("error_frames", 0) > 0 or any(n.startswith("babble") for n in nodes)
-    frames = flight_frames(spec, scenarios)
+    frames = flight_frames(spec, scenarios) + load_frames(stats)
     d = stats["delivery_error"]
-    return {"bitrate": bitrate, "model": "wire",
+    simulated = {k: stats[k] for k in ("time_base", "load_dropped") if k in stats}
+    return {"bitrate": bitrate, "model": "wire", **simulated,
             "utilisation": round(float(utilisation(frames, bitrate)), 5), "jitter_s": jitter_s,
             "frames_on_bus": stats["frames"], "lost": stats["lost"], "late_queued": stats["late_queued"],
             "load": stats["load"], "canbus_cpu_s": stats["cpu_s"], "canbus_wall_s": stats["wall_s"],

@@ -72,6 +72,8 @@ class MissileResult:
     faults: list[str] = field(default_factory=list)
     events: list[dict[str, Any]] = field(default_factory=list)
     injected: dict[str, int] = field(default_factory=dict)
+    #: the wire-time bus in lockstep: t_k to when step k's command came off the wire (s)
+    command_delay: dict[str, float] | None = None
 
     def run_entry(self) -> dict[str, Any]:
         """One element of summary.json's missile.runs."""
@@ -86,6 +88,8 @@ class MissileResult:
                           "commands_late": self.commands_late, "delay": self.delay,
                           "unanswered_steps": self.unanswered_steps, "faults": self.faults,
                           "fault_events": self.events, "frames_injected": self.injected})
+            if self.command_delay is not None:
+                entry["command_delay_s"] = self.command_delay
         return entry
 
     @property
@@ -221,7 +225,15 @@ def missile_result(driver: MissileDriver, reference: bool = True) -> MissileResu
                          commands_rejected=d.cmd_bad, commands_late=d.cmd_late, delay=d.delay,
                          unanswered_steps=int(d.n_steps - d.acked.sum()),
                          faults=[f.describe() for f in d.scenario.faults], events=_events(d),
-                         injected=dict(d.injector.counts))
+                         injected=dict(d.injector.counts), command_delay=_delays(d.cmd_delay))
+
+
+def _delays(delay: np.ndarray) -> dict[str, float] | None:
+    """p50 and max of the commands' delays (None: no command came off a modelled wire)."""
+    got = delay[np.isfinite(delay)]
+    if not got.size:
+        return None
+    return {"n": int(got.size), "p50": float(np.median(got)), "max": float(got.max())}
 
 
 def missile_open_loop(scenario: Any) -> MissileResult:

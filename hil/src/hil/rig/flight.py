@@ -87,10 +87,18 @@ def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,
     rig.control(COMMAND_RESET, period, bits)
     try:
         if cfg.mode == "lockstep":
-            from hil.rig.lockstep import LockstepRunner  # numpy: see the docstring
+            from hil.rig.lockstep import LockstepRunner, WireSteps  # numpy: see the docstring
             rig.control(COMMAND_FLIGHT)
             r = runner or LockstepRunner(rig, cfg.timeout, bar.update)
-            r.fly(drivers)
+            # the frames the runner does not read: an open-loop application's outputs (the CDRW's)
+            side = rig.model_only_ids if any(not d.closed_loop for d in drivers) else frozenset()
+            r.wire = WireSteps.for_flight(rig.bitrate or rig.spec.baudrate, drivers, rig.iface,
+                                          side) if cfg.bus == "wire" else None
+            try:
+                r.fly(drivers)
+            finally:
+                if r.wire is not None:
+                    rig.bus_stats = r.wire.close()
             return r
         from hil.rig.realtime import RealtimeRunner
         rt = runner or RealtimeRunner(rig, progress=bar.update)

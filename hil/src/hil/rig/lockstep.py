@@ -10,6 +10,10 @@ Per step k of an application (firmware/app/README.md, "Lockstep protocol"):
 Several applications are interleaved by their step times (the CDRW at 50 Hz and the missile
 at 1/T in one fcc process): the earliest t_k goes next, the CDRW first on a tie.
 
+On the wire-time bus (`--bus wire`, a WireSteps given) the bus model says, in simulated time,
+when each frame of the step ends on the wire (hil.rig.lockstep_wire); the frames still travel
+on vcan as above.
+
 A tick (or its answer) can be lost without any fault: a flood overflows a receive queue.
 So when the answer has not come within half the timeout, the tick is sent again
 with the next alive counter -- fcc runs a step once and answers a repeated tick with the
@@ -30,6 +34,8 @@ from collections.abc import Callable, Iterable, Sequence
 from hil.rig.ack import AckReader
 from hil.rig.errors import FccDied, FccTimeout
 from hil.rig.link import pack_frame
+from hil.rig.lockstep_wire import WireSteps
+from hil.rig.simbus import ns
 from hil.rig.session import RigSession
 from hil.rig.tickplan import TICK, TickPlan
 from hil.sim.drivers import AppDriver, StepIO
@@ -44,7 +50,7 @@ CLOCK_EVERY = 32
 
 class LockstepRunner:
     def __init__(self, session: RigSession, timeout: float = DEFAULT_TIMEOUT_S,
-                 progress: Callable[[int], None] | None = None) -> None:
+                 progress: Callable[[int], None] | None = None, wire: WireSteps | None = None) -> None:
         if not timeout > 0:
             raise ValueError(f"lockstep timeout must be > 0, got {timeout}")
         self.rig = session
@@ -66,6 +72,10 @@ class LockstepRunner:
         self._secured = session.security.secured_ids
         #: the flight's ticks made ahead (one application flying, no fault naming the tick)
         self._plan: TickPlan | None = None
+        #: the wire-time bus in simulated time (None: the ideal bus)
+        self.wire = wire
+        #: the wall time the wire model took (run_info.json)
+        self.wire_s = 0.0
 
     def _send(self, raws: list[bytes]) -> None:
         link = self.rig.link
@@ -85,6 +95,7 @@ class LockstepRunner:
             return {"n": len(a), "p50": a[len(a) // 2], "p99": a[min(len(a) - 1, int(0.99 * len(a)))],
                     "max": a[-1]}
         return {"lockstep_wall_s": self.wall_s, "lockstep_steps": self.steps,
+                **({"wire_model_s": self.wire_s} if self.wire is not None else {}),
                 "wall_ms_per_step": 1e3 * self.wall_s / self.steps if self.steps else None,
                 "fcc_exec_us": {self.app_names[a]: stats(v) for a, v in sorted(self.exec_us.items()) if v},
                 "unanswered_ticks": self.unanswered_ticks, "resent_ticks": self.resent_ticks}
@@ -96,8 +107,17 @@ class LockstepRunner:
             pending = [d for d in drivers if not d.done]
             self._plan_for(pending)
             while pending:
-                self.step(min(pending, key=lambda d: (d.t_next, d.app)) if len(pending) > 1 else pending[0])
+                first = min(pending, key=lambda d: (d.t_next, d.app)) if len(pending) > 1 else pending[0]
+                if self.wire is None:
+                    self.step(first)
+                else:   # the applications sampled at that instant together, the CDRW first
+                    self.step_wire(sorted((d for d in pending if ns(d.t_next) == ns(first.t_next)),
+                                          key=lambda d: d.app))
                 pending = [d for d in pending if not d.done]
+            if self.wire is not None:   # the last periods' commands come off the wire
+                self.wire.reach(max(d.n_steps * d.period for d in drivers))
+                for d in drivers:
+                    d.finish()
         finally:
             self._plan = None
             self.wall_s += time.perf_counter() - t0
@@ -127,6 +147,46 @@ class LockstepRunner:
             self._plan = TickPlan(d.injector.codec, self.rig.security, d.app, d.k, d.n_steps)
 
     def step(self, d: AppDriver) -> StepIO:
+        if self.wire is not None:
+            return self.step_wire([d])[0]
+        k, t = d.k, d.t_next
+        raws, answer_expected = self._outgoing(d)
+        self._send(raws)
+        io = self._await_ack(d.app, k, answer_expected, lambda: self._resend_tick(d, k, t))
+        self._end(d, io)
+        return io
+
+    def step_wire(self, group: Sequence[AppDriver]) -> list[StepIO]:
+        """The steps of the applications sampled at one instant, on the wire-time bus: their
+        frames are queued on the model together, fcc has its inputs when the last of them has
+        ended (hil.rig.lockstep_wire), and its answers, one application after the other, are
+        queued then."""
+        wire = self.wire
+        assert wire is not None
+        t = group[0].t_next
+        t0 = time.perf_counter()
+        wire.reach(t)
+        self.wire_s += time.perf_counter() - t0
+        out = [(d, d.k, *self._outgoing(d)) for d in group]
+        t0 = time.perf_counter()
+        t_in = wire.inputs([r for _, _, raws, _ in out for r in raws], t, t + min(d.period for d in group))
+        self.wire_s += time.perf_counter() - t0
+        ios = []
+        for d, k, raws, answer_expected in out:
+            self._send(raws)
+            received: list[tuple[bytes, int]] = []
+            io = self._await_ack(d.app, k, answer_expected,
+                                 lambda d=d, k=k: self._resend_tick(d, k, t), received)  # type: ignore[misc]
+            t0 = time.perf_counter()
+            wire.answer(io, received, t_in)
+            self.wire_s += time.perf_counter() - t0
+            self._end(d, io)
+            ios.append(io)
+        return ios
+
+    def _outgoing(self, d: AppDriver) -> tuple[list[bytes], bool]:
+        """Step k's frames as the socket sends them (readings, fault events, the tick), and
+        whether fcc will answer."""
         k, t = d.k, d.t_next
         self.app_names[d.app] = d.name
         frames = d.frames_for_step()
@@ -136,13 +196,13 @@ class LockstepRunner:
             # on purpose): one more tick, with the next counter, resynchronises it
             more, answer_expected = self._tick(d, k, t)
             ticks += more
-        self._send(self._wire(frames) + ticks)
-        io = self._await_ack(d.app, k, answer_expected, lambda: self._resend_tick(d, k, t))
+        return self._wire(frames) + ticks, answer_expected
+
+    def _end(self, d: AppDriver, io: StepIO) -> None:
         d.end_step(io)
         self.steps += 1
         if self.progress is not None:
             self.progress(1)
-        return io
 
     def _tick(self, d: AppDriver, k: int, t: float) -> tuple[list[bytes], bool]:
         """The tick of step k as the socket sends it (a fault may make it none or several
@@ -168,7 +228,10 @@ class LockstepRunner:
         self.resent_ticks += 1
 
     def _await_ack(self, app: int, k: int, expected: bool,
-                   resend: Callable[[], None] | None = None) -> StepIO:
+                   resend: Callable[[], None] | None = None,
+                   received: list[tuple[bytes, int]] | None = None) -> StepIO:
+        """fcc's answer to step k; received (the wire-time bus): every frame read, in order, with
+        how many frames of the answer it completed."""
         rig, link, ack = self.rig, self.rig.link, self.ack
         assert link is not None
         io = StepIO(acked=False)
@@ -201,6 +264,8 @@ class LockstepRunner:
                     continue
             n += 1
             frame_id, data = got
+            if received is not None:
+                received.append((pack_frame(frame_id, data), 0))
             if frame_id >= 0x700:
                 rig.note_frame(frame_id, data)
                 continue
@@ -212,7 +277,10 @@ class LockstepRunner:
                     self.exec_us.setdefault(app, []).append(exec_us)
                     return io
                 continue  # a repeated ACK of an earlier tick (or one the codec refused)
-            io.frames.extend(rig.accept(frame_id, data))
+            accepted = rig.accept(frame_id, data)
+            io.frames.extend(accepted)
+            if received is not None and accepted:
+                received[-1] = (received[-1][0], len(accepted))
 
 
-__all__ = ["DEFAULT_TIMEOUT_S", "FccDied", "FccTimeout", "LockstepRunner"]
+__all__ = ["DEFAULT_TIMEOUT_S", "FccDied", "FccTimeout", "LockstepRunner", "WireSteps"]

@@ -7,8 +7,9 @@
 Order matters: the socket is opened first (so fcc's first heartbeat is seen), then the bus
 recorder, candump or canrec (ready when it sleeps waiting for frames), then fcc (ready when its
 first FCC_STATUS arrives).  On any error the session still stops both programs and keeps
-bus.log and fcc.log.  With config.bus "wire" (hil.rig.wirebus) canbus is started before all of
-them, each on its own vxcan end, and stopped after them (its statistics: self.bus_stats).
+bus.log and fcc.log.  With config.bus "wire" in realtime (hil.rig.wirebus) canbus is started
+before all of them, each on its own vxcan end, and stopped after them (its statistics:
+self.bus_stats); in lockstep the bus model runs in simulated time (hil.rig.lockstep_wire).
 
 Why this module is long: the session's life cycle, its key and trip, and the checks on who
 else is on the bus (another fcc before the start, a second fcc's heartbeats during the run)
@@ -110,6 +111,10 @@ class RigSession:
         self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
                          *STATUS_FRAMES, "FCC_STATUS_AUTH")
         self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
+        #: fcc's other frames (the identification outputs, read back from bus.log): lockstep on
+        #: the wire-time bus reads them too, for the bus model only (hil.rig.lockstep_wire)
+        self.model_only_ids = frozenset(
+            m.frame_id for m in self.spec.messages if "FCC" in m.senders and m.frame_id not in self.fcc_ids)
         self.fcc_binary = config.fcc_binary
         self._key_dir: Path | None = None
         self.security, key_file = self._bus_key(self.device_class.bus_key_file(config.key_file))
@@ -192,10 +197,12 @@ class RigSession:
     def __enter__(self) -> RigSession:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         try:
-            if self.config.bus == "wire" and target_of(self.target).wire == "model":
-                self._start_wire()
-            elif self.config.bus == "wire":   # a real bus: the simulator's send times recorded
-                self.send_log = self.run_dir / SEND_LOG
+            # lockstep on the wire: the model runs in simulated time in the runner (hil.rig.simbus)
+            if self.config.bus == "wire" and self.mode == "realtime":
+                if target_of(self.target).wire == "model":
+                    self._start_wire()
+                else:   # a real bus: the simulator's send times recorded
+                    self.send_log = self.run_dir / SEND_LOG
             socketcan = CanLink.is_raw(self.interface)
             log = self.run_dir / "bus.log" if self.record and not socketcan else None
             self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,

@@ -16,6 +16,7 @@ from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
 from hil.rig.flight import Flown, fly, lqg_request, make_drivers, open_session, require_log, run_info
 from hil.rig.session import RigSession
+from hil.rig.simbus import check_bus_load
 from hil.runs.budget import check_memory
 from hil.scenario.file import Scenario
 from hil.util.progress import bar as progress_bar
@@ -42,6 +43,7 @@ def run_flight(scenarios: Sequence[Scenario], cfg: RigConfig, command: str = "ru
     if len({sc.aircraft for sc in scenarios}) != len(scenarios):
         raise ValueError("one scenario per aircraft")
     check_memory(scenarios)
+    check_bus_load(scenarios, cfg.mode, cfg.bus)
     t0 = time.perf_counter()
     with open_session(out, scenarios, cfg, lambda rig: prepare(scenarios, rig, cfg)) as rig:
         drivers: list[AppDriver] = rig.prepared  # type: ignore[assignment]

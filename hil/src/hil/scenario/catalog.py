@@ -21,6 +21,8 @@ UNITS = {
     "can_id": "11-bit id", "rate_hz": "Hz", "signal": "", "frame": "DBC message",
     "fill": "", "distribution": "", "node": "rig node", "every": "frames",
     "bit": "bits from SOF", "superposed": "bits",
+    "fill": "", "distribution": "", "utilisation": "0..1 of the bus", "id_lo": "11-bit id",
+    "id_hi": "11-bit id",
 }
 #: the unit of each sensor signal: its DBC signal's
 SIGNAL_UNITS = {name: load(PACKAGED_DBC).by_name(frame).signal(sig).unit
@@ -49,6 +51,7 @@ EXAMPLES = {
     "bus_error": ("missile", "bus_error:frame=MSL_RATE_GYRO,start=2,duration=1,every=2"),
     "babbling_node": ("missile", "babbling_node:can_id=0x005,start=2,duration=0.5"),
     "bus_off": ("missile", "bus_off:node=fcc,start=3"),
+    "bus_load": ("missile", "bus_load:start=0,duration=inf,utilisation=0.5,id_lo=0x200,id_hi=0x6ff"),
 }
 
 

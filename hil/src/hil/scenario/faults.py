@@ -277,6 +277,23 @@ class Silence(BusFault):
     kind: ClassVar[str] = "silence"
 
 
+@dataclass(frozen=True, kw_only=True)
+class BusLoad(BusFault):
+    """Background traffic from another node on the wire-time bus (lockstep --bus wire):
+    periodic 8-byte frames on identifiers spread evenly over [id_lo, id_hi] (at most 16 of
+    them), filling `utilisation` of the bus with their worst-case frame times; phases and data
+    from the scenario's seed (firmware/tools/canbus/canbus_load.h)."""
+
+    kind: ClassVar[str] = "bus_load"
+    utilisation: float = spec(0.5, gt=0.0, le=1.0)
+    id_lo: int = spec(0x200, ge=0, le=0x7FF)
+    id_hi: int = spec(0x6FF, ge=0, le=0x7FF)
+
+    def __post_init__(self) -> None:
+        if self.id_lo > self.id_hi:
+            raise ValueError(f"field 'id_lo': {self.id_lo:#x} above id_hi {self.id_hi:#x}")
+
+
 # ---------------------------------------------------------------------------------------------
 # wire level (canbus's: docs/bus-timing.md "Faults"; times from the flight's start)
 # ---------------------------------------------------------------------------------------------
@@ -342,7 +359,7 @@ KINDS: dict[str, type[Fault]] = {
     c.kind: c for c in (Spike, Bias, Stuck, Dropout, NoiseBurst, Drift, Scale,
                         FrameLoss, FrameDelay, FrameDuplicate, FrameReplay, BadCrc,
                         CounterFreeze, CounterJump, WrongDlc, OutOfRange, Flood, Silence,
-                        BusError, BabblingNode, BusOff)
+                        BusError, BabblingNode, BusOff, BusLoad)
 }
 SENSOR_KINDS = tuple(k for k, c in KINDS.items() if c.level == "sensor")
 FRAME_KINDS = tuple(k for k, c in KINDS.items() if c.level == "frame")

@@ -53,13 +53,16 @@ Message = tuple[str, dict[str, float | int]]
 @dataclass(slots=True)
 class StepIO:
     """What fcc answered to one step.  Realtime: no ACK; t0 is the wall time (monotonic) the
-    period began and arrivals[i] the time frames[i] was received."""
+    period began and arrivals[i] the time frames[i] was received.  Lockstep on the wire-time
+    bus (wire): arrivals[i] is the simulated time frames[i] came off the wire (hil.rig.simbus),
+    inf until it has (filled in as the bus model runs on, after end_step)."""
 
     acked: bool
     degraded: bool = False
     frames: list[tuple[int, bytes]] = field(default_factory=list)
     t0: float | None = None
     arrivals: list[float] = field(default_factory=list)
+    wire: bool = False
 
 
 @dataclass
@@ -145,6 +148,10 @@ class AppDriver:
         """Realtime: everything fcc sends for this period has arrived (end_step may run before
         the deadline).  False: wait for the deadline."""
         return False
+
+    def finish(self) -> None:
+        """The flight is over: what end_step left for later is done (the lockstep rig on the
+        wire-time bus calls it once the bus model has passed the last period's end)."""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -240,6 +247,12 @@ class MissileDriver(AppDriver):
         self.cmd_missing = 0
         self.cmd_bad = 0
         self.cmd_late = 0
+        #: the wire-time bus: each step's command delay, from t_k to when it came off the wire
+        self.cmd_delay = np.full(n, np.nan)
+        #: the wire-time bus: the step whose period is integrated once the bus model has passed
+        #: its end, and the commands not applied yet: (their StepIO, frame index, code, step)
+        self._open: int | None = None
+        self._waiting: list[tuple[StepIO, int, int, int]] = []
         #: each command acts from t_k + delay (time-triggered actuator; fcc --lqg-delay)
         assert scenario.lqg is not None
         self.delay = scenario.lqg.resolved_delay(realtime)
@@ -248,6 +261,7 @@ class MissileDriver(AppDriver):
         return self.sim.faults
 
     def frames_for_step(self) -> list[TxFrame]:
+        self.finish()
         k = self.k
         s = self.sim.sample()
         self.x[k] = s.x
@@ -270,10 +284,10 @@ class MissileDriver(AppDriver):
         ids = {fid for fid, _ in io.frames}
         return io.t0 is not None and self._cmd.frame_id in ids and self._est.frame_id in ids
 
-    def _commands(self, k: int, io: StepIO) -> list[tuple[float, int]]:
+    def _commands(self, k: int, io: StepIO) -> list[tuple[int, int]]:
         """The usable D/A codes among fcc's frames (E2E-checked by the simulator's codec), with
-        their arrival times; lockstep: only the command of step k."""
-        codes: list[tuple[float, int]] = []
+        their index in io.frames; lockstep: only the command of step k."""
+        codes: list[tuple[int, int]] = []
         dac = self.sim.dac
         for i, (frame_id, data) in enumerate(io.frames):
             if frame_id == self._est.frame_id and len(data) == 8:
@@ -290,7 +304,7 @@ class MissileDriver(AppDriver):
             if not ok or d.values is None:
                 self.cmd_bad += 1
                 continue
-            codes.append((io.arrivals[i] if io.arrivals else 0.0, int(d.values["da_code"])))
+            codes.append((i, int(d.values["da_code"])))
             self.degraded[k] = int(d.values["degraded"])
             self.saturated[k] = int(d.values["saturated"])
         return codes
@@ -298,10 +312,16 @@ class MissileDriver(AppDriver):
     def end_step(self, io: StepIO) -> None:
         k = self.k
         self.acked[k] = int(io.acked)
-        codes = self._commands(k, io)
-        self.cmd_ok[k] = int(bool(codes))
-        if not codes:
+        indexed = self._commands(k, io)
+        self.cmd_ok[k] = int(bool(indexed))
+        if not indexed:
             self.cmd_missing += 1
+        if io.wire:  # integrated when the bus model has passed the period's end (finish)
+            self._waiting += [(io, i, code, k) for i, code in indexed]
+            self._open = k
+            self.k += 1
+            return
+        codes = [(io.arrivals[i] if io.arrivals else 0.0, c) for i, c in indexed]
         ns = self.sim.n_sub
         last = self.sim.last_code
         if io.t0 is None:  # lockstep: the command of step k, from t_k + delay to the next one
@@ -323,3 +343,33 @@ class MissileDriver(AppDriver):
         self.code[k] = code
         self.x_fine[k * ns: (k + 1) * ns + 1] = trace
         self.k += 1
+
+    def finish(self) -> None:
+        """The wire-time bus: the open period [t_k, t_k + T) integrated, each command acting
+        from the later of its actuation instant t_j + delay and the simulated time it came off
+        the wire (the bus model has run past t_k + T: every arrival before it is known).  A
+        command that comes in a later period acts there; one after the actuation instant
+        (delay > 0) or after its own period (delay 0) counts as late."""
+        k = self._open
+        if k is None:
+            return
+        self._open = None
+        t0, end = k * self.period, (k + 1) * self.period
+        acts: list[tuple[float, int]] = []
+        waiting: list[tuple[StepIO, int, int, int]] = []
+        for io, i, code, j in self._waiting:
+            arrival = io.arrivals[i]
+            act = max(arrival, j * self.period + self.delay)
+            if act >= end:
+                waiting.append((io, i, code, j))
+                continue
+            self.cmd_delay[j] = arrival - j * self.period
+            late = arrival > j * self.period + self.delay if self.delay > 0 else arrival >= (j + 1) * self.period
+            self.cmd_late += int(late)
+            acts.append((act, code))
+        self._waiting = waiting
+        acts.sort(key=lambda a: a[0])
+        ns = self.sim.n_sub
+        trace = self.sim.advance_switched([(round((a - t0) * 1e9), c) for a, c in acts])
+        self.code[k] = self.sim.last_code
+        self.x_fine[k * ns: (k + 1) * ns + 1] = trace

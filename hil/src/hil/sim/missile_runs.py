@@ -235,6 +235,43 @@ class MissileSimulation:
             return self.advance(code)
         return self.advance_substeps([self.last_code] * m + [code] * (self.n_sub - m))
 
+    def advance_switched(self, switches: list[tuple[int, int]]) -> np.ndarray:
+        """advance() with the D/A code changing at given instants of the period: switches
+        [(offset_ns from t_k, code), ...] in time order, each offset in [0, period); the code
+        acting before the first is the last one applied.  A switch inside a sub-step splits it
+        exactly (MissilePlant.step_pieces: the bus model says when a command came off the
+        wire, to the nanosecond); the sub-steps between switches go as one block.  Without
+        switches, or with every switch on a sub-step boundary, the same numbers as
+        advance_substeps()."""
+        if not self._sampled:
+            raise RuntimeError("missile: advance() before sample()")
+        h_ns = round(self.period / self.n_sub * 1e9)
+        dac, plant, code, i, j = self.dac, self.plant, self.last_code, 0, 0
+        trace = np.empty((self.n_sub + 1, 3))
+        trace[0] = plant.x
+        while j < self.n_sub:
+            # whole sub-steps before the next switch's sub-step: one block of the code in force
+            upto = self.n_sub if i == len(switches) else min(self.n_sub, switches[i][0] // h_ns)
+            if upto > j:
+                plant.step(dac.value(code), (upto - j) * h_ns * 1e-9, upto - j)
+                trace[j + 1: upto + 1] = plant.last_substeps[1:]
+                j = upto
+                continue
+            pieces = [(0, dac.value(code))]   # sub-step j holds the next switch(es)
+            while i < len(switches) and switches[i][0] < (j + 1) * h_ns:
+                code = switches[i][1]
+                at = max(0, switches[i][0] - j * h_ns)
+                pieces = [p for p in pieces if p[0] < at] + [(at, dac.value(code))]
+                i += 1
+            plant.step_pieces(pieces, h_ns)
+            j += 1
+            trace[j] = plant.x
+        plant.last_substeps = trace
+        self._sampled = False
+        self.k += 1
+        self.last_code = code
+        return trace
+
     def sample(self) -> MissileSample:
         if self.done:
             raise RuntimeError("missile: the run is over")

@@ -1,0 +1,103 @@
+/*
+ * canbus_sim.h -- the bus model in simulated time, for the lockstep rig
+ * ("one model, two time bases", issue 35 item 2): the same core as the
+ * realtime canbus process (canbus_core), its statistics (canbus_stats) and
+ * background load nodes (canbus_load), driven by calls instead of sockets and
+ * a clock.  hil.rig.simbus loads it as a shared library (ctypes).
+ *
+ * Usage: canbus_sim_init() with the nodes' policies and the background
+ * nodes (they get the indices after the caller's); then, in time order,
+ * canbus_sim_queue() a node's frames at the time it queues them and
+ * canbus_sim_run() to a time: the frames of the other nodes (not the load's)
+ * that ended by then, in order, each with its end of frame.  The load's
+ * frames are queued as they are released, before the core passes their time,
+ * so a call's result depends only on the calls before it (deterministic).
+ * canbus_sim_json() writes the statistics as canbus's JSON line, with the
+ * load's streams and drops added.  Simulated time in nanoseconds; no clock,
+ * no sockets, no dynamic memory.
+ */
+#ifndef CANBUS_SIM_H
+#define CANBUS_SIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "canbus_core.h"
+#include "canbus_load.h"
+#include "canbus_stats.h"
+#include "fcc_types.h"
+
+#define CANBUS_SIM_LOADS_MAX 4u
+#define CANBUS_SIM_WORST_MAX 32u
+/* sizeof (struct can_frame) of Linux SocketCAN: can_id (host order, flags in the top 3 bits),
+ * len, 3 bytes of padding, 8 data bytes */
+#define CANBUS_SIM_RAW_LEN 16u
+
+typedef struct {
+    canbus_core_t core;
+    canbus_stats_t stats;
+    canbus_load_t load[CANBUS_SIM_LOADS_MAX];
+    uint32_t load_node[CANBUS_SIM_LOADS_MAX];
+    uint32_t loads;
+    uint64_t load_dropped;   /* load frames released while their node's queue was full */
+    uint32_t nodes;          /* the nodes the caller named (the loads come after them) */
+    canbus_policy_t policy[CANBUS_NODES_MAX];
+    uint32_t worst_id[CANBUS_SIM_WORST_MAX];  /* canbus_sim_worst() */
+    uint32_t worst_ids;
+} canbus_sim_t;
+
+/* sizeof (canbus_sim_t): the caller allocates it (ctypes). */
+size_t canbus_sim_size(void);
+
+/* An idle bus at time 0 with `nodes` nodes of the given policies, named
+ * (the statistics' "iface"; the strings must outlive the model), and after
+ * them a priority-queued background node per load[0..loads-1], named
+ * "load" (all nodes made by canbus_core_init(), so that everything the core
+ * keeps per node starts as for the caller's).  The status of
+ * canbus_core_init() or canbus_load_init(); FCC_ERR_ARG for a NULL name;
+ * FCC_ERR_SIZE: more than CANBUS_SIM_LOADS_MAX loads or CANBUS_NODES_MAX
+ * nodes in all. */
+fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
+                             const canbus_policy_t *policy, const char *const *name,
+                             const canbus_load_cfg_t *load, uint32_t loads);
+
+/* n frames queued at node at time t: how many were (the first that does not
+ * fit, a full queue or an invalid frame, and those after it are lost, counted
+ * as the node's).  worst (NULL: none) marks the frames that take their
+ * worst-case length, SPEC §8's g + 8n + 13 + floor((g + 8n - 1)/4) bits,
+ * instead of their actual bits' (a frame whose bits the run does not
+ * determine, e.g. an authenticator under a random session key: the model's
+ * times then do not depend on them). */
+uint32_t canbus_sim_queue(canbus_sim_t *s, uint32_t node, const canbus_frame_t *f, uint32_t n,
+                          uint64_t t, const uint8_t *worst);
+
+/* The same for n SocketCAN frames (struct can_frame, CANBUS_SIM_RAW_LEN bytes
+ * each, back to back), each taking its worst-case length when its identifier
+ * is one given to canbus_sim_worst(): one call for a node's frames of a step. */
+uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw, uint32_t n,
+                              uint64_t t);
+
+/* The 11-bit identifiers whose frames canbus_sim_queue_raw() queues at their
+ * worst-case length (replacing the earlier set).  FCC_ERR_SIZE: more than
+ * CANBUS_SIM_WORST_MAX. */
+fcc_status_t canbus_sim_worst(canbus_sim_t *s, const uint32_t *id, uint32_t n);
+
+/* Runs the bus up to time t.  The frames of the caller's nodes that ended
+ * then, at most max of them, in *out, in order: max returned means the core
+ * stopped at the last one's end of frame (call again for more).  With
+ * count > 0 it also stops at the end of frame of the count-th frame of node
+ * queued at tq (*seen: how many of those ended; NULL when count is 0), so
+ * that a node's reaction to them can be queued then. */
+uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_t max,
+                        uint32_t node, uint64_t tq, uint32_t count, uint32_t *seen);
+
+/* Frames waiting at node, or on the bus from it. */
+uint32_t canbus_sim_pending(const canbus_sim_t *s, uint32_t node);
+
+/* The statistics as canbus_stats_json() writes them, then one more line:
+ * {"load_streams": [{"id", "period_ns"}...], "load_dropped": n}.  wall_s is
+ * the simulated time (so "load" is the bus's load over it), cpu_s 0.
+ * FCC_ERR_IO: the file cannot be written. */
+fcc_status_t canbus_sim_json(canbus_sim_t *s, const char *path);
+
+#endif /* CANBUS_SIM_H */

@@ -1,0 +1,183 @@
+/*
+ * test_canbus_sim.c -- the bus model in simulated time (firmware/tools/canbus
+ * canbus_sim.c) and its background nodes (canbus_load.c): the load's streams,
+ * periods and determinism by hand; SocketCAN frames taken as bytes, the
+ * worst-case length, the load's frames counted but not handed out.
+ */
+#include "fcc_test.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "canbus_load.h"
+#include "canbus_sim.h"
+
+#define BIT_500K 2000u /* ns */
+
+static canbus_load_cfg_t cfg(uint32_t lo, uint32_t hi, uint32_t ppm)
+{
+    canbus_load_cfg_t c;
+    memset(&c, 0, sizeof c);
+    c.id_lo = lo;
+    c.id_hi = hi;
+    c.ppm = ppm;
+    c.start_ns = 0u;
+    c.end_ns = 1000000000u;
+    c.seed = 7u;
+    return c;
+}
+
+static void test_load_refuses_what_it_cannot_send(void **state)
+{
+    (void)state;
+    canbus_load_t l;
+    canbus_load_cfg_t c = cfg(0x300u, 0x2FFu, 400000u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_ERR_RANGE); /* lo > hi */
+    c = cfg(0x300u, 0x800u, 400000u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_ERR_RANGE); /* not 11-bit */
+    c = cfg(0x300u, 0x30Fu, 0u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_ERR_RANGE);
+    c = cfg(0x300u, 0x30Fu, 1000001u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_ERR_RANGE);
+    c = cfg(0x300u, 0x30Fu, 400000u);
+    c.end_ns = 0u;
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_ERR_RANGE); /* empty window */
+    assert_int_equal(canbus_load_init(NULL, &c, BIT_500K), FCC_ERR_ARG);
+}
+
+static void test_load_streams_and_period_by_hand(void **state)
+{
+    (void)state;
+    canbus_load_t l;
+    /* 16 streams over 0x300-0x30F; period = 16 x 135 bits x 2000 ns / 0.4 = 10.8 ms */
+    canbus_load_cfg_t c = cfg(0x300u, 0x30Fu, 400000u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_OK);
+    uint32_t id;
+    uint64_t period;
+    for (uint32_t i = 0u; i < 16u; ++i) {
+        assert_true(canbus_load_stream(&l, i, &id, &period));
+        assert_int_equal(id, 0x300u + i);
+        assert_int_equal(period, 10800000u);
+    }
+    assert_false(canbus_load_stream(&l, 16u, &id, &period));
+    /* three identifiers: three streams, the ends and the middle */
+    c = cfg(0x100u, 0x102u, 1000000u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_OK);
+    assert_true(canbus_load_stream(&l, 2u, &id, &period));
+    assert_int_equal(id, 0x102u);
+    assert_int_equal(period, 3u * 135u * BIT_500K);
+    assert_false(canbus_load_stream(&l, 3u, &id, &period));
+    /* a whole range: 16 streams spread evenly, the last at its top */
+    c = cfg(0x000u, 0x7FFu, 500000u);
+    assert_int_equal(canbus_load_init(&l, &c, BIT_500K), FCC_OK);
+    assert_true(canbus_load_stream(&l, 15u, &id, &period));
+    assert_int_equal(id, 0x7FFu);
+}
+
+static void test_load_is_periodic_and_deterministic(void **state)
+{
+    (void)state;
+    canbus_load_t a;
+    canbus_load_t b;
+    const canbus_load_cfg_t c = cfg(0x300u, 0x30Fu, 400000u);
+    assert_int_equal(canbus_load_init(&a, &c, BIT_500K), FCC_OK);
+    assert_int_equal(canbus_load_init(&b, &c, BIT_500K), FCC_OK);
+    uint64_t last[16];
+    memset(last, 0, sizeof last);
+    uint32_t n = 0u;
+    uint64_t ta;
+    while (canbus_load_next(&a, &ta)) {
+        uint64_t tb;
+        assert_true(canbus_load_next(&b, &tb));
+        canbus_frame_t fa;
+        canbus_frame_t fb;
+        canbus_load_take(&a, &fa);
+        canbus_load_take(&b, &fb);
+        assert_int_equal(ta, tb);
+        assert_memory_equal(&fa, &fb, sizeof fa);
+        assert_true(fa.id >= 0x300u && fa.id <= 0x30Fu && fa.dlc == 8u && !fa.ext);
+        const uint32_t s = fa.id - 0x300u;
+        if (last[s] != 0u) {
+            assert_int_equal(ta - last[s], 10800000u); /* each stream exactly periodic */
+        }
+        last[s] = ta;
+        assert_true(ta < 1000000000u); /* only in the window */
+        ++n;
+    }
+    /* 1 s / 10.8 ms = 92.6 releases a stream */
+    assert_true(n >= 16u * 92u && n <= 16u * 93u);
+}
+
+static canbus_sim_t sim; /* 2.4 MB of statistics: not on the stack */
+
+static void raw_frame(uint8_t *raw, uint32_t can_id, uint8_t dlc, uint8_t fill)
+{
+    memset(raw, 0, CANBUS_SIM_RAW_LEN);
+    memcpy(raw, &can_id, sizeof can_id);
+    raw[4] = dlc;
+    memset(raw + 8, fill, dlc);
+}
+
+static void test_sim_takes_socketcan_frames_and_the_worst_case(void **state)
+{
+    (void)state;
+    const canbus_policy_t pol[2] = {CANBUS_PRIO, CANBUS_FIFO};
+    const char *const names[2] = {"sim", "fcc"};
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 2u, pol, names, NULL, 0u), FCC_OK);
+    const uint32_t worst[1] = {0x021u};
+    assert_int_equal(canbus_sim_worst(&sim, worst, 1u), FCC_OK);
+    uint8_t raw[2 * CANBUS_SIM_RAW_LEN];
+    raw_frame(raw, 0x021u, 8u, 0x55u);                       /* worst case: 135 bits */
+    raw_frame(raw + CANBUS_SIM_RAW_LEN, 0x98FF0001u, 0u, 0u); /* 29-bit 0x18FF0001: base 0x63F */
+    assert_int_equal(canbus_sim_queue_raw(&sim, 0u, raw, 2u, 1000u), 2u);
+    canbus_done_t out[4];
+    assert_int_equal(canbus_sim_run(&sim, 10000000u, out, 4u, 0u, 0u, 0u, NULL), 2u);
+    assert_int_equal(out[0].frame.id, 0x021u);
+    assert_int_equal(out[0].t_eof, 1000u + (135u - 3u) * BIT_500K);
+    assert_true(out[1].frame.ext);
+    assert_int_equal(out[1].frame.id, 0x18FF0001u);
+    assert_int_equal(out[1].t_sof, out[0].t_eof + 3u * BIT_500K);
+    /* an error frame is no classic frame: lost, with what follows it */
+    raw_frame(raw, 0x20000001u, 8u, 0u);
+    assert_int_equal(canbus_sim_queue_raw(&sim, 1u, raw, 2u, 20000000u), 0u);
+    assert_int_equal(sim.stats.node[1].lost, 2u);
+}
+
+static void test_sim_stops_at_a_nodes_frames_and_hides_the_load(void **state)
+{
+    (void)state;
+    const canbus_policy_t pol[1] = {CANBUS_PRIO};
+    const char *const names[1] = {"sim"};
+    const canbus_load_cfg_t c = cfg(0x004u, 0x00Fu, 500000u);
+    const canbus_load_cfg_t five[5] = {c, c, c, c, c};
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 1u, pol, names, five, 5u), FCC_ERR_SIZE);
+    assert_int_equal(canbus_sim_init(&sim, 500000u, 1u, pol, names, &c, 1u), FCC_OK);
+    uint8_t raw[3 * CANBUS_SIM_RAW_LEN];
+    for (uint32_t i = 0u; i < 3u; ++i) {
+        raw_frame(raw + i * CANBUS_SIM_RAW_LEN, 0x040u + i, 8u, (uint8_t)i);
+    }
+    const uint64_t t = 50000000u;
+    assert_int_equal(canbus_sim_queue_raw(&sim, 0u, raw, 3u, t), 3u);
+    canbus_done_t out[8];
+    uint32_t seen = 0u;
+    /* up to the second of them: the third is still to come */
+    const uint32_t n = canbus_sim_run(&sim, t + 100000000u, out, 8u, 0u, t, 2u, &seen);
+    assert_int_equal(seen, 2u);
+    assert_int_equal(n, 2u); /* the load's frames ran too, but are not handed out */
+    assert_int_equal(out[1].frame.id, 0x041u);
+    assert_int_equal(canbus_sim_pending(&sim, 0u), 1u);
+    assert_true(sim.stats.node[1].sent > 0u); /* the load node: 12 streams at 0.5 */
+    assert_int_equal(canbus_sim_json(&sim, "/nonexistent-dir/stats.json"), FCC_ERR_IO);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_load_refuses_what_it_cannot_send),
+        cmocka_unit_test(test_load_streams_and_period_by_hand),
+        cmocka_unit_test(test_load_is_periodic_and_deterministic),
+        cmocka_unit_test(test_sim_takes_socketcan_frames_and_the_worst_case),
+        cmocka_unit_test(test_sim_stops_at_a_nodes_frames_and_hides_the_load),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -21,7 +21,7 @@ UNITS = {
     "can_id": "11-bit id", "rate_hz": "Hz", "signal": "", "frame": "DBC message",
     "fill": "", "distribution": "", "node": "rig node", "every": "frames",
     "bit": "bits from SOF", "superposed": "bits",
-    "fill": "", "distribution": "", "utilisation": "0..1 of the bus", "id_lo": "11-bit id",
+    "utilisation": "0..1 of the bus", "id_lo": "11-bit id",
     "id_hi": "11-bit id",
 }
 #: the unit of each sensor signal: its DBC signal's

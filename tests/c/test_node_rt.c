@@ -204,6 +204,38 @@ static void test_synced_release_inputs_or_window(void **state)
     assert_int_equal(run_at(rt, l + t, jitter), 1u);
 }
 
+/* With the master's time the identification, which has no release window of its own
+ * (fcc_app.h: rt_window_us 0), is released at the latest half a period after its
+ * instant; the missile within its window. */
+static void test_synced_window_without_its_own_is_half_a_period(void **state)
+{
+    (void)state;
+    start(0.02, true);
+    const uint64_t off = 3000000u;
+    uint64_t l = 1000000u;
+    for (uint8_t seq = 0u; seq < 10u; ++seq, l += 100000u) {
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq, l, l + off, true);
+        poll_frames();
+    }
+    assert_true(fcc_tsync_has_time(&g_node.tsync));
+    assert_int_equal(fcc_node_app_ops(FCC_APP_CDRW)->rt_window_us, 0u);
+    fcc_node_rt_t rt[FCC_N_APPS];
+    fcc_node_rt_start(&g_node, rt, l);
+    uint64_t jitter[FCC_N_APPS];
+    assert_int_equal(run_at(rt, l, jitter), 0u);
+    assert_true(rt[FCC_APP_CDRW].synced && rt[FCC_APP_MSL].synced);
+    const uint32_t t_sid = fcc_node_app_period_us(&g_node, FCC_APP_CDRW);
+    assert_int_equal(rt[FCC_APP_CDRW].deadline, rt[FCC_APP_CDRW].instant + t_sid / 2u);
+    assert_int_equal(rt[FCC_APP_MSL].deadline, rt[FCC_APP_MSL].instant + FCC_APP_MSL_RT_WINDOW_US);
+    /* nothing in: the identification steps when its half period is over, not before */
+    const uint64_t closes = rt[FCC_APP_CDRW].deadline;
+    (void)run_at(rt, closes - 1u, jitter);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 0u);
+    (void)run_at(rt, closes, jitter);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 1u);
+    assert_int_equal(jitter[FCC_APP_CDRW], t_sid / 2u);
+}
+
 /* The node's schedule hooks refuse what is not theirs and change nothing. */
 static void test_schedule_hooks_refuse_bad_arguments(void **state)
 {
@@ -325,6 +357,7 @@ int main(void)
         cmocka_unit_test(test_late_steps_skip_and_count_overruns),
         cmocka_unit_test(test_ground_keeps_the_grid),
         cmocka_unit_test(test_synced_release_inputs_or_window),
+        cmocka_unit_test(test_synced_window_without_its_own_is_half_a_period),
         cmocka_unit_test(test_schedule_hooks_refuse_bad_arguments),
         cmocka_unit_test(test_a_refused_encode_sends_nothing_of_the_group),
         cmocka_unit_test(test_init_refuses_incomplete_ports_and_configs),

@@ -20,7 +20,7 @@ static void poll_frames(void)
 }
 
 /* A realtime node in FLIGHT, the missile's period msl_period, the identification
- * enabled or not; the clock stands still at 1 s. */
+ * enabled or not (the probe, in the build that has it, not); the clock stands still at 1 s. */
 static void start(double msl_period, bool cdrw)
 {
     fcc_port_t port;
@@ -31,6 +31,7 @@ static void start(double msl_period, bool cdrw)
     fcc_assert_ok(fcc_node_config_default(&cfg));
     cfg.mode = FCC_MODE_REALTIME;
     cfg.app_enabled[FCC_APP_CDRW] = cdrw;
+    cfg.app_enabled[FCC_BUS_APP_PROBE] = false; /* the probe build's third one: not counted here */
     cfg.msl.period = (fcc_real_t)msl_period;
     mem_secure(&cfg);
     fcc_assert_ok(fcc_node_init(&g_node, &cfg, &port));

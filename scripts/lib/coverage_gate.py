@@ -7,13 +7,14 @@ GENERATED.json `llvm-cov export -summary-only` of the generated bus code (script
 writes both); --sources names the hand-written files that must be measured (a file no unit test
 links is missing from the export, not at 0 %).  Prints the figures per file, the generated code's
 apart (reported, not gated), holds every MC/DC condition the tests leave uncovered against the
-reviewed exclusions (tests/coverage/exclusions.toml), and compares the hand-written totals with
+reviewed exclusions (tests/coverage/exclusions.toml; a source that only a test-only build links is
+listed there as [[unmeasured]], with its reason), and compares the hand-written totals with
 their floors (tests/coverage/floor.json).  The last line is always
 `coverage: lines L % branches B % mcdc M %`.  Exit status 0: no figure below its floor, every
 uncovered condition excluded; 1: a figure fell, a condition is neither covered nor excluded, an
 exclusion is stale (its code changed, or its conditions are covered now), or a source is not
-measured; 2: a missing or malformed input.  With --raise the floors are set to today's figures
-(rounded down to 0.1 %) when they rose.
+measured and not listed as unmeasured (or listed and measured now); 2: a missing or malformed
+input.  With --raise the floors are set to today's figures (rounded down to 0.1 %) when they rose.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import math
 import re
 import sys
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,6 +35,7 @@ EXCLUSIONS = ROOT / "tests/coverage/exclusions.toml"
 MEASURES = ("lines", "branches", "mcdc")
 EXCLUSION_KINDS = ("defensive", "hardware-only")
 EXCLUSION_FIELDS = ("file", "line", "code", "conditions", "kind", "reason", "reviewed")
+UNMEASURED_FIELDS = ("file", "reason", "reviewed")
 
 
 class InputError(Exception):
@@ -109,13 +112,14 @@ def print_table(title: str, files: dict[str, dict[str, Figure]], totals: dict[st
     print(f"{'total':32} " + " ".join(f"{str(totals[m]):>22}" for m in MEASURES))
 
 
-def read_exclusions(path: Path) -> list[dict]:
+def read_exclusions(path: Path, table: str = "exclusion") -> list[dict]:
+    """The [[table]] entries of the exclusions file (exclusion: conditions; unmeasured: sources)."""
     try:
-        entries = tomllib.loads(path.read_text()).get("exclusion", [])
+        entries = tomllib.loads(path.read_text()).get(table, [])
     except (OSError, tomllib.TOMLDecodeError) as err:
         raise InputError(f"{path}: {err}") from err
-    if not isinstance(entries, list):
-        raise InputError(f"{path}: [[exclusion]] is not a list of tables")
+    if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
+        raise InputError(f"{path}: [[{table}]] is not a list of tables")
     return entries
 
 
@@ -164,12 +168,28 @@ def check_exclusions(entries: list[dict], decisions: list[Decision]) -> list[str
     return problems
 
 
-def unmeasured(sources: list[Path], files: dict[str, dict[str, Figure]]) -> list[str]:
+def unmeasured(sources: list[Path], files: dict[str, dict[str, Figure]],
+               allowed: Sequence[dict] = ()) -> list[str]:
     """The hand-written sources with code of their own that no unit test links: llvm-cov leaves
     them out, not at 0 %.  A source of #includes alone (fcc_mat64_*.c: the double flavour of a
-    kernel) is measured as the file it includes."""
+    kernel) is measured as the file it includes.  A source listed as [[unmeasured]] (only a
+    test-only build links it) may be missing; its entry is stale once it is measured, or gone."""
     names = {str(s.resolve().relative_to(ROOT / "firmware")) for s in sources if has_code(s)}
-    return [f"firmware/{n} is not measured: no unit test links it" for n in sorted(names - files.keys())]
+    problems, listed = [], set()
+    for i, e in enumerate(allowed, 1):
+        missing = [f for f in UNMEASURED_FIELDS if f not in e]
+        name = str(e.get("file", "")).removeprefix("firmware/")
+        if missing:
+            problems.append(f"unmeasured {i}: missing {', '.join(missing)}")
+        elif name not in names:
+            problems.append(f"unmeasured {i}: firmware/{name} is no portable source with code: remove the entry")
+        elif name in files:
+            problems.append(f"unmeasured {i}: firmware/{name} is measured now: remove the entry")
+        else:
+            listed.add(name)
+    problems += [f"firmware/{n} is not measured: no unit test links it"
+                 for n in sorted(names - files.keys() - listed)]
+    return problems
 
 
 def has_code(source: Path) -> bool:
@@ -215,7 +235,9 @@ def main() -> int:
         generated = read_export(args.generated)
         print_table("hand-written portable firmware", portable.files, portable.totals)
         print_table("generated (reported, not gated)", generated.files, generated.totals)
-        problems = unmeasured(args.sources, portable.files)
+        # without --sources nothing is held to be measured (the floors' --raise alone)
+        problems = (unmeasured(args.sources, portable.files, read_exclusions(EXCLUSIONS, "unmeasured"))
+                    if args.sources else [])
         problems += check_exclusions(read_exclusions(EXCLUSIONS), portable.decisions)
         floor = read_floor(FLOOR)
     except InputError as e:

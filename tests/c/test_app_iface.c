@@ -103,11 +103,54 @@ static void test_the_third_id_takes_its_own_path(void **state)
     assert_int_equal(g_node.app[FCC_BUS_APP_PROBE].steps, built ? 4u : 0u);
 }
 
+/* Each application's read-only input slots: its own, none past them and none without an
+ * instance; a name of the right length but other letters names no application; an id without
+ * inputs (the probe's, built or not) has all of them in. */
+static void test_input_slots_and_names_are_bounded(void **state)
+{
+    (void)state;
+    fcc_node_config_t c;
+    fcc_assert_ok(fcc_node_config_default(&c));
+    start(&c);
+    for (uint32_t i = 0u; i < FCC_APP_SID_N_INPUTS; ++i) {
+        assert_ptr_equal(fcc_app_sid_ops.input(&g_node.sid, i), &g_node.sid.in[i]);
+    }
+    assert_null(fcc_app_sid_ops.input(&g_node.sid, FCC_APP_SID_N_INPUTS));
+    assert_null(fcc_app_sid_ops.input(NULL, 0u));
+    for (uint32_t i = 0u; i < FCC_APP_MSL_N_INPUTS; ++i) {
+        assert_ptr_equal(fcc_app_msl_ops.input(&g_node.msl, i), &g_node.msl.in[i]);
+    }
+    assert_null(fcc_app_msl_ops.input(&g_node.msl, FCC_APP_MSL_N_INPUTS));
+    assert_null(fcc_app_msl_ops.input(NULL, 0u));
+    assert_int_equal(fcc_node_app_named("cdrx", 4u), FCC_N_APPS);
+    assert_int_equal(fcc_node_app_named("missila", 7u), FCC_N_APPS);
+    assert_true(fcc_node_inputs_since(&g_node, FCC_BUS_APP_PROBE, UINT64_MAX));
+    assert_false(fcc_node_inputs_since(&g_node, FCC_APP_MSL, 0u)); /* nothing received yet */
+}
+
+/* An application whose configuration its init refuses stops the node's start with that
+ * status; the applications after it are not started on a failed node. */
+static void test_a_refused_application_config_fails_the_start(void **state)
+{
+    (void)state;
+    fcc_node_config_t c;
+    fcc_assert_ok(fcc_node_config_default(&c));
+    mem_secure(&c);
+    c.msl.period = (fcc_real_t)0.0; /* no valid sampling period */
+    fcc_port_t port;
+    mem_init(&g_mem, &port);
+    assert_int_equal(fcc_node_init(&g_node, &c, &port), FCC_ERR_RANGE);
+    fcc_assert_ok(fcc_node_config_default(&c));
+    start(&c); /* the default one starts */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_application_has_the_whole_interface),
         cmocka_unit_test(test_the_third_id_takes_its_own_path),
+        cmocka_unit_test(test_input_slots_and_names_are_bounded),
+        cmocka_unit_test(test_a_refused_application_config_fails_the_start),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

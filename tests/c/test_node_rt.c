@@ -20,7 +20,7 @@ static void poll_frames(void)
 }
 
 /* A realtime node in FLIGHT, the missile's period msl_period, the identification
- * enabled or not; the clock stands still at 1 s. */
+ * enabled or not (the probe, in the build that has it, not); the clock stands still at 1 s. */
 static void start(double msl_period, bool cdrw)
 {
     fcc_port_t port;
@@ -31,6 +31,7 @@ static void start(double msl_period, bool cdrw)
     fcc_assert_ok(fcc_node_config_default(&cfg));
     cfg.mode = FCC_MODE_REALTIME;
     cfg.app_enabled[FCC_APP_CDRW] = cdrw;
+    cfg.app_enabled[FCC_BUS_APP_PROBE] = false; /* the probe build's third one: not counted here */
     cfg.msl.period = (fcc_real_t)msl_period;
     mem_secure(&cfg);
     fcc_assert_ok(fcc_node_init(&g_node, &cfg, &port));
@@ -139,6 +140,20 @@ static void push_msl_inputs(uint64_t at)
     poll_frames();
 }
 
+/* Ten authentic sync pairs, 100 ms apart (master = local + 3 s): the time sync has the
+ * master's time; returns the local time of the last one. */
+static uint64_t have_master_time(void)
+{
+    const uint64_t off = 3000000u;
+    uint64_t l = 1000000u;
+    for (uint8_t seq = 0u; seq < 10u; ++seq, l += 100000u) {
+        mem_push_sync_pair(&g_mem, &g_mem.sim, seq, l, l + off, true);
+        poll_frames();
+    }
+    assert_true(fcc_tsync_has_time(&g_node.tsync));
+    return l;
+}
+
 /* With the master's time the missile's step n is released at the master's instant
  * n T as soon as its inputs are in (not before the guard), at the latest when the
  * window closes; whole periods late, the missed ones are skipped; without the
@@ -148,13 +163,7 @@ static void test_synced_release_inputs_or_window(void **state)
     (void)state;
     start(0.02, false);
     const uint32_t t = fcc_node_app_period_us(&g_node, FCC_APP_MSL);
-    const uint64_t off = 3000000u; /* master = local + 3 s */
-    uint64_t l = 1000000u;
-    for (uint8_t seq = 0u; seq < 10u; ++seq, l += 100000u) {
-        mem_push_sync_pair(&g_mem, &g_mem.sim, seq, l, l + off, true);
-        poll_frames();
-    }
-    assert_true(fcc_tsync_has_time(&g_node.tsync));
+    uint64_t l = have_master_time();
     fcc_node_rt_t rt[FCC_N_APPS];
     fcc_node_rt_start(&g_node, rt, l);
     uint64_t jitter[FCC_N_APPS];
@@ -202,6 +211,73 @@ static void test_synced_release_inputs_or_window(void **state)
     assert_false(rt[FCC_APP_MSL].synced);
     assert_int_equal(rt[FCC_APP_MSL].deadline, l + t);
     assert_int_equal(run_at(rt, l + t, jitter), 1u);
+}
+
+/* With the master's time the identification, which has no release window of its own
+ * (fcc_app.h: rt_window_us 0), is released at the latest half a period after its
+ * instant; the missile within its window. */
+static void test_synced_window_without_its_own_is_half_a_period(void **state)
+{
+    (void)state;
+    start(0.02, true);
+    const uint64_t l = have_master_time();
+    assert_int_equal(fcc_node_app_ops(FCC_APP_CDRW)->rt_window_us, 0u);
+    fcc_node_rt_t rt[FCC_N_APPS];
+    fcc_node_rt_start(&g_node, rt, l);
+    uint64_t jitter[FCC_N_APPS];
+    assert_int_equal(run_at(rt, l, jitter), 0u);
+    assert_true(rt[FCC_APP_CDRW].synced && rt[FCC_APP_MSL].synced);
+    const uint32_t t_sid = fcc_node_app_period_us(&g_node, FCC_APP_CDRW);
+    assert_int_equal(rt[FCC_APP_CDRW].deadline, rt[FCC_APP_CDRW].instant + t_sid / 2u);
+    assert_int_equal(rt[FCC_APP_MSL].deadline, rt[FCC_APP_MSL].instant + FCC_APP_MSL_RT_WINDOW_US);
+    /* nothing in: the identification steps when its half period is over, not before */
+    const uint64_t closes = rt[FCC_APP_CDRW].deadline;
+    (void)run_at(rt, closes - 1u, jitter);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 0u);
+    (void)run_at(rt, closes, jitter);
+    assert_int_equal(g_node.app[FCC_APP_CDRW].steps, 1u);
+    assert_int_equal(jitter[FCC_APP_CDRW], t_sid / 2u);
+}
+
+/* An rt[] not started by fcc_node_rt_start (all zero: no period) on the ground: its grid
+ * stays where it is -- no division by the zero period -- and nothing steps. */
+static void test_ground_grid_of_an_unstarted_schedule_stays(void **state)
+{
+    (void)state;
+    start(0.02, true);
+    mem_push_control(&g_mem, FCC_MSG_SIM_CONTROL_COMMAND_GROUND, 0.0, 0u);
+    poll_frames();
+    fcc_node_rt_t rt[FCC_N_APPS];
+    memset(rt, 0, sizeof rt);
+    uint64_t jitter[FCC_N_APPS];
+    assert_int_equal(run_at(rt, 5000000u, jitter), 0u);
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        assert_int_equal(rt[a].deadline, 0u);
+        assert_int_equal(rt[a].k, 0u);
+        assert_int_equal(jitter[a], UINT64_MAX);
+    }
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps + g_node.app[FCC_APP_CDRW].steps, 0u);
+}
+
+/* An application's schedule without a period (its rt[] entry never started) is not aligned
+ * to the master's instants -- the period divides the master's time there -- and, its
+ * deadline not come, nothing steps. */
+static void test_a_schedule_without_period_is_not_aligned(void **state)
+{
+    (void)state;
+    start(0.02, false);
+    const uint64_t l = have_master_time();
+    fcc_node_rt_t rt[FCC_N_APPS];
+    fcc_node_rt_start(&g_node, rt, l);
+    rt[FCC_APP_MSL].period_us = 0u;
+    rt[FCC_APP_MSL].deadline = UINT64_MAX;
+    uint64_t jitter[FCC_N_APPS];
+    assert_int_equal(run_at(rt, l, jitter), 0u);
+    assert_false(rt[FCC_APP_MSL].synced);
+    assert_int_equal(rt[FCC_APP_MSL].aligns, 0u);
+    assert_int_equal(rt[FCC_APP_MSL].n, 0u);
+    assert_int_equal(jitter[FCC_APP_MSL], UINT64_MAX);
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps, 0u);
 }
 
 /* The node's schedule hooks refuse what is not theirs and change nothing. */
@@ -324,7 +400,10 @@ int main(void)
         cmocka_unit_test(test_free_run_deadlines_autopilot_first),
         cmocka_unit_test(test_late_steps_skip_and_count_overruns),
         cmocka_unit_test(test_ground_keeps_the_grid),
+        cmocka_unit_test(test_ground_grid_of_an_unstarted_schedule_stays),
         cmocka_unit_test(test_synced_release_inputs_or_window),
+        cmocka_unit_test(test_synced_window_without_its_own_is_half_a_period),
+        cmocka_unit_test(test_a_schedule_without_period_is_not_aligned),
         cmocka_unit_test(test_schedule_hooks_refuse_bad_arguments),
         cmocka_unit_test(test_a_refused_encode_sends_nothing_of_the_group),
         cmocka_unit_test(test_init_refuses_incomplete_ports_and_configs),

@@ -1,6 +1,7 @@
 """scripts/lib/coverage_gate.py's hold on the uncovered MC/DC conditions: each is covered or excluded
 by a reviewed entry, an entry goes stale when its code moves or its condition is covered, a source no
-unit test links is reported, and a function compiled twice counts a condition covered in either."""
+unit test links is reported (unless listed as linked by a test-only build alone, an entry that goes
+stale once the source is measured), and a function compiled twice counts a condition covered in either."""
 
 import importlib.util
 import sys
@@ -67,3 +68,17 @@ def test_a_source_no_test_links_is_not_measured(root: Path) -> None:
     sources = [root / "firmware/x.c", root / "firmware/flavour.c"]
     assert gate.unmeasured(sources, {}) == ["firmware/x.c is not measured: no unit test links it"]
     assert gate.unmeasured(sources, {"x.c": {}}) == []
+
+
+def test_a_source_only_a_test_build_links_is_listed_with_its_reason(root: Path) -> None:
+    sources = [root / "firmware/x.c"]
+    listed = [{"file": "firmware/x.c", "reason": "test-only application", "reviewed": "d"}]
+    assert gate.unmeasured(sources, {}, listed) == []
+    assert gate.unmeasured(sources, {"x.c": {}}, listed) == [
+        "unmeasured 1: firmware/x.c is measured now: remove the entry"]
+    gone = [{**listed[0], "file": "firmware/y.c"}]
+    assert gate.unmeasured(sources, {}, gone) == [
+        "unmeasured 1: firmware/y.c is no portable source with code: remove the entry",
+        "firmware/x.c is not measured: no unit test links it"]
+    assert gate.unmeasured(sources, {}, [{"file": "firmware/x.c"}]) == [
+        "unmeasured 1: missing reason, reviewed", "firmware/x.c is not measured: no unit test links it"]

@@ -259,6 +259,22 @@ static void test_ground_grid_of_an_unstarted_schedule_stays(void **state)
     assert_int_equal(g_node.app[FCC_APP_MSL].steps + g_node.app[FCC_APP_CDRW].steps, 0u);
 }
 
+/* In flight too, a schedule never started has no grid: nothing is released (the period
+ * divides the lateness there: a zero period was an integer division by zero). */
+static void test_flight_with_an_unstarted_schedule_releases_nothing(void **state)
+{
+    (void)state;
+    start(0.02, true);
+    fcc_node_rt_t rt[FCC_N_APPS];
+    memset(rt, 0, sizeof rt);
+    uint64_t jitter[FCC_N_APPS];
+    assert_int_equal(run_at(rt, 5000000u, jitter), 0u);
+    for (uint32_t a = 0u; a < FCC_N_APPS; ++a) {
+        assert_int_equal(jitter[a], UINT64_MAX);
+    }
+    assert_int_equal(g_node.app[FCC_APP_MSL].steps + g_node.app[FCC_APP_CDRW].steps, 0u);
+}
+
 /* An application's schedule without a period (its rt[] entry never started) is not aligned
  * to the master's instants -- the period divides the master's time there -- and, its
  * deadline not come, nothing steps. */
@@ -401,6 +417,7 @@ int main(void)
         cmocka_unit_test(test_late_steps_skip_and_count_overruns),
         cmocka_unit_test(test_ground_keeps_the_grid),
         cmocka_unit_test(test_ground_grid_of_an_unstarted_schedule_stays),
+        cmocka_unit_test(test_flight_with_an_unstarted_schedule_releases_nothing),
         cmocka_unit_test(test_synced_release_inputs_or_window),
         cmocka_unit_test(test_synced_window_without_its_own_is_half_a_period),
         cmocka_unit_test(test_a_schedule_without_period_is_not_aligned),

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from hil.bus.secoc import Counters
 from hil.io.output import write_json
+from hil.parallel.bulk import unpack_flights
 from hil.parallel.engine import Cluster, Flight
 from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_field_flight, fly_sweep_point,
                                   one_session_counters, salvage_campaign_flights)
@@ -81,11 +82,11 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
     counted = [d for d in done if d.firmware is not None]
     firmware = (one_session_counters([d.firmware for d in counted]) if counted
                 else firmware_summary(StatusCounters(), Counters().as_dict()))
-    uncounted = [fl.index for d in done if d.firmware is None for _, _, fl in d.flights]
+    uncounted = [i for d in done if d.firmware is None for i in d.batch.indices]
     # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
     # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
     res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
-    summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
+    summary = write_campaign(out, scenario, seed, runs, [fl for d in done for fl in unpack_flights(d.batch)],
                              firmware, cfg.mode, failed, uncounted)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})

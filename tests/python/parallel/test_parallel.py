@@ -155,8 +155,8 @@ def test_last_lines_and_exit_cause(tmp_path):
     assert exit_cause(137) == {"status": 137, "signal": None} and exit_cause(None)["status"] is None
 
 
-def campaign(out: Path, *extra: str) -> tuple[int, str]:
-    argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
+def campaign(out: Path, *extra: str, runs: int = RUNS) -> tuple[int, str]:
+    argv = ["campaign", "cdrw", "--runs", str(runs), "--seed", str(SEED), "--out", str(out),
             "--quiet", "--no-plots", *extra]
     return main(argv), ""
 
@@ -176,8 +176,8 @@ def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
     for name in ARTEFACTS:
         assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
     info = json.loads((tmp_path / "run_info.json").read_text())["parallel"]
-    assert info["engine"] == "dask.distributed" and info["failed"] == 0
-    assert sum(info["flights_by_worker"].values()) == RUNS and len(info["flights_by_worker"]) == 2
+    assert info["engine"] == "local rigs" and info["failed"] == 0
+    assert info["flights_by_worker"] == {"rig-0": 2, "rig-1": 2}
     assert info["tasks"] == 2 and info["flights_per_task"] == 2 and info["session_s_per_task"] > 0
     assert info["retried"] == 0 and info["workers_lost"] == 0
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -237,6 +237,45 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     assert info["retried"] == 2 and info["workers_lost"] == 1 and info["failed"] == 0
 
 
+@needs_rig
+def test_a_worker_that_dies_twice_loses_no_flight_silently(tmp_path, capsys):
+    """A running cluster of one worker (the --scheduler path) whose worker process is killed
+    whenever it flies: Dask gives the chunk to the worker restarted once, then gives up
+    (allowed-failures = 1); the campaign says so in one line, exit 1 (hil.rig.errors.RigError:
+    no flight gave a result), and writes no table."""
+    import dask
+    from distributed import Client, LocalCluster
+
+    rigs = tmp_path / "rigs"
+    out = tmp_path / "out"
+    killed: list[int] = []
+
+    def kill_every_flying_worker() -> None:
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline and len(killed) < 2:
+            for d in rigs.glob("hil-rig-*/flights/task-*"):
+                pid = int(d.parents[1].name.removeprefix("hil-rig-"))
+                if pid not in killed:
+                    os.kill(pid, signal.SIGKILL)
+                    killed.append(pid)
+            time.sleep(0.02)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
+        with dask.config.set({"distributed.scheduler.allowed-failures": 1}), \
+                LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
+                             memory_limit=0) as cluster, Client(cluster):
+            t = threading.Thread(target=kill_every_flying_worker, daemon=True)
+            t.start()
+            rc, _ = campaign(out, "--scheduler", cluster.scheduler_address, runs=2)
+            t.join(5)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(killed) == 2
+    assert rc == 1 and len(err) == 1, err
+    assert "all 2 flights failed twice" in err[0] and "its worker died twice" in err[0]
+    assert not (out / "summary.json").exists()
+
+
 def _campaign_with_rig_failure(out: Path, rig_dir: Path, what: str, monkeypatch) -> dict:
     """The module's 4-flight campaign on 1 worker (one chunk of 4) whose fcc or rig is killed
     before the last step of flight 1 (hil.parallel.flights.FAILURE_HOOK: deterministic, once);
@@ -283,7 +322,7 @@ def test_killed_guest_costs_one_flight_and_the_worker_is_named(one_worker, tmp_p
     recorder's file the guest left, flights 1..3 flown by the rig booted again; the worker that
     lost its rig is in lost_workers (was: [], only workers that left Dask counted)."""
     info = _campaign_with_rig_failure(tmp_path, rig_dir, "rig", monkeypatch)
-    assert info["retried"] == 1 and info["failed"] == 0
+    assert info["retried"] == 1 and info["failed"] == 0, [{k: v for k, v in f.items() if k != "last_lines"} for f in info["failures"]]
     [f] = info["failures"]
     assert f["in_flight"] == 1 and f["kept"] == 1 and f["reflown"] == 1
     assert f["process"] == "rig" and f["rig_lost"] is True
@@ -375,5 +414,5 @@ def test_local_workers_do_not_sample_their_tasks_stacks():
     every 10 ms from the worker's event loop, are for a dashboard nobody watches here)."""
     from hil.parallel.engine import Cluster
 
-    with Cluster(workers=1) as cluster:
+    with Cluster(workers=1, rigs=False) as cluster:
         assert list(cluster.client.run(_worker_profiles).values()) == [False]

@@ -40,10 +40,6 @@ RECORD = np.dtype([
 ])
 
 
-class NotATable(ValueError):
-    """A flight's table is not FILTERS x STATES in that order (it would not come back the same)."""
-
-
 @dataclass
 class FlightBatch:
     """Campaign flights in bulk: `numbers` (RECORD, one a flight, in the order given), `text`
@@ -64,7 +60,7 @@ class FlightBatch:
 
 def _table_array(table: metrics.Table) -> np.ndarray:
     if list(table) != list(metrics.FILTERS) or any(list(row) != list(metrics.STATES) for row in table.values()):
-        raise NotATable(f"a table of {list(table)} x {[list(r) for r in table.values()]}, "
+        raise ValueError(f"a flight's table of {list(table)} x {[list(r) for r in table.values()]}, "
                         f"not {list(metrics.FILTERS)} x {list(metrics.STATES)}")
     return np.array([[table[f][s] for s in metrics.STATES] for f in metrics.FILTERS], dtype="<f8")
 
@@ -74,7 +70,8 @@ def _table(a: np.ndarray) -> metrics.Table:
 
 
 def pack_flights(flights: Sequence[CampaignFlight]) -> FlightBatch:
-    """The flights as one batch (NotATable when a table is not the campaign's shape)."""
+    """The flights as one batch (ValueError when a table is not FILTERS x STATES in that
+    order: it would not come back the same)."""
     numbers = np.zeros(len(flights), RECORD)
     text: list[list[Any]] = []
     series = None
@@ -116,4 +113,4 @@ def unpack_flights(batch: FlightBatch) -> list[CampaignFlight]:
     return out
 
 
-__all__ = ["FlightBatch", "NotATable", "pack_flights", "unpack_flights"]
+__all__ = ["FlightBatch", "pack_flights", "unpack_flights"]

@@ -142,6 +142,7 @@ class Cluster:
         t0 = time.perf_counter()
         self.cluster: Any = None
         self.local: LocalRigs | None = None
+        self._closing: threading.Thread | None = None
         self.client: Any = None
         if workers is not None and rigs:
             self.local = LocalRigs(workers)
@@ -156,9 +157,19 @@ class Cluster:
             return self.local.workers()
         return sorted(self.client.scheduler_info()["workers"])
 
+    def close_soon(self) -> None:
+        """This machine's rigs start stopping now (their guests power off while the caller
+        writes the results); close() waits for them.  (A Dask cluster closes in close().)"""
+        if self.local is not None and self._closing is None:
+            self._closing = threading.Thread(target=self.local.close, name="hil-rigs-stop")
+            self._closing.start()
+
     def close(self) -> None:
         if self.local is not None:
-            self.local.close()
+            if self._closing is None:
+                self.local.close()
+            else:
+                self._closing.join()
             return
         try:
             self.client.run(stop_rig)

@@ -73,21 +73,22 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
                         salvage=salvage_campaign_flights)
                  for c, chunk in enumerate(chunks)]
         res = cluster.run(tasks, cfg, progress=cfg.progress, desc="hil campaign")
-    done = [d for c in sorted(res.values) for d in res.values[c]]
-    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
-    if not done:
-        raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
-    # fcc's counters of the sessions that ended (a failed session's are lost with its last
-    # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
-    counted = [d for d in done if d.firmware is not None]
-    firmware = (one_session_counters([d.firmware for d in counted]) if counted
-                else firmware_summary(StatusCounters(), Counters().as_dict()))
-    uncounted = [i for d in done if d.firmware is None for i in d.batch.indices]
-    # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
-    # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
-    res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
-    summary = write_campaign(out, scenario, seed, runs, [fl for d in done for fl in unpack_flights(d.batch)],
-                             firmware, cfg.mode, failed, uncounted)
+        cluster.close_soon()   # the rigs stop while Table 5 is written
+        done = [d for c in sorted(res.values) for d in res.values[c]]
+        failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
+        if not done:
+            raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
+        # fcc's counters of the sessions that ended (a failed session's are lost with its last
+        # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
+        counted = [d for d in done if d.firmware is not None]
+        firmware = (one_session_counters([d.firmware for d in counted]) if counted
+                    else firmware_summary(StatusCounters(), Counters().as_dict()))
+        uncounted = [i for d in done if d.firmware is None for i in d.batch.indices]
+        # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
+        # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
+        res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
+        summary = write_campaign(out, scenario, seed, runs, [fl for d in done for fl in unpack_flights(d.batch)],
+                                 firmware, cfg.mode, failed, uncounted)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
     return finish(cfg, out, summary, None)

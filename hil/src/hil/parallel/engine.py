@@ -131,6 +131,20 @@ def _dask(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
         return None, client
 
 
+#: how long the coordinator waits for a task at a time: a signal (Ctrl-C) is handled by then
+#: (the kernel may deliver it to any thread; the main thread sees it only when its wait ends)
+WAKE_S = 0.2
+
+
+def _next(finished: queue.Queue[Any]) -> Any:
+    """The next finished task, waiting WAKE_S at a time (an interrupt raises between waits)."""
+    while True:
+        try:
+            return finished.get(timeout=WAKE_S)
+        except queue.Empty:
+            continue
+
+
 # ---- the coordinator --------------------------------------------------------------------------
 class Cluster:
     """`workers` rigs of this machine (hil.parallel.local; with rigs=False, for tasks without
@@ -229,7 +243,7 @@ class Cluster:
         pending = len(flights)
         with progress_bar(sum(fl.count for fl in flights), progress, desc, unit="flight") as bar:
             while pending:
-                fut = finished.get()
+                fut = _next(finished)
                 pending -= 1
                 fl, tries = meta[fut]                # kept (and the scheduler's task state)
                 seen.update(self.workers())

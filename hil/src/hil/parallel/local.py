@@ -7,20 +7,20 @@ stop them), their event loops beside the rigs, and each chunk's evaluation in a 
 process while its rig waited.  Here the rigs boot at once, all together, as the command
 starts; a pool of 2 threads a rig (PIPELINE) flies the tasks: a task takes the next idle
 rig, flies its chunk there, gives the rig back and evaluates its flights (Flight.post) while
-the rig flies the next task.  The evaluations share this process (numpy and sid_replay
-release the GIL for most of theirs).  A rig that dies is booted again by its next task
-(GuestRig.call); the engine's retries are hil.parallel.engine's, as for Dask.
+the rig flies the next task.  The evaluations share this process (about 15 ms of Python and
+numpy a flight, its sid_replay a process of its own).  A rig that dies is booted again by its
+next task (GuestRig.call); the engine's retries are hil.parallel.engine's, as for Dask.
 """
 from __future__ import annotations
 
 import itertools
 import queue
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from contextlib import contextmanager
 
-from hil.parallel.guest import GuestRig
+from hil.parallel.guest import GuestRig, RigDown
 from hil.parallel.tasks import Done, Flight, fly_task
 from hil.rig.config import RigConfig
 
@@ -42,6 +42,8 @@ class LocalRigs:
         self.names = {id(r): f"rig-{k}" for k, r in enumerate(self.rigs)}
         self._idle: queue.Queue[GuestRig] = queue.Queue()
         self._pool = ThreadPoolExecutor(PIPELINE * n, thread_name_prefix="hil-rig-task")
+        self._futures: list[Future[Done]] = []
+        self._closing = threading.Event()
         self._boots = [threading.Thread(target=self._boot, args=(r,), name="hil-rig-boot", daemon=True)
                        for r in self.rigs]
         for t in self._boots:
@@ -63,23 +65,36 @@ class LocalRigs:
     def _take(self) -> Iterator[tuple[GuestRig, str]]:
         """The next idle rig and its name, held until given back."""
         rig = self._idle.get()
+        if self._closing.is_set():
+            self._idle.put(rig)
+            raise RigDown("the rigs are stopping (the command was interrupted)")
         try:
             yield rig, self.names[id(rig)]
         finally:
             self._idle.put(rig)
 
     def submit(self, flight: Flight, cfg: RigConfig, flight_timeout: float) -> Future[Done]:
-        return self._pool.submit(fly_task, flight, cfg, flight_timeout, self._take)
+        fut = self._pool.submit(fly_task, flight, cfg, flight_timeout, self._take, self._closing)
+        self._futures.append(fut)
+        return fut
 
     def close(self) -> None:
-        """Every rig stopped (each guest powers off; all at once)."""
-        self._pool.shutdown(wait=True, cancel_futures=True)
+        """Every rig stopped, all at once: each guest powers off; when tasks are still under
+        way (the command was interrupted), the rigs are killed first, so that their tasks end
+        at once (and take no rig again), then the pool's threads end."""
+        self._closing.set()
         for t in self._boots:
             t.join()
-        stops = [threading.Thread(target=r.stop, name="hil-rig-stop") for r in self.rigs]
-        for t in stops:
+        if not all(f.done() for f in self._futures):
+            self._each_rig(GuestRig.kill)
+        self._pool.shutdown(wait=True, cancel_futures=True)
+        self._each_rig(GuestRig.stop)
+
+    def _each_rig(self, what: Callable[[GuestRig], None]) -> None:
+        threads = [threading.Thread(target=what, args=(r,), name="hil-rig-stop") for r in self.rigs]
+        for t in threads:
             t.start()
-        for t in stops:
+        for t in threads:
             t.join()
 
     def __repr__(self) -> str:

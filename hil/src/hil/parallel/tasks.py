@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import socket
+import threading
 import time
 from collections.abc import Callable
 from contextlib import AbstractContextManager
@@ -91,11 +92,13 @@ def failure_record(flight: Flight, e: Exception, worker: str, flown: int, kept: 
 
 
 def fly_task(flight: Flight, cfg: RigConfig, flight_timeout: float,
-             rig: Callable[[], AbstractContextManager[tuple[GuestRig, str]]]) -> Done:
+             rig: Callable[[], AbstractContextManager[tuple[GuestRig, str]]],
+             stopping: threading.Event | None = None) -> Done:
     """A flight, or a chunk of flights: flown in the rig that rig() gives with its worker's
     name (booted, and held while it flies; another task may be evaluated meanwhile), then
     evaluated here (post).  The times in Done are this task's own: neither the rig's boot
-    nor another task's flight."""
+    nor another task's flight.  A task that fails once `stopping` is set (the command was
+    interrupted) salvages nothing: nobody waits for it."""
     work_dir = None
     worker = "?"
     t0 = time.perf_counter()
@@ -112,7 +115,7 @@ def fly_task(flight: Flight, cfg: RigConfig, flight_timeout: float,
             value = flight.post(value, *flight.post_args, cfg)
     except Exception as e:  # noqa: BLE001 - kept what it finished, with the cause, for the coordinator
         value, kept, flown = None, 0, 0
-        if flight.salvage is not None and work_dir is not None:
+        if flight.salvage is not None and work_dir is not None and not (stopping and stopping.is_set()):
             try:
                 saved = flight.salvage(work_dir, *flight.args, cfg)
                 value, kept, flown = saved.value, saved.kept, saved.flown

@@ -302,6 +302,40 @@ def test_a_worker_that_dies_twice_loses_no_flight_silently(tmp_path, capsys):
     assert not (out / "summary.json").exists()
 
 
+def _servers_in(rigs: Path) -> list[int]:
+    """The rig servers (hil.parallel.server) still running whose directory is under `rigs`."""
+    pids = []
+    for proc in Path("/proc").glob("[0-9]*"):
+        try:
+            cmd = (proc / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if b"hil.parallel.server" in cmd and any(str(rigs).encode() in c for c in cmd):
+            pids.append(int(proc.name))
+    return pids
+
+
+@needs_rig
+def test_an_interrupted_campaign_stops_its_rigs(tmp_path):
+    """Ctrl-C (SIGINT) while two local rigs fly: one line, exit 130, and no rig left running
+    (the rigs are killed, their tasks salvage nothing: nobody waits for them)."""
+    rigs = tmp_path / "rigs"
+    env = {**os.environ, "HIL_RIG_DIR": str(rigs)}
+    proc = subprocess.Popen([sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", "40", "--seed",
+                             str(SEED), "--workers", "2", "--no-plots", "--quiet", "--out", str(tmp_path / "out")],
+                            cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 300
+    while not any(rigs.glob("hil-rig-*/flights/task-*")):   # a rig flies
+        assert proc.poll() is None and time.monotonic() < deadline, "no rig flew"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and err.strip().splitlines() == ["hil: interrupted"], err
+    assert _servers_in(rigs) == []
+    assert not (tmp_path / "out").exists()
+
+
 def _campaign_with_rig_failure(out: Path, rig_dir: Path, what: str, monkeypatch) -> dict:
     """The module's 4-flight campaign on 1 worker (one chunk of 4) whose fcc or rig is killed
     before the last step of flight 1 (hil.parallel.flights.FAILURE_HOOK: deterministic, once);

@@ -58,6 +58,7 @@ def sessions_of_several_flights() -> Iterator[None]:
     coordinator, this process."""
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr("hil.parallel.runs.TASKS_PER_WORKER", 1)
+        mp.setattr("hil.parallel.runs.LOCAL_TASKS_PER_RIG", 1)
         yield
 
 
@@ -86,6 +87,8 @@ def test_chunks_by_default_keep_rigs_busy(monkeypatch):
     assert len(chunks) == 128 and {len(c) for c in chunks} == {7, 8}
     assert len(session_chunks(1000, 2)) == 10                 # at most 100 flights a session
     assert len(session_chunks(3, 2)) == 3
+    # this machine's rigs (--workers): 2 chunks a rig, one flying while the other is evaluated
+    assert [len(c) for c in session_chunks(100, 2, 2)] == [25] * 4
 
 
 def test_one_session_counters_do_not_depend_on_the_chunking():

@@ -58,6 +58,7 @@ def sessions_of_several_flights() -> Iterator[None]:
     coordinator, this process."""
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr("hil.parallel.runs.TASKS_PER_WORKER", 1)
+        mp.setattr("hil.parallel.runs.LOCAL_TASKS_PER_RIG", 1)
         yield
 
 
@@ -86,6 +87,8 @@ def test_chunks_by_default_keep_rigs_busy(monkeypatch):
     assert len(chunks) == 128 and {len(c) for c in chunks} == {7, 8}
     assert len(session_chunks(1000, 2)) == 10                 # at most 100 flights a session
     assert len(session_chunks(3, 2)) == 3
+    # this machine's rigs (--workers): 2 chunks a rig, one flying while the other is evaluated
+    assert [len(c) for c in session_chunks(100, 2, 2)] == [25] * 4
 
 
 def test_one_session_counters_do_not_depend_on_the_chunking():
@@ -155,8 +158,8 @@ def test_last_lines_and_exit_cause(tmp_path):
     assert exit_cause(137) == {"status": 137, "signal": None} and exit_cause(None)["status"] is None
 
 
-def campaign(out: Path, *extra: str) -> tuple[int, str]:
-    argv = ["campaign", "cdrw", "--runs", str(RUNS), "--seed", str(SEED), "--out", str(out),
+def campaign(out: Path, *extra: str, runs: int = RUNS) -> tuple[int, str]:
+    argv = ["campaign", "cdrw", "--runs", str(runs), "--seed", str(SEED), "--out", str(out),
             "--quiet", "--no-plots", *extra]
     return main(argv), ""
 
@@ -176,8 +179,9 @@ def test_two_workers_equal_one_worker(one_worker, tmp_path, capsys):
     for name in ARTEFACTS:
         assert (tmp_path / name).read_bytes() == (one_worker / name).read_bytes(), name
     info = json.loads((tmp_path / "run_info.json").read_text())["parallel"]
-    assert info["engine"] == "dask.distributed" and info["failed"] == 0
-    assert sum(info["flights_by_worker"].values()) == RUNS and len(info["flights_by_worker"]) == 2
+    assert info["engine"] == "local rigs" and info["failed"] == 0
+    # each chunk on the next idle rig (one booted faster may fly both)
+    assert sum(info["flights_by_worker"].values()) == RUNS and set(info["flights_by_worker"]) <= {"rig-0", "rig-1"}
     assert info["tasks"] == 2 and info["flights_per_task"] == 2 and info["session_s_per_task"] > 0
     assert info["retried"] == 0 and info["workers_lost"] == 0
     s = json.loads((tmp_path / "summary.json").read_text())
@@ -237,6 +241,104 @@ def test_killed_worker_flight_flown_again(one_worker, tmp_path, monkeypatch):
     assert info["retried"] == 2 and info["workers_lost"] == 1 and info["failed"] == 0
 
 
+@needs_rig
+def test_a_scheduler_whose_workers_boot_their_rigs_as_they_start(one_worker, tmp_path):
+    """The --scheduler path as docs/campaigns.md starts its workers: two threads each, the rig
+    booted by the preload as the worker starts (before any task); the same results as the
+    local rigs'."""
+    from distributed import Client, LocalCluster
+
+    rigs = tmp_path / "rigs"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
+        with LocalCluster(n_workers=1, threads_per_worker=2, processes=True, dashboard_address=":0",
+                          memory_limit=0, preload=["hil.parallel.engine"]) as cluster, Client(cluster) as client:
+            [pid] = client.run(os.getpid).values()
+            deadline = time.monotonic() + 300
+            while not (rigs / f"hil-rig-{pid}" / "boot1" / "ready").exists():   # no task yet
+                assert time.monotonic() < deadline, "the preloaded worker booted no rig"
+                time.sleep(0.05)
+            rc, _ = campaign(tmp_path / "out", "--scheduler", cluster.scheduler_address)
+    assert rc == 0
+    for name in ARTEFACTS:
+        assert (tmp_path / "out" / name).read_bytes() == (one_worker / name).read_bytes(), name
+    info = json.loads((tmp_path / "out" / "run_info.json").read_text())["parallel"]
+    assert info["engine"] == "dask.distributed" and info["retried"] == 0 and info["failed"] == 0
+
+
+@needs_rig
+def test_a_worker_that_dies_twice_loses_no_flight_silently(tmp_path, capsys):
+    """A running cluster of one worker (the --scheduler path) whose worker process is killed
+    whenever it flies: Dask gives the chunk to the worker restarted once, then gives up
+    (allowed-failures = 1); the campaign says so in one line, exit 1 (hil.rig.errors.RigError:
+    no flight gave a result), and writes no table."""
+    import dask
+    from distributed import Client, LocalCluster
+
+    rigs = tmp_path / "rigs"
+    out = tmp_path / "out"
+    killed: list[int] = []
+
+    def kill_every_flying_worker() -> None:
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline and len(killed) < 2:
+            for d in rigs.glob("hil-rig-*/flights/task-*"):
+                pid = int(d.parents[1].name.removeprefix("hil-rig-"))
+                if pid not in killed:
+                    os.kill(pid, signal.SIGKILL)
+                    killed.append(pid)
+            time.sleep(0.02)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("HIL_RIG_DIR", str(rigs))   # the workers inherit it
+        with dask.config.set({"distributed.scheduler.allowed-failures": 1}), \
+                LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0",
+                             memory_limit=0) as cluster, Client(cluster):
+            t = threading.Thread(target=kill_every_flying_worker, daemon=True)
+            t.start()
+            rc, _ = campaign(out, "--scheduler", cluster.scheduler_address, runs=2)
+            t.join(5)
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(killed) == 2
+    assert rc == 1 and len(err) == 1, err
+    assert "all 2 flights failed twice" in err[0] and "its worker died twice" in err[0]
+    assert not (out / "summary.json").exists()
+
+
+def _servers_in(rigs: Path) -> list[int]:
+    """The rig servers (hil.parallel.server) still running whose directory is under `rigs`."""
+    pids = []
+    for proc in Path("/proc").glob("[0-9]*"):
+        try:
+            cmd = (proc / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if b"hil.parallel.server" in cmd and any(str(rigs).encode() in c for c in cmd):
+            pids.append(int(proc.name))
+    return pids
+
+
+@needs_rig
+def test_an_interrupted_campaign_stops_its_rigs(tmp_path):
+    """Ctrl-C (SIGINT) while two local rigs fly: one line, exit 130, and no rig left running
+    (the rigs are killed, their tasks salvage nothing: nobody waits for them)."""
+    rigs = tmp_path / "rigs"
+    env = {**os.environ, "HIL_RIG_DIR": str(rigs)}
+    proc = subprocess.Popen([sys.executable, "-m", "hil.cli", "campaign", "cdrw", "--runs", "40", "--seed",
+                             str(SEED), "--workers", "2", "--no-plots", "--quiet", "--out", str(tmp_path / "out")],
+                            cwd=REPO, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 300
+    while not any(rigs.glob("hil-rig-*/flights/task-*")):   # a rig flies
+        assert proc.poll() is None and time.monotonic() < deadline, "no rig flew"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and err.strip().splitlines() == ["hil: interrupted"], err
+    assert _servers_in(rigs) == []
+    assert not (tmp_path / "out").exists()
+
+
 def _campaign_with_rig_failure(out: Path, rig_dir: Path, what: str, monkeypatch) -> dict:
     """The module's 4-flight campaign on 1 worker (one chunk of 4) whose fcc or rig is killed
     before the last step of flight 1 (hil.parallel.flights.FAILURE_HOOK: deterministic, once);
@@ -283,7 +385,8 @@ def test_killed_guest_costs_one_flight_and_the_worker_is_named(one_worker, tmp_p
     recorder's file the guest left, flights 1..3 flown by the rig booted again; the worker that
     lost its rig is in lost_workers (was: [], only workers that left Dask counted)."""
     info = _campaign_with_rig_failure(tmp_path, rig_dir, "rig", monkeypatch)
-    assert info["retried"] == 1 and info["failed"] == 0
+    assert info["retried"] == 1 and info["failed"] == 0, [{k: f[k] for k in ("error", "kept", "reflown")}
+                                                          for f in info["failures"]]
     [f] = info["failures"]
     assert f["in_flight"] == 1 and f["kept"] == 1 and f["reflown"] == 1
     assert f["process"] == "rig" and f["rig_lost"] is True
@@ -375,5 +478,5 @@ def test_local_workers_do_not_sample_their_tasks_stacks():
     every 10 ms from the worker's event loop, are for a dashboard nobody watches here)."""
     from hil.parallel.engine import Cluster
 
-    with Cluster(workers=1) as cluster:
+    with Cluster(workers=1, rigs=False) as cluster:
         assert list(cluster.client.run(_worker_profiles).values()) == [False]

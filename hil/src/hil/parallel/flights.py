@@ -3,10 +3,13 @@ in a session of its own (candump, fcc, the simulator's socket; fcc reset between
 flights of a chunk as in the sequential campaign), so a result depends on nothing but its
 inputs: not on which worker flies it, nor on what that worker flew before.
 
-A chunk whose rig fails part-way (fcc died or hung, the guest died) keeps the flights it
-finished: the rig leaves each finished flight's record in the chunk's directory as it
-finishes (appended to records.pkl), and salvage_campaign_flights evaluates those whose frames are whole
-in the session's bus log; the engine flies the rest again (hil.parallel.engine)."""
+The rig leaves each finished flight's record in the chunk's directory as it finishes
+(appended to records.pkl) and hands back only the session's summary (SessionDone); its worker
+reads the records and the bus log there, evaluates the flights and hands them to the
+coordinator in bulk (ChunkDone: hil.parallel.bulk).  A chunk whose rig fails part-way (fcc
+died or hung, the guest died) keeps the flights it finished: salvage_campaign_flights
+evaluates those whose frames are whole in the session's bus log; the engine flies the rest
+again (hil.parallel.engine)."""
 from __future__ import annotations
 
 import dataclasses
@@ -23,6 +26,7 @@ from typing import Any
 
 from hil.bus import load as load_spec
 from hil.bus.secoc import read_key_file
+from hil.parallel.bulk import FlightBatch, pack_flights
 from hil.parallel.files import exit_cause, last_lines, write_atomic
 from hil.parallel.guest import RigFailed, rig_root
 from hil.results.buslog import BusAuth, FlightFrames, iter_flights
@@ -55,17 +59,28 @@ class FlightDone:
 
 @dataclasses.dataclass
 class SessionDone:
-    """A chunk of campaign flights flown in one session: each flight (index, fault start,
-    and what is known of it: the simulator's CdrwRecord from the rig, its CampaignFlight
-    after campaign_flights), fcc's counters of these flights (flights_counters: the
-    session's end left out), and, from the rig, the session's directory with its bus.log and
-    the key its frames verify under (fcc's outputs are read from it on the worker)."""
+    """A chunk of campaign flights flown in one session, as the rig hands it to its worker:
+    the flights (index, fault start), fcc's counters of these flights (flights_counters: the
+    session's end left out), the session's directory, where the flights' records
+    (records.pkl) and the bus log are read on the worker, and the key its frames verify
+    under.  (The records stay in the file the rig wrote as it flew: sending them again in
+    the answer cost the guest a second pickling and writing of about 80 kB a flight.)"""
 
-    flights: list[tuple[int, float, Any]]
+    flights: list[tuple[int, float]]
+    firmware: dict[str, Any]
+    session_s: float             # the session's own start and end, paid once per chunk
+    run_dir: Path
+    auth: BusAuth
+
+
+@dataclasses.dataclass
+class ChunkDone:
+    """A chunk's flights evaluated, as the worker hands them to the coordinator: what Table 5
+    reads of each, in bulk (hil.parallel.bulk), and fcc's counters of these flights."""
+
+    batch: FlightBatch
     firmware: dict[str, Any] | None  # None: a failed session's (fcc's last heartbeat is lost)
-    session_s: float = 0.0       # the session's own start and end, paid once per chunk
-    run_dir: Path | None = None  # the rig's session directory (bus.log), until evaluated
-    auth: BusAuth | None = None
+    session_s: float = 0.0
 
 
 def worker_config(cfg: RigConfig) -> RigConfig:
@@ -140,16 +155,16 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
                          cfg: RigConfig) -> SessionDone:
     """Campaign flights (index, fault start) one after the other in one fresh session in
     cfg.out_dir, fcc reset between them as in the sequential campaign (so each result
-    depends only on its inputs).  Returns the simulator's records and the session's
-    directory: fcc's outputs are read from its bus.log off the rig (campaign_flights, on the
-    worker: the guest's one CPU is the rig's scarcest, and reading a log there costs about
-    twice the host's); the directory stays until then (and when the session fails).  Each
-    finished flight's record is also left there as it finishes: when the session fails
-    (RigFailed, with its cause), the worker keeps those flights (salvage_campaign_flights);
-    a failure after the flights (fcc's shutdown, the log's end) keeps none."""
+    depends only on its inputs).  Each finished flight's record is left in the session's
+    directory as it finishes (records.pkl); the directory stays, and the flights are
+    evaluated off the rig from it (campaign_flights, on the worker: the guest's one CPU is
+    the rig's scarcest, and reading a log there costs about twice the host's).  When the
+    session fails (RigFailed, with its cause), the worker keeps the flights it finished
+    (salvage_campaign_flights); a failure after the flights (fcc's shutdown, the log's end)
+    keeps none."""
     out = Path(cfg.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    records: list[CdrwRecord] = []
+    flown = 0
     t0 = time.perf_counter()
     rig = None
     flying = 0.0
@@ -161,20 +176,19 @@ def fly_campaign_flights(scenario: Scenario, flights: Sequence[tuple[int, float]
             steps = _FailureHook(rig, out)
             for i, fault_start in flights:
                 d = CdrwDriver(with_fault_start(scenario, fault_start), rig.codec, cfg.mode == "realtime")
-                steps.arm(i, d.n_steps, len(records))
+                steps.arm(i, d.n_steps, flown)
                 runner = fly(rig, [d], cfg, steps, runner)
-                records.append(cdrw_record(d))
-                kept.write(pickle.dumps((i, records[-1]), protocol=pickle.HIGHEST_PROTOCOL))
+                kept.write(pickle.dumps((i, cdrw_record(d)), protocol=pickle.HIGHEST_PROTOCOL))
+                flown += 1
             flying = time.perf_counter() - flying
             rig.shutdown()
         require_log(rig)
     except Exception as e:  # noqa: BLE001 - every failure goes back with its cause
-        if len(records) == len(flights) or rig is None or not rig.log_complete:
+        if flown == len(flights) or rig is None or not rig.log_complete:
             (out / RECORDS).unlink(missing_ok=True)   # failed after the flights, or the log misses frames
         raise _failed(e, rig, out) from None
     session_s = time.perf_counter() - t0 - flying
-    return SessionDone([(i, t, rec) for (i, t), rec in zip(flights, records)],
-                       flights_counters(firmware_summary(rig.status, rig.security.counters())),
+    return SessionDone(list(flights), flights_counters(firmware_summary(rig.status, rig.security.counters())),
                        session_s, out, BusAuth(rig.security.key, rig.security.trip))
 
 
@@ -192,7 +206,7 @@ def _whole_flights(flights: Iterable[FlightFrames], whole: bool) -> Iterator[Fli
 
 
 def _evaluate(log: Path | Iterable[Any], auth: BusAuth | None, flown: Sequence[tuple[int, float, CdrwRecord]],
-              scenario: Scenario, cfg: RigConfig, whole: bool = True) -> tuple[list[tuple[int, float, Any]], int]:
+              scenario: Scenario, cfg: RigConfig, whole: bool = True) -> tuple[list[CampaignFlight], int]:
     """fcc's outputs of the flights `flown` read from the session's bus log (one pass, a
     flight at a time) and joined with the simulator's records, then the symmetric tables (one
     `sid_replay --all-rows` per flight, running while the next flight is read:
@@ -208,20 +222,23 @@ def _evaluate(log: Path | Iterable[Any], auth: BusAuth | None, flown: Sequence[t
                 yield i, t, cdrw_result(spec, rec, fl)
             recorded += 1
 
-    return [(fl.index, fl.fault_start, fl) for fl in evaluate_flights(results(), fcc_args([scenario], cfg))], recorded
+    return list(evaluate_flights(results(), fcc_args([scenario], cfg))), recorded
 
 
-def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> SessionDone:
-    """A session's flights as Table 5 needs them (CampaignFlight), read and evaluated
-    (_evaluate) on the worker, where starting a process is cheap, not inside the rig's
-    guest.  The session's directory is removed once its flights are evaluated."""
-    assert done.run_dir is not None
+def campaign_flights(done: SessionDone, scenario: Scenario, cfg: RigConfig) -> ChunkDone:
+    """A session's flights as Table 5 needs them, read and evaluated (_evaluate) on the
+    worker, where starting a process is cheap, not inside the rig's guest, and handed back
+    in bulk (hil.parallel.bulk).  The session's directory is removed once its flights are
+    evaluated."""
+    records = _finished_records(done.run_dir, done.flights)
+    if len(records) != len(done.flights):
+        raise RigError(f"{done.run_dir / RECORDS}: {len(records)} flights' records, expected {len(done.flights)}")
     log = done.run_dir / "bus.log"
-    evaluated, recorded = _evaluate(log, done.auth, done.flights, scenario, cfg)
+    evaluated, recorded = _evaluate(log, done.auth, records, scenario, cfg)
     if recorded != len(done.flights):
         raise RigError(f"{log}: {recorded} flights recorded, expected {len(done.flights)}")
     shutil.rmtree(done.run_dir, ignore_errors=True)
-    return SessionDone(evaluated, done.firmware, done.session_s)
+    return ChunkDone(pack_flights(evaluated), done.firmware, done.session_s)
 
 
 def _cut_log(out: Path) -> Path | None:
@@ -268,10 +285,10 @@ def _reported_failed_step(fcc_log: Path) -> bool:
 
 @dataclasses.dataclass
 class Salvaged:
-    """What a failed session finished: `value` (its kept flights evaluated, a SessionDone;
+    """What a failed session finished: `value` (its kept flights evaluated, a ChunkDone;
     None when none), `kept` flights, of `flown` that it finished (the others were cut off)."""
 
-    value: SessionDone | None
+    value: ChunkDone | None
     kept: int
     flown: int
 
@@ -294,13 +311,13 @@ def salvage_campaign_flights(out: Path, scenario: Scenario, flights: Sequence[tu
         return Salvaged(None, 0, len(records))
     whole = (out / "bus.log").exists()
     log = out / "bus.log" if whole else _cut_log(out)
-    kept: list[tuple[int, float, Any]] = []
+    kept: list[CampaignFlight] = []
     if log is not None:
         try:
             kept, _ = _evaluate(log, BusAuth(read_key_file(key)), records, scenario, cfg, whole)
         finally:
             (out / "bus.cut.log").unlink(missing_ok=True)
-    value = SessionDone(kept, None) if kept else None
+    value = ChunkDone(pack_flights(kept), None) if kept else None
     return Salvaged(value, len(kept), len(records))
 
 
@@ -363,6 +380,6 @@ def one_session_counters(shares: Sequence[dict[str, Any]]) -> dict[str, Any]:
     return add_counters(total, SESSION_END)
 
 
-__all__ = ["CampaignFlight", "FlightDone", "Salvaged", "SessionDone", "add_counters", "campaign_flights",
+__all__ = ["ChunkDone", "FlightDone", "Salvaged", "SessionDone", "add_counters", "campaign_flights",
            "flights_counters", "fly_campaign_flights", "fly_sweep_point", "one_session_counters",
            "salvage_campaign_flights"]

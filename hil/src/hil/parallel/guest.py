@@ -90,8 +90,9 @@ class GuestRig:
     """One rig, started on first use; call() runs a function in it and returns its value."""
 
     def __init__(self, root: Path | None = None, flight_timeout: float = 120.0,
-                 boot_timeout: float = BOOT_TIMEOUT_S) -> None:
-        self.base = Path(root or rig_root()) / f"hil-rig-{os.getpid()}"
+                 boot_timeout: float = BOOT_TIMEOUT_S, name: str = "") -> None:
+        # name: which of this process's rigs (hil.parallel.local drives several)
+        self.base = Path(root or rig_root()) / f"hil-rig-{os.getpid()}{name}"
         self.flight_timeout = flight_timeout
         self.boot_timeout = boot_timeout
         self.dir: Path | None = None

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from hil.bus.secoc import Counters
 from hil.io.output import write_json
+from hil.parallel.bulk import unpack_flights
 from hil.parallel.engine import Cluster, Flight
 from hil.parallel.flights import (campaign_flights, fly_campaign_flights, fly_field_flight, fly_sweep_point,
                                   one_session_counters, salvage_campaign_flights)
@@ -35,20 +36,25 @@ from hil.scenario.vary import Draw, Vary
 #: round idle on any rig (40 chunks of 25 on 32 rigs left 38 % idle); more only pays more
 #: session starts (recorder, fcc, its first heartbeat, shutdown: once per chunk)
 TASKS_PER_WORKER = 4
+#: tasks per rig of this machine (--workers: hil.parallel.local): two, the fewest with which a
+#: rig flies a chunk while the last is evaluated; more only pay more session starts (0.31 s
+#: each: 100 flights on 2 rigs, 4 chunks against 8, 5.95 against 6.58 s, median of 3, load 4)
+LOCAL_TASKS_PER_RIG = 2
 #: most flights one rig session flies in a row (the rig's answer timeout grows with the chunk;
 #: a failed chunk keeps the flights it finished: hil.parallel.engine)
 SESSION_FLIGHTS_MAX = 100
 
 
-def session_chunks(runs: int, workers: int) -> list[range]:
-    """The campaign's flights in consecutive chunks, one rig session each: about
-    TASKS_PER_WORKER per worker, at most SESSION_FLIGHTS_MAX flights each, sizes differing by
+def session_chunks(runs: int, workers: int, per_worker: int | None = None) -> list[range]:
+    """The campaign's flights in consecutive chunks, one rig session each: about `per_worker`
+    (TASKS_PER_WORKER) per worker, at most SESSION_FLIGHTS_MAX flights each, sizes differing by
     at most one flight.  The results do not depend on the chunks (each flight's result and
     counters are its own, merged in flight order: hil.parallel.flights), so any number of
     workers writes the same summary.json."""
     if runs < 1 or workers < 1:
         raise ValueError(f"session_chunks: runs and workers must be >= 1, got {runs}, {workers}")
-    n = min(runs, max(TASKS_PER_WORKER * workers, -(-runs // SESSION_FLIGHTS_MAX)))
+    per = TASKS_PER_WORKER if per_worker is None else per_worker
+    n = min(runs, max(per * workers, -(-runs // SESSION_FLIGHTS_MAX)))
     bounds = [runs * k // n for k in range(n + 1)]
     return [range(a, b) for a, b in zip(bounds, bounds[1:])]
 
@@ -66,27 +72,29 @@ def run_campaign_parallel(scenario: Scenario, runs: int, seed: int, cfg: RigConf
     starts = campaign_fault_times(scenario, runs, seed)
     t0 = time.perf_counter()
     with Cluster(workers, scheduler) as cluster:
-        chunks = session_chunks(runs, max(1, len(cluster.workers())))
+        chunks = session_chunks(runs, max(1, len(cluster.workers())),
+                                LOCAL_TASKS_PER_RIG if cluster.local is not None else TASKS_PER_WORKER)
         tasks = [Flight(c, fly_campaign_flights, (scenario, [(i, float(starts[i])) for i in chunk]),
                         count=len(chunk), post=campaign_flights, post_args=(scenario,), first=chunk.start,
                         salvage=salvage_campaign_flights)
                  for c, chunk in enumerate(chunks)]
         res = cluster.run(tasks, cfg, progress=cfg.progress, desc="hil campaign")
-    done = [d for c in sorted(res.values) for d in res.values[c]]
-    failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
-    if not done:
-        raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
-    # fcc's counters of the sessions that ended (a failed session's are lost with its last
-    # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
-    counted = [d for d in done if d.firmware is not None]
-    firmware = (one_session_counters([d.firmware for d in counted]) if counted
-                else firmware_summary(StatusCounters(), Counters().as_dict()))
-    uncounted = [fl.index for d in done if d.firmware is None for _, _, fl in d.flights]
-    # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
-    # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
-    res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
-    summary = write_campaign(out, scenario, seed, runs, [fl for d in done for _, _, fl in d.flights],
-                             firmware, cfg.mode, failed, uncounted)
+        cluster.close_soon()   # the rigs stop while Table 5 is written
+        done = [d for c in sorted(res.values) for d in res.values[c]]
+        failed = [{"run": i, "fault_start": float(starts[i]), "error": res.failed[i]} for i in sorted(res.failed)]
+        if not done:
+            raise RigError(f"all {runs} flights failed twice; flight 0: {res.failed[0]}")
+        # fcc's counters of the sessions that ended (a failed session's are lost with its last
+        # heartbeat: those flights are named in the summary, firmware_uncounted; zeros when none did)
+        counted = [d for d in done if d.firmware is not None]
+        firmware = (one_session_counters([d.firmware for d in counted]) if counted
+                    else firmware_summary(StatusCounters(), Counters().as_dict()))
+        uncounted = [i for d in done if d.firmware is None for i in d.batch.indices]
+        # a session's start and end (recorder, fcc, its first heartbeat, shutdown): the cost of
+        # a chunk beside its flights' (scripts/bench parallel models the chunking from it)
+        res.info["session_s_per_task"] = sum(d.session_s for d in counted) / len(counted) if counted else None
+        summary = write_campaign(out, scenario, seed, runs, [fl for d in done for fl in unpack_flights(d.batch)],
+                                 firmware, cfg.mode, failed, uncounted)
     write_json(out / "run_info.json", {"mode": cfg.mode, "wall_s": time.perf_counter() - t0,
                                        "parallel": res.info})
     return finish(cfg, out, summary, None)

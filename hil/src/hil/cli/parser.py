@@ -166,7 +166,8 @@ def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
     b = sub.add_parser("bus", help="the bus's timing from the DBC: `hil bus wcrt`")
     bsub = b.add_subparsers(dest="bus_command", required=True, parser_class=Parser, metavar="COMMAND")
     w = bsub.add_parser("wcrt", help="every cyclic frame's worst-case response time (Davis et al. "
-                        "2007, priority-queued nodes) and the bus utilisation, from the DBC",
+                        "2007; a FIFO-queued node's frames by hil.bus.wcrt's derivation) and the bus "
+                        "utilisation, from the DBC",
                         epilog="exit status: 0 every frame meets its deadline; 1 a frame misses it "
                         "or has no bound; 2 bad command line, DBC or scenario")
     w.add_argument("--bitrate", type=bitrate, metavar="BIT/S",
@@ -177,6 +178,9 @@ def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
                         "at its [lqg] period, the CDRW's at its [plant] dt")
     w.add_argument("--jitter", type=nonnegative, default=0.0, metavar="S",
                    help="queuing jitter of every frame, in s (default 0)")
+    w.add_argument("--fifo", metavar="NODE",
+                   help="the DBC node whose frames wait in one FIFO (default: the rig's, fcc, "
+                        "a SocketCAN node: FCC); `none`: every node priority-queued")
     w.add_argument("--json", action="store_true", help="print the result as one JSON object")
     w.add_argument("--dbc", type=Path, metavar="PATH",
                    help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")

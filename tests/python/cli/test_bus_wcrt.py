@@ -54,7 +54,8 @@ def test_json_schema_at_the_dbcs_bit_rate(capsys: pytest.CaptureFixture[str]) ->
     names = [f.name for f in cyclic_frames(dbc.load())]
     assert sorted(f["name"] for f in doc["frames"]) == sorted(names)
     for f in doc["frames"]:
-        assert set(f) == {*FRAME_KEYS, "wcrt_s"}
+        assert set(f) == {*FRAME_KEYS, "wcrt_s", "queue"}
+        assert f["queue"] == ("fifo" if list(dbc.load().by_name(f["name"]).senders) == ["FCC"] else "prio")
         assert all(isinstance(f[k], t) for k, t in FRAME_KEYS.items())
         assert isinstance(f["wcrt_s"], float) and f["c_s"] <= f["wcrt_s"] <= f["period_s"]
         assert f["deadline_met"]
@@ -86,10 +87,28 @@ def test_the_table(capsys: pytest.CaptureFixture[str]) -> None:
     assert (rc, err) == (0, "")
     lines = out.splitlines()
     assert "at 500000 bit/s (the DBC's Baudrate)" in lines[0]
-    assert lines[2].split()[:3] == ["id", "name", "sender"]
+    assert "FCC FIFO-queued" in lines[1]
+    assert lines[2].split()[:4] == ["id", "name", "sender", "queue"]
     tick = next(ln for ln in lines if " SIM_TICK " in ln).split()
-    assert tick[0] == "0x020" and tick[2] == "SIM" and tick[3] == "20" and tick[-1] == "met"
-    assert lines[-1].startswith("bus utilisation 0.")
+    assert tick[0] == "0x020" and tick[2] == "SIM" and tick[3] == "prio" and tick[4] == "20" and tick[-1] == "met"
+    ack = next(ln for ln in lines if " FCC_ACK " in ln).split()
+    assert ack[2:4] == ["FCC", "fifo"] and ack[-1] == "met"
+    assert lines[-1].startswith("bus utilisation 0.") and lines[-1].endswith("(27 of the FIFO's 27)")
+
+
+def test_fifo_option(capsys: pytest.CaptureFixture[str]) -> None:
+    """--fifo: the rig's (fcc) by default; `none` all priority-queued; a node of the DBC; else exit 2."""
+    def bounds(*argv: str) -> dict[str, tuple[str, float]]:
+        rc, doc, _ = as_json(capsys, "--bitrate", "250k", *argv)
+        assert rc == 0
+        return {f["name"]: (f["queue"], f["wcrt_s"]) for f in doc["frames"]}
+    rig, fcc, none = bounds(), bounds("--fifo", "FCC"), bounds("--fifo", "none")
+    assert rig == fcc and rig["FCC_ACK"] == ("fifo", pytest.approx(37 * 540e-6))
+    assert none["FCC_ACK"] == ("prio", pytest.approx(7 * 540e-6)) and all(q == "prio" for q, _ in none.values())
+    gyro = bounds("--fifo", "MSL_GYRO")
+    assert gyro["MSL_RATE_GYRO"][0] == "fifo" and gyro["FCC_ACK"][0] == "prio"
+    rc, out, err = run(capsys, "--fifo", "nobody")
+    assert (rc, out) == (EXIT_USAGE, "") and "--fifo nobody: not a sender" in one_line(err)
 
 
 @pytest.mark.parametrize("text", ["2M", "fast", "0", "-500k", "k", "9999"])

@@ -3,8 +3,8 @@ drawn from summary.json's `bus` section alone: no guest, no canbus.
 
 The section is hil.results.busstats's from canbus's statistics of a recorded run (the missile at
 250 kbit/s of docs/bus-timing.md, "Measured": its per-identifier n, p50, p99, max); a copy with
-the gyro's maximum raised above its bound must be drawn red and marked ABOVE, fcc's (FIFO)
-frames grey and "not judged"."""
+the gyro's maximum raised above its bound must be drawn red and marked ABOVE; fcc's frames
+(FIFO-queued) are judged like the others, against hil.bus.wcrt's FIFO bound."""
 from __future__ import annotations
 
 import json
@@ -15,7 +15,7 @@ import pytest
 from hil.bus import load
 from hil.plots import busresponse
 from hil.plots.mpl import caption_path, plt
-from hil.results.busstats import ABOVE, FIFO, WITHIN, bus_section
+from hil.results.busstats import ABOVE, WITHIN, bus_section
 from hil.scenario.file import load_default_scenario
 from rig_helpers import cli
 
@@ -57,11 +57,12 @@ def test_the_figure_is_drawn_from_a_recorded_summary(tmp_path: Path, capsys) -> 
     png = run / busresponse.NAME
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "0 of 9 frames above" in caption_path(png).read_text()
-    # frames sorted by identifier; fcc's not judged, the simulator's within (nothing beside them)
+    # frames sorted by identifier; fcc's (FIFO) and the simulator's within (nothing beside them)
     rows = busresponse.rows(section())
     assert [r.frame_id for r in rows] == sorted(SPEC.by_name(n).frame_id for n in MEASURED_250K)
     by_name = {r.name: r for r in rows}
-    assert by_name["MSL_ELEV_CMD"].verdict == FIFO and by_name["MSL_ELEV_CMD"].mark == "not judged"
+    assert by_name["MSL_ELEV_CMD"].verdict == WITHIN and by_name["MSL_ELEV_CMD"].mark == ""
+    assert by_name["FCC_STATUS_AUTH"].verdict == WITHIN and section()["frames"]["FCC_STATUS_AUTH"]["queue"] == "fifo"
     assert by_name["MSL_RATE_GYRO"].verdict == WITHIN and by_name["MSL_RATE_GYRO"].mark == ""
 
 
@@ -74,7 +75,7 @@ def test_a_frame_above_its_bound_is_drawn_red_and_marked() -> None:
         said = marks(fig)
         gyro_label = f"{SPEC.by_name('MSL_RATE_GYRO').frame_id:#05x} MSL_RATE_GYRO"
         assert said[gyro_label] == "ABOVE"
-        assert said[f"{SPEC.by_name('MSL_ELEV_CMD').frame_id:#05x} MSL_ELEV_CMD"] == "not judged"
+        assert said.get(f"{SPEC.by_name('MSL_ELEV_CMD').frame_id:#05x} MSL_ELEV_CMD", "") == ""
         assert "TSYNC_SYNC" not in " ".join(k for k, v in said.items() if v)
         # its max marker is red and to the right of its bound's bar
         row = [r.label for r in busresponse.rows(sec)].index(gyro_label)
@@ -85,5 +86,16 @@ def test_a_frame_above_its_bound_is_drawn_red_and_marked() -> None:
                      and ln.get_ydata()[0] < row < ln.get_ydata()[1])
         assert bound.get_xdata()[0] < 9.0
         assert "1 of 9 frames above" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
+def test_a_fifo_frame_above_its_bound_is_marked_too() -> None:
+    sec = section(FCC_STATUS_AUTH=(109, 4.72, 6.09, 60.0))   # fcc's FIFO bound at 250k: 19.98 ms
+    auth = sec["frames"]["FCC_STATUS_AUTH"]
+    assert auth["queue"] == "fifo" and auth["verdict"] == ABOVE and auth["wcrt_s"] < 0.06
+    fig = busresponse.figure(sec)
+    try:
+        assert marks(fig)[f"{SPEC.by_name('FCC_STATUS_AUTH').frame_id:#05x} FCC_STATUS_AUTH"] == "ABOVE"
     finally:
         plt.close(fig)

@@ -1,4 +1,5 @@
-"""Worst-case response times of a CAN bus's cyclic frames (Davis, Burns, Bril, Lukkien 2007).
+"""Worst-case response times of a CAN bus's cyclic frames (Davis, Burns, Bril, Lukkien 2007;
+FIFO-queued nodes by the derivation below).
 
 "Controller Area Network (CAN) schedulability analysis: refuted, revisited and revised"
 (Real-Time Systems 35) corrects Tindell's 1994 analysis; SPEC §8 states it as computed here.
@@ -15,9 +16,37 @@ C_m is the worst-case frame time (hil.bus.busload.worst_case_bits: every possibl
 with the interframe space), so the bound holds for any payload.  When the utilisation of
 hp(m) + {m} reaches 1 the busy period has no end: R_m is unbounded (None).
 
-Every node is taken as priority-queued (its controller presents its highest-priority pending
-frame to arbitration).  FIFO-queued nodes need Davis, Kollmann, Pollex and Slomka 2011's
-extension, which is not implemented.
+A node's frames are priority-queued (its controller presents its highest-priority pending
+frame to arbitration) unless the node is named FIFO-queued (`fifo`: a Linux SocketCAN node,
+whose frames wait in one FIFO).  A FIFO's frames are bounded by a derivation of this module's
+own, not Davis, Kollmann, Pollex and Slomka 2011's equations (the paper was not at hand; its
+idea is the same: a FIFO's frames suffer the interference of the lowest priority among them).
+With F the FIFO node's frames, L the lowest priority in F, hp(L) the other nodes' frames of
+higher priority than L and lp(L) theirs of lower:
+
+    B_L  = max over lp(L) of C_k                                      (0 if none)
+    t_L  = B_L + sum over F + hp(L) of ceil((t_L + J_k)/T_k) C_k       (level-L busy period)
+    n_k(x) = floor((x + J_k)/T_k) + 1      (instances of k queued in a window [0, x])
+    w(x) = B_L + sum over F of n_k(x) C_k - C_m
+                + sum over hp(L) of ceil((w(x) + J_k + tau_bit)/T_k) C_k
+    R_m  = J_m + max over x in X of (w(x) + C_m - x),  X = {0} + {q T_k - J_k in (0, t_L): k in F}
+
+Why it is safe: let m be queued at a and s <= a the start of the level-L busy period it is
+in (the bus idle, or a frame of lp(L) winning an arbitration with F empty and no frame of
+hp(L) pending: a FIFO offers its head at every arbitration, canbus_core.c `offered`, and a
+priority-queued node its highest frame).  From s until m ends the bus carries at most one
+frame of lp(L) (begun before s), the FIFO's frames queued in [s, a] (m waits behind all of
+them, FIFO order; x = a - s; at most n_k(x) of each, m's own earlier ones included), and
+frames of hp(L) queued before m's transmission begins (Davis 2007's term, with tau_bit).
+Nothing else wins an arbitration while F holds a frame: its head's priority is at least L.
+w(x) - x is largest where an n_k steps up, hence X; a lies in the busy period, x < t_L.  No
+assumption that a FIFO frame ends within its period is needed.  It is pessimistic: every F
+frame suffers hp(L), though a higher head of the FIFO would suffer less.
+
+A FIFO's frame k seen by the other nodes' frames: it reaches the head of its FIFO up to
+R_k - C_k after its nominal release, so the priority-queued analysis above takes it with
+queuing jitter R_k - C_k (a frame below an unbounded FIFO frame is unbounded).  One FIFO
+node at most (the rig has one, fcc; two would bound each other's jitter circularly).
 
 The arithmetic is exact (fractions of a second): a response equal to a multiple of a period
 must not round into one more interfering instance.
@@ -25,7 +54,7 @@ must not round into one more interfering instance.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from fractions import Fraction
 
@@ -63,6 +92,8 @@ class Response:
     frame: Frame
     c_s: Fraction
     wcrt_s: Fraction | None
+    #: the sender's queue: "prio" (priority-ordered mailboxes) or "fifo"
+    queue: str = "prio"
 
     @property
     def deadline_met(self) -> bool:
@@ -149,26 +180,72 @@ def _response(m: Frame, hp: Sequence[Frame], blocking: Fraction, c: Mapping[str,
     return worst
 
 
-def analyse(frames: Sequence[Frame], bitrate: int) -> list[Response]:
+def analyse(frames: Sequence[Frame], bitrate: int, fifo: Collection[str] = ()) -> list[Response]:
     """Each frame's worst-case response time on a bus of `bitrate` bit/s, highest priority
-    first."""
+    first; the frames of a sender in `fifo` (at most one node) wait in a FIFO."""
     if bitrate <= 0:
         raise ValueError(f"bit rate must be positive, not {bitrate}")
     ordered = sorted(frames, key=lambda f: f.priority)
     for a, b in zip(ordered, ordered[1:]):
         if a.priority == b.priority:
             raise ValueError(f"{a.name} and {b.name} share identifier {a.frame_id:#x}")
+    senders = {f.sender for f in ordered if f.sender in fifo}
+    if len(senders) > 1:
+        raise ValueError(f"one FIFO-queued node at most, not {len(senders)} ({', '.join(sorted(senders))})")
     c = {f.name: frame_time(f, bitrate) for f in ordered}
     tau_bit = Fraction(1, bitrate)
+    group = [f for f in ordered if f.sender in senders]
+    fifo_r = {m.name: fifo_response(m, ordered, group, c, tau_bit) for m in group}
+    seen = [_as_seen(f, fifo_r, c) for f in ordered]
     out = []
     for i, m in enumerate(ordered):
-        hp, lp = ordered[:i], ordered[i + 1:]
-        if utilisation([*hp, m], bitrate) >= 1:
+        if m.name in fifo_r:
+            out.append(Response(m, c[m.name], fifo_r[m.name], "fifo"))
+            continue
+        hp, lp = seen[:i], ordered[i + 1:]
+        if utilisation([*ordered[:i], m], bitrate) >= 1 or any(k is None for k in hp):
             out.append(Response(m, c[m.name], None))
             continue
         blocking = max((c[k.name] for k in lp), default=Fraction(0))
-        out.append(Response(m, c[m.name], _response(m, hp, blocking, c, tau_bit)))
+        out.append(Response(m, c[m.name], _response(m, [k for k in hp if k is not None], blocking, c, tau_bit)))
     return out
+
+
+def _as_seen(f: Frame, fifo_r: Mapping[str, Fraction | None], c: Mapping[str, Fraction]) -> Frame | None:
+    """What a priority-queued frame sees of f: a FIFO's frame released up to R_f - C_f late
+    (None: unbounded), any other as it is."""
+    if f.name not in fifo_r:
+        return f
+    r = fifo_r[f.name]
+    return None if r is None else replace(f, jitter_s=max(f.jitter_s, r - c[f.name]))
+
+
+def fifo_response(m: Frame, ordered: Sequence[Frame], group: Sequence[Frame], c: Mapping[str, Fraction],
+                  tau_bit: Fraction) -> Fraction | None:
+    """R_m of frame m of the FIFO `group` (the module's derivation), `ordered` every frame in
+    priority order; None when F + hp(L) load the bus to 1 or more."""
+    lowest = max(f.priority for f in group)
+    members = {f.name for f in group}
+    hp = [f for f in ordered if f.name not in members and f.priority < lowest]
+    lp = [f for f in ordered if f.name not in members and f.priority > lowest]
+    level = [*group, *hp]
+    if sum((c[f.name] / f.period_s for f in level), Fraction(0)) >= 1:
+        return None
+    blocking = max((c[k.name] for k in lp), default=Fraction(0))
+    busy = _fixed_point(blocking + sum((c[f.name] for f in level), Fraction(0)),
+                        lambda t: blocking + _interference(t, level, c, Fraction(0)))
+    starts = {Fraction(0)} | {x for k in group for q in range(1, math.ceil((busy + k.jitter_s) / k.period_s) + 1)
+                              if 0 < (x := q * k.period_s - k.jitter_s) < busy}
+    worst = Fraction(0)
+    for x in sorted(starts):
+        ahead = blocking - c[m.name] + sum(((math.floor((x + k.jitter_s) / k.period_s) + 1) * c[k.name]
+                                            for k in group), Fraction(0))
+
+        def delay(w: Fraction, ahead: Fraction = ahead) -> Fraction:
+            return ahead + _interference(w, hp, c, tau_bit)
+
+        worst = max(worst, m.jitter_s + _fixed_point(ahead, delay) + c[m.name] - x)
+    return worst
 
 
 #: the frames an application sends once per step, by name (as hil.bus.busload.default_rates

@@ -16,8 +16,9 @@ from typing import NoReturn
 
 import hil
 from hil.cli import listing
-from hil.cli.argtypes import (bitrate, bitrates, floats, id_range, ints, nonnegative, positive, rate_and_load,
+from hil.cli.argtypes import (bitrate, bitrates, floats, id_range, ints, positive, rate_and_load,
                               seed, utilisations)
+from hil.cli.bus.options import add_bus
 from hil.cli.usage import PROG, UsageError, exit_status_help
 from hil.targets.registry import TARGETS
 
@@ -163,27 +164,6 @@ def add_rig_commands(sub: argparse._SubParsersAction[Parser]) -> None:
                    help="stop after S seconds without a command (default 1800)")
     rsub.add_parser("status", help="up or down, target, uptime, commands run, client (exit 1: down)")
     rsub.add_parser("down", help="stop the rig and its guest")
-
-
-def add_bus(sub: argparse._SubParsersAction[Parser]) -> None:
-    """`hil bus COMMAND`: the bus's own tools, one module each in hil.cli.bus."""
-    b = sub.add_parser("bus", help="the bus's timing from the DBC: `hil bus wcrt`")
-    bsub = b.add_subparsers(dest="bus_command", required=True, parser_class=Parser, metavar="COMMAND")
-    w = bsub.add_parser("wcrt", help="every cyclic frame's worst-case response time (Davis et al. "
-                        "2007, priority-queued nodes) and the bus utilisation, from the DBC",
-                        epilog="exit status: 0 every frame meets its deadline; 1 a frame misses it "
-                        "or has no bound; 2 bad command line, DBC or scenario")
-    w.add_argument("--bitrate", type=bitrate, metavar="BIT/S",
-                   help="the bus's bit rate, e.g. 125k, 250k, 500k, 1M or 500000 (default: the "
-                        "DBC's Baudrate, else 500000)")
-    w.add_argument("--scenario", type=Path, metavar="FILE",
-                   help="take the periods of a scenario's aircraft from it: the missile's frames "
-                        "at its [lqg] period, the CDRW's at its [plant] dt")
-    w.add_argument("--jitter", type=nonnegative, default=0.0, metavar="S",
-                   help="queuing jitter of every frame, in s (default 0)")
-    w.add_argument("--json", action="store_true", help="print the result as one JSON object")
-    w.add_argument("--dbc", type=Path, metavar="PATH",
-                   help="the DBC (default $FCC_HIL_DBC, else the one shipped with hil)")
 
 
 def add_logging(p: argparse.ArgumentParser, default: object) -> None:
@@ -362,7 +342,7 @@ def build() -> argparse.ArgumentParser:
     ij.add_argument("--timeout", type=positive, default=10.0, metavar="S",
                     help="seconds to wait for the rig's answer (default 10)")
 
-    add_bus(sub)
+    add_bus(sub, Parser)
 
     fl = sub.add_parser("faults", help="every fault kind: fields, units, defaults, an example")
     fl.add_argument("kinds", nargs="*", metavar="KIND", help="only these kinds")

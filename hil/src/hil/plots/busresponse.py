@@ -5,9 +5,9 @@ device's real bus), so any run that wrote the section -- realtime or lockstep --
 One row per frame, sorted by identifier: p50, p99 and max of its response times (queued at the
 sender → end of frame, in ms, log scale) and its bound (`wcrt_s`, Davis et al. 2007 with zero
 queuing jitter; `wcrt_jitter_s` where the run computed it, with the measured release jitter).
-A frame above its bound is drawn red and marked ABOVE; frames the analysis does not judge
-(a FIFO-queued sender, fcc's; an event frame; an unbounded one) are grey and say why (", no
-bound" where the analysis has none); above the zero-jitter bound but within the one with the
+A frame above its bound is drawn red and marked ABOVE; every cyclic frame is judged (fcc's,
+FIFO-queued, by hil.bus.wcrt's FIFO derivation); those the analysis does not bound (an event
+frame; an unbounded one) are grey and say why; above the zero-jitter bound but within the one with the
 run's measured release jitter, orange; on a real
 bus the device's frames, whose queue time is not on the bus, have their bound only ("not
 measured").  The
@@ -59,10 +59,9 @@ class Row:
             return ""
         if self.verdict == _JUDGED_OK[1]:
             return "within the bound with the jitter"
-        bound = "" if self.wcrt_s is not None or self.verdict in ("not cyclic", "unbounded") else ", no bound"
         if self.max_s is None:
-            return "not measured" + bound
-        return ("not judged" if self.verdict.startswith("fifo") else self.verdict) + bound
+            return "not measured" + ("" if self.wcrt_s is not None else ", no bound")
+        return self.verdict
 
 
 def rows(section: Mapping[str, Any]) -> list[Row]:

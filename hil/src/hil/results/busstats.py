@@ -5,9 +5,10 @@ at the run's bit rate and the scenario's periods), and the run's check, measured
 The response times are the model's (canbus: queued at the sender's controller → the model's
 end of frame), not when canbus's process delivered the frame: in the UML guest that delivery
 is late by up to tens of milliseconds on a loaded host (`delivery_error`, reported apart), which
-is the platform, not the bus.  Only frames sent by a priority-queued node are judged: the
-analysis is for priority-ordered mailboxes; fcc's frames wait in a FIFO (a SocketCAN node), whose
-analysis (Davis, Kollmann, Pollex, Slomka 2011) is not implemented: they are reported, not judged.
+is the platform, not the bus.  Every cyclic frame is judged: the simulator's and the background
+nodes' by Davis et al. 2007 (priority-ordered mailboxes), fcc's, which wait in one FIFO (a
+SocketCAN node: hil.rig.wirebus.NODES), by hil.bus.wcrt's FIFO derivation; a FIFO frame above
+its bound fails the run like any other.
 
 The bound assumes each frame is queued on its period's grid, late by at most its queuing jitter
 J.  `wcrt_s` is the issue's bound, J = 0.  The realtime simulator queues its frames late when the
@@ -15,9 +16,9 @@ host does not run it on time (its transmitter's send lateness: 0.1-2.4 s at most
 load 10, measured; several instances of a frame then go out at once), which the J = 0 bound
 does not cover: a frame above it but within `wcrt_jitter_s`, the bound with J = that run's
 largest send lateness for every frame (as `hil bus wcrt --jitter`), is said so and does not
-fail the run; above that too, it does.  fcc's own release jitter is not measured per frame
-(its frames are not judged; only its command, 0x030, is of higher priority than the
-simulator's sensor frames).
+fail the run; above that too, it does.  fcc's own release jitter is not measured per frame:
+fcc answers the simulator's frames, so its frames take the same J (their loose bound is the
+whole analysis's, fcc's FIFO bounding the frames below its own).
 
 With wire faults (hil.rig.wirefaults: error frames, a babbling node, a forced bus-off) the
 analysis, which knows neither errors nor frames outside the DBC, bounds nothing: a frame above
@@ -38,11 +39,11 @@ from hil.scenario.file import Scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
 #: a frame's verdict: within its bound / above it (fails the run) / the analysis has no bound
-#: (utilisation of it and the frames above it ≥ 1) / not judged (a FIFO sender) / not cyclic /
+#: (utilisation of the frames it waits for ≥ 1) / not cyclic /
 #: above it while canbus fell behind the bus (`late_queued` > 0: a frame it read after an
 #: arbitration it should have joined keeps its queue time, so its response time counts canbus's
 #: own lateness; fails the run too, as not the model's)
-WITHIN, ABOVE, UNBOUNDED, FIFO, EVENT = "within", "above", "unbounded", "fifo: not judged", "not cyclic"
+WITHIN, ABOVE, UNBOUNDED, EVENT = "within", "above", "unbounded", "not cyclic"
 LATE = "above, canbus late"
 #: above the J = 0 bound, within the bound with the measured release jitter (does not fail)
 JITTER = "within, with the release jitter"
@@ -73,17 +74,22 @@ def flight_frames(spec: BusSpec, scenarios: Sequence[Scenario]) -> list[Frame]:
     return with_periods(frames, periods)
 
 
-def jitter_bound(frames: Sequence[Frame], frame_id: int, bitrate: int, jitter_s: float) -> Fraction | None:
-    """One frame's bound with every frame's queuing jitter = jitter_s.  Analysed on what the
-    bound depends on only -- the frames above it, it, and the longest below (the blocking) --
-    since with seconds of jitter the whole DBC's analysis takes minutes near U = 1 (measured:
-    17 s at 125 kbit/s with J = 0.5 s)."""
+def jitter_bound(frames: Sequence[Frame], frame_id: int, bitrate: int, jitter_s: float,
+                 fifo: Sequence[str] = ()) -> Fraction | None:
+    """One frame's bound with every frame's queuing jitter = jitter_s.  A priority-queued frame
+    with no FIFO frame above it is analysed on what its bound depends on only -- the frames
+    above it, it, and the longest below (the blocking) -- since with seconds of jitter the
+    whole DBC's analysis takes minutes near U = 1 (measured: 17 s at 125 kbit/s with J = 0.5
+    s); a FIFO's frame, or one below a FIFO frame, on them all."""
     m = next(f for f in frames if f.frame_id == frame_id)
     hp = [f for f in frames if f.priority < m.priority]
     lp = [f for f in frames if f.priority > m.priority]
-    block = [max(lp, key=lambda f: frame_time(f, bitrate))] if lp else []
-    sub = with_jitter([*hp, m, *block], seconds(jitter_s))
-    return next(r.wcrt_s for r in analyse(sub, bitrate) if r.frame.frame_id == frame_id)
+    if any(f.sender in fifo for f in [*hp, m]):
+        sub = list(frames)
+    else:
+        sub = [*hp, m, *([max(lp, key=lambda f: frame_time(f, bitrate))] if lp else [])]
+    return next(r.wcrt_s for r in analyse(with_jitter(sub, seconds(jitter_s)), bitrate, fifo)
+                if r.frame.frame_id == frame_id)
 
 
 def load_frames(stats: Mapping[str, Any]) -> list[Frame]:
@@ -131,7 +137,7 @@ def judged_frames(ids: Mapping[str, Mapping[str, Any]], spec: BusSpec, frames: S
     times (`ids`, canbus's shape: n, p50_s, p99_s, max_s), its bound at the bit rate, its
     sender's queue and its verdict (a frame above its bound on a bus with wire faults:
     FAULTED, which the analysis does not bound)."""
-    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate)}
+    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(frames, bitrate, fifo_senders)}
     out: dict[str, Any] = {}
     for key, got in ids.items():
         fid = int(key, 16)
@@ -139,15 +145,13 @@ def judged_frames(ids: Mapping[str, Mapping[str, Any]], spec: BusSpec, frames: S
         queue = _queue(spec, fid, fifo_senders)
         bound = bounds.get(fid)
         loose = None
-        if bound is not None and queue == "prio" and Fraction(got["max_s"]) > bound and jitter_s > 0:
-            loose = jitter_bound(frames, fid, bitrate, jitter_s)
+        if bound is not None and Fraction(got["max_s"]) > bound and jitter_s > 0:
+            loose = jitter_bound(frames, fid, bitrate, jitter_s, fifo_senders)
         entry = {"id": fid, "n": got["n"], **{k: got[k] for k in _PERCENTILES},
                  "wcrt_s": None if bound is None else float(bound),
                  "wcrt_jitter_s": None if loose is None else float(loose), "queue": queue}
         if fid not in bounds:
             entry["verdict"] = EVENT
-        elif queue == "fifo":
-            entry["verdict"] = FIFO
         elif bound is None:
             entry["verdict"] = UNBOUNDED
         else:

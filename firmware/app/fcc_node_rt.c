@@ -150,7 +150,7 @@ uint32_t fcc_node_rt_run_due(fcc_node_t *node, fcc_node_rt_t rt[FCC_N_APPS],
             r->deadline = now + r->period_us;
         }
         /* a schedule never started (fcc_node_rt_start) has no period and so no grid */
-        if (now >= r->deadline && r->period_us > 0u) {
+        if ((now >= r->deadline) && (r->period_us > 0u)) {
             jitter_us[a] = release(node, r, a, now);
             ++ran;
         }

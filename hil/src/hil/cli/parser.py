@@ -2,10 +2,6 @@
 options.  One module for all subcommands' arguments (where cantools puts each in its
 subcommand's module): `hil --help` and the parse need none of the commands' code, so that a
 command imports only what it runs (hil.cli.main imports the chosen one).
-
-Why this module is long: it is the one table of every subcommand's options, read top to
-bottom like `hil --help`; split by subcommand it would need the same shared options and
-argument types in each part.
 """
 from __future__ import annotations
 

@@ -453,7 +453,7 @@ static void test_stats_json_line(void **state)
         "0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}, \"0x18FF0001\": "
         "{\"n\": 1, \"p50_s\": 0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}}, "
         "\"ids_untracked\": 0, \"error_frames\": 32, \"babble_dropped\": 0, "
-        "\"events_lost\": 0}\n");
+        "\"events_lost\": 0, \"load_streams\": [], \"load_dropped\": 0}\n");
 }
 
 /* ---- command line ------------------------------------------------------------------------- */

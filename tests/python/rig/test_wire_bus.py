@@ -132,7 +132,7 @@ def test_bus_section_judges_priority_queued_frames_only():
 
 @pytest.mark.parametrize("argv, said", [
     (("--bus", "copper"), "invalid choice"),
-    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus in lockstep"),
+    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus (--bus wire"),
     (("--bus", "wire", "--mode", "realtime", "--interface", "virtual"), "SocketCAN only"),
     (("--bus", "wire", "--target", "qemu-m4f"), "fcc on the host only"),
 ])

@@ -210,3 +210,37 @@ def test_bus_load_is_canbus_s_load_option() -> None:
     # the model takes the option: the same streams as the load it describes
     bus = SimBus(500_000, faults=canbus_args([f], {}, load_dbc(), seed=5))
     assert [s["id"] for s in bus.stats()["load_streams"]] == list(range(0x300, 0x310))
+
+
+def _first_step(bitrate: int, faults: list[str]) -> tuple[MissileDriver, list[bytes]]:
+    """The missile's first step through the lockstep rig's model (WireSteps), fcc's command
+    queued when its inputs have ended."""
+    sc = load_default_scenario("missile")
+    sc = sc.replace(lqg=dataclasses.replace(sc.lqg, period=0.05))
+    driver = MissileDriver(sc, FrameCodec(nodes=SIM_NODES))
+    wire = WireSteps(SimBus(bitrate, faults=faults))
+    wire.reach(0.0)
+    sent = [f.raw for f in driver.frames_for_step()] + [pack_frame(*TICK)]
+    t_in = wire.inputs(sent, 0.0, 0.05)
+    cmd = _command(FrameCodec(nodes="FCC"), 0, 37)
+    io = StepIO(acked=True, frames=[cmd])
+    wire.answer(io, [(pack_frame(*cmd), 1)], t_in)
+    driver.end_step(io)
+    wire.reach(0.05)
+    driver.finish()
+    return driver, sent
+
+
+def test_a_gyro_error_delays_the_missile_s_command_by_the_retransmission_time() -> None:
+    """The lockstep path (WireSteps, the missile driver) with bus_error on MSL_RATE_GYRO, once:
+    the command comes (bit + 1 + 6 + 8 + 3) bit times later than without, bit = the gyro's CRC
+    delimiter, its length (hil.bus.busload.frame_bits of the bytes the simulator sent) less 13."""
+    bitrate = 250_000
+    error = canbus_args([BusError(start=0.0, duration=0.01, frame="MSL_RATE_GYRO", count=1)],
+                        {"sim": "sim", "fcc": "fcc"}, load_dbc())
+    clean, sent = _first_step(bitrate, [])
+    hit, _ = _first_step(bitrate, error)
+    gyro_id = load_dbc().by_name("MSL_RATE_GYRO").frame_id
+    (gyro,) = [f for f in (_unpack(r) for r in sent) if f[0] == gyro_id]
+    retransmission = (frame_bits(*gyro) - 13 + 1 + 6 + 8 + 3) / bitrate
+    assert hit.cmd_delay[0] - clean.cmd_delay[0] == pytest.approx(retransmission, abs=1e-12)

@@ -11,6 +11,7 @@ signals canbus (SIGUSR2).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 
@@ -35,8 +36,17 @@ def _ids(spec: BusSpec, frame: str) -> str:
 
 
 def canbus_faults(scenarios: Sequence[Scenario]) -> tuple[Fault, ...]:
-    """The faults canbus flies: the wire level's and the background loads."""
-    return tuple(f for sc in scenarios for f in sc.faults if f.level == "wire" or isinstance(f, BusLoad))
+    """The faults canbus flies: the wire level's, and the background loads within the flight
+    (a load that went on after it would keep the bus from draining: the rig waits for canbus
+    to carry nothing more before it stops it)."""
+    out: list[Fault] = []
+    for sc in scenarios:
+        for f in sc.faults:
+            if isinstance(f, BusLoad) and f.start < sc.duration:
+                out.append(dataclasses.replace(f, duration=min(f.end, sc.duration) - f.start))
+            elif f.level == "wire":
+                out.append(f)
+    return tuple(out)
 
 
 def canbus_args(faults: Sequence[Fault], ends: Mapping[str, str], spec: BusSpec, seed: int = 0) -> list[str]:

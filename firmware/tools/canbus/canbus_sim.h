@@ -6,7 +6,9 @@
  * a clock.  hil.rig.simbus loads it as a shared library (ctypes).
  *
  * Usage: canbus_sim_init() with the nodes' policies and the background
- * nodes (they get the indices after the caller's); then, in time order,
+ * nodes (they get the indices after the caller's), or canbus_sim_setup()
+ * with canbus's fault options too (the realtime process's own builder,
+ * canbus_fault_opts.c: error frames, bus-off, babbling nodes, loads); then, in time order,
  * canbus_sim_queue() a node's frames at the time it queues them and
  * canbus_sim_run() to a time: the frames of the other nodes (not the load's)
  * that ended by then, in order, each with its end of frame.  The load's

@@ -453,7 +453,7 @@ static void test_stats_json_line(void **state)
         "0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}, \"0x18FF0001\": "
         "{\"n\": 1, \"p50_s\": 0.000234000, \"p99_s\": 0.000234000, \"max_s\": 0.000234000}}, "
         "\"ids_untracked\": 0, \"error_frames\": 32, \"babble_dropped\": 0, "
-        "\"events_lost\": 0}\n");
+        "\"events_lost\": 0, \"load_streams\": [], \"load_dropped\": 0}\n");
 }
 
 /* ---- command line ------------------------------------------------------------------------- */
@@ -522,6 +522,23 @@ static void test_command_line(void **state)
     assert_int_equal(o.faults.babble[0].frame.dlc, 2u);
     assert_int_equal(o.faults.babble[0].period_ns, 1000000u);
     assert_int_equal(o.faults.babble[0].t_to, 3000000000u);
+    /* a background load: its defaults, and every field */
+    assert_int_equal(parse(&o, err, 9, "--node", "a", "--node", "b", "--load", "util=0.25",
+                           "--load", "util=1,id=0x10-0x1F,seed=18446744073709551615,from=1,to=2"),
+                     0);
+    assert_int_equal(o.faults.loads, 2u);
+    assert_int_equal(o.faults.load[0].ppm, 250000u);
+    assert_int_equal(o.faults.load[0].id_lo, 0x200u);
+    assert_int_equal(o.faults.load[0].id_hi, 0x6FFu);
+    assert_int_equal(o.faults.load[0].seed, 0u);
+    assert_int_equal(o.faults.load[0].start_ns, 0u);
+    assert_true(o.faults.load[0].end_ns == UINT64_MAX);
+    assert_int_equal(o.faults.load[1].ppm, CANBUS_LOAD_PPM_MAX);
+    assert_int_equal(o.faults.load[1].id_lo, 0x10u);
+    assert_int_equal(o.faults.load[1].id_hi, 0x1Fu);
+    assert_true(o.faults.load[1].seed == UINT64_MAX);
+    assert_int_equal(o.faults.load[1].start_ns, 1000000000u);
+    assert_int_equal(o.faults.load[1].end_ns, 2000000000u);
 }
 
 static void expect_refused(const char *want, int argc, char *a1, char *a2, char *a3, char *a4,
@@ -565,6 +582,13 @@ static void test_command_line_refusals(void **state)
                    "--babble=period=0.1");
     expect_refused("not a CAN identifier", 6, "--node", "a", "--node", "b",
                    "--babble=id=0x20000000");
+    expect_refused("--load: 11-bit identifiers", 6, "--node", "a", "--node", "b",
+                   "--load=id=0x100-0x800");
+    expect_refused("--load", 6, "--node", "a", "--node", "b", "--load=util=1.5");
+    expect_refused("--load: from is not before to", 6, "--node", "a", "--node", "b",
+                   "--load=from=2,to=2");
+    expect_refused("--load: unknown field 'rate'", 6, "--node", "a", "--node", "b",
+                   "--load=rate=3");
 }
 
 int main(void)

@@ -143,6 +143,44 @@ static void test_sim_takes_socketcan_frames_and_the_worst_case(void **state)
     assert_int_equal(sim.stats.node[1].lost, 2u);
 }
 
+/* canbus's fault options given to the model (the realtime process's builder): an error
+ * frame on one frame delays its end of frame by the error's bits, (bit + 1 + 6 + 8 + 3),
+ * docs/bus-timing.md; a forced bus-off of a node recovers 128 x 11 recessive bits after its
+ * error flag (6 + 128 x 11 bits on an idle bus), in the statistics. */
+static void test_sim_takes_canbus_fault_options(void **state)
+{
+    (void)state;
+    const canbus_policy_t pol[2] = {CANBUS_PRIO, CANBUS_FIFO};
+    const char *const names[2] = {"sim", "fcc"};
+    const char *const opts[4] = {"--error", "id=0x021,node=sim,count=1", "--bus-off", "fcc@0.01"};
+    char err[128] = "";
+    assert_int_equal(canbus_sim_setup(&sim, 500000u, 2u, pol, names, NULL, 0u, opts, 2u, err,
+                                      sizeof err), FCC_OK);
+    const uint32_t worst[1] = {0x021u};
+    assert_int_equal(canbus_sim_worst(&sim, worst, 1u), FCC_OK);
+    uint8_t raw[CANBUS_SIM_RAW_LEN];
+    raw_frame(raw, 0x021u, 8u, 0x55u);                 /* 135 bits, CRC delimiter at 122 */
+    assert_int_equal(canbus_sim_queue_raw(&sim, 0u, raw, 1u, 0u), 1u);
+    canbus_done_t out[4];
+    assert_int_equal(canbus_sim_run(&sim, 5000000u, out, 4u, 0u, 0u, 0u, NULL), 1u);
+    /* corrupted at bit 122, idle at 122 + 1 + 6 + 8 + 3 = 140, then 132 bits to its EOF */
+    assert_int_equal(out[0].t_eof, (140u + 132u) * BIT_500K);
+    assert_int_equal(sim.core.confine[0].tx_errors, 1u);
+    /* fcc from 10 ms on: its frame corrupted 32 times, bus-off, back after 128 x 11 bits */
+    raw_frame(raw, 0x100u, 0u, 0u);
+    assert_int_equal(canbus_sim_queue_raw(&sim, 1u, raw, 1u, 10000000u), 1u);
+    assert_int_equal(canbus_sim_run(&sim, 20000000u, out, 4u, 0u, 0u, 0u, NULL), 0u);
+    assert_int_equal(sim.stats.node[1].recoveries, 1u);
+    const uint64_t recovery = sim.stats.node[1].recovery_ns[0];
+    /* from the error flag's start (bus_off_at) to the recovery: the flag, then 128 runs */
+    assert_int_equal(recovery, (CANBUS_FLAG_BITS + 128u * 11u) * BIT_500K);
+    /* a node the options name must be one of the caller's */
+    const char *const bad[2] = {"--bus-off", "nobody"};
+    assert_int_equal(canbus_sim_setup(&sim, 500000u, 2u, pol, names, NULL, 0u, bad, 1u, err,
+                                      sizeof err), FCC_ERR_ARG);
+    assert_non_null(strstr(err, "nobody"));
+}
+
 static void test_sim_stops_at_a_nodes_frames_and_hides_the_load(void **state)
 {
     (void)state;
@@ -175,6 +213,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_load_refuses_what_it_cannot_send),
         cmocka_unit_test(test_load_streams_and_period_by_hand),
+        cmocka_unit_test(test_sim_takes_canbus_fault_options),
         cmocka_unit_test(test_load_is_periodic_and_deterministic),
         cmocka_unit_test(test_sim_takes_socketcan_frames_and_the_worst_case),
         cmocka_unit_test(test_sim_stops_at_a_nodes_frames_and_hides_the_load),

@@ -29,7 +29,9 @@
  * canbus writes each node's part of it to its endpoint as the node's own
  * controller driver would (SocketCAN error frames, CAN_ERR_*: the node sees
  * them on a raw socket with CAN_RAW_ERR_FILTER).  A babbling node is a node
- * of the core with no endpoint.  The faults' times count from the first frame
+ * of the core with no endpoint, and so is a background load (--load,
+ * canbus_load.h: the generator of the lockstep rig's bus model, released in
+ * wall time).  The faults' times count from the first frame
  * canbus carries, or from the instant in --epoch FILE, read on SIGUSR2 (a rig
  * writes its flight's start there).
  *
@@ -87,6 +89,9 @@ typedef struct {
     int sock[CANBUS_NODES_MAX];             /* the endpoints' (babbling nodes have none) */
     uint32_t endpoints;
     bool armed;                             /* the faults are in the core (first frame) */
+    canbus_load_t load[CANBUS_LOADS_MAX];   /* the background loads, once armed */
+    uint32_t load_node[CANBUS_LOADS_MAX];
+    uint32_t loads;
     uint32_t drops_seen[CANBUS_NODES_MAX]; /* SO_RXQ_OVFL as last read */
     uint64_t link_drops[CANBUS_NODES_MAX];  /* the pair's drop counters at the start */
     struct pollfd pfd[CANBUS_NODES_MAX];
@@ -242,28 +247,15 @@ static void note_drops(bus_t *b, uint32_t i, uint32_t now)
     }
 }
 
-static uint64_t after(uint64_t t0, uint64_t dt)
-{
-    return dt > UINT64_MAX - t0 ? UINT64_MAX : t0 + dt;
-}
-
 /* The faults of the command line into the core, their times from t0 (the first frame). */
 static void arm_faults(bus_t *b, uint64_t t0)
 {
-    const canbus_fault_opts_t *o = &b->o->faults;
-    for (uint32_t k = 0u; k < o->errors; ++k) {
-        canbus_fault_t f = o->error[k].fault;
-        f.t_from = after(t0, f.t_from);
-        f.t_to = after(t0, f.t_to);
-        (void)canbus_core_add_fault(&b->core, &f); /* checked by the options: cannot fail */
-    }
-    for (uint32_t k = 0u; k < o->babbles; ++k) {
-        canbus_babble_t bb = o->babble[k];
-        bb.node = b->endpoints + k;
-        bb.t_from = after(t0, bb.t_from);
-        bb.t_to = after(t0, bb.t_to);
-        (void)canbus_core_add_babble(&b->core, &bb);
-    }
+    /* checked by the options: cannot fail */
+    (void)canbus_fault_opts_arm(&b->o->faults, &b->core, b->endpoints, t0, b->load,
+                                b->load_node);
+    b->loads = b->o->faults.loads;
+    b->stats.load = b->load;
+    b->stats.loads = b->loads;
     b->armed = true;
 }
 
@@ -455,12 +447,9 @@ static int deliver_events(bus_t *b)
 {
     canbus_event_t e;
     while (canbus_core_event(&b->core, &e)) {
-        const canbus_confine_t *n = canbus_core_confine(&b->core, e.node);
-        if (e.kind == CANBUS_EV_RESTARTED && n != NULL) {
-            canbus_stats_recovery(&b->stats, e.node, n->bus_off_at, e.t);
-        }
+        canbus_stats_event(&b->stats, &b->core, &e);
         if (e.node >= b->endpoints) {
-            continue; /* a babbling node: nobody listens */
+            continue; /* a babbling node or a load: nobody listens */
         }
         struct can_frame cf;
         error_frame(&e, &cf);
@@ -475,9 +464,13 @@ static int deliver_events(bus_t *b)
     return 0;
 }
 
-/* Every frame that ended by t, and what fault confinement did meanwhile. */
+/* Every frame that ended by t, and what fault confinement did meanwhile (the loads' frames
+ * released by t queued first: the core takes frames queued for later). */
 static int deliver_until(bus_t *b, uint64_t t)
 {
+    while (canbus_load_feed_one(b->load, b->loads, b->load_node, &b->core, t,
+                                &b->stats.load_dropped)) {
+    }
     canbus_done_t d;
     while (canbus_core_advance(&b->core, t, &d)) {
         const int rc = deliver_events(b);
@@ -500,9 +493,16 @@ static bool sleep_until(uint64_t t)
 }
 
 /* Nothing on the bus: wait for a frame or a signal (blocked between the look at the flags
- * and the wait, so that none is missed). */
-static void wait_for_frames(bus_t *b)
+ * and the wait, so that none is missed), or until a load's next release (NULL: none). */
+static void wait_for_frames(bus_t *b, const uint64_t *release)
 {
+    struct timespec left = {0, 0};
+    if (release != NULL) {
+        const uint64_t now = mono_now();
+        const uint64_t dt = *release > now ? *release - now : 0u;
+        left.tv_sec = (time_t)(dt / NS_PER_S);
+        left.tv_nsec = (long)(dt % NS_PER_S);
+    }
     sigset_t block, old;
     (void)sigemptyset(&block);
     (void)sigaddset(&block, SIGINT);
@@ -511,7 +511,7 @@ static void wait_for_frames(bus_t *b)
     (void)sigaddset(&block, SIGUSR2);
     (void)sigprocmask(SIG_BLOCK, &block, &old);
     if (!g_stop && !g_report && !g_epoch) {
-        (void)ppoll(b->pfd, b->endpoints, NULL, &old);
+        (void)ppoll(b->pfd, b->endpoints, release != NULL ? &left : NULL, &old);
     }
     (void)sigprocmask(SIG_SETMASK, &old, NULL);
 }
@@ -534,15 +534,7 @@ static void count_link_drops(bus_t *b)
 static void fill_stats(bus_t *b)
 {
     canbus_stats_t *s = &b->stats;
-    s->pending = b->core.busy ? 1u : 0u;
-    for (uint32_t i = 0u; i < b->core.nodes; ++i) {
-        s->pending += canbus_core_pending(&b->core, i);
-        s->node[i].confine = *canbus_core_confine(&b->core, i);
-    }
-    s->error_frames = b->core.error_frames;
-    s->babble_dropped = b->core.babble_dropped;
-    s->events_lost = b->core.events_lost;
-    s->late_queued = b->core.late;
+    canbus_stats_core(s, &b->core);
     s->wall_s = (double)(mono_now() - b->t_start) * 1e-9;
     struct rusage ru;
     if (getrusage(RUSAGE_SELF, &ru) == 0) {
@@ -589,10 +581,14 @@ static int run(bus_t *b)
         if (rc != 0) {
             return rc;
         }
-        uint64_t next;
-        bool is_eof;
-        if (!canbus_core_next(&b->core, &next, &is_eof)) {
-            wait_for_frames(b);
+        uint64_t next = 0u;
+        bool is_eof = false;
+        uint64_t release = 0u;
+        const bool core = canbus_core_next(&b->core, &next, &is_eof);
+        const bool load = canbus_load_first(b->load, b->loads, &release) >= 0;
+        /* a load's release first: read the nodes meanwhile (the loop queues it on waking) */
+        if (!core || (load && release < next)) {
+            wait_for_frames(b, load ? &release : NULL);
             continue;
         }
         /* woken early by a signal: nothing is due yet, the loop looks again */
@@ -603,22 +599,21 @@ static int run(bus_t *b)
     return 0;
 }
 
-/* A babbling node's name in the statistics. */
-static const char *const babble_names[CANBUS_BABBLE_MAX] = {"babble0", "babble1", "babble2",
-                                                             "babble3"};
-
 static int start(bus_t *b, const canbus_opts_t *o)
 {
     canbus_policy_t policy[CANBUS_NODES_MAX];
     b->o = o;
     b->endpoints = o->nodes;
-    const uint32_t nodes = o->nodes + o->faults.babbles;
+    const uint32_t nodes = o->nodes + o->faults.babbles + o->faults.loads;
     canbus_stats_init(&b->stats, o->bitrate);
     b->stats.nodes = nodes;
     for (uint32_t i = 0u; i < nodes; ++i) {
-        const bool babbler = i >= o->nodes;
-        policy[i] = babbler ? CANBUS_PRIO : o->node[i].policy;
-        b->stats.node[i].iface = babbler ? babble_names[i - o->nodes] : o->node[i].iface;
+        const bool babbler = i >= o->nodes && i < o->nodes + o->faults.babbles;
+        const bool load = i >= o->nodes + o->faults.babbles;
+        policy[i] = i >= o->nodes ? CANBUS_PRIO : o->node[i].policy;
+        b->stats.node[i].iface = load      ? "load"
+                                 : babbler ? canbus_babble_names[i - o->nodes]
+                                           : o->node[i].iface;
         b->stats.node[i].policy = policy[i];
         b->sock[i] = -1;
     }

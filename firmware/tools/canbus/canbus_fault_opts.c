@@ -11,6 +11,9 @@
 #define SECONDS_MAX 1e6
 #define FIELD_LEN 64u
 
+const char *const canbus_babble_names[CANBUS_BABBLE_MAX] = {"babble0", "babble1", "babble2",
+                                                             "babble3"};
+
 /* An identifier (0x hex or decimal) up to CANBUS_EXT_ID_MAX. */
 static fcc_opt_result_t parse_id(const char *name, const char *s, uint32_t *out, char *err,
                                  size_t len)
@@ -148,6 +151,43 @@ static fcc_opt_result_t babble_field(canbus_babble_t *b, const char *name, const
                         key);
 }
 
+/* One KEY=VALUE of --load. */
+static fcc_opt_result_t load_field(canbus_load_cfg_t *l, const char *name, const char *key,
+                                   char *v, char *err, size_t len)
+{
+    if (strcmp(key, "util") == 0) {
+        double u = 0.0;
+        if (fcc_opt_double(name, v, 1e-6, 1.0, &u, err, len) != FCC_OPT_DONE) {
+            return FCC_OPT_ERROR;
+        }
+        l->ppm = (uint32_t)(u * CANBUS_LOAD_PPM_MAX + 0.5);
+        return FCC_OPT_DONE;
+    }
+    if (strcmp(key, "id") == 0) {
+        if (parse_ids(name, v, &l->id_lo, &l->id_hi, err, len) != FCC_OPT_DONE) {
+            return FCC_OPT_ERROR;
+        }
+        return l->id_hi <= CANBUS_STD_ID_MAX
+                   ? FCC_OPT_DONE
+                   : fcc_opt_fail(err, len, "%s: 11-bit identifiers (up to 0x7FF)", name);
+    }
+    if (strcmp(key, "seed") == 0) {
+        unsigned long seed = 0u;
+        if (fcc_opt_uint(name, v, 0u, ~0ul, &seed, err, len) != FCC_OPT_DONE) {
+            return FCC_OPT_ERROR;
+        }
+        l->seed = (uint64_t)seed;
+        return FCC_OPT_DONE;
+    }
+    if (strcmp(key, "from") == 0) {
+        return parse_seconds(name, v, &l->start_ns, err, len);
+    }
+    if (strcmp(key, "to") == 0) {
+        return parse_seconds(name, v, &l->end_ns, err, len);
+    }
+    return fcc_opt_fail(err, len, "%s: unknown field '%s' (util, id, seed, from, to)", name, key);
+}
+
 typedef fcc_opt_result_t (*field_fn)(void *target, const char *name, const char *key, char *v,
                                      char *err, size_t len);
 
@@ -161,6 +201,12 @@ static fcc_opt_result_t babble_fn(void *t, const char *n, const char *k, char *v
                                   size_t l)
 {
     return babble_field(t, n, k, v, e, l);
+}
+
+static fcc_opt_result_t load_fn(void *t, const char *n, const char *k, char *v, char *e,
+                                size_t l)
+{
+    return load_field(t, n, k, v, e, l);
 }
 
 /* KEY=VALUE,KEY=VALUE... each to fn (an empty list: nothing). */
@@ -227,6 +273,32 @@ static fcc_opt_result_t bus_off_opt(canbus_error_opt_t *e, const char *name, con
     return copy_iface(name, buf, e->node, err, len);
 }
 
+/* --load FIELDS: a background node (util=0.5, id=0x200-0x6FF by default, as bus_load's). */
+static fcc_opt_result_t load_opt(canbus_fault_opts_t *o, const char *name, const char *val,
+                                 char *err, size_t len)
+{
+    if (val == NULL) {
+        return FCC_OPT_NEED_VALUE;
+    }
+    if (o->loads == CANBUS_LOADS_MAX) {
+        return fcc_opt_fail(err, len, "%s: at most %u background loads", name, CANBUS_LOADS_MAX);
+    }
+    canbus_load_cfg_t *l = &o->load[o->loads];
+    memset(l, 0, sizeof *l);
+    l->id_lo = 0x200u;
+    l->id_hi = 0x6FFu;
+    l->ppm = CANBUS_LOAD_PPM_MAX / 2u;
+    l->end_ns = UINT64_MAX;
+    if (fields(name, val, load_fn, l, err, len) != FCC_OPT_DONE) {
+        return FCC_OPT_ERROR;
+    }
+    if (l->start_ns >= l->end_ns) {
+        return fcc_opt_fail(err, len, "%s: from is not before to", name);
+    }
+    ++o->loads;
+    return FCC_OPT_DONE;
+}
+
 fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, const char *val,
                                   char *err, size_t len)
 {
@@ -242,6 +314,9 @@ fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, cons
         memcpy(o->epoch_file, val, n);
         o->epoch_file[n] = '\0';
         return FCC_OPT_DONE;
+    }
+    if (strcmp(name, "--load") == 0) {
+        return load_opt(o, name, val, err, len);
     }
     const bool error = strcmp(name, "--error") == 0;
     const bool bus_off = strcmp(name, "--bus-off") == 0;
@@ -307,4 +382,54 @@ fcc_opt_result_t canbus_fault_opts_resolve(canbus_fault_opts_t *o, char (*names)
         }
     }
     return FCC_OPT_DONE;
+}
+
+fcc_opt_result_t canbus_fault_opts_pairs(canbus_fault_opts_t *o, const char *const *arg,
+                                         uint32_t n, char *err, size_t len)
+{
+    for (uint32_t k = 0u; k < n; ++k) {
+        const char *name = arg[2u * k];
+        const fcc_opt_result_t r = canbus_fault_opt(o, name, arg[2u * k + 1u], err, len);
+        if (r == FCC_OPT_NOT_MINE) {
+            return fcc_opt_fail(err, len, "%s: not a fault option", name);
+        }
+        if (r != FCC_OPT_DONE) {
+            return r == FCC_OPT_NEED_VALUE ? fcc_opt_fail(err, len, "%s: needs a value", name)
+                                           : FCC_OPT_ERROR;
+        }
+    }
+    return FCC_OPT_DONE;
+}
+
+static uint64_t after(uint64_t t0, uint64_t dt)
+{
+    return dt > UINT64_MAX - t0 ? UINT64_MAX : t0 + dt;
+}
+
+fcc_status_t canbus_fault_opts_arm(const canbus_fault_opts_t *o, canbus_core_t *c,
+                                   uint32_t first_extra, uint64_t t0, canbus_load_t *load,
+                                   uint32_t *load_node)
+{
+    fcc_status_t st = FCC_OK;
+    for (uint32_t k = 0u; k < o->errors && st == FCC_OK; ++k) {
+        canbus_fault_t f = o->error[k].fault;
+        f.t_from = after(t0, f.t_from);
+        f.t_to = after(t0, f.t_to);
+        st = canbus_core_add_fault(c, &f);
+    }
+    for (uint32_t k = 0u; k < o->babbles && st == FCC_OK; ++k) {
+        canbus_babble_t b = o->babble[k];
+        b.node = first_extra + k;
+        b.t_from = after(t0, b.t_from);
+        b.t_to = after(t0, b.t_to);
+        st = canbus_core_add_babble(c, &b);
+    }
+    for (uint32_t k = 0u; k < o->loads && st == FCC_OK; ++k) {
+        canbus_load_cfg_t cfg = o->load[k];
+        cfg.start_ns = after(t0, cfg.start_ns);
+        cfg.end_ns = after(t0, cfg.end_ns);
+        st = canbus_load_init(&load[k], &cfg, c->bit_ns);
+        load_node[k] = first_extra + o->babbles + k;
+    }
+    return st;
 }

@@ -6,6 +6,7 @@
  *            [,bit=N|crc-delim][,superposed=N]
  *   --bus-off IFACE[@S]
  *   --babble id=ID[,dlc=N][,period=S][,from=S][,to=S]
+ *   --load   util=U[,id=ID-ID][,seed=N][,from=S][,to=S]
  *
  *   --epoch first-frame|FILE
  *
@@ -23,6 +24,7 @@
 #include <stdint.h>
 
 #include "canbus_core.h"
+#include "canbus_load.h"
 #include "fcc_opt.h"
 
 #define CANBUS_IFACE_LEN 16u
@@ -38,15 +40,34 @@ typedef struct {
     canbus_babble_t babble[CANBUS_BABBLE_MAX]; /* times from the first frame; node: its index
                                                   among the babblers */
     uint32_t babbles;
+    canbus_load_cfg_t load[CANBUS_LOADS_MAX];  /* times from the epoch */
+    uint32_t loads;
     char epoch_file[256];                      /* --epoch FILE ("": the first frame) */
 } canbus_fault_opts_t;
 
-/* --error / --bus-off / --babble / --epoch VAL into o: FCC_OPT_NOT_MINE for another option. */
+/* A babbling node's name in the statistics (a load's is "load"). */
+extern const char *const canbus_babble_names[CANBUS_BABBLE_MAX];
+
+/* --error / --bus-off / --babble / --load / --epoch VAL into o: FCC_OPT_NOT_MINE for another option. */
 fcc_opt_result_t canbus_fault_opt(canbus_fault_opts_t *o, const char *name, const char *val,
                                   char *err, size_t len);
 
 /* The fault's node from its interface name among names[0..n-1]: false (err set) when none. */
 fcc_opt_result_t canbus_fault_opts_resolve(canbus_fault_opts_t *o, char (*names)[16],
                                            uint32_t n, char *err, size_t len);
+
+/* n options as name, value pairs (arg[2k], arg[2k+1]) into o, each as
+ * canbus_fault_opt() takes it (another option is an error). */
+fcc_opt_result_t canbus_fault_opts_pairs(canbus_fault_opts_t *o, const char *const *arg,
+                                         uint32_t n, char *err, size_t len);
+
+/* The faults into c (resolved first), their times from t0: the babbling nodes
+ * on nodes first_extra.., then the background loads: load[k] made for c's
+ * bit time, on node load_node[k] = first_extra + o->babbles + k.  c must
+ * have these nodes.  The status of canbus_core_add_fault/add_babble or
+ * canbus_load_init (checked by the options: FCC_OK). */
+fcc_status_t canbus_fault_opts_arm(const canbus_fault_opts_t *o, canbus_core_t *c,
+                                   uint32_t first_extra, uint64_t t0, canbus_load_t *load,
+                                   uint32_t *load_node);
 
 #endif /* CANBUS_FAULT_OPTS_H */

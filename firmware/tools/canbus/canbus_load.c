@@ -96,3 +96,32 @@ bool canbus_load_stream(const canbus_load_t *l, uint32_t i, uint32_t *id, uint64
     *period_ns = l->period_ns;
     return true;
 }
+
+int canbus_load_first(const canbus_load_t *l, uint32_t n, uint64_t *t)
+{
+    int best = -1;
+    for (uint32_t i = 0u; l != NULL && t != NULL && i < n; ++i) {
+        uint64_t r;
+        if (canbus_load_next(&l[i], &r) && (best < 0 || r < *t)) {
+            best = (int)i;
+            *t = r;
+        }
+    }
+    return best;
+}
+
+bool canbus_load_feed_one(canbus_load_t *l, uint32_t n, const uint32_t *node, canbus_core_t *c,
+                          uint64_t t, uint64_t *dropped)
+{
+    uint64_t when = 0u;
+    const int i = canbus_load_first(l, n, &when);
+    if (i < 0 || when > t || node == NULL || dropped == NULL) {
+        return false;
+    }
+    canbus_frame_t f;
+    canbus_load_take(&l[i], &f);
+    if (canbus_core_queue(c, node[i], &f, when) != FCC_OK) {
+        ++*dropped;
+    }
+    return true;
+}

@@ -16,7 +16,8 @@
  * are released in [start_ns, end_ns) only.
  *
  * OS-free, no dynamic memory: canbus_sim.c feeds it to the core in
- * simulated time.
+ * simulated time, the canbus process (--load) in wall time, both through
+ * canbus_load_feed_one().
  */
 #ifndef CANBUS_LOAD_H
 #define CANBUS_LOAD_H
@@ -24,10 +25,13 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "canbus_core.h"
 #include "canbus_frame.h"
 #include "fcc_types.h"
 
 #define CANBUS_LOAD_STREAMS_MAX 16u
+/* background nodes a bus may have */
+#define CANBUS_LOADS_MAX 4u
 /* 1e6: the whole bus */
 #define CANBUS_LOAD_PPM_MAX 1000000u
 
@@ -63,5 +67,15 @@ void canbus_load_take(canbus_load_t *l, canbus_frame_t *f);
 
 /* Stream i's identifier and the common period (false: no such stream). */
 bool canbus_load_stream(const canbus_load_t *l, uint32_t i, uint32_t *id, uint64_t *period_ns);
+
+/* The load of l[0..n-1] whose next frame is released first: its index, its
+ * release in *t; -1 when none is left. */
+int canbus_load_first(const canbus_load_t *l, uint32_t n, uint64_t *t);
+
+/* The frame of l[0..n-1] released first, when at or before t: queued at c on
+ * node[i] (the i-th load's node) at its release time, true; *dropped + 1
+ * when the node refused it (its queue full).  false: none released by t. */
+bool canbus_load_feed_one(canbus_load_t *l, uint32_t n, const uint32_t *node, canbus_core_t *c,
+                          uint64_t t, uint64_t *dropped);
 
 #endif /* CANBUS_LOAD_H */

@@ -17,7 +17,7 @@ void canbus_opts_usage(FILE *out)
     fprintf(out,
             "usage: canbus [--bitrate BPS] --node IFACE[:prio|:fifo] --node IFACE[:...] ...\n"
             "              [--error FIELDS] [--bus-off IFACE[@S]] [--babble FIELDS]\n"
-            "              [--epoch first-frame|FILE]\n"
+            "              [--load FIELDS] [--epoch first-frame|FILE]\n"
             "A classic CAN bus with wire time between SocketCAN endpoints, one a node: each\n"
             "IFACE is canbus's end of a node's pair (vxcan: the node uses the peer).  A frame a\n"
             "node sends waits in its controller's queue, wins arbitration when the bus is idle\n"
@@ -38,6 +38,10 @@ void canbus_opts_usage(FILE *out)
             "                         recessive bits, its queue dropped as SocketCAN does\n"
             "  --babble FIELDS        a babbling node of its own: id=ID, dlc=N (8), period=S\n"
             "                         (0, the default: back to back), from=S, to=S\n"
+            "  --load FIELDS          a background node of its own (canbus_load.h): periodic\n"
+            "                         8-byte frames filling util=U of the bus (0.5) on\n"
+            "                         identifiers spread over id=ID-ID (0x200-0x6FF), phases\n"
+            "                         and data from seed=N (0), released from=S to=S\n"
             "  --epoch WHEN           the faults' times S count from the first frame canbus\n"
             "                         carries (first-frame, the default), or from the\n"
             "                         instant in FILE (CLOCK_MONOTONIC ns), read on SIGUSR2\n"
@@ -168,7 +172,7 @@ int canbus_opts_parse(int argc, char **argv, canbus_opts_t *o, FILE *out, char *
         return fcc_opt_fail(err, err_len, "a bus needs at least 2 nodes, %u given (--node "
                             "IFACE, repeated; see --help)", o->nodes);
     }
-    if (o->nodes + o->faults.babbles > CANBUS_NODES_MAX) {
+    if (o->nodes + o->faults.babbles + o->faults.loads > CANBUS_NODES_MAX) {
         return fcc_opt_fail(err, err_len, "at most %u nodes and babbling nodes in all",
                             CANBUS_NODES_MAX);
     }

@@ -17,39 +17,89 @@ fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
                              const canbus_policy_t *policy, const char *const *name,
                              const canbus_load_cfg_t *load, uint32_t loads)
 {
-    if (s == NULL || policy == NULL || name == NULL || (load == NULL && loads > 0u)) {
+    char err[128];
+    return canbus_sim_setup(s, bitrate, nodes, policy, name, load, loads, NULL, 0u, err,
+                            sizeof err);
+}
+
+/* Node i's name in the statistics: the caller's, a load's, a babbling node's. */
+static const char *node_name(const canbus_sim_t *s, uint32_t i, const char *const *name,
+                             uint32_t loads)
+{
+    if (i < s->nodes) {
+        return name[i];
+    }
+    const uint32_t babbler = i - s->nodes - loads;
+    return i >= s->nodes + loads && babbler < s->faults.babbles ? canbus_babble_names[babbler]
+                                                                 : "load";
+}
+
+/* The caller's names for canbus_fault_opts_resolve(); FCC_ERR_ARG: NULL. */
+static fcc_status_t copy_names(canbus_sim_t *s, const char *const *name, uint32_t nodes)
+{
+    for (uint32_t i = 0u; i < nodes; ++i) {
+        if (name[i] == NULL) {
+            return FCC_ERR_ARG;
+        }
+        (void)snprintf(s->names[i], sizeof s->names[i], "%s", name[i]);
+    }
+    return FCC_OK;
+}
+
+fcc_status_t canbus_sim_setup(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
+                              const canbus_policy_t *policy, const char *const *name,
+                              const canbus_load_cfg_t *load, uint32_t loads,
+                              const char *const *opt, uint32_t opts, char *err, size_t len)
+{
+    if (s == NULL || policy == NULL || name == NULL || (load == NULL && loads > 0u) ||
+        (opt == NULL && opts > 0u) || err == NULL) {
         return FCC_ERR_ARG;
     }
-    if (loads > CANBUS_SIM_LOADS_MAX || nodes > CANBUS_NODES_MAX - loads) {
+    memset(s, 0, sizeof *s);
+    if (canbus_fault_opts_pairs(&s->faults, opt, opts, err, len) != FCC_OPT_DONE) {
+        return FCC_ERR_ARG;
+    }
+    const uint32_t extra = s->faults.babbles + s->faults.loads;
+    if (loads + s->faults.loads > CANBUS_SIM_LOADS_MAX || nodes > CANBUS_NODES_MAX ||
+        loads + extra > CANBUS_NODES_MAX - nodes) {
+        (void)snprintf(err, len, "at most %u loads and %u nodes in all", CANBUS_SIM_LOADS_MAX,
+                       CANBUS_NODES_MAX);
         return FCC_ERR_SIZE;
     }
-    memset(s, 0, sizeof *s);
-    for (uint32_t i = 0u; i < nodes + loads; ++i) {
+    const uint32_t all = nodes + loads + extra;
+    for (uint32_t i = 0u; i < all; ++i) {
         s->policy[i] = i < nodes ? policy[i] : CANBUS_PRIO;
     }
-    fcc_status_t st = canbus_core_init(&s->core, bitrate, nodes + loads, s->policy);
+    fcc_status_t st = copy_names(s, name, nodes);
+    if (st == FCC_OK) {
+        st = canbus_core_init(&s->core, bitrate, all, s->policy);
+    }
     if (st != FCC_OK) {
         return st;
     }
     canbus_stats_init(&s->stats, bitrate);
     s->nodes = nodes;
-    s->stats.nodes = nodes + loads;
-    for (uint32_t i = 0u; i < nodes + loads; ++i) {
-        if (i < nodes && name[i] == NULL) {
-            return FCC_ERR_ARG;
-        }
-        s->stats.node[i].iface = i < nodes ? name[i] : "load";
+    s->stats.nodes = all;
+    for (uint32_t i = 0u; i < all; ++i) {
+        s->stats.node[i].iface = node_name(s, i, name, loads);
         s->stats.node[i].policy = s->policy[i];
     }
-    for (uint32_t l = 0u; l < loads; ++l) {
+    for (uint32_t l = 0u; l < loads && st == FCC_OK; ++l) {
         st = canbus_load_init(&s->load[l], &load[l], s->core.bit_ns);
-        if (st != FCC_OK) {
-            return st;
-        }
         s->load_node[l] = nodes + l;
     }
-    s->loads = loads;
-    return FCC_OK;
+    if (st == FCC_OK &&
+        canbus_fault_opts_resolve(&s->faults, s->names, nodes, err, len) != FCC_OPT_DONE) {
+        st = FCC_ERR_ARG;
+    }
+    if (st == FCC_OK) {
+        st = canbus_fault_opts_arm(&s->faults, &s->core, nodes + loads, 0u, s->load + loads,
+                                   s->load_node + loads);
+    }
+    s->loads = loads + s->faults.loads;
+    s->stats.load = s->load;
+    s->stats.loads = s->loads;
+    return st;
 }
 
 /* SPEC §8: the worst-case length, interframe space included (a remote frame has no data). */
@@ -67,7 +117,11 @@ uint32_t canbus_sim_queue(canbus_sim_t *s, uint32_t node, const canbus_frame_t *
         return 0u;
     }
     for (uint32_t i = 0u; i < n; ++i) {
-        if (canbus_core_queue(&s->core, node, &f[i], t) != FCC_OK) {
+        const fcc_status_t st = canbus_core_queue(&s->core, node, &f[i], t);
+        if (st == FCC_ERR_IO) {
+            continue; /* bus-off: dropped (the core counts it) */
+        }
+        if (st != FCC_OK) {
             s->stats.node[node].lost += (uint64_t)(n - i);
             return i;
         }
@@ -140,20 +194,6 @@ uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw
     return n;
 }
 
-/* The load released first, at or before t: its index, or -1. */
-static int due_load(const canbus_sim_t *s, uint64_t t, uint64_t *when)
-{
-    int best = -1;
-    for (uint32_t i = 0u; i < s->loads; ++i) {
-        uint64_t r;
-        if (canbus_load_next(&s->load[i], &r) && r <= t && (best < 0 || r < *when)) {
-            best = (int)i;
-            *when = r;
-        }
-    }
-    return best;
-}
-
 /* Queues every load frame released by the core's next event (or by t): the
  * core never passes a release it was not given. */
 static void feed_loads(canbus_sim_t *s, uint64_t t)
@@ -165,16 +205,19 @@ static void feed_loads(canbus_sim_t *s, uint64_t t)
         if (canbus_core_next(&s->core, &ev, &is_eof) && ev < next) {
             next = ev;
         }
-        uint64_t when = 0u;
-        const int i = due_load(s, next, &when);
-        if (i < 0) {
+        if (!canbus_load_feed_one(s->load, s->loads, s->load_node, &s->core, next,
+                                  &s->stats.load_dropped)) {
             return;
         }
-        canbus_frame_t f;
-        canbus_load_take(&s->load[i], &f);
-        if (canbus_core_queue(&s->core, s->load_node[i], &f, when) != FCC_OK) {
-            ++s->load_dropped;
-        }
+    }
+}
+
+/* Fault confinement's events: the recoveries into the statistics (nobody else listens). */
+static void drain_events(canbus_sim_t *s)
+{
+    canbus_event_t e;
+    while (canbus_core_event(&s->core, &e)) {
+        canbus_stats_event(&s->stats, &s->core, &e);
     }
 }
 
@@ -194,7 +237,9 @@ uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_
             ev = t;
         }
         canbus_done_t d;
-        if (canbus_core_advance(&s->core, ev, &d)) {
+        const bool ended = canbus_core_advance(&s->core, ev, &d);
+        drain_events(s);
+        if (ended) {
             canbus_stats_frame(&s->stats, &d, s->core.bit_ns);
             if (d.node < s->nodes) {
                 out[n++] = d;
@@ -235,26 +280,11 @@ fcc_status_t canbus_sim_json(canbus_sim_t *s, const char *path)
     if (out == NULL) {
         return FCC_ERR_IO;
     }
+    drain_events(s);
+    canbus_stats_core(&s->stats, &s->core);
     s->stats.wall_s = (double)s->core.now / NS_PER_S;
     s->stats.cpu_s = 0.0;
-    s->stats.late_queued = s->core.late;
-    s->stats.pending = 0u;
-    for (uint32_t i = 0u; i < s->core.nodes; ++i) {
-        s->stats.pending += canbus_sim_pending(s, i);
-    }
     fcc_status_t st = canbus_stats_json(&s->stats, out);
-    fputs("{\"load_streams\": [", out);
-    const char *sep = "";
-    for (uint32_t l = 0u; l < s->loads; ++l) {
-        uint32_t id;
-        uint64_t period;
-        for (uint32_t i = 0u; canbus_load_stream(&s->load[l], i, &id, &period); ++i) {
-            fprintf(out, "%s{\"id\": %lu, \"period_ns\": %llu}", sep, (unsigned long)id,
-                    (unsigned long long)period);
-            sep = ", ";
-        }
-    }
-    fprintf(out, "], \"load_dropped\": %llu}\n", (unsigned long long)s->load_dropped);
     if (fclose(out) != 0) {
         st = FCC_ERR_IO;
     }

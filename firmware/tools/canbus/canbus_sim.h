@@ -6,7 +6,9 @@
  * a clock.  hil.rig.simbus loads it as a shared library (ctypes).
  *
  * Usage: canbus_sim_init() with the nodes' policies and the background
- * nodes (they get the indices after the caller's); then, in time order,
+ * nodes (they get the indices after the caller's), or canbus_sim_setup()
+ * with canbus's fault options too (the realtime process's own builder,
+ * canbus_fault_opts.c: error frames, bus-off, babbling nodes, loads); then, in time order,
  * canbus_sim_queue() a node's frames at the time it queues them and
  * canbus_sim_run() to a time: the frames of the other nodes (not the load's)
  * that ended by then, in order, each with its end of frame.  The load's
@@ -23,11 +25,12 @@
 #include <stdint.h>
 
 #include "canbus_core.h"
+#include "canbus_fault_opts.h"
 #include "canbus_load.h"
 #include "canbus_stats.h"
 #include "fcc_types.h"
 
-#define CANBUS_SIM_LOADS_MAX 4u
+#define CANBUS_SIM_LOADS_MAX CANBUS_LOADS_MAX
 #define CANBUS_SIM_WORST_MAX 32u
 /* sizeof (struct can_frame) of Linux SocketCAN: can_id (host order, flags in the top 3 bits),
  * len, 3 bytes of padding, 8 data bytes */
@@ -39,8 +42,9 @@ typedef struct {
     canbus_load_t load[CANBUS_SIM_LOADS_MAX];
     uint32_t load_node[CANBUS_SIM_LOADS_MAX];
     uint32_t loads;
-    uint64_t load_dropped;   /* load frames released while their node's queue was full */
     uint32_t nodes;          /* the nodes the caller named (the loads come after them) */
+    canbus_fault_opts_t faults;              /* canbus_sim_setup()'s options */
+    char names[CANBUS_NODES_MAX][16];        /* the caller's nodes' names, for the options */
     canbus_policy_t policy[CANBUS_NODES_MAX];
     uint32_t worst_id[CANBUS_SIM_WORST_MAX];  /* canbus_sim_worst() */
     uint32_t worst_ids;
@@ -61,9 +65,24 @@ fcc_status_t canbus_sim_init(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
                              const canbus_policy_t *policy, const char *const *name,
                              const canbus_load_cfg_t *load, uint32_t loads);
 
+/* canbus_sim_init() and the bus faults of canbus's command line
+ * (canbus_fault_opts.h: --error, --bus-off, --babble, --load), opts pairs of
+ * option name and value in opt[0..2*opts-1], a node named as in `name`,
+ * times from 0: the same builder as the realtime process's.  Their nodes
+ * (babbling, then loads) come after the loads of `load`.  FCC_ERR_ARG with
+ * one line in err (len bytes) for an option refused; FCC_ERR_SIZE also when
+ * the loads in all exceed CANBUS_SIM_LOADS_MAX.  The core's fault
+ * confinement is in the statistics (canbus_sim_json); nobody receives
+ * SocketCAN error frames (the caller's nodes are not sockets). */
+fcc_status_t canbus_sim_setup(canbus_sim_t *s, uint32_t bitrate, uint32_t nodes,
+                              const canbus_policy_t *policy, const char *const *name,
+                              const canbus_load_cfg_t *load, uint32_t loads,
+                              const char *const *opt, uint32_t opts, char *err, size_t len);
+
 /* n frames queued at node at time t: how many were (the first that does not
  * fit, a full queue or an invalid frame, and those after it are lost, counted
- * as the node's).  worst (NULL: none) marks the frames that take their
+ * as the node's; frames of a bus-off node count as queued: the core drops them,
+ * as SocketCAN does with the carrier off).  worst (NULL: none) marks the frames that take their
  * worst-case length, SPEC §8's g + 8n + 13 + floor((g + 8n - 1)/4) bits,
  * instead of their actual bits' (a frame whose bits the run does not
  * determine, e.g. an authenticator under a random session key: the model's
@@ -94,8 +113,8 @@ uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_
 /* Frames waiting at node, or on the bus from it. */
 uint32_t canbus_sim_pending(const canbus_sim_t *s, uint32_t node);
 
-/* The statistics as canbus_stats_json() writes them, then one more line:
- * {"load_streams": [{"id", "period_ns"}...], "load_dropped": n}.  wall_s is
+/* The statistics as canbus_stats_json() writes them (the loads' streams
+ * among them, "load_streams": [{"id", "period_ns"}...]).  wall_s is
  * the simulated time (so "load" is the bus's load over it), cpu_s 0.
  * FCC_ERR_IO: the file cannot be written. */
 fcc_status_t canbus_sim_json(canbus_sim_t *s, const char *path);

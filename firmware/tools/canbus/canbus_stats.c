@@ -105,6 +105,27 @@ static void put_confine(FILE *out, const canbus_node_stats_t *n)
     fputs("]}", out);
 }
 
+void canbus_stats_core(canbus_stats_t *s, const canbus_core_t *c)
+{
+    s->pending = c->busy ? 1u : 0u;
+    for (uint32_t i = 0u; i < c->nodes; ++i) {
+        s->pending += canbus_core_pending(c, i);
+        s->node[i].confine = *canbus_core_confine(c, i);
+    }
+    s->error_frames = c->error_frames;
+    s->babble_dropped = c->babble_dropped;
+    s->events_lost = c->events_lost;
+    s->late_queued = c->late;
+}
+
+void canbus_stats_event(canbus_stats_t *s, const canbus_core_t *c, const canbus_event_t *e)
+{
+    const canbus_confine_t *n = canbus_core_confine(c, e->node);
+    if (e->kind == CANBUS_EV_RESTARTED && n != NULL) {
+        canbus_stats_recovery(s, e->node, n->bus_off_at, e->t);
+    }
+}
+
 fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
 {
     const double busy = seconds(s->busy_ns);
@@ -134,8 +155,19 @@ fcc_status_t canbus_stats_json(const canbus_stats_t *s, FILE *out)
         fputc('}', out);
     }
     fprintf(out, "}, \"ids_untracked\": %llu, \"error_frames\": %llu, \"babble_dropped\": "
-            "%llu, \"events_lost\": %llu}\n", (unsigned long long)s->ids_untracked,
+            "%llu, \"events_lost\": %llu, \"load_streams\": [", (unsigned long long)s->ids_untracked,
             (unsigned long long)s->error_frames, (unsigned long long)s->babble_dropped,
             (unsigned long long)s->events_lost);
+    const char *sep = "";
+    for (uint32_t l = 0u; s->load != NULL && l < s->loads; ++l) {
+        uint32_t id;
+        uint64_t period;
+        for (uint32_t i = 0u; canbus_load_stream(&s->load[l], i, &id, &period); ++i) {
+            fprintf(out, "%s{\"id\": %lu, \"period_ns\": %llu}", sep, (unsigned long)id,
+                    (unsigned long long)period);
+            sep = ", ";
+        }
+    }
+    fprintf(out, "], \"load_dropped\": %llu}\n", (unsigned long long)s->load_dropped);
     return fflush(out) == 0 && !ferror(out) ? FCC_OK : FCC_ERR_IO;
 }

@@ -16,6 +16,7 @@
 
 #include "canbus_core.h"
 #include "canbus_hist.h"
+#include "canbus_load.h"
 #include "fcc_types.h"
 
 #define CANBUS_IDS_MAX 256u
@@ -59,6 +60,9 @@ typedef struct {
     uint64_t error_frames;    /* error frames on the bus (corrupted frames) */
     uint64_t babble_dropped;  /* babbling frames that found their node's queue full */
     uint64_t events_lost;     /* fault-confinement events the core could not keep */
+    const canbus_load_t *load; /* the background loads (their streams), NULL: none */
+    uint32_t loads;
+    uint64_t load_dropped;    /* load frames released while their node's queue was full */
 } canbus_stats_t;
 
 void canbus_stats_init(canbus_stats_t *s, uint32_t bitrate);
@@ -72,6 +76,14 @@ void canbus_stats_delivery(canbus_stats_t *s, uint64_t eof_ns, uint64_t delivere
 /* A bus-off node recovered at recovered_ns, having gone bus-off at bus_off_ns. */
 void canbus_stats_recovery(canbus_stats_t *s, uint32_t node, uint64_t bus_off_ns,
                            uint64_t recovered_ns);
+
+/* What the core counts, copied: every node's fault confinement, the frames
+ * pending (queued or on the bus), error frames, babbling frames dropped,
+ * events lost, frames queued late. */
+void canbus_stats_core(canbus_stats_t *s, const canbus_core_t *c);
+
+/* A fault-confinement event of the core: a recovery is counted. */
+void canbus_stats_event(canbus_stats_t *s, const canbus_core_t *c, const canbus_event_t *e);
 
 /* Frames lost in all (every node). */
 uint64_t canbus_stats_lost(const canbus_stats_t *s);

@@ -10,11 +10,15 @@ import dataclasses
 import numpy as np
 import pytest
 from hil.bus import SIM_NODES, FrameCodec
+from hil.bus.dbc import load as load_dbc
 from hil.bus.busload import frame_bits, worst_case_bits
 from hil.bus.rawcan import CAN_FRAME, pack_frame
 from hil.results.busstats import load_frames
 from hil.rig.lockstep_wire import WireSteps
+from hil.rig.errors import RigError
 from hil.rig.simbus import _DONE, Load, SimBus, _Done
+from hil.rig.wirefaults import SEED_STRIDE, canbus_args
+from hil.scenario.faults import BusError, BusLoad, BusOff
 from hil.scenario.file import load_default_scenario
 from hil.sim import missile
 from hil.sim.drivers import MissileDriver, StepIO
@@ -148,3 +152,95 @@ def test_the_missile_applies_its_command_at_its_end_of_frame() -> None:
 def _unpack(raw: bytes) -> tuple[int, bytes]:
     fid, dlc, data = CAN_FRAME.unpack(raw)
     return fid, data[:dlc]
+
+
+def test_a_bus_error_delays_the_step_by_the_retransmission_time() -> None:
+    """bus_error on the gyro (canbus's --error, given to the model as the realtime process takes
+    it): the corrupted frame leaves the bus idle (bit + 1 + 6 + 8 + 3) bits after its SOF,
+    bit = its CRC delimiter (its length less 13: docs/bus-timing.md), and is sent again; every
+    frame behind it (here the command, which fcc queues at the gyro's end) ends that much later."""
+    args = canbus_args([BusError(start=0.0, duration=0.002, frame="MSL_RATE_GYRO", count=1)],
+                       {"sim": "sim", "fcc": "fcc"}, load_dbc())
+    gyro = (load_dbc().by_name("MSL_RATE_GYRO").frame_id, bytes(8))
+
+    def step(faults: list[str]) -> tuple[float, dict]:
+        bus = SimBus(500_000, faults=faults)
+        bus.queue("sim", [pack_frame(*gyro)], 0.0)
+        (g,) = bus.run(0.01)
+        bus.queue("fcc", [pack_frame(*CMD)], g.t_eof)
+        (c,) = bus.run(0.02)
+        return c.t_eof, bus.stats()
+
+    clean, _ = step([])
+    hit, stats = step(args)
+    bits = frame_bits(*gyro)
+    assert hit - clean == pytest.approx((bits - 13 + 1 + 6 + 8 + 3) / 500_000, abs=1e-12)
+    assert stats["error_frames"] == 1
+    nodes = {n["iface"]: n for n in stats["nodes"]}
+    assert (nodes["sim"]["tx_errors"], nodes["fcc"]["rx_errors"]) == (1, 1)
+
+
+def test_bus_off_of_fcc_recovers_after_6_plus_128_x_11_bits() -> None:
+    """bus_off of fcc: its frames corrupted until TEC > 255 (32 attempts), its queue dropped,
+    back after the error flag (6 bits) and 128 x 11 recessive bits on an idle bus."""
+    args = canbus_args([BusOff(start=0.001, node="fcc")], {"sim": "sim", "fcc": "fcc"}, load_dbc())
+    bus = SimBus(250_000, faults=args)
+    assert bus.queue("fcc", [pack_frame(*CMD)] * 3, 0.001) == 3
+    assert bus.run(0.05) == []                       # all 32 attempts corrupted, then bus-off
+    assert bus.pending("fcc") == 0
+    assert bus.queue("fcc", [pack_frame(*CMD)], 0.05) == 1   # recovered: on the bus again
+    (e,) = bus.run(0.06)
+    assert e.node == "fcc"
+    stats = bus.stats()
+    fcc = {n["iface"]: n for n in stats["nodes"]}["fcc"]
+    assert fcc["bus_off"] == 1 and fcc["tx_errors"] == 32 and fcc["bus_off_dropped"] == 3
+    assert fcc["recovery_s"] == [pytest.approx((6 + 128 * 11) / 250_000, abs=1e-12)]
+    assert stats["lost"] == 0 and stats["error_frames"] == 32
+
+
+def test_the_model_refuses_a_bad_fault_option_in_one_line() -> None:
+    with pytest.raises(RigError, match="nobody"):
+        SimBus(500_000, faults=["--bus-off", "nobody"])
+
+
+def test_bus_load_is_canbus_s_load_option() -> None:
+    f = BusLoad(start=1.0, duration=2.0, utilisation=0.25, id_lo=0x300, id_hi=0x30F)
+    assert canbus_args([f], {}, load_dbc(), seed=5) == [
+        "--load", f"util=0.25,id=0x300-0x30F,seed={5 * SEED_STRIDE},from=1,to=3"]
+    # the model takes the option: the same streams as the load it describes
+    bus = SimBus(500_000, faults=canbus_args([f], {}, load_dbc(), seed=5))
+    assert [s["id"] for s in bus.stats()["load_streams"]] == list(range(0x300, 0x310))
+
+
+def _first_step(bitrate: int, faults: list[str]) -> tuple[MissileDriver, list[bytes]]:
+    """The missile's first step through the lockstep rig's model (WireSteps), fcc's command
+    queued when its inputs have ended."""
+    sc = load_default_scenario("missile")
+    sc = sc.replace(lqg=dataclasses.replace(sc.lqg, period=0.05))
+    driver = MissileDriver(sc, FrameCodec(nodes=SIM_NODES))
+    wire = WireSteps(SimBus(bitrate, faults=faults))
+    wire.reach(0.0)
+    sent = [f.raw for f in driver.frames_for_step()] + [pack_frame(*TICK)]
+    t_in = wire.inputs(sent, 0.0, 0.05)
+    cmd = _command(FrameCodec(nodes="FCC"), 0, 37)
+    io = StepIO(acked=True, frames=[cmd])
+    wire.answer(io, [(pack_frame(*cmd), 1)], t_in)
+    driver.end_step(io)
+    wire.reach(0.05)
+    driver.finish()
+    return driver, sent
+
+
+def test_a_gyro_error_delays_the_missile_s_command_by_the_retransmission_time() -> None:
+    """The lockstep path (WireSteps, the missile driver) with bus_error on MSL_RATE_GYRO, once:
+    the command comes (bit + 1 + 6 + 8 + 3) bit times later than without, bit = the gyro's CRC
+    delimiter, its length (hil.bus.busload.frame_bits of the bytes the simulator sent) less 13."""
+    bitrate = 250_000
+    error = canbus_args([BusError(start=0.0, duration=0.01, frame="MSL_RATE_GYRO", count=1)],
+                        {"sim": "sim", "fcc": "fcc"}, load_dbc())
+    clean, sent = _first_step(bitrate, [])
+    hit, _ = _first_step(bitrate, error)
+    gyro_id = load_dbc().by_name("MSL_RATE_GYRO").frame_id
+    (gyro,) = [f for f in (_unpack(r) for r in sent) if f[0] == gyro_id]
+    retransmission = (frame_bits(*gyro) - 13 + 1 + 6 + 8 + 3) / bitrate
+    assert hit.cmd_delay[0] - clean.cmd_delay[0] == pytest.approx(retransmission, abs=1e-12)

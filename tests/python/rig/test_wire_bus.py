@@ -10,6 +10,7 @@ cannot bound are reported so.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +20,11 @@ from hil.bus import load
 from hil.bus.busload import nominal_bits
 from hil.cli.usage import EXIT_FAILED, EXIT_SYNC, EXIT_USAGE
 from hil.results.busstats import ABOVE, EVENT, JITTER, LATE, UNBOUNDED, WITHIN, bus_failure, bus_section
+from hil.rig.simbus import check_bus_load
+from hil.rig.wirefaults import canbus_faults
+from hil.scenario.faults import BusError, BusLoad
 from hil.scenario.file import load_default_scenario
+from hil.util.errors import InputError
 from rig_helpers import cli
 
 SPEC = load()
@@ -133,7 +138,7 @@ def test_bus_section_judges_fifo_queued_frames_too():
 
 @pytest.mark.parametrize("argv, said", [
     (("--bus", "copper"), "invalid choice"),
-    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus in lockstep"),
+    (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus (--bus wire"),
     (("--bus", "wire", "--mode", "realtime", "--interface", "virtual"), "SocketCAN only"),
     (("--bus", "wire", "--target", "qemu-m4f"), "fcc on the host only"),
 ])
@@ -141,3 +146,25 @@ def test_bad_bus_is_a_usage_error(argv, said, tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "missile", *argv, "--out", str(tmp_path / "run"))
     assert rc == EXIT_USAGE and said in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize("mode", ["lockstep", "realtime"])
+def test_bus_load_needs_the_wire_in_either_mode(mode: str) -> None:
+    """bus_load flies on the wire-time bus in both time bases (the model's generator in
+    simulated time, canbus --load in wall time); on the ideal bus it is a usage error."""
+    sc = load_default_scenario("missile")
+    sc = sc.replace(faults=(*sc.faults, BusLoad(start=0.0, duration=math.inf)))
+    check_bus_load([sc], mode, "wire")
+    with pytest.raises(InputError, match="needs the wire-time bus"):
+        check_bus_load([sc], mode, "ideal")
+
+
+def test_a_realtime_load_ends_with_the_flight() -> None:
+    """canbus's load stops at the flight's end (the rig drains the bus before it stops canbus);
+    one that starts after it is not flown; the wire faults go as they are."""
+    sc = load_default_scenario("missile")
+    error = BusError(start=1.0, duration=1.0, frame="MSL_RATE_GYRO")
+    sc = sc.replace(faults=(BusLoad(start=1.0, duration=math.inf), BusLoad(start=sc.duration, duration=1.0),
+                            error))
+    load, wire = canbus_faults([sc])
+    assert isinstance(load, BusLoad) and (load.start, load.end) == (1.0, sc.duration) and wire == error

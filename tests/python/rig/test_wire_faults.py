@@ -104,3 +104,26 @@ def test_a_babbling_node_starves_the_frames_above_it_and_fails_no_bound(tmp_path
     assert bus["error_frames"] == 0 and ctrl["protocol_errors"] == "0"
     assert s["firmware"]["rejected"]["unknown_id"] >= babbler["sent"] * 0.9   # fcc saw them all
     assert rc in (0, EXIT_SYNC), err
+
+
+def test_background_load_in_realtime_is_carried_and_analysed(tmp_path, capsys):
+    """bus_load 0.5 in a realtime flight: canbus's --load node (the lockstep model's generator,
+    firmware/tools/canbus/canbus_load.c) sends its periodic streams in wall time from the
+    flight's start; the streams are in the analysis (the bound), and the judged frames stay
+    within it (or within the bound with the realtime sender's jitter)."""
+    rc, err, s, ctrl = faulty_run(tmp_path, capsys, "bus_load:start=0,duration=inf,utilisation=0.5")
+    bus = s["bus"]
+    load = bus["nodes"]["load"]
+    # identifiers the DBC does not name: under canbus's key
+    loads = {n: f for n, f in bus["frames"].items() if n.startswith("0x") and 0x200 <= int(n, 16) <= 0x6FF}
+    assert len(loads) == 16 and all(f["wcrt_s"] is not None for f in loads.values())   # 16 streams
+    # 16 streams at one period filling 50 % with the 135-bit worst case, over the flight (the
+    # load's window is clipped to it: measured 7408 frames in 4 s, 4 s / 8.64 ms x 16 = 7407)
+    period = 16 * 135 / 500_000 / 0.5
+    assert 16 * int(4.0 / period) <= load["sent"] <= 16 * (int(4.0 / period) + 1), load
+    assert 0.5 < bus["utilisation"] < 1.0 and bus["load"] > 0.3, bus
+    judged = {n: f for n, f in bus["frames"].items() if f["queue"] == "prio" and f["wcrt_s"] is not None}
+    assert {"MSL_RATE_GYRO", "MSL_ACCELEROMETER"} <= set(judged)
+    assert all(f["verdict"] in (WITHIN, JITTER) for f in judged.values()), judged
+    assert bus["lost"] == 0 and bus["error_frames"] == 0 and ctrl["protocol_errors"] == "0"
+    assert rc in (0, EXIT_SYNC), err

@@ -93,10 +93,10 @@ def jitter_bound(frames: Sequence[Frame], frame_id: int, bitrate: int, jitter_s:
 
 
 def load_frames(stats: Mapping[str, Any]) -> list[Frame]:
-    """The background nodes' streams of a lockstep run on the bus model (hil.rig.simbus:
-    "load_streams"), as the analysis takes them: 8-byte frames, deadline = period.  One
-    identifier of two nodes (never at the same time: hil.rig.simbus.check_bus_load) at the
-    shorter period."""
+    """The background nodes' streams of a run on the wire-time bus ("load_streams" of canbus's
+    statistics line, realtime --load or the lockstep model's, hil.rig.simbus), as the analysis
+    takes them: 8-byte frames, deadline = period.  One identifier of two nodes (never at the
+    same time: hil.rig.simbus.check_bus_load) at the shorter period."""
     periods: dict[int, Fraction] = {}
     for s in stats.get("load_streams", ()):
         p = Fraction(s["period_ns"], 10**9)

@@ -22,7 +22,7 @@ from hil.rig.config import FCC_RT_PRIORITY, RigConfig
 from hil.rig.errors import RigError
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.rig.status import StatusCounters
-from hil.rig.wirefaults import refusal
+from hil.rig.wirefaults import canbus_faults, refusal
 from hil.scenario.file import Scenario
 from hil.targets.registry import target
 
@@ -49,7 +49,7 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
                  prepare: Callable[[RigSession], object] | None = None) -> RigSession:
     """The rig session of a command: its target, its bus, the device's configuration (and the
     wire-time bus's faults: refused on another bus, hil.rig.wirefaults)."""
-    faults = tuple(f for sc in scenarios for f in sc.wire_faults)
+    faults = canbus_faults(scenarios)
     why = refusal(faults, cfg.bus)
     if why:
         raise RigError(why)

@@ -48,6 +48,8 @@ from hil.bus.rawcan import CAN_FRAME, enlarge_receive_buffer, open_raw
 from hil.rig.errors import RigError
 from hil.bus.canif import open_error
 from hil.rig.simbus import Ended, SimBus, loads, ns
+from hil.rig.wirebus import NODES
+from hil.rig.wirefaults import canbus_args
 from hil.rig.simtime import WALL_PACED
 from hil.sim.drivers import AppDriver, StepIO
 
@@ -72,9 +74,10 @@ def _wall_paced(raw: bytes) -> bool:
 
 @dataclass(slots=True)
 class _Receipt:
-    """One frame of fcc's on the bus (the ordinal-th it queued), and the frames of its answer
-    that it completes."""
+    """One frame of fcc's on the bus (the ordinal-th it queued at t_queued ns), and the frames
+    of its answer that it completes."""
 
+    t_queued: int
     ordinal: int
     io: StepIO
     first: int
@@ -90,7 +93,11 @@ class WireSteps:
         self._side = side
         self._batch = BatchReceiver(side.fileno()) if side is not None and BatchReceiver.available() else None
         self._inflight: deque[_Receipt] = deque()
-        self._queued = self._ended = 0   # fcc's frames queued on the model, ended
+        # fcc's frames queued on the model at one time, ended: (time in ns, how many).  A FIFO
+        # ends a time's frames in order, and a bus-off drops a suffix of them (its queue, then
+        # what it queues while off): the k-th to end is the k-th queued then
+        self._queued = (-1, 0)
+        self._ended = (-1, 0)
         self._t = 0.0
 
     @classmethod
@@ -98,7 +105,9 @@ class WireSteps:
                    side_ids: Collection[int]) -> WireSteps:
         """The model of one flight; fcc's frames side_ids, which the runner does not read,
         from their own socket on iface."""
-        bus = SimBus(bitrate, loads(drivers), sorted(UNDETERMINED))
+        wire = [f for d in drivers for f in d.scenario.faults if f.level == "wire"]
+        bus = SimBus(bitrate, loads(drivers), sorted(UNDETERMINED),
+                     canbus_args(wire, {n: n for n in NODES}, load_dbc()))
         if not side_ids:
             return cls(bus)
         try:
@@ -148,13 +157,15 @@ class WireSteps:
         io.arrivals = [math.inf] * len(io.frames)
         received = [(raw, 0) for raw in self._drain()] + \
             [(raw, count) for raw, count in received if not _wall_paced(raw)]
+        at = ns(t_in + FCC_COMPUTE_S)
         n = self.bus.queue("fcc", [raw for raw, _ in received], t_in + FCC_COMPUTE_S)
+        base = self._queued[1] if self._queued[0] == at else 0
         first = 0
         for i, (_, count) in enumerate(received[:n]):
             if count:   # fcc's FIFO ends its frames in the order queued: the i-th from now
-                self._inflight.append(_Receipt(self._queued + i, io, first, count))
+                self._inflight.append(_Receipt(at, base + i, io, first, count))
                 first += count
-        self._queued += n
+        self._queued = (at, base + n)
 
     def _drain(self) -> list[bytes]:
         """What the side socket holds (nothing blocks: fcc sent it before its ACK), a
@@ -181,8 +192,13 @@ class WireSteps:
         for e in ended:
             if e.node != "fcc":
                 continue
-            while inflight and inflight[0].ordinal == self._ended:
+            at = ns(e.t_queued)
+            k = self._ended[1] + 1 if self._ended[0] == at else 0
+            self._ended = (at, k)
+            # receipts before this frame whose frames never ended (a bus-off dropped them):
+            # their frames never arrive (arrival inf)
+            while inflight and (inflight[0].t_queued, inflight[0].ordinal) <= (at, k):
                 r = inflight.popleft()
-                for i in range(r.first, r.first + r.count):
-                    r.io.arrivals[i] = e.t_eof
-            self._ended += 1
+                if (r.t_queued, r.ordinal) == (at, k):
+                    for i in range(r.first, r.first + r.count):
+                        r.io.arrivals[i] = e.t_eof

@@ -5,7 +5,10 @@ C core as the realtime `canbus` process) driven by the lockstep rig through ctyp
 lockstep the frames still travel on vcan as they always did (the protocol is unchanged), and
 this model says when each would have ended on a real bus.  The nodes are those of
 hil.rig.wirebus (the simulator's priority-ordered mailboxes, fcc's FIFO), plus a background
-node per `bus_load` fault (firmware/tools/canbus/canbus_load.h).  Times are whole nanoseconds
+node per `bus_load` fault (firmware/tools/canbus/canbus_load.h) and the wire faults as canbus's
+options (hil.rig.wirefaults: error frames, bus-off, babbling nodes, built by the realtime
+process's own code; their fault confinement in the statistics, no SocketCAN error frame to fcc:
+its frames travel on vcan).  Times are whole nanoseconds
 of simulated time, so the same calls give the same times (deterministic).
 
     bus = SimBus(250_000, loads)
@@ -93,9 +96,11 @@ _ENDED = struct.Struct("<I?11xI4xQ8xQ")
 def _library() -> ctypes.CDLL:
     lib = ctypes.CDLL(str(tool(LIBRARY)))
     lib.canbus_sim_size.restype = ctypes.c_size_t
-    lib.canbus_sim_init.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
-                                    ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p),
-                                    ctypes.POINTER(_LoadCfg), ctypes.c_uint32]
+    lib.canbus_sim_setup.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
+                                     ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p),
+                                     ctypes.POINTER(_LoadCfg), ctypes.c_uint32,
+                                     ctypes.POINTER(ctypes.c_char_p), ctypes.c_uint32, ctypes.c_char_p,
+                                     ctypes.c_size_t]
     lib.canbus_sim_queue_raw.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_char_p,
                                          ctypes.c_uint32, ctypes.c_uint64]
     lib.canbus_sim_queue_raw.restype = ctypes.c_uint32
@@ -118,9 +123,12 @@ def ns(t: float) -> int:
 class SimBus:
     """One flight's bus model (see the module docstring)."""
 
-    def __init__(self, bitrate: int, loads: Sequence[Load] = (), worst: Sequence[int] = ()) -> None:
+    def __init__(self, bitrate: int, loads: Sequence[Load] = (), worst: Sequence[int] = (),
+                 faults: Sequence[str] = ()) -> None:
         """worst: the 11-bit identifiers whose frames take their worst-case length (SPEC §8),
-        not their actual bits' (bits the run does not determine, e.g. a random key's MAC)."""
+        not their actual bits' (bits the run does not determine, e.g. a random key's MAC);
+        faults: canbus's fault options (hil.rig.wirefaults.canbus_args, nodes named as in
+        NODES), their times from 0."""
         self.bitrate = bitrate
         self._lib = _library()
         self._sim = ctypes.create_string_buffer(self._lib.canbus_sim_size())
@@ -132,12 +140,15 @@ class SimBus:
             _LoadCfg(load.id_lo, load.id_hi, max(1, round(load.utilisation * 1e6)), ns(load.start),
                      ns(load.end) if load.end != float("inf") else 2**63, load.seed & 0xFFFFFFFFFFFFFFFF)
             for load in loads))
-        st = self._lib.canbus_sim_init(self._sim, bitrate, len(self.names), policy, self._names_c, cfgs,
-                                       len(loads))
+        opts = (ctypes.c_char_p * len(faults))(*(a.encode() for a in faults))
+        err = ctypes.create_string_buffer(256)
+        st = self._lib.canbus_sim_setup(self._sim, bitrate, len(self.names), policy, self._names_c, cfgs,
+                                        len(loads), opts, len(faults) // 2, err, len(err))
         if st != 0:
+            why = err.value.decode(errors="replace") or (
+                f"status {st}: 1e9 must be a whole multiple of the bit rate, at most {LOADS_MAX} loads")
             raise RigError(f"--bus wire: the bus model refused {bitrate} bit/s with {len(loads)} background "
-                           f"load(s) (status {st}: 1e9 must be a whole multiple of the bit rate, at most "
-                           f"{LOADS_MAX} loads)")
+                           f"load(s) and faults {' '.join(faults) or 'none'}: {why}")
         ids = (ctypes.c_uint32 * len(worst))(*worst)
         if self._lib.canbus_sim_worst(self._sim, ids, len(worst)) != 0:
             raise RigError(f"--bus wire: {len(worst)} identifiers at their worst-case length: too many")
@@ -174,32 +185,30 @@ class SimBus:
         return int(self._lib.canbus_sim_pending(self._sim, self._index[node]))
 
     def stats(self) -> dict:
-        """canbus's statistics line (firmware/tools/canbus/canbus_stats.h), with the load's
-        streams ("load_streams": [{"id", "period_ns"}]) and the load frames its full queue
-        dropped ("load_dropped")."""
+        """canbus's statistics line (firmware/tools/canbus/canbus_stats.h: the load's streams
+        "load_streams": [{"id", "period_ns"}] and the load frames its full queue dropped,
+        "load_dropped", among them)."""
         with tempfile.TemporaryDirectory(prefix="hil-simbus-") as tmp:
             path = Path(tmp) / "stats.json"
             if self._lib.canbus_sim_json(self._sim, str(path).encode()) != 0:
                 raise RigError(f"--bus wire: the bus model could not write its statistics to {path}")
-            lines = path.read_text().splitlines()
-        stats = json.loads(lines[0])
-        stats.update(json.loads(lines[1]))
+            stats = json.loads(path.read_text())
         stats["time_base"] = "simulated"
         return stats
 
 
 def check_bus_load(scenarios: Sequence[Scenario], mode: str, bus: str) -> None:
-    """A bus_load fault needs the bus model in simulated time: InputError (exit 2) otherwise
-    (the realtime canbus process has no load node yet; the ideal bus has no time to fill); two
-    of them active at once may not share identifiers; at most LOADS_MAX of them."""
+    """A bus_load fault needs the wire-time bus (the model in simulated time, or the realtime
+    canbus process's --load): InputError (exit 2) otherwise (the ideal bus has no time to
+    fill); two of them active at once may not share identifiers; at most LOADS_MAX of them."""
     seen: list[BusLoad] = []
     for sc in scenarios:
         for f in sc.faults:
             if not isinstance(f, BusLoad):
                 continue
-            if (mode, bus) != ("lockstep", "wire"):
+            if bus != "wire":
                 raise InputError(f"fault {f.describe()!r}: background load needs the wire-time bus "
-                                 f"in lockstep (--mode lockstep --bus wire)")
+                                 f"(--bus wire; this run's: {bus}, --mode {mode})")
             for g in seen:  # two nodes sending one identifier at once: an error on a real bus
                 if f.id_lo <= g.id_hi and g.id_lo <= f.id_hi and f.start < g.end and g.start < f.end:
                     raise InputError(f"faults {g.describe()!r} and {f.describe()!r}: two background "

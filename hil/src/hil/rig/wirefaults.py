@@ -1,17 +1,26 @@
-"""A scenario's wire-level faults (hil.scenario.faults: bus_error, babbling_node, bus_off) as
-canbus's options (firmware/tools/canbus: --error, --babble, --bus-off; docs/bus-timing.md).
+"""A scenario's faults of the wire-time bus (hil.scenario.faults: bus_error, babbling_node,
+bus_off, bus_load) as canbus's options (firmware/tools/canbus: --error, --babble, --bus-off,
+--load; docs/bus-timing.md), for both time bases: the realtime canbus process takes them on its
+command line, the lockstep rig's model (hil.rig.simbus) the same options through
+canbus_sim_setup, so that one C builder (canbus_fault_opts.c) makes the faults of both.
 
-Their times count from the flight's start: canbus is given `--epoch FILE` and, once the
-realtime flight knows its first instant, the rig writes that instant there (CLOCK_MONOTONIC
-nanoseconds, what Python's time.monotonic() reads on Linux) and signals canbus (SIGUSR2).
+Their times count from the flight's start: in lockstep the model's time 0; in realtime canbus
+is given `--epoch FILE` and, once the flight knows its first instant, the rig writes that
+instant there (CLOCK_MONOTONIC nanoseconds, what Python's time.monotonic() reads on Linux) and
+signals canbus (SIGUSR2).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 
 from hil.bus.dbc import BusSpec
-from hil.scenario.faults import BabblingNode, BusError, BusOff, Fault
+from hil.scenario.faults import BabblingNode, BusError, BusLoad, BusOff, Fault
+from hil.scenario.file import Scenario
+
+#: a background load's seed: the scenario's, mixed with the fault's place (hil.rig.simbus.loads)
+SEED_STRIDE = 1_000_003
 
 
 def _window(f: Fault) -> str:
@@ -26,10 +35,25 @@ def _ids(spec: BusSpec, frame: str) -> str:
     return f"0x{m.frame_id:X}"
 
 
-def canbus_args(faults: Sequence[Fault], ends: Mapping[str, str], spec: BusSpec) -> list[str]:
-    """The options for these faults; `ends` is canbus's interface of each rig node."""
+def canbus_faults(scenarios: Sequence[Scenario]) -> tuple[Fault, ...]:
+    """The faults canbus flies: the wire level's, and the background loads within the flight
+    (a load that went on after it would keep the bus from draining: the rig waits for canbus
+    to carry nothing more before it stops it)."""
+    out: list[Fault] = []
+    for sc in scenarios:
+        for f in sc.faults:
+            if isinstance(f, BusLoad) and f.start < sc.duration:
+                out.append(dataclasses.replace(f, duration=min(f.end, sc.duration) - f.start))
+            elif f.level == "wire":
+                out.append(f)
+    return tuple(out)
+
+
+def canbus_args(faults: Sequence[Fault], ends: Mapping[str, str], spec: BusSpec, seed: int = 0) -> list[str]:
+    """The options for these faults; `ends` is canbus's interface of each rig node; a load's
+    phases and data from seed and its place in faults."""
     args: list[str] = []
-    for f in faults:
+    for i, f in enumerate(faults):
         if isinstance(f, BusError):
             fields = [f"id={_ids(spec, f.frame)}", _window(f), f"every={f.every}"]
             fields += [f"node={ends[f.node]}"] if f.node != "*" else []
@@ -41,6 +65,9 @@ def canbus_args(faults: Sequence[Fault], ends: Mapping[str, str], spec: BusSpec)
             args += ["--babble", f"id=0x{f.can_id:X},dlc={f.dlc},period={period:.9g},{_window(f)}"]
         elif isinstance(f, BusOff):
             args += ["--bus-off", f"{ends[f.node]}@{f.start:.9g}"]
+        elif isinstance(f, BusLoad):
+            args += ["--load", f"util={f.utilisation:.9g},id=0x{f.id_lo:X}-0x{f.id_hi:X},"
+                     f"seed={(seed * SEED_STRIDE + i) & 0xFFFFFFFFFFFFFFFF},{_window(f)}"]
     return args
 
 

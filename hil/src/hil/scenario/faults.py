@@ -279,10 +279,11 @@ class Silence(BusFault):
 
 @dataclass(frozen=True, kw_only=True)
 class BusLoad(BusFault):
-    """Background traffic from another node on the wire-time bus (lockstep --bus wire):
-    periodic 8-byte frames on identifiers spread evenly over [id_lo, id_hi] (at most 16 of
-    them), filling `utilisation` of the bus with their worst-case frame times; phases and data
-    from the scenario's seed (firmware/tools/canbus/canbus_load.h)."""
+    """Background traffic from another node on the wire-time bus (--bus wire, lockstep or
+    realtime): periodic 8-byte frames on identifiers spread evenly over [id_lo, id_hi] (at most
+    16 of them), filling `utilisation` of the bus with their worst-case frame times; phases and
+    data from the scenario's seed in lockstep, from the fault's place in realtime
+    (firmware/tools/canbus/canbus_load.h)."""
 
     kind: ClassVar[str] = "bus_load"
     utilisation: float = spec(0.5, gt=0.0, le=1.0)

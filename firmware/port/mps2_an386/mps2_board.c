@@ -62,10 +62,12 @@ extern uint32_t mps2_stack_bottom, mps2_stack_top, mps2_bootcfg_start;
 /* ---- state (one board) ----------------------------------------------------------- */
 
 /* When a line's first byte came: its index in the receive ring's free-running
- * count, and the clock's low 32 bits (ticks) when the interrupt took it. */
+ * count, and the clock's low 32 bits (ticks) when the interrupt took it.
+ * Volatile: written by the interrupt before it moves stamp_head, and neither
+ * side may reorder its accesses across that index. */
 typedef struct {
-    uint32_t index;
-    uint32_t elapsed;
+    volatile uint32_t index;
+    volatile uint32_t elapsed;
 } line_stamp_t;
 
 typedef struct {

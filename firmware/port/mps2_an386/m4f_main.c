@@ -46,6 +46,8 @@ typedef struct {
     uint32_t slices_forced;    /* slices run without room (DESIGN_WAIT_MAX_US) */
     uint64_t event_last_us[FCC_EV_COUNT];
     uint32_t event_suppressed[FCC_EV_COUNT];
+    uint32_t parse_wait_worst_us; /* frames: their line's arrival to their parse */
+    uint64_t parse_wait_sum_us;
 } image_t;
 
 static image_t g_img;
@@ -58,13 +60,21 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     return fcc_slcan_dev_send(&img->link, frame);
 }
 
+/* A frame's receive stamp is its line's first byte's arrival (the receive
+ * interrupt's), not the time this loop came to parse it: a control step or a
+ * design slice that runs meanwhile must not move a SYNC's stamp (time sync). */
 static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
 {
     image_t *img = ctx;
     uint8_t b = 0u;
-    for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b) != 0; ++i) {
+    uint64_t line_rx_us = 0u;
+    for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b, &line_rx_us) != 0; ++i) {
         if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
-            frame->t_us = mps2_now_us();
+            frame->t_us = line_rx_us;
+            const uint64_t now = mps2_now_us();
+            const uint32_t wait = (now > line_rx_us) ? (uint32_t)(now - line_rx_us) : 0u;
+            img->parse_wait_sum_us += wait;
+            img->parse_wait_worst_us = (wait > img->parse_wait_worst_us) ? wait : img->parse_wait_worst_us;
             return FCC_OK;
         }
     }
@@ -223,6 +233,19 @@ static void summary(const image_t *img)
         {"sleeps", b.sleeps},
     };
     summary_line("board", board, N_KV(board));
+    /* Where a received frame's time went: on the line (first byte to CR, as the
+     * receive interrupt saw them) and in the image (its line's arrival to its
+     * parse: the receive stamp no longer includes this). */
+    const uint32_t frames = (s->frames_rx != 0u) ? s->frames_rx : 1u;
+    const kv_t rx[] = {
+        {"lines", b.lines},
+        {"line_us_mean", (b.lines != 0u) ? b.line_us_sum / b.lines : 0u},
+        {"line_us_worst", b.line_us_worst},
+        {"parse_wait_us_mean", img->parse_wait_sum_us / frames},
+        {"parse_wait_us_worst", img->parse_wait_worst_us},
+        {"stamps_lost", b.stamps_lost},
+    };
+    summary_line("rx_timing", rx, N_KV(rx));
 }
 
 static void refuse(const char *what, const char *detail)

@@ -52,10 +52,23 @@ typedef struct {
  * file or null backend; a stuck pty must not stop the flight computer). */
 #define LOG_POLL_LIMIT 100000u
 
+/* SLCAN line terminators: the byte after one begins a line. */
+#define LINK_CR 0x0Du
+#define LINK_LF 0x0Au
+
 #define MPS2_STACK_PAINT 0xA5A5A5A5u
 extern uint32_t mps2_stack_bottom, mps2_stack_top, mps2_bootcfg_start;
 
 /* ---- state (one board) ----------------------------------------------------------- */
+
+/* When a line's first byte came: its index in the receive ring's free-running
+ * count, and the clock's low 32 bits (ticks) when the interrupt took it.
+ * Volatile: written by the interrupt before it moves stamp_head, and neither
+ * side may reorder its accesses across that index. */
+typedef struct {
+    volatile uint32_t index;
+    volatile uint32_t elapsed;
+} line_stamp_t;
 
 typedef struct {
     uint32_t last_elapsed;                      /* clock extension (main loop only) */
@@ -63,6 +76,14 @@ typedef struct {
     uint8_t rx[MPS2_LINK_RX_RING];
     volatile uint32_t rx_head;                  /* written by the RX interrupt */
     volatile uint32_t rx_tail;                  /* written by the main loop */
+    /* line receive stamps: written by the RX interrupt, read by the main loop */
+    line_stamp_t stamps[MPS2_LINK_LINE_STAMPS];
+    volatile uint32_t stamp_head;               /* written by the RX interrupt */
+    volatile uint32_t stamp_tail;               /* written by the main loop */
+    bool isr_mid_line;                          /* RX interrupt: next byte continues a line */
+    uint32_t isr_line_elapsed;                  /* RX interrupt: when this line began */
+    bool rd_mid_line;                           /* main loop: next byte continues a line */
+    uint64_t rd_line_ticks;                     /* main loop: when the line being read began */
     uint8_t tx[MPS2_LINK_TX_RING];
     volatile uint32_t tx_head;                  /* written by the main loop */
     volatile uint32_t tx_tail;                  /* written by the pump (interrupts masked) */
@@ -116,11 +137,54 @@ uint64_t mps2_now_us(void)
     return mps2_ticks() / (MPS2_CPU_HZ / 1000000u);
 }
 
+static uint32_t elapsed_now(void)
+{
+    return 0xFFFFFFFFu - DUALTIMER1_VALUE;
+}
+
+/* A stamp taken within the last 171 s (the counter's wrap), on the 64-bit clock. */
+static uint64_t ticks_of(uint32_t elapsed)
+{
+    const uint64_t now = mps2_ticks();
+    return now - (uint32_t)((uint32_t)now - elapsed);
+}
+
 /* ---- link UART (UART0) -------------------------------------------------------------- */
 
 static uint32_t ring_used(uint32_t head, uint32_t tail)
 {
     return head - tail; /* free-running indices, power-of-two rings */
+}
+
+static bool is_terminator(uint8_t b)
+{
+    return b == LINK_CR || b == LINK_LF;
+}
+
+/* The stored byte at ring index `index`: a line's first byte leaves its
+ * receive stamp, its terminator the line's time on the wire (counters). */
+static void stamp_byte(uint8_t b, uint32_t index)
+{
+    if (!g_board.isr_mid_line) {
+        const uint32_t elapsed = elapsed_now();
+        const uint32_t head = g_board.stamp_head;
+        if (ring_used(head, g_board.stamp_tail) < MPS2_LINK_LINE_STAMPS) {
+            g_board.stamps[head % MPS2_LINK_LINE_STAMPS].index = index;
+            g_board.stamps[head % MPS2_LINK_LINE_STAMPS].elapsed = elapsed;
+            g_board.stamp_head = head + 1u;
+        } else {
+            g_board.cnt.stamps_lost = g_board.cnt.stamps_lost + 1u;
+        }
+        g_board.isr_line_elapsed = elapsed;
+    }
+    if (is_terminator(b)) {
+        const uint32_t on_line_us = (elapsed_now() - g_board.isr_line_elapsed) / TICKS_PER_US;
+        g_board.cnt.line_us_sum = g_board.cnt.line_us_sum + on_line_us;
+        g_board.cnt.line_us_worst =
+            (on_line_us > g_board.cnt.line_us_worst) ? on_line_us : g_board.cnt.line_us_worst;
+        g_board.cnt.lines = g_board.cnt.lines + 1u;
+    }
+    g_board.isr_mid_line = !is_terminator(b);
 }
 
 void mps2_uart0_rx_isr(void)
@@ -133,6 +197,7 @@ void mps2_uart0_rx_isr(void)
         const uint32_t head = g_board.rx_head;
         if (ring_used(head, g_board.rx_tail) < MPS2_LINK_RX_RING) {
             g_board.rx[head % MPS2_LINK_RX_RING] = b;
+            stamp_byte(b, head);
             g_board.rx_head = head + 1u;
             g_board.cnt.rx_bytes = g_board.cnt.rx_bytes + 1u;
         } else {
@@ -175,14 +240,42 @@ void mps2_uart0_tx_isr(void)
     tx_pump();
 }
 
-int mps2_link_getc(uint8_t *byte)
+/* The receive stamp of the line that begins at ring index `index` (stamps of
+ * lines before it are dropped); the current time if it has none (its stamp
+ * was lost: the stamp ring was full). */
+static uint64_t line_ticks(uint32_t index)
+{
+    uint32_t st = g_board.stamp_tail;
+    uint64_t ticks = mps2_ticks();
+    while (st != g_board.stamp_head) {
+        const line_stamp_t *s = &g_board.stamps[st % MPS2_LINK_LINE_STAMPS];
+        const int32_t ahead = (int32_t)(s->index - index);
+        if (ahead > 0) {
+            break; /* a later line's: this one's was lost */
+        }
+        ++st;
+        if (ahead == 0) {
+            ticks = ticks_of(s->elapsed);
+            break;
+        }
+    }
+    g_board.stamp_tail = st;
+    return ticks;
+}
+
+int mps2_link_getc(uint8_t *byte, uint64_t *line_rx_us)
 {
     const uint32_t tail = g_board.rx_tail;
     if (tail == g_board.rx_head) {
         return 0;
     }
     *byte = g_board.rx[tail % MPS2_LINK_RX_RING];
+    if (!g_board.rd_mid_line) {
+        g_board.rd_line_ticks = line_ticks(tail);
+    }
+    g_board.rd_mid_line = !is_terminator(*byte);
     g_board.rx_tail = tail + 1u;
+    *line_rx_us = g_board.rd_line_ticks / TICKS_PER_US;
     return 1;
 }
 
@@ -310,6 +403,10 @@ void mps2_counters(mps2_counters_t *out)
     out->tx_refused = g_board.cnt.tx_refused;
     out->log_dropped = g_board.cnt.log_dropped;
     out->sleeps = g_board.cnt.sleeps;
+    out->lines = g_board.cnt.lines;
+    out->line_us_sum = g_board.cnt.line_us_sum;
+    out->line_us_worst = g_board.cnt.line_us_worst;
+    out->stamps_lost = g_board.cnt.stamps_lost;
     irq_restore(primask);
 }
 

@@ -23,6 +23,9 @@
 #define MPS2_CPU_HZ 25000000u
 #define MPS2_LINK_RX_RING 4096u
 #define MPS2_LINK_TX_RING 4096u
+/* Receive stamps of lines not yet read (a power of two; an SLCAN frame line
+ * is 5-27 bytes: 128 lines cover 3.5 kB of frames in the receive ring). */
+#define MPS2_LINK_LINE_STAMPS 128u
 
 typedef struct {
     uint32_t rx_bytes;
@@ -31,6 +34,10 @@ typedef struct {
     uint32_t tx_refused;    /* writes refused: no room in the transmit ring */
     uint32_t log_dropped;   /* log bytes dropped: UART1 did not drain */
     uint32_t sleeps;        /* times the idle loop slept (WFI) */
+    uint32_t lines;         /* lines received (CR or LF ended) */
+    uint32_t line_us_sum;   /* their time on the line: first byte to terminator, us */
+    uint32_t line_us_worst;
+    uint32_t stamps_lost;   /* lines without a receive stamp: the stamp ring was full */
 } mps2_counters_t;
 
 /* Clock, both UARTs, interrupts; the FPU is on from reset (mps2_startup.c). */
@@ -40,8 +47,12 @@ void mps2_board_init(void);
 uint64_t mps2_now_us(void);
 uint64_t mps2_ticks(void);
 
-/* Next received byte of the link: 1 and *byte, or 0 when none is waiting. */
-int mps2_link_getc(uint8_t *byte);
+/* Next received byte of the link: 1, *byte and *line_rx_us, the time (us,
+ * the mps2_now_us() clock) when the receive interrupt took the first byte of
+ * the line the byte belongs to (a line ends with CR or LF); or 0 when none is
+ * waiting.  So a frame's receive stamp is its line's arrival on the wire, not
+ * the time the main loop came to parse it. */
+int mps2_link_getc(uint8_t *byte, uint64_t *line_rx_us);
 
 /* n bytes to the link, all or nothing: FCC_ERR_AGAIN when the ring has no
  * room for them (nothing queued).  Matches fcc_slcan_write_fn. */

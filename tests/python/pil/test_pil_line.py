@@ -5,6 +5,7 @@ a frame that queue drops is never lost silently -- the run ends with one line na
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 from pathlib import Path
 
@@ -54,3 +55,21 @@ def test_a_frame_the_line_drops_ends_the_run(tmp_path, image, monkeypatch):
                                   text=True, check=True).stdout
             assert json.loads(qlen)[0]["txqlen"] == 1
             airborne(rig, sc, 20, timeout=TIMEOUT)
+
+
+def test_realtime_line_runs_at_fccs_priority(tmp_path, image):
+    """In realtime QEMU's main loop (it moves the line's bytes into the UART) runs at fcc's
+    SCHED_FIFO priority and its other threads (the vCPU) just below, as the host fcc runs;
+    lockstep leaves them to the rig's SCHED_BATCH (test above: the bursts)."""
+    sc = scenario(CDRW_1S)
+    cfg = RigConfig(out_dir=tmp_path, target="qemu-m4f", fcc_binary=image, mode="realtime")
+    with RigSession(tmp_path, fcc_args([sc], cfg), cfg) as rig:
+        qemu = rig.fcc.qemu  # type: ignore[union-attr]
+        threads = {int(t.name): (os.sched_getscheduler(int(t.name)),
+                                 os.sched_getparam(int(t.name)).sched_priority)
+                   for t in Path(f"/proc/{qemu.pid}/task").iterdir()}
+    main = threads.pop(qemu.pid)
+    assert main == (os.SCHED_FIFO, qemu_m4f.LINE_RT_PRIORITY), (main, threads)
+    # the vCPU (and QEMU's helper threads) below it; a thread the main loop starts later inherits
+    assert threads and all(policy == os.SCHED_FIFO for policy, _ in threads.values()), threads
+    assert (os.SCHED_FIFO, qemu_m4f.LINE_RT_PRIORITY - 1) in threads.values(), threads

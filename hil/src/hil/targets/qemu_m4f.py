@@ -58,6 +58,8 @@ LINK_GRACE_S = 2.0
 LINE_QUEUE = 256
 #: how often poll() reads the interface's drop count (hil.targets.qdisc, over rtnetlink)
 LINE_CHECK_S = 1.0
+#: realtime: QEMU's main loop at fcc's SCHED_FIFO priority (hil.rig.config.FCC_RT_PRIORITY)
+LINE_RT_PRIORITY = 50
 #: the image's summary line with its receive ring's overflows (m4f_main.c)
 RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
 
@@ -160,8 +162,9 @@ class QemuM4f(Device):
         self._cangw = _tool("cangw", "can-utils")
         image = image or build_image()
         cfg = boot_record(fcc_args)
+        self.realtime = cfg.mode == "realtime"
         self.cmd = qemu_command(image, log=log_path, bootcfg_file=cfg.write(run_dir / "bootcfg.bin"),
-                                lockstep=cfg.mode == "lockstep")
+                                lockstep=not self.realtime)
         try:
             self._start()
         except BaseException:
@@ -208,11 +211,27 @@ class QemuM4f(Device):
                                         pty, self.slcan], stdin=subprocess.DEVNULL,
                                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         self._wait_iface()
+        if self.realtime:
+            self._realtime_line()
         _run(["ip", "link", "set", self.slcan, "txqueuelen", str(LINE_QUEUE), "up"],
              f"ip link set {self.slcan} up")
         for route in (["-s", self.slcan, "-d", self.iface, "-e"], ["-s", self.iface, "-d", self.slcan]):
             _run([self._cangw, "-A", *route], f"cangw -A {' '.join(route)} (is can-gw loaded?)")
             self._routes.append(route)
+
+    def _realtime_line(self) -> None:
+        """In realtime, QEMU's main loop (the thread that moves the line's bytes from the pty
+        into the UART, one byte per round) at fcc's SCHED_FIFO priority and its other threads (the
+        vCPU: the image itself) just below, as the host fcc runs: the line's bytes no longer wait
+        behind the rig's own processes in the guest (measured: firmware/port/mps2_an386/README.md,
+        "Time sync over the line").  Where the system refuses, QEMU runs as before."""
+        assert self.qemu is not None
+        try:
+            for tid in sorted(int(t) for t in os.listdir(f"/proc/{self.qemu.pid}/task")):
+                prio = LINE_RT_PRIORITY if tid == self.qemu.pid else LINE_RT_PRIORITY - 1
+                os.sched_setscheduler(tid, os.SCHED_FIFO, os.sched_param(prio))
+        except OSError:
+            return
 
     def _wait_pty(self) -> str:
         assert self.qemu is not None

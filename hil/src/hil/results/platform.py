@@ -46,7 +46,9 @@ PLATFORM_LIMITED, FIRMWARE = "platform-limited", "firmware"
 DEFAULT_STALE_LIMIT = 1
 
 
-def _get(doc: Any, *path: str) -> Any:
+def field_at(doc: Any, *path: str) -> Any:
+    """doc[path[0]][path[1]]...; None where a key or a mapping is missing (run files of
+    older versions or other targets lack sections)."""
     for key in path:
         if not isinstance(doc, Mapping):
             return None
@@ -57,11 +59,11 @@ def _get(doc: Any, *path: str) -> Any:
 def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max: int | None,
                     period_us: float | None) -> dict[str, Any]:
     """fcc's overruns and the loop's lost commands, and whose they are (module doc)."""
-    overruns = int(_get(summary, "firmware", "overruns") or 0)
-    runs = _get(summary, "missile", "runs") or [{}]
+    overruns = int(field_at(summary, "firmware", "overruns") or 0)
+    runs = field_at(summary, "missile", "runs") or [{}]
     missing = int(runs[0].get("commands_missing") or 0)
     late_steps = int(info.get("sim_late_steps") or 0)
-    step_p50 = _get(summary, "realtime", "fcc", "latency_us missile", "p50") or 0
+    step_p50 = field_at(summary, "realtime", "fcc", "latency_us missile", "p50") or 0
     slack = None if period_us is None else period_us - step_p50
     stalled = baseline_max is not None and slack is not None and baseline_max >= slack
     out: dict[str, Any] = {"overruns": overruns, "commands_missing": missing,
@@ -90,12 +92,12 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     """fcc's sync losses, whose they are, and whether the run tolerates them (module doc)."""
     sync = summary.get("sync") or {}
     losses = int(sync.get("losses") or 0)
-    no_echo = int(_get(info, "time_master", "syncs_without_echo") or 0)
-    age = _get(summary, "realtime", "bus", "data_age")
+    no_echo = int(field_at(info, "time_master", "syncs_without_echo") or 0)
+    age = field_at(summary, "realtime", "bus", "data_age")
     age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
-    gap_ms = _get(info, "time_master", "max_sync_gap_ms")
+    gap_ms = field_at(info, "time_master", "max_sync_gap_ms")
     master_stall = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
-    slack_min = _get(info, "sim_handover_slack_ms", "min")
+    slack_min = field_at(info, "sim_handover_slack_ms", "min")
     sim_stall = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
     stall = max(float(baseline_max or 0), master_stall, sim_stall)
     fresh = None if period_us is None else (1 + stale_limit(info.get("fcc_command"))) * period_us
@@ -115,7 +117,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     not_tolerated = [why for bad, why in (
         (sync.get("verdict") != "lost", f"the sync was {sync.get('verdict')}"),
         (sync.get("state") != "LOCKED", f"fcc {sync.get('state')} at the end"),
-        (_get(summary, "bus_trust", "verdict") not in (None, "ok"), "fcc's outputs not authentic"),
+        (field_at(summary, "bus_trust", "verdict") not in (None, "ok"), "fcc's outputs not authentic"),
         (not age_ok, "data age not measured" if age_max is None else
          f"data age max {age_max:.0f} us beyond {age_bound:.0f} us (fcc's freshness "
          f"bound {fresh:.0f} us + the platform's stall)"),
@@ -139,7 +141,7 @@ def platform_verdict(summary: Mapping[str, Any], info: Mapping[str, Any],
                      period_s: float | None) -> dict[str, Any]:
     """summary.json's `platform`: the baseline's percentiles, the deadline misses' and the sync
     losses' verdicts, and the run's (ok, platform-limited, firmware: the worst of them)."""
-    base = _get(info, "platform", "baseline") or {}
+    base = field_at(info, "platform", "baseline") or {}
     baseline_max = base.get("max_us")
     period_us = None if period_s is None else period_s * 1e6
     parts = {"deadline_misses": deadline_misses(summary, info, baseline_max, period_us),

@@ -44,7 +44,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from hil.results.platform import FIRMWARE, PLATFORM_LIMITED
+from hil.results.platform import FIRMWARE, PLATFORM_LIMITED, field_at
 
 INCONCLUSIVE = "inconclusive"
 #: what a requirement's `timing` may say: the evidence that excuses its failure
@@ -56,19 +56,11 @@ SCHEDULE_SHARE = 0.1
 RELEASE_MS = 3.5
 
 
-def _get(doc: Any, *path: str) -> Any:
-    for key in path:
-        if not isinstance(doc, Mapping):
-            return None
-        doc = doc.get(key)
-    return doc
-
-
 def limited(summary: Mapping[str, Any], kind: str = "schedule") -> str:
     """Why this realtime run's platform did not keep its schedule as a requirement of this kind
     needs it, with its figures ('' : it did, or nothing shows it did not)."""
-    verdict = _get(summary, "platform", "verdict")
-    base = _get(summary, "platform", "baseline") or {}
+    verdict = field_at(summary, "platform", "verdict")
+    base = field_at(summary, "platform", "baseline") or {}
     max_us = base.get("max_us")
     if verdict == FIRMWARE or max_us is None:
         return ""
@@ -81,8 +73,8 @@ def limited(summary: Mapping[str, Any], kind: str = "schedule") -> str:
 
 def _sync_evidence(summary: Mapping[str, Any]) -> list[str]:
     """A sync loss the platform explains, nothing refused as implausible."""
-    loss = _get(summary, "platform", "sync_loss") or {}
-    refused = _get(summary, "sync", "refused") or {}
+    loss = field_at(summary, "platform", "sync_loss") or {}
+    refused = field_at(summary, "sync", "refused") or {}
     if loss.get("verdict") != PLATFORM_LIMITED or refused.get("step_refused") or refused.get("rate_refused"):
         return []
     return [f"fcc's sync loss(es) are the platform's: {loss.get('message') or 'hil.results.platform'}"]
@@ -91,9 +83,9 @@ def _sync_evidence(summary: Mapping[str, Any]) -> list[str]:
 def _schedule_evidence(summary: Mapping[str, Any], verdict: Any, max_us: float) -> list[str]:
     """What shows the platform did not keep the step's schedule (module doc)."""
     bound = _schedule_bound(summary)
-    late = int(_get(summary, "realtime", "simulator", "late_steps") or 0)
-    stall = float(_get(summary, "platform", "sync_loss", "platform_stall_us") or 0)
-    tx_late_ms = float(_get(summary, "realtime", "simulator", "transmitter", "send_lateness_ms", "max") or 0)
+    late = int(field_at(summary, "realtime", "simulator", "late_steps") or 0)
+    stall = float(field_at(summary, "platform", "sync_loss", "platform_stall_us") or 0)
+    tx_late_ms = float(field_at(summary, "realtime", "simulator", "transmitter", "send_lateness_ms", "max") or 0)
     return [why for shown, why in (
         (verdict == PLATFORM_LIMITED, "the run's deadline misses or sync loss are the platform's"),
         (bound is not None and max_us >= bound, f"cyclictest's worst wake-up reached {bound:.0f} us (a tenth "
@@ -109,8 +101,8 @@ def _schedule_evidence(summary: Mapping[str, Any], verdict: Any, max_us: float) 
 def _schedule_bound(summary: Mapping[str, Any]) -> float | None:
     """The latest wake-up a realtime schedule at this period allows (us): the smaller of
     SCHEDULE_SHARE of the period and the step's slack (None: neither known)."""
-    runs = _get(summary, "missile", "runs") or [{}]
+    runs = field_at(summary, "missile", "runs") or [{}]
     period = runs[0].get("period") if isinstance(runs[0], Mapping) else None
-    known = [b for b in (_get(summary, "platform", "deadline_misses", "slack_us"),
+    known = [b for b in (field_at(summary, "platform", "deadline_misses", "slack_us"),
                          None if period is None else round(SCHEDULE_SHARE * float(period) * 1e6)) if b is not None]
     return min(known) if known else None

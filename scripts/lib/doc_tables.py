@@ -10,6 +10,9 @@ In a page, the block
     <!-- generated: fault-matrix -->  the fault matrix's counters, as
                                       tests/python/rig/test_fault_matrix.py requires them
                                       (docs/reliability.md)
+    <!-- generated: bus-load -->      the bus load of the DBC's frames at the default rates
+                                      (hil.bus.busload; dbc/README.md)
+    <!-- generated: bus-load-table --> the same, frame by frame, grouped by rate (docs/bus.md)
     ...the generated text...
     <!-- end generated: NAME -->
 
@@ -17,11 +20,11 @@ holds the generated text, committed (as docs/cli.md's, scripts/lib/cli_reference
 page reads the same on GitHub; tests/python/scripts/test_doc_tables.py checks it is up to date
 (a new fault kind, a DBC change: the test fails until
 
-    .venv/bin/python scripts/lib/doc_tables.py --write docs/scenarios.md docs/bus.md docs/reliability.md
+    .venv/bin/python scripts/lib/doc_tables.py --write docs/scenarios.md docs/bus.md docs/reliability.md dbc/README.md
 
 brings the pages up to date).  The MkDocs hook (mkdocs.yml `hooks:`) renders the same blocks
 afresh, without their markers.  Also a program that prints the Markdown:
-`.venv/bin/python scripts/lib/doc_tables.py [fault-kinds|frames|fault-matrix]`.
+`.venv/bin/python scripts/lib/doc_tables.py [fault-kinds|frames|fault-matrix|bus-load|bus-load-table]`.
 """
 from __future__ import annotations
 
@@ -32,7 +35,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 #: the pages that hold the blocks (--write without pages)
-PAGES = ("docs/scenarios.md", "docs/bus.md", "docs/reliability.md")
+PAGES = ("docs/scenarios.md", "docs/bus.md", "docs/reliability.md", "dbc/README.md")
 MATRIX_TEST = REPO / "tests" / "python" / "rig" / "test_fault_matrix.py"
 #: a flood's unknown_id is what the flood sent (counted in the run): shown as a name
 FLOOD_SENT = "flood frames sent"
@@ -95,8 +98,49 @@ def fault_matrix_markdown() -> str:
     return "\n".join([f"| fault class | {' | '.join(head)} |", "|" + "---|" * (len(head) + 1), *rows])
 
 
+def _rates(missile_period_s: float) -> dict[str, float]:
+    """Frames per second of each DBC frame at the rig's default rates (hil.bus.busload)."""
+    from hil.bus import busload, load
+    spec = load()
+    return busload.default_rates([m.name for m in spec.messages], {m.name: m.cycle_ms for m in spec.messages},
+                                 missile_period_s=missile_period_s)
+
+
+def bus_load(missile_period_s: float) -> tuple[float, float]:
+    """Frames per second and load (%) of the DBC's frames at the rig's default rates, the
+    missile's step period missile_period_s, worst-case bit stuffing."""
+    from hil.bus import busload, load
+    spec = load()
+    rates = _rates(missile_period_s)
+    bits = sum(r * busload.worst_case_bits(spec.by_name(n).length) for n, r in rates.items())
+    return sum(rates.values()), busload.load_percent(bits, spec.baudrate)
+
+
+def bus_load_markdown() -> str:
+    """The bus load at the default missile period and at its shortest (T = 0.02 s)."""
+    frames, pct = bus_load(0.05)
+    frames_fast, pct_fast = bus_load(0.02)
+    return (f"- Bus load at 500 kbit/s, default rates, worst-case bit stuffing: **{frames:.0f}** frames/s, "
+            f"**{pct:.1f} %**; at the shortest missile period T = 0.02 s, **{pct_fast:.2f} %** "
+            f"({frames_fast:.0f} frames/s).")
+
+
+def bus_load_table_markdown() -> str:
+    """The frames of the bus load at the default rates, grouped by rate, then the load."""
+    by_rate: dict[float, list[str]] = {}
+    for name, rate in _rates(0.05).items():
+        if rate:
+            by_rate.setdefault(rate, []).append(name)
+    rows = [f"| {rate:g} | {len(names)} | {', '.join(f'`{n}`' for n in names)} | {rate * len(names):g} |"
+            for rate, names in sorted(by_rate.items(), reverse=True)]
+    frames = sum(rate * len(names) for rate, names in by_rate.items())
+    return "\n".join(["| frames/s each | frames | which | frames/s |", "|---|---|---|---|", *rows,
+                      f"| | | **total** | **{frames:g}** |", "", bus_load_markdown().removeprefix("- ")])
+
+
 GENERATORS = {"fault-kinds": fault_kinds_markdown, "frames": frames_markdown,
-              "fault-matrix": fault_matrix_markdown}
+              "fault-matrix": fault_matrix_markdown, "bus-load": bus_load_markdown,
+              "bus-load-table": bus_load_table_markdown}
 
 
 #: (MkDocs loads this file by its path: the shared module beside it is loaded by its path too)

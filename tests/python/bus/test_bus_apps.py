@@ -34,12 +34,14 @@ def test_every_sensor_nodes_frame_is_one_applications() -> None:
         == set(SIM_NODES)
 
 
-def test_the_lists_as_before() -> None:
-    assert sensor_frames("cdrw") == ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")
-    assert sensor_frames("missile") == ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")
-    assert SIGNALS == {"cdrw": ("alpha", "q", "de"), "missile": ("q_g", "n_a"), "probe": ()}
+def test_the_lists_of_before_are_kept() -> None:
+    """The frames and signals of before keep their places (a scenario's signal names, fcc's
+    input slots); a new sensor frame adds to them (the lists are the DBC's: the test above)."""
+    assert sensor_frames("cdrw")[:3] == ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")
+    assert sensor_frames("missile")[:2] == ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")
+    assert (SIGNALS["cdrw"][:3], SIGNALS["missile"][:2], SIGNALS["probe"]) == (("alpha", "q", "de"), ("q_g", "n_a"), ())
     assert SIGNAL_FRAMES["de"] == ("CDRW_ELEVATOR", "delta_e")
-    assert SIGNAL_UNITS == {"alpha": "rad", "q": "rad/s", "de": "rad", "q_g": "rad/s", "n_a": "ft/s^2"}
+    assert SIGNAL_UNITS.items() >= {"alpha": "rad", "q": "rad/s", "de": "rad", "q_g": "rad/s", "n_a": "ft/s^2"}.items()
     assert output_frames("missile") == ("MSL_ELEV_CMD", "MSL_STATE_EST")
     assert len(output_frames("cdrw")) == 12 and all(f.startswith("SID_") for f in output_frames("cdrw"))
     assert OUTPUT_AUTH == {0: "SID_OUT_AUTH", 1: "MSL_ELEV_CMD_AUTH"}
@@ -59,8 +61,10 @@ def test_every_list_of_hil_is_the_dbcs() -> None:
 def test_a_dbc_with_another_sensor_frame_gives_it_to_its_application() -> None:
     """The lists follow the DBC: a spec with a third missile sensor frame lists it."""
     gyro = SPEC.by_name("MSL_RATE_GYRO")
-    extra = dataclasses.replace(gyro, name="MSL_AIRSPEED", frame_id=0x42, senders=("MSL_PITOT",))
+    taken = {m.frame_id for m in SPEC.messages}
+    free = next(i for i in range(SPEC.app_inputs("missile")[-1].frame_id + 1, 0x800) if i not in taken)
+    extra = dataclasses.replace(gyro, name="MSL_AIRSPEED", frame_id=free, senders=("MSL_PITOT",))
     spec = BusSpec(SPEC.path, tuple(sorted((*SPEC.messages, extra), key=lambda m: m.frame_id)),
                    (*SPEC.nodes, "MSL_PITOT"), SPEC.baudrate, SPEC.apps)
-    assert bus_app(spec, "missile").sensor_frames == ("MSL_RATE_GYRO", "MSL_ACCELEROMETER", "MSL_AIRSPEED")
+    assert bus_app(spec, "missile").sensor_frames == (*sensor_frames("missile"), "MSL_AIRSPEED")
     assert bus_app(spec, "cdrw").sensor_frames == sensor_frames("cdrw")

@@ -1,7 +1,6 @@
 """The DBC itself: loads cleanly, follows the bus contract, bus load as documented."""
 from __future__ import annotations
 
-import re
 import subprocess
 import sys
 import warnings
@@ -118,20 +117,16 @@ def _load_pct(spec: dbc.BusSpec, missile_period_s: float) -> tuple[float, float]
     return frames, load.load_percent(bits, spec.baudrate)
 
 
-def test_bus_load_matches_readme(spec: dbc.BusSpec) -> None:
+def test_bus_load_within_budget_and_in_the_readme(spec: dbc.BusSpec) -> None:
+    """The budget, 40 % at both missile periods, is the deliberate guard (a frame that breaks it
+    is a design decision); the figures follow the DBC and are the README's (generated there by
+    scripts/lib/doc_tables.py, computed here on their own)."""
     frames, pct = _load_pct(spec, 0.05)
-    # 1020 + 120 SecOC/security + 50 time sync + 50 SID_OUT_AUTH (fcc's outputs authenticated)
-    assert frames == pytest.approx(1240)
-    assert pct == pytest.approx(33.48)
-    assert pct < 40.0
     frames_fast, pct_fast = _load_pct(spec, 0.02)
-    assert frames_fast == pytest.approx(1480)
-    assert pct_fast == pytest.approx(39.96)   # MSL_STATE_EST under the command's authenticator
-    assert pct_fast < 40.0
+    assert pct < 40.0 and pct_fast < 40.0
     readme = (DBC.parent / "README.md").read_text()
-    assert f"**{pct:.1f} %**" in readme
-    assert f"**{pct_fast:.2f} %**" in readme
-    assert re.search(r"\*\*1240\*\*", readme)
+    assert f"**{frames:.0f}** frames/s, **{pct:.1f} %**" in readme
+    assert f"**{pct_fast:.2f} %** ({frames_fast:.0f} frames/s)" in readme
 
 
 def test_secoc_attributes(spec: dbc.BusSpec) -> None:

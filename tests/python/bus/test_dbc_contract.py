@@ -46,8 +46,9 @@ ORPHAN_OUTPUT = """BO_ 1802 FCC_SPARE_COUNTS: 8 FCC
  SG_ spare : 0|16@1+ (1,0) [0|65535] "" SIM
 
 """
-#: the application input whose copy the orphan-frame tests add (another missile sensor)
-ORPHAN = """BO_ 66 MSL_AIRSPEED: 8 MSL_ACCEL
+#: the application input whose copy the orphan-frame tests add (another missile sensor, at the
+#: first free identifier after the missile's inputs: the last of them)
+ORPHAN = """BO_ {id} MSL_AIRSPEED: 8 MSL_ACCEL
  SG_ crc : 0|8@1+ (1,0) [0|255] "" FCC
  SG_ counter : 8|4@1+ (1,0) [0|15] "" FCC
  SG_ step : 16|16@1+ (1,0) [0|65535] "" FCC
@@ -132,11 +133,15 @@ def with_orphan_output(tmp_path: Path, diagnostic: bool) -> Path:
 
 def with_orphan(tmp_path: Path, app: str | None) -> Path:
     """A copy of the DBC with one more frame sent to FCC (of application app, or of none)."""
+    spec = dbc.load(DBC)
+    taken = {m.frame_id for m in spec.messages}
+    frame_id = next(i for i in range(spec.app_inputs("missile")[-1].frame_id + 1, 0x800) if i not in taken)
     text = DBC.read_text(encoding="utf-8")
-    text = text.replace("BO_ 80 CDRW_AOA:", ORPHAN + "BO_ 80 CDRW_AOA:", 1)
+    text = text.replace("BO_ 80 CDRW_AOA:", ORPHAN.format(id=frame_id) + "BO_ 80 CDRW_AOA:", 1)
     if app is not None:
-        choice = ["none", *dbc.load(DBC).apps].index(app)
-        text = text.replace('BA_ "FccApp" BO_ 64 2;', f'BA_ "FccApp" BO_ 64 2;\nBA_ "FccApp" BO_ 66 {choice};', 1)
+        choice = ["none", *spec.apps].index(app)
+        text = text.replace('BA_ "FccApp" BO_ 64 2;',
+                            f'BA_ "FccApp" BO_ 64 2;\nBA_ "FccApp" BO_ {frame_id} {choice};', 1)
     out = tmp_path / "fcc_hil.dbc"   # the name: the generated C's prefix
     out.write_text(text, encoding="utf-8")
     return out
@@ -186,10 +191,14 @@ def test_an_output_without_a_reader_fails_unless_declared_diagnostic(repo: Path,
 
 
 def test_the_applications_inputs_come_from_the_dbc() -> None:
-    inputs = {protocol.APP_CDRW: ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR"),
-              protocol.APP_MISSILE: ("MSL_RATE_GYRO", "MSL_ACCELEROMETER"),
-              protocol.APPS["PROBE"]: ()}   # the test build's third application: no frames of its own
+    spec = dbc.load(DBC)
+    # SIM_TICK.app's code of an application is its place among the FccApp choices (below)
+    inputs = {code: tuple(m.name for m in spec.app_inputs(app)) for code, app in enumerate(spec.apps)}
     assert inputs == protocol.APP_INPUTS
+    # the inputs of before keep their slots (fcc's FCC_APP_*_IN_* numbers): a new frame follows them
+    assert inputs[protocol.APP_CDRW][:3] == ("CDRW_AOA", "CDRW_PITCH_RATE", "CDRW_ELEVATOR")
+    assert inputs[protocol.APP_MISSILE][:2] == ("MSL_RATE_GYRO", "MSL_ACCELEROMETER")
+    assert inputs[protocol.APPS["PROBE"]] == ()   # the test build's third application: no frames of its own
     # the application ids are SIM_TICK.app's: the FccApp choices in the same order
     assert dbc.load(DBC).apps == ("cdrw", "missile", "probe")
 
@@ -243,7 +252,8 @@ def test_an_orphan_input_stops_the_firmware_build(repo: Path, tmp_path: Path) ->
                        capture_output=True, text=True, check=False)
     assert r.returncode == 0, r.stderr
     generate(path, out)
-    assert "#define FCC_BUS_APP_MISSILE_N_INPUTS 3u" in (out / "fcc_bus_msgs.h").read_text()
+    inputs = len(dbc.load(DBC).app_inputs("missile")) + 1
+    assert f"#define FCC_BUS_APP_MISSILE_N_INPUTS {inputs}u" in (out / "fcc_bus_msgs.h").read_text()
     refused = _compile(repo, out, "firmware/app/fcc_app_msl.c")
     assert refused.returncode != 0 and "fcc_app_msl_inputs_are_the_dbcs" in refused.stderr
     # the same source against the DBC of today compiles: the refusal is the orphan's

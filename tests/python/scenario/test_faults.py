@@ -9,6 +9,7 @@ import pytest
 from hil.scenario.faults import BUS_KINDS, FRAME_KINDS, KINDS, SENSOR_KINDS, WIRE_KINDS
 from hil.sim.sensor_faults import FaultTimeline, SensorFaultInjector
 from hil.scenario.schema import ScenarioError
+from hil.scenario.sensor_options import SIGNALS
 from hil.bus import load
 from hil.scenario.file import parse_fault_spec, parse_flight_fault
 
@@ -200,7 +201,7 @@ def test_a_fault_of_any_run_belongs_to_the_one_aircraft_flown():
 @pytest.mark.parametrize("spec, durations, message", [
     ("spike:signal=alpa,start=4,duration=0.1,magnitude=0.15", BOTH,
      "(spike): field 'signal': unknown signal 'alpa' for aircraft cdrw (signals: alpha, q, de); "
-     "unknown signal 'alpa' for aircraft missile (signals: q_g, n_a)"),
+     f"unknown signal 'alpa' for aircraft missile (signals: {', '.join(SIGNALS['missile'])})"),
     ("spkie:signal=alpha,start=4,duration=0.1,magnitude=0.15", BOTH, "field 'kind': unknown fault kind 'spkie'"),
     ("spike:signal=alpha,start=9,duration=0.1,magnitude=0.15", BOTH,
      "(spike): field 'start': 9.0 s is not before the end of the run (7.0 s)"),

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from hil.scenario.schema import ScenarioError
+from hil.scenario.sensor_options import SIGNALS
 from hil.scenario.faults import Spike
 from hil.scenario.file import (load_default_scenario, load_scenario, loads_scenario,
                                with_extra_faults, with_fault_start)
@@ -137,7 +138,7 @@ BAD = [
     ('aircraft = "missile"\n[plant]\ngust0 = "windy"',
      "[plant]: field 'gust0': must be one of stationary, got 'windy'"),
     ('aircraft = "missile"\n[[faults]]\nkind = "spike"\nsignal = "alpha"\nstart = 1\nduration = 1\nmagnitude = 1',
-     "unknown signal 'alpha' for aircraft missile (signals: q_g, n_a)"),
+     f"unknown signal 'alpha' for aircraft missile (signals: {', '.join(SIGNALS['missile'])})"),
     ('aircraft = "missile"\nfaults = 3', "key 'faults': expected an array of tables"),
     ('aircraft = "missile"\n[plant]\ngust0 = true',
      "[plant]: field 'gust0': expected a number or a string, got boolean True"),

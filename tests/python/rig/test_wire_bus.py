@@ -141,6 +141,11 @@ def test_bus_section_judges_fifo_queued_frames_too():
     (("--fault", "bus_load:start=0,duration=inf"), "needs the wire-time bus (--bus wire"),
     (("--bus", "wire", "--mode", "realtime", "--interface", "virtual"), "SocketCAN only"),
     (("--bus", "wire", "--target", "qemu-m4f"), "fcc on the host only"),
+    # a real bus (an external device's) has no model: its faults would silently not fly
+    (("--bus", "wire", "--mode", "realtime", "--target", "external", "--fault",
+      "bus_off:node=fcc,start=1"), "a real bus (this target's) has no model"),
+    (("--bus", "wire", "--mode", "realtime", "--target", "external", "--fault",
+      "bus_load:start=0,duration=inf"), "a real bus (this target's) has no model"),
 ])
 def test_bad_bus_is_a_usage_error(argv, said, tmp_path, capsys):
     rc, _, err = cli(capsys, "run", "missile", *argv, "--out", str(tmp_path / "run"))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from hil.cli.common import bus_model, refuse_wire_faults, scenario
+from hil.cli.common import refuse_wire_faults, scenario
 from hil.cli.many import parallel_options, run_many
 from hil.cli.usage import UsageError
 from hil.runs.campaign import run_campaign
@@ -16,7 +16,7 @@ def run(args: argparse.Namespace) -> int:
     if args.runs < 1:
         raise UsageError(f"--runs must be at least 1, got {args.runs}")
     sc = scenario(args.aircraft, args.scenario, args.fault, None)
-    refuse_wire_faults([sc], bus_model(args))
+    refuse_wire_faults([sc], args)
     if args.aircraft == "cdrw" and not (args.vary or args.draw or args.keep_logs):
         return run_many(args, run_campaign, "run_campaign_parallel", sc, args.runs, args.seed)
     varies = [parse_vary(v) for v in args.vary]

@@ -16,7 +16,7 @@ from hil.bus.secoc import KeyFileError, read_key_file
 from hil.cli.usage import EXIT_SYNC, PROG, UsageError
 from hil.io.rundir import staged_run
 from hil.rig.config import RigConfig
-from hil.rig.wirefaults import refusal
+from hil.rig.wirefaults import canbus_faults, refusal
 from hil.scenario.file import find_scenario, load_default_scenario, load_scenario, with_extra_faults
 from hil.targets.device import ArgsRefused
 from hil.targets.registry import device_class, target
@@ -71,9 +71,10 @@ def bus_model(args: argparse.Namespace) -> str:
     return bus
 
 
-def refuse_wire_faults(scenarios: Sequence, bus: str) -> None:
-    """A wire-level fault (canbus's) on another bus: one line, exit 2."""
-    why = refusal([f for sc in scenarios for f in sc.faults], bus)
+def refuse_wire_faults(scenarios: Sequence, args: argparse.Namespace) -> None:
+    """A wire-level fault (canbus's) on another bus, or a bus model's fault on a real bus: one
+    line, exit 2."""
+    why = refusal(canbus_faults(scenarios), bus_model(args), target(args.target).wire == "real")
     if why:
         raise UsageError(why)
 

@@ -50,7 +50,7 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
     """The rig session of a command: its target, its bus, the device's configuration (and the
     wire-time bus's faults: refused on another bus, hil.rig.wirefaults)."""
     faults = canbus_faults(scenarios)
-    why = refusal(faults, cfg.bus)
+    why = refusal(faults, cfg.bus, target(cfg.target).wire == "real")
     if why:
         raise RigError(why)
     rig = RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)

@@ -71,10 +71,16 @@ def canbus_args(faults: Sequence[Fault], ends: Mapping[str, str], spec: BusSpec,
     return args
 
 
-def refusal(faults: Sequence[Fault], bus: str) -> str:
-    """Why a flight on `bus` cannot fly these faults ('' when it can): wire faults are canbus's."""
+def refusal(faults: Sequence[Fault], bus: str, real_bus: bool = False) -> str:
+    """Why a flight on `bus` cannot fly these faults ('' when it can): wire faults are canbus's,
+    and on a real bus (an external device's: no model) the rig injects none of the bus model's
+    faults (`faults`: canbus_faults' -- flying on without them would report a run that did not
+    have them)."""
     wire = [f for f in faults if f.level == "wire"]
     if wire and bus != "wire":
         return (f"fault {wire[0].describe()!r}: a fault of the wire-time bus (canbus): "
                 f"needs --bus wire (this run's bus: {bus})")
+    if faults and bus == "wire" and real_bus:
+        return (f"fault {faults[0].describe()!r}: a fault of the bus model; a real bus (this "
+                f"target's) has no model to inject it into")
     return ""

@@ -55,6 +55,7 @@ def open_session(out: Path, scenarios: Sequence[Scenario], cfg: RigConfig,
         raise RigError(why)
     rig = RigSession(out, fcc_args(scenarios, cfg), cfg, prepare=prepare)
     rig.wire_faults = faults
+    rig.wire_seed = scenarios[0].seed if scenarios else 0
     return rig
 
 

@@ -164,6 +164,8 @@ class RigSession:
         self.wire: WireBus | None = None
         #: --bus wire: the scenarios' wire faults (canbus's; hil.rig.wirefaults)
         self.wire_faults: tuple[Fault, ...] = ()
+        #: the seed of the scenario the wire faults came from (a background load's frames)
+        self.wire_seed = 0
         self.recorder_iface = self.fcc_iface = self.iface
         #: where the time master reads its SYNC back as the bus delivered it (None: its echo)
         self.bus_echo_iface: str | None = None
@@ -237,7 +239,7 @@ class RigSession:
     def _start_wire(self) -> None:
         """canbus first (its ready line), then the nodes are pointed at their ends."""
         self.wire = WireBus(self.run_dir, self.bitrate or self.spec.baudrate, self.wire_faults,
-                            self.spec).__enter__()
+                            self.spec, self.wire_seed).__enter__()
         self.iface = self.wire.end("sim")
         self.recorder_iface = self.wire.end("recorder")
         self.fcc_iface = self.wire.end("fcc")

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, NamedTuple
 from hil.io.paths import tool
 from hil.rig.errors import RigError
 from hil.rig.wirebus import NODES
+from hil.rig.wirefaults import SEED_STRIDE
 from hil.scenario.faults import BusLoad
 from hil.scenario.file import Scenario
 from hil.util.errors import InputError
@@ -222,5 +223,5 @@ def loads(drivers: Sequence[AppDriver]) -> list[Load]:
     """The flight's background nodes: each bus_load fault, over its window within the flight,
     its frames from the scenario's seed and the fault's place in the list."""
     return [Load(f.utilisation, f.id_lo, f.id_hi, f.start, min(f.end, d.n_steps * d.period),
-                 d.scenario.seed * 1_000_003 + i)
+                 d.scenario.seed * SEED_STRIDE + i)
             for d in drivers for i, f in enumerate(d.scenario.faults) if isinstance(f, BusLoad)]

@@ -61,10 +61,12 @@ class WireBus:
     """canbus and one vxcan pair per node, for a ``with`` block."""
 
     def __init__(self, run_dir: Path, bitrate: int, faults: tuple[Fault, ...] = (),
-                 spec: BusSpec | None = None) -> None:
+                 spec: BusSpec | None = None, seed: int = 0) -> None:
         self.bitrate = bitrate
         #: the scenario's wire faults (hil.rig.wirefaults), their times from start_faults()
         self.faults = faults
+        #: the scenario's seed: a background load's phases and data (as in lockstep)
+        self.seed = seed
         self._spec = spec
         self._dir = Path(run_dir) / f".canbus-{os.getpid()}"
         self._dir.mkdir(parents=True, exist_ok=True)
@@ -111,7 +113,8 @@ class WireBus:
         if self.faults:
             assert self._spec is not None
             cmd += ["--epoch", str(self._dir / "epoch"),
-                    *canbus_args(self.faults, {n: f"{e}b" for n, e in self.ends.items()}, self._spec)]
+                    *canbus_args(self.faults, {n: f"{e}b" for n, e in self.ends.items()}, self._spec,
+                                 self.seed)]
         with open(self._dir / "stderr", "wb") as err, open(self._dir / "stdout", "wb") as out:
             self.proc = spawn(cmd, stdin=subprocess.DEVNULL, stdout=out, stderr=err)
         self.rt_priority = self._realtime(self.proc.pid)

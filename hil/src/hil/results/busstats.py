@@ -35,6 +35,7 @@ from typing import Any
 from hil.bus.dbc import BusSpec
 from hil.bus.wcrt import (Frame, analyse, application_periods, cyclic_frames, frame_time, seconds, utilisation,
                           with_jitter, with_periods)
+from hil.rig.wirebus import FIFO_SENDERS
 from hil.scenario.file import Scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
@@ -110,7 +111,7 @@ def _queue(spec: BusSpec, frame_id: int, fifo_senders: Sequence[str]) -> str:
 
 
 def bus_section(stats: Mapping[str, Any], spec: BusSpec, scenarios: Sequence[Scenario],
-                jitter_s: float = 0.0, fifo_senders: Sequence[str] = ("FCC",)) -> dict[str, Any]:
+                jitter_s: float = 0.0, fifo_senders: Sequence[str] = FIFO_SENDERS) -> dict[str, Any]:
     """The section: bit rate, model, utilisation of the cyclic frames at the flight's
     periods, canbus's delivery error and losses, and per frame name its response times, bound,
     sender's queue and verdict."""

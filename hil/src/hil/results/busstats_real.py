@@ -33,6 +33,7 @@ from hil.bus.candump import LogFrame
 from hil.bus.dbc import BusSpec
 from hil.bus.wcrt import analyse, utilisation
 from hil.results.busstats import flight_frames, judged_frames
+from hil.rig.wirebus import FIFO_SENDERS
 from hil.scenario.file import Scenario
 
 #: why the device's frames have no measured response time
@@ -86,7 +87,7 @@ def real_bus_section(frames: Iterable[LogFrame], sends: dict[int, np.ndarray], s
     ids: dict[str, dict[str, Any]] = {}
     not_measured: dict[str, dict[str, Any]] = {}
     cyclic = flight_frames(spec, scenarios)
-    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(cyclic, bitrate)}
+    bounds = {r.frame.frame_id: r.wcrt_s for r in analyse(cyclic, bitrate, FIFO_SENDERS)}
     for fid in sorted(set(seen) | set(sends)):
         stamps = seen.get(fid, np.zeros(0))
         m = spec.by_id(fid)
@@ -103,7 +104,7 @@ def real_bus_section(frames: Iterable[LogFrame], sends: dict[int, np.ndarray], s
     return {"bitrate": bitrate, "model": "real",
             "utilisation": round(float(utilisation(cyclic, bitrate)), 5), "jitter_s": jitter_s,
             "frames_on_bus": int(sum(len(t) for t in seen.values())),
-            "frames": judged_frames(ids, spec, cyclic, bitrate, jitter_s, fifo_senders=()),
+            "frames": judged_frames(ids, spec, cyclic, bitrate, jitter_s, FIFO_SENDERS),
             "not_measured": not_measured}
 
 

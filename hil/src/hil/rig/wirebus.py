@@ -39,6 +39,9 @@ from hil.util.processes import last_line, spawn
 #: and would delay the next write by its step (measured: SYNC pairs refused by fcc's
 #: plausibility check, |offset step| > 1 ms, in 5-13 % of the pairs with fcc written first)
 NODES = {"sim": "prio", "recorder": "prio", "fcc": "fifo"}
+#: the DBC's names of the FIFO-queued senders (what hil.bus.wcrt analyses as a FIFO node; a
+#: real bus's device is assumed one too: its controller's policy unknown, FIFO is the safe bound)
+FIFO_SENDERS = tuple(node.upper() for node, policy in NODES.items() if policy == "fifo")
 #: canbus's SCHED_FIFO priority: above fcc's (hil.rig.flight.FCC_RT_PRIORITY, 50)
 RT_PRIORITY = 60
 READY_TIMEOUT_S = 10.0

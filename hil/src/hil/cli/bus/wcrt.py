@@ -17,7 +17,7 @@ from hil.bus import dbc
 from hil.bus.wcrt import (Frame, Response, analyse, application_periods, cyclic_frames, seconds,
                           utilisation, with_jitter, with_periods)
 from hil.cli.usage import EXIT_FAILED, PROG, UsageError
-from hil.rig.wirebus import NODES
+from hil.rig.wirebus import FIFO_SENDERS
 from hil.scenario.file import find_scenario, load_scenario
 from hil.scenario.plant_options import CdrwPlantOptions
 
@@ -58,15 +58,10 @@ def _load(path: Path) -> dbc.BusSpec:
         raise UsageError(f"{path}: not a DBC this rig reads ({first})") from None
 
 
-def rig_fifo_nodes() -> tuple[str, ...]:
-    """The DBC's names of the rig's FIFO-queued nodes (hil.rig.wirebus.NODES: fcc)."""
-    return tuple(node.upper() for node, policy in NODES.items() if policy == "fifo")
-
-
 def _fifo(given: str | None, frames: list[Frame]) -> tuple[str, ...]:
     """The FIFO-queued senders: --fifo (`none`: none), else the rig's."""
     if given is None:
-        return rig_fifo_nodes()
+        return FIFO_SENDERS
     if given.lower() == "none":
         return ()
     senders = {f.sender for f in frames}

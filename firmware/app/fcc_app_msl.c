@@ -368,6 +368,7 @@ static fcc_status_t ops_offer(void *app, fcc_msg_t msg, const fcc_msg_data_t *da
 static fcc_status_t ops_step(void *app, const fcc_app_tick_t *tick, fcc_app_step_t *out)
 {
     fcc_app_msl_result_t res;
+    (void)memset(&res, 0, sizeof res); /* defined when the step refuses its arguments too */
     const fcc_status_t st =
         fcc_app_msl_step(app, tick->k, tick->check_step, tick->stale_limit, &res);
     out->degraded = res.degraded;

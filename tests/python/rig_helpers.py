@@ -28,6 +28,7 @@ seed = 3
 period = 0.05
 bits = 8
 '''
+MISSILE_4S = MISSILE_2S.replace("duration = 2.0", "duration = 4.0")
 
 
 def scenario(text: str, *faults: str) -> Scenario:

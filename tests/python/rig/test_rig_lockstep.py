@@ -22,7 +22,7 @@ from hil.runs.campaign import run_campaign
 from hil.runs.sweep import run_sweep
 from hil.rig.errors import FccDied, FccTimeout
 from hil.rig.session import RigSession
-from rig_helpers import CDRW_1S, MISSILE_2S, airborne, cli, fly, scenario
+from rig_helpers import CDRW_1S, MISSILE_2S, MISSILE_4S, airborne, cli, fly, scenario
 
 pytestmark = pytest.mark.vcan
 
@@ -236,7 +236,7 @@ def test_realtime_both_aircraft(tmp_path):
     assert info["transmitter"]["frames"] > 0 and info["transmitter"]["lost"] == 0
 
 
-MISSILE_4S_DELAYED = MISSILE_2S.replace("duration = 2.0", "duration = 4.0") + "delay = 0.005\n"
+MISSILE_4S_DELAYED = MISSILE_4S + "delay = 0.005\n"
 
 
 def test_realtime_flies_like_lockstep(tmp_path):

@@ -25,16 +25,9 @@ from hil.rig.wirefaults import canbus_faults
 from hil.scenario.faults import BusError, BusLoad
 from hil.scenario.file import load_default_scenario
 from hil.util.errors import InputError
-from rig_helpers import cli
+from rig_helpers import MISSILE_4S, cli
 
 SPEC = load()
-MISSILE_4S = '''aircraft = "missile"
-duration = 4.0
-seed = 3
-[lqg]
-period = 0.05
-bits = 8
-'''
 
 
 def wire_run(tmp: Path, capsys: Any, aircraft: str, bitrate: str, scenario: str | None = None

@@ -19,17 +19,10 @@ import pytest
 from hil.bus.busload import frame_bits
 from hil.cli.usage import EXIT_FAILED, EXIT_SYNC
 from hil.results.busstats import FAULTED, WITHIN, JITTER
-from rig_helpers import cli
+from rig_helpers import MISSILE_4S, cli
 
 pytestmark = pytest.mark.vcan
 
-MISSILE_4S = '''aircraft = "missile"
-duration = 4.0
-seed = 3
-[lqg]
-period = 0.05
-bits = 8
-'''
 CONTROLLER = re.compile(r"^fcc summary: controller (.*)$", re.M)
 
 

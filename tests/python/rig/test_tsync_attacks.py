@@ -84,7 +84,9 @@ class TimeForger(threading.Thread):
     pair -- from the rig's SIM_CONTROL(FLIGHT) on, for ATTACK_S -- sends a forged SYNC and
     FOLLOW_UP of the next sequence number with the master's next alive counters, the master
     time of its own SYNC's transmission plus error(t), and a forged TSYNC_AUTH (freshness: the
-    master's last + 1, a random MAC)."""
+    master's last + 1, a random MAC).  It encodes with the DBC's own integer codec, not
+    cantools' (whose first use parses the DBC, ~0.25 s holding the GIL: the first forgery went
+    out after the master's next pair, every run)."""
 
     def __init__(self, error: Callable[[float], float]) -> None:
         super().__init__(daemon=True)
@@ -122,7 +124,9 @@ class TimeForger(threading.Thread):
         return fid, data, time.monotonic() if stamp is None else stamp, own
 
     def _in_bus_order(self, fid: int, data: bytes, own: bool) -> None:
-        """Every frame read (here and while waiting for an echo), in the bus's order."""
+        """Every frame read (here and while waiting for an echo), in the bus's order: the
+        order fcc reads them in (every socket on vcan0 gets each frame as the bus carried it),
+        so the verdict on a forged authenticator follows from what came before it here."""
         if own:
             self.master_auths_since = 0
         if fid != AUTH.frame_id:

@@ -32,6 +32,27 @@
 #define EVENT_LINE_GAP_US 1000000u
 /* A design slice that never finds room before a deadline runs after this. */
 #define DESIGN_WAIT_MAX_US 100000u
+/* Lines per block of the bus clock's sliding minimum (two blocks: ~4-10 s of
+ * a realtime flight's lines). */
+#define BUS_CLOCK_BLOCK 512u
+
+/* The bus's time stamps (SLCAN Z2: each frame's time on the rig's bus, host
+ * microseconds modulo 2^32, from slcan_bridge) on this board's clock, as a
+ * host maps a USB-CAN adapter's stamps: offset = the smallest (line's first
+ * byte - bus stamp) over the last one to two blocks of lines, i.e. the line's
+ * fastest delivery; a frame's receive stamp = its bus stamp + offset.  A line
+ * that waited behind others or behind QEMU comes out stamped with its bus
+ * time all the same.  Both clocks are the host's (realtime: no -icount). */
+typedef struct {
+    bool valid;
+    uint64_t last_bus_us;   /* the last stamp, unwrapped */
+    int64_t cur_min;        /* this block's smallest (first byte - bus) */
+    int64_t prev_min;       /* the previous block's (INT64_MAX: none yet) */
+    uint32_t in_block;
+    uint32_t stamped;       /* frames stamped so */
+    uint64_t delay_sum_us;  /* their delay beyond the fastest line */
+    uint32_t delay_worst_us;
+} bus_clock_t;
 
 typedef struct {
     fcc_node_t node;
@@ -48,6 +69,7 @@ typedef struct {
     uint32_t event_suppressed[FCC_EV_COUNT];
     uint32_t parse_wait_worst_us; /* frames: their line's arrival to their parse */
     uint64_t parse_wait_sum_us;
+    bus_clock_t bus_clock;
 } image_t;
 
 static image_t g_img;
@@ -60,9 +82,37 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     return fcc_slcan_dev_send(&img->link, frame);
 }
 
-/* A frame's receive stamp is its line's first byte's arrival (the receive
- * interrupt's), not the time this loop came to parse it: a control step or a
- * design slice that runs meanwhile must not move a SYNC's stamp (time sync). */
+/* A Z2 bus stamp on this board's clock (bus_clock_t). */
+static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_us)
+{
+    const uint64_t bus = c->valid ? c->last_bus_us + (uint64_t)(int64_t)(int32_t)(bus_us - (uint32_t)c->last_bus_us)
+                                  : (uint64_t)bus_us;
+    const int64_t d = (int64_t)line_rx_us - (int64_t)bus;
+    if (!c->valid) {
+        c->prev_min = INT64_MAX;
+        c->cur_min = d;
+        c->valid = true;
+    }
+    c->last_bus_us = bus;
+    c->cur_min = (d < c->cur_min) ? d : c->cur_min;
+    const int64_t offset = (c->prev_min < c->cur_min) ? c->prev_min : c->cur_min;
+    if (++c->in_block == BUS_CLOCK_BLOCK) {
+        c->prev_min = c->cur_min;
+        c->cur_min = INT64_MAX;
+        c->in_block = 0u;
+    }
+    const uint64_t delay = (uint64_t)(d - offset);
+    const uint32_t delay32 = (delay > UINT32_MAX) ? UINT32_MAX : (uint32_t)delay;
+    ++c->stamped;
+    c->delay_sum_us += delay32;
+    c->delay_worst_us = (delay32 > c->delay_worst_us) ? delay32 : c->delay_worst_us;
+    return (uint64_t)((int64_t)bus + offset);
+}
+
+/* A frame's receive stamp is its time on the bus when the line carries it
+ * (Z2, bus_to_local), else its line's first byte's arrival (the receive
+ * interrupt's); never the time this loop came to parse it: a control step or
+ * a design slice that runs meanwhile must not move a SYNC's stamp (time sync). */
 static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
 {
     image_t *img = ctx;
@@ -70,7 +120,9 @@ static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
     uint64_t line_rx_us = 0u;
     for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b, &line_rx_us) != 0; ++i) {
         if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
-            frame->t_us = line_rx_us;
+            frame->t_us = img->link.timestamps
+                              ? bus_to_local(&img->bus_clock, img->link.rx_stamp_us, line_rx_us)
+                              : line_rx_us;
             const uint64_t now = mps2_now_us();
             const uint32_t wait = (now > line_rx_us) ? (uint32_t)(now - line_rx_us) : 0u;
             img->parse_wait_sum_us += wait;
@@ -244,6 +296,10 @@ static void summary(const image_t *img)
         {"parse_wait_us_mean", img->parse_wait_sum_us / frames},
         {"parse_wait_us_worst", img->parse_wait_worst_us},
         {"stamps_lost", b.stamps_lost},
+        {"bus_stamped", img->bus_clock.stamped},
+        {"bus_delay_us_mean", img->bus_clock.delay_sum_us /
+                                  ((img->bus_clock.stamped != 0u) ? img->bus_clock.stamped : 1u)},
+        {"bus_delay_us_worst", img->bus_clock.delay_worst_us},
     };
     summary_line("rx_timing", rx, N_KV(rx));
 }

@@ -49,6 +49,9 @@ typedef struct {
     int64_t cur_min;        /* this block's smallest (first byte - bus) */
     int64_t prev_min;       /* the previous block's (INT64_MAX: none yet) */
     uint32_t in_block;
+    int64_t offset;         /* the offset in use */
+    int64_t ref_offset;     /* the offset when the time sync last took a reference */
+    uint32_t rebases;       /* time sync references dropped because the offset moved */
     uint32_t stamped;       /* frames stamped so */
     uint64_t delay_sum_us;  /* their delay beyond the fastest line */
     uint32_t delay_worst_us;
@@ -96,6 +99,10 @@ static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_u
     c->last_bus_us = bus;
     c->cur_min = (d < c->cur_min) ? d : c->cur_min;
     const int64_t offset = (c->prev_min < c->cur_min) ? c->prev_min : c->cur_min;
+    if (c->stamped == 0u) {
+        c->ref_offset = offset;
+    }
+    c->offset = offset;
     if (++c->in_block == BUS_CLOCK_BLOCK) {
         c->prev_min = c->cur_min;
         c->cur_min = INT64_MAX;
@@ -107,6 +114,25 @@ static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_u
     c->delay_sum_us += delay32;
     c->delay_worst_us = (delay32 > c->delay_worst_us) ? delay32 : c->delay_worst_us;
     return (uint64_t)((int64_t)bus + offset);
+}
+
+/* The bus clock's offset fell by more than half the time sync's step bound since the time
+ * sync took its reference (the first lines of a session came late, the offset converges on
+ * the line's fastest delivery): pairs refused since are this port's doing -- its stamps'
+ * origin moved, not the master's time -- so the time sync forgets its reference, which it
+ * does only while REFUSED (or LOST).  The offset only ever falls towards the fastest delivery
+ * the line allows, so no frame on the bus can bring this about twice. */
+static void rebase_on_bus_clock(image_t *img)
+{
+    bus_clock_t *c = &img->bus_clock;
+    const int64_t moved = c->ref_offset - c->offset;
+    if (c->stamped == 0u || moved <= (int64_t)(img->node.tsync.cfg.max_step_us / 2u)) {
+        return;
+    }
+    if (fcc_tsync_rebase(&img->node.tsync) == FCC_OK) {
+        c->ref_offset = c->offset;
+        ++c->rebases;
+    }
 }
 
 /* A frame's receive stamp is its time on the bus when the line carries it
@@ -300,6 +326,7 @@ static void summary(const image_t *img)
         {"bus_delay_us_mean", img->bus_clock.delay_sum_us /
                                   ((img->bus_clock.stamped != 0u) ? img->bus_clock.stamped : 1u)},
         {"bus_delay_us_worst", img->bus_clock.delay_worst_us},
+        {"bus_rebases", img->bus_clock.rebases},
     };
     summary_line("rx_timing", rx, N_KV(rx));
 }
@@ -377,6 +404,7 @@ static uint64_t loop_once(image_t *img)
 {
     (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
     (void)fcc_node_sync_poll(&img->node); /* time sync timeouts: loss of sync, holdover */
+    rebase_on_bus_clock(img);
     uint64_t now = mps2_now_us();
     if (fcc_slcan_dev_take_opened(&img->link)) {
         (void)fcc_node_send_status(&img->node); /* "listening" */

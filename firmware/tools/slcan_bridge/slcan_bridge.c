@@ -9,7 +9,7 @@
  * from the image becomes a frame on IFACE (other sockets there, candump
  * included, see it as every node's frame).
  *
- *   slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-z]
+ *   slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-b BYTES] [-z]
  *
  *   slcan_bridge --help
  *
@@ -23,7 +23,8 @@
  * it into its own clock's (README, "Time sync over the line").
  *
  * No frame is lost silently: frames wait for the line in a queue of QUEUE
- * frames (default 256); a frame it cannot take, a frame the kernel dropped
+ * frames (default 256) behind the socket's send buffer of BYTES (default
+ * 64 kB, as a pty's); a frame the queue cannot take, a frame the kernel dropped
  * from the bridge's receive queue, or a frame from the image the interface
  * refused ends the bridge with one line naming the loss, exit 3.  Exit 0
  * when the line or a signal ended it (a summary line), 1 on an I/O error
@@ -36,22 +37,28 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/uio.h>
 #include <sys/un.h>
 #include <unistd.h>
 
 #include "fcc_slcan.h"
 #include "fcc_socketcan.h"
 
-#define BRIDGE_USAGE "slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-z]"
+#define BRIDGE_USAGE "slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-b BYTES] [-z]"
 #define QUEUE_MAX 4096u
 #define QUEUE_DEFAULT 256u
 /* A line to the image: the frame's (FCC_SLCAN_FRAME_CHARS, CR included) and the stamp. */
 #define STAMP_CHARS 8u
 #define LINE_CAP (FCC_SLCAN_FRAME_CHARS + STAMP_CHARS)
-/* The kernel's buffer toward QEMU: a few lines, so that the bridge's queue is the one that fills. */
-#define LINE_SNDBUF 4096
+/* The kernel's buffer toward QEMU by default, as a pty's (64 kB): the line stalls for up to
+ * seconds when QEMU is starved in a loaded guest, and the lines wait there and in the queue. */
+#define LINE_SNDBUF_DEFAULT 65536u
+#define LINE_SNDBUF_MAX (1u << 22)
+/* Lines handed to the kernel in one sendmsg at most. */
+#define FLUSH_LINES 64u
 #define CAN_RCVBUF (1 << 20)
 #define EXIT_IO 1
 #define EXIT_USAGE 2
@@ -69,6 +76,7 @@ typedef struct {
     const char *iface;
     const char *socket_path;
     unsigned long queue;
+    unsigned long sndbuf;
     int stamps;
 } options_t;
 
@@ -98,6 +106,7 @@ typedef struct {
     unsigned long answers_error;
     unsigned long lines_bad;
     unsigned long queue_peak;
+    unsigned long wakeups; /* poll() returns: a bridge that spins shows here */
 } counts_t;
 
 typedef struct {
@@ -121,6 +130,8 @@ static void print_help(void)
           "  -i IFACE    the CAN interface (vcan0, or a vxcan end)\n"
           "  -u SOCKET   the Unix socket to listen on (a new path; one connection)\n"
           "  -n QUEUE    frames that may wait for the line, 1..4096 (default 256)\n"
+          "  -b BYTES    the socket's send buffer toward the line (SO_SNDBUF, the kernel's\n"
+          "              minimum..4 MiB, default 65536): lines wait there too\n"
           "  -z          each line to the line carries the frame's time on IFACE:\n"
           "              8 hex digits after the data, CLOCK_MONOTONIC us modulo 2^32\n"
           "  -h, --help  this text\n"
@@ -156,6 +167,7 @@ static args_t parse_args(int argc, char **argv, options_t *o)
     o->iface = NULL;
     o->socket_path = NULL;
     o->queue = QUEUE_DEFAULT;
+    o->sndbuf = LINE_SNDBUF_DEFAULT;
     o->stamps = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
@@ -168,7 +180,8 @@ static args_t parse_args(int argc, char **argv, options_t *o)
             o->stamps = 1;
             continue;
         }
-        if (strcmp(a, "-i") != 0 && strcmp(a, "-u") != 0 && strcmp(a, "-n") != 0) {
+        if (strcmp(a, "-i") != 0 && strcmp(a, "-u") != 0 && strcmp(a, "-n") != 0 &&
+            strcmp(a, "-b") != 0) {
             return usage_error("unknown option", a);
         }
         if (v == NULL) {
@@ -179,6 +192,10 @@ static args_t parse_args(int argc, char **argv, options_t *o)
             o->iface = v;
         } else if (strcmp(a, "-u") == 0) {
             o->socket_path = v;
+        } else if (strcmp(a, "-b") == 0) {
+            if (parse_ulong(v, 1u, LINE_SNDBUF_MAX, &o->sndbuf) != 0) {
+                return usage_error("-b needs a buffer size 1..4194304, not", v);
+            }
         } else if (parse_ulong(v, 1u, QUEUE_MAX, &o->queue) != 0) {
             return usage_error("-n needs a queue length 1..4096, not", v);
         }
@@ -222,7 +239,7 @@ static int listen_on(const char *path)
 }
 
 /* Waits for QEMU's connection (or a signal): the connected descriptor, non-blocking. */
-static int accept_line(int listen_fd)
+static int accept_line(int listen_fd, unsigned long sndbuf_bytes)
 {
     while (!g_stop) {
         struct pollfd p = {listen_fd, POLLIN, 0};
@@ -239,7 +256,7 @@ static int accept_line(int listen_fd)
             fprintf(stderr, "slcan_bridge: accept: %s\n", strerror(errno));
             return -1;
         }
-        const int sndbuf = LINE_SNDBUF;
+        const int sndbuf = (int)sndbuf_bytes;
         if (setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &sndbuf, sizeof sndbuf) != 0) {
             fprintf(stderr, "slcan_bridge: SO_SNDBUF: %s\n", strerror(errno));
             (void)close(fd);
@@ -252,14 +269,41 @@ static int accept_line(int listen_fd)
 
 /* ---- toward the image --------------------------------------------------------- */
 
-/* Writes the queued lines until the socket takes no more: 0, or -1 (the line is gone). */
+/* Takes n written bytes off the queue's head. */
+static void consume(line_queue_t *q, size_t n)
+{
+    while (n > 0u) {
+        const size_t left = (size_t)q->len[q->head] - q->head_done;
+        const size_t take = (n < left) ? n : left;
+        q->head_done += (uint32_t)take;
+        n -= take;
+        if (q->head_done == q->len[q->head]) {
+            q->head_done = 0u;
+            q->head = (q->head + 1u) % q->cap;
+            --q->count;
+        }
+    }
+}
+
+/* Writes the queued lines (up to FLUSH_LINES in one sendmsg) until the socket takes no more:
+ * 0, or -1 (the line is gone). */
 static int flush_queue(bridge_t *b)
 {
     line_queue_t *q = &b->out;
     while (q->count > 0u) {
-        const char *line = q->line[q->head];
-        const size_t left = (size_t)q->len[q->head] - q->head_done;
-        const ssize_t w = send(b->line_fd, line + q->head_done, left, MSG_NOSIGNAL);
+        struct iovec iov[FLUSH_LINES];
+        size_t n = 0u;
+        for (; n < FLUSH_LINES && n < q->count; ++n) {
+            const uint32_t slot = (q->head + (uint32_t)n) % q->cap;
+            const size_t done = (n == 0u) ? q->head_done : 0u;
+            iov[n].iov_base = &q->line[slot][done];
+            iov[n].iov_len = (size_t)q->len[slot] - done;
+        }
+        struct msghdr mh;
+        memset(&mh, 0, sizeof mh);
+        mh.msg_iov = iov;
+        mh.msg_iovlen = n;
+        const ssize_t w = sendmsg(b->line_fd, &mh, MSG_NOSIGNAL);
         if (w < 0) {
             if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
                 return 0;
@@ -267,12 +311,7 @@ static int flush_queue(bridge_t *b)
             fprintf(stderr, "slcan_bridge: the line is gone (%s)\n", strerror(errno));
             return -1;
         }
-        q->head_done += (uint32_t)w;
-        if (q->head_done == q->len[q->head]) {
-            q->head_done = 0u;
-            q->head = (q->head + 1u) % q->cap;
-            --q->count;
-        }
+        consume(q, (size_t)w);
     }
     return 0;
 }
@@ -436,6 +475,7 @@ static int bridge_loop(bridge_t *b)
         struct pollfd p[2] = {{b->can.fd, POLLIN, 0},
                               {b->line_fd, (short)(POLLIN | (b->out.count > 0u ? POLLOUT : 0)), 0}};
         const int r = poll(p, 2u, 500);
+        ++b->n.wakeups;
         if (r < 0) {
             if (errno == EINTR) {
                 continue;
@@ -465,10 +505,17 @@ static int bridge_loop(bridge_t *b)
 
 static void summary(const bridge_t *b, int status)
 {
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    const unsigned long cpu_ms = (getrusage(RUSAGE_SELF, &ru) == 0)
+        ? (unsigned long)(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) * 1000u +
+              (unsigned long)(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec) / 1000u
+        : 0u;
     fprintf(stderr, "slcan_bridge: summary to_image=%lu from_image=%lu answers_ok=%lu "
-                    "answers_error=%lu lines_bad=%lu queue_peak=%lu rx_ignored=%lu exit=%d\n",
+                    "answers_error=%lu lines_bad=%lu queue_peak=%lu rx_ignored=%lu wakeups=%lu "
+                    "cpu_ms=%lu exit=%d\n",
             b->n.to_image, b->n.from_image, b->n.answers_ok, b->n.answers_error, b->n.lines_bad,
-            b->n.queue_peak, (unsigned long)b->can.cnt.rx_ignored, status);
+            b->n.queue_peak, (unsigned long)b->can.cnt.rx_ignored, b->n.wakeups, cpu_ms, status);
 }
 
 static int run(bridge_t *b)
@@ -487,7 +534,7 @@ static int run(bridge_t *b)
     if (b->listen_fd >= 0) {
         fputs("slcan_bridge: ready\n", stdout);
         status = (fflush(stdout) == 0) ? 0 : EXIT_IO;
-        b->line_fd = (status == 0) ? accept_line(b->listen_fd) : -1;
+        b->line_fd = (status == 0) ? accept_line(b->listen_fd, b->opt->sndbuf) : -1;
         if (b->line_fd >= 0) {
             fputs("slcan_bridge: connected\n", stdout);
             status = (fflush(stdout) == 0) ? bridge_loop(b) : EXIT_IO;

@@ -45,10 +45,12 @@ def test_a_burst_per_step_reaches_the_image_whole(tmp_path, image):
 
 
 def test_a_frame_the_line_drops_ends_the_run(tmp_path, image, monkeypatch):
-    """A line queue of one frame, QEMU frozen (it takes no byte), a burst on the bus: the bridge
-    drops a frame, and the run ends with one line saying so (the kernel slcan's default queue of
-    10 dropped ticks this way, silently, behind the heartbeat or an attacker's frames)."""
+    """A line queue of one frame behind the kernel's smallest socket buffer (~4.6 kB), QEMU frozen
+    (it takes no byte), a burst on the bus: the bridge drops a frame, and the run ends with one
+    line saying so (the kernel slcan's default queue of 10 dropped ticks this way, silently,
+    behind the heartbeat or an attacker's frames)."""
     monkeypatch.setattr(qemu_m4f, "LINE_QUEUE", 1)
+    monkeypatch.setattr(qemu_m4f, "LINE_BUFFER", 1)
     sc = scenario(CDRW_1S)
     cfg = RigConfig(out_dir=tmp_path, target="qemu-m4f", fcc_binary=image, mode="lockstep")
     with pytest.raises(FccDied, match=r"serial link lost: a frame dropped on its way to the image "
@@ -59,7 +61,7 @@ def test_a_frame_the_line_drops_ends_the_run(tmp_path, image, monkeypatch):
             os.kill(qemu.pid, signal.SIGSTOP)
             try:
                 with can.Bus(interface="socketcan", channel=cfg.iface) as bus:
-                    for i in range(200):  # more than the kernel's few lines of socket buffer
+                    for i in range(500):  # more than ~4.6 kB of 22-character lines
                         bus.send(can.Message(arbitration_id=0x7F0, data=[i & 0xFF], is_extended_id=False))
                 assert rig.fcc.bridge.wait(TIMEOUT) == qemu_m4f.BRIDGE_LOST  # type: ignore[union-attr]
             finally:

@@ -23,8 +23,9 @@ instruction count / 1000); realtime without -icount (virtual time = the host's c
 
 A link loss -- QEMU gone, the bridge gone, the interface gone -- is seen by `poll()` and is a
 rig error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is
-lost silently: the bridge queues LINE_QUEUE frames toward the UART (a step's burst from the rig
-waits there while the UART takes one byte at a time); a frame the full queue drops, a frame the
+lost silently: the bridge queues LINE_QUEUE frames toward the UART behind the socket's
+LINE_BUFFER bytes (a step's burst from the rig waits there while the UART takes one byte at a
+time); a frame the full queue drops, a frame the
 kernel dropped from the bridge's receive queue, or a frame of the image the interface refused
 ends the bridge (exit 3) with one line naming the loss, and the run with that line; a byte the
 image's receive ring could not take (its summary's `board rx_overflows`, also
@@ -62,6 +63,9 @@ LINK_GRACE_S = 2.0
 #: frames the bridge queues toward the UART (a step's burst plus the heartbeat or an attacker's
 #: frames: the kernel slcan's default of 10 lost ticks that way)
 LINE_QUEUE = 256
+#: bytes of lines the socket's kernel buffer holds ahead of the queue, as a pty's 64 kB: the line
+#: stalls for up to seconds while QEMU is starved in a loaded guest
+LINE_BUFFER = 65536
 #: realtime: QEMU's main loop at fcc's SCHED_FIFO priority (hil.rig.config.FCC_RT_PRIORITY),
 #: its vCPU just below
 LINE_RT_PRIORITY = 50
@@ -216,7 +220,7 @@ class QemuM4f(Device):
             try:
                 self.bridge = subprocess.Popen(
                     [self._bridge_exe, "-i", self.iface, "-u", str(self.line_socket),
-                     "-n", str(LINE_QUEUE), *stamps],
+                     "-n", str(LINE_QUEUE), "-b", str(LINE_BUFFER), *stamps],
                     stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=err)
             except OSError as e:
                 raise PilError(f"cannot start slcan_bridge: {e.strerror}") from None

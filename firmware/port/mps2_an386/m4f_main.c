@@ -17,7 +17,9 @@
 #include <string.h>
 
 #include "fcc_bootcfg.h"
+#include "fcc_bus_msgs.h"
 #include "fcc_cfg_limits.h"
+#include "fcc_hist.h"
 #include "fcc_node.h"
 #include "fcc_slcan.h"
 #include "mps2_board.h"
@@ -73,6 +75,10 @@ typedef struct {
     uint32_t parse_wait_worst_us; /* frames: their line's arrival to their parse */
     uint64_t parse_wait_sum_us;
     bus_clock_t bus_clock;
+    uint64_t cmd_sent_us;      /* the last missile command handed to the line */
+    uint32_t cmd_sends;        /* missile commands handed to the line */
+    uint32_t cmd_sends_seen;   /* ... of which measured */
+    fcc_hist_t latency;        /* missile: newest sensor frame used received -> command sent */
 } image_t;
 
 static image_t g_img;
@@ -82,7 +88,26 @@ static image_t g_img;
 static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
 {
     image_t *img = ctx;
-    return fcc_slcan_dev_send(&img->link, frame);
+    const fcc_status_t st = fcc_slcan_dev_send(&img->link, frame);
+    if (st == FCC_OK && frame->id == FCC_MSG_MSL_ELEV_CMD_ID) {
+        img->cmd_sent_us = mps2_now_us(); /* in the UART's ring: on its way, as the host's "handed" */
+        ++img->cmd_sends;
+    }
+    return st;
+}
+
+/* After a missile command went out: sensor to command on this clock, as the host fcc's
+ * latency_us (from the newest sensor frame the step used, its receive stamp). */
+static void measure_command(image_t *img)
+{
+    if (img->cmd_sends == img->cmd_sends_seen) {
+        return;
+    }
+    img->cmd_sends_seen = img->cmd_sends;
+    const uint64_t rx = img->node.msl.last.newest_rx_us;
+    if (rx != 0u && img->cmd_sent_us >= rx) {
+        fcc_hist_add(&img->latency, img->cmd_sent_us - rx);
+    }
 }
 
 /* A Z2 bus stamp on this board's clock (bus_clock_t). */
@@ -267,6 +292,14 @@ static void summary(const image_t *img)
         {"designs_failed", img->node.msl.designs_failed},
     };
     summary_line("lqg", lqg, N_KV(lqg));
+    /* the host fcc's histogram line (hil.results.timing reads both) */
+    const kv_t latency[] = {
+        {"n", img->latency.n},
+        {"p50", fcc_hist_quantile(&img->latency, 0.50)},
+        {"p99", fcc_hist_quantile(&img->latency, 0.99)},
+        {"max", img->latency.max},
+    };
+    summary_line("latency_us missile", latency, N_KV(latency));
     const fcc_slcan_counters_t *s = &img->link.cnt;
     const kv_t slcan[] = {
         {"lines", s->lines},
@@ -383,6 +416,7 @@ static void start(image_t *img)
         .event = port_event,
         .event_ctx = img,
     };
+    fcc_hist_init(&img->latency);
     if (fcc_node_init(&img->node, &img->cfg, &port) != FCC_OK) {
         refuse("configuration refused by the applications (LQG design failed?)", "");
     }
@@ -403,6 +437,7 @@ static uint64_t min_u64(uint64_t a, uint64_t b)
 static uint64_t loop_once(image_t *img)
 {
     (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
+    measure_command(img); /* lockstep: a SIM_TICK's step */
     (void)fcc_node_sync_poll(&img->node); /* time sync timeouts: loss of sync, holdover */
     rebase_on_bus_clock(img);
     uint64_t now = mps2_now_us();
@@ -419,6 +454,7 @@ static uint64_t loop_once(image_t *img)
     if (img->flying && img->cfg.mode == FCC_MODE_REALTIME) {
         uint64_t jitter[FCC_N_APPS];
         (void)fcc_node_rt_run_due(&img->node, img->rt, jitter);
+        measure_command(img);
         wake = fcc_node_rt_next(&img->node, img->rt);
     }
     now = mps2_now_us();

@@ -59,10 +59,10 @@ static fcc_status_t parse_frame(const char *line, size_t len, fcc_slcan_msg_t *m
     }
     const size_t data_chars = remote ? 0u : 2u * (size_t)dlc;
     const size_t frame_chars = 1u + id_chars + 1u + data_chars;
-    const bool stamped = !remote && len == frame_chars + FCC_SLCAN_STAMP_CHARS;
+    const bool stamped = (!remote) && (len == (frame_chars + FCC_SLCAN_STAMP_CHARS));
     uint32_t stamp = 0u;
-    if ((len != frame_chars && !stamped) ||
-        (stamped && hex_value(&line[frame_chars], FCC_SLCAN_STAMP_CHARS, &stamp) != FCC_OK)) {
+    if (((len != frame_chars) && (!stamped)) ||
+        (stamped && (hex_value(&line[frame_chars], FCC_SLCAN_STAMP_CHARS, &stamp) != FCC_OK))) {
         return FCC_ERR_FORMAT;
     }
     memset(msg, 0, sizeof *msg);
@@ -226,7 +226,8 @@ static void configure(fcc_slcan_dev_t *dev, const fcc_slcan_msg_t *m)
     }
     if (m->cmd == FCC_SLCAN_CMD_BITRATE) {
         dev->bitrate = (uint8_t)m->arg;
-    } else if (m->cmd == FCC_SLCAN_CMD_TIMESTAMP) {
+    }
+    if (m->cmd == FCC_SLCAN_CMD_TIMESTAMP) {
         dev->timestamps = (m->arg == 2u);
     }
     reply_ok(dev);
@@ -260,16 +261,15 @@ static fcc_status_t execute(fcc_slcan_dev_t *dev, const fcc_slcan_msg_t *m, fcc_
     case FCC_SLCAN_CMD_FRAME:
         if (m->stamped != dev->timestamps) { /* Z2 lines carry a stamp, others none */
             reply_error(dev);
-            return FCC_ERR_AGAIN;
-        }
-        if (dev->state == FCC_SLCAN_CLOSED || m->extended) {
+        } else if (dev->state == FCC_SLCAN_CLOSED || m->extended) {
             ++dev->cnt.ignored;
-            return FCC_ERR_AGAIN;
+        } else {
+            *frame = m->frame;
+            dev->rx_stamp_us = m->stamp_us; /* (Z2 only: 0 otherwise) */
+            ++dev->cnt.frames_rx;
+            return FCC_OK;
         }
-        *frame = m->frame;
-        dev->rx_stamp_us = m->stamp_us;
-        ++dev->cnt.frames_rx;
-        return FCC_OK;
+        break;
     case FCC_SLCAN_CMD_REMOTE:
         ++dev->cnt.ignored;
         return FCC_ERR_AGAIN;

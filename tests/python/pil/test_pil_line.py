@@ -70,16 +70,25 @@ def test_a_frame_the_line_drops_ends_the_run(tmp_path, image, monkeypatch):
 
 
 def test_realtime_lines_carry_their_bus_time(tmp_path, image):
-    """In realtime the image takes each frame's time on vcan0 from its line (SLCAN Z2, the
-    bridge's kernel receive stamp) and its time sync locks with no pair refused as a step; in
-    lockstep (virtual time: the instruction count) the lines carry none."""
+    """In realtime every frame line to the image carries the frame's time on vcan0 (SLCAN Z2, the
+    bridge's kernel receive stamp), the image takes none of them as malformed and stamps the frames
+    with it, and its time sync follows the master on those stamps; in lockstep (virtual time: the
+    instruction count) the lines carry none."""
     fly(tmp_path, scenario(MISSILE_2S), target="qemu-m4f", timeout=TIMEOUT, fcc_binary=image,
         mode="realtime")
     log = (tmp_path / "fcc.log").read_text()
-    stamped = re.search(r"fcc summary: rx_timing lines=(\d+) .* bus_stamped=(\d+) ", log)
-    assert stamped and int(stamped[2]) > 0, log
-    assert re.search(r"fcc summary: sync_refused .* step_refused=0 ", log), log
-    assert "answers_error=0 " in (tmp_path / "slcan_bridge.log").read_text()
+    bridge = (tmp_path / "slcan_bridge.log").read_text()
+    stamped = re.search(r"fcc summary: rx_timing .* bus_stamped=(\d+) ", log)
+    assert stamped and int(stamped[1]) > 0, log
+    assert re.search(r"fcc summary: slcan lines=\d+ .*", log), log
+    assert "answers_error=0 " in bridge and "lines_bad=0 " in bridge, bridge
+    samples = re.search(r"fcc summary: sync state=\d+ .*samples=(\d+) ", log)
+    assert samples and int(samples[1]) > 0, log
+
+
+def test_lockstep_lines_carry_no_stamp(tmp_path, image):
+    fly(tmp_path, scenario(CDRW_1S), target="qemu-m4f", timeout=TIMEOUT, fcc_binary=image)
+    assert " bus_stamped=0 " in (tmp_path / "fcc.log").read_text()
 
 
 def test_realtime_line_runs_at_fccs_priority(tmp_path, image):

@@ -119,8 +119,6 @@ typedef struct {
     const options_t *opt;
 } bridge_t;
 
-static bridge_t g_bridge; /* too large for the stack; main's only instance */
-
 static void print_help(void)
 {
     fputs("usage: " BRIDGE_USAGE "\n"
@@ -563,7 +561,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "slcan_bridge: cannot handle signals\n");
         return EXIT_IO;
     }
-    bridge_t *b = &g_bridge;
+    static bridge_t bridge; /* ~150 kB of queue: main's one instance, off the stack */
+    bridge_t *b = &bridge;
+    memset(b, 0, sizeof *b);
     b->opt = &opt;
     b->line_fd = -1;
     b->listen_fd = -1;

@@ -58,10 +58,16 @@ static fcc_status_t parse_frame(const char *line, size_t len, fcc_slcan_msg_t *m
         return FCC_ERR_FORMAT;
     }
     const size_t data_chars = remote ? 0u : 2u * (size_t)dlc;
-    if (len != 1u + id_chars + 1u + data_chars) {
+    const size_t frame_chars = 1u + id_chars + 1u + data_chars;
+    const bool stamped = (!remote) && (len == (frame_chars + FCC_SLCAN_STAMP_CHARS));
+    uint32_t stamp = 0u;
+    if (((len != frame_chars) && (!stamped)) ||
+        (stamped && (hex_value(&line[frame_chars], FCC_SLCAN_STAMP_CHARS, &stamp) != FCC_OK))) {
         return FCC_ERR_FORMAT;
     }
     memset(msg, 0, sizeof *msg);
+    msg->stamped = stamped;
+    msg->stamp_us = stamp;
     msg->cmd = remote ? FCC_SLCAN_CMD_REMOTE : FCC_SLCAN_CMD_FRAME;
     msg->extended = ext;
     msg->frame.id = id;
@@ -99,7 +105,7 @@ fcc_status_t fcc_slcan_parse(const char *line, size_t len, fcc_slcan_msg_t *msg)
         return parse_frame(line, len, msg);
     case 'S':
     case 'Z':
-        if (len != 2u || line[1] < '0' || line[1] > ((line[0] == 'S') ? '8' : '1')) {
+        if (len != 2u || line[1] < '0' || line[1] > ((line[0] == 'S') ? '8' : '2')) {
             return FCC_ERR_FORMAT;
         }
         memset(msg, 0, sizeof *msg);
@@ -221,6 +227,9 @@ static void configure(fcc_slcan_dev_t *dev, const fcc_slcan_msg_t *m)
     if (m->cmd == FCC_SLCAN_CMD_BITRATE) {
         dev->bitrate = (uint8_t)m->arg;
     }
+    if (m->cmd == FCC_SLCAN_CMD_TIMESTAMP) {
+        dev->timestamps = (m->arg == 2u);
+    }
     reply_ok(dev);
 }
 
@@ -250,13 +259,17 @@ static fcc_status_t execute(fcc_slcan_dev_t *dev, const fcc_slcan_msg_t *m, fcc_
 {
     switch (m->cmd) {
     case FCC_SLCAN_CMD_FRAME:
-        if (dev->state == FCC_SLCAN_CLOSED || m->extended) {
+        if (m->stamped != dev->timestamps) { /* Z2 lines carry a stamp, others none */
+            reply_error(dev);
+        } else if (dev->state == FCC_SLCAN_CLOSED || m->extended) {
             ++dev->cnt.ignored;
-            return FCC_ERR_AGAIN;
+        } else {
+            *frame = m->frame;
+            dev->rx_stamp_us = m->stamp_us; /* (Z2 only: 0 otherwise) */
+            ++dev->cnt.frames_rx;
+            return FCC_OK;
         }
-        *frame = m->frame;
-        ++dev->cnt.frames_rx;
-        return FCC_OK;
+        break;
     case FCC_SLCAN_CMD_REMOTE:
         ++dev->cnt.ignored;
         return FCC_ERR_AGAIN;
@@ -291,10 +304,13 @@ static fcc_status_t execute(fcc_slcan_dev_t *dev, const fcc_slcan_msg_t *m, fcc_
         status_flags(dev);
         break;
     case FCC_SLCAN_CMD_TIMESTAMP:
-        if (m->arg != 0u) {
+        if (m->arg == 1u) { /* Lawicel's millisecond stamps on frames sent: not supported */
             reply_error(dev);
-        } else {
+        } else if (m->arg == 0u) {
+            dev->timestamps = false;
             reply_ok(dev);
+        } else {
+            configure(dev, m); /* Z2: while closed */
         }
         break;
     default:

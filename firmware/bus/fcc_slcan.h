@@ -34,6 +34,10 @@
 /* Longest line the encoder writes, CR included ('T' frame, 8 data bytes). */
 #define FCC_SLCAN_FRAME_CHARS 27u
 #define FCC_SLCAN_EXT_ID_MAX 0x1FFFFFFFu
+/* Z2 (this project's extension, spoken by firmware/tools/slcan_bridge): every
+ * data frame line to the device carries the frame's time on the bus as 8 hex
+ * digits after its data, microseconds modulo 2^32 on the host's clock. */
+#define FCC_SLCAN_STAMP_CHARS 8u
 
 typedef enum {
     FCC_SLCAN_CMD_FRAME = 0,   /* t / T: a data frame */
@@ -47,7 +51,7 @@ typedef enum {
     FCC_SLCAN_CMD_FW_VERSION,  /* v */
     FCC_SLCAN_CMD_SERIAL,      /* N */
     FCC_SLCAN_CMD_STATUS,      /* F */
-    FCC_SLCAN_CMD_TIMESTAMP    /* Zn, n = 0/1 in arg */
+    FCC_SLCAN_CMD_TIMESTAMP    /* Zn, n = 0..2 in arg */
 } fcc_slcan_cmd_t;
 
 typedef struct {
@@ -55,9 +59,12 @@ typedef struct {
     bool extended;           /* FRAME / REMOTE: 29-bit identifier */
     fcc_can_frame_t frame;   /* FRAME / REMOTE: id, dlc, data (t_us 0) */
     uint16_t arg;            /* BITRATE, BTR, TIMESTAMP */
+    bool stamped;            /* FRAME: the line carried a Z2 stamp */
+    uint32_t stamp_us;       /* FRAME: that stamp (0 without) */
 } fcc_slcan_msg_t;
 
-/* One line, CR excluded, exactly as received: FCC_OK and *msg, or
+/* One line, CR excluded, exactly as received (a data frame with or without
+ * its Z2 stamp): FCC_OK and *msg, or
  * FCC_ERR_FORMAT (unknown command, wrong length, bad hex digit, id or DLC out
  * of range), FCC_ERR_ARG for NULL.  Hex digits may be upper or lower case. */
 fcc_status_t fcc_slcan_parse(const char *line, size_t len, fcc_slcan_msg_t *msg);
@@ -98,7 +105,8 @@ typedef struct {
     void *write_ctx;
     fcc_slcan_state_t state;
     uint8_t bitrate;         /* last S command (6 = 500 kbit/s by default) */
-    bool timestamps;         /* always false: Z1 is refused */
+    bool timestamps;         /* Z2 given (while closed): frame lines carry a stamp */
+    uint32_t rx_stamp_us;    /* the stamp of the frame fcc_slcan_dev_byte just handed out (Z2) */
     bool opened;             /* an O/L was accepted since fcc_slcan_dev_take_opened() */
     bool overrun;            /* the writer refused bytes since the last F */
     char line[FCC_SLCAN_LINE_MAX];

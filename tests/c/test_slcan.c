@@ -134,7 +134,7 @@ static void test_parse_rejects(void **state)
         "t12G1",        /* not hex */
         "t1231zz",      /* data not hex */
         "r12311",       /* remote frame with data */
-        "S9", "S", "S12", "Z2", "s12", "s12345", "sGGGG",
+        "S9", "S", "S12", "Z3", "s12", "s12345", "sGGGG",
         "O1", "CC", "x", "?", " O", "o",
     };
     fcc_slcan_msg_t m;
@@ -335,6 +335,39 @@ static void test_device_random_bytes(void **state)
     assert_int_equal(f.data[0], 0xFF);
 }
 
+/* Z2 (slcan_bridge): while closed only; then every data frame line carries
+ * its bus stamp (8 hex digits after the data), handed out in rx_stamp_us, and
+ * a line without one is refused -- as a stamped line is without Z2. */
+static void test_device_bus_stamps(void **state)
+{
+    (void)state;
+    fcc_slcan_dev_t dev;
+    line_t l;
+    dev_start(&dev, &l);
+    fcc_can_frame_t f;
+    assert_int_equal(FEED(&dev, "Z2\rO\r", NULL), 0);
+    expect_line(&l, "\r\r");
+    assert_int_equal(FEED(&dev, "t0202BEEF89ABCDEF\r", &f), 1);
+    assert_int_equal(f.id, 0x020u);
+    assert_int_equal(f.data[1], 0xEF);
+    assert_int_equal(dev.rx_stamp_us, 0x89ABCDEFu);
+    assert_int_equal(FEED(&dev, "t0000000000FF\r", &f), 1); /* DLC 0, stamp 0xFF */
+    assert_int_equal(dev.rx_stamp_us, 0xFFu);
+    assert_int_equal(l.n, 0u);
+    const uint32_t errors = dev.cnt.line_errors;
+    assert_int_equal(FEED(&dev, "t0202BEEF\r", NULL), 0);     /* unstamped under Z2 */
+    assert_int_equal(FEED(&dev, "t0202BEEF89ABCDE\r", NULL), 0); /* 7 digits */
+    assert_int_equal(FEED(&dev, "t0202BEEF89ABCDEG\r", NULL), 0); /* not hex */
+    assert_int_equal(FEED(&dev, "Z2\r", NULL), 0);             /* not while open */
+    expect_line(&l, "\a\a\a\a");
+    assert_int_equal(dev.cnt.line_errors, errors + 4u);
+    assert_int_equal(FEED(&dev, "C\rZ0\rO\rt0202BEEF89ABCDEF\rt0200\r", &f), 1); /* Z0: off */
+    expect_line(&l, "\r\r\r\a");
+    assert_int_equal(f.dlc, 0u);
+    fcc_slcan_msg_t m;
+    assert_int_equal(fcc_slcan_parse("r0202BEEF89AB", 13u, &m), FCC_ERR_FORMAT); /* remote: none */
+}
+
 /* Each refusal decided by one argument or one character on its own (scripts/test coverage). */
 static void test_each_refusal_alone(void **state)
 {
@@ -347,7 +380,7 @@ static void test_each_refusal_alone(void **state)
     assert_int_equal(fcc_slcan_parse("S", 1u, &m), FCC_ERR_FORMAT);
     assert_int_equal(fcc_slcan_parse("S/", 2u, &m), FCC_ERR_FORMAT);
     assert_int_equal(fcc_slcan_parse("S9", 2u, &m), FCC_ERR_FORMAT);
-    assert_int_equal(fcc_slcan_parse("Z2", 2u, &m), FCC_ERR_FORMAT);
+    assert_int_equal(fcc_slcan_parse("Z3", 2u, &m), FCC_ERR_FORMAT);
     assert_int_equal(fcc_slcan_parse("S8", 2u, &m), FCC_OK);
     assert_int_equal(m.cmd, FCC_SLCAN_CMD_BITRATE);
     assert_int_equal(m.arg, 8u);
@@ -398,7 +431,7 @@ int main(void)
         cmocka_unit_test(test_parse_rejects),       cmocka_unit_test(test_encode_round_trip),
         cmocka_unit_test(test_device_session),      cmocka_unit_test(test_device_garbage),
         cmocka_unit_test(test_device_writer_full),  cmocka_unit_test(test_device_random_bytes),
-        cmocka_unit_test(test_each_refusal_alone),
+        cmocka_unit_test(test_each_refusal_alone),  cmocka_unit_test(test_device_bus_stamps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -17,7 +17,9 @@
 #include <string.h>
 
 #include "fcc_bootcfg.h"
+#include "fcc_bus_msgs.h"
 #include "fcc_cfg_limits.h"
+#include "fcc_hist.h"
 #include "fcc_node.h"
 #include "fcc_slcan.h"
 #include "mps2_board.h"
@@ -32,6 +34,30 @@
 #define EVENT_LINE_GAP_US 1000000u
 /* A design slice that never finds room before a deadline runs after this. */
 #define DESIGN_WAIT_MAX_US 100000u
+/* Lines per block of the bus clock's sliding minimum (two blocks: ~4-10 s of
+ * a realtime flight's lines). */
+#define BUS_CLOCK_BLOCK 512u
+
+/* The bus's time stamps (SLCAN Z2: each frame's time on the rig's bus, host
+ * microseconds modulo 2^32, from slcan_bridge) on this board's clock, as a
+ * host maps a USB-CAN adapter's stamps: offset = the smallest (line's first
+ * byte - bus stamp) over the last one to two blocks of lines, i.e. the line's
+ * fastest delivery; a frame's receive stamp = its bus stamp + offset.  A line
+ * that waited behind others or behind QEMU comes out stamped with its bus
+ * time all the same.  Both clocks are the host's (realtime: no -icount). */
+typedef struct {
+    bool valid;
+    uint64_t last_bus_us;   /* the last stamp, unwrapped */
+    int64_t cur_min;        /* this block's smallest (first byte - bus) */
+    int64_t prev_min;       /* the previous block's (INT64_MAX: none yet) */
+    uint32_t in_block;
+    int64_t offset;         /* the offset in use */
+    int64_t ref_offset;     /* the offset when the time sync last took a reference */
+    uint32_t rebases;       /* time sync references dropped because the offset moved */
+    uint32_t stamped;       /* frames stamped so */
+    uint64_t delay_sum_us;  /* their delay beyond the fastest line */
+    uint32_t delay_worst_us;
+} bus_clock_t;
 
 typedef struct {
     fcc_node_t node;
@@ -48,6 +74,11 @@ typedef struct {
     uint32_t event_suppressed[FCC_EV_COUNT];
     uint32_t parse_wait_worst_us; /* frames: their line's arrival to their parse */
     uint64_t parse_wait_sum_us;
+    bus_clock_t bus_clock;
+    uint64_t cmd_sent_us;      /* the last missile command handed to the line */
+    uint32_t cmd_sends;        /* missile commands handed to the line */
+    uint32_t cmd_sends_seen;   /* ... of which measured */
+    fcc_hist_t latency;        /* missile: newest sensor frame used received -> command sent */
 } image_t;
 
 static image_t g_img;
@@ -57,12 +88,82 @@ static image_t g_img;
 static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
 {
     image_t *img = ctx;
-    return fcc_slcan_dev_send(&img->link, frame);
+    const fcc_status_t st = fcc_slcan_dev_send(&img->link, frame);
+    if (st == FCC_OK && frame->id == FCC_MSG_MSL_ELEV_CMD_ID) {
+        img->cmd_sent_us = mps2_now_us(); /* in the UART's ring: on its way, as the host's "handed" */
+        ++img->cmd_sends;
+    }
+    return st;
 }
 
-/* A frame's receive stamp is its line's first byte's arrival (the receive
- * interrupt's), not the time this loop came to parse it: a control step or a
- * design slice that runs meanwhile must not move a SYNC's stamp (time sync). */
+/* After a missile command went out: sensor to command on this clock, as the host fcc's
+ * latency_us (from the newest sensor frame the step used, its receive stamp). */
+static void measure_command(image_t *img)
+{
+    if (img->cmd_sends == img->cmd_sends_seen) {
+        return;
+    }
+    img->cmd_sends_seen = img->cmd_sends;
+    const uint64_t rx = img->node.msl.last.newest_rx_us;
+    if (rx != 0u && img->cmd_sent_us >= rx) {
+        fcc_hist_add(&img->latency, img->cmd_sent_us - rx);
+    }
+}
+
+/* A Z2 bus stamp on this board's clock (bus_clock_t). */
+static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_us)
+{
+    const uint64_t bus = c->valid ? c->last_bus_us + (uint64_t)(int64_t)(int32_t)(bus_us - (uint32_t)c->last_bus_us)
+                                  : (uint64_t)bus_us;
+    const int64_t d = (int64_t)line_rx_us - (int64_t)bus;
+    if (!c->valid) {
+        c->prev_min = INT64_MAX;
+        c->cur_min = d;
+        c->valid = true;
+    }
+    c->last_bus_us = bus;
+    c->cur_min = (d < c->cur_min) ? d : c->cur_min;
+    const int64_t offset = (c->prev_min < c->cur_min) ? c->prev_min : c->cur_min;
+    if (c->stamped == 0u) {
+        c->ref_offset = offset;
+    }
+    c->offset = offset;
+    if (++c->in_block == BUS_CLOCK_BLOCK) {
+        c->prev_min = c->cur_min;
+        c->cur_min = INT64_MAX;
+        c->in_block = 0u;
+    }
+    const uint64_t delay = (uint64_t)(d - offset);
+    const uint32_t delay32 = (delay > UINT32_MAX) ? UINT32_MAX : (uint32_t)delay;
+    ++c->stamped;
+    c->delay_sum_us += delay32;
+    c->delay_worst_us = (delay32 > c->delay_worst_us) ? delay32 : c->delay_worst_us;
+    return (uint64_t)((int64_t)bus + offset);
+}
+
+/* The bus clock's offset fell by more than half the time sync's step bound since the time
+ * sync took its reference (the first lines of a session came late, the offset converges on
+ * the line's fastest delivery): pairs refused since are this port's doing -- its stamps'
+ * origin moved, not the master's time -- so the time sync forgets its reference, which it
+ * does only while REFUSED (or LOST).  The offset only ever falls towards the fastest delivery
+ * the line allows, so no frame on the bus can bring this about twice. */
+static void rebase_on_bus_clock(image_t *img)
+{
+    bus_clock_t *c = &img->bus_clock;
+    const int64_t moved = c->ref_offset - c->offset;
+    if (c->stamped == 0u || moved <= (int64_t)(img->node.tsync.cfg.max_step_us / 2u)) {
+        return;
+    }
+    if (fcc_tsync_rebase(&img->node.tsync) == FCC_OK) {
+        c->ref_offset = c->offset;
+        ++c->rebases;
+    }
+}
+
+/* A frame's receive stamp is its time on the bus when the line carries it
+ * (Z2, bus_to_local), else its line's first byte's arrival (the receive
+ * interrupt's); never the time this loop came to parse it: a control step or
+ * a design slice that runs meanwhile must not move a SYNC's stamp (time sync). */
 static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
 {
     image_t *img = ctx;
@@ -70,7 +171,9 @@ static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
     uint64_t line_rx_us = 0u;
     for (uint32_t i = 0u; i < RECV_BYTE_BUDGET && mps2_link_getc(&b, &line_rx_us) != 0; ++i) {
         if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
-            frame->t_us = line_rx_us;
+            frame->t_us = img->link.timestamps
+                              ? bus_to_local(&img->bus_clock, img->link.rx_stamp_us, line_rx_us)
+                              : line_rx_us;
             const uint64_t now = mps2_now_us();
             const uint32_t wait = (now > line_rx_us) ? (uint32_t)(now - line_rx_us) : 0u;
             img->parse_wait_sum_us += wait;
@@ -189,6 +292,14 @@ static void summary(const image_t *img)
         {"designs_failed", img->node.msl.designs_failed},
     };
     summary_line("lqg", lqg, N_KV(lqg));
+    /* the host fcc's histogram line (hil.results.timing reads both) */
+    const kv_t latency[] = {
+        {"n", img->latency.n},
+        {"p50", fcc_hist_quantile(&img->latency, 0.50)},
+        {"p99", fcc_hist_quantile(&img->latency, 0.99)},
+        {"max", img->latency.max},
+    };
+    summary_line("latency_us missile", latency, N_KV(latency));
     const fcc_slcan_counters_t *s = &img->link.cnt;
     const kv_t slcan[] = {
         {"lines", s->lines},
@@ -244,6 +355,11 @@ static void summary(const image_t *img)
         {"parse_wait_us_mean", img->parse_wait_sum_us / frames},
         {"parse_wait_us_worst", img->parse_wait_worst_us},
         {"stamps_lost", b.stamps_lost},
+        {"bus_stamped", img->bus_clock.stamped},
+        {"bus_delay_us_mean", img->bus_clock.delay_sum_us /
+                                  ((img->bus_clock.stamped != 0u) ? img->bus_clock.stamped : 1u)},
+        {"bus_delay_us_worst", img->bus_clock.delay_worst_us},
+        {"bus_rebases", img->bus_clock.rebases},
     };
     summary_line("rx_timing", rx, N_KV(rx));
 }
@@ -300,6 +416,7 @@ static void start(image_t *img)
         .event = port_event,
         .event_ctx = img,
     };
+    fcc_hist_init(&img->latency);
     if (fcc_node_init(&img->node, &img->cfg, &port) != FCC_OK) {
         refuse("configuration refused by the applications (LQG design failed?)", "");
     }
@@ -320,7 +437,9 @@ static uint64_t min_u64(uint64_t a, uint64_t b)
 static uint64_t loop_once(image_t *img)
 {
     (void)fcc_node_poll(&img->node, POLL_BUDGET, NULL);
+    measure_command(img); /* lockstep: a SIM_TICK's step */
     (void)fcc_node_sync_poll(&img->node); /* time sync timeouts: loss of sync, holdover */
+    rebase_on_bus_clock(img);
     uint64_t now = mps2_now_us();
     if (fcc_slcan_dev_take_opened(&img->link)) {
         (void)fcc_node_send_status(&img->node); /* "listening" */
@@ -335,6 +454,7 @@ static uint64_t loop_once(image_t *img)
     if (img->flying && img->cfg.mode == FCC_MODE_REALTIME) {
         uint64_t jitter[FCC_N_APPS];
         (void)fcc_node_rt_run_due(&img->node, img->rt, jitter);
+        measure_command(img);
         wake = fcc_node_rt_next(&img->node, img->rt);
     }
     now = mps2_now_us();

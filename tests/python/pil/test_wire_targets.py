@@ -96,7 +96,7 @@ def test_external_device_on_a_real_bus_is_measured_and_judged(tmp_path, capsys, 
 @pytest.mark.vcan
 @pytest.mark.skipif(pil_qemu.available() is None, reason="qemu-system-arm is not installed")
 def test_m4f_image_behind_slcan_on_the_wire_time_bus(tmp_path, capsys):
-    """The image's frames reach canbus through slcand and can-gw on fcc's vxcan end (a FIFO
+    """The image's frames reach canbus through slcan_bridge on fcc's vxcan end (a FIFO
     node); the simulator's are judged, and the image's against the FIFO bound (its command on the bus)."""
     rc, err, kept = run(tmp_path, capsys, "--target", "qemu-m4f", "--bitrate", "500k", "--no-plots")
     s = json.loads((kept / "summary.json").read_text())

@@ -17,7 +17,7 @@ def _executables(folder: Path) -> list[Path]:
 
 SCRIPTS = sorted(_executables(REPO / "scripts") + _executables(REPO / "scripts" / "bench.d")
                  + [REPO / "dbc" / "generate"])
-TOOLS = ("fcc", "sid_replay", "lqg_design", "canrec", "can_echo")
+TOOLS = ("fcc", "sid_replay", "lqg_design", "canrec", "can_echo", "slcan_bridge")
 #: what each program is called in its own words (help and errors)
 PROGRAMS = [(p, p.name) for p in SCRIPTS] + [(build_dir() / "bin" / t, t) for t in TOOLS]
 

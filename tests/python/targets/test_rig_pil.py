@@ -1,9 +1,9 @@
-"""`--target qemu-m4f` on vcan0: the Cortex-M4F image under QEMU, its SLCAN line attached by
-slcand and routed to vcan0 by the kernel CAN gateway, flown by the rig exactly as the host fcc.
+"""`--target qemu-m4f` on vcan0: the Cortex-M4F image under QEMU, its SLCAN line joined to vcan0
+by slcan_bridge, flown by the rig exactly as the host fcc.
 
 Short lockstep flights of both aircraft (bounded: ~1 min on a loaded machine), checked
 against the same flights of the host float build (the image's real type); and a link loss --
-slcand killed, QEMU frozen -- is one rig error, never a hang.
+the bridge killed, QEMU frozen -- is one rig error, never a hang.
 """
 from __future__ import annotations
 
@@ -78,18 +78,18 @@ def _session(tmp_path: Path, image: Path) -> RigSession:
     return RigSession(tmp_path, fcc_args([sc], RigConfig(out_dir=tmp_path)), cfg)
 
 
-def test_link_loss_slcand_killed(tmp_path, image):
-    """slcand gone mid-flight (the serial line's driver): one error naming it, at once."""
+def test_link_loss_bridge_killed(tmp_path, image):
+    """The bridge gone mid-flight (the serial line's other end): one error naming it, at once."""
     sc = scenario(CDRW_1S)
     with pytest.raises(FccDied, match=r"the M4F image died during step 5 of app cdrw "
-                                      r"\(serial link lost: (slcand killed by SIGKILL|interface slc\d+ gone)\)"):
+                                      r"\(serial link lost: slcan_bridge killed by SIGKILL\)"):
         with _session(tmp_path, image) as rig:
             runner, d = airborne(rig, sc, 5, timeout=TIMEOUT)
-            os.kill(rig.fcc.slcand.pid, signal.SIGKILL)  # type: ignore[union-attr]
-            rig.fcc.slcand.wait(10)                      # type: ignore[union-attr]  # its tty closed
+            os.kill(rig.fcc.bridge.pid, signal.SIGKILL)  # type: ignore[union-attr]
+            rig.fcc.bridge.wait(10)                      # type: ignore[union-attr]
             runner.step(d)
     assert rig.fcc.qemu.poll() is not None             # type: ignore[union-attr]  # nothing left behind
-    assert not Path(f"/sys/class/net/{rig.fcc.slcan}").exists()  # type: ignore[union-attr]
+    assert not rig.fcc.line_socket.exists()            # type: ignore[union-attr]
 
 
 def test_link_loss_uart_stops(tmp_path, image):
@@ -106,13 +106,13 @@ def test_link_loss_uart_stops(tmp_path, image):
     assert rig.fcc.qemu.poll() is not None              # type: ignore[union-attr]
 
 
-def test_lockstep_runs_qemu_and_slcand_batch(tmp_path, image):
-    """In lockstep every thread of QEMU (main loop, vCPU, ...) and slcand run SCHED_BATCH with the
+def test_lockstep_runs_qemu_and_the_bridge_batch(tmp_path, image):
+    """In lockstep every thread of QEMU (main loop, vCPU, ...) and the bridge run SCHED_BATCH with the
     rig: a woken thread does not preempt the one running, so QEMU's main loop reads a frame's
     bytes ahead before its vCPU takes them (firmware/port/mps2_an386/README.md)."""
     with _session(tmp_path, image) as rig:
         qemu_threads = [int(t) for t in os.listdir(f"/proc/{rig.fcc.qemu.pid}/task")]  # type: ignore[union-attr]
         assert rig.batch_scheduled and len(qemu_threads) >= 2
-        assert set(rig.fcc.local_pids()) == {*qemu_threads, rig.fcc.slcand.pid}     # type: ignore[union-attr]
+        assert set(rig.fcc.local_pids()) == {*qemu_threads, rig.fcc.bridge.pid}     # type: ignore[union-attr]
         for tid in rig.fcc.local_pids():
             assert os.sched_getscheduler(tid) == os.SCHED_BATCH

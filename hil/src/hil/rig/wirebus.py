@@ -33,7 +33,7 @@ from hil.util.processes import last_line, spawn
 #: the nodes and their controllers' queue policy: the simulator's sensor ECUs are
 #: priority-ordered mailboxes (what hil.bus.wcrt analyses); fcc is a Linux SocketCAN node,
 #: whose frames wait in one FIFO (pfifo_fast, then the driver's one transmit buffer); the M4F
-#: image is a FIFO too, its serial line routed by can-gw to fcc's end (hil.targets.qemu_m4f).  canbus
+#: image is a FIFO too, its serial line joined by slcan_bridge to fcc's end (hil.targets.qemu_m4f).  canbus
 #: writes a frame to the nodes in this order: the recorder's end (where the time master reads
 #: its SYNC back) before fcc's, since fcc, a realtime process, runs as soon as its frame comes
 #: and would delay the next write by its step (measured: SYNC pairs refused by fcc's

@@ -38,18 +38,20 @@ def available() -> str | None:
 
 
 def command(elf: Path, *, log: Path | None = None, bootcfg_file: Path | None = None,
-            lockstep: bool = True) -> list[str]:
-    """QEMU's command line: UART0 = SLCAN on a new pty, UART1 = the log file.
-    The pty goes through QEMU's multiplexer (mux=on) for its 32-byte buffer: without it QEMU
-    reads the pty one byte per main-loop round, each handed to the vCPU thread and back (the
+            lockstep: bool = True, line_socket: Path | None = None) -> list[str]:
+    """QEMU's command line: UART0 = SLCAN on a new pty (or, with line_socket, on that Unix
+    socket, QEMU connecting as its client: slcan_bridge listens there), UART1 = the log file.
+    The line goes through QEMU's multiplexer (mux=on) for its 32-byte buffer: without it QEMU
+    reads the line one byte per main-loop round, each handed to the vCPU thread and back (the
     UART holds one byte); with it the main loop reads ahead while the image's receive
     interrupt takes the buffered bytes in one go.  -echr 256: no byte is the multiplexer's
     escape (Ctrl-A x would otherwise end QEMU).
     lockstep: -icount shift=0,sleep=on (1 instruction = 1 ns of virtual time);
     realtime: no -icount (virtual time = the host's clock)."""
+    line = f"socket,id=slcan,path={line_socket},mux=on" if line_socket else "pty,id=slcan,mux=on"
     cmd = [QEMU, "-machine", MACHINE, "-cpu", "cortex-m4", "-display", "none", "-monitor", "none",
            "-nodefaults", "-nic", "none", "-kernel", str(elf),
-           "-chardev", "pty,id=slcan,mux=on", "-echr", "256", "-serial", "chardev:slcan",
+           "-chardev", line, "-echr", "256", "-serial", "chardev:slcan",
            "-serial", f"file:{log}" if log is not None else "null",
            "-semihosting-config", "enable=on,target=native"]
     if lockstep:

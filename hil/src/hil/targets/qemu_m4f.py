@@ -1,65 +1,76 @@
 """`--target qemu-m4f`: the Cortex-M4F image (firmware/port/mps2_an386/README.md) under qemu-system-arm,
 its SLCAN serial line attached to the rig's CAN bus.
 
-    qemu-system-arm (mps2-an386)   UART0 = SLCAN on a pty (via QEMU's multiplexer), UART1 = the log
-        |  /dev/pts/N
-    slcand -F -o -c -s6            the pty as a SocketCAN interface (slcNNNN, kernel slcan)
-        |
-    cangw slcNNNN -> IFACE (-e)    the kernel CAN gateway (can-gw), both directions;
-    cangw IFACE -> slcNNNN         candump on IFACE records the whole bus as with the host fcc
-                                   (--bus wire: IFACE is fcc's vxcan end of canbus, hil.rig.wirebus;
-                                   the image is a FIFO node there, its line the FIFO)
+    qemu-system-arm (mps2-an386)   UART0 = SLCAN on a Unix socket (via QEMU's multiplexer, QEMU
+        |  RUN/uart0.sock          its client), UART1 = the log
+    slcan_bridge -i IFACE -u SOCK  (firmware/tools/slcan_bridge) a raw CAN socket on IFACE and the
+        |                          line, joined in user space: a frame on IFACE is written to the
+    IFACE                          line as its SLCAN line at once, a frame line from the image is
+                                   sent on IFACE; candump on IFACE records the whole bus as with
+                                   the host fcc (--bus wire: IFACE is fcc's vxcan end of canbus,
+                                   hil.rig.wirebus; the image is a FIFO node there, its line the FIFO)
+
+The bridge replaced slcand + the kernel's slcan + a pty + can-gw (2026-12-02): their deferred
+work paced frames at 2.5-3.75 ms each and delayed a time SYNC by 0 or 1.5-7 ms, too much for the
+image's time sync to lock (the README's "Time sync over the line").  In realtime the bridge
+stamps each line with the frame's time on IFACE (-z, the kernel's receive stamp) and the image
+takes it as the frame's receive stamp, as from a CAN controller.
 
 The image has no command line: the run's fcc options go into its boot configuration record
 (bootcfg.bin, loaded at 0x000FFF00 by QEMU's generic loader).  Lockstep runs with
 `-icount shift=0,sleep=on` (1 ns of virtual time per instruction: FCC_ACK.exec_us is the
 instruction count / 1000); realtime without -icount (virtual time = the host's clock).
 
-A link loss -- QEMU gone, slcand gone, the interface gone -- is seen by `poll()` and is a rig
-error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is lost
-silently: the slcan interface queues LINE_QUEUE frames (a step's burst from the rig waits there
-while the UART takes one byte at a time); a frame the full queue drops (its queueing
-discipline's drop count, read over rtnetlink every LINE_CHECK_S while the line is up) and a
-byte the image's receive ring could not take (its summary's `board rx_overflows`, also
-FCC_BUS_COUNTS.rx_overflows on the bus) end the run with one line naming the loss.  Needs root
-for slcand, `ip link` and cangw (the User-Mode Linux guest of scripts/with-vcan runs as root),
-the kernel modules slcan and can-gw (with-vcan loads them) and a devpts at /dev/pts.
+A link loss -- QEMU gone, the bridge gone, the interface gone -- is seen by `poll()` and is a
+rig error of one line; a UART that stops while QEMU runs is the lockstep timeout.  No frame is
+lost silently: the bridge queues LINE_QUEUE frames toward the UART behind the socket's
+LINE_BUFFER bytes (a step's burst from the rig waits there while the UART takes one byte at a
+time); a frame the full queue drops, a frame the
+kernel dropped from the bridge's receive queue, or a frame of the image the interface refused
+ends the bridge (exit 3) with one line naming the loss, and the run with that line; a byte the
+image's receive ring could not take (its summary's `board rx_overflows`, also
+FCC_BUS_COUNTS.rx_overflows on the bus) ends the run with one line too.
 """
 from __future__ import annotations
 
 import os
 import re
+import select
 import shutil
 import signal
 import struct
 import subprocess
+import tempfile
 import time
 from collections.abc import Sequence
 from pathlib import Path
 
 from hil.bus.secoc import TEST_KEY_FILE
-from hil.targets import qdisc
-from hil.targets.board import PTY_LINE, command as qemu_command
+from hil.targets.board import command as qemu_command
 from hil.targets.bootcfg import BootConfig
 from hil.targets.device import ArgsRefused, Device, DeviceStart
 from hil.targets.m4f_image import PilError, build_image, m4f_build_dir
+from hil.io.paths import ToolNotFound, tool
 
 #: the trip of the Cortex-M4F PIL image (firmware/port/mps2_an386/m4f_main.c: no entropy on the board)
 PIL_TRIP = 0x4D344631
-#: the SLCAN bitrate command slcand sends (S6 = 500 kbit/s, the bus's DBC bitrate)
-SLCAN_SPEED = "6"
 #: QEMU's start-up inside the UML guest takes ~3 s on an idle machine
-PTY_TIMEOUT_S = 60.0
-IFACE_TIMEOUT_S = 20.0
+QEMU_TIMEOUT_S = 60.0
+#: the bridge's start-up (it prints its ready line once it listens on the line's socket)
+BRIDGE_TIMEOUT_S = 20.0
 #: how long a link loss waits for QEMU's own exit before it counts as a loss
 LINK_GRACE_S = 2.0
-#: frames the slcan interface queues toward the UART (the kernel's default for slcan is 10:
-#: a step's burst plus the heartbeat or an attacker's frames overflowed it, losing ticks)
+#: frames the bridge queues toward the UART (a step's burst plus the heartbeat or an attacker's
+#: frames: the kernel slcan's default of 10 lost ticks that way)
 LINE_QUEUE = 256
-#: how often poll() reads the interface's drop count (hil.targets.qdisc, over rtnetlink)
-LINE_CHECK_S = 1.0
-#: realtime: QEMU's main loop at fcc's SCHED_FIFO priority (hil.rig.config.FCC_RT_PRIORITY)
+#: bytes of lines the socket's kernel buffer holds ahead of the queue, as a pty's 64 kB: the line
+#: stalls for up to seconds while QEMU is starved in a loaded guest
+LINE_BUFFER = 65536
+#: realtime: QEMU's main loop at fcc's SCHED_FIFO priority (hil.rig.config.FCC_RT_PRIORITY),
+#: its vCPU just below
 LINE_RT_PRIORITY = 50
+#: slcan_bridge's exit status when a frame was lost (firmware/tools/slcan_bridge)
+BRIDGE_LOST = 3
 #: the image's summary line with its receive ring's overflows (m4f_main.c)
 RX_OVERFLOWS = re.compile(r"fcc summary: board .*\brx_overflows=(\d+)")
 
@@ -145,26 +156,29 @@ class QemuM4f(Device):
     def __init__(self, run_dir: Path, fcc_args: Sequence[str], iface: str, log_path: Path, *,
                  image: Path | None = None, interface: str = "socketcan") -> None:
         if interface != "socketcan":
-            raise PilError("--target qemu-m4f needs a SocketCAN interface (slcand and can-gw)")
+            raise PilError("--target qemu-m4f needs a SocketCAN interface (slcan_bridge)")
         self.iface = iface
         self.run_dir = run_dir
         self.log_path = log_path
         self.qemu_log = run_dir / "qemu.log"
-        self.slcan = f"slc{os.getpid() % 100000}"
+        self.bridge_log = run_dir / "slcan_bridge.log"
         self.returncode: int | None = None
         self._lost: str | None = None
-        self._line_checked = 0.0
-        self._routes: list[list[str]] = []
         self.qemu: subprocess.Popen[bytes] | None = None
-        self.slcand: subprocess.Popen[bytes] | None = None
+        self.bridge: subprocess.Popen[bytes] | None = None
         _tool("qemu-system-arm", "qemu-system-arm")
-        self._slcand_exe = _tool("slcand", "can-utils")
-        self._cangw = _tool("cangw", "can-utils")
+        try:
+            self._bridge_exe = str(tool("slcan_bridge"))
+        except ToolNotFound as e:
+            raise PilError(str(e)) from None
         image = image or build_image()
         cfg = boot_record(fcc_args)
         self.realtime = cfg.mode == "realtime"
+        # a short path of its own: a Unix socket's path has at most 107 characters
+        self._line_dir = Path(tempfile.mkdtemp(prefix="fcc-m4f-"))
+        self.line_socket = self._line_dir / "uart0.sock"
         self.cmd = qemu_command(image, log=log_path, bootcfg_file=cfg.write(run_dir / "bootcfg.bin"),
-                                lockstep=not self.realtime)
+                                lockstep=not self.realtime, line_socket=self.line_socket)
         try:
             self._start()
         except BaseException:
@@ -200,31 +214,74 @@ class QemuM4f(Device):
 
     # -- start-up
     def _start(self) -> None:
+        """The bridge first (it listens on the line's socket), then QEMU (it connects there)."""
+        stamps = ["-z"] if self.realtime else []
+        with open(self.bridge_log, "wb") as err:
+            try:
+                self.bridge = subprocess.Popen(
+                    [self._bridge_exe, "-i", self.iface, "-u", str(self.line_socket),
+                     "-n", str(LINE_QUEUE), "-b", str(LINE_BUFFER), *stamps],
+                    stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=err)
+            except OSError as e:
+                raise PilError(f"cannot start slcan_bridge: {e.strerror}") from None
+        self._wait_bridge()
         with open(self.qemu_log, "wb") as err:
             try:
                 self.qemu = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL,
                                              stdout=err, stderr=subprocess.STDOUT)
             except OSError as e:
                 raise PilError(f"cannot start qemu-system-arm: {e.strerror}") from None
-        pty = self._wait_pty()
-        self.slcand = subprocess.Popen([self._slcand_exe, "-F", "-o", "-c", f"-s{SLCAN_SPEED}",
-                                        pty, self.slcan], stdin=subprocess.DEVNULL,
-                                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        self._wait_iface()
+        self._wait_connected()
         if self.realtime:
             self._realtime_line()
-        _run(["ip", "link", "set", self.slcan, "txqueuelen", str(LINE_QUEUE), "up"],
-             f"ip link set {self.slcan} up")
-        for route in (["-s", self.slcan, "-d", self.iface, "-e"], ["-s", self.iface, "-d", self.slcan]):
-            _run([self._cangw, "-A", *route], f"cangw -A {' '.join(route)} (is can-gw loaded?)")
-            self._routes.append(route)
+
+    def _wait_connected(self) -> None:
+        """Until QEMU has connected to the line (the bridge's second line on stdout), or why not."""
+        assert self.qemu is not None and self.bridge is not None and self.bridge.stdout is not None
+        deadline = time.monotonic() + QEMU_TIMEOUT_S
+        while time.monotonic() < deadline:
+            ready, _, _ = select.select([self.bridge.stdout], [], [], 0.05)
+            if ready and self.bridge.stdout.readline().strip() == b"slcan_bridge: connected":
+                return
+            if self.qemu.poll() is not None:
+                text = self.qemu_log.read_text(errors="replace")
+                last = [ln for ln in text.splitlines() if ln.strip()]
+                raise PilError(f"qemu-system-arm stopped at start-up ({_exit_text(self.qemu.returncode)})"
+                               + (f": {last[-1]}" if last else ""))
+            if (gone := self._link_gone()) is not None:
+                raise PilError(f"slcan_bridge stopped at start-up: {gone}")
+        raise PilError(f"qemu-system-arm did not connect to its line within {QEMU_TIMEOUT_S:g} s")
+
+    def _wait_bridge(self) -> None:
+        """Until the bridge says it listens (its one line on stdout), or why not (its stderr)."""
+        assert self.bridge is not None and self.bridge.stdout is not None
+        ready, _, _ = select.select([self.bridge.stdout], [], [], BRIDGE_TIMEOUT_S)
+        line = self.bridge.stdout.readline().decode(errors="replace").strip() if ready else ""
+        if line == "slcan_bridge: ready":
+            return
+        if self.bridge.poll() is None:
+            raise PilError(f"slcan_bridge did not listen on {self.line_socket} within "
+                           f"{BRIDGE_TIMEOUT_S:g} s")
+        raise PilError(f"slcan_bridge stopped at start-up ({_exit_text(self.bridge.returncode)})"
+                       + (f": {said}" if (said := self._bridge_said()) else ""))
+
+    def _bridge_said(self) -> str:
+        """The bridge's last line on stderr that is not its summary ('' if none)."""
+        try:
+            lines = self.bridge_log.read_text(errors="replace").splitlines()
+        except OSError:
+            return ""
+        said = [ln.strip() for ln in lines if ln.strip() and " summary " not in ln]
+        return said[-1] if said else ""
 
     def _realtime_line(self) -> None:
-        """In realtime, QEMU's main loop (the thread that moves the line's bytes from the pty
-        into the UART, one byte per round) at fcc's SCHED_FIFO priority and its other threads (the
-        vCPU: the image itself) just below, as the host fcc runs: the line's bytes no longer wait
-        behind the rig's own processes in the guest (measured: firmware/port/mps2_an386/README.md,
-        "Time sync over the line").  Where the system refuses, QEMU runs as before."""
+        """In realtime, QEMU's main loop (the thread that moves the line's bytes from the socket
+        into the UART) at fcc's SCHED_FIFO priority and its other threads (the vCPU: the image
+        itself) just below, as the host fcc runs: the line's bytes wait behind none of the rig's
+        own processes in the guest.  The bridge stays at normal priority: at fcc's, its bursts
+        starved the vCPU (measured: firmware/port/mps2_an386/README.md, "Time sync over the
+        line"), and the time sync no longer needs it early (its frames carry their bus time).
+        Where the system refuses, they run as before."""
         assert self.qemu is not None
         try:
             for tid in sorted(int(t) for t in os.listdir(f"/proc/{self.qemu.pid}/task")):
@@ -233,41 +290,12 @@ class QemuM4f(Device):
         except OSError:
             return
 
-    def _wait_pty(self) -> str:
-        assert self.qemu is not None
-        deadline = time.monotonic() + PTY_TIMEOUT_S
-        while time.monotonic() < deadline:
-            text = self.qemu_log.read_text(errors="replace")
-            m = PTY_LINE.search(text)
-            if m:
-                return m.group(1)
-            if self.qemu.poll() is not None:
-                last = [ln for ln in text.splitlines() if ln.strip()]
-                raise PilError(f"qemu-system-arm stopped at start-up ({_exit_text(self.qemu.returncode)})"
-                               + (f": {last[-1]}" if last else ""))
-            time.sleep(0.05)
-        raise PilError(f"qemu-system-arm opened no serial pty within {PTY_TIMEOUT_S:g} s")
-
-    def _wait_iface(self) -> None:
-        assert self.slcand is not None
-        deadline = time.monotonic() + IFACE_TIMEOUT_S
-        while time.monotonic() < deadline:
-            if Path(f"/sys/class/net/{self.slcan}").exists():
-                return
-            if self.slcand.poll() is not None:
-                err = self.slcand.stderr.read().decode(errors="replace").strip() if self.slcand.stderr else ""
-                raise PilError(f"slcand stopped ({_exit_text(self.slcand.returncode)})"
-                               + (f": {err.splitlines()[-1]}" if err else "")
-                               + " (is the slcan module loaded? run as root)")
-            time.sleep(0.02)
-        raise PilError(f"slcand made no {self.slcan} within {IFACE_TIMEOUT_S:g} s")
-
     # -- the Device interface
     def local_pids(self) -> tuple[int, ...]:
         """Every thread of QEMU (a scheduling policy is per thread: its main loop, its vCPU)
-        and of slcand, for the rig's SCHED_BATCH in lockstep."""
+        and the bridge, for the rig's SCHED_BATCH in lockstep."""
         tids: list[int] = []
-        for proc in (self.qemu, self.slcand):
+        for proc in (self.qemu, self.bridge):
             try:
                 tids += sorted(int(t) for t in os.listdir(f"/proc/{proc.pid}/task")) if proc else []
             except OSError:  # gone meanwhile: poll() reports it
@@ -279,45 +307,26 @@ class QemuM4f(Device):
             return self.returncode
         assert self.qemu is not None
         rc = self.qemu.poll()
-        if rc is None and (lost := self._line_loss()) is not None:
-            self._lost = lost
-            rc = 1
-        elif rc is None and (lost := self._link_gone()) is not None:
-            try:  # QEMU exiting (after a shutdown frame) closes the pty, which ends the link first
-                rc = self.qemu.wait(LINK_GRACE_S)
+        if rc is None and (lost := self._link_gone()) is not None:
+            try:  # QEMU exiting (after a shutdown frame) closes the line, which ends the bridge
+                rc = self.qemu.wait(0.0 if self._frames_lost() else LINK_GRACE_S)
             except subprocess.TimeoutExpired:
                 self._lost = lost
                 rc = 1
         self.returncode = rc
         return rc
 
-    def _link_gone(self) -> str | None:
-        """Why the serial link is gone (slcand ended, the interface vanished), or None."""
-        if self.slcand is not None and self.slcand.poll() is not None:
-            return f"slcand {_exit_text(self.slcand.returncode)}"
-        if not Path(f"/sys/class/net/{self.slcan}").exists():
-            return f"interface {self.slcan} gone"
-        return None
+    def _frames_lost(self) -> bool:
+        return self.bridge is not None and self.bridge.poll() == BRIDGE_LOST
 
-    def _line_loss(self, force: bool = False) -> str | None:
-        """Frames the full slcan queue dropped (at most every LINE_CHECK_S unless forced), or
-        None; None too once the interface is gone (QEMU's exit closes the line)."""
-        now = time.monotonic()
-        if not force and now - self._line_checked < LINE_CHECK_S:
+    def _link_gone(self) -> str | None:
+        """Why the serial link is gone (the bridge ended: its own line, e.g. the frames it
+        lost or the interface gone), or None."""
+        if self.bridge is None or self.bridge.poll() is None:
             return None
-        self._line_checked = now
-        if not Path(f"/sys/class/net/{self.slcan}").exists():
-            return None
-        try:
-            drops = qdisc.drops(self.slcan)
-        except OSError as e:
-            if not Path(f"/sys/class/net/{self.slcan}").exists():
-                return None
-            return f"cannot read {self.slcan}'s queue statistics ({e})"
-        if drops == 0:
-            return None
-        return (f"{drops} frames dropped on their way to the image ({self.slcan}'s queue of "
-                f"{LINE_QUEUE} frames was full: the UART is slower than the bus traffic)")
+        said = self._bridge_said()
+        return said.removeprefix("slcan_bridge: ") if said else \
+            f"slcan_bridge {_exit_text(self.bridge.returncode)}"
 
     def _image_loss(self) -> str | None:
         """Bytes the image's receive ring could not take (its summary on the log), or None."""
@@ -346,25 +355,23 @@ class QemuM4f(Device):
 
     def stop(self, grace: float = 2.0) -> int | None:
         """Wait up to grace s for QEMU's own exit (after a shutdown frame), then end it; then
-        the link (the routes go with the interface)."""
+        the bridge (QEMU's exit closed its line), reporting a frame it lost."""
         rc = self.returncode
-        if self._lost is None and Path(f"/sys/class/net/{self.slcan}").exists():
-            self._lost = self._line_loss(force=True)
         if self.qemu is not None:
             rc = _end(self.qemu, grace)
             if self.returncode is None or self._lost is None:
                 self.returncode = rc
+        if self.bridge is not None:
+            _end(self.bridge, 0.0 if self.qemu is None else LINK_GRACE_S)
+            if self.bridge.stdout:
+                self.bridge.stdout.close()
+            if self._lost is None and self.bridge.returncode == BRIDGE_LOST:
+                self._lost = self._link_gone()
         if self._lost is None:
             self._lost = self._image_loss()
         if self._lost is not None and self.returncode == 0:
             self.returncode = 1
-        for route in self._routes:
-            subprocess.run([self._cangw, "-D", *route], stdin=subprocess.DEVNULL, capture_output=True)
-        self._routes = []
-        if self.slcand is not None:
-            _end(self.slcand, 0.0)
-            if self.slcand.stderr:
-                self.slcand.stderr.close()
+        shutil.rmtree(self._line_dir, ignore_errors=True)
         return self.returncode
 
 

@@ -4,8 +4,7 @@ what it can do) is a property here, never a comparison of its name.
 
     host      fcc, the Linux build, as a child process of the rig (the default; hil.targets.host)
     qemu-m4f  the Cortex-M4F image under qemu-system-arm (hil.targets.qemu_m4f): its UART speaks
-              SLCAN, slcand attaches that line as a CAN interface and the kernel CAN gateway
-              routes it to and from the rig's interface
+              SLCAN on a Unix socket, slcan_bridge joins that line to the rig's interface
     external  nothing: whatever answers on the bus (hil.targets.external)
 
 A new target is a Device class (hil.targets.device) and one entry of TARGETS
@@ -43,7 +42,7 @@ class Target:
     builds_program: bool
     #: a step's frames go out in one sendmmsg (the device takes a burst); else frame by frame
     batch_frames: bool
-    #: only a SocketCAN interface reaches it (the image's serial line is routed by can-gw)
+    #: only a SocketCAN interface reaches it (slcan_bridge's raw CAN socket)
     socketcan_only: bool
     #: realtime, it runs on this machine's scheduler: fcc asks for a realtime priority
     host_scheduler: bool

@@ -114,7 +114,7 @@ for _k in ("commands_missing", "commands_late", "commands_rejected", "unanswered
 # ---- a realtime flight's timing (mode = "realtime", the missile: hil.results.timing) -----------
 def _rt(*path: str) -> Callable[[Mapping[str, Any]], float]:
     """A timing percentile; one with no sample (n = 0: null), or one the target does not report
-    (the Cortex-M4F image has no own-clock latency in its summary), is inf, which no bound holds."""
+    (a device whose log has no such summary line), is inf, which no bound holds."""
     read = _at("summary", "realtime", *path)
 
     def get(run: Mapping[str, Any]) -> float:

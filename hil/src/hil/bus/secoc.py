@@ -22,7 +22,7 @@ import enum
 import itertools
 import os
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -190,25 +190,32 @@ class Receiver:
         return cand if cand - self.counter <= WINDOW and cand <= 0xFFFFFFFF else None
 
     def verify(self, auth: bytes) -> tuple[Verdict, bytes | None]:
+        if self.fresh_counter(auth) is not None and not self.held:
+            self.counters.mac_failed += 1
+            return Verdict.NO_PDU, None
+        verdict, i, pdu = self.verify_among(auth, self.held)
+        if verdict is Verdict.VERIFIED:
+            self.counters.unpaired += i
+            for _ in range(i + 1):
+                self.held.popleft()
+        return verdict, pdu
+
+    def verify_among(self, auth: bytes, candidates: Iterable[bytes]) -> tuple[Verdict, int, bytes | None]:
+        """(verdict, index, pdu) of the first of `candidates` the authenticator verifies, tried
+        in order and only until one does (a group's are made as they are tried); the counter
+        advanced and the verdict counted."""
         cand = self.fresh_counter(auth)
         if cand is None:
             self.counters.freshness_failed += 1
-            return Verdict.FRESHNESS_FAILED, None
-        if not self.held:
-            self.counters.mac_failed += 1
-            return Verdict.NO_PDU, None
-        fv = (self.trip << 32) | cand
-        for i, pdu in enumerate(self.held):
-            if same_mac(self.keyed.mac(self.data_id, pdu, fv), bytes(auth[2:8])):
-                if not isinstance(self, GroupReceiver):   # (a group counts its copies itself)
-                    self.counters.unpaired += i
-                for _ in range(i + 1):
-                    self.held.popleft()
+            return Verdict.FRESHNESS_FAILED, 0, None
+        fv, tag = (self.trip << 32) | cand, bytes(auth[2:8])
+        for i, pdu in enumerate(candidates):
+            if same_mac(self.keyed.mac(self.data_id, pdu, fv), tag):
                 self.counter = cand
                 self.counters.verified += 1
-                return Verdict.VERIFIED, pdu
+                return Verdict.VERIFIED, i, pdu
         self.counters.mac_failed += 1
-        return Verdict.MAC_FAILED, None
+        return Verdict.MAC_FAILED, 0, None
 
 
 GROUP_TRIES = 256   # combinations of the copies held a group's authenticator is tried on
@@ -217,8 +224,11 @@ GROUP_TRIES = 256   # combinations of the copies held a group's authenticator is
 def _combinations(choices: list[list[bytes]]) -> Iterator[bytes]:
     """The concatenations of one copy per member (choices: each member's, newest first), the
     fewest departures from the newest copies first: all newest, then one older copy, ..."""
-    for d in range(len(choices) + 1):
-        for where in itertools.combinations(range(len(choices)), d):
+    # only members with an older copy can depart (the others' products are empty): the same
+    # order without walking the 2**members subsets of a group whose copies are all single
+    olders = [w for w, c in enumerate(choices) if len(c) > 1]
+    for d in range(len(olders) + 1):
+        for where in itertools.combinations(olders, d):
             for older in itertools.product(*(range(1, len(choices[w])) for w in where)):
                 pick = dict(zip(where, older))
                 yield b"".join(c[pick.get(i, 0)] for i, c in enumerate(choices))
@@ -251,9 +261,7 @@ class GroupReceiver(Receiver):
             self.counters.mac_failed += 1
             return Verdict.NO_PDU, []
         choices = [self.copies[i][::-1] for i in self.pdu_ids]
-        self.held = deque(itertools.islice(_combinations(choices), GROUP_TRIES))
-        verdict, pdu = self.verify(auth)
-        self.held.clear()
+        verdict, _, pdu = self.verify_among(auth, itertools.islice(_combinations(choices), GROUP_TRIES))
         if verdict is not Verdict.VERIFIED or pdu is None:
             return verdict, []
         self.counters.unpaired += sum(len(c) for c in self.copies.values()) - len(self.pdu_ids)

@@ -24,6 +24,7 @@ import signal
 import sys
 import time
 from collections.abc import Callable
+from contextlib import AbstractContextManager, nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -117,29 +118,36 @@ def _cancelled(path: Path, name: str) -> int | None:
 #: while a client waits.
 _spare: tuple[int, int] | None = None
 _keep_spare = False
+#: what the loop forks each spare inside of (refill's `inherit`)
+_inherit: Callable[[], AbstractContextManager[object]] = nullcontext
 
 
-def refill() -> None:
-    """Fork the next command's child now, unless there is one (and keep one from now on)."""
-    global _spare, _keep_spare  # noqa: PLW0603 - the loop's one spare child
+def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None) -> None:
+    """Fork the next command's child now, unless there is one (and keep one from now on);
+    `inherit`, once given, makes the context each spare is forked inside of: what it opens,
+    the spare inherits, and the loop lets go of after the fork (a warm rig's: the command's
+    socket on its bus, hil.parallel.warmup)."""
+    global _spare, _keep_spare, _inherit  # noqa: PLW0603 - the loop's one spare child
     _keep_spare = True
+    _inherit = inherit or _inherit
     if _spare is not None:
         return
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
     r, w = os.pipe()
-    pid = os.fork()
-    if pid == 0:             # (never back into the loop, whatever happens)
-        code = 1
-        try:
-            os.close(w)
-            with os.fdopen(r, "rb") as f:
-                job = f.read()
-            if job:
-                _child(*pickle.loads(job))
-            code = 0         # the loop ended without a command for it
-        finally:
-            os._exit(code)
+    with _inherit():
+        pid = os.fork()
+        if pid == 0:             # (never back into the loop, whatever happens)
+            code = 1
+            try:
+                os.close(w)
+                with os.fdopen(r, "rb") as f:
+                    job = f.read()
+                if job:
+                    _child(*pickle.loads(job))
+                code = 0         # the loop ended without a command for it
+            finally:
+                os._exit(code)
     os.close(r)
     _spare = pid, w
 

@@ -118,18 +118,21 @@ def _cancelled(path: Path, name: str) -> int | None:
 #: while a client waits.
 _spare: tuple[int, int] | None = None
 _keep_spare = False
-#: what the loop forks each spare inside of (refill's `inherit`)
+#: what the loop forks each spare inside of, and what each spare does while it waits (refill's)
 _inherit: Callable[[], AbstractContextManager[object]] = nullcontext
+_ready: Callable[[int], object] | None = None
 
 
-def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None) -> None:
-    """Fork the next command's child now, unless there is one (and keep one from now on);
-    `inherit`, once given, makes the context each spare is forked inside of: what it opens,
-    the spare inherits, and the loop lets go of after the fork (a warm rig's: the command's
-    socket on its bus, hil.parallel.warmup)."""
-    global _spare, _keep_spare, _inherit  # noqa: PLW0603 - the loop's one spare child
+def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
+           ready: Callable[[int], object] | None = None) -> None:
+    """Fork the next command's child now, unless there is one (and keep one from now on).
+    Once given, `inherit` makes the context each spare is forked inside of (what it opens, the
+    spare inherits and the loop lets go of after the fork), and `ready(fd)` is what each spare
+    does while it waits for its command, which comes on fd (a warm rig's: its command's socket
+    on the bus, its memory made its own: hil.parallel.warmup)."""
+    global _spare, _keep_spare, _inherit, _ready  # noqa: PLW0603 - the loop's one spare child
     _keep_spare = True
-    _inherit = inherit or _inherit
+    _inherit, _ready = inherit or _inherit, ready or _ready
     if _spare is not None:
         return
     for stream in (sys.stdout, sys.stderr):
@@ -141,6 +144,7 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None) 
             code = 1
             try:
                 os.close(w)
+                _get_ready(r)
                 with os.fdopen(r, "rb") as f:
                     job = f.read()
                 if job:
@@ -150,6 +154,16 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None) 
                 os._exit(code)
     os.close(r)
     _spare = pid, w
+
+
+def _get_ready(fd: int) -> None:
+    """In a spare: ready(fd), or why it failed said (the command does without it)."""
+    if _ready is None:
+        return
+    try:
+        _ready(fd)
+    except Exception as e:  # noqa: BLE001 - what it readies, the command does itself
+        print(f"hil.parallel.forked: a spare not readied ({type(e).__name__}: {e})", file=sys.stderr, flush=True)
 
 
 def after_answer() -> None:

@@ -263,10 +263,13 @@ class RigSession:
                 write_key_file(self.run_dir / KEPT_KEY, self.security.key)
             if self.record:
                 self._start_recorder() if socketcan else self._start_link_recorder()
-            # work for the listen, a wait otherwise (frames meanwhile wait in the socket's queue)
+            # work for the listen and the recorder's start, waits otherwise (frames meanwhile
+            # wait in the socket's queue)
             load_cmac()
             if self._prepare is not None:
                 self.prepared = self._prepare(self)
+            if isinstance(self.bus_recorder, BusRecorder):
+                self._await_recorder(self.bus_recorder)
             if self.device_class.owned:  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
             self.fcc = self.device_class.start(DeviceStart(
@@ -295,8 +298,12 @@ class RigSession:
         self.bus_echo_iface = self.recorder_iface
 
     def _start_recorder(self) -> None:
-        rec = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")
-        self.bus_recorder = rec
+        """The recorder program started (listening once _await_recorder has returned)."""
+        self.bus_recorder = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")
+
+    @staticmethod
+    def _await_recorder(rec: BusRecorder) -> None:
+        """Until the recorder listens (before fcc starts: every frame of fcc's is in bus.log)."""
         if not rec.wait_idle(STARTUP_TIMEOUT_S):
             if not rec.alive():
                 raise RigError(f"{rec.label} stopped: {rec.error()}")

@@ -91,7 +91,7 @@ def _wait(pid: int, said: socket.socket, root: Path, name: str) -> int:
             if said in select.select(watched, [], [], CANCEL_POLL_S)[0]:
                 status = said.recv(16)
                 if status:
-                    _exiting.append(pid)   # (reaped before the next spare is forked)
+                    _exiting.append(pid)   # (reaped by a later refill once it has ended)
                     return int(status)
                 watched.remove(said)       # it ended without saying: its end says it
             done, waited = os.waitpid(pid, os.WNOHANG)
@@ -144,8 +144,7 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
     global _spare, _keep_spare, _inherit, _ready  # noqa: PLW0603 - the loop's one spare child
     _keep_spare = True
     _inherit, _ready = inherit or _inherit, ready or _ready
-    while _exiting:
-        os.waitpid(_exiting.pop(), 0)
+    _exiting[:] = [pid for pid in _exiting if os.waitpid(pid, os.WNOHANG) == (0, 0)]   # the ended reaped
     if _spare is not None:
         return
     for stream in (sys.stdout, sys.stderr):

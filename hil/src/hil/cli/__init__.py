@@ -25,8 +25,10 @@ Failures are one line on stderr; a failed
 run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 
 The package: usage (the usage error), parser (every subcommand's arguments), common and many
-(what the flying commands share), one module per subcommand with its run(args).  main() parses,
-then imports only the chosen subcommand's module.
+(what the flying commands share), needs (the paths and programs a command needs, checked
+before it starts), one module per subcommand with its run(args).  main() parses, then imports
+only needs and the chosen subcommand's module -- neither for a command flown on a warm rig
+(--rig: hil.cli.onrig), which the rig checks and runs.
 
 Room 15, the top: may import every room; nothing imports it (the entry points are hil.cli:main
 and hil.cli:entry).

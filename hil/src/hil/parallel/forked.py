@@ -25,7 +25,7 @@ import socket
 import sys
 import time
 from collections.abc import Callable
-from contextlib import AbstractContextManager, nullcontext
+from contextlib import AbstractContextManager, ExitStack, nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -83,17 +83,22 @@ def _wait(pid: int, said: socket.socket, root: Path, name: str) -> int:
     exit frees its memory, 10-15 ms in the guest) or as it ends (128 + signal when killed);
     SIGTERM to it when the request is cancelled, SIGKILL when it has not stopped STOP_GRACE_S
     later.  Woken by either, looking for a cancellation every CANCEL_POLL_S meanwhile."""
-    cancelled, term_at = root / CANCEL, None
+    cancelled, term_at, heard = root / CANCEL, None, b""
     pidfd = os.pidfd_open(pid)
     watched: list[Any] = [pidfd, said]
     try:
         while True:
             if said in select.select(watched, [], [], CANCEL_POLL_S)[0]:
-                status = said.recv(16)
-                if status:
+                got = said.recv(64)
+                if not got:
+                    watched.remove(said)   # it ended without saying: its end says it
+                *lines, heard = (heard + got).split(b"\n")
+                for line in lines:
+                    if line == STOPPED:    # (device_stopped)
+                        _enter_inherit()
+                        continue
                     _exiting.append(pid)   # (reaped by a later refill once it has ended)
-                    return int(status)
-                watched.remove(said)       # it ended without saying: its end says it
+                    return int(line)
             done, waited = os.waitpid(pid, os.WNOHANG)
             if done:
                 return os.waitstatus_to_exitcode(waited) if os.WIFEXITED(waited) else 128 + os.WTERMSIG(waited)
@@ -132,6 +137,30 @@ _inherit: Callable[[], AbstractContextManager[object]] = nullcontext
 _ready: Callable[[int], object] | None = None
 #: children that said their status and are ending
 _exiting: list[int] = []
+#: in the loop: the context the next spare is forked inside of, entered already (_enter_inherit)
+_entered: ExitStack | None = None
+#: in a command's child: its socket to the loop (device_stopped, its exit status)
+_to_loop: socket.socket | None = None
+STOPPED = b"stopped"
+
+
+def device_stopped() -> None:
+    """In a command's child: its device under test has stopped (hil.rig.session says so: a
+    warm rig hooks this there, hil.parallel.warmup).  The loop enters the next spare's context
+    now (a warm rig's: the next command's listen for another fcc starts), not once the command
+    has evaluated its flight; each stop enters it afresh (a campaign's next session starts fcc
+    again)."""
+    if _to_loop is not None:
+        _to_loop.sendall(STOPPED + b"\n")
+
+
+def _enter_inherit() -> None:
+    """In the loop: the next spare's context (refill's `inherit`) entered now, anew."""
+    global _entered  # noqa: PLW0603 - the loop's one context for its next spare
+    if _entered is not None:
+        _entered.close()
+    _entered = ExitStack()
+    _entered.enter_context(_inherit())
 
 
 def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
@@ -141,7 +170,7 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
     spare inherits and the loop lets go of after the fork), and `ready(fd)` is what each spare
     does while it waits for its command, which comes on fd (a warm rig's: its command's socket
     on the bus, its memory made its own: hil.parallel.warmup)."""
-    global _spare, _keep_spare, _inherit, _ready  # noqa: PLW0603 - the loop's one spare child
+    global _spare, _keep_spare, _inherit, _ready, _entered, _to_loop  # noqa: PLW0603 - the loop's one spare child
     _keep_spare = True
     _inherit, _ready = inherit or _inherit, ready or _ready
     _exiting[:] = [pid for pid in _exiting if os.waitpid(pid, os.WNOHANG) == (0, 0)]   # the ended reaped
@@ -150,7 +179,11 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
     ours, theirs = socket.socketpair()
-    with _inherit():
+    if _entered is None:
+        _enter_inherit()
+    assert _entered is not None
+    entered, _entered = _entered, None
+    with entered:
         pid = os.fork()
         if pid == 0:             # (never back into the loop, whatever happens)
             code = 1
@@ -158,9 +191,10 @@ def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
                 ours.close()
                 _get_ready(theirs.fileno())
                 job = _received(theirs)
+                _to_loop = theirs
                 code = _child(*pickle.loads(job)) if job else 0   # 0: the loop ended first
                 if job:
-                    theirs.sendall(b"%d" % code)
+                    theirs.sendall(b"%d\n" % code)
             finally:
                 os._exit(code)
     theirs.close()

@@ -8,9 +8,10 @@ would otherwise do again at its start, done in the loop, whose forked children i
   decoding it, and still reads and compares the entry's bytes, so a changed entry is never
   trusted);
 * the first command's child forked (hil.parallel.forked.refill: and each next one's after an
-  answer), with its session's socket on the rig's bus opened by the loop as the previous
-  command ended (hil.rig.session.listening_ahead): the listen for another fcc before fcc
-  starts (0.25 s) runs while the rig waits for the next command; and whose memory is made its
+  answer), with its session's socket on the rig's bus opened by the loop as soon as the
+  previous command's fcc has stopped (hil.rig.session.listening_ahead, on_device_stopped): the
+  listen for another fcc before fcc starts (0.25 s) runs while the previous command evaluates
+  and the rig waits for the next one; and whose memory is made its
   own while it waits (hil.parallel.prefault: the copy-on-write faults of a fork are slow in
   the guest).
 """
@@ -24,7 +25,7 @@ from functools import partial
 from hil.bus import load as load_spec
 from hil.parallel import forked
 from hil.parallel.prefault import populate
-from hil.rig.session import listening_ahead
+from hil.rig.session import listening_ahead, on_device_stopped
 from hil.scenario.file import load_default_scenario
 from hil.sim.cdrw_cache import open_loop
 from hil.sim.cdrw_flight import CdrwSimulation
@@ -37,5 +38,6 @@ def warm_up(modules: Sequence[str], iface: str) -> int:
         importlib.import_module(name)
     scenario = load_default_scenario("cdrw", {m.name for m in load_spec().messages})
     open_loop(scenario, CdrwSimulation(scenario).n_samples)
+    on_device_stopped(forked.device_stopped)
     forked.refill(partial(listening_ahead, iface), populate)
     return len(sys.modules)

@@ -81,6 +81,16 @@ def received_ids(spec: BusSpec) -> tuple[int, ...]:
 
 #: a session's socket opened ahead, listening since (a warm rig's next command: listen_ahead)
 _opened_ahead: tuple[CanLink, float, tuple[int, ...]] | None = None
+#: what is told that a session has stopped its device (on_device_stopped)
+_device_stopped: Callable[[], object] | None = None
+
+
+def on_device_stopped(hook: Callable[[], object]) -> None:
+    """hook() once each session of this process (and of those forked from it) has stopped its
+    device: a warm rig's loop then opens the next command's socket (listening_ahead) while
+    this command evaluates its flight (hil.parallel.warmup)."""
+    global _device_stopped  # noqa: PLW0603 - one hook for the process
+    _device_stopped = hook
 
 
 @contextmanager
@@ -508,6 +518,8 @@ class RigSession:
                 self.fcc.stop(grace=0.0)
                 if self.fcc_exit is None:
                     self.fcc_exit = self.fcc.returncode
+                if self.fcc.owned and _device_stopped is not None:
+                    _device_stopped()
         finally:
             if self.batch_scheduled:  # the simulator's own process: back to the default policy
                 run_as_batch([0], batch=False)

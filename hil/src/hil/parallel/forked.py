@@ -151,7 +151,10 @@ def device_stopped() -> None:
     has evaluated its flight; each stop enters it afresh (a campaign's next session starts fcc
     again)."""
     if _to_loop is not None:
-        _to_loop.sendall(STOPPED + b"\n")
+        try:
+            _to_loop.sendall(STOPPED + b"\n")
+        except OSError:   # the loop is gone (the rig stops): nobody to tell
+            pass
 
 
 def _enter_inherit() -> None:

@@ -151,3 +151,16 @@ def test_a_group_survives_forged_copies_forged_authenticators_and_a_lost_one() -
     assert results == [Verdict.VERIFIED] * 7
     assert rx.conflicts == 2 + 12                        # the forgeries; group 5's copies beside 6's
     assert rx.counters.unpaired == 2 + 12
+
+
+def test_a_groups_candidates_depart_from_the_newest_copies_fewest_first() -> None:
+    """The concatenations a group's authenticator is tried on, in their order: all newest, then
+    one older copy (member by member, newest of the older first), then two, ...; members
+    held once never depart (a group of 12 single copies: one candidate)."""
+    from hil.bus.secoc import _combinations
+    a, b, c = [b"a1", b"a0"], [b"b0"], [b"c2", b"c1", b"c0"]   # each member's copies, newest first
+    assert list(_combinations([a, b, c])) == [
+        b"a1b0c2",                          # all newest
+        b"a0b0c2", b"a1b0c1", b"a1b0c0",    # one older copy
+        b"a0b0c1", b"a0b0c0"]               # two
+    assert list(_combinations([[bytes([k])] for k in range(12)])) == [bytes(range(12))]

@@ -3,6 +3,7 @@ goes down mid-run, no process left behind when the rig is killed, a leftover fcc
 before a run, and no garbage reported with exit status 0."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -13,9 +14,12 @@ from pathlib import Path
 
 import pytest
 
+from hil.bus import load
 from hil.bus.secoc import TEST_KEY_FILE
 from hil.cli import main
 from hil.rig import lockstep
+from hil.rig.link import CanLink
+from hil.rig.session import listening_ahead
 from hil.io.rundir import FAILED
 
 from conftest import build_dir
@@ -139,6 +143,33 @@ def test_a_leftover_fcc_on_the_bus_is_detected(tmp_path, capsys):
     line = [ln for ln in err.splitlines() if ln.strip()]
     assert len(line) == 1 and "another fcc is already on vcan0" in line[0], err
     assert not (tmp_path / "o").exists()
+
+
+def test_a_socket_opened_ahead_carries_its_listen_into_the_session(tmp_path, capsys):
+    """A warm rig's command takes the socket the rig opened as the previous command ended
+    (hil.rig.session.listening_ahead): an fcc heard meanwhile, even one gone since, fails the
+    run before fcc starts, as one heard in the session's own listen does; with none heard, the
+    run's results are a fresh socket's."""
+    heartbeat = load().by_name("FCC_STATUS").frame_id
+    with listening_ahead("vcan0"), CanLink("vcan0", [heartbeat]) as watch:
+        fcc = subprocess.Popen([str(build_dir() / "bin" / "fcc"), "--iface", "vcan0",
+                                "--key-file", str(TEST_KEY_FILE)],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            assert watch.recv_wait(10.0) is not None, "the leftover fcc's heartbeat"
+        finally:
+            fcc.terminate()
+            fcc.wait(10)
+        rc, _, err = cli(capsys, "run", "cdrw", "--out", str(tmp_path / "o"), "--quiet", "--no-plots")
+    assert rc == 1 and "another fcc is already on vcan0" in err, err
+    assert not (tmp_path / "o").exists()
+    runs = {}
+    for name in ("ahead", "fresh"):
+        with listening_ahead("vcan0") if name == "ahead" else contextlib.nullcontext():
+            rc, _, err = cli(capsys, "run", "cdrw", "--out", str(tmp_path / name), "--quiet", "--no-plots")
+        assert rc == 0, err
+        runs[name] = [(tmp_path / name / f).read_bytes() for f in ("summary.json", "cdrw.csv", "faults.log")]
+    assert runs["ahead"] == runs["fresh"]
 
 
 def test_step_errors_fail_the_run(tmp_path, capsys):

@@ -16,6 +16,7 @@ Bounded: three guests of about 4 s each, and a few 7 s flights.
 """
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import json
 import os
@@ -138,6 +139,45 @@ def test_a_forked_command_runs_apart_and_a_cancelled_one_stops(tmp_path):
     forked.cancel(tmp_path, "other")          # another request's cancellation is not this one's
     assert forked.command(str(tmp_path), "c", os.getpid(), _sleeps, (0.0,), str(tmp_path), {}) == 5
     assert forked.runs(tmp_path) == 3
+
+
+def _stops_then_awaits(flag: str) -> int:
+    """A command whose device stops, then waits (bounded) for the loop to have entered the next
+    spare's context: 7 when it did while the command still ran, 1 otherwise."""
+    forked.device_stopped()
+    deadline = time.monotonic() + WAIT_S
+    while not Path(flag).exists():
+        if time.monotonic() > deadline:
+            return 1
+        time.sleep(0.01)
+    return 7
+
+
+def test_the_next_spares_context_is_entered_when_a_commands_device_stops(tmp_path):
+    """A warm rig's next command listens for another fcc from the moment the previous one's
+    fcc stopped (hil.rig.session.on_device_stopped -> forked.device_stopped): the loop enters
+    the next spare's context (refill's `inherit`) then, while the command still runs; the
+    context is left once that spare is forked."""
+    flag, entered = tmp_path / "entered", []
+
+    @contextlib.contextmanager
+    def inherit() -> Iterator[None]:
+        entered.append(True)
+        flag.write_text("in\n")
+        try:
+            yield
+        finally:
+            flag.unlink()
+
+    try:
+        forked.refill(inherit)
+        assert forked.command(str(tmp_path), "s", os.getpid(), _stops_then_awaits, (str(flag),),
+                              str(tmp_path), {}) == 7
+        assert flag.exists()          # entered for the next spare, not left yet
+        forked.after_answer()         # the next spare forked inside it: left
+        assert not flag.exists() and len(entered) >= 2
+    finally:
+        forked.refill(contextlib.nullcontext)
 
 
 # ---- a rig ----------------------------------------------------------------------------------

@@ -25,8 +25,10 @@ Failures are one line on stderr; a failed
 run's bus log and partial results are kept in OUT.failed-TIME (hil.io.rundir).
 
 The package: usage (the usage error), parser (every subcommand's arguments), common and many
-(what the flying commands share), one module per subcommand with its run(args).  main() parses,
-then imports only the chosen subcommand's module.
+(what the flying commands share), needs (the paths and programs a command needs, checked
+before it starts), one module per subcommand with its run(args).  main() parses, then imports
+only needs and the chosen subcommand's module -- neither for a command flown on a warm rig
+(--rig: hil.cli.onrig), which the rig checks and runs.
 
 Room 15, the top: may import every room; nothing imports it (the entry points are hil.cli:main
 and hil.cli:entry).
@@ -45,9 +47,7 @@ import threading
 from collections.abc import Sequence
 from typing import NoReturn
 
-from hil.bus import dbc
-from hil.bus.dbcfile import DbcError
-from hil.cli import needs, onrig
+from hil.cli import onrig
 from hil.cli.parser import build
 from hil.cli.usage import EXIT_FAILED, EXIT_SIGINT, EXIT_SOFTWARE, EXIT_USAGE, PROG, UsageError
 from hil.io import crashlog, paths
@@ -58,34 +58,13 @@ startup.started()  # from here on main()'s handlers, and Python's KeyboardInterr
 
 
 def dispatch(args: argparse.Namespace) -> int:
-    """The chosen subcommand: its module in hil.cli (named as the subcommand), imported now, so
-    that a command loads only what it runs; its run(args) gives the exit status."""
+    """The chosen subcommand, checked then run here: what it needs found (hil.cli.needs: the
+    DBC, the firmware's programs), then its module in hil.cli (named as the subcommand); each
+    imported now, so that a command loads only what it runs -- and one flown on a warm rig
+    (--rig), neither: the rig's command checks and runs it; its run(args) gives the exit
+    status."""
+    importlib.import_module("hil.cli.needs").apply(args)
     return importlib.import_module(f"hil.cli.{args.command}").run(args)
-
-
-def _apply_paths(args: argparse.Namespace) -> None:
-    build_dir = getattr(args, "build_dir", None)
-    if build_dir is not None:
-        if not build_dir.is_dir():
-            raise UsageError(f"--build-dir {build_dir}: no such directory")
-        os.environ[paths.BUILD_ENV] = str(build_dir.resolve())  # the run's workers look there too
-    dbc_path = getattr(args, "dbc", None)
-    if dbc_path is not None or os.environ.get(dbc.DBC_ENV):
-        try:  # a DBC hil cannot use is one line now, before anything starts
-            dbc.check_contract(dbc.load(dbc_path))  # None: $FCC_HIL_DBC's
-        except DbcError as e:
-            raise UsageError(f"{'--dbc' if dbc_path is not None else '$' + dbc.DBC_ENV}: {e}") from None
-        if dbc_path is not None:
-            dbc.set_default(dbc_path)
-    fcc_path = getattr(args, "fcc", None)
-    paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
-    if fcc_path is not None:
-        try:
-            paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
-        except paths.ToolNotFound as e:
-            paths.set_fcc(None)
-            raise UsageError(str(e)) from None
-    needs.check(args)
 
 
 def _join_fcc_args(argv: Sequence[str]) -> list[str]:
@@ -149,7 +128,6 @@ def _main(argv: Sequence[str] | None, parsed: argparse.Namespace | None) -> int:
     try:
         args = parsed or build().parse_args(_join_fcc_args(sys.argv[1:] if argv is None else argv))
         log.configure(args.verbose, args.debug)
-        _apply_paths(args)
         if onrig.wanted(args):   # --rig: the command runs on the warm rig (hil.cli.onrig)
             return onrig.on_rig(main, args)
         return dispatch(args)

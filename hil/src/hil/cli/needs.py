@@ -5,8 +5,11 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import sys
 
+from hil.bus import dbc
+from hil.bus.dbcfile import DbcError
 from hil.cli.usage import UsageError
 from hil.apps.registry import application
 from hil.io import paths
@@ -17,6 +20,33 @@ from hil.targets.registry import target
 FLYING = ("run", "campaign", "sweep", "demo", "verify", "replay")
 #: extra -> the modules it brings (hil/pyproject.toml [project.optional-dependencies])
 EXTRAS = {"parallel": ("dask", "distributed"), "live": ("rich",)}
+
+
+def apply(args: argparse.Namespace) -> None:
+    """The parsed command's paths in force (--build-dir, --dbc, --fcc) and each checked, then
+    what it needs (check): UsageError, one line, for the first that fails."""
+    build_dir = getattr(args, "build_dir", None)
+    if build_dir is not None:
+        if not build_dir.is_dir():
+            raise UsageError(f"--build-dir {build_dir}: no such directory")
+        os.environ[paths.BUILD_ENV] = str(build_dir.resolve())  # the run's workers look there too
+    dbc_path = getattr(args, "dbc", None)
+    if dbc_path is not None or os.environ.get(dbc.DBC_ENV):
+        try:  # a DBC hil cannot use is one line now, before anything starts
+            dbc.check_contract(dbc.load(dbc_path))  # None: $FCC_HIL_DBC's
+        except DbcError as e:
+            raise UsageError(f"{'--dbc' if dbc_path is not None else '$' + dbc.DBC_ENV}: {e}") from None
+        if dbc_path is not None:
+            dbc.set_default(dbc_path)
+    fcc_path = getattr(args, "fcc", None)
+    paths.set_fcc(fcc_path)  # also when None: no earlier main() call's --fcc stays in force
+    if fcc_path is not None:
+        try:
+            paths.fcc_binary()  # a bad path is a usage error now, not a failed run later
+        except paths.ToolNotFound as e:
+            paths.set_fcc(None)
+            raise UsageError(str(e)) from None
+    check(args)
 
 
 def programs(args: argparse.Namespace) -> list[str]:

@@ -1,6 +1,6 @@
 """`--rig`: a command (`hil run|verify|campaign`) flown on the warm rig `hil rig up` started
-(hil.cli.rig): parsed here, run there (hil.parallel.warm).  Imported by every `hil` command's
-start (hil.cli.main asks it whether to fly on the rig): light.
+(hil.cli.rig): parsed here, checked and run there (hil.parallel.warm).  Imported by every `hil`
+command's start (hil.cli.main asks it whether to fly on the rig): light.
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ from hil.parallel.warm import STATE, State, client_attached, pid_alive, read_sta
 
 #: the modules a rig's loop imports before its first command (what `hil run|verify|campaign`
 #: import on their way: the commands then start with them loaded)
-PRELOAD = ("hil.cli", "hil.cli.run", "hil.cli.campaign", "hil.cli.verify", "hil.runs.run",
+PRELOAD = ("hil.cli", "hil.cli.needs", "hil.cli.run", "hil.cli.campaign", "hil.cli.verify", "hil.runs.run",
            "hil.runs.campaign", "hil.runs.evaluate", "hil.runs.outcome", "hil.rig.session",
            "hil.rig.flight", "hil.rig.lockstep", "hil.rig.ack", "hil.rig.simtime", "hil.rig.tickplan",
            "hil.targets.host", "hil.sim.drivers", "hil.results.flight", "hil.results.report",

@@ -50,9 +50,14 @@ class NotShipped(InputError, ValueError):
     """A name that is neither a path nor a shipped scenario's or suite's (one line: the names)."""
 
 
+#: where this module is: <tree>/hil/src/hil/io/paths.py in a clone (resolved once: a dozen
+#: look-ups a time, 2 ms in the UML guest, and a run asks about seven times)
+_HERE = Path(__file__).resolve()
+
+
 def source_tree() -> Path | None:
     """The clone this package runs from (an editable install), or None when installed."""
-    tree = Path(__file__).resolve().parents[4]  # <tree>/hil/src/hil/io/paths.py
+    tree = _HERE.parents[4]
     marks = (tree / "CMakeLists.txt", tree / "dbc" / "fcc_hil.dbc", tree / "scripts" / "with-vcan")
     return tree if all(m.is_file() for m in marks) else None
 

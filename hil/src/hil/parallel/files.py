@@ -44,13 +44,13 @@ def write_request(path: Path, token: str, fn: Any, args: tuple[Any, ...]) -> Non
     write_atomic(path, token.encode() + b"\n" + pickle.dumps((fn, args), protocol=pickle.HIGHEST_PROTOCOL))
 
 
-def await_answer(res: Path, check: Callable[[], None]) -> tuple[Any, float]:
+def await_answer(res: Path, check: Callable[[], None], poll_s: float = POLL_S) -> tuple[Any, float]:
     """The answer in `res` once the loop has written it: (fn's value, seconds it took in the
-    rig), or what fn raised; check() is called at each poll until then and raises when the
-    rig is down or the wait is over."""
+    rig), or what fn raised; check() is called at each poll (every poll_s) until then and
+    raises when the rig is down or the wait is over."""
     while not res.exists():
         check()
-        time.sleep(POLL_S)
+        time.sleep(poll_s)
     status, value, seconds = pickle.loads(res.read_bytes())
     res.unlink()
     if status != "ok":

@@ -21,9 +21,11 @@ import os
 import pickle
 import select
 import signal
+import socket
 import sys
 import time
 from collections.abc import Callable
+from contextlib import AbstractContextManager, ExitStack, nullcontext
 from pathlib import Path
 from typing import Any
 
@@ -46,8 +48,9 @@ def io_paths(root: Path, name: str) -> tuple[Path, Path]:
 
 
 def _child(fn: Callable[..., int], args: tuple[Any, ...], cwd: str, env: dict[str, str],
-           out: Path, err: Path) -> None:
-    """In the forked child: fn(*args) as a command runs, then exit with its status."""
+           out: Path, err: Path) -> int:
+    """In the forked child: fn(*args) as a command runs, its output flushed: its exit status
+    (whatever it raised: the child never returns into the loop)."""
     code = 1
     try:
         keep = {k: os.environ[k] for k in GUEST_ENV if k in os.environ}
@@ -72,21 +75,33 @@ def _child(fn: Callable[..., int], args: tuple[Any, ...], cwd: str, env: dict[st
                 stream.flush()
             except Exception:  # noqa: BLE001, S110 - a closed stream: nothing more to say
                 pass
-        os._exit(code if isinstance(code, int) else 1)
+    return code if isinstance(code, int) else 1
 
 
-def _wait(pid: int, root: Path, name: str) -> int:
-    """The child's exit status (128 + signal when killed); SIGTERM to it when the request is
-    cancelled, SIGKILL when it has not stopped STOP_GRACE_S later.  Woken by the child's end
-    (its pidfd), looking for a cancellation every CANCEL_POLL_S meanwhile."""
-    cancelled, term_at = root / CANCEL, None
+def _wait(pid: int, said: socket.socket, root: Path, name: str) -> int:
+    """The child's exit status, as it says it (`said`: the loop answers while the child's
+    exit frees its memory, 10-15 ms in the guest) or as it ends (128 + signal when killed);
+    SIGTERM to it when the request is cancelled, SIGKILL when it has not stopped STOP_GRACE_S
+    later.  Woken by either, looking for a cancellation every CANCEL_POLL_S meanwhile."""
+    cancelled, term_at, heard = root / CANCEL, None, b""
     pidfd = os.pidfd_open(pid)
+    watched: list[Any] = [pidfd, said]
     try:
         while True:
-            select.select([pidfd], [], [], CANCEL_POLL_S)
-            done, status = os.waitpid(pid, os.WNOHANG)
+            if said in select.select(watched, [], [], CANCEL_POLL_S)[0]:
+                got = said.recv(64)
+                if not got:
+                    watched.remove(said)   # it ended without saying: its end says it
+                *lines, heard = (heard + got).split(b"\n")
+                for line in lines:
+                    if line == STOPPED:    # (device_stopped)
+                        _enter_inherit()
+                        continue
+                    _exiting.append(pid)   # (reaped by a later refill once it has ended)
+                    return int(line)
+            done, waited = os.waitpid(pid, os.WNOHANG)
             if done:
-                return os.waitstatus_to_exitcode(status) if os.WIFEXITED(status) else 128 + os.WTERMSIG(status)
+                return os.waitstatus_to_exitcode(waited) if os.WIFEXITED(waited) else 128 + os.WTERMSIG(waited)
             sig = _cancelled(cancelled, name) if term_at is None else None
             if sig is not None:
                 os.kill(pid, sig)
@@ -111,37 +126,100 @@ def _cancelled(path: Path, name: str) -> int | None:
         return None
 
 
-#: a child forked ahead of its command, waiting for it on a pipe: (its pid, the pipe's write
-#: end).  Forking the loop costs about 0.1 s in the guest (its page tables copied by the UML
-#: kernel): paid while the loop is idle, after an answer (the loop calls after_answer), not
-#: while a client waits.
-_spare: tuple[int, int] | None = None
+#: a child forked ahead of its command, waiting for it on a socket: (its pid, the loop's end;
+#: the command comes on it, and the child's exit status goes back).  Forking the loop costs
+#: about 0.1 s in the guest (its page tables copied by the UML kernel): paid while the loop is
+#: idle, after an answer (the loop calls after_answer), not while a client waits.
+_spare: tuple[int, socket.socket] | None = None
 _keep_spare = False
+#: what the loop forks each spare inside of, and what each spare does while it waits (refill's)
+_inherit: Callable[[], AbstractContextManager[object]] = nullcontext
+_ready: Callable[[int], object] | None = None
+#: children that said their status and are ending
+_exiting: list[int] = []
+#: in the loop: the context the next spare is forked inside of, entered already (_enter_inherit)
+_entered: ExitStack | None = None
+#: in a command's child: its socket to the loop (device_stopped, its exit status)
+_to_loop: socket.socket | None = None
+STOPPED = b"stopped"
 
 
-def refill() -> None:
-    """Fork the next command's child now, unless there is one (and keep one from now on)."""
-    global _spare, _keep_spare  # noqa: PLW0603 - the loop's one spare child
+def device_stopped() -> None:
+    """In a command's child: its device under test has stopped (hil.rig.session says so: a
+    warm rig hooks this there, hil.parallel.warmup).  The loop enters the next spare's context
+    now (a warm rig's: the next command's listen for another fcc starts), not once the command
+    has evaluated its flight; each stop enters it afresh (a campaign's next session starts fcc
+    again)."""
+    if _to_loop is not None:
+        try:
+            _to_loop.sendall(STOPPED + b"\n")
+        except OSError:   # the loop is gone (the rig stops): nobody to tell
+            pass
+
+
+def _enter_inherit() -> None:
+    """In the loop: the next spare's context (refill's `inherit`) entered now, anew."""
+    global _entered  # noqa: PLW0603 - the loop's one context for its next spare
+    if _entered is not None:
+        _entered.close()
+    _entered = ExitStack()
+    _entered.enter_context(_inherit())
+
+
+def refill(inherit: Callable[[], AbstractContextManager[object]] | None = None,
+           ready: Callable[[int], object] | None = None) -> None:
+    """Fork the next command's child now, unless there is one (and keep one from now on).
+    Once given, `inherit` makes the context each spare is forked inside of (what it opens, the
+    spare inherits and the loop lets go of after the fork), and `ready(fd)` is what each spare
+    does while it waits for its command, which comes on fd (a warm rig's: its command's socket
+    on the bus, its memory made its own: hil.parallel.warmup)."""
+    global _spare, _keep_spare, _inherit, _ready, _entered, _to_loop  # noqa: PLW0603 - the loop's one spare child
     _keep_spare = True
+    _inherit, _ready = inherit or _inherit, ready or _ready
+    _exiting[:] = [pid for pid in _exiting if os.waitpid(pid, os.WNOHANG) == (0, 0)]   # the ended reaped
     if _spare is not None:
         return
     for stream in (sys.stdout, sys.stderr):
         stream.flush()
-    r, w = os.pipe()
-    pid = os.fork()
-    if pid == 0:             # (never back into the loop, whatever happens)
-        code = 1
-        try:
-            os.close(w)
-            with os.fdopen(r, "rb") as f:
-                job = f.read()
-            if job:
-                _child(*pickle.loads(job))
-            code = 0         # the loop ended without a command for it
-        finally:
-            os._exit(code)
-    os.close(r)
-    _spare = pid, w
+    ours, theirs = socket.socketpair()
+    if _entered is None:
+        _enter_inherit()
+    assert _entered is not None
+    entered, _entered = _entered, None
+    with entered:
+        pid = os.fork()
+        if pid == 0:             # (never back into the loop, whatever happens)
+            code = 1
+            try:
+                ours.close()
+                _get_ready(theirs.fileno())
+                job = _received(theirs)
+                _to_loop = theirs
+                code = _child(*pickle.loads(job)) if job else 0   # 0: the loop ended first
+                if job:
+                    theirs.sendall(b"%d\n" % code)
+            finally:
+                os._exit(code)
+    theirs.close()
+    _spare = pid, ours
+
+
+def _received(sock: socket.socket) -> bytes:
+    """Everything sent on sock until the sender's end of sending."""
+    parts = []
+    while part := sock.recv(1 << 16):
+        parts.append(part)
+    return b"".join(parts)
+
+
+def _get_ready(fd: int) -> None:
+    """In a spare: ready(fd), or why it failed said (the command does without it)."""
+    if _ready is None:
+        return
+    try:
+        _ready(fd)
+    except Exception as e:  # noqa: BLE001 - what it readies, the command does itself
+        print(f"hil.parallel.forked: a spare not readied ({type(e).__name__}: {e})", file=sys.stderr, flush=True)
 
 
 def after_answer() -> None:
@@ -150,20 +228,22 @@ def after_answer() -> None:
         refill()
 
 
-def _start(job: tuple[Any, ...]) -> int:
-    """The pid of the child that runs `job` (_child's arguments): the spare, else a new one."""
+def _start(job: tuple[Any, ...]) -> tuple[int, socket.socket]:
+    """The child that runs `job` (_child's arguments): the spare, else a new one (its pid,
+    the socket its status comes on)."""
     global _spare  # noqa: PLW0603 - the loop's one spare child
     refill()
     assert _spare is not None
-    pid, w = _spare
+    pid, sock = _spare
     _spare = None
     try:
-        with os.fdopen(w, "wb") as f:
-            f.write(pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL))
-    except BrokenPipeError:  # the spare died: a new one
+        sock.sendall(pickle.dumps(job, protocol=pickle.HIGHEST_PROTOCOL))
+        sock.shutdown(socket.SHUT_WR)
+    except (BrokenPipeError, ConnectionResetError):  # the spare died: a new one
+        sock.close()
         os.waitpid(pid, 0)
         return _start(job)
-    return pid
+    return pid, sock
 
 
 def command(root: str, name: str, client_pid: int, fn: Callable[..., int], args: tuple[Any, ...],
@@ -174,7 +254,9 @@ def command(root: str, name: str, client_pid: int, fn: Callable[..., int], args:
     (d / "io").mkdir(exist_ok=True)
     write_atomic(d / RUNNING, f"{client_pid} {name}\n".encode())
     try:
-        return _wait(_start((fn, args, cwd, env, *io_paths(d, name))), d, name)
+        pid, said = _start((fn, args, cwd, env, *io_paths(d, name)))
+        with said:
+            return _wait(pid, said, d, name)
     finally:
         (d / RUNNING).unlink(missing_ok=True)
         write_atomic(d / RUNS, f"{runs(d) + 1}\n".encode())

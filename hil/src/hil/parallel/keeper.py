@@ -64,7 +64,7 @@ def keep(state_dir: Path, target: str, idle_timeout: float, modules: list[str]) 
     try:
         rig.start()
         assert rig.dir is not None and rig.proc is not None
-        rig.call(warm_up, modules)
+        rig.call(warm_up, modules, rig.iface)
         State(os.getpid(), str(rig.dir), rig.token, target, rig.iface, time.time(), idle_timeout,
               rig.proc.pid).write(state)
         print(f"rig up: {rig.dir}", flush=True)

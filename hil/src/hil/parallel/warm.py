@@ -34,6 +34,9 @@ STATE = "rig.json"
 LOCK = "client.lock"
 #: how long a client waits for its cancelled command to stop (its session's own stop)
 CANCEL_WAIT_S = forked.STOP_GRACE_S + 10.0
+#: how often a client looks for its command's answer and output (on the host, while a user
+#: waits: a fifth of the loop's poll, hil.parallel.files.POLL_S, which runs in the guest)
+CLIENT_POLL_S = 0.002
 
 
 class RigNotUp(RigError):
@@ -175,7 +178,7 @@ def _command(state: State, fn: Callable[..., int], args: tuple[Any, ...]) -> int
     res = root / "res" / f"{name}.pkl"
     try:
         try:
-            status, _ = await_answer(res, check)
+            status, _ = await_answer(res, check, CLIENT_POLL_S)
         except KeyboardInterrupt as e:   # (and hil.cli's Terminated): the command stops as an interrupted run does
             forked.cancel(root, name, getattr(e, "signum", signal.SIGINT))
             deadline = time.monotonic() + CANCEL_WAIT_S
@@ -185,7 +188,7 @@ def _command(state: State, fn: Callable[..., int], args: tuple[Any, ...]) -> int
                 if time.monotonic() > deadline:
                     raise RigError(f"the rig did not stop the command within {CANCEL_WAIT_S:g} s")
 
-            status, _ = await_answer(res, check_cancelled)
+            status, _ = await_answer(res, check_cancelled, CLIENT_POLL_S)
         copy()
         return int(status)
     finally:

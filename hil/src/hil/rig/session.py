@@ -21,7 +21,8 @@ import re
 import shutil
 import tempfile
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -65,6 +66,68 @@ KEPT_KEY = "session.key"
 END_MARKER_SEQ = 0xFFFFFFFF
 
 
+#: Only what the simulator acts on comes to its socket: the acknowledge, the missile's command
+#: and estimate, the heartbeat.  The identification outputs (12 frames per CDRW step) are read
+#: back from bus.log after the run: the recorder gets every frame anyway, and in the UML guest
+#: every frame received costs a slow system call.
+RX_NAMES = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
+            *STATUS_FRAMES, "FCC_STATUS_AUTH")
+
+
+def received_ids(spec: BusSpec) -> tuple[int, ...]:
+    """The identifiers of RX_NAMES in `spec`: what the session's socket receives."""
+    return tuple(spec.by_name(n).frame_id for n in RX_NAMES)
+
+
+#: a session's socket opened ahead, listening since (a warm rig's next command: listen_ahead)
+_opened_ahead: tuple[CanLink, float, tuple[int, ...]] | None = None
+#: what is told that a session has stopped its device (on_device_stopped)
+_device_stopped: Callable[[], object] | None = None
+
+
+def on_device_stopped(hook: Callable[[], object]) -> None:
+    """hook() once each session of this process (and of those forked from it) has stopped its
+    device: a warm rig's loop then opens the next command's socket (listening_ahead) while
+    this command evaluates its flight (hil.parallel.warmup)."""
+    global _device_stopped  # noqa: PLW0603 - one hook for the process
+    _device_stopped = hook
+
+
+@contextmanager
+def listening_ahead(iface: str) -> Iterator[None]:
+    """The next session's socket on SocketCAN `iface` (the default DBC's identifiers) opened
+    for the block: a session started in it -- or in a process forked in it, which keeps the
+    socket -- takes the socket and with it the time it has listened for another fcc
+    (LEFTOVER_LISTEN_S) instead of listening then.  A warm rig's loop forks its next
+    command's process in it as the previous command ends (hil.parallel.warmup); a frame heard
+    meanwhile fails that session as one heard in its own listen does.  A socket that cannot
+    be opened now: the session opens its own (and says why then)."""
+    global _opened_ahead  # noqa: PLW0603 - this process's one socket opened ahead
+    ids = received_ids(load())
+    try:
+        _opened_ahead = CanLink(iface, ids), time.monotonic(), ids
+    except (LinkError, OSError):
+        _opened_ahead = None
+    try:
+        yield
+    finally:   # (a forked process never leaves the block: the socket stays its own)
+        ahead, _opened_ahead = _opened_ahead, None
+        if ahead is not None:
+            ahead[0].close()
+
+
+def _socket(iface: str, ids: tuple[int, ...]) -> tuple[CanLink, float]:
+    """A SocketCAN socket on iface receiving ids, and since when it listens: the one opened
+    ahead when it is that (listen_ahead), else a new one."""
+    global _opened_ahead  # noqa: PLW0603 - taken once, by the first session that fits
+    ahead, _opened_ahead = _opened_ahead, None
+    if ahead is not None and ahead[0].channel == iface and ahead[2] == ids:
+        return ahead[0], ahead[1]
+    if ahead is not None:
+        ahead[0].close()
+    return CanLink(iface, ids), time.monotonic()
+
+
 _SUMMARY = re.compile(r"^fcc summary: (\w+) steps=\d+ degraded=\d+ errors=(\d+)")
 
 
@@ -104,13 +167,7 @@ class RigSession:
         self.answer_timeout = config.timeout
         self.spec = spec or load()
         self.codec = FrameCodec(self.spec, SIM_NODES)
-        # Only what the simulator acts on comes to its socket: the acknowledge, the missile's
-        # command and estimate, the heartbeat.  The identification outputs (12 frames per
-        # CDRW step) are read back from bus.log after the run: the recorder gets every frame
-        # anyway, and in the UML guest every frame received costs a slow system call.
-        self.rx_names = ("FCC_ACK", "MSL_ELEV_CMD", "MSL_ELEV_CMD_AUTH", "MSL_STATE_EST", "RIG_PONG",
-                         *STATUS_FRAMES, "FCC_STATUS_AUTH")
-        self.fcc_ids = tuple(self.spec.by_name(n).frame_id for n in self.rx_names)
+        self.fcc_ids = received_ids(self.spec)
         #: fcc's other frames (the identification outputs, read back from bus.log): lockstep on
         #: the wire-time bus reads them too, for the bus model only (hil.rig.lockstep_wire)
         self.model_only_ids = frozenset(
@@ -206,18 +263,23 @@ class RigSession:
                 else:   # a real bus: the simulator's send times recorded
                     self.send_log = self.run_dir / SEND_LOG
             socketcan = CanLink.is_raw(self.interface)
-            log = self.run_dir / "bus.log" if self.record and not socketcan else None
-            self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface,
-                                bitrate=self.bitrate, log_path=log)
+            if socketcan:
+                self.link, t_open = _socket(self.iface, self.fcc_ids)
+            else:
+                self.link = CanLink(self.iface, self.fcc_ids, interface=self.interface, bitrate=self.bitrate,
+                                    log_path=self.run_dir / "bus.log" if self.record else None)
+                t_open = time.monotonic()
             if self.record and self._key_dir is not None:  # the run's own key: hil replay reads it
                 write_key_file(self.run_dir / KEPT_KEY, self.security.key)
-            t_open = time.monotonic()
             if self.record:
                 self._start_recorder() if socketcan else self._start_link_recorder()
-            # work for the listen, a wait otherwise (frames meanwhile wait in the socket's queue)
+            # work for the listen and the recorder's start, waits otherwise (frames meanwhile
+            # wait in the socket's queue)
             load_cmac()
             if self._prepare is not None:
                 self.prepared = self._prepare(self)
+            if isinstance(self.bus_recorder, BusRecorder):
+                self._await_recorder(self.bus_recorder)
             if self.device_class.owned:  # an external device is on the bus by design
                 self._check_bus_idle(t_open + LEFTOVER_LISTEN_S)
             self.fcc = self.device_class.start(DeviceStart(
@@ -246,8 +308,12 @@ class RigSession:
         self.bus_echo_iface = self.recorder_iface
 
     def _start_recorder(self) -> None:
-        rec = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")
-        self.bus_recorder = rec
+        """The recorder program started (listening once _await_recorder has returned)."""
+        self.bus_recorder = RECORDERS[self.recorder](self.recorder_iface, self.run_dir / "bus.log")
+
+    @staticmethod
+    def _await_recorder(rec: BusRecorder) -> None:
+        """Until the recorder listens (before fcc starts: every frame of fcc's is in bus.log)."""
         if not rec.wait_idle(STARTUP_TIMEOUT_S):
             if not rec.alive():
                 raise RigError(f"{rec.label} stopped: {rec.error()}")
@@ -452,6 +518,8 @@ class RigSession:
                 self.fcc.stop(grace=0.0)
                 if self.fcc_exit is None:
                     self.fcc_exit = self.fcc.returncode
+                if self.fcc.owned and _device_stopped is not None:
+                    _device_stopped()
         finally:
             if self.batch_scheduled:  # the simulator's own process: back to the default policy
                 run_as_batch([0], batch=False)

@@ -17,6 +17,7 @@ from hil.cli.usage import EXIT_SYNC
 from hil.results.platform import FIRMWARE, PLATFORM_LIMITED, platform_verdict
 from hil.results.sync import REFUSALS
 from hil.rig.platform import Baseline, facts, percentile, preempt_model
+from hil.rig.timesync import SYNC_INTERVAL_S, UsablePairs
 from hil.runs.outcome import Outcome
 
 PERIOD_S = 0.1
@@ -42,11 +43,14 @@ def summary(*, losses: int = 0, state: str = "LOCKED", verdict: str = "ok", refu
 
 
 def info(max_us: int | None = 4000, no_echo: int = 0, late_steps: int = 0, gap_ms: float = 101.0,
-         slack_min_ms: float = 12.0) -> dict[str, Any]:
+         pair_gap_ms: float | None = None, slack_min_ms: float = 12.0) -> dict[str, Any]:
+    """run_info.json's parts the verdict reads; the master's pair gap (from the SYNC of one
+    usable pair to the next pair's last frame) is at least its longest SYNC gap."""
     base = ({"p50_us": 300, "p99_us": 2000, "max_us": max_us, "cycles": 50} if max_us is not None
             else {"error": "cyclictest not found: install rt-tests (scripts/setup does)"})
     return {"sim_late_steps": late_steps, "sim_handover_slack_ms": {"min": slack_min_ms},
-            "time_master": {"syncs_without_echo": no_echo, "max_sync_gap_ms": gap_ms},
+            "time_master": {"syncs_without_echo": no_echo, "max_sync_gap_ms": gap_ms,
+                            "max_pair_gap_ms": gap_ms if pair_gap_ms is None else pair_gap_ms},
             "platform": {"kernel": "7.2.7", "preempt": "none (voluntary or server)", "uml": True,
                          "baseline": base}}
 
@@ -72,7 +76,7 @@ def test_a_recovered_sync_loss_without_attack_is_a_warning_with_its_numbers_exit
                    "forged, replayed or refused frame, data age max 2000 us < 204000 us (fcc's freshness "
                    "bound 200000 us + the platform's stall); "
                    "firmware (cyclictest max 4000 us at fcc's priority, 0 SYNC(s) the master could "
-                   "not stamp, the master's longest gap between SYNCs 101 ms)\n")
+                   "not stamp, fcc's longest wait for a usable pair 101 ms)\n")
 
 
 @pytest.mark.parametrize("verdict, refused", [
@@ -100,7 +104,7 @@ def test_a_loss_not_recovered_or_with_stale_data_or_forged_outputs_exits_7(chang
     assert rc == EXIT_SYNC and err.startswith("hil: time sync lost: 1 losses")
     # the line says whose the loss is and why it is not a warning
     assert "; firmware (cyclictest max 4000 us at fcc's priority, 0 SYNC(s) the master could not " \
-           "stamp, the master's longest gap between SYNCs 101 ms); not tolerated: " in err
+           "stamp, fcc's longest wait for a usable pair 101 ms); not tolerated: " in err
 
 
 def test_a_loss_in_a_platform_stall_the_baseline_shows_is_tolerated(capsys) -> None:
@@ -135,12 +139,13 @@ def test_the_simulators_own_lateness_widens_the_bound_too(capsys) -> None:
 def test_data_older_than_the_platform_explains_is_not_tolerated(capsys) -> None:
     """Data older than fcc's freshness bound plus every stall measured: exit 7, and the line
     says whose the loss is and why it is not a warning."""
-    s = judged(summary(losses=1, verdict="lost", age_max=1_003_456.0), info(max_us=14_678, gap_ms=350.0))
+    s = judged(summary(losses=1, verdict="lost", age_max=1_003_456.0),
+               info(max_us=14_678, gap_ms=350.0, pair_gap_ms=420.0))
     rc, err = exit_status(s, capsys)
     assert rc == EXIT_SYNC and s["platform"]["sync_loss"]["verdict"] == PLATFORM_LIMITED
     assert err == ("hil: time sync lost: 1 losses (fcc LOCKED at the end); platform-limited (cyclictest "
-                   "max 14678 us at fcc's priority, 0 SYNC(s) the master could not stamp, the master's "
-                   "longest gap between SYNCs 350 ms); not tolerated: data age max 1003456 us beyond "
+                   "max 14678 us at fcc's priority, 0 SYNC(s) the master could not stamp, fcc's longest "
+                   "wait for a usable pair 420 ms); not tolerated: data age max 1003456 us beyond "
                    "450000 us (fcc's freshness bound 200000 us + the platform's stall)\n")
 
 
@@ -189,6 +194,51 @@ def test_a_sync_loss_is_platform_limited_when_the_platform_held_a_sync_interval(
     # priority saw 15 ms
     assert judged(s, info(max_us=14_678, gap_ms=1004.0))["platform"]["sync_loss"]["verdict"] == PLATFORM_LIMITED
     assert judged(s, info(max_us=14_678, gap_ms=250.0))["platform"]["sync_loss"]["verdict"] == FIRMWARE
+
+
+#: the incident of issue 37 (hil verify time-sync, case foreign-master, host load 9.5-14.6), from
+#: the bus log: the rig's master sent SYNC 51 at 5.6057 s, SYNC 52 at 5.7383 s, stalled, sent 52's
+#: FOLLOW_UP at 5.9147 s and its TSYNC_AUTH at 5.9383 s, and SYNC 53 276 ms after SYNC 52 (the
+#: longest SYNC gap); pairs 51 and 53 complete 0.3 ms after their SYNC.  fcc dropped pair 52
+#: (missing_fup=1 orphan_fup=1) and lost the sync; cyclictest's max was 83.6 ms.
+INCIDENT_PAIRS = [(5.6057, 5.6060), (5.7383, 5.9383), (5.7383 + 0.276, 5.7383 + 0.2763)]
+INCIDENT_CYCLICTEST_US = 83_600
+
+
+def incident_info(pairs: list[tuple[float, float]]) -> dict[str, Any]:
+    """run_info.json of the incident, the master's pair gap as hil.rig.timesync records it."""
+    waits = UsablePairs(SYNC_INTERVAL_S)
+    for sync_tx, done in pairs:
+        waits.complete(sync_tx, done)
+    return info(max_us=INCIDENT_CYCLICTEST_US, gap_ms=276.0, pair_gap_ms=round(waits.longest() * 1e3))
+
+
+def test_a_sync_loss_of_a_master_stalled_between_sync_and_follow_up_is_the_platforms() -> None:
+    """Every SYNC gap under 3 intervals, cyclictest under one: only the wait for a usable pair
+    shows the master starved fcc of the sync (409 ms from SYNC 51 to pair 53 complete)."""
+    loss = judged(summary(losses=1, verdict="lost"), incident_info(INCIDENT_PAIRS))["platform"]["sync_loss"]
+    assert loss["master_max_sync_gap_ms"] == 276.0 and loss["master_max_pair_gap_ms"] == 409
+    assert loss["verdict"] == PLATFORM_LIMITED and loss["tolerated"]
+    assert "fcc's longest wait for a usable pair 409 ms" in loss["message"]
+    # the same SYNCs with pair 52 complete in time: fcc had a pair every 276 ms at worst, a loss
+    # is the firmware's own
+    on_time = [INCIDENT_PAIRS[0], (5.7383, 5.7386), INCIDENT_PAIRS[2]]
+    loss = judged(summary(losses=1, verdict="lost"), incident_info(on_time))["platform"]["sync_loss"]
+    assert loss["master_max_pair_gap_ms"] == 276 and loss["verdict"] == FIRMWARE
+
+
+@pytest.mark.parametrize("verdict, refused", [
+    ("attacked", {**NO_REFUSALS, "unauthenticated": 4, "mac_failed": 2}),       # forged
+    ("attacked", {**NO_REFUSALS, "freshness_failed": 3}),                       # replayed
+    ("refused", {**NO_REFUSALS, "step_refused": 3}),                            # implausible
+])
+def test_an_attack_during_a_master_stall_still_exits_7(verdict, refused, capsys) -> None:
+    """The master's stall makes the loss the platform's, never the attack: exit 7 all the same."""
+    s = judged(summary(losses=1, verdict=verdict, refused=refused), incident_info(INCIDENT_PAIRS))
+    loss = s["platform"]["sync_loss"]
+    assert loss["verdict"] == PLATFORM_LIMITED and not loss["tolerated"]
+    rc, err = exit_status(s, capsys)
+    assert rc == EXIT_SYNC and err.startswith(f"hil: {s['sync']['message']}")
 
 
 def test_preempt_model_from_the_kernels_build_string() -> None:

@@ -13,8 +13,11 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
 * a sync loss (fcc went 3 sync intervals without a usable pair) is platform-limited when the
   baseline's worst wake-up reached a whole sync interval, the rig's master could not stamp a
   SYNC (its echo never came: the platform held the frame), or the master itself went 3
-  intervals without a SYNC (a thread of the rig's, starved by the platform: measured, 1 s
-  while cyclictest at fcc's priority saw 15 ms); otherwise the firmware's own.
+  intervals without a usable pair (a thread of the rig's, starved by the platform: from the SYNC
+  of one pair fcc could use to the last frame of the next, hil.rig.timesync; measured, 1 s
+  while cyclictest at fcc's priority saw 15 ms, and a master that stalled 176 ms between a SYNC
+  and its FOLLOW_UP: 276 ms between SYNCs, but no usable pair for fcc in 333 ms, its loss);
+  otherwise the firmware's own.
 * a sync loss that fcc recovered from (LOCKED at the end) with no forged, replayed or refused
   frame (the sync verdict is "lost", nothing worse: hil.results.sync), fcc's outputs
   authentic (bus_trust ok) and the data age in bounds is **tolerated**: every command computed
@@ -96,6 +99,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     age = field_at(summary, "realtime", "bus", "data_age")
     age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
     gap_ms = field_at(info, "time_master", "max_sync_gap_ms")
+    pair_gap_ms = field_at(info, "time_master", "max_pair_gap_ms")
     master_stall = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
     slack_min = field_at(info, "sim_handover_slack_ms", "min")
     sim_stall = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
@@ -110,7 +114,8 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     if not losses:
         return out
     out["master_max_sync_gap_ms"] = gap_ms
-    explained = (no_echo > 0 or (gap_ms is not None and gap_ms >= LOSS_INTERVALS * SYNC_INTERVAL_S * 1e3)
+    out["master_max_pair_gap_ms"] = pair_gap_ms
+    explained = (no_echo > 0 or (pair_gap_ms is not None and pair_gap_ms >= LOSS_INTERVALS * SYNC_INTERVAL_S * 1e3)
                  or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6))
     out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
     age_ok = age_max is not None and age_bound is not None and age_max < age_bound
@@ -125,7 +130,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     out["tolerated"] = not not_tolerated
     base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
             else "no platform baseline")
-    gap = "" if gap_ms is None else f", the master's longest gap between SYNCs {gap_ms:.0f} ms"
+    gap = "" if pair_gap_ms is None else f", fcc's longest wait for a usable pair {pair_gap_ms:.0f} ms"
     why = f"{out['verdict']} ({base}, {no_echo} SYNC(s) the master could not stamp{gap})"
     if out["tolerated"]:
         out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "

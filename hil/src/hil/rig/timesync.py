@@ -37,6 +37,35 @@ SYNC_PHASE_S = 0.00125
 MASTER_ID = 1
 
 
+class UsablePairs:
+    """The longest time fcc waited for a pair it could use, as the master sees it: from the SYNC
+    of one usable pair to the last frame of the next (SYNC, FOLLOW_UP and TSYNC_AUTH sent).  fcc
+    holds a pair until its authenticator verifies, and drops a SYNC whose pair is not complete
+    one interval after it (fcc_tsync_poll: missing_fup, then the late FOLLOW_UP an orphan_fup):
+    such a pair is no use to it.  fcc loses the sync when this wait passes 3 intervals, whatever
+    the gaps between SYNCs were -- a master stalled between a SYNC and its FOLLOW_UP
+    (hil.results.platform judges the loss the platform's by it)."""
+
+    def __init__(self, interval_s: float) -> None:
+        self.interval_s = interval_s
+        self.max_wait_s = 0.0
+        self._last_sync: float | None = None   # CLOCK_MONOTONIC of the last usable pair's SYNC
+
+    def complete(self, sync_tx: float, done: float) -> None:
+        """A pair whose SYNC was on the bus at sync_tx and whose last frame went out at done."""
+        if done - sync_tx > self.interval_s:
+            return   # fcc dropped its SYNC before the pair was complete
+        if self._last_sync is not None:
+            self.max_wait_s = max(self.max_wait_s, done - self._last_sync)
+        self._last_sync = sync_tx
+
+    def longest(self, now: float | None = None) -> float:
+        """The longest wait (s), including the one still open at `now` (None: only those over)."""
+        if now is None or self._last_sync is None:
+            return self.max_wait_s
+        return max(self.max_wait_s, now - self._last_sync)
+
+
 class TimeMaster:
     """Publishes the master time on one interface until stop()."""
 
@@ -68,10 +97,11 @@ class TimeMaster:
         #: SYNC / FOLLOW_UP frames sent that no TSYNC_AUTH covers (fcc drops each one,
         #: counted in FCC_SYNC_REFUSALS.unauthenticated: the rig tells them from forgeries)
         self.unpaired_frames = 0
-        #: the longest time between two SYNCs on the bus (s): a master starved by its platform
-        #: (fcc loses the sync after 3 intervals without one: hil.results.platform)
+        #: the longest time between two SYNCs on the bus (s): how long the platform starved the
+        #: master's thread (less one interval), the rig's own stall (hil.results.platform)
         self.max_gap_s = 0.0
         self._last_tx: float | None = None
+        self.pairs = UsablePairs(interval_s)
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -152,6 +182,7 @@ class TimeMaster:
             tag = self.auth.protect(bytes(sync) + bytes(fup))
             self.sock.send(CAN_FRAME.pack(self._auth_id, len(tag), tag))
             self.unpaired_frames -= 2
+            self.pairs.complete(tx, time.monotonic())
         return True
 
     # -- the thread
@@ -182,5 +213,9 @@ class TimeMaster:
             self._echo_sock.close()
 
     def stats(self) -> dict[str, int]:
+        """run_info.json's `time_master`; while the master runs, its pair gap includes the wait
+        since its last usable pair (a stall not yet over is fcc's wait too)."""
+        pair_gap = self.pairs.longest(time.monotonic() if self._thread is not None else None)
         return {"syncs_sent": self.sent, "syncs_without_echo": self.no_echo,
-                "unpaired_frames": self.unpaired_frames, "max_sync_gap_ms": int(round(self.max_gap_s * 1e3))}
+                "unpaired_frames": self.unpaired_frames, "max_sync_gap_ms": int(round(self.max_gap_s * 1e3)),
+                "max_pair_gap_ms": int(round(pair_gap * 1e3))}

@@ -10,9 +10,10 @@ failure.  Two kinds, each excused only by its own evidence:
 
 ``timing = "sync"`` (fcc locks on the master and holds it): only a sync loss hil.results.platform
 judges the platform's (cyclictest's wake-up of a whole sync interval, a SYNC the master could not
-stamp, the master's own starved thread), with no pair refused as implausible (``step_refused``,
-``rate_refused``: a refused master is the sync's own failure, never a schedule's -- measured: the
-Cortex-M4F image over its serial link refuses every pair on a clean bus, and no stall excuses that).
+stamp, the master's own starved thread leaving fcc 3 intervals without a usable pair), with no
+pair refused as implausible (``step_refused``, ``rate_refused``: a refused master is the sync's
+own failure, never a schedule's -- measured: the Cortex-M4F image over its serial link refuses
+every pair on a clean bus, and no stall excuses that).
 
 ``timing = "schedule"`` (deadlines, latencies, data age, the residual), when
 

@@ -139,6 +139,8 @@ class WireSteps:
         #: the model's wall time: read on the sampled exchanges, and on every batch
         self._sampled_s = 0.0
         self._batches_s = 0.0
+        #: what one clock read adds to a time measured (a system call in the guest: ~8 us)
+        self._read_s = min(-time.perf_counter() + time.perf_counter() for _ in range(5))
 
     @classmethod
     def for_flight(cls, bitrate: int, drivers: Sequence[AppDriver], iface: str,
@@ -181,17 +183,18 @@ class WireSteps:
         """The model runs to t s (an open-loop flight's waiting exchanges first)."""
         self._flush()
         self._t = max(self._t, t)
-        self._arrived([(ns(e.t_queued), e.t_eof) for e in self.bus.run(t) if e.node == "fcc"])
+        at = ns(t)   # an exchange of no frames: the bus runs to t
+        _, ends = self.bus.steps([Step(at, at, 0, 0, 0, 0)], (), self._reports(at))
+        self._arrived([(tq, te / NS) for tq, te in ends])
 
     def step_at(self, t: float) -> None:
         """A step sampled at t s is next: the model runs to t when a frame of fcc that an
         application acts on may end before (the missile's command: its driver integrates the
         period up to t); otherwise the next exchange's call does it (the same times)."""
         if self._inflight:
-            t0 = time.perf_counter() if self._sampled() else 0.0
+            t0 = self._start()
             self.reach(t)
-            if t0:
-                self._sampled_s += time.perf_counter() - t0
+            self._took(t0)
         self._t = max(self._t, t)
 
     def inputs(self, raws: list[bytes], t: float, horizon: float) -> float:
@@ -202,18 +205,17 @@ class WireSteps:
         if self._deferred:
             self._waiting.append(_Exchange(ns(t), ns(horizon), raws))
             return math.nan
-        t0 = time.perf_counter() if self._sampled() else 0.0
+        t0 = self._start()
         at = ns(t)
         (done,), ends = self.bus.steps([Step(at, ns(horizon), 0, len(raws), 0, 0)], raws, self._reports(at))
         self._arrived([(tq, te / NS) for tq, te in ends])
-        if t0:
-            self._sampled_s += time.perf_counter() - t0
+        self._took(t0)
         return done.t_in / NS
 
     def answer(self, io: StepIO, received: list[tuple[bytes, int]], t_in: float) -> None:
         """fcc's frames of the step, each with how many frames of io.frames it completed (in
         order), queued at t_in + FCC_COMPUTE_S, after its outputs on the side socket."""
-        t0 = time.perf_counter() if self._sampled() else 0.0
+        t0 = self._start()
         io.wire = True
         io.arrivals = [math.inf] * len(io.frames)
         ack = received[-1][0] if io.acked and received else None
@@ -225,13 +227,18 @@ class WireSteps:
             at = ns(t_in + FCC_COMPUTE_S)
             n = self.bus.queue("fcc", [side, *(raw for raw, _ in received)], at / NS)
             self._receipts(io, received, len(side) // CAN_FRAME.size, n, at)
-        if t0:
-            self._sampled_s += time.perf_counter() - t0
+        self._took(t0)
         if len(self._waiting) >= BATCH:
             self._flush()   # timed on its own
 
-    def _sampled(self) -> bool:
-        return self._exchanges % SAMPLE == 0
+    def _start(self) -> float:
+        """The clock now on a sampled exchange (0 on the others: no clock read)."""
+        return time.perf_counter() if self._exchanges % SAMPLE == 0 else 0.0
+
+    def _took(self, t0: float) -> None:
+        """A sampled part of an exchange ends: its wall time, less the clock read's own."""
+        if t0:
+            self._sampled_s += max(0.0, time.perf_counter() - t0 - self._read_s)
 
     def _flush(self) -> None:
         """The waiting exchanges of an open-loop flight to the model, in one call."""
@@ -259,7 +266,7 @@ class WireSteps:
             if x.io is not None:
                 self._receipts(x.io, x.received, n_side, d.answered, d.t_in + ns(FCC_COMPUTE_S))
         self._arrived([(tq, te / NS) for tq, te in ends])
-        self._batches_s += time.perf_counter() - t0
+        self._batches_s += max(0.0, time.perf_counter() - t0 - self._read_s)
 
     def _receipts(self, io: StepIO, received: list[tuple[bytes, int]], skip: int, n: int, at: int) -> None:
         """The frames of io's answer to watch for: of the n queued at `at` ns (skip of fcc's

@@ -135,7 +135,7 @@ _EOF = struct.Struct("<24xQ8xQ")
 
 
 def _library() -> ctypes.CDLL:
-    lib = ctypes.CDLL(str(tool(LIBRARY)))
+    lib = ctypes.PyDLL(str(tool(LIBRARY)))   # short calls: the GIL kept, not released and taken back
     lib.canbus_sim_size.restype = ctypes.c_size_t
     lib.canbus_sim_setup.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
                                      ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p),

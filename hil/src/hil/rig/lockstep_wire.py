@@ -139,7 +139,7 @@ class WireSteps:
         #: the model's wall time: read on the sampled exchanges, and on every batch
         self._sampled_s = 0.0
         self._batches_s = 0.0
-        #: what one clock read adds to a time measured (a system call in the guest: ~8 us)
+        #: what one clock read adds to a time measured (_start)
         self._read_s = min(-time.perf_counter() + time.perf_counter() for _ in range(5))
 
     @classmethod
@@ -232,8 +232,15 @@ class WireSteps:
             self._flush()   # timed on its own
 
     def _start(self) -> float:
-        """The clock now on a sampled exchange (0 on the others: no clock read)."""
-        return time.perf_counter() if self._exchanges % SAMPLE == 0 else 0.0
+        """The clock now on a sampled exchange (0 on the others: no clock read), and what a
+        clock read costs now (what it adds to the time measured: a system call in the guest,
+        8-30 us as the machine is loaded)."""
+        if self._exchanges % SAMPLE:
+            return 0.0
+        before = time.perf_counter()
+        t0 = time.perf_counter()
+        self._read_s = t0 - before
+        return t0
 
     def _took(self, t0: float) -> None:
         """A sampled part of an exchange ends: its wall time, less the clock read's own."""

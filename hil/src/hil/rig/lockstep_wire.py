@@ -31,17 +31,19 @@ a frame never arrives).  Applications sampled at the same instant (the CDRW and 
 every 0.1 s) are one exchange (LockstepRunner.step_wire): all their frames are queued at t_k,
 fcc has its inputs when the last has ended, and its answers (the CDRW's first) are queued then.
 
-What it costs (issue 35: a step at most 1.5x the ideal bus's).  The model takes one call of the
-C library for steps 1-2 and one for 3 (hil.rig.simbus.SimBus.steps; step 1 alone only while a
-command waits for its arrival), and no system call the ideal bus does not make: a system call
-is ~8 us in the UML guest, clock reads included, so the model's own wall time is read on one
-exchange in SAMPLE (run_info.json wire_model_s, an estimate).  A flight of one open-loop
-application (the CDRW alone: nothing the simulator does depends on the model's times) puts
-its exchanges to the model BATCH at a time, in one call, the same calls in the same order, so
-the same times; fcc's outputs on the side socket are read then, each step's those before the
-ACK the runner accepted (the side socket receives fcc's ACKs too, in the same order as the
-runner's).  Measured (scripts/bench.d/wire, docs/bus-timing.md): the CDRW's step 2.23x the ideal
-bus's before, the missile's 1.73x, on a loaded machine.
+What it costs (issue 35: a step at most 1.5x the ideal bus's).  An exchange is one call of the
+C library for step 2 (hil.rig.simbus.SimBus.steps, a PyDLL: the GIL kept) and one for step 3;
+step 1 is a call of its own only while a frame the simulator acts on is on its way (the
+missile's command), else the next exchange's call runs the bus to t_k.  No clock is read per
+step (a system call, 8-30 us in the UML guest): the model's wall time is read on one exchange
+in SAMPLE, the clock read's own cost taken off (run_info.json wire_model_s, an estimate).  A
+flight of one open-loop application (the CDRW alone: nothing the simulator does depends on the
+model's times) puts its exchanges to the model BATCH at a time in one call, the same calls in
+the same order, so the same times; fcc's outputs are read from the side socket then, a
+recvmmsg per 256 frames, each step's those before the ACK the runner accepted (the side socket
+receives fcc's ACKs too, in the order the runner's socket does).  What remains is the kernel
+handing each of fcc's outputs to one more socket, and taking it back (docs/bus-timing.md, "What
+it costs", has the figures).
 """
 from __future__ import annotations
 

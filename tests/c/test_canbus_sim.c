@@ -109,6 +109,7 @@ static void test_load_is_periodic_and_deterministic(void **state)
 }
 
 static canbus_sim_t sim; /* 2.4 MB of statistics: not on the stack */
+static canbus_sim_t twin; /* the same calls one at a time (test_sim_steps_...) */
 
 static void raw_frame(uint8_t *raw, uint32_t can_id, uint8_t dlc, uint8_t fill)
 {
@@ -208,6 +209,177 @@ static void test_sim_stops_at_a_nodes_frames_and_hides_the_load(void **state)
     assert_int_equal(canbus_sim_json(&sim, "/nonexistent-dir/stats.json"), FCC_ERR_IO);
 }
 
+#define EVENT_ID 0x7F0u /* the simulator's last_id in these tests */
+#define STEPS 40u
+
+/* Step k's frames: the simulator's three readings and an event (every third step), fcc's
+ * answer of 13 (every fifth step none), data varying with k (their stuffed lengths too). */
+static uint32_t step_frames(uint8_t *raw, uint32_t k, bool answer)
+{
+    uint32_t n = 0u;
+    if (answer) {
+        for (uint32_t i = 0u; i < (k % 5u == 4u ? 0u : 13u); ++i) {
+            raw_frame(raw + (size_t)n++ * CANBUS_SIM_RAW_LEN, 0x110u + i, 8u, (uint8_t)(k * 7u + i));
+        }
+        return n;
+    }
+    if (k % 3u == 0u) {
+        raw_frame(raw + (size_t)n++ * CANBUS_SIM_RAW_LEN, EVENT_ID, 2u, (uint8_t)k);
+    }
+    for (uint32_t i = 0u; i < 3u; ++i) {
+        raw_frame(raw + (size_t)n++ * CANBUS_SIM_RAW_LEN, 0x050u + i, 4u, (uint8_t)(k + i));
+    }
+    return n;
+}
+
+static void setup_pair(uint32_t bitrate)
+{
+    const canbus_policy_t pol[2] = {CANBUS_PRIO, CANBUS_FIFO};
+    const char *const names[2] = {"sim", "fcc"};
+    const canbus_load_cfg_t c = cfg(0x200u, 0x20Fu, 300000u);
+    canbus_sim_t *both[2] = {&sim, &twin};
+    for (uint32_t i = 0u; i < 2u; ++i) {
+        assert_int_equal(canbus_sim_init(both[i], bitrate, 2u, pol, names, &c, 1u), FCC_OK);
+        assert_int_equal(canbus_sim_roles(both[i], 0u, 1u, EVENT_ID, 0u), FCC_OK);
+    }
+}
+
+/* The exchange as the rig made it before canbus_sim_steps(), one call at a time: run to t,
+ * queue the inputs, then the events, run until the inputs ended, queue the answer then. */
+static uint64_t one_by_one(canbus_sim_t *s, uint64_t t, uint64_t horizon, const uint8_t *in,
+                           uint32_t n, const uint8_t *answer, uint32_t m, uint64_t *eof,
+                           uint32_t *ended)
+{
+    canbus_done_t out[64];
+    uint8_t inputs[8 * CANBUS_SIM_RAW_LEN];
+    uint8_t events[8 * CANBUS_SIM_RAW_LEN];
+    uint32_t ni = 0u;
+    uint32_t ne = 0u;
+    for (uint32_t i = 0u; i < n; ++i) {
+        const uint8_t *r = in + (size_t)i * CANBUS_SIM_RAW_LEN;
+        uint32_t id;
+        memcpy(&id, r, sizeof id);
+        memcpy(id == EVENT_ID ? events + (size_t)ne++ * CANBUS_SIM_RAW_LEN
+                              : inputs + (size_t)ni++ * CANBUS_SIM_RAW_LEN, r, CANBUS_SIM_RAW_LEN);
+    }
+    uint32_t got = canbus_sim_run(s, t, out, 64u, 0u, 0u, 0u, NULL);
+    const uint32_t queued = canbus_sim_queue_raw(s, 0u, inputs, ni, t);
+    (void)canbus_sim_queue_raw(s, 0u, events, ne, t);
+    uint32_t seen = 0u;
+    uint64_t t_in = queued == 0u ? t : horizon;
+    got += canbus_sim_run(s, horizon, out + got, 64u - got, 0u, t, queued, &seen);
+    for (uint32_t i = 0u; i < got; ++i) {
+        if (out[i].node == 1u) {
+            eof[(*ended)++] = out[i].t_eof;
+        } else if (queued > 0u && seen >= queued && out[i].t_queued == t) {
+            t_in = out[i].t_eof; /* the last of them */
+        }
+    }
+    if (m > 0u) {
+        assert_int_equal(canbus_sim_queue_raw(s, 1u, answer, m, t_in), m);
+    }
+    return t_in;
+}
+
+/* canbus_sim_steps() gives what the calls one at a time gave: the same t_in, fcc's frames
+ * ending at the same times, the same statistics; in one batch or one step a call. */
+static void test_sim_steps_are_the_calls_one_at_a_time(void **state)
+{
+    (void)state;
+    for (uint32_t batch = 1u; batch <= STEPS; batch *= STEPS) {
+        setup_pair(250000u);
+        static uint8_t raw[STEPS * 17u * CANBUS_SIM_RAW_LEN];
+        static canbus_sim_step_t step[STEPS];
+        static uint64_t want[STEPS * 13u];
+        static canbus_done_t out[STEPS * 13u + CANBUS_QUEUE_LEN];
+        uint32_t at = 0u;
+        uint32_t ended = 0u;
+        uint32_t reported = 0u;
+        for (uint32_t k = 0u; k < STEPS; ++k) {
+            canbus_sim_step_t *x = &step[k];
+            x->t = (uint64_t)k * 20000000u;
+            x->horizon = x->t + 20000000u;
+            x->inputs_at = at;
+            x->inputs = step_frames(raw + (size_t)at * CANBUS_SIM_RAW_LEN, k, false);
+            x->answer_at = at + x->inputs;
+            x->answer = step_frames(raw + (size_t)x->answer_at * CANBUS_SIM_RAW_LEN, k, true);
+            at = x->answer_at + x->answer;
+            const uint64_t t_in = one_by_one(&twin, x->t, x->horizon,
+                                             raw + (size_t)x->inputs_at * CANBUS_SIM_RAW_LEN,
+                                             x->inputs, raw + (size_t)x->answer_at * CANBUS_SIM_RAW_LEN,
+                                             x->answer, want, &ended);
+            if ((k + 1u) % batch == 0u) {
+                uint32_t got = 0u;
+                assert_int_equal(canbus_sim_steps(&sim, &step[k + 1u - batch], batch, raw, at,
+                                                  out + reported, STEPS * 13u, &got), FCC_OK);
+                reported += got;
+            }
+            if (batch == 1u) {
+                assert_int_equal(x->t_in, t_in);
+                assert_int_equal(x->queued, 3u);
+                assert_int_equal(x->answered, x->answer);
+                assert_true(t_in > x->t && t_in < x->horizon);
+            }
+        }
+        assert_int_equal(reported, ended);
+        for (uint32_t i = 0u; i < ended; ++i) {
+            assert_int_equal(out[i].t_eof, want[i]);
+            assert_int_equal(out[i].node, 1u);
+        }
+        assert_int_equal(sim.core.now, twin.core.now);
+        assert_memory_equal(&sim.stats.node[0], &twin.stats.node[0], sizeof sim.stats.node[0]);
+        assert_memory_equal(&sim.stats.node[1], &twin.stats.node[1], sizeof sim.stats.node[1]);
+        assert_true(sim.stats.node[2].sent > 0u && sim.stats.node[2].sent == twin.stats.node[2].sent);
+    }
+}
+
+/* No input: t_in is t; inputs the horizon cuts off: t_in is the horizon; the events go after
+ * the inputs whatever their order; steps outside the frames given are refused; more of fcc's
+ * frames than out holds: FCC_ERR_SIZE, the steps run all the same. */
+static void test_sim_steps_edges(void **state)
+{
+    (void)state;
+    setup_pair(500000u);
+    uint8_t raw[4 * CANBUS_SIM_RAW_LEN];
+    raw_frame(raw, EVENT_ID, 8u, 1u);
+    raw_frame(raw + CANBUS_SIM_RAW_LEN, 0x060u, 8u, 2u);
+    raw_frame(raw + 2u * CANBUS_SIM_RAW_LEN, 0x100u, 8u, 3u);
+    raw_frame(raw + 3u * CANBUS_SIM_RAW_LEN, 0x101u, 8u, 4u);
+    canbus_sim_step_t x[2];
+    memset(x, 0, sizeof x);
+    x[0].t = 1000000u;
+    x[0].horizon = 2000000u;
+    x[0].answer_at = 2u;
+    x[0].answer = 2u;
+    x[1].t = 3000000u;
+    x[1].horizon = x[1].t + 100000u; /* shorter than the two frames */
+    x[1].inputs = 2u;
+    canbus_done_t out[1];
+    uint32_t got = 0u;
+    assert_int_equal(canbus_sim_steps(&sim, x, 2u, raw, 4u, out, 1u, &got), FCC_ERR_SIZE);
+    assert_int_equal(got, 1u);
+    assert_int_equal(x[0].t_in, x[0].t);
+    assert_int_equal(x[0].queued, 0u);
+    assert_int_equal(x[0].answered, 2u);
+    assert_int_equal(out[0].frame.id, 0x100u);
+    assert_int_equal(out[0].t_queued, x[0].t);
+    assert_int_equal(x[1].queued, 1u);
+    assert_int_equal(x[1].t_in, x[1].horizon);
+    assert_int_equal(canbus_sim_pending(&sim, 0u), 2u); /* the input on the bus, the event after */
+    x[1].t = 5000000u; /* later: the answer of step 0 goes, not handed out */
+    x[1].horizon = x[1].t + 10000000u;
+    x[1].inputs = 0u;
+    assert_int_equal(canbus_sim_steps(&sim, &x[1], 1u, raw, 4u, NULL, 0u, &got), FCC_OK);
+    assert_int_equal(got, 0u);
+    assert_int_equal(x[1].t_in, x[1].t);
+    assert_int_equal(canbus_sim_pending(&sim, 1u), 0u);
+    x[1].inputs_at = 3u; /* frames 3 and 4 of 4 */
+    x[1].inputs = 2u;
+    assert_int_equal(canbus_sim_steps(&sim, x, 2u, raw, 4u, NULL, 0u, &got), FCC_ERR_ARG);
+    assert_int_equal(canbus_sim_steps(NULL, x, 2u, raw, 4u, NULL, 0u, &got), FCC_ERR_ARG);
+    assert_int_equal(canbus_sim_roles(&sim, 0u, 2u, EVENT_ID, 0u), FCC_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -217,6 +389,8 @@ int main(void)
         cmocka_unit_test(test_load_is_periodic_and_deterministic),
         cmocka_unit_test(test_sim_takes_socketcan_frames_and_the_worst_case),
         cmocka_unit_test(test_sim_stops_at_a_nodes_frames_and_hides_the_load),
+        cmocka_unit_test(test_sim_steps_are_the_calls_one_at_a_time),
+        cmocka_unit_test(test_sim_steps_edges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

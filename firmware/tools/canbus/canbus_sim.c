@@ -163,6 +163,36 @@ static bool worst(const canbus_sim_t *s, const canbus_frame_t *f)
 #define RAW_RTR 0x40000000ul
 #define RAW_ERR 0x20000000ul
 
+/* SocketCAN frame r queued at node at t: false when it was not (the caller counts it lost). */
+static bool queue_one_raw(canbus_sim_t *s, uint32_t node, const uint8_t *r, uint64_t t)
+{
+    uint32_t can_id;
+    memcpy(&can_id, r, sizeof can_id);
+    if ((can_id & RAW_ERR) != 0u) {
+        return false; /* an error frame is no classic controller's frame */
+    }
+    canbus_frame_t f;
+    memset(&f, 0, sizeof f);
+    f.ext = (can_id & RAW_EFF) != 0u;
+    f.rtr = (can_id & RAW_RTR) != 0u;
+    f.id = can_id & (f.ext ? CANBUS_EXT_ID_MAX : CANBUS_STD_ID_MAX);
+    f.dlc = r[4];
+    memcpy(f.data, r + 8, CANBUS_DLC_MAX);
+    const fcc_status_t st = canbus_core_queue(&s->core, node, &f, t);
+    if (st == FCC_ERR_IO) {
+        return true; /* bus-off: dropped (the core counts it), as canbus_sim_queue() */
+    }
+    if (st != FCC_OK) {
+        return false;
+    }
+    if (worst(s, &f)) {
+        /* the entry just queued is the node's last */
+        canbus_node_t *q = &s->core.node[node];
+        q->entry[q->n - 1u].bits = worst_bits(&f);
+    }
+    return true;
+}
+
 uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw, uint32_t n,
                               uint64_t t)
 {
@@ -170,24 +200,8 @@ uint32_t canbus_sim_queue_raw(canbus_sim_t *s, uint32_t node, const uint8_t *raw
         return 0u;
     }
     for (uint32_t i = 0u; i < n; ++i) {
-        const uint8_t *r = raw + (size_t)i * CANBUS_SIM_RAW_LEN;
-        uint32_t can_id;
-        memcpy(&can_id, r, sizeof can_id);
-        canbus_frame_t f;
-        memset(&f, 0, sizeof f);
-        f.ext = (can_id & RAW_EFF) != 0u;
-        f.rtr = (can_id & RAW_RTR) != 0u;
-        f.id = can_id & (f.ext ? CANBUS_EXT_ID_MAX : CANBUS_STD_ID_MAX);
-        f.dlc = r[4];
-        memcpy(f.data, r + 8, CANBUS_DLC_MAX);
-        const uint8_t mark = (uint8_t)worst(s, &f);
-        /* an error frame is no classic controller's frame: lost with what follows */
-        if ((can_id & RAW_ERR) != 0u || canbus_sim_queue(s, node, &f, 1u, t, &mark) != 1u) {
-            if ((can_id & RAW_ERR) != 0u) {
-                s->stats.node[node].lost += (uint64_t)(n - i);
-            } else {
-                s->stats.node[node].lost += (uint64_t)(n - i - 1u);
-            }
+        if (!queue_one_raw(s, node, raw + (size_t)i * CANBUS_SIM_RAW_LEN, t)) {
+            s->stats.node[node].lost += (uint64_t)(n - i); /* it and what follows */
             return i;
         }
     }
@@ -221,14 +235,25 @@ static void drain_events(canbus_sim_t *s)
     }
 }
 
-uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_t max,
-                        uint32_t node, uint64_t tq, uint32_t count, uint32_t *seen)
+#define REPORT_ALL UINT32_MAX
+
+/* One run of the bus: which frames it hands out, and the node's frames it stops at. */
+typedef struct {
+    canbus_done_t *out; /* NULL: none handed out */
+    uint32_t max;
+    bool stop_full;     /* stop when out is full (else count past it) */
+    uint32_t report;    /* the node whose frames are handed out; REPORT_ALL: the caller's */
+    uint32_t n;         /* frames handed out (or that would have been) */
+    uint32_t node;      /* with count > 0: stop at the count-th frame of node queued at tq */
+    uint64_t tq;
+    uint32_t count;
+    uint32_t seen;
+    uint64_t seen_eof;  /* the end of frame of the last of them */
+} run_t;
+
+static void run_to(canbus_sim_t *s, uint64_t t, run_t *r)
 {
-    if (s == NULL || out == NULL || (count > 0u && seen == NULL)) {
-        return 0u;
-    }
-    uint32_t n = 0u;
-    while (n < max && (count == 0u || *seen < count)) {
+    while ((!r->stop_full || r->n < r->max) && (r->count == 0u || r->seen < r->count)) {
         feed_loads(s, t);
         /* one event at a time, so that the loads are fed before each */
         uint64_t ev = t;
@@ -241,11 +266,15 @@ uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_
         drain_events(s);
         if (ended) {
             canbus_stats_frame(&s->stats, &d, s->core.bit_ns);
-            if (d.node < s->nodes) {
-                out[n++] = d;
+            if (d.node < s->nodes && (r->report == REPORT_ALL || d.node == r->report)) {
+                if (r->out != NULL && r->n < r->max) {
+                    r->out[r->n] = d;
+                }
+                ++r->n;
             }
-            if (count > 0u && d.node == node && d.t_queued == tq) {
-                ++*seen;
+            if (r->count > 0u && d.node == r->node && d.t_queued == r->tq) {
+                ++r->seen;
+                r->seen_eof = d.t_eof;
             }
             continue;
         }
@@ -259,7 +288,98 @@ uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_
         }
     }
     s->stats.late_queued = s->core.late;
-    return n;
+}
+
+uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_t max,
+                        uint32_t node, uint64_t tq, uint32_t count, uint32_t *seen)
+{
+    if (s == NULL || out == NULL || (count > 0u && seen == NULL)) {
+        return 0u;
+    }
+    run_t r = {out, max, true, REPORT_ALL, 0u, node, tq, count, count > 0u ? *seen : 0u, 0u};
+    run_to(s, t, &r);
+    if (count > 0u) {
+        *seen = r.seen;
+    }
+    return r.n;
+}
+
+fcc_status_t canbus_sim_roles(canbus_sim_t *s, uint32_t sim, uint32_t fcc, uint32_t last_id,
+                              uint64_t compute_ns)
+{
+    if (s == NULL || sim >= s->nodes || fcc >= s->nodes) {
+        return FCC_ERR_ARG;
+    }
+    s->sim_node = sim;
+    s->fcc_node = fcc;
+    s->last_id = last_id;
+    s->compute_ns = compute_ns;
+    return FCC_OK;
+}
+
+/* The frames raw[at .. at + n - 1] whose can_id is last_id (last) or is not (!last) queued at
+ * node at t, as canbus_sim_queue_raw() would queue them alone: how many were. */
+static uint32_t queue_some(canbus_sim_t *s, const uint8_t *raw, uint32_t at, uint32_t n,
+                           uint64_t t, bool last)
+{
+    const uint32_t node = s->sim_node;
+    uint32_t queued = 0u;
+    uint32_t lost = 0u;
+    for (uint32_t i = at; i < at + n; ++i) {
+        const uint8_t *r = raw + (size_t)i * CANBUS_SIM_RAW_LEN;
+        uint32_t can_id;
+        memcpy(&can_id, r, sizeof can_id);
+        if ((can_id == s->last_id) != last) {
+            continue;
+        }
+        if (lost > 0u || !queue_one_raw(s, node, r, t)) {
+            ++lost; /* it and the others after it */
+        } else {
+            ++queued;
+        }
+    }
+    s->stats.node[node].lost += lost;
+    return queued;
+}
+
+static bool step_fits(const canbus_sim_step_t *x, uint32_t raws)
+{
+    return x->inputs <= raws && x->inputs_at <= raws - x->inputs && x->answer <= raws &&
+           x->answer_at <= raws - x->answer;
+}
+
+fcc_status_t canbus_sim_steps(canbus_sim_t *s, canbus_sim_step_t *step, uint32_t n,
+                              const uint8_t *raw, uint32_t raws, canbus_done_t *out,
+                              uint32_t max, uint32_t *reported)
+{
+    if (s == NULL || step == NULL || (raw == NULL && raws > 0u) || reported == NULL) {
+        return FCC_ERR_ARG;
+    }
+    for (uint32_t k = 0u; k < n; ++k) {
+        if (!step_fits(&step[k], raws)) {
+            return FCC_ERR_ARG;
+        }
+    }
+    run_t r = {out, max, false, s->fcc_node, 0u, s->sim_node, 0u, 0u, 0u, 0u};
+    for (uint32_t k = 0u; k < n; ++k) {
+        canbus_sim_step_t *x = &step[k];
+        r.count = 0u;
+        run_to(s, x->t, &r);
+        x->queued = queue_some(s, raw, x->inputs_at, x->inputs, x->t, false);
+        (void)queue_some(s, raw, x->inputs_at, x->inputs, x->t, true);
+        r.tq = x->t;
+        r.count = x->queued;
+        r.seen = 0u;
+        run_to(s, x->horizon, &r);
+        x->t_in = x->queued == 0u ? x->t : r.seen >= x->queued ? r.seen_eof : x->horizon;
+        x->answered = x->answer == 0u ? 0u
+                                      : canbus_sim_queue_raw(s, s->fcc_node,
+                                                             raw + (size_t)x->answer_at *
+                                                                       CANBUS_SIM_RAW_LEN,
+                                                             x->answer, x->t_in + s->compute_ns);
+    }
+    *reported = out == NULL ? 0u : (r.n < max ? r.n : max);
+    return out != NULL && r.n > max ? FCC_ERR_SIZE : FCC_OK;
 }
 
 uint32_t canbus_sim_pending(const canbus_sim_t *s, uint32_t node)

@@ -48,7 +48,24 @@ typedef struct {
     canbus_policy_t policy[CANBUS_NODES_MAX];
     uint32_t worst_id[CANBUS_SIM_WORST_MAX];  /* canbus_sim_worst() */
     uint32_t worst_ids;
+    uint32_t sim_node, fcc_node;  /* canbus_sim_roles() */
+    uint32_t last_id;
+    uint64_t compute_ns;
 } canbus_sim_t;
+
+/* One lockstep exchange of canbus_sim_steps(): in, where its frames are in the
+ * raw buffer; out, what the model made of them. */
+typedef struct {
+    uint64_t t;           /* the step's instant (ns): the bus runs to it, then the inputs are queued */
+    uint64_t horizon;     /* the inputs are complete at the latest then (an overloaded bus) */
+    uint32_t inputs_at;   /* the simulator's frames: raw frames inputs_at .. + inputs - 1 */
+    uint32_t inputs;
+    uint32_t answer_at;   /* fcc's answer, queued at t_in + compute: answer_at .. + answer - 1 */
+    uint32_t answer;
+    uint64_t t_in;        /* out: when the inputs were complete (horizon: not by then; t: none) */
+    uint32_t queued;      /* out: the inputs (last_id's frames not counted) that were queued */
+    uint32_t answered;    /* out: the answer's frames that were queued */
+} canbus_sim_step_t;
 
 /* sizeof (canbus_sim_t): the caller allocates it (ctypes). */
 size_t canbus_sim_size(void);
@@ -109,6 +126,28 @@ fcc_status_t canbus_sim_worst(canbus_sim_t *s, const uint32_t *id, uint32_t n);
  * that a node's reaction to them can be queued then. */
 uint32_t canbus_sim_run(canbus_sim_t *s, uint64_t t, canbus_done_t *out, uint32_t max,
                         uint32_t node, uint64_t tq, uint32_t count, uint32_t *seen);
+
+/* The nodes of canbus_sim_steps(): the simulator's (its frames with can_id
+ * last_id, SocketCAN's 32 bits, are queued after the others and not waited
+ * for: the lowest priority, nothing fcc steps on) and fcc's, which answers
+ * compute_ns after its inputs.  FCC_ERR_ARG: no such node. */
+fcc_status_t canbus_sim_roles(canbus_sim_t *s, uint32_t sim, uint32_t fcc, uint32_t last_id,
+                              uint64_t compute_ns);
+
+/* Lockstep exchanges, each as the rig makes it one call at a time: the bus
+ * runs to step->t; the simulator's frames other than last_id's are queued at
+ * t (canbus_sim_queue_raw(), what does not fit lost), then last_id's; the bus
+ * runs until as many of the simulator's frames queued at t as were queued
+ * ended (t_in: the last one's end of frame), or to the horizon (t_in then the
+ * horizon; t when none was queued); fcc's answer is queued at t_in + compute.
+ * raw: raws SocketCAN frames (CANBUS_SIM_RAW_LEN bytes each).  The frames of
+ * fcc that ended meanwhile, in order, in out[0..*reported-1] (out NULL: none
+ * handed out).  FCC_ERR_ARG: NULL or a step's frames outside raw (no step
+ * run); FCC_ERR_SIZE: more than max of them ended (the steps all ran, the
+ * rest not handed out). */
+fcc_status_t canbus_sim_steps(canbus_sim_t *s, canbus_sim_step_t *step, uint32_t n,
+                              const uint8_t *raw, uint32_t raws, canbus_done_t *out,
+                              uint32_t max, uint32_t *reported);
 
 /* Frames waiting at node, or on the bus from it. */
 uint32_t canbus_sim_pending(const canbus_sim_t *s, uint32_t node);

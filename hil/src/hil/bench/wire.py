@@ -5,7 +5,12 @@ the other, alternating, so that both see the same machine.
 
 Target (issue 35): a lockstep step with the wire model at most 1.5x the ideal bus's.  The
 figure is the lockstep loop's wall time per step (run_info.json lockstep_wall_s /
-lockstep_steps), median over the flights; the model's own share (wire_model_s) beside it.
+lockstep_steps), median over the flights: everything the model costs is in it (an open-loop
+flight's last exchanges go to the model before the loop ends).  The model's own share
+(wire_model_s) beside it is an estimate: hil.rig.lockstep_wire reads the clock (a system call
+in the guest) on one exchange in SAMPLE and on each batch of an open-loop flight, and takes the
+clock read's own cost off; what the wire costs outside the model (the kernel handing fcc's
+outputs to the side socket, the runner's bookkeeping) is in the step's figure only.
 """
 from __future__ import annotations
 

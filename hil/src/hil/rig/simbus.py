@@ -14,6 +14,7 @@ of simulated time, so the same calls give the same times (deterministic).
     bus = SimBus(250_000, loads)
     bus.queue("sim", raws, t)          # the frames a node queued at t (s)
     for e in bus.run(t_until): ...     # each frame that ended by then: e.node, e.frame_id, e.t_eof
+    done, ends = bus.steps(steps, raws, report=True)   # lockstep exchanges, one call for many
     stats = bus.stats()                # canbus's statistics line (hil.results.busstats)
 """
 from __future__ import annotations
@@ -45,7 +46,10 @@ NS = 1_000_000_000
 #: background nodes a flight may have (canbus_sim.h CANBUS_SIM_LOADS_MAX)
 LOADS_MAX = 4
 #: frames returned by one call of canbus_sim_run (more: call again)
-_BATCH = 64
+_BATCH = 128
+#: a node's controller queue (canbus_core.h CANBUS_QUEUE_LEN): frames of fcc that may still
+#: end from before an exchange, the one on the bus besides
+QUEUE_LEN = 64
 _EFF = 0x80000000
 _POLICY = {"prio": 0, "fifo": 1}
 
@@ -58,6 +62,37 @@ class _Frame(ctypes.Structure):
 class _Done(ctypes.Structure):
     _fields_ = [("frame", _Frame), ("node", ctypes.c_uint32), ("bits", ctypes.c_uint32),
                 ("t_queued", ctypes.c_uint64), ("t_sof", ctypes.c_uint64), ("t_eof", ctypes.c_uint64)]
+
+
+class _Step(ctypes.Structure):
+    """canbus_sim_step_t: one lockstep exchange (canbus_sim.h canbus_sim_steps)."""
+
+    _fields_ = [("t", ctypes.c_uint64), ("horizon", ctypes.c_uint64), ("inputs_at", ctypes.c_uint32),
+                ("inputs", ctypes.c_uint32), ("answer_at", ctypes.c_uint32), ("answer", ctypes.c_uint32),
+                ("t_in", ctypes.c_uint64), ("queued", ctypes.c_uint32), ("answered", ctypes.c_uint32)]
+
+
+class Step(NamedTuple):
+    """An exchange for SimBus.steps, times in ns: the bus runs to t, the simulator's frames
+    raws[inputs_at:inputs_at + inputs] are queued then (its events after the others, not
+    waited for), and when they have ended (t_in; at most at the horizon) fcc's answer
+    raws[answer_at:answer_at + answer]."""
+
+    t: int
+    horizon: int
+    inputs_at: int
+    inputs: int
+    answer_at: int
+    answer: int
+
+
+class Done(NamedTuple):
+    """What the model made of a Step: t_in (ns), the simulator's inputs queued (its events not
+    counted), the answer's frames queued."""
+
+    t_in: int
+    queued: int
+    answered: int
 
 
 class _LoadCfg(ctypes.Structure):
@@ -92,10 +127,15 @@ class Ended(NamedTuple):
 #: fields the rig uses, id, ext, node, t_queued, t_eof
 _DONE = struct.Struct("<I??B8sxIIQQQ")
 _ENDED = struct.Struct("<I?11xI4xQ8xQ")
+#: canbus_sim_step_t as bytes; _EOF: canbus_done_t's t_queued and t_eof
+_STEP = struct.Struct("<QQIIIIQII")
+#: sizeof (struct can_frame) (canbus_sim.h CANBUS_SIM_RAW_LEN)
+_RAW = 16
+_EOF = struct.Struct("<24xQ8xQ")
 
 
 def _library() -> ctypes.CDLL:
-    lib = ctypes.CDLL(str(tool(LIBRARY)))
+    lib = ctypes.PyDLL(str(tool(LIBRARY)))   # short calls: the GIL kept, not released and taken back
     lib.canbus_sim_size.restype = ctypes.c_size_t
     lib.canbus_sim_setup.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32,
                                      ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_char_p),
@@ -110,6 +150,11 @@ def _library() -> ctypes.CDLL:
                                    ctypes.c_uint32, ctypes.c_uint64, ctypes.c_uint32,
                                    ctypes.POINTER(ctypes.c_uint32)]
     lib.canbus_sim_run.restype = ctypes.c_uint32
+    lib.canbus_sim_roles.argtypes = [ctypes.c_void_p, ctypes.c_uint32, ctypes.c_uint32, ctypes.c_uint32,
+                                     ctypes.c_uint64]
+    lib.canbus_sim_steps.argtypes = [ctypes.c_void_p, ctypes.POINTER(_Step), ctypes.c_uint32, ctypes.c_char_p,
+                                     ctypes.c_uint32, ctypes.POINTER(_Done), ctypes.c_uint32,
+                                     ctypes.POINTER(ctypes.c_uint32)]
     lib.canbus_sim_pending.argtypes = [ctypes.c_void_p, ctypes.c_uint32]
     lib.canbus_sim_pending.restype = ctypes.c_uint32
     lib.canbus_sim_json.argtypes = [ctypes.c_void_p, ctypes.c_char_p]
@@ -154,17 +199,41 @@ class SimBus:
         if self._lib.canbus_sim_worst(self._sim, ids, len(worst)) != 0:
             raise RigError(f"--bus wire: {len(worst)} identifiers at their worst-case length: too many")
         self._out = (_Done * _BATCH)()
-        #: frames a node could not queue (its controller's queue full): they never reach the bus
-        self.lost = 0
+        self._reported = ctypes.c_uint32(0)
+
+    def roles(self, sim: str, fcc: str, last_id: int, compute: float) -> None:
+        """The nodes of steps(): the simulator's (its frames of 11-bit identifier last_id go
+        after its others, not waited for) and fcc's, which answers compute s after its inputs."""
+        if self._lib.canbus_sim_roles(self._sim, self._index[sim], self._index[fcc], last_id, ns(compute)) != 0:
+            raise RigError(f"--bus wire: the bus model has no node {sim!r} or {fcc!r}")
 
     def queue(self, node: str, raws: Sequence[bytes], t: float) -> int:
-        """SocketCAN frames (struct can_frame) a node queues at t s; how many fit its queue."""
-        if not raws:
+        """SocketCAN frames (struct can_frames, back to back in any grouping) a node queues at
+        t s; how many fit its queue (the others are lost: the statistics count them)."""
+        blob = b"".join(raws)
+        if not blob:
             return 0
-        done = int(self._lib.canbus_sim_queue_raw(self._sim, self._index[node], b"".join(raws),
-                                                  len(raws), ns(t)))
-        self.lost += len(raws) - done
-        return done
+        return int(self._lib.canbus_sim_queue_raw(self._sim, self._index[node], blob, len(blob) // _RAW, ns(t)))
+
+    def steps(self, steps: Sequence[Step], raws: Sequence[bytes],
+              report: bool) -> tuple[list[Done], list[tuple[int, int]]]:
+        """Lockstep exchanges in one call (roles() first), their frames in raws (struct
+        can_frames, back to back in any grouping): what the model made of each, and, when
+        report, the frames of fcc that ended meanwhile, (t_queued, t_eof) in ns, in order."""
+        buf = bytearray(b"".join([_STEP.pack(*s, 0, 0, 0) for s in steps]))
+        blob = b"".join(raws)
+        # every frame of fcc that can end: those queued before (QUEUE_LEN and the one on the
+        # bus at most) and the answers
+        cap = (QUEUE_LEN + 1 + sum(s.answer for s in steps)) if report else 0
+        out = (self._out if cap <= _BATCH else (_Done * cap)()) if report else None
+        st = self._lib.canbus_sim_steps(self._sim, (_Step * len(steps)).from_buffer(buf), len(steps), blob,
+                                        len(blob) // _RAW, out, cap, ctypes.byref(self._reported))
+        if st != 0:
+            raise RigError(f"--bus wire: the bus model refused {len(steps)} lockstep exchange(s) (status {st})")
+        done = [Done(*d[6:]) for d in _STEP.iter_unpack(buf)]
+        if out is None:
+            return done, []
+        return done, list(_EOF.iter_unpack(ctypes.string_at(out, self._reported.value * _EOF.size)))
 
     def run(self, t: float, node: str = "", tq: float = 0.0, count: int = 0) -> list[Ended]:
         """The bus up to t s: the rig's frames that ended by then, in order.  With count > 0,

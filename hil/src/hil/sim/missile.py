@@ -200,11 +200,21 @@ class _GammaSeries:
             terms.append(F @ terms[-1] / (k + 1))
         self._m = np.array(terms)   # row k: F^k G / (k+1)!
         self._k = np.arange(1, self.TERMS + 1)
+        self._whole: dict[int, np.ndarray] = {}
 
     def get(self, tau_ns: int) -> np.ndarray:
+        hit = self._whole.get(tau_ns)   # a whole sub-step, or none of it: the same every step
+        if hit is not None:
+            return hit
         if not 0 <= tau_ns <= round(FINE_STEP * 1e9):
             raise ValueError(f"missile: a part of a sub-step of {tau_ns} ns")
         return (float(tau_ns) * 1e-9) ** self._k @ self._m
+
+    def whole(self, h_ns: int) -> None:
+        """Keep Gamma of 0 and of a whole sub-step of h_ns (every split sub-step needs both)."""
+        if h_ns not in self._whole:
+            self._whole[h_ns] = (float(h_ns) * 1e-9) ** self._k @ self._m
+            self._whole[0] = 0.0 ** self._k @ self._m
 
 
 _GAMMA = _GammaSeries()
@@ -295,10 +305,12 @@ class MissilePlant:
                 raise ValueError(f"missile: elevator {u} outside +-{U_MAX} rad")
         phi, _, lq = _CACHE.get(h_ns * 1e-9)
         x = self.x @ phi.T + self.gust_scale * (self._rng.standard_normal((1,) + self.x.shape) @ lq.T)[0]
-        ends = [a for a, _ in pieces[1:]] + [h_ns]
-        for (a, u), b in zip(pieces, ends):
-            x = x + (_GAMMA.get(h_ns - a) - _GAMMA.get(h_ns - b)) * u
-        self.last_substeps = np.stack([self.x, x])
+        _GAMMA.whole(h_ns)
+        # Gamma_{h - a_i} - Gamma_{h - a_(i+1)}: each Gamma once (the same numbers)
+        gammas = [_GAMMA.get(h_ns - a) for a, _ in pieces] + [_GAMMA.get(0)]
+        for i, (_, u) in enumerate(pieces):
+            x = x + (gammas[i] - gammas[i + 1]) * u
+        self.last_substeps = np.array((self.x, x))
         self.x = x
         self.u = float(pieces[-1][1])
         self.t += h_ns * 1e-9

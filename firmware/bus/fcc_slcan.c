@@ -61,11 +61,13 @@ static fcc_status_t parse_frame(const char *line, size_t len, fcc_slcan_msg_t *m
     const size_t frame_chars = 1u + id_chars + 1u + data_chars;
     const bool stamped = (!remote) && (len == (frame_chars + FCC_SLCAN_STAMP_CHARS));
     uint32_t stamp = 0u;
+    fcc_status_t st;
     if (stamped) {
-        if (hex_value(&line[frame_chars], FCC_SLCAN_STAMP_CHARS, &stamp) != FCC_OK) {
-            return FCC_ERR_FORMAT;
-        }
-    } else if (len != frame_chars) {
+        st = hex_value(&line[frame_chars], FCC_SLCAN_STAMP_CHARS, &stamp);
+    } else {
+        st = (len == frame_chars) ? FCC_OK : FCC_ERR_FORMAT;
+    }
+    if (st != FCC_OK) {
         return FCC_ERR_FORMAT;
     }
     memset(msg, 0, sizeof *msg);

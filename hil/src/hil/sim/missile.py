@@ -295,12 +295,12 @@ class MissilePlant:
         """len(u) exact sub-steps of h seconds, sub-step j holding the elevator u[j] (rad), or,
         for j in splits, changing inside it (u[j] then the last piece's): splits[j] =
         [(start_ns, u), ...] from start 0, in order (h then a whole number of nanoseconds, the
-        bus model's unit).  Such a sub-step
-        moves x to Phi_h x + noise_j + sum_i (Gamma_{h - a_i} - Gamma_{h - a_(i+1)}) u_i (exact;
-        its noise is the draw it has without the switch: the gust does not depend on when the
-        command came).  One block noise draw for all the sub-steps: the generator fills in
-        order, so the same numbers as one draw per sub-step (tests/python/sim).  Returns the
-        states at the sub-step boundaries (also last_substeps), shape (len(u) + 1, ..., 3)."""
+        bus model's unit).  Such a sub-step moves x to Phi_h x + noise_j + sum_i
+        (Gamma_{h - a_i} - Gamma_{h - a_(i+1)}) u_i (exact; its noise is the draw it has without
+        the switch: the gust does not depend on when the command came).  One block noise draw
+        for all the sub-steps: the generator fills in order, so the same numbers as one draw per
+        sub-step (tests/python/sim).  Returns the states at the sub-step boundaries (also
+        last_substeps), shape (len(u) + 1, ..., 3)."""
         splits = splits or {}
         for v in set(u.tolist()).union(v for p in splits.values() for _, v in p):
             if not (math.isfinite(v) and abs(v) <= U_MAX + 1e-12):
@@ -312,20 +312,23 @@ class MissilePlant:
         steps = {j: _GAMMA.piece_inputs(p, round(h * 1e9)) for j, p in splits.items() if len(p) > 1}
         trace = np.empty((n + 1,) + x.shape)
         trace[0] = x
-        phi_t = phi.T
+        phi_t, matmul, add = phi.T, np.matmul, np.add
         first = 0
         for split in sorted(steps) + [n]:
-            for i in range(first, split):
-                x = x @ phi_t + w[i]
-                trace[i + 1] = x
+            # x_(i+1) = x_i Phi^T + w_i, each written where the trace keeps it (no temporaries)
+            for row, w_i in zip(trace[first + 1: split + 1], w[first:split]):
+                matmul(x, phi_t, out=row)
+                add(row, w_i, out=row)
+                x = row
             if split < n:   # its noise as a one-row product (BLAS: its last bit can differ
                 # from the same row of the block's), the numbers since the wire model came
-                x = x @ phi_t + self.gust_scale * (z[split:split + 1] @ lq.T)[0]
+                x = trace[split + 1]
+                matmul(trace[split], phi_t, out=x)
+                x += self.gust_scale * (z[split:split + 1] @ lq.T)[0]
                 for g, v in steps[split]:
-                    x = x + g * v
-                trace[split + 1] = x
+                    x += g * v
             first = split + 1
-        self.x = x
+        self.x = trace[n].copy()
         self.u = float(u[-1])
         self.t += n * h
         self.last_substeps = trace

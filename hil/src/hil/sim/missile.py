@@ -210,6 +210,13 @@ class _GammaSeries:
             raise ValueError(f"missile: a part of a sub-step of {tau_ns} ns")
         return (float(tau_ns) * 1e-9) ** self._k @ self._m
 
+    def piece_inputs(self, pieces: list[tuple[int, float]], h_ns: int) -> list[tuple[np.ndarray, float]]:
+        """[(Gamma_{h - a_i} - Gamma_{h - a_(i+1)}, u_i), ...] of a sub-step of h_ns split into
+        pieces [(a_i, u_i), ...] (a_0 = 0): the input each piece adds; each Gamma once."""
+        self.whole(h_ns)
+        gammas = [self.get(h_ns - a) for a, _ in pieces] + [self._whole[0]]
+        return [(gammas[i] - gammas[i + 1], u) for i, (_, u) in enumerate(pieces)]
+
     def whole(self, h_ns: int) -> None:
         """Keep Gamma of 0 and of a whole sub-step of h_ns (every split sub-step needs both)."""
         if h_ns not in self._whole:
@@ -274,47 +281,58 @@ class MissilePlant:
             n_sub = substeps_for(dt)
         if isinstance(n_sub, bool) or not isinstance(n_sub, int) or n_sub < 1:
             raise ValueError(f"missile: n_sub must be a positive integer, got {n_sub!r}")
-        if not (math.isfinite(u) and abs(u) <= U_MAX + 1e-12):
-            raise ValueError(f"missile: elevator {u} outside +-{U_MAX} rad")
-        phi, gam, lq = _CACHE.get(dt / n_sub)
-        x = self.x
-        trace = np.empty((n_sub + 1,) + x.shape)
-        trace[0] = x
-        # one block draw = the same numbers as n_sub draws of one sub-step each (the
-        # generator fills in order), so advance one sub-step at a time flies the same gust
-        w = self.gust_scale * (self._rng.standard_normal((n_sub,) + x.shape) @ lq.T) + u * gam
-        phi_t = phi.T
-        for i in range(n_sub):
-            x = x @ phi_t + w[i]
-            trace[i + 1] = x
-        self.x = x
-        self.u = float(u)
-        self.t += dt
-        self.last_substeps = trace
+        self.step_substeps(np.full(n_sub, float(u)), dt / n_sub)
         return self.state
 
     def step_pieces(self, pieces: list[tuple[int, float]], h_ns: int) -> np.ndarray:
         """One sub-step of h_ns nanoseconds whose held elevator changes inside it: pieces
-        [(start_ns, u), ...] from start 0, in order.  Exact: x(h) = Phi_h x + sum_i
-        (Gamma_{h - a_i} - Gamma_{h - b_i}) u_i + the sub-step's one noise draw (the same draw
-        as step(u, h, 1): the gust does not depend on when the command came)."""
-        if len(pieces) == 1:
-            return self.step(pieces[0][1], h_ns * 1e-9, 1)
-        for _, u in pieces:
-            if not (math.isfinite(u) and abs(u) <= U_MAX + 1e-12):
-                raise ValueError(f"missile: elevator {u} outside +-{U_MAX} rad")
-        phi, _, lq = _CACHE.get(h_ns * 1e-9)
-        x = self.x @ phi.T + self.gust_scale * (self._rng.standard_normal((1,) + self.x.shape) @ lq.T)[0]
-        _GAMMA.whole(h_ns)
-        # Gamma_{h - a_i} - Gamma_{h - a_(i+1)}: each Gamma once (the same numbers)
-        gammas = [_GAMMA.get(h_ns - a) for a, _ in pieces] + [_GAMMA.get(0)]
-        for i, (_, u) in enumerate(pieces):
-            x = x + (gammas[i] - gammas[i + 1]) * u
-        self.last_substeps = np.array((self.x, x))
-        self.x = x
-        self.u = float(pieces[-1][1])
-        self.t += h_ns * 1e-9
+        [(start_ns, u), ...] from start 0, in order (step_substeps)."""
+        self.step_substeps(np.array([pieces[-1][1]]), h_ns * 1e-9, {0: pieces})
         return self.state
+
+    def step_substeps(self, u: np.ndarray, h: float,
+                      splits: dict[int, list[tuple[int, float]]] | None = None) -> np.ndarray:
+        """len(u) exact sub-steps of h seconds, sub-step j holding the elevator u[j] (rad), or,
+        for j in splits, changing inside it (u[j] then the last piece's): splits[j] =
+        [(start_ns, u), ...] from start 0, in order (h then a whole number of nanoseconds, the
+        bus model's unit).  Such a sub-step moves x to Phi_h x + noise_j + sum_i
+        (Gamma_{h - a_i} - Gamma_{h - a_(i+1)}) u_i (exact; its noise is the draw it has without
+        the switch: the gust does not depend on when the command came).  One block noise draw
+        for all the sub-steps: the generator fills in order, so the same numbers as one draw per
+        sub-step (tests/python/sim).  Returns the states at the sub-step boundaries (also
+        last_substeps), shape (len(u) + 1, ..., 3)."""
+        splits = splits or {}
+        for v in set(u.tolist()).union(v for p in splits.values() for _, v in p):
+            if not (math.isfinite(v) and abs(v) <= U_MAX + 1e-12):
+                raise ValueError(f"missile: elevator {v} outside +-{U_MAX} rad")
+        n, x = len(u), self.x
+        phi, gam, lq = _CACHE.get(h)
+        z = self._rng.standard_normal((n,) + x.shape)
+        w = self.gust_scale * (z @ lq.T) + u.reshape((n,) + (1,) * x.ndim) * gam
+        steps = {j: _GAMMA.piece_inputs(p, round(h * 1e9)) for j, p in splits.items() if len(p) > 1}
+        trace = np.empty((n + 1,) + x.shape)
+        trace[0] = x
+        phi_t, matmul, add = phi.T, np.matmul, np.add
+        first = 0
+        for split in sorted(steps) + [n]:
+            # x_(i+1) = x_i Phi^T + w_i, each written where the trace keeps it (no temporaries)
+            for row, w_i in zip(trace[first + 1: split + 1], w[first:split]):
+                matmul(x, phi_t, out=row)
+                add(row, w_i, out=row)
+                x = row
+            if split < n:   # its noise as a one-row product (BLAS: its last bit can differ
+                # from the same row of the block's), the numbers since the wire model came
+                x = trace[split + 1]
+                matmul(trace[split], phi_t, out=x)
+                x += self.gust_scale * (z[split:split + 1] @ lq.T)[0]
+                for g, v in steps[split]:
+                    x += g * v
+            first = split + 1
+        self.x = trace[n].copy()
+        self.u = float(u[-1])
+        self.t += n * h
+        self.last_substeps = trace
+        return trace
 
     def step_code(self, code: int, dac: DAConverter, dt: float, n_sub: int | None = None) -> np.ndarray:
         """Apply a D/A code from the command frame: elevator = code * LSB, held for dt."""

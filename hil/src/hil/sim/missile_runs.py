@@ -239,38 +239,22 @@ class MissileSimulation:
         """advance() with the D/A code changing at given instants of the period: switches
         [(offset_ns from t_k, code), ...] in time order, each offset in [0, period); the code
         acting before the first is the last one applied.  A switch inside a sub-step splits it
-        exactly (MissilePlant.step_pieces: the bus model says when a command came off the
-        wire, to the nanosecond); the sub-steps between switches go as one block.  Without
-        switches, or with every switch on a sub-step boundary, the same numbers as
-        advance_substeps()."""
-        if not self._sampled:
-            raise RuntimeError("missile: advance() before sample()")
-        h_ns = round(self.period / self.n_sub * 1e9)
-        dac, plant, code, i, j = self.dac, self.plant, self.last_code, 0, 0
-        trace = np.empty((self.n_sub + 1, 3))
-        trace[0] = plant.x
-        while j < self.n_sub:
-            # whole sub-steps before the next switch's sub-step: one block of the code in force
-            upto = self.n_sub if i == len(switches) else min(self.n_sub, switches[i][0] // h_ns)
-            if upto > j:
-                plant.step(dac.value(code), (upto - j) * h_ns * 1e-9, upto - j)
-                trace[j + 1: upto + 1] = plant.last_substeps[1:]
-                j = upto
-                continue
-            pieces = [(0, dac.value(code))]   # sub-step j holds the next switch(es)
-            while i < len(switches) and switches[i][0] < (j + 1) * h_ns:
-                code = switches[i][1]
-                at = max(0, switches[i][0] - j * h_ns)
-                pieces = [p for p in pieces if p[0] < at] + [(at, dac.value(code))]
-                i += 1
-            plant.step_pieces(pieces, h_ns)
-            j += 1
-            trace[j] = plant.x
-        plant.last_substeps = trace
-        self._sampled = False
-        self.k += 1
-        self.last_code = code
-        return trace
+        exactly (MissilePlant.step_substeps: the bus model says when a command came off the
+        wire, to the nanosecond).  Without switches, or with every switch on a sub-step
+        boundary, the same numbers as advance_substeps()."""
+        n, h_ns, value = self.n_sub, round(self.period / self.n_sub * 1e9), self.dac.value
+        u = np.full(n, value(self.last_code))   # at the end of each sub-step
+        splits: dict[int, list[tuple[int, float]]] = {}
+        code = self.last_code
+        for at, code in switches:
+            j, start = divmod(at, h_ns)
+            if not 0 <= j < n:
+                raise ValueError(f"missile: a switch at {at} ns outside the period")
+            v = value(code)
+            held = splits.get(j, [(0, float(u[j]))])
+            splits[j] = [p for p in held if p[0] < start] + [(start, v)]
+            u[j:] = v
+        return self._advance(u, splits, code)
 
     def sample(self) -> MissileSample:
         if self.done:
@@ -288,32 +272,26 @@ class MissileSimulation:
 
     def advance(self, code: int) -> np.ndarray:
         """Apply a D/A code (validated against the word length) for one period."""
-        if not self._sampled:
-            raise RuntimeError("missile: advance() before sample()")
-        self.plant.step_code(code, self.dac, self.period, self.n_sub)
-        self._sampled = False
-        self.k += 1
-        self.last_code = code
-        return self.plant.last_substeps
+        return self._advance(np.full(self.n_sub, self.dac.value(code)), {}, code)
 
     def advance_substeps(self, codes: list[int]) -> np.ndarray:
         """Like advance(), with one D/A code per sub-step (real-time rig: a command that
         arrives during the period acts from the next sub-step).  Same noise draws as
         advance() when every code is the same."""
-        if not self._sampled:
-            raise RuntimeError("missile: advance() before sample()")
         if len(codes) != self.n_sub:
             raise ValueError(f"missile: {len(codes)} codes for {self.n_sub} sub-steps")
-        h = self.period / self.n_sub
-        trace = np.empty((self.n_sub + 1, 3))
-        trace[0] = self.plant.x
-        for j, code in enumerate(codes):
-            self.plant.step_code(code, self.dac, h, 1)
-            trace[j + 1] = self.plant.x
-        self.plant.last_substeps = trace
+        value = self.dac.value
+        return self._advance(np.array([value(c) for c in codes]), {}, codes[-1])
+
+    def _advance(self, u: np.ndarray, splits: dict[int, list[tuple[int, float]]], last: int
+                 ) -> np.ndarray:
+        """The period integrated (MissilePlant.step_substeps), `last` the code at its end."""
+        if not self._sampled:
+            raise RuntimeError("missile: advance() before sample()")
+        trace = self.plant.step_substeps(u, self.period / self.n_sub, splits)
         self._sampled = False
         self.k += 1
-        self.last_code = codes[-1]
+        self.last_code = last
         return trace
 
 

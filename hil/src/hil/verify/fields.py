@@ -134,8 +134,8 @@ for _p in ("p50", "p99", "max"):
          f"went out, on the bus ({_p}, us)", _rt("bus", "data_age", _p))
     _add(f"realtime.sim_jitter_{_p}_us", "realtime", f"|sensor frame - its sampling instant| on the bus, "
          f"master time ({_p}, us)", _rt("bus", "sim_jitter", _p))
-    _add(f"realtime.sync_offset_{_p}_us", "realtime", f"|fcc's sync residual| in its heartbeats ({_p}, us)",
-         _rt("bus", "sync_offset", _p))
+    _add(f"realtime.sync_offset_{_p}_us", "realtime",
+         f"|fcc's sync residual| in its heartbeats while LOCKED ({_p}, us)", _rt("bus", "sync_offset", _p))
 _add("realtime.period_us", "realtime", "the missile's step period (us): the deadline of a step",
      lambda run: 1e6 * float(run["summary"]["missile"]["runs"][0]["period"]))
 _add("realtime.late_steps", "realtime", "steps the simulator sent after their instant",

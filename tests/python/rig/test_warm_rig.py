@@ -142,14 +142,11 @@ def test_a_forked_command_runs_apart_and_a_cancelled_one_stops(tmp_path):
 
 
 def _stops_then_awaits(flag: str) -> int:
-    """A command whose device stops, then waits (bounded) for the loop to have entered the next
-    spare's context: 7 when it did while the command still ran, 1 otherwise."""
+    """A command whose device stops, then waits (wait_for) for the loop to have entered the next
+    spare's context: 7 when it did while the command still ran, 1 otherwise (the child's status
+    for what it raised)."""
     forked.device_stopped()
-    deadline = time.monotonic() + WAIT_S
-    while not Path(flag).exists():
-        if time.monotonic() > deadline:
-            return 1
-        time.sleep(0.01)
+    wait_for(Path(flag).exists, "the loop entering the next spare's context")
     return 7
 
 

@@ -51,8 +51,7 @@
 #define QUEUE_MAX 4096u
 #define QUEUE_DEFAULT 256u
 /* A line to the image: the frame's (FCC_SLCAN_FRAME_CHARS, CR included) and the stamp. */
-#define STAMP_CHARS 8u
-#define LINE_CAP (FCC_SLCAN_FRAME_CHARS + STAMP_CHARS)
+#define LINE_CAP (FCC_SLCAN_FRAME_CHARS + FCC_SLCAN_STAMP_CHARS)
 /* The kernel's buffer toward QEMU by default, as a pty's (64 kB): the line stalls for up to
  * seconds when QEMU is starved in a loaded guest, and the lines wait there and in the queue. */
 #define LINE_SNDBUF_DEFAULT 65536u
@@ -314,11 +313,12 @@ static int flush_queue(bridge_t *b)
     return 0;
 }
 
-static void put_hex32(char *out, uint32_t v)
+/* The Z2 stamp's FCC_SLCAN_STAMP_CHARS hex digits (fcc_slcan_parse reads them back). */
+static void put_stamp(char *out, uint32_t v)
 {
     static const char digits[] = "0123456789ABCDEF";
-    for (int i = 7; i >= 0; --i) {
-        out[i] = digits[v & 0xFu];
+    for (size_t i = FCC_SLCAN_STAMP_CHARS; i > 0u; --i) {
+        out[i - 1u] = digits[v & 0xFu];
         v >>= 4u;
     }
 }
@@ -351,9 +351,9 @@ static int frame_to_line(bridge_t *b, const fcc_can_frame_t *f)
         return -1;
     }
     if (b->opt->stamps) { /* the stamp before the CR */
-        put_hex32(&line[n - 1u], (uint32_t)f->t_us);
-        line[n - 1u + STAMP_CHARS] = (char)FCC_SLCAN_CR;
-        n += STAMP_CHARS;
+        put_stamp(&line[n - 1u], (uint32_t)f->t_us);
+        line[n - 1u + FCC_SLCAN_STAMP_CHARS] = (char)FCC_SLCAN_CR;
+        n += FCC_SLCAN_STAMP_CHARS;
     }
     ++b->n.to_image;
     return queue_line(b, line, n);

@@ -37,7 +37,7 @@
 /* Lines per block of the bus clock's sliding minimum (two blocks: ~4-10 s of
  * a realtime flight's lines). */
 #define BUS_CLOCK_BLOCK 512u
-/* How fast a locked time sync's stamps are steered towards the line's fastest
+/* How fast a following time sync's stamps are steered towards the line's fastest
  * delivery: a quarter of the time sync's rate bound (200 ppm), so the steering
  * never looks like a master running away. */
 #define BUS_CLOCK_SLEW_PPM 50
@@ -49,12 +49,16 @@
  * line's fastest delivery; a frame's receive stamp = its bus stamp + the offset
  * in use.  A line that waited behind others or behind QEMU comes out stamped
  * with its bus time all the same.  Both clocks are the host's (realtime: no
- * -icount).  The offset in use steps to the target until the time sync locks;
- * once locked it is steered, never stepped (as a PTP or NTP servo slews a
- * locked clock): it moves towards the target at BUS_CLOCK_SLEW_PPM of the bus
- * time passed, a drift the time sync's rate estimate follows.  Stepping it
- * showed each faster line found after the lock as a residual step of the
- * whole improvement (measured: 254 us peak, p99 284 us at T = 0.05). */
+ * -icount).  The offset in use steps to the target until the time sync takes
+ * its first pair; from then on, while it has an estimate (fcc_tsync_has_time),
+ * it is steered, never stepped (as a PTP or NTP servo slews a locked clock): it
+ * moves towards the target at BUS_CLOCK_SLEW_PPM of the bus time passed, a
+ * drift the time sync's rate estimate follows.  Stepping it showed each faster
+ * line found after the lock as a residual step of the whole improvement
+ * (measured: 254 us peak, p99 284 us at T = 0.05); stepping it until the lock
+ * moved the pairs taken while LOCKING (the first lines after boot come 200-400
+ * us slower than the fastest: the first LOCKED residual 175 us, the rate 170
+ * ppm off, 3 s to decay; measured 2026-12-02). */
 typedef struct {
     bool valid;
     uint64_t last_bus_us;   /* the last stamp, unwrapped */
@@ -142,7 +146,7 @@ static void steer_offset(bus_clock_t *c, int64_t target, uint64_t elapsed_us, bo
     }
 }
 
-/* A Z2 bus stamp on this board's clock (bus_clock_t); steer: the time sync is locked. */
+/* A Z2 bus stamp on this board's clock (bus_clock_t); steer: the time sync has an estimate. */
 static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_us, bool steer)
 {
     const uint64_t bus = c->valid ? c->last_bus_us + (uint64_t)(int64_t)(int32_t)(bus_us - (uint32_t)c->last_bus_us)
@@ -207,7 +211,7 @@ static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
         if (fcc_slcan_dev_byte(&img->link, b, frame) == FCC_OK) {
             frame->t_us = img->link.timestamps
                               ? bus_to_local(&img->bus_clock, img->link.rx_stamp_us, line_rx_us,
-                                             img->node.tsync.state == FCC_TSYNC_LOCKED)
+                                             fcc_tsync_has_time(&img->node.tsync))
                               : line_rx_us;
             const uint64_t now = mps2_now_us();
             const uint32_t wait = (now > line_rx_us) ? (uint32_t)(now - line_rx_us) : 0u;

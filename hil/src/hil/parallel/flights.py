@@ -34,7 +34,7 @@ from hil.results.flight import CdrwRecord, CdrwResult, cdrw_record, cdrw_result,
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.rig.errors import RigError
-from hil.rig.flight import fcc_args, fly, require_log
+from hil.rig.flight import fcc_args, fly, on_target, require_log
 from hil.rig.session import KEPT_KEY, RigSession
 from hil.runs.campaign import CampaignFlight, evaluate_flights
 from hil.runs.run import run_flight
@@ -331,7 +331,7 @@ def fly_sweep_point(scenario: Scenario, cfg: RigConfig) -> FlightDone:
     rig = None
     try:
         with RigSession(out, fcc_args([scenario], cfg), worker_config(cfg)) as rig:
-            d = MissileDriver(scenario, rig.codec, cfg.mode == "realtime")
+            d = MissileDriver(on_target(scenario, cfg), rig.codec, cfg.mode == "realtime")
             with progress_bar(0, False, "") as bar:
                 fly(rig, [d], cfg, bar, None, lqg.period, lqg.bits)
             rig.shutdown()

@@ -11,7 +11,7 @@ import os
 import platform
 import shlex
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -31,12 +31,26 @@ if TYPE_CHECKING:
 
 
 
+def on_target(sc: Scenario, cfg: RigConfig) -> Scenario:
+    """The scenario as this run's device flies it: in realtime, an actuation delay left to the
+    rig ("auto") is the device's own where it has one (the emulated image's serial link:
+    hil.targets.qemu_m4f); RigError if that delay does not fit in the scenario's period."""
+    delay = target(cfg.target).actuation_delay_s
+    if cfg.mode != "realtime" or delay is None or sc.lqg is None or sc.lqg.delay != "auto":
+        return sc
+    try:
+        return replace(sc, lqg=replace(sc.lqg, delay=delay))
+    except ValueError:
+        raise RigError(f"--target {cfg.target} acts {delay * 1e3:g} ms after its sampling instant in "
+                       f"realtime: a period of {sc.lqg.period:g} s is too short for it") from None
+
+
 def fcc_args(scenarios: Sequence[Scenario], cfg: RigConfig, apps: Sequence[str] | None = None) -> list[str]:
-    """fcc's command line for these scenarios (apps, LQG period/bits, noise variances)."""
+    """fcc's command line for these scenarios (apps, LQG period/bits and delay, noise variances)."""
     names = list(apps) if apps else [sc.aircraft for sc in scenarios]
     args = ["--mode", cfg.mode, "--apps", ",".join(dict.fromkeys(names))]
     for sc in scenarios:
-        args += application(sc.aircraft).fcc_args(sc, cfg.mode == "realtime")
+        args += application(sc.aircraft).fcc_args(on_target(sc, cfg), cfg.mode == "realtime")
     if cfg.rows != "paper":
         args += ["--rows", cfg.rows]
     if cfg.mode == "realtime" and target(cfg.target).host_scheduler:  # as on a flight computer (refused
@@ -77,7 +91,7 @@ def make_drivers(scenarios: Sequence[Scenario], codec: FrameCodec, cfg: RigConfi
     from hil.sim.drivers import OracleFlag  # numpy: see the docstring
     rt = cfg.mode == "realtime"
     oracle = OracleFlag()
-    return [application(sc.aircraft).driver(sc, codec, rt, oracle) for sc in scenarios]
+    return [application(sc.aircraft).driver(on_target(sc, cfg), codec, rt, oracle) for sc in scenarios]
 
 
 def fly(rig: RigSession, drivers: Sequence[AppDriver], cfg: RigConfig, bar: Any,

@@ -14,7 +14,7 @@ from hil.results.flight import MissileResult, missile_open_loop, missile_result
 from hil.results.report import firmware_summary
 from hil.rig.config import RigConfig
 from hil.apps.missile import check_missile
-from hil.rig.flight import fly, open_session, run_info
+from hil.rig.flight import fly, on_target, open_session, run_info
 from hil.runs.budget import check_memory
 from hil.runs.outcome import Outcome, finish, step_periods, write_fault_log, write_missile
 from hil.scenario.file import Scenario
@@ -87,7 +87,7 @@ def run_sweep(scenario: Scenario, periods: Sequence[float], bits: Sequence[int],
         with progress_bar(total, cfg.progress, "hil sweep") as bar:
             for sc in points:
                 assert sc.lqg is not None
-                d = MissileDriver(sc, rig.codec, cfg.mode == "realtime")
+                d = MissileDriver(on_target(sc, cfg), rig.codec, cfg.mode == "realtime")
                 runner = fly(rig, [d], cfg, bar, runner, sc.lqg.period, sc.lqg.bits)
                 mdrivers.append(d)
         rig.shutdown()

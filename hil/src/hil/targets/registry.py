@@ -57,6 +57,9 @@ class Target:
     #: the bus it is on is a wire already (an external board on can0): no model, the rig
     #: records and judges the response times it can measure (hil.results.realbus)
     wire: str
+    #: realtime: when its command acts after the sampling instant, where the scenario leaves
+    #: that to the rig (its [lqg] delay "auto"; None: the rig's, a CAN node's 5 ms)
+    actuation_delay_s: float | None = None
 
     def needs_program(self, fcc: object, source_tree: object) -> bool:
         """Whether its program must be found on this machine (with --fcc `fcc`, in the clone
@@ -73,7 +76,13 @@ TARGETS: dict[str, Target] = {t.name: t for t in (
            replay_exact=True, parallel=True, warm_rig=True, wire="model"),
     Target("qemu-m4f", "hil.targets.qemu_m4f", "QemuM4f", lockstep_timeout_s=30.0,
            runs_rig_firmware=True, program=paths.M4F_IMAGE, builds_program=True, batch_frames=True, socketcan_only=True,
-           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=True, wire="model"),
+           host_scheduler=False, replay_exact=False, parallel=False, warm_rig=True, wire="model",
+           # its CAN is a serial line: QEMU's UART takes one byte per trip of its main loop (20-150
+           # us in the UML guest, ~1.6 ms a 30-byte frame line), so a step's two sensor lines in and
+           # its command line out put the command on the bus 8.4-9.5 ms after the sampling instant
+           # (p50; p99 9.2-14.5 ms, max 15.2 ms: `hil verify realtime-timing time-sync --target
+           # qemu-m4f`, idle 2-core host, 2026-12-02), past a CAN node's 5 ms
+           actuation_delay_s=0.015),
     Target("external", "hil.targets.external", "ExternalDevice", lockstep_timeout_s=2.0,
            runs_rig_firmware=False, program=None, builds_program=False, batch_frames=False, socketcan_only=False,
            host_scheduler=False, replay_exact=False, parallel=False, warm_rig=False, wire="real"),

@@ -138,6 +138,9 @@ for _p in ("p50", "p99", "max"):
          f"|fcc's sync residual| in its heartbeats while LOCKED ({_p}, us)", _rt("bus", "sync_offset", _p))
 _add("realtime.period_us", "realtime", "the missile's step period (us): the deadline of a step",
      lambda run: 1e6 * float(run["summary"]["missile"]["runs"][0]["period"]))
+_add("realtime.delay_us", "realtime", "the missile's actuation instant after its sampling instant (us): "
+     "the delay fcc's LQG is designed for (the target's in realtime: hil.rig.flight.on_target)",
+     lambda run: 1e6 * float(run["summary"]["realtime"]["delay_s"]))
 _add("realtime.late_steps", "realtime", "steps the simulator sent after their instant",
      _at("summary", "realtime", "simulator", "late_steps"))
 _add("realtime.late_frames", "realtime", "sensor frames the simulator's transmitter sent late",

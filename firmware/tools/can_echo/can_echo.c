@@ -14,10 +14,9 @@
  */
 #include <signal.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "fcc_socketcan.h"
+#include "tool_args.h"
 
 static volatile sig_atomic_t g_stop = 0;
 
@@ -35,92 +34,41 @@ typedef struct {
     int quiet;
 } options_t;
 
-/* What parse_args found: run, print the help (exit 0), or a usage error (exit 2). */
-typedef enum { ARGS_RUN = 0, ARGS_HELP = 1, ARGS_BAD = 2 } args_t;
+/* The command line's words: the error line's, and the help after its usage line. */
+static const tool_args_t can_echo_args = {
+    .prog = "can_echo",
+    .usage = "can_echo [-i IFACE] [-r ID] [-n COUNT] [-t IDLE_S] [-q]",
+    .help =
+        "Echo CAN frames: receive on ID, send the same bytes back on ID + 1 (the rig's\n"
+        "round-trip baseline, through the fcc's own SocketCAN port).\n"
+        "  -i IFACE    the CAN interface (default vcan0)\n"
+        "  -r ID       the standard identifier to echo, 0..0x7FE (default 0x7F0, RIG_PING)\n"
+        "  -n COUNT    stop after COUNT echoes (default 0: never)\n"
+        "  -t IDLE_S   stop after IDLE_S seconds without a frame, 0..86400 (default 0: never)\n"
+        "  -q          no ready line, no summary line\n"
+        "  -h, --help  this text\n"
+        "Stops also on SIGINT/SIGTERM. Exit 0, 1 on an I/O error, 2 on bad arguments.\n"};
 
-#define CAN_ECHO_USAGE "can_echo [-i IFACE] [-r ID] [-n COUNT] [-t IDLE_S] [-q]"
-
-static void print_help(void)
-{
-    fputs("usage: " CAN_ECHO_USAGE "\n"
-          "Echo CAN frames: receive on ID, send the same bytes back on ID + 1 (the rig's\n"
-          "round-trip baseline, through the fcc's own SocketCAN port).\n"
-          "  -i IFACE    the CAN interface (default vcan0)\n"
-          "  -r ID       the standard identifier to echo, 0..0x7FE (default 0x7F0, RIG_PING)\n"
-          "  -n COUNT    stop after COUNT echoes (default 0: never)\n"
-          "  -t IDLE_S   stop after IDLE_S seconds without a frame, 0..86400 (default 0: never)\n"
-          "  -q          no ready line, no summary line\n"
-          "  -h, --help  this text\n"
-          "Stops also on SIGINT/SIGTERM. Exit 0, 1 on an I/O error, 2 on bad arguments.\n",
-          stdout);
-}
-
-static args_t usage_error(const char *what, const char *arg)
-{
-    fprintf(stderr, "can_echo: %s '%s' (usage: " CAN_ECHO_USAGE ")\n", what, arg);
-    return ARGS_BAD;
-}
-
-static int parse_ulong(const char *s, unsigned long max, unsigned long *out)
-{
-    char *end = NULL;
-    if (s == NULL || s[0] == '\0' || s[0] == '-') {
-        return -1;
-    }
-    const unsigned long v = strtoul(s, &end, 0);
-    if (*end != '\0' || v > max) {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-static args_t parse_args(int argc, char **argv, options_t *o)
+/* The options from the command line: run, or the help or a usage error printed (exit 0 or
+ * 2). */
+static tool_args_result_t parse_args(int argc, char **argv, options_t *o)
 {
     o->iface = "vcan0";
     o->rx_id = 0x7F0u;
     o->count = 0u;
     o->idle_s = 0u;
     o->quiet = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            print_help();
-            return ARGS_HELP;
-        }
-        if (strcmp(a, "-q") == 0) {
-            o->quiet = 1;
-            continue;
-        }
-        const int takes_value = strcmp(a, "-i") == 0 || strcmp(a, "-r") == 0 ||
-                                strcmp(a, "-n") == 0 || strcmp(a, "-t") == 0;
-        if (!takes_value) {
-            return usage_error("unknown option", a);
-        }
-        if (v == NULL) {
-            return usage_error("a value is missing after", a);
-        }
-        ++i;
-        if (strcmp(a, "-i") == 0) {
-            o->iface = v;
-        } else if (strcmp(a, "-r") == 0) {
-            if (parse_ulong(v, 0x7FEu, &o->rx_id) != 0) {
-                return usage_error("-r needs a standard identifier 0..0x7FE, not", v);
-            }
-        } else if (strcmp(a, "-n") == 0) {
-            if (parse_ulong(v, 0xFFFFFFFFu, &o->count) != 0) {
-                return usage_error("-n needs a count, not", v);
-            }
-        } else if (strcmp(a, "-t") == 0) {
-            if (parse_ulong(v, 86400u, &o->idle_s) != 0) {
-                return usage_error("-t needs seconds 0..86400, not", v);
-            }
-        } else {
-            return usage_error("unknown option", a);
-        }
-    }
-    return ARGS_RUN;
+    const tool_args_opt_t opts[] = {
+        {.letter = 'i', .text = &o->iface},
+        {.letter = 'r', .number = &o->rx_id, .min = 0u, .max = 0x7FEu,
+         .what = "-r needs a standard identifier 0..0x7FE, not"},
+        {.letter = 'n', .number = &o->count, .min = 0u, .max = 0xFFFFFFFFu,
+         .what = "-n needs a count, not"},
+        {.letter = 't', .number = &o->idle_s, .min = 0u, .max = 86400u,
+         .what = "-t needs seconds 0..86400, not"},
+        {.letter = 'q', .flag = &o->quiet},
+    };
+    return tool_args_parse(&can_echo_args, opts, sizeof opts / sizeof opts[0], argc, argv);
 }
 
 /* Echo until done; returns the exit status. */
@@ -158,9 +106,9 @@ static int echo_loop(fcc_socketcan_t *port, const options_t *o, unsigned long *e
 int main(int argc, char **argv)
 {
     options_t o;
-    const args_t parsed = parse_args(argc, argv, &o);
-    if (parsed != ARGS_RUN) {
-        return parsed == ARGS_HELP ? 0 : 2;
+    const tool_args_result_t parsed = parse_args(argc, argv, &o);
+    if (parsed != TOOL_ARGS_RUN) {
+        return parsed == TOOL_ARGS_HELP ? 0 : 2;
     }
     fcc_socketcan_t port;
     if (fcc_socketcan_open(&port, o.iface) != FCC_OK) {

@@ -3,9 +3,9 @@
  */
 #include "canbus_fault_opts.h"
 
-#include <errno.h>
-#include <stdlib.h>
 #include <string.h>
+
+#include "tool_args.h"
 
 #define NS_PER_S 1e9
 #define SECONDS_MAX 1e6
@@ -18,10 +18,10 @@ const char *const canbus_babble_names[CANBUS_BABBLE_MAX] = {"babble0", "babble1"
 static fcc_opt_result_t parse_id(const char *name, const char *s, uint32_t *out, char *err,
                                  size_t len)
 {
-    char *end = NULL;
-    errno = 0;
-    const unsigned long v = (s[0] >= '0' && s[0] <= '9') ? strtoul(s, &end, 0) : 0u;
-    if (end == NULL || end == s || *end != '\0' || errno == ERANGE || v > CANBUS_EXT_ID_MAX) {
+    unsigned long v = 0u;
+    /* a digit first: no blanks or '+' before it, which strtoul would skip */
+    const int digit_first = s[0] >= '0' && s[0] <= '9';
+    if (!digit_first || tool_args_ulong(s, 0u, CANBUS_EXT_ID_MAX, &v) != 0) {
         return fcc_opt_fail(err, len, "%s: '%s' is not a CAN identifier (0..0x1FFFFFFF)", name,
                             s);
     }

@@ -35,7 +35,6 @@
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
@@ -46,8 +45,8 @@
 
 #include "fcc_slcan.h"
 #include "fcc_socketcan.h"
+#include "tool_args.h"
 
-#define BRIDGE_USAGE "slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-b BYTES] [-z]"
 #define QUEUE_MAX 4096u
 #define QUEUE_DEFAULT 256u
 /* A line to the image: the frame's (FCC_SLCAN_FRAME_CHARS, CR included) and the stamp. */
@@ -62,6 +61,26 @@
 #define EXIT_IO 1
 #define EXIT_USAGE 2
 #define EXIT_LOST 3
+
+/* The command line's words: the error line's, and the help after its usage line. */
+static const tool_args_t bridge_args = {
+    .prog = "slcan_bridge",
+    .usage = "slcan_bridge -i IFACE -u SOCKET [-n QUEUE] [-b BYTES] [-z]",
+    .help =
+        "Join a CAN interface and an SLCAN line on a Unix socket (QEMU's UART0 as\n"
+        "-chardev socket,path=SOCKET): frames on IFACE become SLCAN lines at once,\n"
+        "frame lines from the line become frames on IFACE.\n"
+        "  -i IFACE    the CAN interface (vcan0, or a vxcan end)\n"
+        "  -u SOCKET   the Unix socket to listen on (a new path; one connection)\n"
+        "  -n QUEUE    frames that may wait for the line, 1..4096 (default 256)\n"
+        "  -b BYTES    the socket's send buffer toward the line (SO_SNDBUF, the kernel's\n"
+        "              minimum..4 MiB, default 65536): lines wait there too\n"
+        "  -z          each line to the line carries the frame's time on IFACE:\n"
+        "              8 hex digits after the data, CLOCK_MONOTONIC us modulo 2^32\n"
+        "  -h, --help  this text\n"
+        "Exit 0 (the line closed, or SIGINT/SIGTERM), 1 on an I/O error, 2 on bad\n"
+        "arguments, 3 when a frame was lost (the queue full, the kernel's receive queue\n"
+        "overflowed, the interface refused a frame); one line on stderr names it.\n"};
 
 static volatile sig_atomic_t g_stop = 0;
 
@@ -78,8 +97,6 @@ typedef struct {
     unsigned long sndbuf;
     int stamps;
 } options_t;
-
-typedef enum { ARGS_RUN = 0, ARGS_HELP = 1, ARGS_BAD = 2 } args_t;
 
 /* The lines waiting for the image (a ring of fixed slots; head is being written). */
 typedef struct {
@@ -118,95 +135,42 @@ typedef struct {
     const options_t *opt;
 } bridge_t;
 
-static void print_help(void)
-{
-    fputs("usage: " BRIDGE_USAGE "\n"
-          "Join a CAN interface and an SLCAN line on a Unix socket (QEMU's UART0 as\n"
-          "-chardev socket,path=SOCKET): frames on IFACE become SLCAN lines at once,\n"
-          "frame lines from the line become frames on IFACE.\n"
-          "  -i IFACE    the CAN interface (vcan0, or a vxcan end)\n"
-          "  -u SOCKET   the Unix socket to listen on (a new path; one connection)\n"
-          "  -n QUEUE    frames that may wait for the line, 1..4096 (default 256)\n"
-          "  -b BYTES    the socket's send buffer toward the line (SO_SNDBUF, the kernel's\n"
-          "              minimum..4 MiB, default 65536): lines wait there too\n"
-          "  -z          each line to the line carries the frame's time on IFACE:\n"
-          "              8 hex digits after the data, CLOCK_MONOTONIC us modulo 2^32\n"
-          "  -h, --help  this text\n"
-          "Exit 0 (the line closed, or SIGINT/SIGTERM), 1 on an I/O error, 2 on bad\n"
-          "arguments, 3 when a frame was lost (the queue full, the kernel's receive queue\n"
-          "overflowed, the interface refused a frame); one line on stderr names it.\n",
-          stdout);
-}
-
-static args_t usage_error(const char *what, const char *arg)
-{
-    fprintf(stderr, "slcan_bridge: %s '%s' (usage: " BRIDGE_USAGE ")\n", what, arg);
-    return ARGS_BAD;
-}
-
-static int parse_ulong(const char *s, unsigned long min, unsigned long max, unsigned long *out)
-{
-    char *end = NULL;
-    if (s == NULL || s[0] == '\0' || s[0] == '-') {
-        return -1;
-    }
-    errno = 0;
-    const unsigned long v = strtoul(s, &end, 0);
-    if (errno != 0 || *end != '\0' || v < min || v > max) {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-static args_t parse_args(int argc, char **argv, options_t *o)
+/* The options from the command line: run, or the help or a usage error printed (exit 0 or
+ * EXIT_USAGE). */
+static tool_args_result_t parse_args(int argc, char **argv, options_t *o)
 {
     o->iface = NULL;
     o->socket_path = NULL;
     o->queue = QUEUE_DEFAULT;
     o->sndbuf = LINE_SNDBUF_DEFAULT;
     o->stamps = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            print_help();
-            return ARGS_HELP;
-        }
-        if (strcmp(a, "-z") == 0) {
-            o->stamps = 1;
-            continue;
-        }
-        if (strcmp(a, "-i") != 0 && strcmp(a, "-u") != 0 && strcmp(a, "-n") != 0 &&
-            strcmp(a, "-b") != 0) {
-            return usage_error("unknown option", a);
-        }
-        if (v == NULL) {
-            return usage_error("a value is missing after", a);
-        }
-        ++i;
-        if (strcmp(a, "-i") == 0) {
-            o->iface = v;
-        } else if (strcmp(a, "-u") == 0) {
-            o->socket_path = v;
-        } else if (strcmp(a, "-b") == 0) {
-            if (parse_ulong(v, 1u, LINE_SNDBUF_MAX, &o->sndbuf) != 0) {
-                return usage_error("-b needs a buffer size 1..4194304, not", v);
-            }
-        } else if (parse_ulong(v, 1u, QUEUE_MAX, &o->queue) != 0) {
-            return usage_error("-n needs a queue length 1..4096, not", v);
-        }
+    const tool_args_opt_t opts[] = {
+        {.letter = 'i', .text = &o->iface},
+        {.letter = 'u', .text = &o->socket_path},
+        {.letter = 'n', .number = &o->queue, .min = 1u, .max = QUEUE_MAX,
+         .what = "-n needs a queue length 1..4096, not"},
+        {.letter = 'b', .number = &o->sndbuf, .min = 1u, .max = LINE_SNDBUF_MAX,
+         .what = "-b needs a buffer size 1..4194304, not"},
+        {.letter = 'z', .flag = &o->stamps},
+    };
+    const tool_args_result_t parsed =
+        tool_args_parse(&bridge_args, opts, sizeof opts / sizeof opts[0], argc, argv);
+    if (parsed != TOOL_ARGS_RUN) {
+        return parsed;
     }
     if (o->iface == NULL) {
-        return usage_error("-i IFACE is required", "");
+        tool_args_usage_error(&bridge_args, "-i IFACE is required", "");
+        return TOOL_ARGS_BAD;
     }
     if (o->socket_path == NULL) {
-        return usage_error("-u SOCKET is required", "");
+        tool_args_usage_error(&bridge_args, "-u SOCKET is required", "");
+        return TOOL_ARGS_BAD;
     }
     if (strlen(o->socket_path) >= sizeof(((struct sockaddr_un *)NULL)->sun_path)) {
-        return usage_error("the socket path is too long", o->socket_path);
+        tool_args_usage_error(&bridge_args, "the socket path is too long", o->socket_path);
+        return TOOL_ARGS_BAD;
     }
-    return ARGS_RUN;
+    return TOOL_ARGS_RUN;
 }
 
 /* ---- the line's socket -------------------------------------------------------- */
@@ -550,9 +514,9 @@ static int run(bridge_t *b)
 int main(int argc, char **argv)
 {
     options_t opt;
-    const args_t a = parse_args(argc, argv, &opt);
-    if (a != ARGS_RUN) {
-        return (a == ARGS_HELP) ? 0 : EXIT_USAGE;
+    const tool_args_result_t a = parse_args(argc, argv, &opt);
+    if (a != TOOL_ARGS_RUN) {
+        return (a == TOOL_ARGS_HELP) ? 0 : EXIT_USAGE;
     }
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);

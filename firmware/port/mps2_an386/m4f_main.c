@@ -73,6 +73,15 @@ typedef struct {
     uint32_t delay_worst_us;
 } bus_clock_t;
 
+/* Frames received lately: each one's receive stamp (what the application keeps
+ * with its samples) and when its line had arrived whole (ARRIVALS: a few
+ * steps' lines, so the newest sample a step used is still here). */
+#define ARRIVALS 16u
+typedef struct {
+    uint64_t rx_us;
+    uint64_t arrived_us;
+} arrival_t;
+
 typedef struct {
     fcc_node_t node;
     fcc_node_config_t cfg;
@@ -92,7 +101,9 @@ typedef struct {
     uint64_t cmd_sent_us;      /* the last missile command handed to the line */
     uint32_t cmd_sends;        /* missile commands handed to the line */
     uint32_t cmd_sends_seen;   /* ... of which measured */
-    fcc_hist_t latency;        /* missile: newest sensor frame used received -> command sent */
+    fcc_hist_t latency;        /* missile: newest sensor frame used arrived -> command sent */
+    arrival_t arrivals[ARRIVALS];
+    uint32_t n_arrivals;
 } image_t;
 
 static image_t g_img;
@@ -110,17 +121,39 @@ static fcc_status_t port_send(void *ctx, const fcc_can_frame_t *frame)
     return st;
 }
 
+static void note_arrival(image_t *img, uint64_t rx_us, uint64_t arrived_us)
+{
+    arrival_t *a = &img->arrivals[img->n_arrivals % ARRIVALS];
+    a->rx_us = rx_us;
+    a->arrived_us = arrived_us;
+    ++img->n_arrivals;
+}
+
+/* When the frame with this receive stamp had arrived whole (0: not among the last ARRIVALS). */
+static uint64_t arrival_of(const image_t *img, uint64_t rx_us)
+{
+    uint64_t at = 0u;
+    for (uint32_t i = 0u; i < ARRIVALS; ++i) {
+        if (img->arrivals[i].rx_us == rx_us) {
+            at = img->arrivals[i].arrived_us;
+        }
+    }
+    return at;
+}
+
 /* After a missile command went out: sensor to command on this clock, as the host fcc's
- * latency_us (from the newest sensor frame the step used, its receive stamp). */
+ * latency_us -- from the newest sensor frame the step used, when its line had arrived whole
+ * (as the host's kernel stamp, a CAN controller's: the node's own time; the line's transfer
+ * behind its bus stamp is the link's, rx_timing's bus_delay_us and line_us). */
 static void measure_command(image_t *img)
 {
     if (img->cmd_sends == img->cmd_sends_seen) {
         return;
     }
     img->cmd_sends_seen = img->cmd_sends;
-    const uint64_t rx = img->node.msl.last.newest_rx_us;
-    if (rx != 0u && img->cmd_sent_us >= rx) {
-        fcc_hist_add(&img->latency, img->cmd_sent_us - rx);
+    const uint64_t arrived = arrival_of(img, img->node.msl.last.newest_rx_us);
+    if (arrived != 0u && img->cmd_sent_us >= arrived) {
+        fcc_hist_add(&img->latency, img->cmd_sent_us - arrived);
     }
 }
 
@@ -213,6 +246,7 @@ static fcc_status_t port_recv(void *ctx, fcc_can_frame_t *frame)
                               ? bus_to_local(&img->bus_clock, img->link.rx_stamp_us, line_rx_us,
                                              fcc_tsync_has_time(&img->node.tsync))
                               : line_rx_us;
+            note_arrival(img, frame->t_us, mps2_link_line_end_us());
             const uint64_t now = mps2_now_us();
             const uint32_t wait = (now > line_rx_us) ? (uint32_t)(now - line_rx_us) : 0u;
             img->parse_wait_sum_us += wait;

@@ -62,12 +62,14 @@ extern uint32_t mps2_stack_bottom, mps2_stack_top, mps2_bootcfg_start;
 /* ---- state (one board) ----------------------------------------------------------- */
 
 /* When a line's first byte came: its index in the receive ring's free-running
- * count, and the clock's low 32 bits (ticks) when the interrupt took it.
- * Volatile: written by the interrupt before it moves stamp_head, and neither
- * side may reorder its accesses across that index. */
+ * count, and the clock's low 32 bits (ticks) when the interrupt took it; and
+ * when its terminator came (written before the terminator is in the ring).
+ * Volatile: written by the interrupt before it moves stamp_head (rx_head for
+ * `ended`), and neither side may reorder its accesses across that index. */
 typedef struct {
     volatile uint32_t index;
     volatile uint32_t elapsed;
+    volatile uint32_t ended;
 } line_stamp_t;
 
 typedef struct {
@@ -82,8 +84,14 @@ typedef struct {
     volatile uint32_t stamp_tail;               /* written by the main loop */
     bool isr_mid_line;                          /* RX interrupt: next byte continues a line */
     uint32_t isr_line_elapsed;                  /* RX interrupt: when this line began */
+    bool isr_line_stamped;                      /* RX interrupt: this line has a stamp ... */
+    uint32_t isr_line_stamp;                    /* ... at this stamp index */
     bool rd_mid_line;                           /* main loop: next byte continues a line */
     uint64_t rd_line_ticks;                     /* main loop: when the line being read began */
+    uint32_t rd_line_index;                     /* main loop: its first byte's ring index */
+    uint32_t rd_line_stamp;                     /* main loop: its stamp index (if stamped) */
+    bool rd_line_stamped;
+    uint64_t rd_end_ticks;                      /* main loop: when the line last read ended (0: unknown) */
     uint8_t tx[MPS2_LINK_TX_RING];
     volatile uint32_t tx_head;                  /* written by the main loop */
     volatile uint32_t tx_tail;                  /* written by the pump (interrupts masked) */
@@ -168,9 +176,12 @@ static void stamp_byte(uint8_t b, uint32_t index)
     if (!g_board.isr_mid_line) {
         const uint32_t elapsed = elapsed_now();
         const uint32_t head = g_board.stamp_head;
-        if (ring_used(head, g_board.stamp_tail) < MPS2_LINK_LINE_STAMPS) {
+        g_board.isr_line_stamped = ring_used(head, g_board.stamp_tail) < MPS2_LINK_LINE_STAMPS;
+        if (g_board.isr_line_stamped) {
             g_board.stamps[head % MPS2_LINK_LINE_STAMPS].index = index;
             g_board.stamps[head % MPS2_LINK_LINE_STAMPS].elapsed = elapsed;
+            g_board.stamps[head % MPS2_LINK_LINE_STAMPS].ended = elapsed;
+            g_board.isr_line_stamp = head;
             g_board.stamp_head = head + 1u;
         } else {
             g_board.cnt.stamps_lost = g_board.cnt.stamps_lost + 1u;
@@ -178,7 +189,11 @@ static void stamp_byte(uint8_t b, uint32_t index)
         g_board.isr_line_elapsed = elapsed;
     }
     if (is_terminator(b)) {
-        const uint32_t on_line_us = (elapsed_now() - g_board.isr_line_elapsed) / TICKS_PER_US;
+        const uint32_t ended = elapsed_now();
+        if (g_board.isr_line_stamped) {
+            g_board.stamps[g_board.isr_line_stamp % MPS2_LINK_LINE_STAMPS].ended = ended;
+        }
+        const uint32_t on_line_us = (ended - g_board.isr_line_elapsed) / TICKS_PER_US;
         g_board.cnt.line_us_sum = g_board.cnt.line_us_sum + on_line_us;
         g_board.cnt.line_us_worst =
             (on_line_us > g_board.cnt.line_us_worst) ? on_line_us : g_board.cnt.line_us_worst;
@@ -242,11 +257,14 @@ void mps2_uart0_tx_isr(void)
 
 /* The receive stamp of the line that begins at ring index `index` (stamps of
  * lines before it are dropped); the current time if it has none (its stamp
- * was lost: the stamp ring was full). */
+ * was lost: the stamp ring was full).  Its stamp's index is kept for the
+ * line's end (line_end_ticks). */
 static uint64_t line_ticks(uint32_t index)
 {
     uint32_t st = g_board.stamp_tail;
     uint64_t ticks = mps2_ticks();
+    g_board.rd_line_index = index;
+    g_board.rd_line_stamped = false;
     while (st != g_board.stamp_head) {
         const line_stamp_t *s = &g_board.stamps[st % MPS2_LINK_LINE_STAMPS];
         const int32_t ahead = (int32_t)(s->index - index);
@@ -256,11 +274,23 @@ static uint64_t line_ticks(uint32_t index)
         ++st;
         if (ahead == 0) {
             ticks = ticks_of(s->elapsed);
+            g_board.rd_line_stamp = st - 1u;
+            g_board.rd_line_stamped = true;
             break;
         }
     }
     g_board.stamp_tail = st;
     return ticks;
+}
+
+/* When the line being read ended (its terminator is read now): its stamp's
+ * `ended`, unless the line had no stamp or the interrupt has since reused the
+ * slot for a later line (128 lines behind): then the current time. */
+static uint64_t line_end_ticks(void)
+{
+    const line_stamp_t *s = &g_board.stamps[g_board.rd_line_stamp % MPS2_LINK_LINE_STAMPS];
+    const bool kept = g_board.rd_line_stamped && (s->index == g_board.rd_line_index);
+    return kept ? ticks_of(s->ended) : mps2_ticks();
 }
 
 int mps2_link_getc(uint8_t *byte, uint64_t *line_rx_us)
@@ -274,9 +304,17 @@ int mps2_link_getc(uint8_t *byte, uint64_t *line_rx_us)
         g_board.rd_line_ticks = line_ticks(tail);
     }
     g_board.rd_mid_line = !is_terminator(*byte);
+    if (!g_board.rd_mid_line) {
+        g_board.rd_end_ticks = line_end_ticks();
+    }
     g_board.rx_tail = tail + 1u;
     *line_rx_us = g_board.rd_line_ticks / TICKS_PER_US;
     return 1;
+}
+
+uint64_t mps2_link_line_end_us(void)
+{
+    return g_board.rd_end_ticks / TICKS_PER_US;
 }
 
 fcc_status_t mps2_link_write(void *ctx, const uint8_t *bytes, size_t n)

@@ -54,6 +54,11 @@ uint64_t mps2_ticks(void);
  * the time the main loop came to parse it. */
 int mps2_link_getc(uint8_t *byte, uint64_t *line_rx_us);
 
+/* When the receive interrupt took the terminator of the last line
+ * mps2_link_getc() returned to its end (us, as above): the line's arrival
+ * complete, as a CAN controller's receive interrupt at the end of a frame. */
+uint64_t mps2_link_line_end_us(void);
+
 /* n bytes to the link, all or nothing: FCC_ERR_AGAIN when the ring has no
  * room for them (nothing queued).  Matches fcc_slcan_write_fn. */
 fcc_status_t mps2_link_write(void *ctx, const uint8_t *bytes, size_t n);

@@ -12,6 +12,7 @@ import json
 import struct
 import subprocess
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -22,7 +23,9 @@ from hil.scenario.file import load_default_scenario
 from hil.rig.link import CanLink
 from hil.targets.qemu_m4f import PilError, boot_options, boot_record
 from hil.rig.config import RigConfig
-from hil.rig.flight import fcc_args
+from hil.rig.errors import RigError
+from hil.rig.flight import fcc_args, on_target
+from hil.scenario.plant_options import RT_ACTUATION_DELAY
 from hil.targets.registry import TARGETS
 from rig_helpers import CDRW_1S, cli, fly, scenario
 from test_cli import one_line
@@ -76,10 +79,10 @@ def test_boot_options_refuse_what_the_image_does_not_take():
 @pytest.mark.parametrize("mode", ["lockstep", "realtime"])
 def test_boot_record_carries_the_rigs_lqg_delay(mode):
     """The image gets the delay the rig resolved for the run, as the host fcc does on its
-    command line (lockstep 0, realtime RT_ACTUATION_DELAY), in bytes 44-51 of its record."""
+    command line (lockstep 0, realtime the target's own: 15 ms), in bytes 44-51 of its record."""
     sc = load_default_scenario("missile")
     args = fcc_args([sc], RigConfig(Path("unused"), mode=mode, target="qemu-m4f"))
-    delay = sc.lqg.resolved_delay(mode == "realtime")
+    delay = 0.015 if mode == "realtime" else 0.0
     assert args[args.index("--lqg-delay") + 1] == f"{delay:.6g}"
     rec = boot_record(args)
     assert rec.lqg_delay == delay and rec.mode == mode
@@ -151,3 +154,21 @@ def test_python_can_path_flies_like_the_raw_socket(tmp_path, monkeypatch):
     log = (tmp_path / "generic" / "bus.log").read_text().splitlines()
     assert sum(1 for ln in log if " 110#" in ln) == 51
     assert log[-1].endswith(" 7F0#FFFFFFFF00000000")
+
+
+def test_a_realtime_run_acts_at_its_targets_actuation_instant():
+    """"auto" is the target's own delay in realtime (the M4F image's serial line), a CAN node's
+    5 ms on the host, 0 in lockstep; a delay the scenario gives is kept; a period the target's
+    delay does not fit in is one RigError."""
+    sc = load_default_scenario("missile")
+    def delay(target: str, mode: str, scenario=sc) -> float:
+        cfg = RigConfig(Path("unused"), mode=mode, target=target)
+        return on_target(scenario, cfg).lqg.resolved_delay(mode == "realtime")
+    assert delay("qemu-m4f", "realtime") == 0.015
+    assert delay("host", "realtime") == RT_ACTUATION_DELAY
+    assert delay("qemu-m4f", "lockstep") == 0.0
+    given = replace(sc, lqg=replace(sc.lqg, delay=0.002))
+    assert delay("qemu-m4f", "realtime", given) == 0.002
+    fast = replace(sc, lqg=replace(sc.lqg, period=0.01))
+    with pytest.raises(RigError, match="--target qemu-m4f acts 15 ms after its sampling instant"):
+        delay("qemu-m4f", "realtime", fast)

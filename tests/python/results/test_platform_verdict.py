@@ -227,6 +227,24 @@ def test_a_sync_loss_of_a_master_stalled_between_sync_and_follow_up_is_the_platf
     assert loss["master_max_pair_gap_ms"] == 276 and loss["verdict"] == FIRMWARE
 
 
+def test_a_sync_loss_a_slow_link_explains_with_the_masters_wait_is_the_platforms() -> None:
+    """The M4F image's incident (hil verify time-sync --target qemu-m4f, replayed-master, idle
+    host, 2026-12-02): the master's longest wait for a usable pair 258 ms and its serial line
+    held a frame up to 145 ms beyond its fastest delivery -- the pair reached the image more than
+    3 intervals after the last: the platform's.  Without the link's delay, or on a device with no
+    link (the host fcc), 258 ms is the firmware's loss."""
+    def loss_with(link: dict[str, int] | None) -> dict[str, Any]:
+        s = summary(losses=1, verdict="lost")
+        if link is not None:
+            s["realtime"]["fcc"]["link"] = link
+        return judged(s, info(max_us=3023, gap_ms=258.0, pair_gap_ms=258.0))["platform"]["sync_loss"]
+    loss = loss_with({"bus_delay_us_worst": 144_895, "line_us_mean": 4242})
+    assert loss["verdict"] == PLATFORM_LIMITED and loss["link_delay_worst_ms"] == pytest.approx(144.895)
+    assert "fcc's longest wait for a usable pair 258 ms + its link's worst delay 145 ms" in loss["message"]
+    assert loss_with({"bus_delay_us_worst": 30_000})["verdict"] == FIRMWARE
+    assert loss_with(None)["verdict"] == FIRMWARE
+
+
 @pytest.mark.parametrize("verdict, refused", [
     ("attacked", {**NO_REFUSALS, "unauthenticated": 4, "mac_failed": 2}),       # forged
     ("attacked", {**NO_REFUSALS, "freshness_failed": 3}),                       # replayed

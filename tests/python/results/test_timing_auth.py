@@ -10,7 +10,7 @@ from hil.bus import FCC_NODE, SIM_NODES, FrameCodec, load
 from hil.bus.candump import format_line
 from hil.bus.secoc import Sender
 from hil.results.buslog import BusAuth
-from hil.results.timing import bus_timing
+from hil.results.timing import bus_timing, link_timing, summarise
 
 SPEC = load()
 KEY, TRIP = bytes(range(16)), 0x5678
@@ -77,3 +77,16 @@ def test_forged_status_and_commands_change_no_timing(tmp_path):
     # without the key, the forged frames are measured: 40 more commands, 40 offsets of 30 ms
     naive = bus_timing(tmp_path / "forged.log", SPEC, PERIOD)
     assert len(naive["cmd_delay"]) == 80 and np.count_nonzero(naive["sync_offset"] == 30000.0) == 40
+
+
+def test_a_devices_link_comes_from_its_summary_and_the_host_has_none() -> None:
+    """The M4F image's `rx_timing` line is its serial link's figures (summary.json
+    realtime.fcc.link); the host fcc prints none, and its summary has no link."""
+    image = ("fcc summary: latency_us missile n=100 p50=536 p99=704 max=2428\n"
+             "fcc summary: rx_timing lines=379 line_us_mean=1800 line_us_worst=6020 bus_stamped=372 "
+             "bus_delay_us_mean=1651 bus_delay_us_worst=16218 bus_rebases=0\n")
+    assert link_timing(image) == {"lines": 379, "line_us_mean": 1800, "line_us_worst": 6020, "bus_stamped": 372,
+                                  "bus_delay_us_mean": 1651, "bus_delay_us_worst": 16218, "bus_rebases": 0}
+    assert summarise({}, image)["fcc"]["link"]["bus_delay_us_worst"] == 16218
+    host = "fcc summary: latency_us missile n=100 p50=60 p99=80 max=90\n"
+    assert link_timing(host) == {} and "link" not in summarise({}, host)["fcc"]

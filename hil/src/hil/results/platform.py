@@ -16,8 +16,10 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
   intervals without a usable pair (a thread of the rig's, starved by the platform: from the SYNC
   of one pair fcc could use to the last frame of the next, hil.rig.timesync; measured, 1 s
   while cyclictest at fcc's priority saw 15 ms, and a master that stalled 176 ms between a SYNC
-  and its FOLLOW_UP: 276 ms between SYNCs, but no usable pair for fcc in 333 ms, its loss);
-  otherwise the firmware's own.
+  and its FOLLOW_UP: 276 ms between SYNCs, but no usable pair for fcc in 333 ms, its loss), or
+  that wait and the device's own link together did (a device behind a serial line -- the M4F
+  image -- gets a pair up to its line's worst delay beyond the fastest delivery later than the
+  bus carried it: measured, a master's 258 ms and a line's 145 ms); otherwise the firmware's own.
 * a sync loss that fcc recovered from (LOCKED at the end) with no forged, replayed or refused
   frame (the sync verdict is "lost", nothing worse: hil.results.sync), fcc's outputs
   authentic (bus_trust ok) and the data age in bounds is **tolerated**: every command computed
@@ -100,6 +102,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     age_max = age.get("max") if isinstance(age, Mapping) and age.get("n") else None
     gap_ms = field_at(info, "time_master", "max_sync_gap_ms")
     pair_gap_ms = field_at(info, "time_master", "max_pair_gap_ms")
+    link_ms = float(field_at(summary, "realtime", "fcc", "link", "bus_delay_us_worst") or 0) / 1e3
     master_stall = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
     slack_min = field_at(info, "sim_handover_slack_ms", "min")
     sim_stall = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
@@ -115,7 +118,9 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
         return out
     out["master_max_sync_gap_ms"] = gap_ms
     out["master_max_pair_gap_ms"] = pair_gap_ms
-    explained = (no_echo > 0 or (pair_gap_ms is not None and pair_gap_ms >= LOSS_INTERVALS * SYNC_INTERVAL_S * 1e3)
+    out["link_delay_worst_ms"] = link_ms
+    explained = (no_echo > 0
+                 or (pair_gap_ms is not None and pair_gap_ms + link_ms >= LOSS_INTERVALS * SYNC_INTERVAL_S * 1e3)
                  or (baseline_max is not None and baseline_max >= SYNC_INTERVAL_S * 1e6))
     out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
     age_ok = age_max is not None and age_bound is not None and age_max < age_bound
@@ -131,6 +136,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     base = (f"cyclictest max {baseline_max} us at fcc's priority" if baseline_max is not None
             else "no platform baseline")
     gap = "" if pair_gap_ms is None else f", fcc's longest wait for a usable pair {pair_gap_ms:.0f} ms"
+    gap += f" + its link's worst delay {link_ms:.0f} ms" if link_ms else ""
     why = f"{out['verdict']} ({base}, {no_echo} SYNC(s) the master could not stamp{gap})"
     if out["tolerated"]:
         out["message"] = (f"warning: time sync lost {losses} time(s) and recovered (fcc LOCKED at "

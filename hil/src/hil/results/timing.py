@@ -43,6 +43,9 @@ CSV_NAME = "realtime_timing.csv"
 #: acquisition (measured on the M4F image: 170-314 us for 3-5 heartbeats, then within 25 us)
 LOCKED = 2
 _FCC_HIST = re.compile(r"^fcc summary: (\w+) (\w+) n=(\d+) p50=(\d+) p99=(\d+) max=(\d+)$")
+#: a device behind a serial link (the M4F image) says what its line cost: each frame's way over
+#: it beyond the fastest delivery (bus_delay_us_*), a line's time on it (line_us_*)
+_FCC_LINK = re.compile(r"^fcc summary: rx_timing ((?:\w+=\d+ ?)+)$")
 
 
 def bus_timing(log: Path, spec: BusSpec, period: float, auth: BusAuth | None = None) -> dict[str, np.ndarray]:
@@ -102,6 +105,16 @@ def fcc_histograms(text: str) -> dict[str, dict[str, int]]:
     return out
 
 
+def link_timing(text: str) -> dict[str, int]:
+    """The device's link from its exit summary (`rx_timing`: {bus_delay_us_worst, line_us_mean,
+    ...}); {} for a device on the bus itself (the host fcc)."""
+    for line in text.splitlines():
+        m = _FCC_LINK.match(line.strip())
+        if m:
+            return {k: int(v) for k, v in (kv.split("=") for kv in m[1].split())}
+    return {}
+
+
 def _pct(x: np.ndarray) -> dict[str, float | int | None]:
     if x.size == 0:
         return {"n": 0, "p50": None, "p99": None, "max": None}
@@ -112,10 +125,11 @@ def _pct(x: np.ndarray) -> dict[str, float | int | None]:
 
 def summarise(timing: dict[str, np.ndarray], fcc_log_text: str) -> dict[str, Any]:
     """Percentiles (us; of |x| for signed quantities) from the bus, and fcc's own."""
-    fcc = fcc_histograms(fcc_log_text)
+    fcc: dict[str, Any] = fcc_histograms(fcc_log_text)
+    link = link_timing(fcc_log_text)
     return {"bus": {k: _pct(v) for k, v in timing.items()},
             "fcc": {k: fcc[k] for k in ("jitter_us missile", "latency_us missile", "delay_us missile",
-                                        "sync_offset_us abs") if k in fcc}}
+                                        "sync_offset_us abs") if k in fcc} | ({"link": link} if link else {})}
 
 
 def write_csv(path: Path, timing: dict[str, np.ndarray]) -> None:
@@ -131,4 +145,4 @@ def read_csv(path: Path) -> dict[str, np.ndarray]:
     return {k: np.asarray(v) for k, v in rows.items()}
 
 
-__all__: Sequence[str] = ("bus_timing", "fcc_histograms", "summarise", "write_csv", "read_csv")
+__all__: Sequence[str] = ("bus_timing", "fcc_histograms", "link_timing", "summarise", "write_csv", "read_csv")

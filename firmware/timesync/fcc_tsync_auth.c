@@ -15,15 +15,46 @@ fcc_status_t fcc_tsync_auth_init(fcc_tsync_auth_t *ta)
     return FCC_OK;
 }
 
-/* Drop the oldest n of a held list (counting the dropped ones that were not used). */
+/* Take n held frames out of a list from index `at` on; the later ones move up
+ * in order (the pairing reads the lists newest first).  at + n <= *n_held. */
+static void take_out(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t at, uint32_t n)
+{
+    memmove(&list[at], &list[at + n], (size_t)(*n_held - at - n) * sizeof list[0]);
+    *n_held = (uint8_t)(*n_held - n);
+}
+
+/* Drop the oldest n of a held list (the caller counts the dropped ones that were not used). */
 static void drop(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t n)
 {
-    if (n >= *n_held) {
+    if (n < *n_held) {
+        take_out(list, n_held, 0u, n);
+    } else {
         *n_held = 0u;
-        return;
     }
-    memmove(&list[0], &list[n], (size_t)(*n_held - n) * sizeof list[0]);
-    *n_held = (uint8_t)(*n_held - n);
+}
+
+/* How far a held frame's sequence number (byte 2) is behind the one expected
+ * next, modulo 256: 0 for the master's next frame. */
+static uint8_t behind(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *held)
+{
+    return (uint8_t)(ta->expected_seq - held->data[2]);
+}
+
+/* The held frame to give up for a new one: once a pair has verified, the one
+ * furthest behind the expected sequence number, the oldest of equals -- a
+ * burst of replayed old frames then pushes out its own kind, not the master's
+ * frame awaiting its authenticator (fcc_tsync_auth.h); before, the oldest. */
+static uint32_t evictee(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *list, uint8_t n_held)
+{
+    uint32_t worst = 0u;
+    if (ta->seq_known) {
+        for (uint32_t k = 1u; k < n_held; ++k) {
+            if (behind(ta, &list[k]) > behind(ta, &list[worst])) {
+                worst = k;
+            }
+        }
+    }
+    return worst;
 }
 
 static fcc_status_t hold(fcc_tsync_auth_t *ta, fcc_tsync_held_t *list, uint8_t *n_held,
@@ -33,7 +64,7 @@ static fcc_status_t hold(fcc_tsync_auth_t *ta, fcc_tsync_held_t *list, uint8_t *
         return FCC_ERR_ARG;
     }
     if (*n_held == FCC_TSYNC_AUTH_HELD) {
-        drop(list, n_held, 1u);
+        take_out(list, n_held, evictee(ta, list, *n_held), 1u);
         ++ta->cnt.unauthenticated;
     }
     memcpy(list[*n_held].data, data, 8u);
@@ -90,6 +121,8 @@ fcc_secoc_verdict_t fcc_tsync_auth_verify(fcc_tsync_auth_t *ta, fcc_secoc_t *sec
     } else {
         *sync = ta->sync[ci[m]];
         memcpy(fup, ta->fup[cj[m]].data, 8u);
+        ta->expected_seq = (uint8_t)(sync->data[2] + 1u); /* the master's next pair */
+        ta->seq_known = true;
         /* the pair and everything held before it goes; the others were never authenticated */
         ta->cnt.unauthenticated += (uint32_t)ci[m] + (uint32_t)cj[m];
         drop(ta->sync, &ta->n_sync, (uint32_t)ci[m] + 1u);

@@ -15,7 +15,20 @@
  * authenticator, whatever is held).  On success the verified frames and every
  * frame held before them are dropped, the others counted `unauthenticated`;
  * frames that came after stay for the next authenticator.  A forged
- * authenticator drops nothing.  Portable, no heap.
+ * authenticator drops nothing.
+ *
+ * Eviction: when FCC_TSYNC_AUTH_HELD frames of a kind are held, a new one
+ * pushes out the held frame least likely to be the master's next: the one
+ * whose sequence number is furthest behind the expected one (the last
+ * verified pair's + 1, distance (uint8_t)(expected - seq)), the oldest of
+ * equals; before any pair has verified, the oldest.  Why: replayed bursts of
+ * the master's own old frames (~7 SYNCs and 7 FOLLOW_UPs, sequence numbers
+ * ~10 behind, `hil verify time-sync --case replayed-master --target
+ * qemu-m4f`) landing between the master's SYNC and its TSYNC_AUTH pushed the
+ * master's SYNC out of the oldest-first hold, so its authenticator matched no
+ * pair and the pair was lost (repeated: HOLDOVER).  Now the replays push out
+ * each other.  A forged frame with the expected sequence number fares no
+ * better than before: it still needs an authenticator.  Portable, no heap.
  */
 #ifndef FCC_TSYNC_AUTH_H
 #define FCC_TSYNC_AUTH_H
@@ -43,14 +56,17 @@ typedef struct {
     uint8_t n_sync;
     fcc_tsync_held_t fup[FCC_TSYNC_AUTH_HELD];
     uint8_t n_fup;
+    bool seq_known;       /* a pair has verified: expected_seq is the master's next */
+    uint8_t expected_seq; /* sequence number of the last verified pair + 1 (mod 256) */
     fcc_tsync_auth_counters_t cnt;
 } fcc_tsync_auth_t;
 
 /* Nothing held, counters zero. */
 fcc_status_t fcc_tsync_auth_init(fcc_tsync_auth_t *ta);
 
-/* A SYNC (8 bytes, received at t_us) or a FOLLOW_UP arrived: held; the oldest
- * of its kind is dropped (unauthenticated) when FCC_TSYNC_AUTH_HELD are held. */
+/* A SYNC (8 bytes, received at t_us) or a FOLLOW_UP arrived: held; when
+ * FCC_TSYNC_AUTH_HELD of its kind are held, one is dropped (unauthenticated)
+ * first, as "Eviction" above says. */
 fcc_status_t fcc_tsync_auth_hold_sync(fcc_tsync_auth_t *ta, const uint8_t data[8], uint64_t t_us);
 fcc_status_t fcc_tsync_auth_hold_follow_up(fcc_tsync_auth_t *ta, const uint8_t data[8]);
 

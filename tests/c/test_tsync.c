@@ -762,6 +762,126 @@ static void candidates_stop_inside_a_row(void **state)
     assert_int_equal(g_a.ta.cnt.unauthenticated, 2u); /* A41 and B40, held before C40 */
 }
 
+/* ---- eviction from a full hold (fcc_tsync_auth.h "Eviction") -------------------------- */
+
+/* The master's SYNC and FOLLOW_UP of sequence number seq (SYNC received at t_us), held. */
+static void hold_master_pair(uint8_t seq, uint64_t t_us, uint8_t sync[8], uint8_t fup[8])
+{
+    tsync_frame(1u, seq, 1u, sync);
+    tsync_frame(1u, seq, 2u, fup);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, t_us));
+    fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
+}
+
+/* The master's authenticator of sync | fup verifies that very pair. */
+static void master_pair_verifies(const uint8_t sync[8], const uint8_t fup[8], uint64_t t_us)
+{
+    uint8_t auth[8], out_f[8];
+    fcc_tsync_held_t h;
+    master_auth(&g_a.tx, sync, fup, auth);
+    assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, auth, &h, out_f),
+                     FCC_SECOC_VERIFIED);
+    assert_memory_equal(h.data, sync, 8u);
+    assert_int_equal(h.t_us, t_us);
+    assert_memory_equal(out_f, fup, 8u);
+}
+
+/* The sequence numbers held of one kind, oldest first. */
+static void assert_held_seqs(const fcc_tsync_held_t *list, uint8_t n_held, const uint8_t seqs[4])
+{
+    assert_int_equal(n_held, FCC_TSYNC_AUTH_HELD);
+    for (unsigned int k = 0u; k < FCC_TSYNC_AUTH_HELD; ++k) {
+        assert_int_equal(list[k].data[2], seqs[k]);
+    }
+}
+
+/* `hil verify time-sync --case replayed-master`: after the pair of seq 50 verified, the master's
+ * SYNC and FOLLOW_UP 51 are held when a burst of 7 replayed pairs 41..47 (9..3 behind 50) lands
+ * before the master's authenticator.  The replays push out each other (the furthest behind 51
+ * first), the master's frames stay at the head, the others in order, and its authenticator
+ * verifies.  Oldest-first, the fourth replay pushed SYNC 51 out: held 44..47, the authenticator
+ * matched no pair (MAC_FAILED) and the pair was lost. */
+static void replayed_burst_leaves_the_masters_pair(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], x[8];
+    hold_master_pair(50u, 100u, sync, fup);
+    master_pair_verifies(sync, fup, 100u);
+    hold_master_pair(51u, 200u, sync, fup);
+    for (uint8_t seq = 41u; seq <= 47u; ++seq) {
+        tsync_frame(1u, seq, 3u, x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 150u + seq));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 8u); /* 41..44 of each pushed out */
+    const uint8_t kept[4] = {51u, 45u, 46u, 47u};
+    assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, kept);
+    assert_held_seqs(g_a.ta.fup, g_a.ta.n_fup, kept);
+    master_pair_verifies(sync, fup, 200u);
+    assert_int_equal(g_a.ta.cnt.mac_failed, 0u);
+    /* the replays held after it wait; the master's next pair, held after them, drops them */
+    assert_int_equal(g_a.ta.n_sync, 3u);
+    hold_master_pair(52u, 300u, sync, fup);
+    master_pair_verifies(sync, fup, 300u);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 8u + 6u);
+    assert_int_equal(g_a.ta.n_sync + g_a.ta.n_fup, 0u);
+}
+
+/* Before any pair has verified there is no expected sequence number: a full hold drops its
+ * oldest, whatever the sequence numbers (SYNC 200 goes, not 1, which is further behind the
+ * zero a verified pair would have left); a forged authenticator does not change that. */
+static void before_a_verified_pair_the_oldest_goes(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t x[8], out_f[8];
+    fcc_tsync_held_t h;
+    const uint8_t seqs[5] = {200u, 1u, 2u, 3u, 4u};
+    const uint8_t forged_auth[8] = {1u, 0u, 1u, 2u, 3u, 4u, 5u, 6u};
+    for (unsigned int k = 0u; k < 5u; ++k) {
+        if (k == 4u) {
+            assert_int_equal(fcc_tsync_auth_verify(&g_a.ta, &g_a.rx, g_a.i, forged_auth, &h, out_f),
+                             FCC_SECOC_MAC_FAILED);
+        }
+        tsync_frame(1u, seqs[k], 4u, x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, k));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+    assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, &seqs[1]);
+    assert_held_seqs(g_a.ta.fup, g_a.ta.n_fup, &seqs[1]);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 2u);
+}
+
+/* Equally far behind, the oldest goes; the distance wraps modulo 256.  After the pair of seq 255
+ * (expected: 0), SYNCs [250a 0 250b 251] and 252 arriving: 250a and 250b are both 6 behind,
+ * 250a goes; then 253 pushes out 250b. */
+static void equally_behind_the_oldest_goes(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], a250[8], b250[8], x[8];
+    hold_master_pair(255u, 10u, sync, fup);
+    master_pair_verifies(sync, fup, 10u);
+    tsync_frame(1u, 0u, 1u, sync); /* the master's next */
+    tsync_frame(1u, 250u, 5u, a250);
+    tsync_frame(1u, 250u, 6u, b250);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, a250, 20u));
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, sync, 21u));
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, b250, 22u));
+    tsync_frame(1u, 251u, 7u, x);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 23u));
+    tsync_frame(1u, 252u, 7u, x);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 24u));
+    assert_memory_equal(g_a.ta.sync[1].data, b250, 8u);
+    assert_int_equal(g_a.ta.sync[1].t_us, 22u);
+    tsync_frame(1u, 253u, 7u, x);
+    fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 25u));
+    const uint8_t kept[4] = {0u, 251u, 252u, 253u};
+    assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, kept);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 2u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -784,6 +904,9 @@ int main(void)
         cmocka_unit_test(poll_out_of_order),
         cmocka_unit_test(auth_refusals_alone),
         cmocka_unit_test(candidates_stop_inside_a_row),
+        cmocka_unit_test(replayed_burst_leaves_the_masters_pair),
+        cmocka_unit_test(before_a_verified_pair_the_oldest_goes),
+        cmocka_unit_test(equally_behind_the_oldest_goes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

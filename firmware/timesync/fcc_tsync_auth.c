@@ -33,15 +33,18 @@ static void drop(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t n)
     }
 }
 
-/* How far a held frame's sequence number (byte 2) is behind the one expected
- * next, modulo 256: 0 for the master's next frame. */
-static uint8_t behind(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *held)
+/* How far a held frame's sequence number (byte 2) is from the one expected
+ * next, either way, modulo 256 (0..128): 0 for the master's next frame, 1 for
+ * the one after it when a pair was lost, ~10 for a replay a second late. */
+static uint8_t apart(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *held)
 {
-    return (uint8_t)(ta->expected_seq - held->data[2]);
+    const uint8_t ahead = (uint8_t)(held->data[2] - ta->expected_seq);
+    const uint8_t back = (uint8_t)(ta->expected_seq - held->data[2]);
+    return (ahead < back) ? ahead : back;
 }
 
 /* The held frame to give up for a new one: once a pair has verified, the one
- * furthest behind the expected sequence number, the oldest of equals -- a
+ * furthest from the expected sequence number, the oldest of equals -- a
  * burst of replayed old frames then pushes out its own kind, not the master's
  * frame awaiting its authenticator (fcc_tsync_auth.h); before, the oldest. */
 static uint32_t evictee(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *list, uint8_t n_held)
@@ -49,7 +52,7 @@ static uint32_t evictee(const fcc_tsync_auth_t *ta, const fcc_tsync_held_t *list
     uint32_t worst = 0u;
     if (ta->seq_known) {
         for (uint32_t k = 1u; k < n_held; ++k) {
-            if (behind(ta, &list[k]) > behind(ta, &list[worst])) {
+            if (apart(ta, &list[k]) > apart(ta, &list[worst])) {
                 worst = k;
             }
         }

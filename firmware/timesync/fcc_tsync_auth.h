@@ -19,9 +19,10 @@
  *
  * Eviction: when FCC_TSYNC_AUTH_HELD frames of a kind are held, a new one
  * pushes out the held frame least likely to be the master's next: the one
- * whose sequence number is furthest behind the expected one (the last
- * verified pair's + 1, distance (uint8_t)(expected - seq)), the oldest of
- * equals; before any pair has verified, the oldest.  Why: replayed bursts of
+ * whose sequence number is furthest from the expected one, either way (the
+ * last verified pair's + 1, modulo 256: the master's frame after a lost pair
+ * is 1 away, a replay a second late ~10), the oldest of equals; before any
+ * pair has verified, the oldest.  Why: replayed bursts of
  * the master's own old frames (~7 SYNCs and 7 FOLLOW_UPs, sequence numbers
  * ~10 behind, `hil verify time-sync --case replayed-master --target
  * qemu-m4f`) landing between the master's SYNC and its TSYNC_AUTH pushed the

@@ -828,6 +828,30 @@ static void replayed_burst_leaves_the_masters_pair(void **state)
     assert_int_equal(g_a.ta.n_sync + g_a.ta.n_fup, 0u);
 }
 
+/* A pair lost (51's authenticator never came): the master's next, 52, is one ahead of the
+ * expected 51 -- near, kept -- while the replays 41..47 push out each other; 52 verifies. */
+static void after_a_lost_pair_the_masters_next_stays(void **state)
+{
+    (void)state;
+    tsauth_start();
+    uint8_t sync[8], fup[8], x[8];
+    hold_master_pair(50u, 100u, sync, fup);
+    master_pair_verifies(sync, fup, 100u);
+    hold_master_pair(51u, 200u, sync, fup);
+    hold_master_pair(52u, 300u, sync, fup);
+    for (uint8_t seq = 41u; seq <= 47u; ++seq) {
+        tsync_frame(1u, seq, 3u, x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 250u + seq));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+    const uint8_t kept[4] = {51u, 52u, 46u, 47u};
+    assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, kept);
+    assert_held_seqs(g_a.ta.fup, g_a.ta.n_fup, kept);
+    master_pair_verifies(sync, fup, 300u);
+    assert_int_equal(g_a.ta.cnt.mac_failed, 0u);
+    assert_int_equal(g_a.ta.cnt.unauthenticated, 10u + 2u); /* 41..45 pushed out, 51 dropped */
+}
+
 /* Before any pair has verified there is no expected sequence number: a full hold drops its
  * oldest, whatever the sequence numbers (SYNC 200 goes, not 1, which is further behind the
  * zero a verified pair would have left); a forged authenticator does not change that. */
@@ -853,10 +877,10 @@ static void before_a_verified_pair_the_oldest_goes(void **state)
     assert_int_equal(g_a.ta.cnt.unauthenticated, 2u);
 }
 
-/* Equally far behind, the oldest goes; the distance wraps modulo 256.  After the pair of seq 255
+/* Equally far, the oldest goes; the distance wraps modulo 256.  After the pair of seq 255
  * (expected: 0), SYNCs [250a 0 250b 251] and 252 arriving: 250a and 250b are both 6 behind,
  * 250a goes; then 253 pushes out 250b. */
-static void equally_behind_the_oldest_goes(void **state)
+static void equally_far_the_oldest_goes(void **state)
 {
     (void)state;
     tsauth_start();
@@ -905,8 +929,9 @@ int main(void)
         cmocka_unit_test(auth_refusals_alone),
         cmocka_unit_test(candidates_stop_inside_a_row),
         cmocka_unit_test(replayed_burst_leaves_the_masters_pair),
+        cmocka_unit_test(after_a_lost_pair_the_masters_next_stays),
         cmocka_unit_test(before_a_verified_pair_the_oldest_goes),
-        cmocka_unit_test(equally_behind_the_oldest_goes),
+        cmocka_unit_test(equally_far_the_oldest_goes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

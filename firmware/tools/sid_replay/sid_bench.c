@@ -19,6 +19,7 @@
 
 #include "fcc_sid.h"
 #include "sid_flight.h"
+#include "tool_args.h"
 
 #define MAX_STEPS 20000u
 
@@ -117,8 +118,9 @@ int main(int argc, char **argv)
             d = &scenarios[i];
         }
     }
-    const long steps = argc == 3 ? strtol(argv[2], NULL, 10) : 1000;
-    if (d == NULL || steps < 1 || (size_t)steps + d->warmup + 1u > MAX_STEPS) {
+    unsigned long steps = 1000u;
+    const int bad_steps = (argc == 3) ? tool_args_ulong(argv[2], 1u, MAX_STEPS, &steps) : 0;
+    if (d == NULL || bad_steps != 0 || (size_t)steps + d->warmup + 1u > MAX_STEPS) {
         fprintf(stderr, "sid_bench: unknown scenario or bad step count\n");
         return 2;
     }

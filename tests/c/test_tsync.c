@@ -773,6 +773,17 @@ static void hold_master_pair(uint8_t seq, uint64_t t_us, uint8_t sync[8], uint8_
     fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, fup));
 }
 
+/* A replayed burst: the master's old pairs first..last (another payload than its current ones). */
+static void hold_replays(uint8_t first, uint8_t last, uint64_t t0_us)
+{
+    uint8_t x[8];
+    for (uint8_t seq = first; seq <= last; ++seq) {
+        tsync_frame(1u, seq, 3u, x);
+        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, t0_us + seq));
+        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
+    }
+}
+
 /* The master's authenticator of sync | fup verifies that very pair. */
 static void master_pair_verifies(const uint8_t sync[8], const uint8_t fup[8], uint64_t t_us)
 {
@@ -784,6 +795,14 @@ static void master_pair_verifies(const uint8_t sync[8], const uint8_t fup[8], ui
     assert_memory_equal(h.data, sync, 8u);
     assert_int_equal(h.t_us, t_us);
     assert_memory_equal(out_f, fup, 8u);
+}
+
+/* A fresh receiver that has verified the master's pair 50 (expected next: 51). */
+static void start_after_pair_50(uint8_t sync[8], uint8_t fup[8])
+{
+    tsauth_start();
+    hold_master_pair(50u, 100u, sync, fup);
+    master_pair_verifies(sync, fup, 100u);
 }
 
 /* The sequence numbers held of one kind, oldest first. */
@@ -804,16 +823,10 @@ static void assert_held_seqs(const fcc_tsync_held_t *list, uint8_t n_held, const
 static void replayed_burst_leaves_the_masters_pair(void **state)
 {
     (void)state;
-    tsauth_start();
-    uint8_t sync[8], fup[8], x[8];
-    hold_master_pair(50u, 100u, sync, fup);
-    master_pair_verifies(sync, fup, 100u);
+    uint8_t sync[8], fup[8];
+    start_after_pair_50(sync, fup);
     hold_master_pair(51u, 200u, sync, fup);
-    for (uint8_t seq = 41u; seq <= 47u; ++seq) {
-        tsync_frame(1u, seq, 3u, x);
-        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 150u + seq));
-        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
-    }
+    hold_replays(41u, 47u, 150u);
     assert_int_equal(g_a.ta.cnt.unauthenticated, 8u); /* 41..44 of each pushed out */
     const uint8_t kept[4] = {51u, 45u, 46u, 47u};
     assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, kept);
@@ -833,17 +846,11 @@ static void replayed_burst_leaves_the_masters_pair(void **state)
 static void after_a_lost_pair_the_masters_next_stays(void **state)
 {
     (void)state;
-    tsauth_start();
-    uint8_t sync[8], fup[8], x[8];
-    hold_master_pair(50u, 100u, sync, fup);
-    master_pair_verifies(sync, fup, 100u);
+    uint8_t sync[8], fup[8];
+    start_after_pair_50(sync, fup);
     hold_master_pair(51u, 200u, sync, fup);
     hold_master_pair(52u, 300u, sync, fup);
-    for (uint8_t seq = 41u; seq <= 47u; ++seq) {
-        tsync_frame(1u, seq, 3u, x);
-        fcc_assert_ok(fcc_tsync_auth_hold_sync(&g_a.ta, x, 250u + seq));
-        fcc_assert_ok(fcc_tsync_auth_hold_follow_up(&g_a.ta, x));
-    }
+    hold_replays(41u, 47u, 250u);
     const uint8_t kept[4] = {51u, 52u, 46u, 47u};
     assert_held_seqs(g_a.ta.sync, g_a.ta.n_sync, kept);
     assert_held_seqs(g_a.ta.fup, g_a.ta.n_fup, kept);

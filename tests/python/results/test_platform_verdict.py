@@ -179,6 +179,19 @@ def test_a_deadline_miss_within_the_baselines_max_is_platform_limited() -> None:
     assert judged(s, info(max_us=None))["platform"]["verdict"] == FIRMWARE   # nothing measured: no excuse
 
 
+def test_lost_commands_in_a_stall_of_the_rigs_own_threads_are_platform_limited() -> None:
+    """The M4F image at host load 3-4 (2026-12-02): 17 commands missing, the simulator 9 steps
+    late, cyclictest's worst 4.3 ms -- but the rig's time master went 1.05 s between SYNCs (a
+    stall of 950 ms beyond its interval): the platform's.  The same misses with the rig's
+    threads on time are the firmware's; with no baseline measured, nothing is excused."""
+    s = summary(missing=17)
+    stalled = info(max_us=4262, late_steps=9, gap_ms=1050.0)
+    got = judged(s, stalled)["platform"]["deadline_misses"]
+    assert got["verdict"] == PLATFORM_LIMITED and got["stall_us"] == pytest.approx(950_000)
+    assert judged(s, info(max_us=4262, late_steps=9))["platform"]["deadline_misses"]["verdict"] == FIRMWARE
+    assert judged(s, info(max_us=None, late_steps=9, gap_ms=1050.0))["platform"]["verdict"] == FIRMWARE
+
+
 def test_lost_commands_the_late_simulator_explains_are_platform_limited() -> None:
     s = summary(missing=3)
     assert judged(s, info(late_steps=3))["platform"]["deadline_misses"]["verdict"] == PLATFORM_LIMITED

@@ -6,8 +6,11 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
 
 * a deadline miss -- fcc's overruns (a step not finished within its period, its own count) and
   the loop's lost commands (not on the bus before the period closed) -- is **platform-limited**
-  when the baseline's worst wake-up alone used up the step's slack (the period less fcc's
-  median sensor-to-command time, its own clock); a lost command also when the rig's simulator
+  when the baseline's worst wake-up, or a thread of the rig's own (its time master, its
+  simulator: rig_stall_us), stalled for the step's slack (the period less fcc's median
+  sensor-to-command time, its own clock) -- measured: the M4F image under QEMU lost 17 commands
+  and never printed its summary while the rig's threads stalled 950 ms and cyclictest, at
+  fcc's priority in the same guest, saw 4.3 ms; a lost command also when the rig's simulator
   (an ordinary process on the same platform) handed at least as many steps over late.
   Otherwise it is the firmware's own.
 * a sync loss (fcc went 3 sync intervals without a usable pair) is platform-limited when the
@@ -61,6 +64,16 @@ def field_at(doc: Any, *path: str) -> Any:
     return doc
 
 
+def rig_stall_us(info: Mapping[str, Any]) -> float:
+    """The longest a thread of the rig's own fell behind its schedule (us): its time master's
+    longest gap between SYNCs less one interval, its simulator's latest hand-over of a step."""
+    gap_ms = field_at(info, "time_master", "max_sync_gap_ms")
+    master = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
+    slack_min = field_at(info, "sim_handover_slack_ms", "min")
+    simulator = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
+    return max(master, simulator)
+
+
 def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max: int | None,
                     period_us: float | None) -> dict[str, Any]:
     """fcc's overruns and the loop's lost commands, and whose they are (module doc)."""
@@ -70,9 +83,10 @@ def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baselin
     late_steps = int(info.get("sim_late_steps") or 0)
     step_p50 = field_at(summary, "realtime", "fcc", "latency_us missile", "p50") or 0
     slack = None if period_us is None else period_us - step_p50
-    stalled = baseline_max is not None and slack is not None and baseline_max >= slack
+    stall = None if baseline_max is None else max(float(baseline_max), rig_stall_us(info))
+    stalled = stall is not None and slack is not None and stall >= slack
     out: dict[str, Any] = {"overruns": overruns, "commands_missing": missing,
-                           "sim_late_steps": late_steps, "slack_us": slack, "verdict": "none"}
+                           "sim_late_steps": late_steps, "slack_us": slack, "stall_us": stall, "verdict": "none"}
     if overruns or missing:
         explained = stalled or (not overruns and late_steps >= missing)
         out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
@@ -103,10 +117,7 @@ def sync_loss(summary: Mapping[str, Any], info: Mapping[str, Any], baseline_max:
     gap_ms = field_at(info, "time_master", "max_sync_gap_ms")
     pair_gap_ms = field_at(info, "time_master", "max_pair_gap_ms")
     link_ms = float(field_at(summary, "realtime", "fcc", "link", "bus_delay_us_worst") or 0) / 1e3
-    master_stall = 0.0 if gap_ms is None else max(0.0, gap_ms * 1e3 - SYNC_INTERVAL_S * 1e6)
-    slack_min = field_at(info, "sim_handover_slack_ms", "min")
-    sim_stall = 0.0 if slack_min is None else max(0.0, -slack_min * 1e3)
-    stall = max(float(baseline_max or 0), master_stall, sim_stall)
+    stall = max(float(baseline_max or 0), rig_stall_us(info))
     fresh = None if period_us is None else (1 + stale_limit(info.get("fcc_command"))) * period_us
     age_bound = None if fresh is None else fresh + stall
     out: dict[str, Any] = {"losses": losses, "state": sync.get("state"), "sync_verdict": sync.get("verdict"),

@@ -6,12 +6,14 @@ thread of fcc's priority that does nothing.  summary.json's ``platform`` judges 
 
 * a deadline miss -- fcc's overruns (a step not finished within its period, its own count) and
   the loop's lost commands (not on the bus before the period closed) -- is **platform-limited**
-  when the baseline's worst wake-up, or a thread of the rig's own (its time master, its
-  simulator: rig_stall_us), stalled for the step's slack (the period less fcc's median
-  sensor-to-command time, its own clock) -- measured: the M4F image under QEMU lost 17 commands
-  and never printed its summary while the rig's threads stalled 950 ms and cyclictest, at
-  fcc's priority in the same guest, saw 4.3 ms; a lost command also when the rig's simulator
-  (an ordinary process on the same platform) handed at least as many steps over late.
+  when the baseline's worst wake-up alone used up the step's slack (the period less fcc's
+  median sensor-to-command time, its own clock); lost commands (no overrun) also when the rig's
+  simulator (an ordinary process on the same platform) handed at least as many steps over late,
+  or when a thread of the rig's own (its time master, its simulator: rig_stall_us) stalled for
+  the step's slack -- the loop is the rig's and the node's together (measured: the M4F image
+  under QEMU lost 17 commands and never printed its summary while the rig's threads stalled
+  950 ms and cyclictest, at fcc's priority in the same guest, saw 4.3 ms).  An overrun is fcc's
+  own computation: only a stall at its priority (cyclictest's) explains it.
   Otherwise it is the firmware's own.
 * a sync loss (fcc went 3 sync intervals without a usable pair) is platform-limited when the
   baseline's worst wake-up reached a whole sync interval, the rig's master could not stamp a
@@ -83,12 +85,15 @@ def deadline_misses(summary: Mapping[str, Any], info: Mapping[str, Any], baselin
     late_steps = int(info.get("sim_late_steps") or 0)
     step_p50 = field_at(summary, "realtime", "fcc", "latency_us missile", "p50") or 0
     slack = None if period_us is None else period_us - step_p50
-    stall = None if baseline_max is None else max(float(baseline_max), rig_stall_us(info))
-    stalled = stall is not None and slack is not None and stall >= slack
-    out: dict[str, Any] = {"overruns": overruns, "commands_missing": missing,
-                           "sim_late_steps": late_steps, "slack_us": slack, "stall_us": stall, "verdict": "none"}
+    rig_stall = rig_stall_us(info)
+    if baseline_max is None or slack is None:   # nothing measured: no excuse
+        stalled = rig_stalled = False
+    else:
+        stalled, rig_stalled = baseline_max >= slack, rig_stall >= slack
+    out: dict[str, Any] = {"overruns": overruns, "commands_missing": missing, "sim_late_steps": late_steps,
+                           "slack_us": slack, "rig_stall_us": rig_stall, "verdict": "none"}
     if overruns or missing:
-        explained = stalled or (not overruns and late_steps >= missing)
+        explained = stalled or (not overruns and (rig_stalled or late_steps >= missing))
         out["verdict"] = PLATFORM_LIMITED if explained else FIRMWARE
     return out
 

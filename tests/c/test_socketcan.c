@@ -370,7 +370,9 @@ static void test_kernel_stamp_moved_to_the_monotonic_clock(void **state)
 /* A command's send time is taken when its batch is handed to the kernel: not after the
  * kernel's own stamp of it (as the bus's port converts it), and not moved by whatever the
  * loop does before it takes the command (the old stamp, the loop's next clock read, put
- * that work into the data age). */
+ * that work into the data age).  Bracketed by clock reads around the send, not held within
+ * a fixed time of the kernel's stamp: a preemption between the read and the system call
+ * (101+ us in the UML guest, CI 2026-12-02) is the machine's, not the stamp's. */
 static void test_command_stamped_at_its_send(void **state)
 {
     (void)state;
@@ -389,9 +391,10 @@ static void test_command_stamped_at_its_send(void **state)
     for (int i = 0; i < 3; ++i) {
         const uint64_t before = fcc_hostport_now(&hp);
         fcc_assert_ok(port.can.send_many(port.can.ctx, out, 2u, st));
+        const uint64_t handed = fcc_hostport_now(&hp);
         assert_true(hp.cmd_untaken);
         const uint64_t sent_us = hp.cmd_sent_us;
-        assert_true(sent_us >= before);
+        assert_true(sent_us >= before && sent_us <= handed); /* the send's time, not the loop's */
         /* the rest of the wake: another send, work */
         fcc_assert_ok(port.can.send_many(port.can.ctx, &out[1], 1u, st));
         const uint64_t until = fcc_hostclock_monotonic_us() + LATER_WORK_US;
@@ -405,8 +408,7 @@ static void test_command_stamped_at_its_send(void **state)
         fcc_assert_ok(fcc_socketcan_wait(&bus, 1000));
         fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
         assert_int_equal(f.id, FCC_MSG_MSL_ELEV_CMD_ID);
-        assert_true(sent_us <= f.t_us + AGREE_US);
-        assert_true(f.t_us <= sent_us + AGREE_US);
+        assert_true(sent_us <= f.t_us + AGREE_US); /* not after the kernel's own stamp */
         fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
         fcc_assert_ok(fcc_socketcan_recv(&bus, &f));
     }

@@ -23,16 +23,6 @@ static void take_out(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t at, uint3
     *n_held = (uint8_t)(*n_held - n);
 }
 
-/* Drop the oldest n of a held list (the caller counts the dropped ones that were not used). */
-static void drop(fcc_tsync_held_t *list, uint8_t *n_held, uint32_t n)
-{
-    if (n < *n_held) {
-        take_out(list, n_held, 0u, n);
-    } else {
-        *n_held = 0u;
-    }
-}
-
 /* How far a held frame's sequence number (byte 2) is from the one expected
  * next, either way, modulo 256 (0..128): 0 for the master's next frame, 1 for
  * the one after it when a pair was lost, ~10 for a replay a second late. */
@@ -128,8 +118,8 @@ fcc_secoc_verdict_t fcc_tsync_auth_verify(fcc_tsync_auth_t *ta, fcc_secoc_t *sec
         ta->seq_known = true;
         /* the pair and everything held before it goes; the others were never authenticated */
         ta->cnt.unauthenticated += (uint32_t)ci[m] + (uint32_t)cj[m];
-        drop(ta->sync, &ta->n_sync, (uint32_t)ci[m] + 1u);
-        drop(ta->fup, &ta->n_fup, (uint32_t)cj[m] + 1u);
+        take_out(ta->sync, &ta->n_sync, 0u, (uint32_t)ci[m] + 1u);
+        take_out(ta->fup, &ta->n_fup, 0u, (uint32_t)cj[m] + 1u);
     }
     return v;
 }

@@ -179,6 +179,12 @@ static void steer_offset(bus_clock_t *c, int64_t target, uint64_t elapsed_us, bo
     }
 }
 
+/* The offset in use, in whole microseconds (a stamp's and the reference's unit). */
+static int64_t offset_us(const bus_clock_t *c)
+{
+    return c->offset_ns / 1000;
+}
+
 /* A Z2 bus stamp on this board's clock (bus_clock_t); steer: the time sync has an estimate. */
 static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_us, bool steer)
 {
@@ -195,7 +201,7 @@ static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_u
     c->cur_min = (d < c->cur_min) ? d : c->cur_min;
     const int64_t target = (c->prev_min < c->cur_min) ? c->prev_min : c->cur_min;
     steer_offset(c, target, elapsed, steer && (c->stamped != 0u));
-    const int64_t offset = c->offset_ns / 1000;
+    const int64_t offset = offset_us(c);
     if (c->stamped == 0u) {
         c->ref_offset = offset;
     }
@@ -221,12 +227,12 @@ static uint64_t bus_to_local(bus_clock_t *c, uint32_t bus_us, uint64_t line_rx_u
 static void rebase_on_bus_clock(image_t *img)
 {
     bus_clock_t *c = &img->bus_clock;
-    const int64_t moved = c->ref_offset - (c->offset_ns / 1000);
+    const int64_t moved = c->ref_offset - offset_us(c);
     if (c->stamped == 0u || moved <= (int64_t)(img->node.tsync.cfg.max_step_us / 2u)) {
         return;
     }
     if (fcc_tsync_rebase(&img->node.tsync) == FCC_OK) {
-        c->ref_offset = c->offset_ns / 1000;
+        c->ref_offset = offset_us(c);
         ++c->rebases;
     }
 }

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 def on_target(sc: Scenario, cfg: RigConfig) -> Scenario:
     """The scenario as this run's device flies it: in realtime, an actuation delay left to the
     rig ("auto") is the device's own where it has one (the emulated image's serial link:
-    hil.targets.qemu_m4f); RigError if that delay does not fit in the scenario's period."""
+    hil.targets.registry); RigError if that delay does not fit in the scenario's period."""
     delay = target(cfg.target).actuation_delay_s
     if cfg.mode != "realtime" or delay is None or sc.lqg is None or sc.lqg.delay != "auto":
         return sc
